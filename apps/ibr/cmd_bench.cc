@@ -1,0 +1,38 @@
+// `ibr bench ...`: measured figures, printed (never asserted).
+#include <fmt/format.h>
+
+#include "apps/ibr/commands.h"
+#include "render/context.h"
+#include "render/fill_rate.h"
+
+namespace apps {
+
+void AddBenchCommand(CLI::App& app) {
+  auto* bench = app.add_subcommand("bench", "Benchmarks that print time, throughput and accuracy");
+  bench->require_subcommand(1);
+
+  auto* fill = bench->add_subcommand(
+      "fillrate", "Calibrate fragment throughput: a trivial textured, alpha-tested full-screen pass");
+  static render::FillRateOptions options;
+  fill->add_option("--size", options.width, "target width = height in pixels")->capture_default_str();
+  fill->add_option("--layers", options.layers_per_frame, "full-screen passes per frame")
+      ->capture_default_str();
+  fill->add_option("--frames", options.timer.timed_frames, "timed frames (median reported)")
+      ->capture_default_str();
+  fill->callback([] {
+    options.height = options.width;
+    auto context = render::HeadlessContext::Create();
+    render::ProgramCache programs;
+    fmt::print("{} | {}\n", context->info().renderer, context->info().version);
+    for (bool linear : {false, true}) {
+      render::FillRateOptions o = options;
+      o.linear_filter = linear;
+      const render::FillRate rate = render::MeasureFillRate(programs, o);
+      fmt::print("fill rate ({:7}) {}x{} x {} layers: {:8.2f} ms/frame  {:7.1f} M fragments/s\n",
+                 linear ? "LINEAR" : "NEAREST", o.width, o.height, o.layers_per_frame,
+                 rate.ms_per_frame, rate.fragments_per_second * 1e-6);
+    }
+  });
+}
+
+}  // namespace apps

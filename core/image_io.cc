@@ -1,0 +1,95 @@
+#include "core/image_io.h"
+
+#include <memory>
+
+#include <OpenImageIO/imageio.h>
+
+#include "core/atomic_file.h"
+#include "core/error.h"
+
+namespace core {
+namespace fs = std::filesystem;
+
+namespace {
+
+template <typename T>
+OIIO::TypeDesc TypeOf();
+template <>
+OIIO::TypeDesc TypeOf<uint8_t>() { return OIIO::TypeDesc::UINT8; }
+template <>
+OIIO::TypeDesc TypeOf<uint16_t>() { return OIIO::TypeDesc::UINT16; }
+template <>
+OIIO::TypeDesc TypeOf<float>() { return OIIO::TypeDesc::FLOAT; }
+
+std::unique_ptr<OIIO::ImageInput> OpenInput(const fs::path& path, std::string_view where) {
+  if (!fs::exists(path)) ThrowFileError(where, path, "file does not exist");
+  if (!fs::is_regular_file(path)) ThrowFileError(where, path, "not a regular file");
+  // Keep alpha as stored (no premultiplication): pixel values round-trip exactly.
+  OIIO::ImageSpec config;
+  config.attribute("oiio:UnassociatedAlpha", 1);
+  auto input = OIIO::ImageInput::open(path.string(), &config);
+  if (!input) ThrowFileError(where, path, "cannot decode image: {}", OIIO::geterror());
+  return input;
+}
+
+}  // namespace
+
+ImageHeader ReadImageHeader(const fs::path& path) {
+  auto input = OpenInput(path, "ReadImageHeader");
+  const OIIO::ImageSpec& spec = input->spec();
+  return {spec.width, spec.height, spec.nchannels};
+}
+
+template <typename T>
+Image<T> ReadImage(const fs::path& path, int channels) {
+  auto input = OpenInput(path, "ReadImage");
+  const OIIO::ImageSpec& spec = input->spec();
+  if (spec.width <= 0 || spec.height <= 0 || spec.nchannels <= 0) {
+    ThrowFileError("ReadImage", path, "empty image ({}x{}x{})", spec.width, spec.height,
+                   spec.nchannels);
+  }
+  if (channels > 0 && spec.nchannels != channels) {
+    ThrowFileError("ReadImage", path, "expected {} channel(s), file has {}", channels,
+                   spec.nchannels);
+  }
+  Image<T> image(spec.width, spec.height, spec.nchannels);
+  if (!input->read_image(0, 0, 0, spec.nchannels, TypeOf<T>(), image.data())) {
+    ThrowFileError("ReadImage", path, "corrupt or truncated image data: {}", input->geterror());
+  }
+  input->close();
+  return image;
+}
+
+template <typename T>
+void WriteImage(const fs::path& path, const Image<T>& image) {
+  if (image.empty()) ThrowFileError("WriteImage", path, "image is empty");
+  AtomicWrite(path, [&](const fs::path& tmp) {
+    // The temporary file keeps the real extension last so OIIO picks the format.
+    const fs::path tmp_with_ext = fs::path(tmp.string() + path.extension().string());
+    auto output = OIIO::ImageOutput::create(path.filename().string());
+    if (!output) ThrowFileError("WriteImage", path, "unsupported format: {}", OIIO::geterror());
+    OIIO::TypeDesc file_type = TypeOf<T>();
+    const std::string ext = path.extension().string();
+    const bool integer_format = ext == ".png" || ext == ".jpg" || ext == ".jpeg";
+    if (integer_format && file_type == OIIO::TypeDesc::FLOAT) file_type = OIIO::TypeDesc::UINT8;
+    OIIO::ImageSpec spec(image.width(), image.height(), image.channels(), file_type);
+    if (ext == ".exr") spec.attribute("compression", "zip");
+    spec.attribute("oiio:UnassociatedAlpha", 1);  // our alpha is straight, not premultiplied
+    if (!output->open(tmp_with_ext.string(), spec) ||
+        !output->write_image(TypeOf<T>(), image.data()) || !output->close()) {
+      std::error_code ignored;
+      fs::remove(tmp_with_ext, ignored);
+      ThrowFileError("WriteImage", path, "cannot write: {}", output->geterror());
+    }
+    fs::rename(tmp_with_ext, tmp);
+  });
+}
+
+template Image<uint8_t> ReadImage(const fs::path&, int);
+template Image<uint16_t> ReadImage(const fs::path&, int);
+template Image<float> ReadImage(const fs::path&, int);
+template void WriteImage(const fs::path&, const Image<uint8_t>&);
+template void WriteImage(const fs::path&, const Image<uint16_t>&);
+template void WriteImage(const fs::path&, const Image<float>&);
+
+}  // namespace core

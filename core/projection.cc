@@ -1,0 +1,56 @@
+#include "core/projection.h"
+
+#include "core/check.h"
+
+namespace core {
+
+glm::mat4 ClipFromCamPerspective(double fx, double fy, double cx, double cy, int width, int height,
+                                 double near, double far) {
+  IBR_CHECK(width > 0 && height > 0 && near > 0 && far > near);
+  // x_ndc = 2u/W - 1 = (2 fx X/Z + 2 cx)/W - 1  ->  clip x = (2fx/W) X + (2cx/W - 1) Z, w = Z.
+  // y_ndc = 1 - 2v/H                            ->  clip y = -(2fy/H) Y + (1 - 2cy/H) Z.
+  glm::dmat4 m(0.0);  // column-major: m[col][row]
+  m[0][0] = 2 * fx / width;
+  m[2][0] = 2 * cx / width - 1;
+  m[1][1] = -2 * fy / height;
+  m[2][1] = 1 - 2 * cy / height;
+  m[2][2] = (far + near) / (far - near);
+  m[3][2] = -2 * far * near / (far - near);
+  m[2][3] = 1;
+  return glm::mat4(m);
+}
+
+glm::mat4 ClipFromCamOrthographic(double sx, double sy, double cx, double cy, int width, int height,
+                                  double near, double far) {
+  IBR_CHECK(width > 0 && height > 0 && far > near);
+  glm::dmat4 m(0.0);
+  m[0][0] = 2 * sx / width;
+  m[3][0] = 2 * cx / width - 1;
+  m[1][1] = -2 * sy / height;
+  m[3][1] = 1 - 2 * cy / height;
+  m[2][2] = 2 / (far - near);
+  m[3][2] = -(far + near) / (far - near);
+  m[3][3] = 1;
+  return glm::mat4(m);
+}
+
+glm::mat4 CamFromWorldLookAt(glm::vec3 eye, glm::vec3 target, glm::vec3 up) {
+  const glm::vec3 z = glm::normalize(target - eye);
+  glm::vec3 x = glm::cross(z, up);  // camera x = y x z with y = -up
+  if (glm::dot(x, x) < 1e-12f) x = glm::cross(z, glm::vec3(1, 0, 0));
+  if (glm::dot(x, x) < 1e-12f) x = glm::cross(z, glm::vec3(0, 1, 0));
+  x = glm::normalize(x);
+  const glm::vec3 y = glm::cross(z, x);
+  glm::mat4 m(1.0f);
+  for (int c = 0; c < 3; ++c) {
+    m[c][0] = x[c];
+    m[c][1] = y[c];
+    m[c][2] = z[c];
+  }
+  m[3][0] = -glm::dot(x, eye);
+  m[3][1] = -glm::dot(y, eye);
+  m[3][2] = -glm::dot(z, eye);
+  return m;
+}
+
+}  // namespace core

@@ -1,0 +1,57 @@
+#include "render/mesh_pass.h"
+
+#include <glm/gtc/type_ptr.hpp>
+
+namespace render {
+
+RenderTargetOptions MeshTargetOptions(int width, int height) {
+  return {width, height, {GL_RGBA8, GL_R32F, GL_RGBA16F}, true};
+}
+
+void DrawMesh(ProgramCache& programs, const RenderTarget& target, const GpuMesh& mesh,
+              const ViewSetup& view, const MeshPassOptions& options) {
+  ProgramDesc desc{.vertex = "mesh.vert.glsl", .fragment = "mesh.frag.glsl"};
+  if (options.texture) desc.defines.push_back("TEXTURED");
+  if (options.shade) desc.defines.push_back("SHADED");
+  if (view.orthographic) desc.defines.push_back("ORTHOGRAPHIC");
+  const Program& program = programs.Get(desc);
+
+  target.Bind();
+  const float background[4] = {0, 0, 0, 0};
+  target.Clear(background);
+  glEnable(GL_DEPTH_TEST);
+  glDepthFunc(GL_LESS);
+  glDisable(GL_STENCIL_TEST);
+  glDisable(GL_BLEND);
+  glDisable(GL_CULL_FACE);
+  program.Use();
+  glUniformMatrix4fv(program.Uniform("u_cam_from_world"), 1, GL_FALSE, glm::value_ptr(view.cam_from_world));
+  glUniformMatrix4fv(program.Uniform("u_clip_from_cam"), 1, GL_FALSE, glm::value_ptr(view.clip_from_cam));
+  glUniformMatrix4fv(program.Uniform("u_world_from_object"), 1, GL_FALSE,
+                     glm::value_ptr(options.world_from_object));
+  glUniform4fv(program.Uniform("u_base_color"), 1, glm::value_ptr(options.base_color));
+  if (options.texture) glBindTextureUnit(0, options.texture->id());
+  mesh.Draw();
+  glDisable(GL_DEPTH_TEST);
+}
+
+MeshFrame RenderMesh(ProgramCache& programs, const GpuMesh& mesh, const ViewSetup& view, int width,
+                     int height, const MeshPassOptions& options) {
+  RenderTarget target(MeshTargetOptions(width, height));
+  DrawMesh(programs, target, mesh, view, options);
+  MeshFrame frame;
+  frame.color = target.ReadColor8(0);
+  const core::ImageF depth4 = target.ReadColorF(1);
+  const core::ImageF normal4 = target.ReadColorF(2);
+  frame.depth = core::ImageF(width, height, 1);
+  frame.normal = core::ImageF(width, height, 3);
+  for (int y = 0; y < height; ++y) {
+    for (int x = 0; x < width; ++x) {
+      frame.depth.at(x, y) = depth4.at(x, y, 0);
+      for (int c = 0; c < 3; ++c) frame.normal.at(x, y, c) = normal4.at(x, y, c);
+    }
+  }
+  return frame;
+}
+
+}  // namespace render

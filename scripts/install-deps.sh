@@ -1,0 +1,43 @@
+#!/usr/bin/env bash
+# Installs the Debian 12 packages this project needs. Idempotent: only missing
+# packages are installed; does nothing when everything is present.
+# Runs apt-get directly as root, through sudo otherwise.
+set -euo pipefail
+
+PACKAGES=(
+  # toolchain
+  build-essential cmake ninja-build pkg-config ccache
+  # headless GL: EGL (surfaceless/device), llvmpipe, GL loader, window for the viewer
+  libegl-dev libegl1-mesa-dev libgl1-mesa-dri libgles-dev libepoxy-dev libglfw3-dev
+  xvfb xauth
+  # maths, images (openimageio-tools: its CMake config references iconvert),
+  # camera maths, meshes
+  libglm-dev libopenimageio-dev openimageio-tools python3-imath libopencv-dev libassimp-dev
+  # infrastructure
+  libspdlog-dev libfmt-dev libcli11-dev nlohmann-json3-dev
+  # viewer GUI
+  libimgui-dev
+  # tests and benchmarks
+  googletest libgtest-dev libgmock-dev libbenchmark-dev
+  # plots for benchmarks; the real COLMAP binary for the interop tests
+  gnuplot-nox colmap
+)
+
+missing=()
+for p in "${PACKAGES[@]}"; do
+  if ! dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed"; then
+    missing+=("$p")
+  fi
+done
+
+if [ ${#missing[@]} -eq 0 ]; then
+  echo "install-deps: all ${#PACKAGES[@]} packages present"
+  exit 0
+fi
+
+SUDO=""
+if [ "$(id -u)" -ne 0 ]; then SUDO="sudo"; fi
+echo "install-deps: installing ${missing[*]}"
+export DEBIAN_FRONTEND=noninteractive
+$SUDO apt-get update -qq
+$SUDO apt-get install -y -qq --no-install-recommends "${missing[@]}"

@@ -1,0 +1,103 @@
+// Camera projection helpers, analytic meshes and timing statistics.
+#include <cmath>
+
+#include <gtest/gtest.h>
+
+#include "core/error.h"
+#include "core/mesh.h"
+#include "core/projection.h"
+#include "core/timing.h"
+
+namespace core {
+namespace {
+
+// Projects p_in_cam with clip_from_cam, returns image (u, v) and NDC z.
+glm::vec3 ToImage(const glm::mat4& clip_from_cam, glm::vec3 p_in_cam, int w, int h) {
+  const glm::vec4 clip = clip_from_cam * glm::vec4(p_in_cam, 1);
+  const glm::vec3 ndc = glm::vec3(clip) / clip.w;
+  return {(ndc.x + 1) * 0.5f * w, (1 - ndc.y) * 0.5f * h, ndc.z};
+}
+
+TEST(Projection, PerspectiveMatchesPinholeFormula) {
+  const double fx = 500, fy = 480, cx = 320.5, cy = 239.25;
+  const glm::mat4 m = ClipFromCamPerspective(fx, fy, cx, cy, 640, 480, 0.1, 100);
+  for (glm::vec3 p : {glm::vec3(0.3f, -0.2f, 2.0f), glm::vec3(-1.0f, 0.7f, 5.0f)}) {
+    const glm::vec3 uvz = ToImage(m, p, 640, 480);
+    EXPECT_NEAR(uvz.x, fx * p.x / p.z + cx, 1e-3);
+    EXPECT_NEAR(uvz.y, fy * p.y / p.z + cy, 1e-3);
+  }
+  EXPECT_NEAR(ToImage(m, {0, 0, 0.1f}, 640, 480).z, -1.0, 1e-5);
+  EXPECT_NEAR(ToImage(m, {0, 0, 100.0f}, 640, 480).z, 1.0, 1e-5);
+}
+
+TEST(Projection, OrthographicMatchesAffineFormula) {
+  const glm::mat4 m = ClipFromCamOrthographic(100, 100, 64, 64, 128, 128, -1, 3);
+  const glm::vec3 p(0.25f, -0.5f, 1.0f);
+  const glm::vec3 uvz = ToImage(m, p, 128, 128);
+  EXPECT_NEAR(uvz.x, 100 * 0.25 + 64, 1e-4);
+  EXPECT_NEAR(uvz.y, 100 * -0.5 + 64, 1e-4);
+  EXPECT_NEAR(uvz.z, 0.0, 1e-6);
+}
+
+TEST(Projection, LookAtAxesFollowTheOpenCvConvention) {
+  // Camera on -y looking at the origin with world z up: camera z = +y world,
+  // camera y (down) = -z world, camera x (right) = +x world.
+  const glm::mat4 cam_from_world = CamFromWorldLookAt({0, -5, 0}, {0, 0, 0}, {0, 0, 1});
+  const glm::vec3 origin_in_cam = glm::vec3(cam_from_world * glm::vec4(0, 0, 0, 1));
+  EXPECT_NEAR(origin_in_cam.z, 5.0f, 1e-5);
+  EXPECT_NEAR(glm::length(glm::vec2(origin_in_cam)), 0.0f, 1e-5);
+  const glm::vec3 up_in_cam = glm::mat3(cam_from_world) * glm::vec3(0, 0, 1);
+  EXPECT_NEAR(up_in_cam.y, -1.0f, 1e-5);
+  const glm::vec3 x_in_cam = glm::mat3(cam_from_world) * glm::vec3(1, 0, 0);
+  EXPECT_NEAR(x_in_cam.x, 1.0f, 1e-5);
+  // Looking straight down the up vector still gives a valid rotation.
+  const glm::mat3 r = glm::mat3(CamFromWorldLookAt({0, 0, 5}, {0, 0, 0}, {0, 0, 1}));
+  EXPECT_NEAR(glm::determinant(r), 1.0f, 1e-5);
+}
+
+TEST(Mesh, AnalyticShapesLieOnTheirSurfaces) {
+  const TriangleMesh sphere = MakeSphere(2.0f, 16, 32);
+  for (const auto& p : sphere.positions) EXPECT_NEAR(glm::length(p), 2.0f, 1e-5);
+  const TriangleMesh torus = MakeTorus(1.0f, 0.25f, 25, 25);
+  EXPECT_EQ(torus.triangle_count(), 2u * 625u);  // the paper's 625-polygon donut
+  for (const auto& p : torus.positions) {
+    const float ring = std::sqrt(p.x * p.x + p.y * p.y) - 1.0f;
+    EXPECT_NEAR(std::sqrt(ring * ring + p.z * p.z), 0.25f, 1e-5);
+  }
+  const TriangleMesh box = MakeBox({1, 2, 3});
+  glm::vec3 lo, hi;
+  box.Bounds(lo, hi);
+  EXPECT_EQ(hi, glm::vec3(1, 2, 3));
+  EXPECT_EQ(lo, glm::vec3(-1, -2, -3));
+  // Winding: each triangle's geometric normal agrees with its vertex normals.
+  for (const TriangleMesh* m : {&sphere, &torus, &box}) {
+    for (size_t t = 0; t < m->triangle_count(); ++t) {
+      const uint32_t a = m->indices[3 * t], b = m->indices[3 * t + 1], c = m->indices[3 * t + 2];
+      const glm::vec3 n = glm::cross(m->positions[b] - m->positions[a], m->positions[c] - m->positions[a]);
+      if (glm::length(n) < 1e-6f) continue;  // degenerate (zero-area) pole triangles
+      EXPECT_GT(glm::dot(n, m->normals[a] + m->normals[b] + m->normals[c]), 0.0f);
+    }
+  }
+}
+
+TEST(Mesh, ValidateRejectsBadMeshes) {
+  TriangleMesh mesh = MakePlane(1.0f);
+  mesh.indices.push_back(99);
+  EXPECT_THROW(mesh.Validate("test"), InputError);
+  mesh = MakePlane(1.0f);
+  mesh.positions[0].x = NAN;
+  EXPECT_THROW(mesh.Validate("test"), InputError);
+}
+
+TEST(Timing, SummarizeGivesMedianMinMax) {
+  const TimingStats s = Summarize({5, 1, 3, 9, 7});
+  EXPECT_EQ(s.median_ms, 5);
+  EXPECT_EQ(s.min_ms, 1);
+  EXPECT_EQ(s.max_ms, 9);
+  EXPECT_EQ(s.mean_ms, 5);
+  EXPECT_EQ(Summarize({4, 2}).median_ms, 3);
+  EXPECT_EQ(Summarize({}).samples, 0);
+}
+
+}  // namespace
+}  // namespace core
