@@ -53,8 +53,6 @@ void RunDemo(const DemoOptions& options) {
   fmt::print("demo: wrote {}\n", std::filesystem::absolute(options.out / "color.png").string());
 }
 
-}  // namespace
-
 void AddDemoCommand(CLI::App& app) {
   static DemoOptions options;
   auto* cmd = app.add_subcommand("demo", "Render the built-in default scene and write images");
@@ -62,5 +60,9 @@ void AddDemoCommand(CLI::App& app) {
   cmd->add_option("--size", options.size, "image width = height in pixels")->capture_default_str();
   cmd->callback([] { RunDemo(options); });
 }
+
+}  // namespace
+
+IBR_REGISTER_COMMAND("demo", AddDemoCommand);
 
 }  // namespace apps

@@ -7,6 +7,7 @@
 
 namespace apps {
 
+namespace {
 void AddInfoCommand(CLI::App& app) {
   auto* cmd = app.add_subcommand("info", "Print the OpenGL context this machine gives (headless EGL)");
   cmd->callback([] {
@@ -18,5 +19,8 @@ void AddInfoCommand(CLI::App& app) {
     fmt::print("shaders   {} embedded files\n", render::ShaderSources::Embedded().Names().size());
   });
 }
+}  // namespace
+
+IBR_REGISTER_COMMAND("info", AddInfoCommand);
 
 }  // namespace apps

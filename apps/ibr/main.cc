@@ -18,9 +18,7 @@ int main(int argc, char** argv) {
   app.parse_complete_callback([&] { spdlog::set_level(spdlog::level::from_str(log_level)); });
   spdlog::set_pattern("%^[%l]%$ %v");
 
-  apps::AddInfoCommand(app);
-  apps::AddDemoCommand(app);
-  apps::AddBenchCommand(app);
+  apps::AddRegisteredCommands(app);
 
   try {
     app.parse(argc, argv);

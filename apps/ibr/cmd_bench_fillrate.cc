@@ -7,11 +7,10 @@
 
 namespace apps {
 
-void AddBenchCommand(CLI::App& app) {
-  auto* bench = app.add_subcommand("bench", "Benchmarks that print time, throughput and accuracy");
-  bench->require_subcommand(1);
+namespace {
 
-  auto* fill = bench->add_subcommand(
+void AddFillRateBench(CLI::App& app) {
+  auto* fill = BenchGroup(app)->add_subcommand(
       "fillrate", "Calibrate fragment throughput: a trivial textured, alpha-tested full-screen pass");
   static render::FillRateOptions options;
   fill->add_option("--size", options.width, "target width = height in pixels")->capture_default_str();
@@ -34,5 +33,9 @@ void AddBenchCommand(CLI::App& app) {
     }
   });
 }
+
+}  // namespace
+
+IBR_REGISTER_COMMAND("bench fillrate", AddFillRateBench);
 
 }  // namespace apps

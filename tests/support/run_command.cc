@@ -1,0 +1,42 @@
+#include "tests/support/run_command.h"
+
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include <sys/wait.h>
+#include <unistd.h>
+
+namespace test_support {
+
+namespace {
+std::string Slurp(const std::filesystem::path& p) {
+  std::ifstream in(p);
+  std::stringstream ss;
+  ss << in.rdbuf();
+  return ss.str();
+}
+}  // namespace
+
+CommandResult RunCommand(const std::string& command) {
+  const auto dir = std::filesystem::temp_directory_path() /
+                   ("ibr-cmd-" + std::to_string(::getpid()) + "-" + std::to_string(std::rand()));
+  std::filesystem::create_directories(dir);
+  const std::string full = command + " > '" + (dir / "out").string() + "' 2> '" + (dir / "err").string() + "' < /dev/null";
+  const int status = std::system(full.c_str());
+  CommandResult result;
+  result.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  result.out = Slurp(dir / "out");
+  result.err = Slurp(dir / "err");
+  std::filesystem::remove_all(dir);
+  return result;
+}
+
+std::string IbrBinary() {
+  const char* path = std::getenv("IBR_BINARY");
+  return path ? path : "ibr";
+}
+
+}  // namespace test_support

@@ -1,0 +1,19 @@
+// Runs a shell command for CLI tests, capturing exit code, stdout and stderr.
+#pragma once
+
+#include <string>
+
+namespace test_support {
+
+struct CommandResult {
+  int exit_code = -1;
+  std::string out;  // stdout
+  std::string err;  // stderr
+};
+
+CommandResult RunCommand(const std::string& command);
+
+// The `ibr` binary under test (IBR_BINARY, set by ctest).
+std::string IbrBinary();
+
+}  // namespace test_support
