@@ -1,0 +1,101 @@
+// The slicing core (Kautz-Seidel 2001, sec. 3): planar slices through a box
+// -- a displacement volume, a depth-object cube, a volume's bounds -- in three
+// families, ordered for compositing. Written once; every slicing pass
+// (displacement, depth objects, visual hulls, volumes) uses it, on the CPU
+// side here and through shaders/slicing_core.glsl on the GPU side.
+//
+// Box space: the box is [0,1]^3 in its own coordinates, mapped to the world by
+// the affine `world_from_box`. Box coordinates double as 3D texture
+// coordinates of the sliced volume; for a displacement volume, box x/y are the
+// base surface's (u, v) and box z is the height, so a fragment's ramp value
+// h_alpha is simply its interpolated box z (sec. 3.2: the alpha ramp).
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include <glm/glm.hpp>
+
+namespace render {
+
+enum class SliceFamily {
+  kSurfaceAligned,  // planes box z = const (direction a: parallel to the base surface)
+  kOrthogonal,      // planes box k = const, k the axis whose world normal is most parallel to the view
+  kScreen,          // planes parallel to the view plane (camera z = const)
+};
+
+enum class SliceOrder { kFrontToBack, kBackToFront };
+
+// "surface", "orthogonal", "screen" (InputError otherwise).
+SliceFamily SliceFamilyFromName(const std::string& name);
+std::string SliceFamilyName(SliceFamily family);
+
+struct SliceBox {
+  glm::mat4 world_from_box{1.0f};  // affine, non-singular
+};
+
+// How the viewer sees the box.
+struct SliceView {
+  glm::mat4 cam_from_world{1.0f};  // OpenCV convention: z forward
+  bool orthographic = false;       // view direction = camera +z everywhere
+};
+
+struct SlicingOptions {
+  SliceFamily family = SliceFamily::kOrthogonal;
+  SliceOrder order = SliceOrder::kFrontToBack;
+  // Number of slices (>= 1). Slice k of n sits at the centre of its cell:
+  // box coordinate (k + 0.5) / n along the slicing axis (screen: along camera z
+  // between the box's nearest and farthest corner), so no slice lies on a face
+  // and the spacing is uniform.
+  int count = 64;
+  // Screen family only: also emit the full-size slice (the whole box's screen
+  // rectangle, box coordinates reaching outside [0,1]^3), which the paper
+  // draws with a zero-alpha texture border; kept to measure its extra fill.
+  bool full_size_screen_slices = false;
+
+  void Check() const;
+};
+
+struct Slice {
+  // Convex polygon, counter-clockwise seen from the front (the viewer's side),
+  // 3..6 vertices for exact slices, 4 for orthogonal/surface-aligned and full-size ones.
+  std::vector<glm::vec3> p_in_box;
+  // The plane: dot(normal_in_box, p) = offset_in_box for every vertex.
+  float offset_in_box = 0;
+};
+
+struct SliceStack {
+  SliceFamily family = SliceFamily::kOrthogonal;
+  int axis = 2;                  // box axis for surface-aligned / orthogonal slices, -1 for screen
+  glm::vec3 normal_in_box{0, 0, 1};  // plane normal in box coordinates (not unit for screen slices)
+  float spacing_in_box = 0;      // distance between planes along the axis, box units (orthogonal / surface)
+  float spacing_world = 0;       // distance between neighbouring planes in world units
+  std::vector<Slice> slices;     // in the requested order
+};
+
+// The orthogonal family's axis: the box axis whose (world-space) plane normal
+// is most parallel to the direction from the eye to the box centre. Ties go to
+// the lowest axis index, so the choice is deterministic.
+int ChooseOrthogonalAxis(const SliceBox& box, const SliceView& view);
+
+// All slices of one frame.
+SliceStack MakeSlices(const SliceBox& box, const SliceView& view, const SlicingOptions& options);
+
+// Exact intersection of the plane dot(n, p) = d with the unit box [0,1]^3, as
+// a convex polygon counter-clockwise around +n (empty if it misses the box or
+// only touches it in fewer than 3 points).
+std::vector<glm::vec3> ClipPlaneToUnitBox(glm::vec3 n, float d);
+
+// ---- slice counts (sec. 3.4) ----
+// Count giving at most `spacing_world` between planes along the axis.
+int SliceCountForSpacing(float extent_world, float spacing_world);
+// Directions b and c need count_a * edge_length / max_displacement slices to
+// sample the displacement as densely as direction a does (sec. 3.4: edge 2,
+// displacement 0.5 -> 4x the slices).
+int OrthogonalSliceCount(int count_surface_aligned, float edge_length, float max_displacement);
+// Screen-space: one slice per pixel of the box's projected extent, i.e. the
+// length in pixels of the box's longest projected edge-to-corner diagonal.
+int ScreenSliceCount(const SliceBox& box, const SliceView& view, const glm::mat4& clip_from_cam,
+                     int viewport_width, int viewport_height);
+
+}  // namespace render
