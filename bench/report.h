@@ -1,0 +1,58 @@
+// Shared benchmark reporting: a table printed to the terminal and written as
+// CSV, PNG plots drawn by gnuplot (a Debian tool; never drawn by hand), and
+// contact sheets of images. Every benchmark (`ibr bench ...`) uses these.
+#pragma once
+
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "core/image.h"
+
+namespace bench {
+
+// A table of rows; every value is kept as text exactly as printed.
+class Table {
+ public:
+  explicit Table(std::vector<std::string> columns);
+  // Adds a row; its size must equal the column count.
+  void AddRow(std::vector<std::string> values);
+  const std::vector<std::string>& columns() const { return columns_; }
+  const std::vector<std::vector<std::string>>& rows() const { return rows_; }
+  // Column index by name (CHECK-fails for an unknown name).
+  int Column(const std::string& name) const;
+  // Aligned text for the terminal.
+  std::string Format() const;
+  // Atomic CSV write (header + rows).
+  void WriteCsv(const std::filesystem::path& path) const;
+
+ private:
+  std::vector<std::string> columns_;
+  std::vector<std::vector<std::string>> rows_;
+};
+
+// "1.234" with `digits` decimals; "nan"/"inf" spelled out.
+std::string Num(double value, int digits = 3);
+
+struct PlotOptions {
+  std::string title;
+  std::string x_column;       // e.g. "ms_per_frame"
+  std::string y_column;       // e.g. "p95_depth_error_texels"
+  std::string series_column;  // one line per distinct value, e.g. "family"
+  std::string x_label;
+  std::string y_label;
+  bool log_x = false;
+  bool log_y = false;
+  int width_px = 900;
+  int height_px = 600;
+};
+
+// Scatter-with-lines plot of `table` (rows of each series sorted by x) into a
+// PNG through gnuplot. Throws core::InputError if gnuplot is missing or fails.
+void PlotPng(const Table& table, const PlotOptions& options, const std::filesystem::path& png);
+
+// Images (RGBA8, any sizes) placed on a grid of `columns`, each cell the size
+// of the largest image, with a `gap_px` dark border, labels not drawn.
+core::Image8 ContactSheet(const std::vector<core::Image8>& images, int columns, int gap_px = 4);
+
+}  // namespace bench
