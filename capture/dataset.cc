@@ -1,0 +1,369 @@
+#include "capture/dataset.h"
+
+#include <cmath>
+#include <fstream>
+#include <set>
+
+#include <fmt/format.h>
+#include <nlohmann/json.hpp>
+
+#include "core/error.h"
+#include "core/image_io.h"
+
+namespace capture {
+namespace fs = std::filesystem;
+using nlohmann::json;
+
+namespace {
+
+constexpr const char* kFormat = "ibr-dataset";
+constexpr int kVersion = 1;
+
+// A relative path that stays inside the dataset directory.
+bool SafeRelativePath(const std::string& p) {
+  if (p.empty()) return false;
+  const fs::path path(p);
+  if (path.is_absolute()) return false;
+  for (const auto& part : path) {
+    if (part == "..") return false;
+  }
+  return true;
+}
+
+// Typed access with messages naming the manifest and the JSON path.
+template <typename T>
+T Get(const json& j, const char* key, const std::string& where, const std::string& ctx) {
+  if (!j.is_object() || !j.contains(key)) core::ThrowInputError(where, "{}: missing \"{}\"", ctx, key);
+  try {
+    return j.at(key).get<T>();
+  } catch (const json::exception& e) {
+    core::ThrowInputError(where, "{}.{}: wrong type ({})", ctx, key, e.what());
+  }
+}
+
+std::string OptionalString(const json& j, const char* key, const std::string& where,
+                           const std::string& ctx) {
+  if (!j.contains(key) || j.at(key).is_null()) return {};
+  return Get<std::string>(j, key, where, ctx);
+}
+
+glm::dvec3 GetVec3(const json& j, const char* key, const std::string& where, const std::string& ctx) {
+  const auto v = Get<std::vector<double>>(j, key, where, ctx);
+  if (v.size() != 3) core::ThrowInputError(where, "{}.{}: expected 3 numbers, got {}", ctx, key, v.size());
+  return {v[0], v[1], v[2]};
+}
+
+}  // namespace
+
+void Dataset::Check(std::string_view where) const {
+  for (const auto& [id, camera] : cameras) {
+    camera.Check(fmt::format("{}: camera {}", where, id));
+    if (camera.distorted()) {
+      core::ThrowInputError(where, "camera {} has lens distortion ({}): datasets hold undistorted "
+                            "images", id, CameraModelName(camera.model));
+    }
+  }
+  if (views.empty()) core::ThrowInputError(where, "no views");
+  std::set<std::string> names;
+  for (const auto& view : views) {
+    const std::string ctx = fmt::format("{}: view '{}'", where, view.name);
+    if (view.name.empty()) core::ThrowInputError(where, "a view has an empty name");
+    if (!names.insert(view.name).second) core::ThrowInputError(ctx, "duplicate view name");
+    if (!cameras.contains(view.camera_id)) core::ThrowInputError(ctx, "unknown camera id {}", view.camera_id);
+    view.cam_from_world.Check(ctx);
+    if (!SafeRelativePath(view.color)) core::ThrowInputError(ctx, "bad color path '{}'", view.color);
+    for (const std::string* p : {&view.depth, &view.mask, &view.normal}) {
+      if (!p->empty() && !SafeRelativePath(*p)) core::ThrowInputError(ctx, "bad path '{}'", *p);
+    }
+  }
+  if (bounds) {
+    for (int k = 0; k < 3; ++k) {
+      if (!std::isfinite(bounds->min[k]) || !std::isfinite(bounds->max[k]) ||
+          bounds->min[k] > bounds->max[k]) {
+        core::ThrowInputError(where, "bounds are not finite or min > max");
+      }
+    }
+  }
+}
+
+void CheckDepthValues(const core::ImageF& depth, const std::string& where) {
+  for (float d : depth.values()) {
+    // Invalid = 0 or non-finite; a finite negative depth is nonsense.
+    if (std::isfinite(d) && d < 0) core::ThrowInputError(where, "negative depth {}", d);
+  }
+}
+
+void CheckNormalValues(const core::ImageF& normal, const std::string& where) {
+  for (size_t i = 0; i < normal.pixel_count(); ++i) {
+    const float* n = normal.data() + 3 * i;
+    if (!std::isfinite(n[0]) || !std::isfinite(n[1]) || !std::isfinite(n[2])) {
+      core::ThrowInputError(where, "non-finite normal at pixel {}", i);
+    }
+    const float len2 = n[0] * n[0] + n[1] * n[1] + n[2] * n[2];
+    // Half-float storage in the renderer: unit length to ~1e-3.
+    if (len2 != 0 && std::abs(len2 - 1) > 0.02f) {
+      core::ThrowInputError(where, "normal at pixel {} is not unit length (|n|^2 = {})", i, len2);
+    }
+  }
+}
+
+namespace {
+
+template <typename T>
+void CheckSize(const core::Image<T>& image, const Camera& camera, const fs::path& path,
+               const char* where) {
+  if (image.width() != camera.width || image.height() != camera.height) {
+    core::ThrowFileError(where, path, "image is {}x{}, camera is {}x{}", image.width(),
+                         image.height(), camera.width, camera.height);
+  }
+}
+
+}  // namespace
+
+core::Image8 Dataset::LoadColor(size_t i) const {
+  const DatasetView& view = views.at(i);
+  const fs::path path = root / view.color;
+  core::Image8 image = core::ReadImage<uint8_t>(path);
+  CheckSize(image, camera(view), path, "Dataset::LoadColor");
+  if (image.channels() == 3) return image;
+  if (image.channels() != 4 && image.channels() != 1) {
+    core::ThrowFileError("Dataset::LoadColor", path, "expected 1, 3 or 4 channels, got {}", image.channels());
+  }
+  core::Image8 rgb(image.width(), image.height(), 3);
+  for (int y = 0; y < image.height(); ++y) {
+    for (int x = 0; x < image.width(); ++x) {
+      for (int c = 0; c < 3; ++c) rgb.at(x, y, c) = image.at(x, y, image.channels() == 1 ? 0 : c);
+    }
+  }
+  return rgb;
+}
+
+core::ImageF Dataset::LoadDepth(size_t i) const {
+  const DatasetView& view = views.at(i);
+  if (view.depth.empty()) core::ThrowInputError("Dataset::LoadDepth", "view '{}' has no depth", view.name);
+  const fs::path path = root / view.depth;
+  core::ImageF depth = core::ReadImage<float>(path, 1);
+  CheckSize(depth, camera(view), path, "Dataset::LoadDepth");
+  CheckDepthValues(depth, fmt::format("Dataset::LoadDepth: '{}'", path.string()));
+  return depth;
+}
+
+core::Image8 Dataset::LoadMask(size_t i) const {
+  const DatasetView& view = views.at(i);
+  if (view.mask.empty()) core::ThrowInputError("Dataset::LoadMask", "view '{}' has no mask", view.name);
+  const fs::path path = root / view.mask;
+  core::Image8 mask = core::ReadImage<uint8_t>(path, 1);
+  CheckSize(mask, camera(view), path, "Dataset::LoadMask");
+  return mask;
+}
+
+core::ImageF Dataset::LoadNormal(size_t i) const {
+  const DatasetView& view = views.at(i);
+  if (view.normal.empty()) core::ThrowInputError("Dataset::LoadNormal", "view '{}' has no normals", view.name);
+  const fs::path path = root / view.normal;
+  core::ImageF normal = core::ReadImage<float>(path, 3);
+  CheckSize(normal, camera(view), path, "Dataset::LoadNormal");
+  CheckNormalValues(normal, fmt::format("Dataset::LoadNormal: '{}'", path.string()));
+  return normal;
+}
+
+Dataset ReadManifest(std::istream& in, const std::string& name) {
+  const std::string where = fmt::format("ReadManifest: '{}'", name);
+  json j;
+  try {
+    j = json::parse(in);
+  } catch (const json::exception& e) {
+    core::ThrowInputError(where, "not valid JSON ({})", e.what());
+  }
+  if (!j.is_object()) core::ThrowInputError(where, "top level is not an object");
+  if (Get<std::string>(j, "format", where, "manifest") != kFormat) {
+    core::ThrowInputError(where, "\"format\" is not \"{}\"", kFormat);
+  }
+  const int version = Get<int>(j, "version", where, "manifest");
+  if (version != kVersion) core::ThrowInputError(where, "unsupported version {} (expected {})", version, kVersion);
+
+  Dataset dataset;
+  const json depth = j.contains("depth") ? j.at("depth") : json::object();
+  if (depth.contains("kind") && Get<std::string>(depth, "kind", where, "depth") != "camera_z") {
+    core::ThrowInputError(where, "depth.kind must be \"camera_z\"");
+  }
+  if (depth.contains("units")) dataset.depth_units = Get<std::string>(depth, "units", where, "depth");
+  if (j.contains("normal_frame") && Get<std::string>(j, "normal_frame", where, "manifest") != "world") {
+    core::ThrowInputError(where, "normal_frame must be \"world\"");
+  }
+  if (j.contains("bounds") && !j.at("bounds").is_null()) {
+    const json& b = j.at("bounds");
+    dataset.bounds = Bounds{GetVec3(b, "min", where, "bounds"), GetVec3(b, "max", where, "bounds")};
+  }
+  const json cameras = Get<json>(j, "cameras", where, "manifest");
+  if (!cameras.is_array()) core::ThrowInputError(where, "\"cameras\" is not an array");
+  for (size_t i = 0; i < cameras.size(); ++i) {
+    const std::string ctx = fmt::format("cameras[{}]", i);
+    const json& c = cameras[i];
+    const int id = Get<int>(c, "id", where, ctx);
+    const auto model_name = Get<std::string>(c, "model", where, ctx);
+    const auto model = CameraModelFromName(model_name);
+    if (!model) core::ThrowInputError(where, "{}: unknown camera model '{}'", ctx, model_name);
+    Camera camera{*model, Get<int>(c, "width", where, ctx), Get<int>(c, "height", where, ctx),
+                  Get<std::vector<double>>(c, "params", where, ctx)};
+    if (!dataset.cameras.emplace(id, camera).second) core::ThrowInputError(where, "{}: duplicate camera id {}", ctx, id);
+  }
+  const json views = Get<json>(j, "views", where, "manifest");
+  if (!views.is_array()) core::ThrowInputError(where, "\"views\" is not an array");
+  for (size_t i = 0; i < views.size(); ++i) {
+    const std::string ctx = fmt::format("views[{}]", i);
+    const json& v = views[i];
+    DatasetView view;
+    view.name = Get<std::string>(v, "name", where, ctx);
+    view.camera_id = Get<int>(v, "camera", where, ctx);
+    const auto m = Get<std::vector<std::vector<double>>>(v, "cam_from_world", where, ctx);
+    if (m.size() != 3 || m[0].size() != 4 || m[1].size() != 4 || m[2].size() != 4) {
+      core::ThrowInputError(where, "{}.cam_from_world: expected 3 rows of 4 numbers", ctx);
+    }
+    for (int r = 0; r < 3; ++r) {
+      for (int c = 0; c < 3; ++c) view.cam_from_world.rotation[c][r] = m[r][c];
+      view.cam_from_world.translation[r] = m[r][3];
+    }
+    view.color = Get<std::string>(v, "color", where, ctx);
+    view.depth = OptionalString(v, "depth", where, ctx);
+    view.mask = OptionalString(v, "mask", where, ctx);
+    view.normal = OptionalString(v, "normal", where, ctx);
+    dataset.views.push_back(std::move(view));
+  }
+  dataset.Check(where);
+  return dataset;
+}
+
+void WriteManifest(std::ostream& out, const Dataset& dataset) {
+  json j;
+  j["format"] = kFormat;
+  j["version"] = kVersion;
+  j["depth"] = {{"kind", "camera_z"}, {"units", dataset.depth_units}, {"invalid", "0 or non-finite"}};
+  j["normal_frame"] = "world";
+  if (dataset.bounds) {
+    const auto& b = *dataset.bounds;
+    j["bounds"] = {{"min", {b.min.x, b.min.y, b.min.z}}, {"max", {b.max.x, b.max.y, b.max.z}}};
+  }
+  json cameras = json::array();
+  for (const auto& [id, c] : dataset.cameras) {
+    cameras.push_back({{"id", id}, {"model", CameraModelName(c.model)}, {"width", c.width},
+                       {"height", c.height}, {"params", c.params}});
+  }
+  j["cameras"] = cameras;
+  json views = json::array();
+  for (const auto& v : dataset.views) {
+    json m = json::array();
+    for (int r = 0; r < 3; ++r) {
+      const auto& R = v.cam_from_world.rotation;
+      m.push_back({R[0][r], R[1][r], R[2][r], v.cam_from_world.translation[r]});
+    }
+    json jv = {{"name", v.name}, {"camera", v.camera_id}, {"cam_from_world", m}, {"color", v.color}};
+    if (!v.depth.empty()) jv["depth"] = v.depth;
+    if (!v.mask.empty()) jv["mask"] = v.mask;
+    if (!v.normal.empty()) jv["normal"] = v.normal;
+    views.push_back(jv);
+  }
+  j["views"] = views;
+  // nlohmann writes doubles with 17 significant digits: round trips are exact.
+  out << j.dump(2) << "\n";
+}
+
+Dataset ReadDataset(const fs::path& dir, bool check_pixels) {
+  const fs::path manifest = dir / "dataset.json";
+  if (!fs::is_directory(dir)) core::ThrowFileError("ReadDataset", dir, "not a directory");
+  std::ifstream in(manifest, std::ios::binary);
+  if (!in) core::ThrowFileError("ReadDataset", manifest, "cannot open (missing dataset.json?)");
+  Dataset dataset = ReadManifest(in, manifest.string());
+  dataset.root = dir;
+  for (size_t i = 0; i < dataset.views.size(); ++i) {
+    const DatasetView& view = dataset.views[i];
+    const Camera& camera = dataset.camera(view);
+    for (const std::string* rel : {&view.color, &view.depth, &view.mask, &view.normal}) {
+      if (rel->empty()) continue;
+      const fs::path path = dir / *rel;
+      const core::ImageHeader header = core::ReadImageHeader(path);
+      if (header.width != camera.width || header.height != camera.height) {
+        core::ThrowFileError("ReadDataset", path, "image is {}x{}, camera {} is {}x{}",
+                             header.width, header.height, view.camera_id, camera.width, camera.height);
+      }
+    }
+    if (check_pixels) {
+      dataset.LoadColor(i);
+      if (!view.depth.empty()) dataset.LoadDepth(i);
+      if (!view.mask.empty()) dataset.LoadMask(i);
+      if (!view.normal.empty()) dataset.LoadNormal(i);
+    }
+  }
+  return dataset;
+}
+
+DatasetWriter::DatasetWriter(const fs::path& dir) : staged_(dir) {
+  dataset_.root = staged_.path();
+}
+
+int DatasetWriter::AddCamera(const Camera& camera) {
+  camera.Check("DatasetWriter::AddCamera");
+  const int id = static_cast<int>(dataset_.cameras.size()) + 1;
+  dataset_.cameras.emplace(id, camera);
+  return id;
+}
+
+void DatasetWriter::AddView(const std::string& name, int camera_id, const Rigid3& cam_from_world,
+                            const core::Image8& color, const core::ImageF& depth,
+                            const core::Image8& mask, const core::ImageF& normal) {
+  const std::string where = fmt::format("DatasetWriter::AddView: view '{}'", name);
+  if (!dataset_.cameras.contains(camera_id)) core::ThrowInputError(where, "unknown camera id {}", camera_id);
+  const Camera& camera = dataset_.cameras.at(camera_id);
+  auto check_size = [&](int w, int h, int channels, std::initializer_list<int> allowed, const char* what) {
+    if (w != camera.width || h != camera.height) {
+      core::ThrowInputError(where, "{} is {}x{}, camera is {}x{}", what, w, h, camera.width, camera.height);
+    }
+    if (std::find(allowed.begin(), allowed.end(), channels) == allowed.end()) {
+      core::ThrowInputError(where, "{} has {} channels", what, channels);
+    }
+  };
+  cam_from_world.Check(where);
+  DatasetView view{name, camera_id, cam_from_world, "color/" + name + ".png", {}, {}, {}};
+  fs::create_directories(staged_.path() / "color");
+  check_size(color.width(), color.height(), color.channels(), {3, 4}, "color");
+  if (color.channels() == 4) {
+    core::Image8 rgb(color.width(), color.height(), 3);
+    for (size_t p = 0; p < color.pixel_count(); ++p) {
+      for (int c = 0; c < 3; ++c) rgb.data()[3 * p + c] = color.data()[4 * p + c];
+    }
+    core::WriteImage(staged_.path() / view.color, rgb);
+  } else {
+    core::WriteImage(staged_.path() / view.color, color);
+  }
+  if (!depth.empty()) {
+    check_size(depth.width(), depth.height(), depth.channels(), {1}, "depth");
+    CheckDepthValues(depth, where);
+    view.depth = "depth/" + name + ".exr";
+    fs::create_directories(staged_.path() / "depth");
+    core::WriteImage(staged_.path() / view.depth, depth);
+  }
+  if (!mask.empty()) {
+    check_size(mask.width(), mask.height(), mask.channels(), {1}, "mask");
+    view.mask = "mask/" + name + ".png";
+    fs::create_directories(staged_.path() / "mask");
+    core::WriteImage(staged_.path() / view.mask, mask);
+  }
+  if (!normal.empty()) {
+    check_size(normal.width(), normal.height(), normal.channels(), {3}, "normal");
+    CheckNormalValues(normal, where);
+    view.normal = "normal/" + name + ".exr";
+    fs::create_directories(staged_.path() / "normal");
+    core::WriteImage(staged_.path() / view.normal, normal);
+  }
+  dataset_.views.push_back(std::move(view));
+}
+
+void DatasetWriter::Commit() {
+  dataset_.Check("DatasetWriter::Commit");
+  core::AtomicWriteStream(staged_.path() / "dataset.json",
+                          [&](std::ostream& out) { WriteManifest(out, dataset_); });
+  staged_.Commit();
+  dataset_.root = staged_.final_path();
+}
+
+}  // namespace capture

@@ -1,0 +1,125 @@
+// Registered RGB-D datasets on disk. CPU-only, no GL.
+//
+//   DIR/dataset.json   the manifest (schema below)
+//   DIR/color/*.png    RGB or RGBA 8-bit, row 0 at the top
+//   DIR/depth/*.exr    float32, 1 channel, camera z (see camera.h), 0 or
+//                      non-finite = invalid; optional per view
+//   DIR/mask/*.png     8-bit, 1 channel, > 127 = object (silhouette)
+//   DIR/normal/*.exr   float32, 3 channels, unit WORLD-frame normal facing the
+//                      camera, 0 where invalid; optional
+//
+// dataset.json (version 1):
+// {
+//   "format": "ibr-dataset", "version": 1,
+//   "depth": {"kind": "camera_z", "units": "m" | "scene units", "invalid": "0 or non-finite"},
+//   "normal_frame": "world",
+//   "bounds": {"min": [x, y, z], "max": [x, y, z]},        // optional, world frame
+//   "cameras": [{"id": 1, "model": "PINHOLE", "width": 640, "height": 480,
+//                "params": [fx, fy, cx, cy]}],              // params in COLMAP order
+//   "views": [{"name": "view_000", "camera": 1,
+//              "cam_from_world": [[r00, r01, r02, t0], [r10, r11, r12, t1], [r20, r21, r22, t2]],
+//              "color": "color/view_000.png", "depth": "depth/view_000.exr",   // depth optional
+//              "mask": "mask/view_000.png", "normal": "normal/view_000.exr"}]  // both optional
+// }
+// Cameras use the sparse pixel convention (pixel centre at +0.5). Dataset
+// cameras are undistorted (PINHOLE, SIMPLE_PINHOLE or ORTHOGRAPHIC): importers
+// undistort images first.
+#pragma once
+
+#include <filesystem>
+#include <istream>
+#include <map>
+#include <memory>
+#include <optional>
+#include <ostream>
+#include <string>
+#include <vector>
+
+#include "capture/camera.h"
+#include "core/atomic_file.h"
+#include "core/image.h"
+
+namespace capture {
+
+struct Bounds {
+  glm::dvec3 min{0.0};
+  glm::dvec3 max{0.0};
+  glm::dvec3 centre() const { return 0.5 * (min + max); }
+  glm::dvec3 extent() const { return max - min; }
+  bool operator==(const Bounds&) const = default;
+};
+
+struct DatasetView {
+  std::string name;      // unique, used for file names
+  int camera_id = 0;     // key into Dataset::cameras
+  Rigid3 cam_from_world;
+  std::string color;     // relative paths inside the dataset directory
+  std::string depth;     // empty = no depth for this view
+  std::string mask;      // empty = no mask
+  std::string normal;    // empty = no normals
+  bool operator==(const DatasetView&) const = default;
+};
+
+struct Dataset {
+  std::map<int, Camera> cameras;
+  std::vector<DatasetView> views;
+  std::string depth_units = "scene units";  // "m" for metric data
+  std::optional<Bounds> bounds;
+  std::filesystem::path root;  // directory the relative paths are relative to (not serialised)
+
+  const Camera& camera(const DatasetView& view) const { return cameras.at(view.camera_id); }
+  // Throws core::InputError ("where: ...") naming the first inconsistency:
+  // bad camera, unknown camera id, invalid pose, duplicate name, unsafe path.
+  void Check(std::string_view where) const;
+
+  // Loading one view's images; each validates the file against the view's
+  // camera (size, channels, finite/non-negative values) and throws
+  // core::InputError naming the file.
+  core::Image8 LoadColor(size_t view) const;  // 3 channels RGB
+  core::ImageF LoadDepth(size_t view) const;  // 1 channel; empty view.depth -> InputError
+  core::Image8 LoadMask(size_t view) const;   // 1 channel; empty view.mask -> InputError
+  core::ImageF LoadNormal(size_t view) const; // 3 channels
+  bool operator==(const Dataset& other) const {
+    return cameras == other.cameras && views == other.views && depth_units == other.depth_units &&
+           bounds == other.bounds;
+  }
+};
+
+// The manifest alone, through streams (`name` is used in messages).
+Dataset ReadManifest(std::istream& in, const std::string& name);
+void WriteManifest(std::ostream& out, const Dataset& dataset);
+
+// Reads DIR/dataset.json, checks it, and checks that every referenced file
+// exists and has the camera's size (headers only). `check_pixels` also loads
+// every image and validates values.
+Dataset ReadDataset(const std::filesystem::path& dir, bool check_pixels = false);
+
+// Writes a dataset into a staged directory: images view by view, manifest on
+// Commit(); nothing is left at `dir` if Commit() is not reached.
+class DatasetWriter {
+ public:
+  explicit DatasetWriter(const std::filesystem::path& dir);
+  // Adds a camera, returns its id (1, 2, ...).
+  int AddCamera(const Camera& camera);
+  // Writes the images and records the view. Depth/mask/normal may be empty
+  // (not written). Image sizes must match the camera (InputError otherwise).
+  // color: 3 or 4 channels (alpha is dropped); mask: 1 channel.
+  void AddView(const std::string& name, int camera_id, const Rigid3& cam_from_world,
+               const core::Image8& color, const core::ImageF& depth, const core::Image8& mask,
+               const core::ImageF& normal);
+  void SetBounds(const Bounds& bounds) { dataset_.bounds = bounds; }
+  void SetDepthUnits(const std::string& units) { dataset_.depth_units = units; }
+  const Dataset& dataset() const { return dataset_; }
+  // Checks the dataset, writes dataset.json, renames into place.
+  void Commit();
+
+ private:
+  core::StagedDirectory staged_;
+  Dataset dataset_;
+};
+
+// Validation of images against a camera, shared by the readers.
+void CheckDepthValues(const core::ImageF& depth, const std::string& where);
+void CheckNormalValues(const core::ImageF& normal, const std::string& where);
+
+}  // namespace capture
