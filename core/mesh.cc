@@ -128,3 +128,121 @@ TriangleMesh MakePlane(float half_size, int cells) {
 }
 
 }  // namespace core
+
+namespace core {
+
+TriangleMesh MakeCup(float radius, float height, float wall, int segments) {
+  IBR_CHECK(radius > wall && height > wall && wall > 0 && segments >= 3);
+  // Closed profile in (r, z), walked so that (dz, -dr) is the outward normal.
+  const glm::vec2 profile[] = {{0, 0},
+                               {radius, 0},
+                               {radius, height},
+                               {radius - wall, height},
+                               {radius - wall, wall},
+                               {0, wall}};
+  TriangleMesh mesh;
+  for (int s = 0; s + 1 < 6; ++s) {
+    const glm::vec2 p0 = profile[s], p1 = profile[s + 1];
+    const glm::vec2 d = glm::normalize(p1 - p0);
+    const glm::vec2 n(d.y, -d.x);
+    const uint32_t base = static_cast<uint32_t>(mesh.positions.size());
+    for (int j = 0; j <= 1; ++j) {
+      const glm::vec2 p = j == 0 ? p0 : p1;
+      for (int i = 0; i <= segments; ++i) {
+        const float u = static_cast<float>(i) / segments;
+        const float phi = 2 * std::numbers::pi_v<float> * u;
+        const float c = std::cos(phi), sn = std::sin(phi);
+        mesh.positions.emplace_back(p.x * c, p.x * sn, p.y);
+        mesh.normals.emplace_back(n.x * c, n.x * sn, n.y);
+        mesh.uvs.emplace_back(u, (s + j) / 5.0f);
+      }
+    }
+    std::vector<uint32_t> local;
+    GridIndices(segments, 1, local);
+    for (uint32_t idx : local) mesh.indices.push_back(base + idx);
+  }
+  return mesh;
+}
+
+}  // namespace core
+
+namespace core {
+
+TriangleMesh MakeCylinder(float radius, float height, int segments, int stacks) {
+  IBR_CHECK(radius > 0 && height > 0 && segments >= 3 && stacks >= 1);
+  constexpr float kTwoPi = 2 * std::numbers::pi_v<float>;
+  TriangleMesh mesh;
+  for (int j = 0; j <= stacks; ++j) {
+    const float v = static_cast<float>(j) / stacks;
+    for (int i = 0; i <= segments; ++i) {
+      const float u = static_cast<float>(i) / segments;
+      const glm::vec3 radial(std::cos(kTwoPi * u), std::sin(kTwoPi * u), 0);
+      mesh.positions.push_back(radius * radial + glm::vec3(0, 0, height * (v - 0.5f)));
+      mesh.normals.push_back(radial);
+      mesh.uvs.emplace_back(u, v);
+    }
+  }
+  // u right, v (= +z) up seen from outside: counter-clockwise.
+  for (int j = 0; j < stacks; ++j) {
+    for (int i = 0; i < segments; ++i) {
+      const uint32_t a = j * (segments + 1) + i, b = a + 1, c = a + (segments + 1), d = c + 1;
+      mesh.indices.insert(mesh.indices.end(), {a, b, d, a, d, c});
+    }
+  }
+  return mesh;
+}
+
+TriangleMesh MakeIrregularVase(float radius, float height, int segments, int stacks, uint32_t seed) {
+  IBR_CHECK(radius > 0 && height > 0 && segments >= 3 && stacks >= 1);
+  constexpr float kTwoPi = 2 * std::numbers::pi_v<float>;
+  // The analytic surface f(u, v): radius profile bulging along the height and
+  // lobed around the axis.
+  auto surface = [&](glm::vec2 uv) {
+    const float phi = kTwoPi * uv.x;
+    const float r = radius * (1.0f + 0.25f * std::sin(kTwoPi * 0.75f * uv.y + 0.5f) +
+                              0.08f * std::cos(3 * phi + 2.0f * uv.y));
+    return glm::vec3(r * std::cos(phi), r * std::sin(phi), height * (uv.y - 0.5f));
+  };
+  // Deterministic jitter from a small integer hash (no global RNG state).
+  auto hash01 = [seed](uint32_t a, uint32_t b) {
+    uint32_t h = seed * 0x9E3779B1u ^ (a * 0x85EBCA77u) ^ (b * 0xC2B2AE3Du);
+    h ^= h >> 15;
+    h *= 0x2C1B3C6Du;
+    h ^= h >> 12;
+    h *= 0x297A2D39u;
+    h ^= h >> 15;
+    return static_cast<float>(h & 0xFFFFFF) / static_cast<float>(0x1000000);
+  };
+  TriangleMesh mesh;
+  for (int j = 0; j <= stacks; ++j) {
+    for (int i = 0; i <= segments; ++i) {
+      // The seam column i = segments repeats column 0 shifted by one in u.
+      const int ic = i == segments ? 0 : i;
+      float u = static_cast<float>(i) / segments;
+      float v = static_cast<float>(j) / stacks;
+      if (ic != 0) u += (hash01(ic, j) - 0.5f) * 0.6f / segments;
+      if (j != 0 && j != stacks) v += (hash01(ic + 7919u, j) - 0.5f) * 0.6f / stacks;
+      const glm::vec2 uv(u, v);
+      mesh.uvs.push_back(uv);
+      mesh.positions.push_back(surface(uv));
+      // Normal from central differences of f: (df/du x df/dv), outward.
+      const float e = 1e-3f;
+      const glm::vec3 du = surface(uv + glm::vec2(e, 0)) - surface(uv - glm::vec2(e, 0));
+      const glm::vec3 dv = surface(uv + glm::vec2(0, e)) - surface(uv - glm::vec2(0, e));
+      mesh.normals.push_back(glm::normalize(glm::cross(du, dv)));
+    }
+  }
+  for (int j = 0; j < stacks; ++j) {
+    for (int i = 0; i < segments; ++i) {
+      const uint32_t a = j * (segments + 1) + i, b = a + 1, c = a + (segments + 1), d = c + 1;
+      if (hash01(i + 104729u, j) < 0.5f) {
+        mesh.indices.insert(mesh.indices.end(), {a, b, d, a, d, c});
+      } else {
+        mesh.indices.insert(mesh.indices.end(), {a, b, c, b, d, c});
+      }
+    }
+  }
+  return mesh;
+}
+
+}  // namespace core

@@ -37,3 +37,33 @@ TriangleMesh MakeBox(glm::vec3 half_extent);
 TriangleMesh MakePlane(float half_size, int cells = 1);
 
 }  // namespace core
+
+namespace core {
+
+// A concave cup around +z (a lathed closed profile): outer radius `radius`,
+// height `height`, wall and floor thickness `wall`; the cavity opens towards
+// +z. Flat normals per profile segment (bottom, outer wall, rim, inner wall,
+// inner floor); `segments` around the axis. Its surface points satisfy the
+// 2D profile distance used by the capture tests.
+TriangleMesh MakeCup(float radius, float height, float wall, int segments = 128);
+
+}  // namespace core
+
+namespace core {
+
+// Open cylinder side around +z (no caps: one continuous chart), radius
+// `radius`, z in [-height/2, height/2]; u around the axis (periodic), v along
+// +z; `segments` x `stacks` quads, outward normals.
+TriangleMesh MakeCylinder(float radius, float height, int segments = 48, int stacks = 8);
+
+// An irregular mesh with a continuous parameterisation (NCS needs one,
+// Chen-Chang sec. 3.1): a bumpy vase -- a surface of revolution about +z whose
+// radius varies with both height and angle -- sampled at jittered (u, v)
+// grid points with randomly chosen quad diagonals, so triangle sizes, shapes
+// and orientations all vary. u around the axis (periodic, the seam columns
+// coincide), v along +z in [0, 1] (open ends). Positions and normals are
+// evaluated from the analytic surface at each vertex's uv. Deterministic in `seed`.
+TriangleMesh MakeIrregularVase(float radius, float height, int segments = 40, int stacks = 16,
+                               uint32_t seed = 7);
+
+}  // namespace core

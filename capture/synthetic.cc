@@ -1,0 +1,333 @@
+#include "capture/synthetic.h"
+
+#include <charconv>
+#include <chrono>
+#include <cmath>
+#include <numbers>
+
+#include <assimp/Importer.hpp>
+#include <assimp/material.h>
+#include <assimp/postprocess.h>
+#include <assimp/scene.h>
+#include <fmt/format.h>
+#include <spdlog/spdlog.h>
+
+#include "core/error.h"
+#include "core/image_io.h"
+#include "core/projection.h"
+#include "render/gpu_mesh.h"
+#include "render/mesh_pass.h"
+
+namespace capture {
+namespace fs = std::filesystem;
+
+// ---------------------------------------------------------------- meshes ----
+
+SceneMesh LoadSceneMesh(const fs::path& path, const fs::path& texture_path) {
+  constexpr const char* kWhere = "LoadSceneMesh";
+  if (!fs::is_regular_file(path)) core::ThrowFileError(kWhere, path, "file does not exist");
+  Assimp::Importer importer;
+  const aiScene* scene = importer.ReadFile(
+      path.string(), aiProcess_Triangulate | aiProcess_JoinIdenticalVertices | aiProcess_GenSmoothNormals |
+                         aiProcess_PreTransformVertices | aiProcess_FlipUVs | aiProcess_SortByPType);
+  if (!scene || !scene->mRootNode || scene->mNumMeshes == 0) {
+    core::ThrowFileError(kWhere, path, "cannot load mesh: {}", importer.GetErrorString());
+  }
+  SceneMesh out;
+  out.source = path.string();
+  bool all_uvs = true;
+  std::string material_texture;
+  for (unsigned m = 0; m < scene->mNumMeshes; ++m) {
+    const aiMesh* mesh = scene->mMeshes[m];
+    if (!(mesh->mPrimitiveTypes & aiPrimitiveType_TRIANGLE)) continue;
+    all_uvs = all_uvs && mesh->HasTextureCoords(0);
+    if (material_texture.empty() && mesh->mMaterialIndex < scene->mNumMaterials) {
+      aiString tex;
+      if (scene->mMaterials[mesh->mMaterialIndex]->GetTexture(aiTextureType_DIFFUSE, 0, &tex) == AI_SUCCESS &&
+          tex.length > 0 && tex.C_Str()[0] != '*') {
+        material_texture = tex.C_Str();
+      }
+    }
+    const uint32_t base = static_cast<uint32_t>(out.mesh.positions.size());
+    for (unsigned v = 0; v < mesh->mNumVertices; ++v) {
+      const aiVector3D& p = mesh->mVertices[v];
+      out.mesh.positions.emplace_back(p.x, p.y, p.z);
+      const aiVector3D n = mesh->HasNormals() ? mesh->mNormals[v] : aiVector3D(0, 0, 1);
+      out.mesh.normals.emplace_back(n.x, n.y, n.z);
+      if (mesh->HasTextureCoords(0)) {
+        out.mesh.uvs.emplace_back(mesh->mTextureCoords[0][v].x, mesh->mTextureCoords[0][v].y);
+      } else {
+        out.mesh.uvs.emplace_back(0, 0);
+      }
+    }
+    for (unsigned f = 0; f < mesh->mNumFaces; ++f) {
+      const aiFace& face = mesh->mFaces[f];
+      if (face.mNumIndices != 3) continue;
+      for (int k = 0; k < 3; ++k) out.mesh.indices.push_back(base + face.mIndices[k]);
+    }
+  }
+  if (out.mesh.indices.empty()) core::ThrowFileError(kWhere, path, "no triangles");
+  // Degenerate normals (isolated vertices): any unit vector keeps GL happy.
+  for (auto& n : out.mesh.normals) {
+    const float len = glm::length(n);
+    n = std::isfinite(len) && len > 0 ? n / len : glm::vec3(0, 0, 1);
+  }
+  out.mesh.Validate(fmt::format("{}: '{}'", kWhere, path.string()));
+
+  fs::path tex = texture_path;
+  if (tex.empty() && !material_texture.empty()) tex = path.parent_path() / material_texture;
+  if (tex.empty()) {
+    const fs::path guess = path.parent_path() / (path.stem().string() + "_texture.png");
+    if (fs::exists(guess)) tex = guess;
+  }
+  if (!tex.empty()) {
+    if (!all_uvs) {
+      spdlog::warn("{}: '{}' has no UVs; texture '{}' ignored", kWhere, path.string(), tex.string());
+    } else {
+      core::Image8 image = core::ReadImage<uint8_t>(tex);
+      // To RGBA.
+      out.texture = core::Image8(image.width(), image.height(), 4, 255);
+      for (int y = 0; y < image.height(); ++y) {
+        for (int x = 0; x < image.width(); ++x) {
+          for (int c = 0; c < 3; ++c) {
+            out.texture.at(x, y, c) = image.at(x, y, image.channels() >= 3 ? c : 0);
+          }
+        }
+      }
+    }
+  }
+  return out;
+}
+
+std::vector<std::string> ShapeNames() { return {"sphere", "torus", "box", "cup"}; }
+
+SceneMesh MakeShapeScene(std::string_view name) {
+  SceneMesh out;
+  out.source = fmt::format("shape:{}", name);
+  if (name == "sphere") {
+    out.mesh = core::MakeSphere(1.0f, 256, 512);
+  } else if (name == "torus") {
+    out.mesh = core::MakeTorus(1.0f, 0.4f, 512, 256);
+  } else if (name == "box") {
+    out.mesh = core::MakeBox({1.0f, 0.7f, 0.5f});
+  } else if (name == "cup") {
+    out.mesh = core::MakeCup(1.0f, 1.2f, 0.12f, 512);
+  } else {
+    core::ThrowInputError("MakeShapeScene", "unknown shape '{}' (expected sphere, torus, box or cup)", name);
+  }
+  return out;
+}
+
+// ------------------------------------------------------------------ rigs ----
+
+RigSpec RigSpec::Parse(std::string_view text) {
+  constexpr const char* kWhere = "RigSpec::Parse";
+  if (text == "cube") return {Kind::kCube, 6};
+  const auto colon = text.find(':');
+  if (colon == std::string_view::npos) {
+    core::ThrowInputError(kWhere, "rig '{}' is not cube, ring:N or sphere:N", text);
+  }
+  const std::string_view kind = text.substr(0, colon), count = text.substr(colon + 1);
+  int n = 0;
+  const auto [ptr, ec] = std::from_chars(count.data(), count.data() + count.size(), n);
+  if (ec != std::errc() || ptr != count.data() + count.size() || n < 1 || n > 1000) {
+    core::ThrowInputError(kWhere, "rig '{}': N must be an integer in 1..1000", text);
+  }
+  if (kind == "ring") return {Kind::kRing, n};
+  if (kind == "sphere") return {Kind::kSphere, n};
+  core::ThrowInputError(kWhere, "rig '{}' is not cube, ring:N or sphere:N", text);
+}
+
+std::string RigSpec::ToString() const {
+  switch (kind) {
+    case Kind::kCube: return "cube";
+    case Kind::kRing: return fmt::format("ring:{}", count);
+    case Kind::kSphere: return fmt::format("sphere:{}", count);
+  }
+  return {};
+}
+
+void CaptureOptions::Check() const {
+  constexpr const char* kWhere = "CaptureOptions";
+  if (size < 16 || size > 8192) core::ThrowInputError(kWhere, "size {} is outside 16..8192", size);
+  RigSpec::Parse(rig);
+  if (!(fov_deg > 1 && fov_deg < 170)) core::ThrowInputError(kWhere, "fov {} is outside 1..170 degrees", fov_deg);
+  if (!(margin >= 0 && margin < 1)) core::ThrowInputError(kWhere, "margin {} is outside [0, 1)", margin);
+  if (!(std::abs(ring_elevation_deg) < 89)) core::ThrowInputError(kWhere, "ring elevation must be within +-89 degrees");
+  if (!(glm::length(up) > 0)) core::ThrowInputError(kWhere, "up vector is zero");
+}
+
+std::vector<RigView> MakeRig(const RigSpec& rig, const Bounds& bounds, const CaptureOptions& options) {
+  options.Check();
+  const glm::dvec3 centre = bounds.centre();
+  const glm::dvec3 extent = bounds.extent();
+  const int size = options.size;
+  std::vector<RigView> views;
+  const glm::dvec3 up = glm::normalize(options.up);
+  // Two axes spanning the plane perpendicular to `up`.
+  glm::dvec3 a = glm::cross(up, glm::dvec3(1, 0, 0));
+  if (glm::length(a) < 1e-6) a = glm::cross(up, glm::dvec3(0, 1, 0));
+  a = glm::normalize(a);
+  const glm::dvec3 b = glm::cross(a, up);
+
+  if (rig.kind == RigSpec::Kind::kCube) {
+    // Kautz-Seidel 2001, sec. 4: depth maps on the six faces of the object's
+    // bounding cube, orthographic, each looking inwards; the image plane is
+    // the cube face, so depth is the distance from that face.
+    const double half = 0.5 * std::max({extent.x, extent.y, extent.z, 1e-9}) * (1 + options.margin);
+    const double scale = size / (2 * half);  // pixels per scene unit
+    const glm::dvec3 axes[6] = {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}};
+    const char* names[6] = {"cube_px", "cube_nx", "cube_py", "cube_ny", "cube_pz", "cube_nz"};
+    for (int f = 0; f < 6; ++f) {
+      const glm::dvec3 eye = centre + half * axes[f];
+      // Image up: world y for the side faces, -z / +z looking down / up the y axis.
+      glm::dvec3 face_up(0, 1, 0);
+      if (f == 2) face_up = {0, 0, -1};
+      if (f == 3) face_up = {0, 0, 1};
+      RigView view;
+      view.name = names[f];
+      view.camera = Camera::Orthographic(size, size, scale, scale, size / 2.0, size / 2.0);
+      view.cam_from_world = LookAt(eye, centre, face_up);
+      view.near = 0;
+      view.far = 2 * half;
+      views.push_back(view);
+    }
+    return views;
+  }
+
+  const double radius = 0.5 * glm::length(extent) * (1 + options.margin);  // bounding sphere
+  const double half_fov = options.fov_deg * std::numbers::pi / 360;
+  const double distance = std::max(radius, 1e-9) / std::sin(half_fov);
+  const double f = (size / 2.0) / std::tan(half_fov);
+  const int n = rig.count;
+  for (int i = 0; i < n; ++i) {
+    glm::dvec3 dir;
+    if (rig.kind == RigSpec::Kind::kRing) {
+      const double phi = 2 * std::numbers::pi * i / n;
+      const double e = options.ring_elevation_deg * std::numbers::pi / 180;
+      dir = std::cos(e) * (std::cos(phi) * a + std::sin(phi) * b) + std::sin(e) * up;
+    } else {
+      // Fibonacci sphere: even coverage, no point exactly at a pole.
+      const double y = 1 - (2.0 * i + 1) / n;
+      const double r = std::sqrt(std::max(0.0, 1 - y * y));
+      const double phi = i * std::numbers::pi * (3 - std::sqrt(5.0));
+      dir = r * std::cos(phi) * a + y * up + r * std::sin(phi) * b;
+    }
+    RigView view;
+    view.name = fmt::format("{}_{:03d}", rig.kind == RigSpec::Kind::kRing ? "ring" : "sphere", i);
+    view.camera = Camera::Pinhole(size, size, f, f, size / 2.0, size / 2.0);
+    view.cam_from_world = LookAt(centre + distance * dir, centre, up);
+    view.near = std::max(distance - radius, 1e-3 * distance);
+    view.far = distance + radius;
+    views.push_back(view);
+  }
+  return views;
+}
+
+// -------------------------------------------------------------- rendering ----
+
+namespace {
+
+// The scene on the GPU, uploaded once per capture.
+class GpuScene {
+ public:
+  explicit GpuScene(const SceneMesh& scene) : mesh_(scene.mesh) {
+    if (!scene.texture.empty()) {
+      texture_ = render::Texture::Create2D(GL_RGBA8, scene.texture.width(), scene.texture.height());
+      glTextureSubImage2D(texture_.id(), 0, 0, 0, scene.texture.width(), scene.texture.height(), GL_RGBA,
+                          GL_UNSIGNED_BYTE, scene.texture.data());
+      glTextureParameteri(texture_.id(), GL_TEXTURE_MIN_FILTER, GL_LINEAR);
+      glTextureParameteri(texture_.id(), GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+      glTextureParameteri(texture_.id(), GL_TEXTURE_WRAP_S, GL_REPEAT);
+      glTextureParameteri(texture_.id(), GL_TEXTURE_WRAP_T, GL_REPEAT);
+    }
+  }
+  const render::GpuMesh& mesh() const { return mesh_; }
+  const render::Texture* texture() const { return texture_ ? &texture_ : nullptr; }
+
+ private:
+  render::GpuMesh mesh_;
+  render::Texture texture_;
+};
+
+CapturedView Render(render::ProgramCache& programs, const GpuScene& gpu, const RigView& view,
+                    const CaptureOptions& options) {
+  const Camera& cam = view.camera;
+  render::ViewSetup setup;
+  setup.cam_from_world = view.cam_from_world.ToMat4();
+  setup.orthographic = cam.orthographic();
+  setup.clip_from_cam =
+      cam.orthographic()
+          ? core::ClipFromCamOrthographic(cam.fx(), cam.fy(), cam.cx(), cam.cy(), cam.width, cam.height,
+                                          view.near, view.far)
+          : core::ClipFromCamPerspective(cam.fx(), cam.fy(), cam.cx(), cam.cy(), cam.width, cam.height,
+                                         view.near, view.far);
+  render::MeshPassOptions pass;
+  pass.base_color = options.base_color;
+  pass.texture = gpu.texture();
+  pass.shade = options.shade;
+  const render::MeshFrame frame = render::RenderMesh(programs, gpu.mesh(), setup, cam.width, cam.height, pass);
+
+  CapturedView out;
+  out.color = core::Image8(cam.width, cam.height, 3);
+  out.depth = core::ImageF(cam.width, cam.height, 1);
+  out.mask = core::Image8(cam.width, cam.height, 1);
+  out.normal = core::ImageF(cam.width, cam.height, 3);
+  const glm::dmat3& r = view.cam_from_world.rotation;
+  for (int row = 0; row < cam.height; ++row) {
+    for (int col = 0; col < cam.width; ++col) {
+      for (int c = 0; c < 3; ++c) out.color.at(col, row, c) = frame.color.at(col, row, c);
+      const bool covered = frame.color.at(col, row, 3) == 255;
+      const float depth = frame.depth.at(col, row);
+      if (!covered || !(depth > 0)) continue;
+      out.mask.at(col, row) = 255;
+      out.depth.at(col, row) = depth;
+      glm::dvec3 n(frame.normal.at(col, row, 0), frame.normal.at(col, row, 1), frame.normal.at(col, row, 2));
+      const double len = glm::length(n);
+      if (!(len > 0)) continue;
+      n /= len;
+      // Face the camera: against the viewing ray.
+      const glm::dvec3 ray = cam.orthographic() ? glm::dvec3(0, 0, 1) : cam.UnprojectPixel(col, row, 1.0);
+      if (glm::dot(r * n, ray) > 0) n = -n;
+      for (int c = 0; c < 3; ++c) out.normal.at(col, row, c) = static_cast<float>(n[c]);
+    }
+  }
+  return out;
+}
+
+Bounds MeshBounds(const core::TriangleMesh& mesh) {
+  glm::vec3 lo, hi;
+  mesh.Bounds(lo, hi);
+  return {glm::dvec3(lo), glm::dvec3(hi)};
+}
+
+}  // namespace
+
+CapturedView RenderView(render::ProgramCache& programs, const SceneMesh& scene, const RigView& view,
+                        const CaptureOptions& options) {
+  options.Check();
+  const GpuScene gpu(scene);
+  return Render(programs, gpu, view, options);
+}
+
+Dataset CaptureDataset(render::ProgramCache& programs, const SceneMesh& scene, const CaptureOptions& options,
+                       const fs::path& out, const std::function<void(int, int, const std::string&)>& progress) {
+  options.Check();
+  const Bounds bounds = MeshBounds(scene.mesh);
+  const std::vector<RigView> views = MakeRig(RigSpec::Parse(options.rig), bounds, options);
+  const GpuScene gpu(scene);
+  DatasetWriter writer(out);
+  writer.SetBounds(bounds);
+  for (size_t i = 0; i < views.size(); ++i) {
+    const RigView& view = views[i];
+    const CapturedView captured = Render(programs, gpu, view, options);
+    const int camera_id = writer.AddCamera(view.camera);
+    writer.AddView(view.name, camera_id, view.cam_from_world, captured.color, captured.depth, captured.mask,
+                   captured.normal);
+    if (progress) progress(static_cast<int>(i) + 1, static_cast<int>(views.size()), view.name);
+  }
+  writer.Commit();
+  return writer.dataset();
+}
+
+}  // namespace capture
