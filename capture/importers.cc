@@ -1,0 +1,234 @@
+#include "capture/importers.h"
+
+#include <cmath>
+#include <fstream>
+#include <regex>
+#include <sstream>
+
+#include <fmt/format.h>
+#include <nlohmann/json.hpp>
+#include <opencv2/imgproc.hpp>
+
+#include "core/error.h"
+#include "core/image_io.h"
+
+namespace capture {
+namespace fs = std::filesystem;
+
+void RedwoodImportOptions::Check() const {
+  if (!(depth_scale > 0 && std::isfinite(depth_scale))) {
+    core::ThrowInputError("RedwoodImportOptions", "depth_scale {} must be positive", depth_scale);
+  }
+}
+
+void MiddleburyImportOptions::Check() const {
+  if (!(threshold >= 0 && threshold <= 1)) core::ThrowInputError("MiddleburyImportOptions", "threshold {} outside [0, 1]", threshold);
+  if (dilate_iterations < 0 || erode_iterations < 0 || dilate_iterations > 100 || erode_iterations > 100) {
+    core::ThrowInputError("MiddleburyImportOptions", "dilate/erode iterations must be in 0..100");
+  }
+}
+
+namespace {
+
+std::ifstream Open(const fs::path& path, const char* where) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) core::ThrowFileError(where, path, "cannot open file");
+  return in;
+}
+
+// Whitespace-separated finite doubles; InputError naming the line otherwise.
+std::vector<double> ParseNumbers(const std::string& line, const std::string& where, int line_number) {
+  std::istringstream s(line);
+  std::vector<double> v;
+  std::string tok;
+  while (s >> tok) {
+    size_t used = 0;
+    double x = 0;
+    try {
+      x = std::stod(tok, &used);
+    } catch (const std::exception&) {
+      core::ThrowInputError(where, "line {}: '{}' is not a number", line_number, tok);
+    }
+    if (used != tok.size() || !std::isfinite(x)) core::ThrowInputError(where, "line {}: '{}' is not a finite number", line_number, tok);
+    v.push_back(x);
+  }
+  return v;
+}
+
+}  // namespace
+
+std::vector<Rigid3> ReadRedwoodLog(std::istream& in, const std::string& name) {
+  const std::string where = fmt::format("ReadRedwoodLog: '{}'", name);
+  std::vector<Rigid3> poses;
+  std::string line;
+  int line_number = 0;
+  while (std::getline(in, line)) {
+    ++line_number;
+    if (ParseNumbers(line, where, line_number).empty()) continue;
+    const auto header = ParseNumbers(line, where, line_number);
+    if (header.size() != 3) core::ThrowInputError(where, "line {}: expected \"i j n\", got {} numbers", line_number, header.size());
+    glm::dmat4 world_from_cam(1.0);
+    for (int r = 0; r < 4; ++r) {
+      if (!std::getline(in, line)) core::ThrowInputError(where, "truncated: matrix row {} missing after line {}", r, line_number);
+      ++line_number;
+      const auto row = ParseNumbers(line, where, line_number);
+      if (row.size() != 4) core::ThrowInputError(where, "line {}: expected 4 numbers, got {}", line_number, row.size());
+      for (int c = 0; c < 4; ++c) world_from_cam[c][r] = row[c];
+    }
+    const Rigid3 pose = Rigid3::FromMat4(world_from_cam).Inverse();
+    pose.Check(fmt::format("{}: frame {}", where, poses.size()), 1e-5);
+    poses.push_back(pose);
+  }
+  if (poses.empty()) core::ThrowInputError(where, "no poses");
+  return poses;
+}
+
+Dataset ImportRedwood(const fs::path& source, const fs::path& out, const RedwoodImportOptions& options,
+                      const std::function<void(int, int)>& progress) {
+  constexpr const char* kWhere = "ImportRedwood";
+  options.Check();
+  if (!fs::is_directory(source)) core::ThrowFileError(kWhere, source, "not a directory");
+  const fs::path intrinsics_path = source / "camera_primesense.json";
+  auto in = Open(intrinsics_path, kWhere);
+  nlohmann::json j;
+  int width = 0, height = 0;
+  std::vector<double> k;
+  try {
+    j = nlohmann::json::parse(in);
+    width = j.at("width").get<int>();
+    height = j.at("height").get<int>();
+    k = j.at("intrinsic_matrix").get<std::vector<double>>();
+  } catch (const nlohmann::json::exception& e) {
+    core::ThrowFileError(kWhere, intrinsics_path, "bad intrinsics JSON: {}", e.what());
+  }
+  if (k.size() != 9) core::ThrowFileError(kWhere, intrinsics_path, "intrinsic_matrix has {} numbers, expected 9", k.size());
+  // Column-major 3x3: fx = k[0], fy = k[4], cx = k[6], cy = k[7]; Open3D's
+  // integer pixel centres -> +0.5 in ours.
+  const Camera camera = Camera::Pinhole(width, height, k[0], k[4], k[6] + 0.5, k[7] + 0.5);
+  camera.Check(fmt::format("{}: '{}'", kWhere, intrinsics_path.string()));
+  auto log = Open(source / "trajectory.log", kWhere);
+  const std::vector<Rigid3> poses = ReadRedwoodLog(log, (source / "trajectory.log").string());
+
+  std::vector<fs::path> colors;
+  if (fs::is_directory(source / "color")) {
+    for (const auto& e : fs::directory_iterator(source / "color")) colors.push_back(e.path());
+  }
+  std::sort(colors.begin(), colors.end());
+  if (colors.empty()) core::ThrowFileError(kWhere, source / "color", "no colour images");
+  if (colors.size() != poses.size()) {
+    core::ThrowFileError(kWhere, source / "trajectory.log", "{} poses for {} colour images", poses.size(), colors.size());
+  }
+  DatasetWriter writer(out);
+  writer.SetDepthUnits("m");
+  const int cam_id = writer.AddCamera(camera);
+  for (size_t i = 0; i < colors.size(); ++i) {
+    const std::string stem = colors[i].stem().string();
+    const fs::path depth_path = source / "depth" / (stem + ".png");
+    const core::Image<uint16_t> raw = core::ReadImage<uint16_t>(depth_path, 1);
+    core::Image8 color = core::ReadImage<uint8_t>(colors[i], 3);
+    if (raw.width() != width || raw.height() != height) {
+      core::ThrowFileError(kWhere, depth_path, "depth is {}x{}, camera is {}x{}", raw.width(), raw.height(), width, height);
+    }
+    core::ImageF depth(width, height, 1);
+    core::Image8 mask(width, height, 1);
+    for (size_t p = 0; p < depth.pixel_count(); ++p) {
+      depth.data()[p] = static_cast<float>(raw.data()[p] / options.depth_scale);
+      mask.data()[p] = raw.data()[p] > 0 ? 255 : 0;
+    }
+    writer.AddView(stem, cam_id, poses[i], color, depth, mask, {});
+    if (progress) progress(static_cast<int>(i) + 1, static_cast<int>(colors.size()));
+  }
+  writer.Commit();
+  return writer.dataset();
+}
+
+std::vector<MiddleburyView> ReadMiddleburyPar(std::istream& in, const std::string& name) {
+  const std::string where = fmt::format("ReadMiddleburyPar: '{}'", name);
+  std::string line;
+  int line_number = 0;
+  std::vector<MiddleburyView> views;
+  std::optional<size_t> declared;
+  while (std::getline(in, line)) {
+    ++line_number;
+    std::istringstream s(line);
+    std::string first;
+    if (!(s >> first)) continue;
+    if (!declared) {
+      const auto n = ParseNumbers(line, where, line_number);
+      if (n.size() != 1 || n[0] < 1 || n[0] != std::floor(n[0])) core::ThrowInputError(where, "line 1: expected the image count");
+      declared = static_cast<size_t>(n[0]);
+      continue;
+    }
+    std::string rest;
+    std::getline(s, rest);
+    const auto v = ParseNumbers(rest, where, line_number);
+    if (v.size() != 21) core::ThrowInputError(where, "line {}: expected name + 21 numbers, got {}", line_number, v.size());
+    if (std::abs(v[1]) > 1e-9 || std::abs(v[3]) > 1e-9 || std::abs(v[6]) > 1e-9 || std::abs(v[7]) > 1e-9 || v[8] != 1) {
+      core::ThrowInputError(where, "line {}: K is not [fx 0 cx; 0 fy cy; 0 0 1]", line_number);
+    }
+    MiddleburyView view;
+    view.image = first;
+    view.camera = Camera::Pinhole(1, 1, v[0], v[4], v[2] + 0.5, v[5] + 0.5);
+    for (int r = 0; r < 3; ++r) {
+      for (int c = 0; c < 3; ++c) view.cam_from_world.rotation[c][r] = v[9 + 3 * r + c];
+      view.cam_from_world.translation[r] = v[18 + r];
+    }
+    view.cam_from_world.Check(fmt::format("{}: line {}", where, line_number), 1e-5);
+    views.push_back(view);
+  }
+  if (!declared) core::ThrowInputError(where, "empty file");
+  if (views.size() != *declared) core::ThrowInputError(where, "declares {} images, has {}", *declared, views.size());
+  return views;
+}
+
+Dataset ImportMiddlebury(const fs::path& source, const fs::path& out, const MiddleburyImportOptions& options,
+                         const std::function<void(int, int)>& progress) {
+  constexpr const char* kWhere = "ImportMiddlebury";
+  options.Check();
+  if (!fs::is_directory(source)) core::ThrowFileError(kWhere, source, "not a directory");
+  fs::path par;
+  for (const auto& e : fs::directory_iterator(source)) {
+    if (e.path().string().ends_with("_par.txt")) par = e.path();
+  }
+  if (par.empty()) core::ThrowFileError(kWhere, source, "no *_par.txt camera file");
+  auto in = Open(par, kWhere);
+  std::vector<MiddleburyView> views = ReadMiddleburyPar(in, par.string());
+  std::sort(views.begin(), views.end(), [](const auto& a, const auto& b) { return a.image < b.image; });
+
+  DatasetWriter writer(out);
+  // README.txt: "(x y z)\n(x y z)" after "bounding box".
+  if (std::ifstream readme(source / "README.txt"); readme) {
+    const std::string text((std::istreambuf_iterator<char>(readme)), std::istreambuf_iterator<char>());
+    const std::regex box(R"(\(\s*([-0-9.eE+]+)\s+([-0-9.eE+]+)\s+([-0-9.eE+]+)\s*\)\s*\(\s*([-0-9.eE+]+)\s+([-0-9.eE+]+)\s+([-0-9.eE+]+)\s*\))");
+    std::smatch m;
+    if (std::regex_search(text, m, box)) {
+      writer.SetBounds({{std::stod(m[1]), std::stod(m[2]), std::stod(m[3])}, {std::stod(m[4]), std::stod(m[5]), std::stod(m[6])}});
+    }
+  }
+  const cv::Mat kernel = cv::getStructuringElement(cv::MORPH_RECT, {3, 3});
+  for (size_t i = 0; i < views.size(); ++i) {
+    MiddleburyView& v = views[i];
+    const fs::path image_path = source / v.image;
+    core::Image8 color = core::ReadImage<uint8_t>(image_path, 3);
+    v.camera.width = color.width();
+    v.camera.height = color.height();
+    v.camera.Check(fmt::format("{}: '{}'", kWhere, par.string()));
+    const cv::Mat rgb(color.height(), color.width(), CV_8UC3, color.data());
+    cv::Mat grey, mask_mat;
+    cv::cvtColor(rgb, grey, cv::COLOR_RGB2GRAY);
+    cv::threshold(grey, mask_mat, options.threshold * 255.0, 255, cv::THRESH_BINARY);
+    if (options.dilate_iterations > 0) cv::dilate(mask_mat, mask_mat, kernel, {-1, -1}, options.dilate_iterations);
+    if (options.erode_iterations > 0) cv::erode(mask_mat, mask_mat, kernel, {-1, -1}, options.erode_iterations);
+    core::Image8 mask(color.width(), color.height(), 1);
+    for (int r = 0; r < mask.height(); ++r) {
+      for (int c = 0; c < mask.width(); ++c) mask.at(c, r) = mask_mat.at<uint8_t>(r, c);
+    }
+    const int cam_id = writer.AddCamera(v.camera);
+    writer.AddView(fs::path(v.image).stem().string(), cam_id, v.cam_from_world, color, {}, mask, {});
+    if (progress) progress(static_cast<int>(i) + 1, static_cast<int>(views.size()));
+  }
+  writer.Commit();
+  return writer.dataset();
+}
+
+}  // namespace capture

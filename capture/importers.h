@@ -1,0 +1,49 @@
+// Real-data importers: Redwood RGB-D sequences and the Middlebury multi-view
+// rings become datasets. CPU-only, no GL.
+#pragma once
+
+#include <filesystem>
+#include <functional>
+
+#include "capture/dataset.h"
+
+namespace capture {
+
+// ../shared/data/rgbd/redwood5 layout: color/NNNNN.jpg, depth/NNNNN.png
+// (uint16, millimetres, 0 = invalid), trajectory.log (Redwood .log: "i j n"
+// then a 4x4 world_from_cam per frame), camera_primesense.json (Open3D
+// intrinsics, column-major K, integer pixel centres: cx + 0.5 here).
+// Depth is written in metres; mask = valid depth.
+struct RedwoodImportOptions {
+  double depth_scale = 1000;  // depth file units per metre (Redwood: mm)
+  void Check() const;
+};
+Dataset ImportRedwood(const std::filesystem::path& source, const std::filesystem::path& out,
+                      const RedwoodImportOptions& options = {},
+                      const std::function<void(int, int)>& progress = {});
+
+// Middlebury templeSparseRing / dinoSparseRing: *_par.txt lines
+// "name k11..k33 r11..r33 t1 t2 t3" (P = K [R t], cam_from_world = (R, t),
+// integer pixel centres: cx + 0.5 here), PNG photos, README.txt bounding box.
+// Masks (Seitz et al. 2006's silhouettes recipe, OpenCV): grey > threshold,
+// then `dilate_iterations` 3x3 dilations and `erode_iterations` erosions.
+struct MiddleburyImportOptions {
+  double threshold = 0.19;   // of full scale on the grey image (the README's value)
+  int dilate_iterations = 10;
+  int erode_iterations = 7;
+  void Check() const;
+};
+Dataset ImportMiddlebury(const std::filesystem::path& source, const std::filesystem::path& out,
+                         const MiddleburyImportOptions& options = {},
+                         const std::function<void(int, int)>& progress = {});
+
+// The parsers alone, through streams (names used in messages).
+std::vector<Rigid3> ReadRedwoodLog(std::istream& in, const std::string& name);  // cam_from_world per frame
+struct MiddleburyView {
+  std::string image;
+  Camera camera;  // PINHOLE in our (+0.5) convention; size set by the importer
+  Rigid3 cam_from_world;
+};
+std::vector<MiddleburyView> ReadMiddleburyPar(std::istream& in, const std::string& name);
+
+}  // namespace capture
