@@ -1,22 +1,87 @@
-// `ibr info`: what this machine's GL gives us.
+// `ibr info`: what this machine's GL gives us. `ibr info DIR`: a readable
+// summary of a dataset (cameras, views, depth, bounds).
+#include <cmath>
+#include <filesystem>
+#include <limits>
+#include <map>
+
 #include <fmt/format.h>
 
 #include "apps/ibr/commands.h"
+#include "capture/dataset.h"
 #include "render/context.h"
 #include "render/shader_program.h"
 
 namespace apps {
 
 namespace {
+
+void PrintGlInfo() {
+  auto context = render::HeadlessContext::Create();
+  const render::GlInfo& gl = context->info();
+  fmt::print("OpenGL    {}.{} ({})\n", gl.major, gl.minor, gl.version);
+  fmt::print("renderer  {}\nvendor    {}\nGLSL      {}\nplatform  EGL {}\n", gl.renderer,
+             gl.vendor, gl.glsl_version, gl.platform);
+  fmt::print("shaders   {} embedded files\n", render::ShaderSources::Embedded().Names().size());
+}
+
+void PrintDataset(const std::filesystem::path& dir) {
+  const capture::Dataset d = capture::ReadDataset(dir);
+  fmt::print("dataset   {}\n", std::filesystem::absolute(dir).string());
+  int with_depth = 0, with_mask = 0, with_normal = 0;
+  for (const auto& v : d.views) {
+    with_depth += !v.depth.empty();
+    with_mask += !v.mask.empty();
+    with_normal += !v.normal.empty();
+  }
+  fmt::print("views     {} (depth {}, mask {}, normals {})\n", d.views.size(), with_depth, with_mask, with_normal);
+  std::map<std::string, int> models;
+  for (const auto& [id, c] : d.cameras) models[fmt::format("{} {}x{}", capture::CameraModelName(c.model), c.width, c.height)]++;
+  fmt::print("cameras   {}:", d.cameras.size());
+  for (const auto& [m, n] : models) fmt::print(" {} x {};", n, m);
+  fmt::print("\n");
+  fmt::print("depth     camera z, units: {}, invalid = 0 or non-finite\n", d.depth_units);
+  if (d.bounds) {
+    fmt::print("bounds    min ({:.4g}, {:.4g}, {:.4g})  max ({:.4g}, {:.4g}, {:.4g})\n", d.bounds->min.x, d.bounds->min.y,
+               d.bounds->min.z, d.bounds->max.x, d.bounds->max.y, d.bounds->max.z);
+  } else {
+    fmt::print("bounds    unknown\n");
+  }
+  // Depth range and coverage of the first view with depth, as a sanity figure.
+  for (size_t i = 0; i < d.views.size(); ++i) {
+    if (d.views[i].depth.empty()) continue;
+    const core::ImageF depth = d.LoadDepth(i);
+    float lo = std::numeric_limits<float>::max(), hi = 0;
+    size_t valid = 0;
+    for (float z : depth.values()) {
+      if (!(std::isfinite(z) && z > 0)) continue;
+      lo = std::min(lo, z);
+      hi = std::max(hi, z);
+      ++valid;
+    }
+    fmt::print("view 0    '{}': depth {:.4g}..{:.4g}, {:.1f} % valid\n", d.views[i].name, valid ? lo : 0.0f, hi,
+               100.0 * valid / depth.pixel_count());
+    break;
+  }
+  fmt::print("{:<14} {:<8} {:<28} {}\n", "view", "camera", "centre (world)", "files");
+  for (const auto& v : d.views) {
+    const glm::dvec3 c = v.cam_from_world.Centre();
+    fmt::print("{:<14} {:<8} ({:8.4f},{:8.4f},{:8.4f})  {}{}{}{}\n", v.name, v.camera_id, c.x, c.y, c.z, "color",
+               v.depth.empty() ? "" : " depth", v.mask.empty() ? "" : " mask", v.normal.empty() ? "" : " normal");
+  }
+}
+
 void AddInfoCommand(CLI::App& app) {
-  auto* cmd = app.add_subcommand("info", "Print the OpenGL context this machine gives (headless EGL)");
+  static std::filesystem::path dir;
+  auto* cmd = app.add_subcommand("info", "Without DIR: the OpenGL context this machine gives (headless EGL); "
+                                         "with DIR: a summary of the dataset there");
+  cmd->add_option("DIR", dir, "dataset directory (optional)");
   cmd->callback([] {
-    auto context = render::HeadlessContext::Create();
-    const render::GlInfo& gl = context->info();
-    fmt::print("OpenGL    {}.{} ({})\n", gl.major, gl.minor, gl.version);
-    fmt::print("renderer  {}\nvendor    {}\nGLSL      {}\nplatform  EGL {}\n", gl.renderer,
-               gl.vendor, gl.glsl_version, gl.platform);
-    fmt::print("shaders   {} embedded files\n", render::ShaderSources::Embedded().Names().size());
+    if (dir.empty()) {
+      PrintGlInfo();
+    } else {
+      PrintDataset(dir);
+    }
   });
 }
 }  // namespace
