@@ -1,0 +1,522 @@
+#include "ibr/depth_object.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+
+#include <glm/gtc/type_ptr.hpp>
+
+#include "core/check.h"
+#include "core/error.h"
+#include "core/projection.h"
+#include "ibr/view_weights.h"
+
+namespace ibr {
+
+// ---- names and options ----
+
+Method MethodFromName(const std::string& name) {
+  if (name == "depth-object") return Method::kDepthObject;
+  if (name == "visual-hull") return Method::kVisualHull;
+  core::ThrowInputError("MethodFromName", "unknown method '{}' (depth-object, visual-hull)", name);
+}
+Slicing SlicingFromName(const std::string& name) {
+  if (name == "orthogonal") return Slicing::kOrthogonal;
+  if (name == "screen") return Slicing::kScreen;
+  core::ThrowInputError("SlicingFromName", "unknown slicing '{}' (orthogonal, screen)", name);
+}
+Texturing TexturingFromName(const std::string& name) {
+  if (name == "vdt") return Texturing::kViewDependent;
+  if (name == "visibility") return Texturing::kVisibility;
+  if (name == "none") return Texturing::kNone;
+  core::ThrowInputError("TexturingFromName", "unknown texturing '{}' (vdt, visibility, none)", name);
+}
+std::string MethodName(Method m) { return m == Method::kDepthObject ? "depth-object" : "visual-hull"; }
+std::string SlicingName(Slicing s) { return s == Slicing::kOrthogonal ? "orthogonal" : "screen"; }
+std::string TexturingName(Texturing t) {
+  return t == Texturing::kViewDependent ? "vdt" : t == Texturing::kVisibility ? "visibility" : "none";
+}
+
+void DepthObjectOptions::Check() const {
+  if (slices < 1 || slices > 16384) {
+    core::ThrowInputError("DepthObjectOptions", "slices {} outside 1..16384", slices);
+  }
+  if (robust_k < 0) core::ThrowInputError("DepthObjectOptions", "robust k {} is negative", robust_k);
+  if (!(visibility_tolerance >= 0) || !std::isfinite(visibility_tolerance)) {
+    core::ThrowInputError("DepthObjectOptions", "visibility tolerance {} must be >= 0",
+                          visibility_tolerance);
+  }
+}
+
+// ---- CPU preparation ----
+
+MapTables MakeMapTables(const MapSet& maps, Method method) {
+  MapTables t;
+  t.layers = static_cast<int>(maps.maps.size());
+  for (const ImageMap& m : maps.maps) {
+    t.width = std::max(t.width, m.camera.width);
+    t.height = std::max(t.height, m.camera.height);
+  }
+  const size_t n = static_cast<size_t>(t.layers) * t.width * t.height;
+  t.depth.assign(n, 0.0f);
+  t.mask.assign(n, 0);
+  t.color.assign(n * 4, 255);
+  for (int l = 0; l < t.layers; ++l) {
+    const ImageMap& m = maps.maps[l];
+    for (int row = 0; row < m.camera.height; ++row) {
+      for (int col = 0; col < m.camera.width; ++col) {
+        const size_t i = t.Index(l, col, row);
+        float d = m.depth.empty() ? 0.0f : m.depth.at(col, row);
+        if (!std::isfinite(d) || d < 0) d = 0;
+        t.depth[i] = d;
+        if (!m.mask.empty()) {
+          t.mask[i] = m.mask.at(col, row);
+        } else if (method == Method::kVisualHull) {
+          t.mask[i] = d > 0 ? 255 : 0;  // silhouette from valid depth
+        } else {
+          t.mask[i] = 255;  // no silhouette: depth alone decides
+        }
+        if (!m.color.empty()) {
+          for (int c = 0; c < 3; ++c) t.color[i * 4 + c] = m.color.at(col, row, c);
+          t.color[i * 4 + 3] = m.color.channels() == 4 ? m.color.at(col, row, 3) : 255;
+        }
+      }
+    }
+  }
+  return t;
+}
+
+namespace {
+
+glm::dvec3 BoxCentre(const MapSet& maps) {
+  return glm::dvec3(maps.world_from_box * glm::dvec4(0.5, 0.5, 0.5, 1.0));
+}
+
+// The direction a camera looks at the box: orthographic: its axis; pinhole:
+// from its centre to the box centre (its axis if it sits at the centre).
+glm::dvec3 LookDirection(bool orthographic, const glm::dmat4& cam_from_world, const glm::dvec3& target) {
+  const glm::dvec3 axis = CameraAxis(cam_from_world);
+  if (orthographic) return axis;
+  const glm::dvec3 d = target - CameraCentre(cam_from_world);
+  const double len = glm::length(d);
+  return len > 1e-12 ? d / len : axis;
+}
+
+}  // namespace
+
+std::vector<int> ActiveMaps(const MapSet& maps, Method method, bool skip_opposite,
+                            const glm::dvec3& view_direction) {
+  const int n = static_cast<int>(maps.maps.size());
+  std::vector<int> active;
+  for (int i = 0; i < n; ++i) {
+    bool skip = false;
+    const ImageMap& a = maps.maps[i];
+    if (method == Method::kVisualHull && skip_opposite && a.camera.orthographic) {
+      const glm::dvec3 ai = CameraAxis(a.cam_from_world);
+      for (int j = 0; j < n && !skip; ++j) {
+        const ImageMap& b = maps.maps[j];
+        if (j == i || !b.camera.orthographic) continue;
+        const glm::dvec3 aj = CameraAxis(b.cam_from_world);
+        if (glm::dot(ai, aj) > -1.0 + 1e-9) continue;
+        // Opposite pair: keep the one looking along the view (its face is the
+        // one the viewer sees); exact ties keep the lower index.
+        const double si = glm::dot(ai, view_direction), sj = glm::dot(aj, view_direction);
+        if (sj > si || (sj == si && j < i)) skip = true;
+      }
+    }
+    if (!skip) active.push_back(i);
+  }
+  return active;
+}
+
+FrameParams PrepareFrame(const MapSet& maps, const ViewCamera& view, const DepthObjectOptions& options) {
+  options.Check();
+  view.camera.Check("PrepareFrame: view");
+  FrameParams f;
+  const MapCamera& vc = view.camera;
+  f.width = vc.width;
+  f.height = vc.height;
+  f.view_orthographic = vc.orthographic;
+  f.view_height = static_cast<float>(vc.height);
+  f.view_ray = glm::vec4(1.0 / vc.fx, 1.0 / vc.fy, -vc.cx / vc.fx, -vc.cy / vc.fy);
+
+  // Near/far only clip the slice polygons (no depth test is used): generous.
+  const glm::dmat4 cam_from_box = view.cam_from_world * maps.world_from_box;
+  double zmin = INFINITY, zmax = -INFINITY;
+  for (int i = 0; i < 8; ++i) {
+    const glm::dvec3 p(cam_from_box * glm::dvec4(i & 1, (i >> 1) & 1, (i >> 2) & 1, 1.0));
+    zmin = std::min(zmin, p.z);
+    zmax = std::max(zmax, p.z);
+  }
+  const double extent = std::max(zmax - zmin, 1e-9);
+  if (vc.orthographic) {
+    f.clip_from_cam = core::ClipFromCamOrthographic(vc.fx, vc.fy, vc.cx, vc.cy, vc.width, vc.height,
+                                                    zmin - 0.5 * extent, zmax + 0.5 * extent);
+  } else {
+    const double far = std::max(zmax, 0.0) + extent;
+    const double near = std::max(zmin * 0.5, far * 1e-5);
+    f.clip_from_cam =
+        core::ClipFromCamPerspective(vc.fx, vc.fy, vc.cx, vc.cy, vc.width, vc.height, near, far);
+  }
+  f.world_from_box = glm::mat4(maps.world_from_box);
+  f.cam_from_world = glm::mat4(view.cam_from_world);
+
+  // Slices from the shared slicing core, front to back (sec. 4.1: "we slice
+  // the cube from front to back in the best orthogonal direction").
+  render::SlicingOptions so;
+  so.family = options.slicing == Slicing::kOrthogonal ? render::SliceFamily::kOrthogonal
+                                                      : render::SliceFamily::kScreen;
+  so.order = render::SliceOrder::kFrontToBack;
+  so.count = options.slices;
+  f.stack = render::MakeSlices({f.world_from_box}, {f.cam_from_world, vc.orthographic}, so);
+  // Each slice plane in view camera space: p_box = A p_cam + b, so
+  // dot(n_box, p_box) = c  <=>  dot(A^T n_box, p_cam) = c - dot(n_box, b).
+  const glm::dmat4 box_from_cam = glm::inverse(cam_from_box);
+  const glm::dmat3 a(box_from_cam);
+  const glm::dvec3 b(box_from_cam[3]);
+  const glm::dvec3 n_box(f.stack.normal_in_box);
+  for (const render::Slice& s : f.stack.slices) {
+    const glm::dvec3 n_cam = glm::transpose(a) * n_box;
+    f.planes.emplace_back(glm::vec3(n_cam), static_cast<float>(s.offset_in_box - glm::dot(n_box, b)));
+  }
+
+  // Maps: view camera -> map camera, projection, texture layer.
+  const glm::dvec3 centre = BoxCentre(maps);
+  const glm::dvec3 view_dir = LookDirection(vc.orthographic, view.cam_from_world, centre);
+  const glm::dmat4 world_from_view = glm::inverse(view.cam_from_world);
+  const glm::dmat3 view_from_world_r(view.cam_from_world);
+  for (size_t i = 0; i < maps.maps.size(); ++i) {
+    const ImageMap& m = maps.maps[i];
+    const glm::dmat4 mv = m.cam_from_world * world_from_view;
+    MapRecord r{};
+    r.m0 = glm::vec4(glm::vec3(mv[0]), 0);
+    r.m1 = glm::vec4(glm::vec3(mv[1]), 0);
+    r.m2 = glm::vec4(glm::vec3(mv[2]), 0);
+    r.m3 = glm::vec4(glm::vec3(mv[3]), 0);
+    r.proj = glm::vec4(m.camera.fx, m.camera.fy, m.camera.cx, m.camera.cy);
+    r.info = glm::ivec4(m.camera.width, m.camera.height, m.camera.orthographic ? 1 : 0,
+                        static_cast<int>(i));
+    const glm::dvec3 c_view(view.cam_from_world * glm::dvec4(CameraCentre(m.cam_from_world), 1.0));
+    r.centre_in_view = glm::vec4(glm::vec3(c_view), m.camera.orthographic ? 1.0f : 0.0f);
+    r.axis_in_view = glm::vec4(glm::vec3(view_from_world_r * CameraAxis(m.cam_from_world)), 0.0f);
+    f.maps.push_back(r);
+  }
+  f.active = ActiveMaps(maps, options.method, options.hull_skip_opposite, view_dir);
+  const int n = static_cast<int>(f.active.size());
+  f.robust = options.robust_k > 0;
+  f.required = std::max(n - options.robust_k, 0);
+
+  // View-dependent weights over the active maps (sec. 4.2, ibr/view_weights.h).
+  std::vector<glm::dvec3> dirs;
+  for (int i : f.active) {
+    const ImageMap& m = maps.maps[i];
+    dirs.push_back(LookDirection(m.camera.orthographic, m.cam_from_world, centre));
+  }
+  const std::vector<float> w = ViewDependentWeights(dirs, view_dir, 3);
+  f.weights.assign(maps.maps.size(), 0.0f);
+  for (int j = 0; j < n; ++j) {
+    f.weights[f.active[j]] = w[j];
+    f.maps[f.active[j]].extra.x = w[j];
+  }
+  f.visibility_tolerance = static_cast<float>(
+      options.visibility_tolerance > 0 ? options.visibility_tolerance : 3.0 * f.stack.spacing_world);
+  return f;
+}
+
+// ---- GPU ----
+
+struct DepthObjectRenderer::GpuTables {
+  MapTables cpu;
+  render::Texture depth, mask, color;
+};
+
+namespace {
+
+render::Texture CreateArray(GLenum format, int w, int h, int layers) {
+  render::Texture t = render::Texture::Create(GL_TEXTURE_2D_ARRAY);
+  glTextureStorage3D(t.id(), 1, format, w, h, layers);
+  glTextureParameteri(t.id(), GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+  glTextureParameteri(t.id(), GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+  glTextureParameteri(t.id(), GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+  glTextureParameteri(t.id(), GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+  return t;
+}
+
+void SetMat4(const render::Program& p, const char* name, const glm::mat4& m) {
+  glUniformMatrix4fv(p.Uniform(name), 1, GL_FALSE, glm::value_ptr(m));
+}
+
+}  // namespace
+
+DepthObjectRenderer::DepthObjectRenderer(render::ProgramCache& programs, MapSet maps)
+    : programs_(&programs), maps_(std::move(maps)) {
+  maps_.Check("DepthObjectRenderer");
+  map_ubo_ = render::Buffer::Create();
+  glNamedBufferData(map_ubo_.id(), sizeof(MapRecord) * 64, nullptr, GL_DYNAMIC_DRAW);
+  empty_vao_ = render::VertexArray::Create();
+}
+
+DepthObjectRenderer::~DepthObjectRenderer() = default;
+
+const DepthObjectRenderer::GpuTables& DepthObjectRenderer::Tables(Method method) {
+  auto& slot = tables_[method == Method::kDepthObject ? 0 : 1];
+  if (!slot) {
+    slot = std::make_unique<GpuTables>();
+    slot->cpu = MakeMapTables(maps_, method);
+    const MapTables& t = slot->cpu;
+    glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
+    slot->depth = CreateArray(GL_R32F, t.width, t.height, t.layers);
+    glTextureSubImage3D(slot->depth.id(), 0, 0, 0, 0, t.width, t.height, t.layers, GL_RED, GL_FLOAT,
+                        t.depth.data());
+    slot->mask = CreateArray(GL_R8UI, t.width, t.height, t.layers);
+    glTextureSubImage3D(slot->mask.id(), 0, 0, 0, 0, t.width, t.height, t.layers, GL_RED_INTEGER,
+                        GL_UNSIGNED_BYTE, t.mask.data());
+    slot->color = CreateArray(GL_RGBA8UI, t.width, t.height, t.layers);
+    glTextureSubImage3D(slot->color.id(), 0, 0, 0, 0, t.width, t.height, t.layers, GL_RGBA_INTEGER,
+                        GL_UNSIGNED_BYTE, t.color.data());
+    glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
+  }
+  return *slot;
+}
+
+const MapTables& DepthObjectRenderer::tables(Method method) const {
+  const auto& slot = tables_[method == Method::kDepthObject ? 0 : 1];
+  IBR_CHECK(slot != nullptr);
+  return slot->cpu;
+}
+
+render::RenderTargetOptions DepthObjectRenderer::OutputTargetOptions(int width, int height) {
+  return {width, height, {GL_RGBA8, GL_RG32F}, true};
+}
+
+render::RenderTargetOptions DepthObjectRenderer::AccumTargetOptions(int width, int height) {
+  return {width, height, {GL_RGBA32F, GL_RG32F}, true};
+}
+
+const render::RenderTarget& DepthObjectRenderer::Accum(int width, int height) {
+  if (!accum_ || accum_->width() != width || accum_->height() != height) {
+    accum_ = std::make_unique<render::RenderTarget>(AccumTargetOptions(width, height));
+  }
+  return *accum_;
+}
+
+std::vector<std::string> DepthObjectRenderer::Defines(const FrameParams& frame,
+                                                      const DepthObjectOptions& options) const {
+  std::vector<std::string> d;
+  if (options.method == Method::kVisualHull) d.push_back("VISUAL_HULL");
+  if (options.outside == OutsidePolicy::kPass) d.push_back("OUTSIDE_PASSES");
+  if (options.invalid_depth == InvalidDepthPolicy::kNoConstraint) d.push_back("INVALID_DEPTH_PASSES");
+  if (frame.view_orthographic) d.push_back("VIEW_ORTHOGRAPHIC");
+  return d;
+}
+
+void DepthObjectRenderer::BindMaps(const GpuTables& t) const {
+  glBindTextureUnit(0, t.depth.id());
+  glBindTextureUnit(1, t.mask.id());
+  glBindTextureUnit(2, t.color.id());
+  glBindBufferBase(GL_UNIFORM_BUFFER, 0, map_ubo_.id());
+}
+
+void DepthObjectRenderer::UploadFrame(const FrameParams& frame) {
+  IBR_CHECK_LE(frame.maps.size(), 64u);
+  glNamedBufferSubData(map_ubo_.id(), 0, sizeof(MapRecord) * frame.maps.size(), frame.maps.data());
+}
+
+void DepthObjectRenderer::SetCommonUniforms(const render::Program& p, const FrameParams& frame,
+                                            bool slices) const {
+  p.Use();
+  glUniform1i(p.Uniform("u_depth_maps"), 0);
+  glUniform1i(p.Uniform("u_mask_maps"), 1);
+  glUniform1i(p.Uniform("u_color_maps"), 2);
+  glUniform1i(p.Uniform("u_map_count"), static_cast<int>(frame.maps.size()));
+  glUniform4fv(p.Uniform("u_view_ray"), 1, glm::value_ptr(frame.view_ray));
+  glUniform1f(p.Uniform("u_view_height"), frame.view_height);
+  glUniform1f(p.Uniform("u_inv255"), frame.inv255);
+  if (slices) {
+    SetMat4(p, "u_world_from_box", frame.world_from_box);
+    SetMat4(p, "u_cam_from_world", frame.cam_from_world);
+    SetMat4(p, "u_clip_from_cam", frame.clip_from_cam);
+  }
+}
+
+void DepthObjectRenderer::DrawSlices(const FrameParams& frame, const DepthObjectOptions& options,
+                                     const render::RenderTarget& accum) {
+  IBR_CHECK_EQ(accum.width(), frame.width);
+  IBR_CHECK_EQ(accum.height(), frame.height);
+  const GpuTables& tables = Tables(options.method);
+  UploadFrame(frame);
+  BindMaps(tables);
+  std::vector<std::string> defines = Defines(frame, options);
+  const render::Program& map_pass = programs_->Get(
+      {.vertex = "slice.vert.glsl", .fragment = "depth_object.frag.glsl", .defines = defines});
+  defines.push_back("CLEAR_PASS");
+  const render::Program& clear_pass = programs_->Get(
+      {.vertex = "slice.vert.glsl", .fragment = "depth_object.frag.glsl", .defines = defines});
+  SetCommonUniforms(clear_pass, frame, true);
+  SetCommonUniforms(map_pass, frame, true);
+  const GLint loc_plane_map = map_pass.Uniform("u_slice_plane");
+  const GLint loc_map = map_pass.Uniform("u_map");
+  const GLint loc_plane_clear = clear_pass.Uniform("u_slice_plane");
+
+  // Step 1: clear the frame buffer, no depth test.
+  accum.Bind();
+  const float zero[4] = {0, 0, 0, 0};
+  accum.Clear(zero, 1.0f, 0);
+  glDisable(GL_DEPTH_TEST);
+  glDisable(GL_CULL_FACE);
+  glEnable(GL_STENCIL_TEST);
+  glBlendEquation(GL_FUNC_ADD);
+  glBlendFunci(0, GL_ONE, GL_ONE);
+  glDisablei(GL_BLEND, 1);
+  slice_buffer_.Upload(frame.stack);
+  slice_buffer_.Bind();
+  const int n = static_cast<int>(frame.active.size());
+  const int required = frame.required;
+  for (int s = 0; s < slice_buffer_.size(); ++s) {
+    // Step 2(a): every base polygon (map) in turn, accumulating colour.
+    map_pass.Use();
+    glUniform4fv(loc_plane_map, 1, glm::value_ptr(frame.planes[s]));
+    glEnablei(GL_BLEND, 0);
+    glStencilOp(GL_KEEP, GL_KEEP, GL_INCR);
+    for (int j = 0; j < n; ++j) {
+      if (!frame.robust) {
+        // (a)i: pass and increment iff stencil == i - 1 (0-based: j).
+        glStencilMask(0xFF);
+        glStencilFunc(GL_EQUAL, j, 0xFF);
+      } else {
+        // Robust: count every map that passes, for pixels not yet finished
+        // (bit 7 marks finished pixels; counts stay below 128).
+        glStencilMask(0x7F);
+        glStencilFunc(GL_EQUAL, 0, 0x80);
+      }
+      glUniform1i(loc_map, frame.active[j]);
+      slice_buffer_.DrawSlice(s);  // (a)ii, with the alpha test (discard)
+    }
+    // Steps (c)-(f): clear colour and stencil where the count falls short.
+    clear_pass.Use();
+    glUniform4fv(loc_plane_clear, 1, glm::value_ptr(frame.planes[s]));
+    glDisablei(GL_BLEND, 0);
+    if (!frame.robust) {
+      glStencilMask(0xFF);
+      glStencilFunc(GL_NOTEQUAL, n, 0xFF);
+      glStencilOp(GL_KEEP, GL_KEEP, GL_ZERO);
+      slice_buffer_.DrawSlice(s);
+    } else {
+      // Unfinished pixels whose count < required: ref > stencil.
+      glStencilMask(0xFF);
+      glStencilFunc(GL_GREATER, required, 0xFF);
+      glStencilOp(GL_KEEP, GL_KEEP, GL_ZERO);
+      slice_buffer_.DrawSlice(s);
+      // Count >= required: set the finished bit (colour untouched).
+      glColorMask(GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);
+      glStencilMask(0x80);
+      glStencilFunc(GL_LEQUAL, 0x80 | required, 0x7F);
+      glStencilOp(GL_KEEP, GL_KEEP, GL_REPLACE);
+      slice_buffer_.DrawSlice(s);
+      glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
+    }
+  }
+  slice_buffer_.Unbind();
+  glStencilMask(0xFF);
+  glDisable(GL_STENCIL_TEST);
+  glDisablei(GL_BLEND, 0);
+}
+
+void DepthObjectRenderer::DrawResolve(const FrameParams& frame, const DepthObjectOptions& options,
+                                      const render::RenderTarget& accum) {
+  const GpuTables& tables = Tables(options.method);
+  UploadFrame(frame);
+  BindMaps(tables);
+  std::vector<std::string> defines = Defines(frame, options);
+  defines.push_back(options.texturing == Texturing::kViewDependent ? "TEXTURING_VDT"
+                    : options.texturing == Texturing::kVisibility  ? "TEXTURING_VISIBILITY"
+                                                                   : "TEXTURING_NONE");
+  const render::Program& resolve = programs_->Get(
+      {.vertex = "fullscreen.vert.glsl", .fragment = "depth_object_resolve.frag.glsl", .defines = defines});
+  SetCommonUniforms(resolve, frame, false);
+  glBindTextureUnit(3, accum.color(0).id());
+  glBindTextureUnit(4, accum.color(1).id());
+  glUniform1i(resolve.Uniform("u_accum_color"), 3);
+  glUniform1i(resolve.Uniform("u_accum_depth"), 4);
+  glUniform4fv(resolve.Uniform("u_background"), 1, glm::value_ptr(options.background));
+  glUniform1f(resolve.Uniform("u_visibility_tolerance"), frame.visibility_tolerance);
+  glDisable(GL_DEPTH_TEST);
+  glDisable(GL_STENCIL_TEST);
+  glDisable(GL_BLEND);
+  glBindVertexArray(empty_vao_.id());
+  glDrawArrays(GL_TRIANGLES, 0, 3);
+  glBindVertexArray(0);
+}
+
+void DepthObjectRenderer::Render(const ViewCamera& view, const DepthObjectOptions& options,
+                                 const render::RenderTarget& output) {
+  if (output.width() != view.camera.width || output.height() != view.camera.height) {
+    core::ThrowInputError("DepthObjectRenderer::Render", "target {}x{} differs from the view's {}x{}",
+                          output.width(), output.height(), view.camera.width, view.camera.height);
+  }
+  const FrameParams frame = PrepareFrame(maps_, view, options);
+  const render::RenderTarget& accum = Accum(frame.width, frame.height);
+  DrawSlices(frame, options, accum);
+  output.Bind();
+  DrawResolve(frame, options, accum);
+}
+
+void DepthObjectRenderer::RenderToFramebuffer(const ViewCamera& view, const DepthObjectOptions& options,
+                                              GLuint fbo) {
+  const FrameParams frame = PrepareFrame(maps_, view, options);
+  const render::RenderTarget& accum = Accum(frame.width, frame.height);
+  DrawSlices(frame, options, accum);
+  glBindFramebuffer(GL_DRAW_FRAMEBUFFER, fbo);
+  glViewport(0, 0, frame.width, frame.height);
+  DrawResolve(frame, options, accum);
+}
+
+DepthObjectFrame DepthObjectRenderer::RenderImages(const ViewCamera& view, const DepthObjectOptions& options) {
+  render::RenderTarget output(OutputTargetOptions(view.camera.width, view.camera.height));
+  Render(view, options, output);
+  DepthObjectFrame out;
+  out.color = output.ReadColor8(0);
+  const core::ImageF zc = output.ReadColorF(1);
+  out.depth = core::ImageF(zc.width(), zc.height(), 1);
+  out.mask = core::Image8(zc.width(), zc.height(), 1);
+  for (int y = 0; y < zc.height(); ++y) {
+    for (int x = 0; x < zc.width(); ++x) {
+      const bool covered = zc.at(x, y, 1) > 0.5f;
+      out.depth.at(x, y) = covered ? zc.at(x, y, 0) : 0.0f;
+      out.mask.at(x, y) = covered ? 255 : 0;
+    }
+  }
+  return out;
+}
+
+std::vector<core::Image8> DepthObjectRenderer::SliceCoverage(const FrameParams& frame) {
+  render::RenderTarget target({frame.width, frame.height, {GL_R8}, true});
+  // Any slice program will do: the clear pass writes constants and never discards.
+  DepthObjectOptions o;
+  std::vector<std::string> defines = Defines(frame, o);
+  defines.push_back("CLEAR_PASS");
+  const render::Program& p = programs_->Get(
+      {.vertex = "slice.vert.glsl", .fragment = "depth_object.frag.glsl", .defines = defines});
+  SetCommonUniforms(p, frame, true);
+  slice_buffer_.Upload(frame.stack);
+  std::vector<core::Image8> coverage;
+  const float zero[4] = {0, 0, 0, 0};
+  target.Bind();
+  glDisable(GL_DEPTH_TEST);
+  glDisable(GL_BLEND);
+  glEnable(GL_STENCIL_TEST);
+  glStencilMask(0xFF);
+  glStencilFunc(GL_ALWAYS, 0, 0xFF);
+  glStencilOp(GL_KEEP, GL_KEEP, GL_INCR);
+  slice_buffer_.Bind();
+  for (int s = 0; s < slice_buffer_.size(); ++s) {
+    target.Clear(zero, 1.0f, 0);
+    slice_buffer_.DrawSlice(s);
+    coverage.push_back(target.ReadStencil());
+  }
+  slice_buffer_.Unbind();
+  glDisable(GL_STENCIL_TEST);
+  return coverage;
+}
+
+}  // namespace ibr

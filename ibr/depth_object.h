@@ -1,0 +1,207 @@
+// Image-based depth objects and visual hulls by slicing and the stencil
+// buffer (Kautz-Seidel 2001, sec. 4 and 5), generalised to perspective maps
+// and arbitrary registered cameras, with robust intersection and
+// visibility-aware texturing.
+//
+// Stages: PrepareFrame() turns maps + view + options into FrameParams, every
+// number the GPU uses, computed once on the CPU in float; the GPU passes
+// (DepthObjectRenderer) and the CPU reference (ibr/reference.h) both consume
+// exactly these numbers, so they can agree pixel for pixel.
+#pragma once
+
+#include <memory>
+#include <string>
+#include <vector>
+
+#include <glm/glm.hpp>
+
+#include "core/image.h"
+#include "ibr/image_maps.h"
+#include "render/render_target.h"
+#include "render/shader_program.h"
+#include "render/slice_buffer.h"
+#include "render/slicing.h"
+
+namespace ibr {
+
+enum class Method {
+  kDepthObject,  // intersection of the regions behind each map's depth (sec. 4)
+  kVisualHull,   // intersection of the silhouette cones (sec. 5)
+};
+enum class Slicing {
+  kOrthogonal,  // box-axis slices in the best direction (sec. 3.2, 4.1)
+  kScreen,      // view-plane slices (sec. 3.3)
+};
+enum class Texturing {
+  kViewDependent,  // the paper's VDT, blended in the map loop (sec. 4.2)
+  kVisibility,     // only maps that saw the point; VDT where none did
+  kNone,           // grey, shaded
+};
+// Points outside a map's image (or behind a pinhole map).
+enum class OutsidePolicy {
+  kPass,  // no constraint: a camera that did not see a region cannot carve it
+  kFail,  // carved: the object must lie inside every camera's view
+};
+// Depth 0 (invalid) inside the silhouette (or everywhere when there is no mask).
+enum class InvalidDepthPolicy {
+  kEmpty,         // the paper's convention: displacement 0 is never drawn (sec. 3.2)
+  kNoConstraint,  // a hole in a sensor / MVS map carves nothing
+};
+
+Method MethodFromName(const std::string& name);          // "depth-object", "visual-hull"
+Slicing SlicingFromName(const std::string& name);        // "orthogonal", "screen"
+Texturing TexturingFromName(const std::string& name);    // "vdt", "visibility", "none"
+std::string MethodName(Method m);
+std::string SlicingName(Slicing s);
+std::string TexturingName(Texturing t);
+
+struct DepthObjectOptions {
+  Method method = Method::kDepthObject;
+  Slicing slicing = Slicing::kOrthogonal;
+  // Slices through the box per frame (>= 1). Depth resolution is one slice
+  // spacing; 128-256 is the paper's range.
+  int slices = 128;
+  // Robust intersection: keep pixels where at least N - k of the N maps agree
+  // (0 = the paper's exact intersection). k >= N keeps the whole box.
+  int robust_k = 0;
+  Texturing texturing = Texturing::kViewDependent;
+  // Default kPass: a camera that did not see a region has no evidence against
+  // it (partial views, cropped objects; cf. Open3D issues #1441, #4359, where
+  // carving outside the image silently removes object parts). Inside the cube
+  // configuration's box the choice makes no difference.
+  OutsidePolicy outside = OutsidePolicy::kPass;
+  InvalidDepthPolicy invalid_depth = InvalidDepthPolicy::kEmpty;
+  // Visual hulls: of two orthographic maps looking in exactly opposite
+  // directions (the cube rig), use only the one facing the viewer: their
+  // silhouettes are mirror images and carve the same cone (sec. 5: three maps
+  // suffice in the cube configuration).
+  bool hull_skip_opposite = true;
+  // Visibility texturing: a map saw a point if |its z - its depth| <= this
+  // (scene units); 0 = 3 slice spacings.
+  double visibility_tolerance = 0;
+  glm::vec4 background{0.0f, 0.0f, 0.0f, 0.0f};  // RGBA where nothing is drawn
+
+  void Check() const;
+};
+
+// The novel view.
+struct ViewCamera {
+  MapCamera camera;                // its width/height are the output size
+  glm::dmat4 cam_from_world{1.0};  // rigid, OpenCV axes
+};
+
+// One map's row of the GPU table (std140 layout of shaders/depth_object_core.glsl).
+struct MapRecord {
+  glm::vec4 m0, m1, m2, m3;  // columns of map_cam_from_view_cam (xyz)
+  glm::vec4 proj;            // fx, fy, cx, cy
+  glm::ivec4 info;           // width, height, orthographic, layer
+  glm::vec4 extra;           // view-dependent weight
+  glm::vec4 centre_in_view;  // map centre in view camera space, w = 1 if orthographic
+  glm::vec4 axis_in_view;    // map +z in view camera space
+};
+static_assert(sizeof(MapRecord) == 9 * 16, "std140 layout");
+
+// Every number one frame uses.
+struct FrameParams {
+  int width = 0, height = 0;  // pixels
+  bool view_orthographic = false;
+  glm::vec4 view_ray{0};      // ax, ay, bx, by (see depth_object_core.glsl)
+  float view_height = 0;      // = height, as the float the shader uses
+  float inv255 = 1.0f / 255.0f;
+  glm::mat4 world_from_box{1}, cam_from_world{1}, clip_from_cam{1};  // for placing slices
+  render::SliceStack stack;
+  std::vector<glm::vec4> planes;   // per slice: view camera plane dot(xyz, p) = w
+  std::vector<MapRecord> maps;     // every map
+  std::vector<int> active;         // maps in loop order (the paper's base polygons)
+  int required = 0;                // stencil count a pixel needs (N - k, >= 0)
+  bool robust = false;             // robust_k > 0: counting stencil scheme
+  float visibility_tolerance = 0;  // scene units
+  std::vector<float> weights;      // view-dependent weight per map (0 if not active)
+};
+
+// The texel data exactly as uploaded (one layer per map, row 0 = image top).
+struct MapTables {
+  int layers = 0, width = 0, height = 0;  // max size over maps
+  std::vector<float> depth;    // R32F, non-finite and negative cleaned to 0
+  std::vector<uint8_t> mask;   // R8
+  std::vector<uint8_t> color;  // RGBA8
+  size_t Index(int layer, int col, int row) const {
+    return (static_cast<size_t>(layer) * height + row) * width + col;
+  }
+};
+
+MapTables MakeMapTables(const MapSet& maps, Method method);
+
+FrameParams PrepareFrame(const MapSet& maps, const ViewCamera& view, const DepthObjectOptions& options);
+
+// Outputs of one frame, read back.
+struct DepthObjectFrame {
+  core::Image8 color;  // RGBA8, background where empty
+  core::ImageF depth;  // view camera z of the first surface, 0 where empty
+  core::Image8 mask;   // 255 where the object is drawn
+};
+
+// Owns the GPU resources for one loaded MapSet and renders frames of it: the
+// API the command line, the benchmarks and the viewer call per frame.
+class DepthObjectRenderer {
+ public:
+  // Uploads the maps (checked: InputError on bad input). Needs a current context.
+  DepthObjectRenderer(render::ProgramCache& programs, MapSet maps);
+  ~DepthObjectRenderer();
+  DepthObjectRenderer(const DepthObjectRenderer&) = delete;
+  DepthObjectRenderer& operator=(const DepthObjectRenderer&) = delete;
+
+  const MapSet& maps() const { return maps_; }
+  const MapTables& tables(Method method) const;
+
+  // Renders into `output`, a target made with OutputTargetOptions(w, h)
+  // where w, h = view.camera.width/height: attachment 0 RGBA8 colour,
+  // attachment 1 RG32F (camera z, covered).
+  void Render(const ViewCamera& view, const DepthObjectOptions& options,
+              const render::RenderTarget& output);
+  // Renders into framebuffer `fbo` (0 = the window) with a viewport of the
+  // view's size: the viewer's per-frame call.
+  void RenderToFramebuffer(const ViewCamera& view, const DepthObjectOptions& options, GLuint fbo);
+  // Render + readback.
+  DepthObjectFrame RenderImages(const ViewCamera& view, const DepthObjectOptions& options);
+
+  static render::RenderTargetOptions OutputTargetOptions(int width, int height);
+  static render::RenderTargetOptions AccumTargetOptions(int width, int height);
+
+  // ---- the stages, exposed for the exactness tests ----
+  // Steps 1-2 of sec. 4.1 into `accum` (AccumTargetOptions): attachment 0
+  // RGBA32F accumulated w*colour and w, attachment 1 RG32F (z, covered), stencil.
+  void DrawSlices(const FrameParams& frame, const DepthObjectOptions& options,
+                  const render::RenderTarget& accum);
+  // Texturing + background from `accum` into the bound framebuffer.
+  void DrawResolve(const FrameParams& frame, const DepthObjectOptions& options,
+                   const render::RenderTarget& accum);
+  // Which pixels each slice polygon covers on this GPU (1 per covered pixel,
+  // row 0 on top), for the CPU reference: rasterisation coverage is the one
+  // thing the reference takes from the GPU.
+  std::vector<core::Image8> SliceCoverage(const FrameParams& frame);
+
+ private:
+  struct GpuTables;
+  const GpuTables& Tables(Method method);
+  std::vector<std::string> Defines(const FrameParams& frame, const DepthObjectOptions& options) const;
+  void BindMaps(const GpuTables& tables) const;
+  void UploadFrame(const FrameParams& frame);
+  void SetCommonUniforms(const render::Program& program, const FrameParams& frame, bool slices) const;
+  const render::RenderTarget& Accum(int width, int height);
+
+  render::ProgramCache* programs_;
+  MapSet maps_;
+  std::unique_ptr<GpuTables> tables_[2];
+  render::Buffer map_ubo_;
+  render::SliceBuffer slice_buffer_;
+  std::unique_ptr<render::RenderTarget> accum_;
+  render::VertexArray empty_vao_;
+};
+
+// Applies the loop order rule for visual hulls (hull_skip_opposite) and
+// returns the maps a frame loops over.
+std::vector<int> ActiveMaps(const MapSet& maps, Method method, bool skip_opposite,
+                            const glm::dvec3& view_direction);
+
+}  // namespace ibr

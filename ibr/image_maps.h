@@ -1,0 +1,73 @@
+// Plain CPU inputs of the image-based object passes (Kautz-Seidel 2001,
+// sec. 4-5): registered images with depth (and/or silhouettes) and the box
+// that encloses the object. Filled from a capture::Dataset
+// (ibr/dataset_maps.h) or directly by tests. No GL.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include <glm/glm.hpp>
+
+#include "core/image.h"
+
+namespace ibr {
+
+// An undistorted camera: pinhole (u = fx x/z + cx) or orthographic
+// (u = sx x + cx, with fx/fy holding sx/sy in pixels per scene unit). Sparse
+// pixel convention: pixel (col, row) has its centre at (col + 0.5, row + 0.5).
+struct MapCamera {
+  bool orthographic = false;
+  double fx = 1, fy = 1, cx = 0, cy = 0;  // pixels (orthographic: fx, fy in pixels per unit)
+  int width = 0, height = 0;              // pixels
+
+  static MapCamera Pinhole(int width, int height, double fx, double fy, double cx, double cy) {
+    return {false, fx, fy, cx, cy, width, height};
+  }
+  static MapCamera Orthographic(int width, int height, double sx, double sy, double cx, double cy) {
+    return {true, sx, sy, cx, cy, width, height};
+  }
+  // Throws core::InputError ("where: ...") unless sizes and scales are positive and finite.
+  void Check(const std::string& where) const;
+};
+
+// One registered input image ("displacement map" in the paper's terms).
+struct ImageMap {
+  std::string name;
+  MapCamera camera;
+  glm::dmat4 cam_from_world{1.0};  // rigid, OpenCV axes (z forward)
+  // 1 channel camera z of the surface seen (orthographic: distance from the
+  // image plane); 0 or non-finite = invalid. Empty = no depth (visual hulls only).
+  core::ImageF depth;
+  // 3 or 4 channels RGB(A); empty = white.
+  core::Image8 color;
+  // 1 channel, > 127 = object. Empty = no silhouette (visual hulls then use depth > 0).
+  core::Image8 mask;
+};
+
+struct MapSet {
+  std::vector<ImageMap> maps;
+  // The object's bounding box: [0,1]^3 -> world, affine (the paper's cube;
+  // its faces are the base polygons in the cube configuration).
+  glm::dmat4 world_from_box{1.0};
+
+  // Throws core::InputError naming the map and the problem: image sizes that
+  // disagree with the camera, channel counts, a singular box, no maps.
+  void Check(const std::string& where) const;
+};
+
+// world_from_box for the axis-aligned box [lo, hi].
+glm::dmat4 BoxFromBounds(const glm::dvec3& lo, const glm::dvec3& hi);
+
+// The paper's cube configuration (sec. 4): six orthographic maps, one per face
+// of the cube [centre - half, centre + half]^3, each looking inward along
+// -/+x, -/+y, -/+z, `size` pixels square covering the face exactly. Returns the
+// cameras and poses (images are left empty, for the caller to render).
+std::vector<ImageMap> CubeRigMaps(const glm::dvec3& centre, double half, int size);
+
+// Camera centre in the world (orthographic: the image plane's centre).
+glm::dvec3 CameraCentre(const glm::dmat4& cam_from_world);
+// The camera's +z axis in the world.
+glm::dvec3 CameraAxis(const glm::dmat4& cam_from_world);
+
+}  // namespace ibr
