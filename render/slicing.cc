@@ -139,6 +139,28 @@ std::vector<glm::vec3> ClipPlaneToUnitBox(glm::vec3 n, float d) {
   return points;
 }
 
+std::vector<glm::vec3> ClipPolygonToHalfSpace(const std::vector<glm::vec3>& polygon, glm::vec3 n,
+                                              float d) {
+  std::vector<glm::vec3> out;
+  const size_t count = polygon.size();
+  for (size_t i = 0; i < count; ++i) {
+    const glm::vec3 a = polygon[i], b = polygon[(i + 1) % count];
+    const float sa = glm::dot(n, a) - d, sb = glm::dot(n, b) - d;
+    if (sa <= 0) out.push_back(a);
+    if ((sa < 0 && sb > 0) || (sa > 0 && sb < 0)) out.push_back(a + (b - a) * (sa / (sa - sb)));
+  }
+  if (out.size() < 3) return {};
+  return out;
+}
+
+float PolygonArea(const std::vector<glm::vec3>& polygon) {
+  glm::vec3 twice_area(0);
+  for (size_t i = 1; i + 1 < polygon.size(); ++i) {
+    twice_area += glm::cross(polygon[i] - polygon[0], polygon[i + 1] - polygon[0]);
+  }
+  return 0.5f * glm::length(twice_area);
+}
+
 SliceStack MakeSlices(const SliceBox& box, const SliceView& view, const SlicingOptions& options) {
   options.Check();
   IBR_CHECK(std::abs(glm::determinant(glm::mat3(box.world_from_box))) > 0);
@@ -215,6 +237,11 @@ SliceStack MakeSlices(const SliceBox& box, const SliceView& view, const SlicingO
       for (const auto& r : rect) {
         const glm::vec3 p_cam = view.orthographic ? glm::vec3(r, z) : glm::vec3(r * z, z);
         slice.p_in_box.push_back(glm::vec3(box_from_cam * glm::vec4(p_cam, 1.0f)));
+      }
+      // The rectangle is counter-clockwise around camera -z; a mirroring box
+      // map flips that in box coordinates, where exact slices are CCW.
+      if (glm::determinant(glm::mat3(cam_from_box)) < 0) {
+        std::reverse(slice.p_in_box.begin(), slice.p_in_box.end());
       }
     } else {
       slice.p_in_box = ClipPlaneToUnitBox(-g, -(z - g0));

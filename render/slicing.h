@@ -86,6 +86,15 @@ SliceStack MakeSlices(const SliceBox& box, const SliceView& view, const SlicingO
 // only touches it in fewer than 3 points).
 std::vector<glm::vec3> ClipPlaneToUnitBox(glm::vec3 n, float d);
 
+// Sutherland-Hodgman against one half-space: the part of the convex polygon
+// with dot(n, p) <= d, same orientation (empty if fewer than 3 vertices stay).
+// Cuts slices of a triangular displacement volume (box x + y <= 1) to the face.
+std::vector<glm::vec3> ClipPolygonToHalfSpace(const std::vector<glm::vec3>& polygon, glm::vec3 n,
+                                              float d);
+
+// Area of a planar polygon (any orientation), in the units of its vertices.
+float PolygonArea(const std::vector<glm::vec3>& polygon);
+
 // ---- slice counts (sec. 3.4) ----
 // Count giving at most `spacing_world` between planes along the axis.
 int SliceCountForSpacing(float extent_world, float spacing_world);

@@ -15,6 +15,14 @@ vec4 SliceVertex(vec3 p_in_box, out vec3 p_in_cam) {
   return u_clip_from_cam * vec4(p_in_cam, 1.0);
 }
 
+// Places a slice vertex whose world position the pass computed itself: the
+// slices of a volume whose box-to-world map is not affine (a mesh face's
+// displacement volume extruded along interpolated normals, sec. 3).
+vec4 SliceVertexWorld(vec3 p_in_world, out vec3 p_in_cam) {
+  p_in_cam = (u_cam_from_world * vec4(p_in_world, 1.0)).xyz;
+  return u_clip_from_cam * vec4(p_in_cam, 1.0);
+}
+
 // The paper's alpha test after ramp subtraction, used for ALL slicing
 // directions: keep iff displacement - h_alpha > 0 (strict, so a height of 0
 // is never drawn and masks the surface out; end of sec. 3.2).

@@ -1,0 +1,53 @@
+// The displacement scenes (base meshes, height maps, orbit cameras) shared by
+// `ibr displace`, `ibr demo` and `ibr bench displacement`, and the benchmark
+// itself: slicing family x slice count x view elevation x resolution against
+// the tessellated ground truth rendered in the same run (Kautz-Seidel 2001,
+// sec. 3.4, measured).
+#pragma once
+
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "bench/report.h"
+#include "core/heightfield.h"
+#include "core/image.h"
+#include "core/mesh.h"
+#include "render/mesh_pass.h"
+
+namespace bench {
+
+// "torus" (the paper's 625-polygon donut, R 1, r 0.4), "plane" (2 x 2, one
+// quad, z = 0, normal +z), "sphere" (radius 1, 16 x 32); InputError otherwise.
+core::TriangleMesh DisplacementBaseMesh(const std::string& name);
+
+// Height map in [floor, floor + (1 - floor) * pattern]: floor > 0 gives the
+// surface a solid base everywhere (a height of 0 is masked out, sec. 3.2).
+core::ImageF DisplacementHeightMap(core::HeightPattern pattern, int texels, float floor = 0.0f);
+
+// A perspective camera (40 degree field of view, square `size_px`) orbiting
+// the base's bounds centre: elevation above the z = 0 plane (90 = top view),
+// azimuth around +z (-90 = looking along +y), framing the bounds grown by
+// max_displacement.
+render::ViewSetup OrbitView(const core::TriangleMesh& base, float max_displacement, double elevation_deg,
+                            double azimuth_deg, int size_px);
+
+struct DisplacementBenchOptions {
+  std::filesystem::path csv;  // required: the table as CSV
+  std::filesystem::path out;  // optional directory: plot PNG + contact sheet
+  bool quick = false;         // a small sweep for CI smoke runs (seconds)
+  void Check() const;
+};
+
+struct DisplacementBenchResult {
+  Table table;
+  // Per family at the "needed slices" view: the smallest slice count with p95
+  // depth error < 1 texel, and its time / the ground truth's (-1 if none).
+  Table summary;
+};
+
+// Needs no context (creates one). Prints the tables, writes the CSV (and plot
+// + contact sheet into `out`).
+DisplacementBenchResult RunDisplacementBench(const DisplacementBenchOptions& options);
+
+}  // namespace bench
