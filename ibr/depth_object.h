@@ -84,12 +84,6 @@ struct DepthObjectOptions {
   void Check() const;
 };
 
-// The novel view.
-struct ViewCamera {
-  MapCamera camera;                // its width/height are the output size
-  glm::dmat4 cam_from_world{1.0};  // rigid, OpenCV axes
-};
-
 // One map's row of the GPU table (std140 layout of shaders/depth_object_core.glsl).
 struct MapRecord {
   glm::vec4 m0, m1, m2, m3;  // columns of map_cam_from_view_cam (xyz)

@@ -45,6 +45,12 @@ struct ImageMap {
   core::Image8 mask;
 };
 
+// The novel view.
+struct ViewCamera {
+  MapCamera camera;                // its width/height are the output size
+  glm::dmat4 cam_from_world{1.0};  // rigid, OpenCV axes
+};
+
 struct MapSet {
   std::vector<ImageMap> maps;
   // The object's bounding box: [0,1]^3 -> world, affine (the paper's cube;

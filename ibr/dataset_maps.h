@@ -1,0 +1,25 @@
+// From capture/ datasets to the plain inputs of the ibr passes.
+#pragma once
+
+#include <vector>
+
+#include "capture/camera.h"
+#include "capture/dataset.h"
+#include "ibr/image_maps.h"
+
+namespace ibr {
+
+// PINHOLE, SIMPLE_PINHOLE or ORTHOGRAPHIC; InputError for distorted models
+// (undistort first: capture::UndistortImage).
+MapCamera MapCameraFrom(const capture::Camera& camera, const std::string& where);
+glm::dmat4 Mat4From(const capture::Rigid3& cam_from_world);
+
+// Loads every view's depth (if any), colour and mask (if any). The box is the
+// dataset's bounds padded by `padding` of their largest extent on every side
+// (InputError when the dataset has no bounds).
+MapSet MapsFromDataset(const capture::Dataset& dataset, double padding = 0.02);
+
+// The views of a dataset as novel cameras (its images are not loaded).
+std::vector<ViewCamera> ViewsFromDataset(const capture::Dataset& dataset);
+
+}  // namespace ibr
