@@ -3,6 +3,7 @@
 #include <cmath>
 #include <cstddef>
 #include <map>
+#include <set>
 #include <tuple>
 
 #include "core/error.h"
@@ -108,6 +109,31 @@ TangentFrames ComputeTangentFrames(const core::TriangleMesh& mesh, float max_sca
     frames.s_binormal[k] = scale(len_v[k]);
   }
   return frames;
+}
+
+void DetectPeriodicAxes(const core::TriangleMesh& mesh, bool& wrap_u, bool& wrap_v) {
+  auto periodic = [&](int axis) {
+    std::set<std::tuple<long, long, long, long>> far_side;
+    for (size_t k = 0; k < mesh.uvs.size(); ++k) {
+      if (std::abs(mesh.uvs[k][axis] - 1.0f) > 1e-6f) continue;
+      const glm::vec3& p = mesh.positions[k];
+      far_side.insert({std::lround(p.x * 1e4f), std::lround(p.y * 1e4f), std::lround(p.z * 1e4f),
+                       std::lround(mesh.uvs[k][1 - axis] * 1e5f)});
+    }
+    int seam = 0;
+    for (size_t k = 0; k < mesh.uvs.size(); ++k) {
+      if (std::abs(mesh.uvs[k][axis]) > 1e-6f) continue;
+      const glm::vec3& p = mesh.positions[k];
+      if (!far_side.count({std::lround(p.x * 1e4f), std::lround(p.y * 1e4f), std::lround(p.z * 1e4f),
+                           std::lround(mesh.uvs[k][1 - axis] * 1e5f)})) {
+        return false;
+      }
+      ++seam;
+    }
+    return seam > 0;
+  };
+  wrap_u = !mesh.uvs.empty() && periodic(0);
+  wrap_v = !mesh.uvs.empty() && periodic(1);
 }
 
 namespace {

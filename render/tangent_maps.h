@@ -53,6 +53,11 @@ struct TangentMaps {
   TangentMapOptions options;
 };
 
+// Whether the parameterisation is periodic in u (v): every vertex at u = 0
+// has a twin at u = 1 with the same v and position (1e-4 scene units), as
+// on a torus (both), a UV sphere or cylinder (u), not a plane.
+void DetectPeriodicAxes(const core::TriangleMesh& mesh, bool& wrap_u, bool& wrap_v);
+
 // Algorithm 1: renders `mesh` (needs normals and uvs) in UV space.
 TangentMaps RenderTangentMaps(ProgramCache& programs, const core::TriangleMesh& mesh,
                               const TangentMapOptions& options);

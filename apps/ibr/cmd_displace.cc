@@ -25,6 +25,7 @@
 #include "render/frame_timer.h"
 #include "render/gpu_mesh.h"
 #include "render/mesh_pass.h"
+#include "render/relief_surface_pass.h"
 
 namespace apps {
 namespace {
@@ -86,12 +87,38 @@ DisplaceResult RenderTessellated(const DisplaceScene& scene) {
   return result;
 }
 
+// Per-pixel ray marching through the ray core (render/relief_surface_pass.h):
+// NCS (Chen-Chang, curved silhouettes), relief mapping, POM; defaults: 32
+// steps, c = 2.5.
+DisplaceResult RenderRelief(const DisplaceScene& scene, render::ReliefMethod method) {
+  render::ReliefGeometryOptions geometry;
+  geometry.max_displacement = scene.max_displacement;
+  render::DetectPeriodicAxes(scene.base, geometry.tangent_maps.wrap_u, geometry.tangent_maps.wrap_v);
+  const render::ReliefSurface surface(*scene.programs, scene.base, scene.height, geometry);
+  render::ReliefSurfaceOptions options;
+  options.method = method;
+  options.tiling = scene.tiling;
+  render::ReliefTarget target(scene.size, scene.size);
+  DisplaceResult result;
+  result.timing = render::TimeFrames([&] { surface.Draw(*scene.programs, target, scene.view, options); });
+  surface.Draw(*scene.programs, target, scene.view, options);
+  render::ReliefFrame frame = target.Read();
+  result.frame.color = std::move(frame.color);
+  result.frame.depth = std::move(frame.depth);
+  result.detail = fmt::format("{} steps, c = {}, {} early-terminated pixels", options.steps,
+                              options.step_enlargement, frame.early_termination_pixels);
+  return result;
+}
+
 const std::map<std::string, DisplaceMethod>& Methods() {
   static const std::map<std::string, DisplaceMethod> methods = {
       {"slices-surface", [](const DisplaceScene& s) { return RenderSlices(s, render::SliceFamily::kSurfaceAligned); }},
       {"slices-orthogonal", [](const DisplaceScene& s) { return RenderSlices(s, render::SliceFamily::kOrthogonal); }},
       {"slices-screen", [](const DisplaceScene& s) { return RenderSlices(s, render::SliceFamily::kScreen); }},
       {"tessellated", RenderTessellated},
+      {"ncs", [](const DisplaceScene& s) { return RenderRelief(s, render::ReliefMethod::kNcs); }},
+      {"relief", [](const DisplaceScene& s) { return RenderRelief(s, render::ReliefMethod::kRelief); }},
+      {"pom", [](const DisplaceScene& s) { return RenderRelief(s, render::ReliefMethod::kPom); }},
   };
   return methods;
 }

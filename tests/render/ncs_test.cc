@@ -106,6 +106,20 @@ class NcsTest : public test_support::GlTest {
   }
 };
 
+TEST(TangentMapsTest, DetectsPeriodicAxesOfTheBaseMeshes) {
+  bool u = false, v = false;
+  DetectPeriodicAxes(core::MakeTorus(1.0f, 0.4f, 24, 12), u, v);
+  EXPECT_TRUE(u && v);
+  DetectPeriodicAxes(core::MakeSphere(1.0f, 8, 16), u, v);
+  EXPECT_TRUE(u && !v);
+  DetectPeriodicAxes(core::MakeCylinder(1.0f, 2.0f, 16, 2), u, v);
+  EXPECT_TRUE(u && !v);
+  DetectPeriodicAxes(core::MakeIrregularVase(1.0f, 2.0f), u, v);
+  EXPECT_TRUE(u && !v);
+  DetectPeriodicAxes(core::MakePlane(1.0f, 4), u, v);
+  EXPECT_TRUE(!u && !v);
+}
+
 TEST_F(NcsTest, TangentMapsMatchTheTorusAnalyticFrame) {
   // Torus: N = cos(psi) r + sin(psi) z, T = phi-hat; |dP/du| = 2 pi (R + r cos psi),
   // |dP/dv| = 2 pi r. Check the CPU frames at vertices (the map's texels are

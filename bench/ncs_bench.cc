@@ -1,0 +1,264 @@
+#include "bench/ncs_bench.h"
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+
+#include <fmt/format.h>
+
+#include "core/error.h"
+#include "core/heightfield.h"
+#include "core/image_io.h"
+#include "core/mesh.h"
+#include "core/projection.h"
+#include "render/gpu_mesh.h"
+#include "render/mesh_pass.h"
+#include "render/relief_surface_pass.h"
+
+namespace bench {
+
+namespace {
+// The scene: the paper's donut case, R = 1, r = 0.4, 48 x 24 quads (1152
+// triangles, the paper's base model has 528), bumps at full height,
+// max displacement 0.08 (a fifth of the tube radius).
+constexpr float kMajor = 1.0f, kMinor = 0.4f, kMaxDisplacement = 0.08f;
+constexpr int kRingSegments = 48, kTubeSegments = 24;
+
+glm::vec3 EyeOf(const std::string& view) {
+  if (view == "oblique") return {0.3f, -3.0f, 1.75f};
+  if (view == "grazing") return {0.0f, -3.4f, 0.55f};
+  if (view == "edge") return {0.0f, -3.4f, 0.24f};
+  core::ThrowInputError("NcsBench", "unknown view '{}' (oblique, grazing, edge)", view);
+}
+
+render::ViewSetup MakeView(const std::string& view, int size) {
+  render::ViewSetup setup;
+  setup.cam_from_world = core::CamFromWorldLookAt(EyeOf(view), {0, 0, 0}, {0, 0, 1});
+  const double f = 1.05 * size;
+  setup.clip_from_cam = core::ClipFromCamPerspective(f, f, size / 2.0, size / 2.0, size, size, 0.1, 20.0);
+  return setup;
+}
+
+// Red: only the method covers; green: only the truth covers; grey: both.
+core::Image8 SilhouetteDiff(const core::Image8& color, const core::Image8& truth) {
+  core::Image8 out(color.width(), color.height(), 4, 0);
+  for (int y = 0; y < color.height(); ++y) {
+    for (int x = 0; x < color.width(); ++x) {
+      const bool a = color.at(x, y, 3) == 255, b = truth.at(x, y, 3) == 255;
+      out.at(x, y, 0) = a && !b ? 255 : (a && b ? 90 : 0);
+      out.at(x, y, 1) = b && !a ? 255 : (a && b ? 90 : 0);
+      out.at(x, y, 2) = a && b ? 90 : 0;
+      out.at(x, y, 3) = 255;
+    }
+  }
+  return out;
+}
+
+core::Image8 Opaque(const core::Image8& image) {
+  core::Image8 out = image;
+  for (int y = 0; y < out.height(); ++y) {
+    for (int x = 0; x < out.width(); ++x) out.at(x, y, 3) = 255;
+  }
+  return out;
+}
+}  // namespace
+
+std::vector<std::string> NcsBenchViewNames() { return {"oblique", "grazing", "edge"}; }
+
+void NcsBenchOptions::Check() const {
+  if (size < 16 || size > 4096) core::ThrowInputError("NcsBenchOptions", "size {} outside 16..4096", size);
+  if (height_map_size < 4 || height_map_size > 1024) {
+    core::ThrowInputError("NcsBenchOptions", "height_map_size {} outside 4..1024", height_map_size);
+  }
+  if (steps.empty() || step_enlargements.empty() || tilings.empty() || views.empty()) {
+    core::ThrowInputError("NcsBenchOptions", "every sweep list needs at least one value");
+  }
+  for (int s : steps) {
+    if (s < 1 || s > 4096) core::ThrowInputError("NcsBenchOptions", "steps {} outside 1..4096", s);
+  }
+  for (float c : step_enlargements) {
+    if (!(c >= 0.01f && c <= 1000)) core::ThrowInputError("NcsBenchOptions", "c {} outside [0.01, 1000]", c);
+  }
+  for (int t : tilings) {
+    if (t < 1 || t > 64) core::ThrowInputError("NcsBenchOptions", "tiling {} outside 1..64", t);
+  }
+  for (const std::string& v : views) EyeOf(v);
+  if (max_truth_subdivisions < 1 || max_truth_subdivisions > 256) {
+    core::ThrowInputError("NcsBenchOptions", "max_truth_subdivisions {} outside 1..256", max_truth_subdivisions);
+  }
+  timer.Check();
+}
+
+NcsBenchOptions NcsBenchOptions::Quick() {
+  NcsBenchOptions o;
+  o.size = 96;
+  o.height_map_size = 32;
+  o.steps = {16};
+  o.step_enlargements = {2.5f};
+  o.tilings = {1, 4};
+  o.views = {"grazing"};
+  o.max_truth_subdivisions = 16;
+  o.timer = {.warmup_frames = 1, .timed_frames = 1};
+  return o;
+}
+
+NcsBenchResult RunNcsBench(render::ProgramCache& programs, const NcsBenchOptions& options) {
+  options.Check();
+  const core::TriangleMesh torus = core::MakeTorus(kMajor, kMinor, kRingSegments, kTubeSegments);
+  core::HeightMapOptions hm;
+  hm.pattern = core::HeightPattern::kBumps;
+  hm.size = options.height_map_size;
+  hm.level = 1.0f;
+  const core::ImageF height = core::MakeHeightMap(hm);
+  render::ReliefGeometryOptions geometry;
+  geometry.max_displacement = kMaxDisplacement;
+  geometry.tangent_maps.size = 512;  // the paper's map size
+  geometry.tangent_maps.wrap_u = geometry.tangent_maps.wrap_v = true;
+  const render::ReliefSurface surface(programs, torus, height, geometry);
+
+  NcsBenchResult result{
+      Table({"method", "view", "tiling", "steps", "c", "ms_per_frame", "silhouette_iou", "wrong_silhouette_px",
+             "mean_depth_error", "p95_depth_error", "early_termination_px", "truth_px", "triangles"}),
+      Table({"view", "tiling", "steps", "ncs_ms", "relief_ms", "pom_ms", "tessellated_ms", "ncs_over_relief",
+             "ncs_over_tessellated"}),
+      {}};
+  const int n = options.size;
+  render::ReliefTarget relief_target(n, n);
+  render::RenderTarget mesh_target(render::MeshTargetOptions(n, n));
+  std::vector<core::Image8> strip_top, strip_bottom;
+  const int strip_tiling = options.tilings.front();
+  const std::string strip_view =
+      std::find(options.views.begin(), options.views.end(), "grazing") != options.views.end() ? "grazing"
+                                                                                              : options.views.front();
+  for (int tiling : options.tilings) {
+    // Ground truth: a vertex per texel along the ring (the finer direction
+    // per base quad is the tube: texels per quad = size * tiling / 24).
+    core::DisplacedMeshOptions dm;
+    dm.max_displacement = kMaxDisplacement;
+    dm.tiling = static_cast<float>(tiling);
+    const int wanted = (options.height_map_size * tiling + kTubeSegments - 1) / kTubeSegments;
+    dm.subdivisions = std::clamp(wanted, 1, options.max_truth_subdivisions);
+    const core::TriangleMesh truth_mesh = core::TessellateDisplaced(torus, height, dm);
+    const render::GpuMesh truth_gpu(truth_mesh);
+    const std::string triangles = std::to_string(truth_mesh.triangle_count());
+    for (const std::string& view_name : options.views) {
+      const render::ViewSetup view = MakeView(view_name, n);
+      render::DrawMesh(programs, mesh_target, truth_gpu, view);
+      render::MeshFrame truth;
+      truth.color = mesh_target.ReadColor8(0);
+      const core::ImageF truth_depth4 = mesh_target.ReadColorF(1);
+      truth.depth = core::ImageF(n, n, 1);
+      for (int y = 0; y < n; ++y) {
+        for (int x = 0; x < n; ++x) truth.depth.at(x, y) = truth_depth4.at(x, y, 0);
+      }
+      const double truth_ms =
+          render::TimeFrames([&] { render::DrawMesh(programs, mesh_target, truth_gpu, view); }, options.timer)
+              .median_ms;
+      int64_t truth_px = 0;
+      for (int y = 0; y < n; ++y) {
+        for (int x = 0; x < n; ++x) truth_px += truth.color.at(x, y, 3) == 255;
+      }
+      result.table.AddRow({"tessellated", view_name, std::to_string(tiling), "", "", Num(truth_ms, 2), Num(1.0, 4),
+                           "0", Num(0.0, 5), Num(0.0, 5), "0", std::to_string(truth_px), triangles});
+      const bool strip_here = tiling == strip_tiling && view_name == strip_view;
+      if (strip_here) {
+        strip_top.push_back(Opaque(truth.color));
+        strip_bottom.push_back(SilhouetteDiff(truth.color, truth.color));
+      }
+      // method x steps x c; c applies to NCS only.
+      std::map<std::pair<std::string, int>, double> ms_at;  // (method, steps) -> ms for the summary (c = 2.5)
+      for (render::ReliefMethod method :
+           {render::ReliefMethod::kNcs, render::ReliefMethod::kRelief, render::ReliefMethod::kPom}) {
+        const bool ncs = method == render::ReliefMethod::kNcs;
+        const std::vector<float> cs = ncs ? options.step_enlargements : std::vector<float>{1.0f};
+        for (int steps : options.steps) {
+          for (float c : cs) {
+            render::ReliefSurfaceOptions o;
+            o.method = method;
+            o.steps = steps;
+            o.step_enlargement = c;
+            o.tiling = static_cast<float>(tiling);
+            const double ms =
+                render::TimeFrames([&] { surface.Draw(programs, relief_target, view, o); }, options.timer).median_ms;
+            surface.Draw(programs, relief_target, view, o);
+            const render::ReliefFrame frame = relief_target.Read();
+            const render::SilhouetteError e = render::CompareToTruth(frame.color, frame.depth, truth.color, truth.depth);
+            result.table.AddRow({render::ReliefMethodName(method), view_name, std::to_string(tiling),
+                                 std::to_string(steps), ncs ? Num(c, 1) : "", Num(ms, 2), Num(e.iou, 4),
+                                 std::to_string(e.wrong_pixels), Num(e.mean_depth_error, 5),
+                                 Num(e.p95_depth_error, 5), std::to_string(frame.early_termination_pixels),
+                                 std::to_string(e.truth_pixels), std::to_string(torus.triangle_count())});
+            const bool summary_c = !ncs || std::abs(c - 2.5f) < 1e-6f ||
+                                   (options.step_enlargements.size() == 1 && c == options.step_enlargements[0]);
+            if (summary_c) ms_at[{render::ReliefMethodName(method), steps}] = ms;
+            // The strip: the middle step count, c = 2.5 (or the only c).
+            if (strip_here && steps == options.steps[options.steps.size() / 2] && summary_c) {
+              strip_top.push_back(Opaque(frame.color));
+              strip_bottom.push_back(SilhouetteDiff(frame.color, truth.color));
+            }
+          }
+        }
+      }
+      for (int steps : options.steps) {
+        const double ncs_ms = ms_at[{"ncs", steps}], relief_ms = ms_at[{"relief", steps}],
+                     pom_ms = ms_at[{"pom", steps}];
+        result.summary.AddRow({view_name, std::to_string(tiling), std::to_string(steps), Num(ncs_ms, 2),
+                               Num(relief_ms, 2), Num(pom_ms, 2), Num(truth_ms, 2), Num(ncs_ms / relief_ms, 2),
+                               Num(ncs_ms / truth_ms, 2)});
+      }
+    }
+  }
+  std::vector<core::Image8> cells = strip_top;
+  cells.insert(cells.end(), strip_bottom.begin(), strip_bottom.end());
+  result.strip = ContactSheet(cells, static_cast<int>(strip_top.size()));
+  return result;
+}
+
+void WriteNcsBench(const NcsBenchResult& result, const std::filesystem::path& csv,
+                   const std::filesystem::path& out_dir) {
+  result.table.WriteCsv(csv);
+  std::filesystem::create_directories(out_dir);
+  result.summary.WriteCsv(out_dir / "ncs_summary.csv");
+  core::WriteImage(out_dir / "ncs_silhouettes_grazing.png", result.strip);
+  // Error versus time: one series per method and c, every view and tiling.
+  Table plot({"series", "ms_per_frame", "wrong_silhouette_px", "p95_depth_error"});
+  const Table& t = result.table;
+  for (const auto& r : t.rows()) {
+    const std::string method = r[t.Column("method")], c = r[t.Column("c")];
+    plot.AddRow({c.empty() ? method : method + " c=" + c, r[t.Column("ms_per_frame")],
+                 r[t.Column("wrong_silhouette_px")], r[t.Column("p95_depth_error")]});
+  }
+  PlotOptions p;
+  p.x_column = "ms_per_frame";
+  p.series_column = "series";
+  p.x_label = "ms per frame (llvmpipe)";
+  p.log_x = true;
+  p.title = "Silhouette error vs time (all views, tilings, step counts)";
+  p.y_column = "wrong_silhouette_px";
+  p.y_label = "wrong silhouette pixels vs tessellated truth";
+  PlotPng(plot, p, out_dir / "ncs_silhouette_error_vs_time.png");
+  p.title = "Depth error vs time";
+  p.y_column = "p95_depth_error";
+  p.y_label = "p95 |camera z - truth| (scene units)";
+  PlotPng(plot, p, out_dir / "ncs_depth_error_vs_time.png");
+  // Cost versus tiling (the paper's Figure 6).
+  Table fig6({"series", "tiling", "ms_per_frame"});
+  for (const auto& r : result.summary.rows()) {
+    const std::string key = r[0] + " " + r[2] + " steps";
+    fig6.AddRow({"ncs " + key, r[1], r[3]});
+    fig6.AddRow({"relief " + key, r[1], r[4]});
+    fig6.AddRow({"tessellated " + r[0], r[1], r[6]});
+  }
+  PlotOptions f;
+  f.x_column = "tiling";
+  f.y_column = "ms_per_frame";
+  f.series_column = "series";
+  f.x_label = "height map tiling";
+  f.y_label = "ms per frame";
+  f.log_x = true;
+  f.log_y = true;
+  f.title = "Cost vs tiling (Chen-Chang Fig. 6)";
+  PlotPng(fig6, f, out_dir / "ncs_time_vs_tiling.png");
+}
+
+}  // namespace bench

@@ -1,0 +1,51 @@
+// `ibr bench ncs`: accuracy and cost of NCS (Chen-Chang), relief mapping and
+// POM against the tessellated ground truth (a vertex per height-map texel,
+// core::TessellateDisplaced + render::DrawMesh) rendered in the same run, on
+// a displaced torus: method x steps x c x view (including grazing views of
+// the torus's inner side, the paper's Figure 2 case) x tiling (the paper's
+// Figure 6). Figures are printed and written, never asserted.
+#pragma once
+
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "bench/report.h"
+#include "core/image.h"
+#include "render/frame_timer.h"
+#include "render/shader_program.h"
+
+namespace bench {
+
+struct NcsBenchOptions {
+  int size = 256;             // pixels per side of every frame
+  int height_map_size = 64;   // texels per side; the ground truth has a vertex per texel
+  std::vector<int> steps = {16, 32, 64};            // linear-search steps
+  std::vector<float> step_enlargements = {1.0f, 2.5f, 10.0f};  // NCS c
+  std::vector<int> tilings = {1, 2, 4, 8, 16};
+  std::vector<std::string> views = {"oblique", "grazing", "edge"};  // see NcsBenchViewNames()
+  // Caps the ground truth's subdivisions per base triangle (memory: tiling 16
+  // at 64 texels is ~2M triangles); the CSV reports the count used.
+  int max_truth_subdivisions = 64;
+  render::FrameTimerOptions timer{.warmup_frames = 1, .timed_frames = 3};
+  void Check() const;
+  static NcsBenchOptions Quick();  // CI smoke: one view, two tilings, one setting per method
+};
+
+// "oblique" (30 deg above the torus plane), "grazing" (9 deg: the far inner
+// side through the hole at a grazing angle), "edge" (4 deg).
+std::vector<std::string> NcsBenchViewNames();
+
+struct NcsBenchResult {
+  Table table;           // one row per (method, view, tiling, steps, c)
+  Table summary;         // NCS cost relative to relief mapping and to the ground truth per tiling
+  core::Image8 strip;    // silhouettes of every method at the grazing view (truth, ncs, relief, pom; diffs below)
+};
+
+NcsBenchResult RunNcsBench(render::ProgramCache& programs, const NcsBenchOptions& options);
+
+// Writes the CSV to `csv` and plots + strip into `out_dir`.
+void WriteNcsBench(const NcsBenchResult& result, const std::filesystem::path& csv,
+                   const std::filesystem::path& out_dir);
+
+}  // namespace bench
