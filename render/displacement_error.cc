@@ -17,6 +17,9 @@ void DisplacementErrorOptions::Check() const {
   if (interior_margin_px < 0 || interior_margin_px > 64) {
     core::ThrowInputError("DisplacementErrorOptions", "interior margin {} px outside 0..64", interior_margin_px);
   }
+  if (!(see_through_depth > 0)) {
+    core::ThrowInputError("DisplacementErrorOptions", "see_through_depth {} must be > 0", see_through_depth);
+  }
 }
 
 DisplacementError CompareToGroundTruth(const core::Image8& color, const core::ImageF& depth,
@@ -42,7 +45,8 @@ DisplacementError CompareToGroundTruth(const core::Image8& color, const core::Im
         ++e.both_pixels;
         errors.push_back(std::abs(static_cast<double>(depth.at(x, y)) - truth_depth.at(x, y)) / options.depth_unit);
       }
-      if (t && !r) {
+      const bool behind = t && r && depth.at(x, y) - truth_depth.at(x, y) > options.see_through_depth * options.depth_unit;
+      if ((t && !r) || behind) {
         bool interior = x >= m && y >= m && x < w - m && y < h - m;
         for (int dy = -m; interior && dy <= m; ++dy) {
           for (int dx = -m; interior && dx <= m; ++dx) interior = covered(truth_color, x + dx, y + dy);

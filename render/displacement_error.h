@@ -15,6 +15,10 @@ struct DisplacementErrorOptions {
   // this many pixels is also covered (silhouette pixels differ by
   // rasterisation, not by looking through slices).
   int interior_margin_px = 1;
+  // ... and counts if the rendering leaves it empty or shows a point more than
+  // this many depth units behind the truth: something behind the surface seen
+  // through the gaps between slices.
+  float see_through_depth = 4.0f;
   void Check() const;
 };
 
@@ -27,8 +31,9 @@ struct DisplacementError {
   double mean_depth_error = 0;
   double p95_depth_error = 0;
   double max_depth_error = 0;
-  // Interior ground-truth pixels (see interior_margin_px) the rendering leaves
-  // empty: the background seen through the slices (the paper's Figure 4).
+  // Interior ground-truth pixels (see interior_margin_px) where the rendering
+  // is empty or more than see_through_depth behind: looking through the
+  // slices (the paper's Figure 4).
   int see_through_pixels = 0;
 };
 

@@ -26,8 +26,10 @@ vec4 SliceVertexWorld(vec3 p_in_world, out vec3 p_in_cam) {
 // The paper's alpha test after ramp subtraction, used for ALL slicing
 // directions: keep iff displacement - h_alpha > 0 (strict, so a height of 0
 // is never drawn and masks the surface out; end of sec. 3.2).
+// h_alpha is clamped at 0: interpolation can push a ramp value on the box's
+// base a few ulps below 0, which would otherwise draw a height of 0.
 bool SliceAlphaTest(float displacement, float h_alpha) {
-  return displacement - h_alpha > 0.0;
+  return displacement - max(h_alpha, 0.0) > 0.0;
 }
 
 // Full-size screen slices reach outside the box: there the paper's texture
