@@ -34,6 +34,11 @@ void AddNcsBench(CLI::App& app) {
     const std::filesystem::path out_dir =
         out.empty() ? (csv_path.parent_path().empty() ? std::filesystem::path(".") : csv_path.parent_path())
                     : std::filesystem::path(out);
+    // Fail before minutes of measuring, not after.
+    const std::filesystem::path csv_dir = csv_path.parent_path().empty() ? "." : csv_path.parent_path();
+    if (!std::filesystem::is_directory(csv_dir)) {
+      core::ThrowInputError("ibr bench ncs", "--csv '{}': no such directory", csv);
+    }
     auto context = render::HeadlessContext::Create();
     render::ProgramCache programs;
     fmt::print("{} | {}\n", context->info().renderer, context->info().version);
