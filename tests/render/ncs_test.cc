@@ -293,6 +293,54 @@ void ExpectSane(const ReliefFrame& f, ReliefMethod method, const std::string& wh
   EXPECT_EQ(covered_without_hit, 0) << what;
 }
 
+TEST_F(NcsTest, EveryBaseMeshMatchesItsTessellatedTruth) {
+  // Torus, UV sphere, cylinder and the irregular vase (jittered vertices,
+  // random diagonals, continuous parameterisation), bumps at full height.
+  struct Case {
+    const char* name;
+    core::TriangleMesh mesh;
+    glm::vec3 eye;
+  };
+  const Case cases[] = {
+      {"torus", core::MakeTorus(1.0f, 0.4f, 48, 24), {0.4f, -3.0f, 1.2f}},
+      {"sphere", core::MakeSphere(1.0f, 24, 48), {0.5f, -3.2f, 0.9f}},
+      {"cylinder", core::MakeCylinder(0.7f, 1.6f, 48, 8), {0.6f, -3.4f, 0.6f}},
+      {"vase", core::MakeIrregularVase(0.6f, 1.6f, 40, 16, 7), {0.6f, -3.4f, 0.6f}},
+  };
+  const core::ImageF height = HeightMap(core::HeightPattern::kBumps, 1.0f, 64);
+  const float md = 0.06f;
+  for (const Case& c : cases) {
+    bool wrap_u = false, wrap_v = false;
+    DetectPeriodicAxes(c.mesh, wrap_u, wrap_v);
+    const ReliefSurface surface(programs(), c.mesh, height, Geometry(md, wrap_u, wrap_v));
+    const ViewSetup view = PerspectiveView(c.eye, {0, 0, 0}, {0, 0, 1}, 1.2 * kSize);
+    const MeshFrame truth = RenderTruth(c.mesh, height, md, view, 1, 8);
+    ReliefSurfaceOptions o;
+    o.steps = 64;
+    const ReliefFrame ncs = surface.Render(programs(), view, kSize, kSize, o);
+    o.method = ReliefMethod::kRelief;
+    const ReliefFrame relief = surface.Render(programs(), view, kSize, kSize, o);
+    const SilhouetteError e = CompareToTruth(ncs.color, ncs.depth, truth.color, truth.depth);
+    const SilhouetteError r = CompareToTruth(relief.color, relief.depth, truth.color, truth.depth);
+    std::printf("%-8s ncs: iou %.4f wrong %lld mean %.4f p95 %.4f early %lld | relief: iou %.4f wrong %lld p95 %.4f\n",
+                c.name, e.iou, (long long)e.wrong_pixels, e.mean_depth_error, e.p95_depth_error,
+                (long long)ncs.early_termination_pixels, r.iou, (long long)r.wrong_pixels, r.p95_depth_error);
+    ExpectSane(ncs, ReliefMethod::kNcs, c.name);
+    // Bounds with margin over the measured values (see the printout): the
+    // silhouette is right to a few percent of the covered area, depth to a
+    // fraction of the displacement md (the surfaces' bumps span all of it).
+    EXPECT_GT(e.iou, 0.98) << c.name;
+    EXPECT_LT(e.mean_depth_error, 0.1 * md) << c.name;
+    EXPECT_LT(3 * e.wrong_pixels, r.wrong_pixels) << c.name;  // relief draws the whole shell
+    if (HasFailure()) {
+      test_support::WriteDebugImage(std::string(c.name) + "_ncs.png", ncs.color);
+      test_support::WriteDebugImage(std::string(c.name) + "_diff.png",
+                                    DiffImage(ncs.color, ncs.depth, truth.color, truth.depth, 0.03f));
+    }
+  }
+  EXPECT_NO_GL_ERROR();
+}
+
 TEST_F(NcsTest, HardCasesStayFiniteWithCorrectOutcomes) {
   // Sphere poles (dP/du = 0: degenerate frames) seen from above the pole,
   // plus a zero-area UV triangle appended to the mesh.
