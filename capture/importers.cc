@@ -7,6 +7,7 @@
 
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
+#include <opencv2/core.hpp>
 #include <opencv2/imgproc.hpp>
 
 #include "core/error.h"
@@ -155,7 +156,10 @@ std::vector<MiddleburyView> ReadMiddleburyPar(std::istream& in, const std::strin
     if (!(s >> first)) continue;
     if (!declared) {
       const auto n = ParseNumbers(line, where, line_number);
-      if (n.size() != 1 || n[0] < 1 || n[0] != std::floor(n[0])) core::ThrowInputError(where, "line 1: expected the image count");
+      // Bounded before the cast: a huge count would overflow size_t.
+      if (n.size() != 1 || n[0] < 1 || n[0] > 1e6 || n[0] != std::floor(n[0])) {
+        core::ThrowInputError(where, "line {}: expected the image count (1..1000000)", line_number);
+      }
       declared = static_cast<size_t>(n[0]);
       continue;
     }
@@ -174,6 +178,16 @@ std::vector<MiddleburyView> ReadMiddleburyPar(std::istream& in, const std::strin
       view.cam_from_world.translation[r] = v[18 + r];
     }
     view.cam_from_world.Check(fmt::format("{}: line {}", where, line_number), 1e-5);
+    // The file's 17-digit rotations are orthonormal only to ~1e-6 (dinoSR0001:
+    // R^T R off by 1.4e-6, beyond Dataset's 1e-6 check): snap to the nearest
+    // rotation, U V^T of the SVD (changes entries by ~1e-6).
+    cv::Matx33d m;
+    for (int r = 0; r < 3; ++r)
+      for (int c = 0; c < 3; ++c) m(r, c) = view.cam_from_world.rotation[c][r];
+    const cv::SVD svd(cv::Mat(m), cv::SVD::FULL_UV);
+    const cv::Mat nearest = svd.u * svd.vt;
+    for (int r = 0; r < 3; ++r)
+      for (int c = 0; c < 3; ++c) view.cam_from_world.rotation[c][r] = nearest.at<double>(r, c);
     views.push_back(view);
   }
   if (!declared) core::ThrowInputError(where, "empty file");

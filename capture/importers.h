@@ -25,6 +25,11 @@ Dataset ImportRedwood(const std::filesystem::path& source, const std::filesystem
 // Middlebury templeSparseRing / dinoSparseRing: *_par.txt lines
 // "name k11..k33 r11..r33 t1 t2 t3" (P = K [R t], cam_from_world = (R, t),
 // integer pixel centres: cx + 0.5 here), PNG photos, README.txt bounding box.
+// R is snapped to the nearest rotation (SVD): the files' are orthonormal to
+// ~1e-6 only. The integer-centre reading of K follows the calibration
+// toolbox's C convention; the data cannot settle half a pixel (the README's
+// tight box projects around every silhouette with either reading, see
+// tests/capture/importers_test.cc).
 // Masks (Seitz et al. 2006's silhouettes recipe, OpenCV): grey > threshold,
 // then `dilate_iterations` 3x3 dilations and `erode_iterations` erosions.
 struct MiddleburyImportOptions {
