@@ -2,7 +2,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <iterator>
 #include <map>
+#include <set>
 
 #include <fmt/format.h>
 
@@ -211,6 +213,8 @@ NcsBenchResult RunNcsBench(render::ProgramCache& programs, const NcsBenchOptions
   std::vector<core::Image8> cells = strip_top;
   cells.insert(cells.end(), strip_bottom.begin(), strip_bottom.end());
   result.strip = ContactSheet(cells, static_cast<int>(strip_top.size()));
+  result.strip_view = strip_view;
+  result.strip_tiling = strip_tiling;
   return result;
 }
 
@@ -220,10 +224,14 @@ void WriteNcsBench(const NcsBenchResult& result, const std::filesystem::path& cs
   std::filesystem::create_directories(out_dir);
   result.summary.WriteCsv(out_dir / "ncs_summary.csv");
   core::WriteImage(out_dir / "ncs_silhouettes_grazing.png", result.strip);
-  // Error versus time: one series per method and c, every view and tiling.
-  Table plot({"series", "ms_per_frame", "wrong_silhouette_px", "p95_depth_error"});
+  // Error versus time at the strip's view and tiling (the grazing view when
+  // swept, the first tiling): one series per method (and c), one point per
+  // step count.
   const Table& t = result.table;
+  const std::string plot_view = result.strip_view, plot_tiling = std::to_string(result.strip_tiling);
+  Table plot({"series", "ms_per_frame", "wrong_silhouette_px", "p95_depth_error"});
   for (const auto& r : t.rows()) {
+    if (r[t.Column("view")] != plot_view || r[t.Column("tiling")] != plot_tiling) continue;
     const std::string method = r[t.Column("method")], c = r[t.Column("c")];
     plot.AddRow({c.empty() ? method : method + " c=" + c, r[t.Column("ms_per_frame")],
                  r[t.Column("wrong_silhouette_px")], r[t.Column("p95_depth_error")]});
@@ -231,22 +239,28 @@ void WriteNcsBench(const NcsBenchResult& result, const std::filesystem::path& cs
   PlotOptions p;
   p.x_column = "ms_per_frame";
   p.series_column = "series";
-  p.x_label = "ms per frame (llvmpipe)";
+  p.x_label = "ms per frame (llvmpipe; points = step counts)";
   p.log_x = true;
-  p.title = "Silhouette error vs time (all views, tilings, step counts)";
+  p.title = fmt::format("Silhouette error vs time ({} view, tiling {})", plot_view, plot_tiling);
   p.y_column = "wrong_silhouette_px";
   p.y_label = "wrong silhouette pixels vs tessellated truth";
   PlotPng(plot, p, out_dir / "ncs_silhouette_error_vs_time.png");
-  p.title = "Depth error vs time";
+  p.title = fmt::format("Depth error vs time ({} view, tiling {})", plot_view, plot_tiling);
   p.y_column = "p95_depth_error";
   p.y_label = "p95 |camera z - truth| (scene units)";
+  p.log_y = true;
   PlotPng(plot, p, out_dir / "ncs_depth_error_vs_time.png");
-  // Cost versus tiling (the paper's Figure 6).
+  // Cost versus tiling (the paper's Figure 6): one series per method and
+  // view, at the middle step count, c = 2.5.
   Table fig6({"series", "tiling", "ms_per_frame"});
+  std::set<int> step_counts;
+  for (const auto& r : result.summary.rows()) step_counts.insert(std::stoi(r[2]));
+  const std::string middle_steps =
+      step_counts.empty() ? "" : std::to_string(*std::next(step_counts.begin(), static_cast<long>(step_counts.size() / 2)));
   for (const auto& r : result.summary.rows()) {
-    const std::string key = r[0] + " " + r[2] + " steps";
-    fig6.AddRow({"ncs " + key, r[1], r[3]});
-    fig6.AddRow({"relief " + key, r[1], r[4]});
+    if (r[2] != middle_steps) continue;
+    fig6.AddRow({"ncs " + r[0], r[1], r[3]});
+    fig6.AddRow({"relief " + r[0], r[1], r[4]});
     fig6.AddRow({"tessellated " + r[0], r[1], r[6]});
   }
   PlotOptions f;
@@ -257,7 +271,7 @@ void WriteNcsBench(const NcsBenchResult& result, const std::filesystem::path& cs
   f.y_label = "ms per frame";
   f.log_x = true;
   f.log_y = true;
-  f.title = "Cost vs tiling (Chen-Chang Fig. 6)";
+  f.title = fmt::format("Cost vs tiling (Chen-Chang Fig. 6), {} steps, c = 2.5", middle_steps);
   PlotPng(fig6, f, out_dir / "ncs_time_vs_tiling.png");
 }
 

@@ -39,7 +39,12 @@ std::vector<std::string> NcsBenchViewNames();
 struct NcsBenchResult {
   Table table;           // one row per (method, view, tiling, steps, c)
   Table summary;         // NCS cost relative to relief mapping and to the ground truth per tiling
-  core::Image8 strip;    // silhouettes of every method at the grazing view (truth, ncs, relief, pom; diffs below)
+  // Silhouettes at the grazing view and the first tiling, left to right:
+  // tessellated truth, NCS, relief mapping, POM (middle step count, c = 2.5);
+  // below each, its coverage against the truth (red: extra, green: missing).
+  core::Image8 strip;
+  std::string strip_view;
+  int strip_tiling = 1;
 };
 
 NcsBenchResult RunNcsBench(render::ProgramCache& programs, const NcsBenchOptions& options);
