@@ -260,5 +260,74 @@ TEST_F(StencilReferenceTest, BoundaryCasesAgreeBitForBit) {
   EXPECT_NO_GL_ERROR();
 }
 
+
+// The property behind the paper's remark (sec. 4.1): a pixel whose stencil
+// reached N stays N, so it keeps the colour and depth of the FRONT-MOST slice
+// where every map accepted it. Checked directly, without emulating the
+// stencil: for each pixel, the first slice (front to back) covering it where
+// all maps accept its point, evaluated with the mirrored map test.
+TEST_F(StencilReferenceTest, FinishedPixelsKeepTheFrontMostSlice) {
+  std::mt19937 rng(77);
+  for (Slicing slicing : {Slicing::kOrthogonal, Slicing::kScreen}) {
+    DepthObjectRenderer renderer(programs(), RandomCubeMaps(rng, 40));
+    const ViewCamera view = RandomView(rng, 97, false);
+    DepthObjectOptions o;
+    o.slicing = slicing;
+    o.slices = 48;
+    const FrameParams f = PrepareFrame(renderer.maps(), view, o);
+    render::RenderTarget accum(DepthObjectRenderer::AccumTargetOptions(f.width, f.height));
+    renderer.DrawSlices(f, o, accum);
+    const core::ImageF color = accum.ReadColorF(0);
+    const core::ImageF depth = accum.ReadColorF(1);
+    const core::Image8 stencil = accum.ReadStencil();
+    const std::vector<core::Image8> coverage = renderer.SliceCoverage(f);
+    const MapTables& tables = renderer.tables(o.method);
+    const ReferenceVariant variant = ReferenceVariant::From(o);
+    int64_t finished = 0, wrong = 0, later_accepts = 0;
+    for (int row = 0; row < f.height; ++row) {
+      for (int col = 0; col < f.width; ++col) {
+        const glm::vec2 uv(col + 0.5f, f.view_height - ((f.height - 1 - row) + 0.5f));
+        int first = -1, accepted = 0;
+        for (size_t s = 0; s < coverage.size(); ++s) {
+          if (coverage[s].at(col, row) == 0) continue;
+          const glm::vec3 p = ReferenceViewPointOnPlane(f, uv, f.planes[s]);
+          bool all = true;
+          for (int a : f.active) {
+            glm::ivec3 texel;
+            all = all && ReferenceMapAccepts(tables, f.maps[a], variant, p, texel);
+          }
+          if (!all) continue;
+          ++accepted;
+          if (first < 0) first = static_cast<int>(s);
+        }
+        if (first < 0) {
+          wrong += stencil.at(col, row) != 0 || depth.at(col, row, 1) != 0;
+          continue;
+        }
+        ++finished;
+        later_accepts += accepted > 1;
+        const glm::vec3 p = ReferenceViewPointOnPlane(f, uv, f.planes[first]);
+        wrong += stencil.at(col, row) != f.active.size() || depth.at(col, row, 0) != p.z;
+        // Its colour is the weighted sum of the maps' texels at that point.
+        float expected[4] = {0, 0, 0, 0};
+        for (int a : f.active) {
+          glm::ivec3 texel;
+          ReferenceMapAccepts(tables, f.maps[a], variant, p, texel);
+          if (texel.x < 0) continue;
+          for (int c = 0; c < 4; ++c) {
+            const float cc = static_cast<float>(tables.color[tables.Index(texel.z, texel.x, texel.y) * 4 + c]) * f.inv255;
+            expected[c] = expected[c] + cc * f.maps[a].extra.x;
+          }
+        }
+        for (int c = 0; c < 4; ++c) wrong += color.at(col, row, c) != expected[c];
+      }
+    }
+    EXPECT_EQ(wrong, 0) << SlicingName(slicing);
+    EXPECT_GT(finished, 500);
+    EXPECT_GT(later_accepts, finished / 2) << "deeper slices accept these pixels too, and must not win";
+  }
+  EXPECT_NO_GL_ERROR();
+}
+
 }  // namespace
 }  // namespace ibr
