@@ -1,0 +1,66 @@
+#include "ibr/views.h"
+
+#include <cmath>
+
+#include <fmt/format.h>
+
+#include "core/error.h"
+#include "core/projection.h"
+
+namespace ibr {
+
+void OrbitOptions::Check() const {
+  if (count < 1 || count > 100000) core::ThrowInputError("OrbitOptions", "count {} outside 1..100000", count);
+  if (size < 8 || size > 16384) core::ThrowInputError("OrbitOptions", "size {} outside 8..16384", size);
+  if (!(fov_deg > 1 && fov_deg < 170)) core::ThrowInputError("OrbitOptions", "fov {} outside (1, 170)", fov_deg);
+  if (!(std::abs(elevation_deg) < 89.9)) {
+    core::ThrowInputError("OrbitOptions", "elevation {} outside (-89.9, 89.9)", elevation_deg);
+  }
+  if (!(glm::length(up) > 0)) core::ThrowInputError("OrbitOptions", "up axis is zero");
+}
+
+std::vector<NamedView> OrbitViews(const MapSet& maps, const OrbitOptions& options) {
+  options.Check();
+  const glm::dvec3 centre(maps.world_from_box * glm::dvec4(0.5, 0.5, 0.5, 1.0));
+  double radius = 0;
+  for (int i = 0; i < 8; ++i) {
+    const glm::dvec3 c(maps.world_from_box * glm::dvec4(i & 1, (i >> 1) & 1, (i >> 2) & 1, 1.0));
+    radius = std::max(radius, glm::length(c - centre));
+  }
+  const glm::dvec3 up = glm::normalize(options.up);
+  glm::dvec3 a = glm::cross(up, glm::dvec3(1, 0, 0));
+  if (glm::length(a) < 1e-6) a = glm::cross(up, glm::dvec3(0, 1, 0));
+  a = glm::normalize(a);
+  const glm::dvec3 b = glm::cross(a, up);
+  const double half_fov = options.fov_deg * M_PI / 360;
+  const double distance = radius / std::sin(half_fov);
+  const double f = 0.5 * options.size / std::tan(half_fov);
+  const double el = options.elevation_deg * M_PI / 180;
+  std::vector<NamedView> views;
+  for (int i = 0; i < options.count; ++i) {
+    const double az = 2 * M_PI * i / options.count;
+    const glm::dvec3 dir = std::cos(el) * (std::cos(az) * a + std::sin(az) * b) + std::sin(el) * up;
+    const glm::dvec3 eye = centre + distance * dir;
+    NamedView v;
+    v.name = fmt::format("orbit_{:03d}", i);
+    v.view.camera = MapCamera::Pinhole(options.size, options.size, f, f, options.size / 2.0, options.size / 2.0);
+    v.view.cam_from_world = glm::dmat4(core::CamFromWorldLookAt(glm::vec3(eye), glm::vec3(centre), glm::vec3(up)));
+    views.push_back(v);
+  }
+  return views;
+}
+
+MapCamera ResizeCamera(const MapCamera& camera, int width) {
+  const double s = static_cast<double>(width) / camera.width;
+  MapCamera c = camera;
+  c.width = width;
+  c.height = std::max(1, static_cast<int>(std::lround(camera.height * s)));
+  const double sy = static_cast<double>(c.height) / camera.height;
+  c.fx *= s;
+  c.cx *= s;
+  c.fy *= sy;
+  c.cy *= sy;
+  return c;
+}
+
+}  // namespace ibr
