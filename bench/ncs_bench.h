@@ -38,7 +38,9 @@ std::vector<std::string> NcsBenchViewNames();
 
 struct NcsBenchResult {
   Table table;           // one row per (method, view, tiling, steps, c)
-  Table summary;         // NCS cost relative to relief mapping and to the ground truth per tiling
+  // NCS cost relative to relief mapping and to the ground truth per view,
+  // tiling and step count, from the fastest timed frame (min_ms_per_frame).
+  Table summary;
   // Silhouettes at the grazing view and the first tiling, left to right:
   // tessellated truth, NCS, relief mapping, POM (middle step count, c = 2.5);
   // below each, its coverage against the truth (red: extra, green: missing).
