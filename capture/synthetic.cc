@@ -4,6 +4,7 @@
 #include <chrono>
 #include <cmath>
 #include <numbers>
+#include <optional>
 
 #include <assimp/Importer.hpp>
 #include <assimp/material.h>
@@ -12,6 +13,7 @@
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>
 
+#include "core/check.h"
 #include "core/error.h"
 #include "core/image_io.h"
 #include "core/projection.h"
@@ -155,6 +157,9 @@ void CaptureOptions::Check() const {
   if (!(margin >= 0 && margin < 1)) core::ThrowInputError(kWhere, "margin {} is outside [0, 1)", margin);
   if (!(std::abs(ring_elevation_deg) < 89)) core::ThrowInputError(kWhere, "ring elevation must be within +-89 degrees");
   if (!(glm::length(up) > 0)) core::ThrowInputError(kWhere, "up vector is zero");
+  if (background != "black" && background != "noise") {
+    core::ThrowInputError(kWhere, "background '{}' is not black or noise", background);
+  }
 }
 
 std::vector<RigView> MakeRig(const RigSpec& rig, const Bounds& bounds, const CaptureOptions& options) {
@@ -250,6 +255,125 @@ class GpuScene {
   render::Texture texture_;
 };
 
+// Deterministic value noise in [0, 1]: lattice values from an integer hash,
+// smoothstep-interpolated, periodic in x with period `period_x` cells.
+double LatticeValue(uint32_t x, uint32_t y, uint32_t seed) {
+  uint32_t h = x * 0x8da6b343u ^ y * 0xd8163841u ^ seed * 0xcb1ab31fu;
+  h ^= h >> 13;
+  h *= 0x5bd1e995u;
+  h ^= h >> 15;
+  return (h & 0xffffff) / double(0xffffff);
+}
+
+double ValueNoise(double x, double y, int period_x, uint32_t seed) {
+  const double fx = std::floor(x), fy = std::floor(y);
+  const double tx = x - fx, ty = y - fy;
+  const double sx = tx * tx * (3 - 2 * tx), sy = ty * ty * (3 - 2 * ty);
+  const auto ix = static_cast<int64_t>(fx), iy = static_cast<int64_t>(fy);
+  auto v = [&](int64_t cx, int64_t cy) {
+    const int64_t wrapped = ((cx % period_x) + period_x) % period_x;
+    return LatticeValue(static_cast<uint32_t>(wrapped), static_cast<uint32_t>(cy), seed);
+  };
+  const double a = v(ix, iy) + sx * (v(ix + 1, iy) - v(ix, iy));
+  const double b = v(ix, iy + 1) + sx * (v(ix + 1, iy + 1) - v(ix, iy + 1));
+  return a + sy * (b - a);
+}
+
+}  // namespace
+
+core::Image8 NoiseTexture(int width, int height, uint32_t seed) {
+  IBR_CHECK(width >= 64 && height >= 1);
+  core::Image8 tex(width, height, 4, 255);
+  for (int y = 0; y < height; ++y) {
+    for (int x = 0; x < width; ++x) {
+      for (int c = 0; c < 3; ++c) {
+        double sum = 0, weight = 0, amplitude = 1;
+        for (int octave = 0; octave < 5; ++octave) {
+          const int cells = (width / 64) << octave;  // across the width
+          const double scale = static_cast<double>(cells) / width;
+          sum += amplitude * ValueNoise((x + 0.5) * scale, (y + 0.5) * scale, cells, seed * 101u + 17u * c + octave);
+          weight += amplitude;
+          amplitude *= 0.85;
+        }
+        const double v = std::clamp((sum / weight - 0.5) * 3.5 + 0.5, 0.0, 1.0);
+        tex.at(x, y, c) = static_cast<uint8_t>(std::lround(255 * v));
+      }
+    }
+  }
+  return tex;
+}
+
+namespace {
+
+// The noise backdrop on the GPU: a unit sphere scaled and placed per capture.
+class Backdrop {
+ public:
+  Backdrop() : mesh_(core::MakeSphere(1.0f, 128, 256)) {
+    // 2048 x 1024: from the ring cameras a view spans ~70 degrees of the
+    // backdrop, so its cells are ~5..80 px, blobs at the scales SIFT detects.
+    const core::Image8 tex = NoiseTexture(2048, 1024, 0);
+    texture_ = render::Texture::Create2D(GL_RGBA8, tex.width(), tex.height());
+    glTextureSubImage2D(texture_.id(), 0, 0, 0, tex.width(), tex.height(), GL_RGBA, GL_UNSIGNED_BYTE, tex.data());
+    glTextureParameteri(texture_.id(), GL_TEXTURE_MIN_FILTER, GL_LINEAR);
+    glTextureParameteri(texture_.id(), GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+    glTextureParameteri(texture_.id(), GL_TEXTURE_WRAP_S, GL_REPEAT);
+    glTextureParameteri(texture_.id(), GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+  }
+  const render::GpuMesh& mesh() const { return mesh_; }
+  const render::Texture& texture() const { return texture_; }
+
+ private:
+  render::GpuMesh mesh_;
+  render::Texture texture_;
+};
+
+// Where the backdrop sits: centre, radius, poles along `up`.
+struct BackdropPlacement {
+  glm::dvec3 centre{0.0};
+  double radius = 0;
+  glm::dvec3 up{0, 1, 0};
+};
+
+BackdropPlacement PlaceBackdrop(const Bounds& bounds, const std::vector<RigView>& views, const glm::dvec3& up) {
+  BackdropPlacement p;
+  p.centre = bounds.centre();
+  double farthest = 0.5 * glm::length(bounds.extent());
+  for (const RigView& v : views) farthest = std::max(farthest, glm::length(v.cam_from_world.Centre() - p.centre));
+  p.radius = 2 * std::max(farthest, 1e-6);
+  p.up = glm::normalize(up);
+  return p;
+}
+
+// The backdrop's colour as seen from `view` (flat, unshaded texture).
+core::Image8 RenderBackdrop(render::ProgramCache& programs, const Backdrop& backdrop, const BackdropPlacement& place,
+                            const RigView& view) {
+  const Camera& cam = view.camera;
+  const double d = glm::length(view.cam_from_world.Centre() - place.centre);
+  const double near = std::max(place.radius - d, 1e-3 * place.radius) * 0.5, far = (place.radius + d) * 1.5;
+  render::ViewSetup setup;
+  setup.cam_from_world = view.cam_from_world.ToMat4();
+  setup.orthographic = cam.orthographic();
+  setup.clip_from_cam =
+      cam.orthographic()
+          ? core::ClipFromCamOrthographic(cam.fx(), cam.fy(), cam.cx(), cam.cy(), cam.width, cam.height, 0, far)
+          : core::ClipFromCamPerspective(cam.fx(), cam.fy(), cam.cx(), cam.cy(), cam.width, cam.height, near, far);
+  // Object frame: the unit sphere's poles (z) along `up`.
+  glm::dvec3 a = glm::cross(place.up, glm::dvec3(1, 0, 0));
+  if (glm::length(a) < 1e-6) a = glm::cross(place.up, glm::dvec3(0, 1, 0));
+  a = glm::normalize(a);
+  const glm::dvec3 b = glm::cross(place.up, a);
+  glm::dmat4 world_from_object(1.0);
+  world_from_object[0] = glm::dvec4(place.radius * a, 0);
+  world_from_object[1] = glm::dvec4(place.radius * b, 0);
+  world_from_object[2] = glm::dvec4(place.radius * place.up, 0);
+  world_from_object[3] = glm::dvec4(place.centre, 1);
+  render::MeshPassOptions pass;
+  pass.texture = &backdrop.texture();
+  pass.shade = false;
+  pass.world_from_object = glm::mat4(world_from_object);
+  return render::RenderMesh(programs, backdrop.mesh(), setup, cam.width, cam.height, pass).color;
+}
+
 CapturedView Render(render::ProgramCache& programs, const GpuScene& gpu, const RigView& view,
                     const CaptureOptions& options) {
   const Camera& cam = view.camera;
@@ -303,11 +427,28 @@ Bounds MeshBounds(const core::TriangleMesh& mesh) {
 
 }  // namespace
 
+namespace {
+// The object's colour over the backdrop where the object does not cover.
+void Composite(CapturedView& view, const core::Image8& backdrop) {
+  for (int row = 0; row < view.color.height(); ++row) {
+    for (int col = 0; col < view.color.width(); ++col) {
+      if (view.mask.at(col, row)) continue;
+      for (int c = 0; c < 3; ++c) view.color.at(col, row, c) = backdrop.at(col, row, c);
+    }
+  }
+}
+}  // namespace
+
 CapturedView RenderView(render::ProgramCache& programs, const SceneMesh& scene, const RigView& view,
                         const CaptureOptions& options) {
   options.Check();
   const GpuScene gpu(scene);
-  return Render(programs, gpu, view, options);
+  CapturedView out = Render(programs, gpu, view, options);
+  if (options.background == "noise") {
+    const Backdrop backdrop;
+    Composite(out, RenderBackdrop(programs, backdrop, PlaceBackdrop(MeshBounds(scene.mesh), {view}, options.up), view));
+  }
+  return out;
 }
 
 Dataset CaptureDataset(render::ProgramCache& programs, const SceneMesh& scene, const CaptureOptions& options,
@@ -316,11 +457,15 @@ Dataset CaptureDataset(render::ProgramCache& programs, const SceneMesh& scene, c
   const Bounds bounds = MeshBounds(scene.mesh);
   const std::vector<RigView> views = MakeRig(RigSpec::Parse(options.rig), bounds, options);
   const GpuScene gpu(scene);
+  std::optional<Backdrop> backdrop;
+  if (options.background == "noise") backdrop.emplace();
+  const BackdropPlacement place = PlaceBackdrop(bounds, views, options.up);
   DatasetWriter writer(out);
   writer.SetBounds(bounds);
   for (size_t i = 0; i < views.size(); ++i) {
     const RigView& view = views[i];
-    const CapturedView captured = Render(programs, gpu, view, options);
+    CapturedView captured = Render(programs, gpu, view, options);
+    if (backdrop) Composite(captured, RenderBackdrop(programs, *backdrop, place, view));
     const int camera_id = writer.AddCamera(view.camera);
     writer.AddView(view.name, camera_id, view.cam_from_world, captured.color, captured.depth, captured.mask,
                    captured.normal);

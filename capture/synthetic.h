@@ -39,6 +39,12 @@ SceneMesh LoadSceneMesh(const std::filesystem::path& path, const std::filesystem
 SceneMesh MakeShapeScene(std::string_view name);
 std::vector<std::string> ShapeNames();
 
+// A deterministic colour value-noise texture, RGBA8: five octaves of
+// width/64 .. width/4 cells across, nearly equal weights, contrast stretched.
+// Periodic in x. Feature-rich for SIFT: the "noise" backdrop uses it, and a
+// SceneMesh with UVs can wear it (SfM tests).
+core::Image8 NoiseTexture(int width, int height, uint32_t seed);
+
 // "cube" (six orthographic faces of the bounding cube, Kautz-Seidel 2001
 // sec. 4), "ring:N" (N perspective views on a circle around the up axis),
 // "sphere:N" (N perspective views on a Fibonacci sphere).
@@ -60,6 +66,13 @@ struct CaptureOptions {
   glm::dvec3 up{0, 1, 0};       // world up for ring/sphere rigs (OBJ meshes are y-up)
   bool shade = true;            // Lambert head light (off: flat albedo)
   glm::vec4 base_color{0.8f, 0.8f, 0.8f, 1.0f};  // untextured meshes
+  // Colour behind the object: "black", or "noise": a backdrop sphere around
+  // the scene (centred on the bounds, poles along `up`, radius 2x the
+  // farthest camera) with a deterministic multi-octave value-noise texture,
+  // unshaded. World-fixed texture gives SIFT something to match when the
+  // object alone has too few features (COLMAP SfM tests). Colour only: depth,
+  // mask and normals still see the object alone.
+  std::string background = "black";
   void Check() const;
 };
 
