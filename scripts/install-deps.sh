@@ -21,6 +21,9 @@ PACKAGES=(
   googletest libgtest-dev libgmock-dev libbenchmark-dev
   # plots for benchmarks; the real COLMAP binary for the interop tests
   gnuplot-nox colmap
+  # libFuzzer targets for the parsers (IBR_FUZZ=ON, fuzz/): clang++ and its
+  # runtime libraries (libclang_rt.fuzzer, asan, ubsan)
+  clang libclang-rt-14-dev
 )
 
 missing=()
