@@ -42,6 +42,9 @@ void DepthObjectOptions::Check() const {
     core::ThrowInputError("DepthObjectOptions", "slices {} outside 1..16384", slices);
   }
   if (robust_k < 0) core::ThrowInputError("DepthObjectOptions", "robust k {} is negative", robust_k);
+  if (refine_steps < 0 || refine_steps > 32) {
+    core::ThrowInputError("DepthObjectOptions", "refine steps {} outside 0..32", refine_steps);
+  }
   if (!(visibility_tolerance >= 0) || !std::isfinite(visibility_tolerance)) {
     core::ThrowInputError("DepthObjectOptions", "visibility tolerance {} must be >= 0",
                           visibility_tolerance);
@@ -58,8 +61,7 @@ MapTables MakeMapTables(const MapSet& maps, Method method) {
     t.height = std::max(t.height, m.camera.height);
   }
   const size_t n = static_cast<size_t>(t.layers) * t.width * t.height;
-  t.depth.assign(n, 0.0f);
-  t.mask.assign(n, 0);
+  t.depth.assign(n, -1.0f);
   t.color.assign(n * 4, 255);
   for (int l = 0; l < t.layers; ++l) {
     const ImageMap& m = maps.maps[l];
@@ -68,14 +70,15 @@ MapTables MakeMapTables(const MapSet& maps, Method method) {
         const size_t i = t.Index(l, col, row);
         float d = m.depth.empty() ? 0.0f : m.depth.at(col, row);
         if (!std::isfinite(d) || d < 0) d = 0;
-        t.depth[i] = d;
+        bool inside;
         if (!m.mask.empty()) {
-          t.mask[i] = m.mask.at(col, row);
+          inside = m.mask.at(col, row) > 127;
         } else if (method == Method::kVisualHull) {
-          t.mask[i] = d > 0 ? 255 : 0;  // silhouette from valid depth
+          inside = d > 0;  // silhouette from valid depth
         } else {
-          t.mask[i] = 255;  // no silhouette: depth alone decides
+          inside = true;  // no silhouette: depth alone decides
         }
+        t.depth[i] = inside ? d : -1.0f;
         if (!m.color.empty()) {
           for (int c = 0; c < 3; ++c) t.color[i * 4 + c] = m.color.at(col, row, c);
           t.color[i * 4 + 3] = m.color.channels() == 4 ? m.color.at(col, row, 3) : 255;
@@ -217,9 +220,10 @@ FrameParams PrepareFrame(const MapSet& maps, const ViewCamera& view, const Depth
   for (int j = 0; j < n; ++j) {
     f.weights[f.active[j]] = w[j];
     f.maps[f.active[j]].extra.x = w[j];
+    f.maps[f.active[j]].extra.y = 1.0f;
   }
   f.visibility_tolerance = static_cast<float>(
-      options.visibility_tolerance > 0 ? options.visibility_tolerance : 3.0 * f.stack.spacing_world);
+      options.visibility_tolerance > 0 ? options.visibility_tolerance : 4.0 * f.stack.spacing_world);
   return f;
 }
 
@@ -227,7 +231,7 @@ FrameParams PrepareFrame(const MapSet& maps, const ViewCamera& view, const Depth
 
 struct DepthObjectRenderer::GpuTables {
   MapTables cpu;
-  render::Texture depth, mask, color;
+  render::Texture depth, color;
 };
 
 namespace {
@@ -253,6 +257,12 @@ DepthObjectRenderer::DepthObjectRenderer(render::ProgramCache& programs, MapSet 
   maps_.Check("DepthObjectRenderer");
   map_ubo_ = render::Buffer::Create();
   glNamedBufferData(map_ubo_.id(), sizeof(MapRecord) * 64, nullptr, GL_DYNAMIC_DRAW);
+  GLint align = 16;
+  glGetIntegerv(GL_UNIFORM_BUFFER_OFFSET_ALIGNMENT, &align);
+  align = std::max(align, 1);
+  current_stride_ = static_cast<GLint>((sizeof(MapRecord) + align - 1) / align * align);
+  current_ubo_ = render::Buffer::Create();
+  glNamedBufferData(current_ubo_.id(), static_cast<GLsizeiptr>(current_stride_) * 64, nullptr, GL_DYNAMIC_DRAW);
   empty_vao_ = render::VertexArray::Create();
 }
 
@@ -268,9 +278,6 @@ const DepthObjectRenderer::GpuTables& DepthObjectRenderer::Tables(Method method)
     slot->depth = CreateArray(GL_R32F, t.width, t.height, t.layers);
     glTextureSubImage3D(slot->depth.id(), 0, 0, 0, 0, t.width, t.height, t.layers, GL_RED, GL_FLOAT,
                         t.depth.data());
-    slot->mask = CreateArray(GL_R8UI, t.width, t.height, t.layers);
-    glTextureSubImage3D(slot->mask.id(), 0, 0, 0, 0, t.width, t.height, t.layers, GL_RED_INTEGER,
-                        GL_UNSIGNED_BYTE, t.mask.data());
     slot->color = CreateArray(GL_RGBA8UI, t.width, t.height, t.layers);
     glTextureSubImage3D(slot->color.id(), 0, 0, 0, 0, t.width, t.height, t.layers, GL_RGBA_INTEGER,
                         GL_UNSIGNED_BYTE, t.color.data());
@@ -312,7 +319,6 @@ std::vector<std::string> DepthObjectRenderer::Defines(const FrameParams& frame,
 
 void DepthObjectRenderer::BindMaps(const GpuTables& t) const {
   glBindTextureUnit(0, t.depth.id());
-  glBindTextureUnit(1, t.mask.id());
   glBindTextureUnit(2, t.color.id());
   glBindBufferBase(GL_UNIFORM_BUFFER, 0, map_ubo_.id());
 }
@@ -320,13 +326,17 @@ void DepthObjectRenderer::BindMaps(const GpuTables& t) const {
 void DepthObjectRenderer::UploadFrame(const FrameParams& frame) {
   IBR_CHECK_LE(frame.maps.size(), 64u);
   glNamedBufferSubData(map_ubo_.id(), 0, sizeof(MapRecord) * frame.maps.size(), frame.maps.data());
+  std::vector<uint8_t> strided(static_cast<size_t>(current_stride_) * frame.maps.size(), 0);
+  for (size_t i = 0; i < frame.maps.size(); ++i) {
+    std::memcpy(strided.data() + i * current_stride_, &frame.maps[i], sizeof(MapRecord));
+  }
+  glNamedBufferSubData(current_ubo_.id(), 0, static_cast<GLsizeiptr>(strided.size()), strided.data());
 }
 
 void DepthObjectRenderer::SetCommonUniforms(const render::Program& p, const FrameParams& frame,
                                             bool slices) const {
   p.Use();
   glUniform1i(p.Uniform("u_depth_maps"), 0);
-  glUniform1i(p.Uniform("u_mask_maps"), 1);
   glUniform1i(p.Uniform("u_color_maps"), 2);
   glUniform1i(p.Uniform("u_map_count"), static_cast<int>(frame.maps.size()));
   glUniform4fv(p.Uniform("u_view_ray"), 1, glm::value_ptr(frame.view_ray));
@@ -346,17 +356,11 @@ void DepthObjectRenderer::DrawSlices(const FrameParams& frame, const DepthObject
   const GpuTables& tables = Tables(options.method);
   UploadFrame(frame);
   BindMaps(tables);
-  std::vector<std::string> defines = Defines(frame, options);
-  const render::Program& map_pass = programs_->Get(
-      {.vertex = "slice.vert.glsl", .fragment = "depth_object.frag.glsl", .defines = defines});
-  defines.push_back("CLEAR_PASS");
-  const render::Program& clear_pass = programs_->Get(
-      {.vertex = "slice.vert.glsl", .fragment = "depth_object.frag.glsl", .defines = defines});
-  SetCommonUniforms(clear_pass, frame, true);
-  SetCommonUniforms(map_pass, frame, true);
-  const GLint loc_plane_map = map_pass.Uniform("u_slice_plane");
-  const GLint loc_map = map_pass.Uniform("u_map");
-  const GLint loc_plane_clear = clear_pass.Uniform("u_slice_plane");
+  const render::Program& pass = programs_->Get(
+      {.vertex = "slice.vert.glsl", .fragment = "depth_object.frag.glsl", .defines = Defines(frame, options)});
+  SetCommonUniforms(pass, frame, true);
+  const GLint loc_plane = pass.Uniform("u_slice_plane");
+  const GLint loc_clear = pass.Uniform("u_clear_pass");
 
   // Step 1: clear the frame buffer, no depth test.
   accum.Bind();
@@ -365,8 +369,11 @@ void DepthObjectRenderer::DrawSlices(const FrameParams& frame, const DepthObject
   glDisable(GL_DEPTH_TEST);
   glDisable(GL_CULL_FACE);
   glEnable(GL_STENCIL_TEST);
+  // Attachment 0 accumulates (ONE, ONE) in the map passes and is overwritten
+  // (ZERO, ZERO) in the clear passes: switching the blend function is
+  // cheaper than toggling blending. Attachment 1 is never blended.
   glBlendEquation(GL_FUNC_ADD);
-  glBlendFunci(0, GL_ONE, GL_ONE);
+  glEnablei(GL_BLEND, 0);
   glDisablei(GL_BLEND, 1);
   slice_buffer_.Upload(frame.stack);
   slice_buffer_.Bind();
@@ -374,9 +381,9 @@ void DepthObjectRenderer::DrawSlices(const FrameParams& frame, const DepthObject
   const int required = frame.required;
   for (int s = 0; s < slice_buffer_.size(); ++s) {
     // Step 2(a): every base polygon (map) in turn, accumulating colour.
-    map_pass.Use();
-    glUniform4fv(loc_plane_map, 1, glm::value_ptr(frame.planes[s]));
-    glEnablei(GL_BLEND, 0);
+    glUniform4fv(loc_plane, 1, glm::value_ptr(frame.planes[s]));
+    glUniform1i(loc_clear, 0);
+    glBlendFunci(0, GL_ONE, GL_ONE);
     glStencilOp(GL_KEEP, GL_KEEP, GL_INCR);
     for (int j = 0; j < n; ++j) {
       if (!frame.robust) {
@@ -389,13 +396,13 @@ void DepthObjectRenderer::DrawSlices(const FrameParams& frame, const DepthObject
         glStencilMask(0x7F);
         glStencilFunc(GL_EQUAL, 0, 0x80);
       }
-      glUniform1i(loc_map, frame.active[j]);
+      glBindBufferRange(GL_UNIFORM_BUFFER, 1, current_ubo_.id(),
+                        static_cast<GLintptr>(current_stride_) * frame.active[j], sizeof(MapRecord));
       slice_buffer_.DrawSlice(s);  // (a)ii, with the alpha test (discard)
     }
     // Steps (c)-(f): clear colour and stencil where the count falls short.
-    clear_pass.Use();
-    glUniform4fv(loc_plane_clear, 1, glm::value_ptr(frame.planes[s]));
-    glDisablei(GL_BLEND, 0);
+    glUniform1i(loc_clear, 1);
+    glBlendFunci(0, GL_ZERO, GL_ZERO);
     if (!frame.robust) {
       glStencilMask(0xFF);
       glStencilFunc(GL_NOTEQUAL, n, 0xFF);
@@ -420,6 +427,7 @@ void DepthObjectRenderer::DrawSlices(const FrameParams& frame, const DepthObject
   glStencilMask(0xFF);
   glDisable(GL_STENCIL_TEST);
   glDisablei(GL_BLEND, 0);
+  glBlendFunci(0, GL_ONE, GL_ZERO);
 }
 
 void DepthObjectRenderer::DrawResolve(const FrameParams& frame, const DepthObjectOptions& options,
@@ -440,6 +448,16 @@ void DepthObjectRenderer::DrawResolve(const FrameParams& frame, const DepthObjec
   glUniform1i(resolve.Uniform("u_accum_depth"), 4);
   glUniform4fv(resolve.Uniform("u_background"), 1, glm::value_ptr(options.background));
   glUniform1f(resolve.Uniform("u_visibility_tolerance"), frame.visibility_tolerance);
+  const bool refine = options.refine_steps > 0 && frame.planes.size() >= 2;
+  glUniform1i(resolve.Uniform("u_refine_steps"), refine ? options.refine_steps : 0);
+  if (refine) {
+    glUniform4fv(resolve.Uniform("u_plane0"), 1, glm::value_ptr(frame.planes[0]));
+    // Box-axis planes are 1/n apart in box units; screen planes spacing_world
+    // apart in camera z (their normals are those units' gradients).
+    glUniform1f(resolve.Uniform("u_plane_step"), frame.stack.axis >= 0 ? frame.stack.spacing_in_box
+                                                                       : frame.stack.spacing_world);
+  }
+  glUniform1i(resolve.Uniform("u_required"), frame.required);
   glDisable(GL_DEPTH_TEST);
   glDisable(GL_STENCIL_TEST);
   glDisable(GL_BLEND);
@@ -491,13 +509,12 @@ DepthObjectFrame DepthObjectRenderer::RenderImages(const ViewCamera& view, const
 
 std::vector<core::Image8> DepthObjectRenderer::SliceCoverage(const FrameParams& frame) {
   render::RenderTarget target({frame.width, frame.height, {GL_R8}, true});
-  // Any slice program will do: the clear pass writes constants and never discards.
+  // The clear pass writes constants and never discards.
   DepthObjectOptions o;
-  std::vector<std::string> defines = Defines(frame, o);
-  defines.push_back("CLEAR_PASS");
   const render::Program& p = programs_->Get(
-      {.vertex = "slice.vert.glsl", .fragment = "depth_object.frag.glsl", .defines = defines});
+      {.vertex = "slice.vert.glsl", .fragment = "depth_object.frag.glsl", .defines = Defines(frame, o)});
   SetCommonUniforms(p, frame, true);
+  glUniform1i(p.Uniform("u_clear_pass"), 1);
   slice_buffer_.Upload(frame.stack);
   std::vector<core::Image8> coverage;
   const float zero[4] = {0, 0, 0, 0};

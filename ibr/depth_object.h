@@ -77,9 +77,15 @@ struct DepthObjectOptions {
   // suffice in the cube configuration).
   bool hull_skip_opposite = true;
   // Visibility texturing: a map saw a point if |its z - its depth| <= this
-  // (scene units); 0 = 3 slice spacings.
+  // (scene units); 0 = 4 slice spacings (the first slice inside lies up to
+  // one spacing behind the surface, more along a grazing map's axis).
   double visibility_tolerance = 0;
   glm::vec4 background{0.0f, 0.0f, 0.0f, 0.0f};  // RGBA where nothing is drawn
+  // Resolve pass: bisection steps refining each pixel's first surface between
+  // the slice that finished it and the slice before (the same map tests), for
+  // the output depth and the texturing; 0 = the slice position itself (the
+  // paper's result). The stencil/colour accumulation is unaffected.
+  int refine_steps = 6;
 
   void Check() const;
 };
@@ -89,7 +95,7 @@ struct MapRecord {
   glm::vec4 m0, m1, m2, m3;  // columns of map_cam_from_view_cam (xyz)
   glm::vec4 proj;            // fx, fy, cx, cy
   glm::ivec4 info;           // width, height, orthographic, layer
-  glm::vec4 extra;           // view-dependent weight
+  glm::vec4 extra;           // view-dependent weight, active (1/0)
   glm::vec4 centre_in_view;  // map centre in view camera space, w = 1 if orthographic
   glm::vec4 axis_in_view;    // map +z in view camera space
 };
@@ -116,8 +122,10 @@ struct FrameParams {
 // The texel data exactly as uploaded (one layer per map, row 0 = image top).
 struct MapTables {
   int layers = 0, width = 0, height = 0;  // max size over maps
-  std::vector<float> depth;    // R32F, non-finite and negative cleaned to 0
-  std::vector<uint8_t> mask;   // R8
+  // R32F depth code: -1 outside the silhouette (mask <= 127; visual hulls
+  // without a mask: depth <= 0), 0 invalid depth inside it (non-finite and
+  // negative values are invalid), else camera z. One fetch per map test.
+  std::vector<float> depth;
   std::vector<uint8_t> color;  // RGBA8
   size_t Index(int layer, int col, int row) const {
     return (static_cast<size_t>(layer) * height + row) * width + col;
@@ -187,7 +195,9 @@ class DepthObjectRenderer {
   render::ProgramCache* programs_;
   MapSet maps_;
   std::unique_ptr<GpuTables> tables_[2];
-  render::Buffer map_ubo_;
+  render::Buffer map_ubo_;      // the whole table (resolve pass)
+  render::Buffer current_ubo_;  // one record per map at an aligned stride (map passes)
+  GLint current_stride_ = 0;
   render::SliceBuffer slice_buffer_;
   std::unique_ptr<render::RenderTarget> accum_;
   render::VertexArray empty_vao_;

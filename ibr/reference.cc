@@ -62,10 +62,9 @@ bool ReferenceMapAccepts(const MapTables& t, const MapRecord& m, const Reference
                          glm::vec3 p, glm::ivec3& texel, bool* tie) {
   glm::vec3 q;
   if (!ReferenceMapLookup(m, p, q, texel)) return variant.outside_passes;
-  const size_t i = t.Index(texel.z, texel.x, texel.y);
-  if (t.mask[i] <= 127) return false;
+  const float d = t.depth[t.Index(texel.z, texel.x, texel.y)];
+  if (d < 0.0f) return false;  // outside the silhouette
   if (variant.visual_hull) return true;
-  const float d = t.depth[i];
   if (d > 0.0f) {
     if (tie != nullptr && q.z == d) *tie = true;
     return q.z >= d;
@@ -113,7 +112,7 @@ ReferenceBuffers RenderReference(const FrameParams& f, const MapTables& tables,
             st = f.robust ? static_cast<uint8_t>((st & 0x80) | (((st & 0x7F) + 1) & 0x7F))
                           : static_cast<uint8_t>(std::min(st + 1, 255));
             float o[4] = {0, 0, 0, 0};
-            if (texel.x >= 0) {
+            if (texel.x >= 0 && m.extra.x > 0.0f) {
               const size_t ti = tables.Index(texel.z, texel.x, texel.y) * 4;
               for (int c = 0; c < 4; ++c) {
                 const float cc = static_cast<float>(tables.color[ti + c]) * f.inv255;

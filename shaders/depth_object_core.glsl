@@ -37,8 +37,10 @@ layout(std140, binding = 0) uniform DepthObjectMaps {
 };
 uniform int u_map_count;
 
-uniform sampler2DArray u_depth_maps;   // R32F camera z, 0 = invalid (non-finite cleaned on upload)
-uniform usampler2DArray u_mask_maps;   // R8UI, > 127 = object
+// R32F, one fetch answers both questions: < 0 = outside the silhouette
+// (empty), 0 = invalid depth inside it, > 0 = camera z of the surface seen
+// (visual hulls: 1 inside). See ibr::MakeMapTables.
+uniform sampler2DArray u_depth_maps;
 uniform usampler2DArray u_color_maps;  // RGBA8UI
 
 // The novel view's pixel rays: perspective direction (u ax + bx, v ay + by, 1)
@@ -88,55 +90,54 @@ vec3 ViewPointAtDepth(vec2 uv, float z) {
   return p;
 }
 
-// Where view-camera point p falls in map i: its map-camera point q and its
+// Where view-camera point p falls in map m: its map-camera point q and its
 // texel (layer in .z). Returns false when p is outside the map's image or
 // behind a pinhole map.
-bool MapLookup(int i, vec3 p, out vec3 q, out ivec3 texel) {
-  precise vec3 qq = u_maps[i].m0.xyz * p.x + u_maps[i].m1.xyz * p.y + u_maps[i].m2.xyz * p.z +
-                    u_maps[i].m3.xyz;
+bool MapLookup(MapRecord m, vec3 p, out vec3 q, out ivec3 texel) {
+  precise vec3 qq = m.m0.xyz * p.x + m.m1.xyz * p.y + m.m2.xyz * p.z + m.m3.xyz;
   q = qq;
   texel = ivec3(-1);
   precise float u;
   precise float v;
   bool in_front;
-  if (u_maps[i].info.z == 1) {
-    u = qq.x * u_maps[i].proj.x + u_maps[i].proj.z;
-    v = qq.y * u_maps[i].proj.y + u_maps[i].proj.w;
+  if (m.info.z == 1) {
+    u = qq.x * m.proj.x + m.proj.z;
+    v = qq.y * m.proj.y + m.proj.w;
     in_front = true;
   } else {
-    u = (qq.x / qq.z) * u_maps[i].proj.x + u_maps[i].proj.z;
-    v = (qq.y / qq.z) * u_maps[i].proj.y + u_maps[i].proj.w;
+    u = (qq.x / qq.z) * m.proj.x + m.proj.z;
+    v = (qq.y / qq.z) * m.proj.y + m.proj.w;
     in_front = qq.z > 0.0;
   }
   // Range test in float first (NaN fails), so the integer conversion only
   // ever sees values in [0, size): truncation is then floor.
-  if (!(in_front && u >= 0.0 && u < float(u_maps[i].info.x) && v >= 0.0 &&
-        v < float(u_maps[i].info.y))) {
+  if (!(in_front && u >= 0.0 && u < float(m.info.x) && v >= 0.0 &&
+        v < float(m.info.y))) {
     return false;
   }
-  texel = ivec3(int(u), int(v), u_maps[i].info.w);
+  texel = ivec3(int(u), int(v), m.info.w);
   return true;
 }
 
 // Kautz-Seidel 2001, sec. 4.1: a point belongs to the object if it passes
-// the test of every map; this is one map's test. Depth object: the point is
+// the test of every map; this is map m's test. Depth object: the point is
 // at or behind the surface map i saw (camera z >= depth; the paper: the
 // displacement exceeds the ramp). Visual hull (sec. 5): the point projects
 // inside map i's silhouette. `texel` is the texel used (-1 when outside).
-bool MapAccepts(int i, vec3 p, out ivec3 texel) {
+bool MapAccepts(MapRecord m, vec3 p, out ivec3 texel) {
   vec3 q;
-  if (!MapLookup(i, p, q, texel)) {
+  if (!MapLookup(m, p, q, texel)) {
 #ifdef OUTSIDE_PASSES
     return true;
 #else
     return false;
 #endif
   }
-  if (texelFetch(u_mask_maps, texel, 0).r <= 127u) return false;
+  float d = texelFetch(u_depth_maps, texel, 0).r;
+  if (d < 0.0) return false;  // outside the silhouette
 #ifdef VISUAL_HULL
   return true;
 #else
-  float d = texelFetch(u_depth_maps, texel, 0).r;
   if (d > 0.0) return q.z >= d;
 #ifdef INVALID_DEPTH_PASSES
   return true;

@@ -1,0 +1,116 @@
+#include "ibr/demo_scene.h"
+
+#include <algorithm>
+#include <cstdlib>
+
+#include "capture/synthetic.h"
+#include "core/error.h"
+#include "ibr/dataset_maps.h"
+#include "ibr/views.h"
+#include "render/gl.h"
+
+namespace ibr {
+
+void DepthObjectDemoOptions::Check() const {
+  if (capture_size < 16 || capture_size > 8192 || size < 16 || size > 8192) {
+    core::ThrowInputError("DepthObjectDemoOptions", "sizes {} / {} outside 16..8192", capture_size, size);
+  }
+  if (frames < 1 || frames > 1000) core::ThrowInputError("DepthObjectDemoOptions", "frames {} outside 1..1000", frames);
+  render.Check();
+}
+
+std::filesystem::path SharedDataDir() {
+  if (const char* env = std::getenv("IBR_SHARED_DATA"); env != nullptr && *env != 0) return env;
+  return std::filesystem::path(IBR_SOURCE_DIR) / ".." / "shared" / "data";
+}
+
+DepthObjectDemoResult RunDepthObjectDemo(render::ProgramCache& programs, const DepthObjectDemoOptions& options) {
+  options.Check();
+  DepthObjectDemoResult result;
+  core::Stopwatch watch;
+  const capture::SceneMesh scene = capture::LoadSceneMesh(options.mesh);
+  glm::vec3 lo, hi;
+  scene.mesh.Bounds(lo, hi);
+  const capture::Bounds bounds{glm::dvec3(lo), glm::dvec3(hi)};
+  capture::CaptureOptions co;
+  co.size = options.capture_size;
+  co.rig = "cube";
+  MapSet maps;
+  const glm::dvec3 ext = bounds.extent();
+  const double edge = std::max({ext.x, ext.y, ext.z});
+  maps.world_from_box = BoxFromBounds(bounds.min - 0.02 * edge, bounds.max + 0.02 * edge);
+  for (const capture::RigView& rv : capture::MakeRig(capture::RigSpec::Parse("cube"), bounds, co)) {
+    const capture::CapturedView cv = capture::RenderView(programs, scene, rv, co);
+    maps.maps.push_back({rv.name, MapCameraFrom(rv.camera, rv.name), Mat4From(rv.cam_from_world), cv.depth,
+                         cv.color, cv.mask});
+  }
+  result.capture_seconds = watch.ElapsedMs() / 1000.0;
+
+  DepthObjectRenderer renderer(programs, std::move(maps));
+  OrbitOptions orbit;
+  orbit.count = options.frames;
+  orbit.size = options.size;
+  const std::vector<NamedView> views = OrbitViews(renderer.maps(), orbit);
+  render::RenderTarget output(DepthObjectRenderer::OutputTargetOptions(options.size, options.size));
+  renderer.Render(views[0].view, options.render, output);  // warm-up: shader compilation
+  glFinish();
+  std::vector<double> times, depth_errors;
+  double iou_sum = 0;
+  for (const NamedView& v : views) {
+    core::Stopwatch frame_watch;
+    renderer.Render(v.view, options.render, output);
+    glFinish();
+    times.push_back(frame_watch.ElapsedMs());
+    const core::Image8 color = output.ReadColor8(0);
+    const core::ImageF zc = output.ReadColorF(1);
+    core::ImageF depth(zc.width(), zc.height(), 1);
+    for (int y = 0; y < zc.height(); ++y) {
+      for (int x = 0; x < zc.width(); ++x) depth.at(x, y) = zc.at(x, y, 1) > 0.5f ? zc.at(x, y, 0) : 0.0f;
+    }
+    // The true mesh from the same camera, through the same capture renderer.
+    capture::RigView rv;
+    rv.name = v.name;
+    rv.camera = capture::Camera::Pinhole(v.view.camera.width, v.view.camera.height, v.view.camera.fx,
+                                         v.view.camera.fy, v.view.camera.cx, v.view.camera.cy);
+    rv.cam_from_world.rotation = glm::dmat3(v.view.cam_from_world);
+    rv.cam_from_world.translation = glm::dvec3(v.view.cam_from_world[3]);
+    const double d = glm::length(rv.cam_from_world.Centre() - bounds.centre());
+    rv.near = std::max(d - edge, 1e-3 * d);
+    rv.far = d + edge;
+    const capture::CapturedView truth = capture::RenderView(programs, scene, rv, co);
+    int64_t inter = 0, uni = 0;
+    for (int y = 0; y < depth.height(); ++y) {
+      for (int x = 0; x < depth.width(); ++x) {
+        const bool p = depth.at(x, y) > 0, t = truth.depth.at(x, y) > 0;
+        inter += p && t;
+        uni += p || t;
+        if (p && t) depth_errors.push_back(std::abs(depth.at(x, y) - truth.depth.at(x, y)) / edge);
+      }
+    }
+    const double iou = uni > 0 ? static_cast<double>(inter) / uni : 1.0;
+    iou_sum += iou;
+    result.iou_min = std::min(result.iou_min, iou);
+    result.names.push_back(v.name);
+    result.frames.push_back(color);
+    result.depths.push_back(depth);
+    core::Image8 truth_rgba(truth.color.width(), truth.color.height(), 4, 255);
+    for (int y = 0; y < truth.color.height(); ++y) {
+      for (int x = 0; x < truth.color.width(); ++x) {
+        for (int c = 0; c < 3; ++c) truth_rgba.at(x, y, c) = truth.color.at(x, y, c);
+        if (truth.mask.at(x, y) == 0) truth_rgba.at(x, y, 3) = 0;
+      }
+    }
+    result.truth.push_back(std::move(truth_rgba));
+  }
+  result.timing = core::Summarize(times);
+  result.iou_mean = iou_sum / views.size();
+  if (!depth_errors.empty()) {
+    std::sort(depth_errors.begin(), depth_errors.end());
+    for (double e : depth_errors) result.depth_mean += e;
+    result.depth_mean /= depth_errors.size();
+    result.depth_p95 = depth_errors[depth_errors.size() * 95 / 100];
+  }
+  return result;
+}
+
+}  // namespace ibr
