@@ -10,6 +10,7 @@
 #include "core/error.h"
 #include "core/projection.h"
 #include "ibr/view_weights.h"
+#include "render/ray_core.h"
 
 namespace ibr {
 
@@ -23,7 +24,8 @@ Method MethodFromName(const std::string& name) {
 Slicing SlicingFromName(const std::string& name) {
   if (name == "orthogonal") return Slicing::kOrthogonal;
   if (name == "screen") return Slicing::kScreen;
-  core::ThrowInputError("SlicingFromName", "unknown slicing '{}' (orthogonal, screen)", name);
+  if (name == "ray") return Slicing::kRay;
+  core::ThrowInputError("SlicingFromName", "unknown slicing '{}' (orthogonal, screen, ray)", name);
 }
 Texturing TexturingFromName(const std::string& name) {
   if (name == "vdt") return Texturing::kViewDependent;
@@ -32,7 +34,9 @@ Texturing TexturingFromName(const std::string& name) {
   core::ThrowInputError("TexturingFromName", "unknown texturing '{}' (vdt, visibility, none)", name);
 }
 std::string MethodName(Method m) { return m == Method::kDepthObject ? "depth-object" : "visual-hull"; }
-std::string SlicingName(Slicing s) { return s == Slicing::kOrthogonal ? "orthogonal" : "screen"; }
+std::string SlicingName(Slicing s) {
+  return s == Slicing::kOrthogonal ? "orthogonal" : s == Slicing::kScreen ? "screen" : "ray";
+}
 std::string TexturingName(Texturing t) {
   return t == Texturing::kViewDependent ? "vdt" : t == Texturing::kVisibility ? "visibility" : "none";
 }
@@ -167,6 +171,7 @@ FrameParams PrepareFrame(const MapSet& maps, const ViewCamera& view, const Depth
   // Slices from the shared slicing core, front to back (sec. 4.1: "we slice
   // the cube from front to back in the best orthogonal direction").
   render::SlicingOptions so;
+  // (kRay uses the screen stack only for its spacing: its step along camera z.)
   so.family = options.slicing == Slicing::kOrthogonal ? render::SliceFamily::kOrthogonal
                                                       : render::SliceFamily::kScreen;
   so.order = render::SliceOrder::kFrontToBack;
@@ -430,6 +435,39 @@ void DepthObjectRenderer::DrawSlices(const FrameParams& frame, const DepthObject
   glBlendFunci(0, GL_ONE, GL_ZERO);
 }
 
+void DepthObjectRenderer::DrawRay(const FrameParams& frame, const DepthObjectOptions& options,
+                                  const render::RenderTarget& accum) {
+  IBR_CHECK_EQ(accum.width(), frame.width);
+  IBR_CHECK_EQ(accum.height(), frame.height);
+  const GpuTables& tables = Tables(options.method);
+  UploadFrame(frame);
+  BindMaps(tables);
+  render::RayCoreOptions ray;
+  ray.max_steps = options.slices + 2;  // the box's depth range in slice spacings, plus the ends
+  ray.refine_steps = 8;
+  std::vector<std::string> defines = Defines(frame, options);
+  if (frame.robust) defines.push_back("ROBUST_COUNT");
+  for (const std::string& d : render::RayCoreDefines(ray)) defines.push_back(d);
+  const render::Program& program = programs_->Get(
+      {.vertex = "fullscreen.vert.glsl", .fragment = "depth_object_ray.frag.glsl", .defines = defines});
+  SetCommonUniforms(program, frame, false);
+  render::SetRayCoreUniforms(program, ray);
+  const glm::mat4 box_from_cam = glm::inverse(frame.cam_from_world * frame.world_from_box);
+  SetMat4(program, "u_box_from_cam", box_from_cam);
+  glUniform1i(program.Uniform("u_required"), frame.required);
+  float extent = 0;
+  for (int k = 0; k < 3; ++k) extent = std::max(extent, glm::length(glm::vec3(frame.world_from_box[k])));
+  glUniform1f(program.Uniform("u_field_scale"), extent);
+  glUniform1f(program.Uniform("u_ray_step"), frame.stack.spacing_world);
+  accum.Bind();
+  glDisable(GL_DEPTH_TEST);
+  glDisable(GL_STENCIL_TEST);
+  glDisable(GL_BLEND);
+  glBindVertexArray(empty_vao_.id());
+  glDrawArrays(GL_TRIANGLES, 0, 3);
+  glBindVertexArray(0);
+}
+
 void DepthObjectRenderer::DrawResolve(const FrameParams& frame, const DepthObjectOptions& options,
                                       const render::RenderTarget& accum) {
   const GpuTables& tables = Tables(options.method);
@@ -448,7 +486,8 @@ void DepthObjectRenderer::DrawResolve(const FrameParams& frame, const DepthObjec
   glUniform1i(resolve.Uniform("u_accum_depth"), 4);
   glUniform4fv(resolve.Uniform("u_background"), 1, glm::value_ptr(options.background));
   glUniform1f(resolve.Uniform("u_visibility_tolerance"), frame.visibility_tolerance);
-  const bool refine = options.refine_steps > 0 && frame.planes.size() >= 2;
+  // The ray variant's hits are already refined by the ray core.
+  const bool refine = options.refine_steps > 0 && frame.planes.size() >= 2 && options.slicing != Slicing::kRay;
   glUniform1i(resolve.Uniform("u_refine_steps"), refine ? options.refine_steps : 0);
   if (refine) {
     glUniform4fv(resolve.Uniform("u_plane0"), 1, glm::value_ptr(frame.planes[0]));
@@ -474,7 +513,11 @@ void DepthObjectRenderer::Render(const ViewCamera& view, const DepthObjectOption
   }
   const FrameParams frame = PrepareFrame(maps_, view, options);
   const render::RenderTarget& accum = Accum(frame.width, frame.height);
-  DrawSlices(frame, options, accum);
+  if (options.slicing == Slicing::kRay) {
+    DrawRay(frame, options, accum);
+  } else {
+    DrawSlices(frame, options, accum);
+  }
   output.Bind();
   DrawResolve(frame, options, accum);
 }
@@ -483,7 +526,11 @@ void DepthObjectRenderer::RenderToFramebuffer(const ViewCamera& view, const Dept
                                               GLuint fbo) {
   const FrameParams frame = PrepareFrame(maps_, view, options);
   const render::RenderTarget& accum = Accum(frame.width, frame.height);
-  DrawSlices(frame, options, accum);
+  if (options.slicing == Slicing::kRay) {
+    DrawRay(frame, options, accum);
+  } else {
+    DrawSlices(frame, options, accum);
+  }
   glBindFramebuffer(GL_DRAW_FRAMEBUFFER, fbo);
   glViewport(0, 0, frame.width, frame.height);
   DrawResolve(frame, options, accum);

@@ -31,6 +31,7 @@ enum class Method {
 enum class Slicing {
   kOrthogonal,  // box-axis slices in the best direction (sec. 3.2, 4.1)
   kScreen,      // view-plane slices (sec. 3.3)
+  kRay,         // one pass, a ray per pixel on the shared ray core (render/ray_core.h)
 };
 enum class Texturing {
   kViewDependent,  // the paper's VDT, blended in the map loop (sec. 4.2)
@@ -49,7 +50,7 @@ enum class InvalidDepthPolicy {
 };
 
 Method MethodFromName(const std::string& name);          // "depth-object", "visual-hull"
-Slicing SlicingFromName(const std::string& name);        // "orthogonal", "screen"
+Slicing SlicingFromName(const std::string& name);        // "orthogonal", "screen", "ray"
 Texturing TexturingFromName(const std::string& name);    // "vdt", "visibility", "none"
 std::string MethodName(Method m);
 std::string SlicingName(Slicing s);
@@ -59,7 +60,8 @@ struct DepthObjectOptions {
   Method method = Method::kDepthObject;
   Slicing slicing = Slicing::kOrthogonal;
   // Slices through the box per frame (>= 1). Depth resolution is one slice
-  // spacing; 128-256 is the paper's range.
+  // spacing; 128-256 is the paper's range. kRay: linear-search steps across
+  // the box's depth range (the screen slices' spacing), then bisection.
   int slices = 128;
   // Robust intersection: keep pixels where at least N - k of the N maps agree
   // (0 = the paper's exact intersection). k >= N keeps the whole box.
@@ -175,6 +177,8 @@ class DepthObjectRenderer {
   // RGBA32F accumulated w*colour and w, attachment 1 RG32F (z, covered), stencil.
   void DrawSlices(const FrameParams& frame, const DepthObjectOptions& options,
                   const render::RenderTarget& accum);
+  // The ray variant (Slicing::kRay) into `accum`, same layout as DrawSlices.
+  void DrawRay(const FrameParams& frame, const DepthObjectOptions& options, const render::RenderTarget& accum);
   // Texturing + background from `accum` into the bound framebuffer.
   void DrawResolve(const FrameParams& frame, const DepthObjectOptions& options,
                    const render::RenderTarget& accum);

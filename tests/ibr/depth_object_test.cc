@@ -12,6 +12,7 @@
 
 #include "capture/synthetic.h"
 #include "core/image_io.h"
+#include "core/timing.h"
 #include "ibr/dataset_maps.h"
 #include "ibr/depth_object.h"
 #include "ibr/reference.h"
@@ -213,6 +214,58 @@ TEST_F(DepthObjectTest, InputCameraReproducesItsDepthMap) {
       }
       EXPECT_GE(static_cast<double>(same) / total, 0.97) << m.name;
     }
+  }
+  EXPECT_NO_GL_ERROR();
+}
+
+// Item 7: the one-pass ray variant on the shared ray core answers the same
+// question as the slices (same maps, tests and texturing): it matches the
+// sphere as well, and the slicing result closely. Times are printed only.
+TEST_F(DepthObjectTest, RayVariantMatchesSphereAndSlicing) {
+  const std::vector<Sphere> sphere = {{{0, 0, 0}, kRadius}};
+  DepthObjectRenderer renderer(programs(), SphereCube(384, sphere));
+  std::mt19937 rng(44);
+  for (int v = 0; v < 3; ++v) {
+    const glm::dvec3 dir = testing::RandomUnit(rng);
+    const glm::dvec3 up = std::abs(dir.z) > 0.9 ? glm::dvec3(0, 1, 0) : glm::dvec3(0, 0, 1);
+    const ViewCamera view = v == 2 ? testing::OrthographicView(3.0 * dir, {0, 0, 0}, up, 200, 1.1)
+                                   : testing::PerspectiveView(3.2 * dir, {0, 0, 0}, up, 200);
+    const core::ImageF truth = TrueDepth(view, sphere);
+    DepthObjectOptions o;
+    o.slices = 256;
+    o.slicing = Slicing::kRay;
+    renderer.RenderImages(view, o);  // warm-up (shader compilation)
+    core::Stopwatch ray_watch;
+    const DepthObjectFrame ray = renderer.RenderImages(view, o);
+    const double ray_ms = ray_watch.ElapsedMs();
+    o.slicing = Slicing::kScreen;
+    renderer.RenderImages(view, o);
+    core::Stopwatch slice_watch;
+    const DepthObjectFrame slices = renderer.RenderImages(view, o);
+    const double slice_ms = slice_watch.ElapsedMs();
+    const FrameParams frame = PrepareFrame(renderer.maps(), view, o);
+    const Accuracy a_ray = Compare(ray.depth, truth);
+    const Accuracy a_slices = Compare(slices.depth, truth);
+    const Accuracy between = Compare(ray.depth, slices.depth);
+    std::printf("view %d: ray IoU %.4f depth mean %.5f p95 %.5f (%.0f ms); screen slices IoU %.4f mean %.5f "
+                "p95 %.5f (%.0f ms); ray vs slices IoU %.4f (spacing %.5f)\n", v, a_ray.iou, a_ray.mean_abs,
+                a_ray.p95, ray_ms, a_slices.iou, a_slices.mean_abs, a_slices.p95, slice_ms, between.iou,
+                frame.stack.spacing_world);
+    EXPECT_GE(a_ray.iou, 0.99);
+    EXPECT_LE(a_ray.p95, 2.0 * frame.stack.spacing_world);
+    EXPECT_GE(between.iou, 0.99);
+    // Same texturing: the colours agree where both see the object.
+    int64_t close = 0, both = 0;
+    for (int y = 0; y < 200; ++y) {
+      for (int x = 0; x < 200; ++x) {
+        if (ray.mask.at(x, y) == 0 || slices.mask.at(x, y) == 0) continue;
+        ++both;
+        int diff = 0;
+        for (int c = 0; c < 3; ++c) diff = std::max(diff, std::abs(ray.color.at(x, y, c) - slices.color.at(x, y, c)));
+        close += diff <= 8;
+      }
+    }
+    EXPECT_GE(static_cast<double>(close) / both, 0.95);
   }
   EXPECT_NO_GL_ERROR();
 }
