@@ -1,0 +1,75 @@
+// `ibr render` end to end: a cube capture of the analytic sphere, rendered as
+// a depth object / visual hull / ray variant from a turntable and from the
+// capture's own cameras; bad input gives one error line and no output.
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+#include "capture/dataset.h"
+#include "core/image_io.h"
+#include "tests/support/gl_test.h"
+#include "tests/support/run_command.h"
+
+namespace ibr {
+namespace {
+
+namespace fs = std::filesystem;
+
+class RenderCliTest : public ::testing::Test {
+ protected:
+  static void SetUpTestSuite() {
+    dir_ = test_support::TestOutputDir().parent_path() / "render_cli";
+    fs::remove_all(dir_);
+    fs::create_directories(dir_);
+    const auto r = test_support::RunCommand(test_support::IbrBinary() + " capture --shape sphere --rig cube --size 64 --out " +
+                                            (dir_ / "sphere").string());
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+  }
+  static fs::path dir_;
+};
+fs::path RenderCliTest::dir_;
+
+TEST_F(RenderCliTest, RendersEveryMethodAndSlicing) {
+  const std::string in = (dir_ / "sphere").string();
+  for (const std::string& args : std::vector<std::string>{"--method depth-object --slicing orthogonal --orbit 3",
+                                 "--method visual-hull --slicing screen --texturing none --orbit 2",
+                                 "--method depth-object --slicing ray --texturing visibility --robust 1 --orbit 2",
+                                 "--method depth-object --slicing screen --cameras " + in}) {
+    const fs::path out = dir_ / "out";
+    fs::remove_all(out);
+    const auto r = test_support::RunCommand(test_support::IbrBinary() + " render " + in + " " + args +
+                                            " --slices 64 --size 64 --out " + out.string());
+    ASSERT_EQ(r.exit_code, 0) << args << "\n" << r.err;
+    EXPECT_NE(r.out.find("render: view 1/"), std::string::npos) << "progress lines";
+    const capture::Dataset rendered = capture::ReadDataset(out);
+    ASSERT_GE(rendered.views.size(), 2u);
+    for (size_t i = 0; i < rendered.views.size(); ++i) {
+      const core::Image8 mask = rendered.LoadMask(i);
+      const core::ImageF depth = rendered.LoadDepth(i);
+      int64_t object = 0;
+      for (size_t p = 0; p < mask.pixel_count(); ++p) {
+        object += mask.data()[p] > 127;
+        EXPECT_EQ(mask.data()[p] > 127, depth.data()[p] > 0) << "depth is 0 exactly where empty";
+      }
+      EXPECT_GT(object, 200) << args << " view " << rendered.views[i].name;
+    }
+  }
+}
+
+TEST_F(RenderCliTest, BadInputLeavesNoOutput) {
+  const std::string in = (dir_ / "sphere").string();
+  const fs::path out = dir_ / "bad";
+  for (const std::string& args : std::vector<std::string>{"--method hull --orbit 2", "--slicing diagonal --orbit 2", "--orbit 2 --slices 0",
+                                 "--cameras " + (dir_ / "missing").string(), ""}) {
+    const auto r = test_support::RunCommand(test_support::IbrBinary() + " render " + in + " " + args +
+                                            " --out " + out.string());
+    EXPECT_NE(r.exit_code, 0) << args;
+    EXPECT_NE(r.err.find("ibr: error:"), std::string::npos) << args << ": " << r.err;
+    EXPECT_FALSE(fs::exists(out)) << args;
+  }
+}
+
+}  // namespace
+}  // namespace ibr
