@@ -24,6 +24,48 @@ std::filesystem::path SharedDataDir() {
   return std::filesystem::path(IBR_SOURCE_DIR) / ".." / "shared" / "data";
 }
 
+MeshAccuracy CompareToMesh(render::ProgramCache& programs, const capture::SceneMesh& scene,
+                           const ViewCamera& view, const core::ImageF& depth, double edge) {
+  glm::vec3 lo, hi;
+  scene.mesh.Bounds(lo, hi);
+  const glm::dvec3 centre = 0.5 * (glm::dvec3(lo) + glm::dvec3(hi));
+  const double radius = 0.5 * glm::length(glm::dvec3(hi) - glm::dvec3(lo));
+  capture::RigView rv;
+  rv.name = "truth";
+  rv.camera = view.camera.orthographic
+                  ? capture::Camera::Orthographic(view.camera.width, view.camera.height, view.camera.fx,
+                                                  view.camera.fy, view.camera.cx, view.camera.cy)
+                  : capture::Camera::Pinhole(view.camera.width, view.camera.height, view.camera.fx,
+                                             view.camera.fy, view.camera.cx, view.camera.cy);
+  rv.cam_from_world.rotation = glm::dmat3(view.cam_from_world);
+  rv.cam_from_world.translation = glm::dvec3(view.cam_from_world[3]);
+  const double d = glm::length(rv.cam_from_world.Centre() - centre);
+  rv.near = std::max(d - 2 * radius, 1e-3 * d);
+  rv.far = d + 2 * radius;
+  capture::CaptureOptions co;
+  co.size = std::max(view.camera.width, 16);
+  const capture::CapturedView truth = capture::RenderView(programs, scene, rv, co);
+  MeshAccuracy a;
+  int64_t inter = 0, uni = 0;
+  for (int y = 0; y < depth.height(); ++y) {
+    for (int x = 0; x < depth.width(); ++x) {
+      const bool p = depth.at(x, y) > 0, t = truth.depth.at(x, y) > 0;
+      inter += p && t;
+      uni += p || t;
+      if (p && t) a.depth_errors.push_back(std::abs(depth.at(x, y) - truth.depth.at(x, y)) / edge);
+    }
+  }
+  a.iou = uni > 0 ? static_cast<double>(inter) / uni : 1.0;
+  a.truth = core::Image8(truth.color.width(), truth.color.height(), 4, 255);
+  for (int y = 0; y < truth.color.height(); ++y) {
+    for (int x = 0; x < truth.color.width(); ++x) {
+      for (int c = 0; c < 3; ++c) a.truth.at(x, y, c) = truth.color.at(x, y, c);
+      if (truth.mask.at(x, y) == 0) a.truth.at(x, y, 3) = 0;
+    }
+  }
+  return a;
+}
+
 DepthObjectDemoResult RunDepthObjectDemo(render::ProgramCache& programs, const DepthObjectDemoOptions& options) {
   options.Check();
   DepthObjectDemoResult result;
@@ -67,40 +109,14 @@ DepthObjectDemoResult RunDepthObjectDemo(render::ProgramCache& programs, const D
     for (int y = 0; y < zc.height(); ++y) {
       for (int x = 0; x < zc.width(); ++x) depth.at(x, y) = zc.at(x, y, 1) > 0.5f ? zc.at(x, y, 0) : 0.0f;
     }
-    // The true mesh from the same camera, through the same capture renderer.
-    capture::RigView rv;
-    rv.name = v.name;
-    rv.camera = capture::Camera::Pinhole(v.view.camera.width, v.view.camera.height, v.view.camera.fx,
-                                         v.view.camera.fy, v.view.camera.cx, v.view.camera.cy);
-    rv.cam_from_world.rotation = glm::dmat3(v.view.cam_from_world);
-    rv.cam_from_world.translation = glm::dvec3(v.view.cam_from_world[3]);
-    const double d = glm::length(rv.cam_from_world.Centre() - bounds.centre());
-    rv.near = std::max(d - edge, 1e-3 * d);
-    rv.far = d + edge;
-    const capture::CapturedView truth = capture::RenderView(programs, scene, rv, co);
-    int64_t inter = 0, uni = 0;
-    for (int y = 0; y < depth.height(); ++y) {
-      for (int x = 0; x < depth.width(); ++x) {
-        const bool p = depth.at(x, y) > 0, t = truth.depth.at(x, y) > 0;
-        inter += p && t;
-        uni += p || t;
-        if (p && t) depth_errors.push_back(std::abs(depth.at(x, y) - truth.depth.at(x, y)) / edge);
-      }
-    }
-    const double iou = uni > 0 ? static_cast<double>(inter) / uni : 1.0;
-    iou_sum += iou;
-    result.iou_min = std::min(result.iou_min, iou);
+    MeshAccuracy acc = CompareToMesh(programs, scene, v.view, depth, edge);
+    depth_errors.insert(depth_errors.end(), acc.depth_errors.begin(), acc.depth_errors.end());
+    iou_sum += acc.iou;
+    result.iou_min = std::min(result.iou_min, acc.iou);
     result.names.push_back(v.name);
     result.frames.push_back(color);
     result.depths.push_back(depth);
-    core::Image8 truth_rgba(truth.color.width(), truth.color.height(), 4, 255);
-    for (int y = 0; y < truth.color.height(); ++y) {
-      for (int x = 0; x < truth.color.width(); ++x) {
-        for (int c = 0; c < 3; ++c) truth_rgba.at(x, y, c) = truth.color.at(x, y, c);
-        if (truth.mask.at(x, y) == 0) truth_rgba.at(x, y, 3) = 0;
-      }
-    }
-    result.truth.push_back(std::move(truth_rgba));
+    result.truth.push_back(std::move(acc.truth));
   }
   result.timing = core::Summarize(times);
   result.iou_mean = iou_sum / views.size();

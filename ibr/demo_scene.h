@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "capture/synthetic.h"
 #include "core/image.h"
 #include "core/timing.h"
 #include "ibr/depth_object.h"
@@ -34,6 +35,16 @@ struct DepthObjectDemoResult {
   double depth_mean = 0, depth_p95 = 0;  // |depth error| over pixels both cover, in cube-edge units
   double capture_seconds = 0;
 };
+
+// A rendered frame against the true mesh seen by the same camera (rendered by
+// capture::RenderView, the capture's own rasteriser).
+struct MeshAccuracy {
+  double iou = 1;                  // silhouette
+  std::vector<double> depth_errors;  // |depth - true depth| / edge over pixels both cover
+  core::Image8 truth;              // RGBA8 true colour, alpha 0 where empty
+};
+MeshAccuracy CompareToMesh(render::ProgramCache& programs, const capture::SceneMesh& scene,
+                           const ViewCamera& view, const core::ImageF& depth, double edge);
 
 // Needs a current context.
 DepthObjectDemoResult RunDepthObjectDemo(render::ProgramCache& programs, const DepthObjectDemoOptions& options);

@@ -539,6 +539,10 @@ void DepthObjectRenderer::RenderToFramebuffer(const ViewCamera& view, const Dept
 DepthObjectFrame DepthObjectRenderer::RenderImages(const ViewCamera& view, const DepthObjectOptions& options) {
   render::RenderTarget output(OutputTargetOptions(view.camera.width, view.camera.height));
   Render(view, options, output);
+  return ReadFrame(output);
+}
+
+DepthObjectFrame DepthObjectRenderer::ReadFrame(const render::RenderTarget& output) {
   DepthObjectFrame out;
   out.color = output.ReadColor8(0);
   const core::ImageF zc = output.ReadColorF(1);

@@ -168,6 +168,8 @@ class DepthObjectRenderer {
   void RenderToFramebuffer(const ViewCamera& view, const DepthObjectOptions& options, GLuint fbo);
   // Render + readback.
   DepthObjectFrame RenderImages(const ViewCamera& view, const DepthObjectOptions& options);
+  // Readback of a target Render() drew into.
+  static DepthObjectFrame ReadFrame(const render::RenderTarget& output);
 
   static render::RenderTargetOptions OutputTargetOptions(int width, int height);
   static render::RenderTargetOptions AccumTargetOptions(int width, int height);
