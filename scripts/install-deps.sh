@@ -24,6 +24,9 @@ PACKAGES=(
   # libFuzzer targets for the parsers (IBR_FUZZ=ON, fuzz/): clang++ and its
   # runtime libraries (libclang_rt.fuzzer, asan, ubsan)
   clang libclang-rt-14-dev
+  # the Open3D peer (bench/open3d_peer.py, run with /usr/bin/python3): TSDF integration and
+  # voxel carving; OpenImageIO's binding reads the datasets' EXR depth maps there
+  python3-open3d python3-openimageio
 )
 
 missing=()
