@@ -47,8 +47,14 @@ void AddCaptureCommand(CLI::App& app) {
   cmd->add_option("--shape", o.shape, "analytic shape: sphere, torus, box or cup");
   cmd->add_option("--texture", o.texture, "texture image (default: the material's, or <stem>_texture.png)");
   cmd->add_option("--rig", o.capture.rig, "cube | ring:N | sphere:N")->capture_default_str();
-  cmd->add_option("--size", o.capture.size, "image width = height in pixels")->capture_default_str();
+  cmd->add_option("--size", o.capture.size, "image width = height in pixels")
+      ->check(CLI::Range(16, 8192))
+      ->capture_default_str();
   cmd->add_option("--fov", o.capture.fov_deg, "perspective field of view, degrees")->capture_default_str();
+  cmd->add_option("--background", o.capture.background,
+                  "black, or noise: a fixed textured backdrop sphere (gives SfM features)")
+      ->check(CLI::IsMember({"black", "noise"}))
+      ->capture_default_str();
   cmd->add_option("--out", o.out, "output dataset directory")->required();
   cmd->callback([] { RunCapture(o); });
 }
