@@ -32,7 +32,7 @@ void ViewerOptions::Check() const {
   if (frames < 1 || frames > 100000) core::ThrowInputError("ViewerOptions", "frames {} outside 1..100000", frames);
 }
 
-render::ViewSetup OrbitView(glm::vec3 centre, float radius, float azimuth_degrees,
+FrameCamera OrbitCamera(glm::vec3 centre, float radius, float azimuth_degrees,
                             float elevation_degrees, float distance_scale, float fov_y_degrees,
                             int width, int height) {
   const float az = glm::radians(azimuth_degrees);
@@ -42,13 +42,18 @@ render::ViewSetup OrbitView(glm::vec3 centre, float radius, float azimuth_degree
   const float distance = distance_scale * radius / std::sin(0.5f * fov);
   const glm::vec3 eye = centre + distance * glm::vec3(std::cos(el) * std::cos(az),
                                                       std::cos(el) * std::sin(az), std::sin(el));
-  render::ViewSetup view;
-  view.cam_from_world = core::CamFromWorldLookAt(eye, centre, {0, 0, 1});
-  const double f = 0.5 * height / std::tan(0.5 * fov);
-  const double near = std::max(1e-3 * distance, static_cast<double>(distance - 2.0f * radius));
-  view.clip_from_cam = core::ClipFromCamPerspective(f, f, 0.5 * width, 0.5 * height, width, height,
-                                                    std::max(near, 1e-4), distance + 4.0 * radius);
-  return view;
+  FrameCamera camera;
+  camera.cam_from_world = core::CamFromWorldLookAt(eye, centre, {0, 0, 1});
+  camera.fx = camera.fy = 0.5 * height / std::tan(0.5 * fov);
+  camera.cx = 0.5 * width;
+  camera.cy = 0.5 * height;
+  camera.width = width;
+  camera.height = height;
+  camera.near = std::max(1e-4, std::max(1e-3 * distance, static_cast<double>(distance - 2.0f * radius)));
+  camera.far = distance + 4.0 * radius;
+  camera.clip_from_cam = core::ClipFromCamPerspective(camera.fx, camera.fy, camera.cx, camera.cy, width,
+                                                      height, camera.near, camera.far);
+  return camera;
 }
 
 namespace {
@@ -133,13 +138,13 @@ void Run(const SceneFactory& make_scene, const ViewerOptions& options) {
       if (io.MouseWheel != 0) orbit.distance_scale = std::clamp(orbit.distance_scale * std::pow(0.9f, io.MouseWheel), 0.2f, 20.0f);
     }
 
-    const render::ViewSetup view = OrbitView(scene.Centre(), scene.Radius(), orbit.azimuth, orbit.elevation,
-                                             orbit.distance_scale, options.fov_y_degrees, fb_w, fb_h);
+    const FrameCamera camera = OrbitCamera(scene.Centre(), scene.Radius(), orbit.azimuth, orbit.elevation,
+                                           orbit.distance_scale, options.fov_y_degrees, fb_w, fb_h);
     glFinish();
     core::Stopwatch watch;
     const render::RenderTarget* target = nullptr;
     try {
-      target = &scene.Render(view, fb_w, fb_h);
+      target = &scene.Render(camera);
       glFinish();
       error.clear();
     } catch (const core::InputError& e) {
@@ -160,7 +165,7 @@ void Run(const SceneFactory& make_scene, const ViewerOptions& options) {
     ImGui_ImplGlfw_NewFrame();
     ImGui::NewFrame();
     ImGui::SetNextWindowPos(ImVec2(10, 10), ImGuiCond_FirstUseEver);
-    ImGui::SetNextWindowSize(ImVec2(340, 0), ImGuiCond_FirstUseEver);
+    ImGui::SetNextWindowSize(ImVec2(400, 0), ImGuiCond_FirstUseEver);
     ImGui::Begin(scene.Title().c_str());
     const core::TimingStats stats = core::Summarize({frame_ms.begin(), frame_ms.end()});
     ImGui::Text("frame %.1f ms (median of %d), %dx%d", stats.median_ms, stats.samples, fb_w, fb_h);

@@ -12,10 +12,19 @@
 
 #include <glm/glm.hpp>
 
-#include "render/mesh_pass.h"
 #include "render/render_target.h"
 
 namespace viewer {
+
+// The camera of one frame: pose, pinhole intrinsics (pixels, sparse
+// convention) and the matching GL projection.
+struct FrameCamera {
+  glm::mat4 cam_from_world{1.0f};
+  glm::mat4 clip_from_cam{1.0f};
+  double fx = 1, fy = 1, cx = 0, cy = 0;
+  int width = 0, height = 0;
+  double near = 0.01, far = 100;  // scene units
+};
 
 // What the viewer shows. Implementations own their GPU resources; every call
 // happens with the window's context current.
@@ -29,7 +38,7 @@ class Scene {
   // ImGui widgets for the scene's options (inside the viewer's panel).
   virtual void DrawControls() = 0;
   // Renders the frame; colour attachment 0 of the returned target is shown.
-  virtual const render::RenderTarget& Render(const render::ViewSetup& view, int width, int height) = 0;
+  virtual const render::RenderTarget& Render(const FrameCamera& camera) = 0;
   // One line of status (e.g. "128 slices, 6 maps"), shown under the timing.
   virtual std::string Status() const { return {}; }
 };
@@ -55,8 +64,8 @@ struct ViewerOptions {
 using SceneFactory = std::function<std::unique_ptr<Scene>()>;
 void Run(const SceneFactory& make_scene, const ViewerOptions& options);
 
-// The orbit camera's view for a window of width x height.
-render::ViewSetup OrbitView(glm::vec3 centre, float radius, float azimuth_degrees,
+// The orbit camera for a window of width x height.
+FrameCamera OrbitCamera(glm::vec3 centre, float radius, float azimuth_degrees,
                             float elevation_degrees, float distance_scale, float fov_y_degrees,
                             int width, int height);
 
