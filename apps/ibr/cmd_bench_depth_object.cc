@@ -1,0 +1,25 @@
+// `ibr bench depth-object`: what accuracy costs in time for depth objects
+// (Kautz-Seidel 2001, sec. 4), with the Open3D peer in the same run; printed,
+// never asserted.
+#include "apps/ibr/commands.h"
+#include "bench/depth_object_bench.h"
+
+namespace apps {
+namespace {
+
+void AddDepthObjectBench(CLI::App& app) {
+  static bench::DepthObjectBenchOptions options;
+  auto* cmd = BenchGroup(app)->add_subcommand(
+      "depth-object",
+      "Slicing family x slices x size x object vs the true mesh, the Open3D peer (TSDF, carving), Fig. 12 analogues");
+  cmd->add_option("--csv", options.csv, "CSV file for the table (Fig. 12 tables beside it)")->required();
+  cmd->add_option("--out", options.out, "directory for the PNG plots");
+  cmd->add_flag("--quick", options.quick, "small sweep (CI smoke run, ~30 s)");
+  cmd->callback([] { bench::RunDepthObjectBench(options); });
+}
+
+}  // namespace
+
+IBR_REGISTER_COMMAND("bench depth-object", AddDepthObjectBench);
+
+}  // namespace apps

@@ -1,0 +1,305 @@
+#include "bench/depth_object_bench.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <string>
+#include <vector>
+
+#include <fmt/format.h>
+#include <unistd.h>
+
+#include "bench/peer.h"
+#include "bench/report.h"
+#include "capture/synthetic.h"
+#include "core/error.h"
+#include "core/timing.h"
+#include "ibr/dataset_maps.h"
+#include "ibr/demo_scene.h"
+#include "ibr/depth_object.h"
+#include "ibr/views.h"
+#include "render/context.h"
+#include "render/fill_rate.h"
+#include "render/frame_timer.h"
+
+namespace bench {
+namespace {
+
+namespace fs = std::filesystem;
+
+constexpr int kMapSize = 256;  // cube-rig maps, pixels
+
+struct Object {
+  std::string name;
+  capture::SceneMesh scene;
+  bool textured = false;
+};
+
+// The true mesh from `view`, unshaded (the maps are captured unshaded too, so
+// colours compare): camera z and RGBA.
+capture::CapturedView Truth(render::ProgramCache& programs, const capture::SceneMesh& scene,
+                            const ibr::ViewCamera& view, const capture::Bounds& bounds) {
+  capture::RigView rv;
+  rv.name = "truth";
+  const ibr::MapCamera& c = view.camera;
+  rv.camera = capture::Camera::Pinhole(c.width, c.height, c.fx, c.fy, c.cx, c.cy);
+  rv.cam_from_world.rotation = glm::dmat3(view.cam_from_world);
+  rv.cam_from_world.translation = glm::dvec3(view.cam_from_world[3]);
+  const double radius = 0.5 * glm::length(bounds.extent());
+  const double d = glm::length(rv.cam_from_world.Centre() - bounds.centre());
+  rv.near = std::max(d - 2 * radius, 1e-3 * d);
+  rv.far = d + 2 * radius;
+  capture::CaptureOptions co;
+  co.size = std::max(c.width, 16);
+  co.shade = false;
+  return capture::RenderView(programs, scene, rv, co);
+}
+
+// PSNR (dB) of RGB over pixels both cover; nan if none.
+double Psnr(const core::Image8& got, const core::ImageF& got_depth, const core::Image8& want,
+            const core::ImageF& want_depth) {
+  double se = 0;
+  int64_t n = 0;
+  for (int y = 0; y < got.height(); ++y) {
+    for (int x = 0; x < got.width(); ++x) {
+      if (!(got_depth.at(x, y) > 0 && want_depth.at(x, y) > 0)) continue;
+      for (int c = 0; c < 3; ++c) {
+        const double e = double(got.at(x, y, c)) - double(want.at(x, y, c));
+        se += e * e;
+      }
+      n += 3;
+    }
+  }
+  if (n == 0) return std::nan("");
+  const double mse = se / double(n);
+  return mse > 0 ? 10 * std::log10(255.0 * 255.0 / mse) : 99.0;
+}
+
+std::vector<Object> Objects(bool quick) {
+  std::vector<Object> objects;
+  objects.push_back({"cup", capture::MakeShapeScene("cup"), false});
+  if (quick) return objects;
+  const fs::path meshes = ibr::SharedDataDir() / "meshes";
+  for (const auto& [name, file] : std::vector<std::pair<std::string, std::string>>{
+           {"bunny", "stanford-bunny.obj"}, {"spot", "spot.obj"}, {"teapot", "teapot.obj"}}) {
+    if (!fs::exists(meshes / file)) {
+      fmt::print("bench depth-object: {} skipped: {} is absent\n", name, (meshes / file).string());
+      continue;
+    }
+    capture::SceneMesh scene = capture::LoadSceneMesh(meshes / file);
+    const bool textured = !scene.texture.empty();
+    objects.push_back({name, std::move(scene), textured});
+  }
+  // Bunny first: the Fig. 12 analogues and the peer use it.
+  std::stable_sort(objects.begin(), objects.end(), [](const Object& a, const Object& b) {
+    return (a.name == "bunny") > (b.name == "bunny");
+  });
+  return objects;
+}
+
+std::vector<ibr::ViewCamera> Views(const ibr::MapSet& maps, int count, int size) {
+  ibr::OrbitOptions orbit;
+  orbit.count = count;
+  orbit.size = size;
+  orbit.elevation_deg = 25;
+  std::vector<ibr::ViewCamera> out;
+  for (const ibr::NamedView& v : ibr::OrbitViews(maps, orbit)) out.push_back(v.view);
+  return out;
+}
+
+}  // namespace
+
+void DepthObjectBenchOptions::Check() const {
+  constexpr const char* kWhere = "bench depth-object";
+  if (csv.empty()) core::ThrowInputError(kWhere, "--csv FILE is required");
+  const fs::path folder = fs::absolute(csv).parent_path();
+  if (!fs::is_directory(folder)) core::ThrowInputError(kWhere, "--csv '{}': no folder '{}'", csv.string(), folder.string());
+}
+
+void RunDepthObjectBench(const DepthObjectBenchOptions& options) {
+  options.Check();
+  auto context = render::HeadlessContext::Create();
+  render::ProgramCache programs;
+  fmt::print("{} | {}\n", context->info().renderer, context->info().version);
+
+  // Fill-rate calibration in this run (trivial alpha-tested full-screen layers).
+  render::FillRateOptions fo;
+  fo.width = fo.height = 512;
+  fo.layers_per_frame = options.quick ? 8 : 32;
+  fo.timer = {1, options.quick ? 3 : 5};
+  const render::FillRate fill = render::MeasureFillRate(programs, fo);
+  fmt::print("fill rate: {:.1f} M fragments/s\n", fill.fragments_per_second * 1e-6);
+
+  const std::vector<int> slice_counts = options.quick ? std::vector<int>{16, 64} : std::vector<int>{16, 64, 256};
+  const std::vector<int> sizes = options.quick ? std::vector<int>{128} : std::vector<int>{128, 256, 512};
+  const render::FrameTimerOptions timer{1, 3};
+  const fs::path work = fs::temp_directory_path() / fmt::format("ibr_bench_depth_object_{}", ::getpid());
+  fs::remove_all(work);
+
+  Table table({"object", "method", "slices", "size", "ms_per_frame", "fill_rate_fraction", "time_to_first_image_s",
+               "iou_mean", "iou_min", "mean_depth_error", "p95_depth_error", "psnr_db"});
+  Table fig_coverage({"family", "slices", "size", "covered_pixels", "ms_per_frame"});
+  Table fig_slices({"family", "slices", "size", "ms_per_frame"});
+
+  const std::vector<Object> objects = Objects(options.quick);
+  for (const Object& object : objects) {
+    capture::CaptureOptions co;
+    co.rig = "cube";
+    co.size = kMapSize;
+    co.shade = false;  // albedo maps: colour compares with an unshaded truth
+    const capture::Dataset cube = capture::CaptureDataset(programs, object.scene, co, work / object.name / "cube");
+    const capture::Dataset cube_read = capture::ReadDataset(work / object.name / "cube");
+    const ibr::MapSet maps = ibr::MapsFromDataset(cube_read);
+    const capture::Bounds bounds = *cube_read.bounds;
+    const double edge = CubeEdge(bounds);
+    core::Stopwatch upload_watch;
+    ibr::DepthObjectRenderer renderer(programs, maps);
+    const double upload_ms = upload_watch.ElapsedMs();
+
+    for (int size : sizes) {
+      // Two novel views per size: view 0 is timed, both are measured.
+      const std::vector<ibr::ViewCamera> views = Views(maps, 2, size);
+      std::vector<capture::CapturedView> truth;
+      for (const ibr::ViewCamera& v : views) truth.push_back(Truth(programs, object.scene, v, bounds));
+      for (ibr::Slicing slicing : {ibr::Slicing::kOrthogonal, ibr::Slicing::kScreen}) {
+        for (int slices : slice_counts) {
+          ibr::DepthObjectOptions o;
+          o.slicing = slicing;
+          o.slices = slices;
+          o.texturing = object.textured ? ibr::Texturing::kViewDependent : ibr::Texturing::kNone;
+          core::Stopwatch first;
+          ibr::DepthObjectFrame frame0 = renderer.RenderImages(views[0], o);
+          const double first_ms = first.ElapsedMs();
+          const render::RenderTarget target(
+              ibr::DepthObjectRenderer::OutputTargetOptions(views[0].camera.width, views[0].camera.height));
+          const core::TimingStats t = render::TimeFrames([&] { renderer.Render(views[0], o, target); }, timer);
+          // Fragments the slice passes shade: slice coverage x maps in the loop.
+          const ibr::FrameParams params = ibr::PrepareFrame(renderer.maps(), views[0], o);
+          double fragments = 0;
+          for (const core::Image8& c : renderer.SliceCoverage(params)) {
+            for (uint8_t v : c.values()) fragments += v > 0;
+          }
+          fragments *= static_cast<double>(params.active.size());
+          const double fraction = fragments / (t.median_ms / 1000.0) / fill.fragments_per_second;
+          std::vector<ViewAccuracy> acc;
+          double psnr = 0;
+          for (size_t i = 0; i < views.size(); ++i) {
+            const ibr::DepthObjectFrame f = i == 0 ? std::move(frame0) : renderer.RenderImages(views[i], o);
+            acc.push_back(CompareDepth(f.depth, truth[i].depth, edge));
+            if (object.textured) psnr += Psnr(f.color, f.depth, truth[i].color, truth[i].depth) / double(views.size());
+          }
+          const Accuracy a = Pool(acc);
+          const std::string method = fmt::format("depth-object {}", ibr::SlicingName(slicing));
+          table.AddRow({object.name, method, std::to_string(slices), std::to_string(size), Num(t.median_ms, 2),
+                        Num(fraction, 3), Num((upload_ms + first_ms) / 1000.0, 3), Num(a.iou_mean, 4),
+                        Num(a.iou_min, 4), Num(a.mean_depth_error, 5), Num(a.p95_depth_error, 5),
+                        object.textured ? Num(psnr, 2) : "nan"});
+          fmt::print("{:7} {:24} {:4} slices {:5} px: {:9.2f} ms/frame ({:.2f} of fill rate), IoU {:.4f}, "
+                     "p95 depth {:.5f} edges\n", object.name, method, slices, size, t.median_ms, fraction,
+                     a.iou_mean, a.p95_depth_error);
+        }
+      }
+    }
+
+    if (object.name == "bunny" || options.quick) {
+      // Figure 12 analogues (the paper: time against covered pixels at 128
+      // slices; against slices at 300x300).
+      const std::vector<int> fig_sizes = options.quick ? std::vector<int>{64, 128} : std::vector<int>{128, 192, 256, 384, 512};
+      const std::vector<int> fig_slices_n = options.quick ? std::vector<int>{16, 32} : std::vector<int>{16, 32, 64, 128, 256, 512};
+      for (ibr::Slicing slicing : {ibr::Slicing::kOrthogonal, ibr::Slicing::kScreen}) {
+        ibr::DepthObjectOptions o;
+        o.slicing = slicing;
+        o.texturing = ibr::Texturing::kNone;
+        o.slices = 128;
+        for (int size : fig_sizes) {
+          const ibr::ViewCamera v = Views(maps, 1, size)[0];
+          const ibr::DepthObjectFrame f = renderer.RenderImages(v, o);
+          int64_t covered = 0;
+          for (uint8_t m : f.mask.values()) covered += m > 0;
+          const render::RenderTarget target(ibr::DepthObjectRenderer::OutputTargetOptions(size, size));
+          const core::TimingStats t = render::TimeFrames([&] { renderer.Render(v, o, target); }, timer);
+          fig_coverage.AddRow({ibr::SlicingName(slicing), "128", std::to_string(size), std::to_string(covered),
+                               Num(t.median_ms, 2)});
+        }
+        const int fig_size = options.quick ? 100 : 300;
+        const ibr::ViewCamera v = Views(maps, 1, fig_size)[0];
+        const render::RenderTarget target(ibr::DepthObjectRenderer::OutputTargetOptions(fig_size, fig_size));
+        for (int slices : fig_slices_n) {
+          o.slices = slices;
+          const core::TimingStats t = render::TimeFrames([&] { renderer.Render(v, o, target); }, timer);
+          fig_slices.AddRow({ibr::SlicingName(slicing), std::to_string(slices), std::to_string(fig_size),
+                             Num(t.median_ms, 2)});
+        }
+      }
+    }
+
+    if (object.name == "bunny" || options.quick) {
+      // The peer on a perspective capture of the same object (Open3D takes
+      // pinhole cameras only), judged from the same novel views.
+      capture::CaptureOptions pc = co;
+      pc.rig = "sphere:6";
+      capture::CaptureDataset(programs, object.scene, pc, work / object.name / "sphere6");
+      Open3dPeerOptions po;
+      po.work_dir = work / object.name / "open3d";
+      if (options.quick) po.methods = {"tsdf:64"};
+      try {
+        const Open3dRun run = RunOpen3dPeer(work / object.name / "sphere6", po);
+        const int size = sizes.back();
+        const std::vector<ibr::ViewCamera> views = Views(maps, 2, size);
+        std::vector<core::ImageF> truth;
+        for (const ibr::ViewCamera& v : views) truth.push_back(Truth(programs, object.scene, v, bounds).depth);
+        capture::Bounds draw = bounds;
+        draw.min -= 0.1 * edge;
+        draw.max += 0.1 * edge;
+        for (const MethodRow& r : EvaluatePeer(programs, run, views, truth, draw, edge)) {
+          table.AddRow({object.name, r.method, "0", std::to_string(size), Num(r.median_frame_ms, 2), "nan",
+                        Num(r.time_to_first_image_s, 3), Num(r.accuracy.iou_mean, 4), Num(r.accuracy.iou_min, 4),
+                        Num(r.accuracy.mean_depth_error, 5), Num(r.accuracy.p95_depth_error, 5), "nan"});
+          fmt::print("{:7} {:24} {:5} px: first image {:.3f} s, IoU {:.4f}, p95 depth {:.5f} edges\n", object.name,
+                     r.method, size, r.time_to_first_image_s, r.accuracy.iou_mean, r.accuracy.p95_depth_error);
+        }
+      } catch (const core::InputError& e) {
+        fmt::print("bench depth-object: the Open3D peer did not run: {}\n", e.what());
+      }
+    }
+  }
+  fs::remove_all(work);
+
+  fmt::print("\n{}\n", table.Format());
+  table.WriteCsv(options.csv);
+  const fs::path stem = options.csv.parent_path() / options.csv.stem();
+  fig_coverage.WriteCsv(stem.string() + "_fig12_coverage.csv");
+  fig_slices.WriteCsv(stem.string() + "_fig12_slices.csv");
+  fmt::print("wrote {} (+ _fig12_coverage.csv, _fig12_slices.csv)\n", options.csv.string());
+  if (!options.out.empty()) {
+    fs::create_directories(options.out);
+    PlotOptions p;
+    p.series_column = "method";
+    p.x_column = "ms_per_frame";
+    p.log_x = true;
+    p.x_label = "ms per frame (median)";
+    p.title = "p95 depth error vs time per frame (all objects, slices, sizes)";
+    p.y_column = "p95_depth_error";
+    p.y_label = "p95 depth error (cube edges)";
+    PlotPng(table, p, options.out / "error_vs_time.png");
+    p.title = "silhouette IoU vs time per frame";
+    p.y_column = "iou_mean";
+    p.y_label = "silhouette IoU (mean over views)";
+    PlotPng(table, p, options.out / "iou_vs_time.png");
+    PlotOptions c;
+    c.title = "Fig. 12 analogue: time vs covered pixels, 128 slices (bunny)";
+    c.x_column = "covered_pixels";
+    c.y_column = "ms_per_frame";
+    c.series_column = "family";
+    c.x_label = "object pixels";
+    c.y_label = "ms per frame";
+    PlotPng(fig_coverage, c, options.out / "fig12_time_vs_coverage.png");
+    c.title = "Fig. 12 analogue: time vs slice count (bunny)";
+    c.x_column = "slices";
+    c.x_label = "slices";
+    PlotPng(fig_slices, c, options.out / "fig12_time_vs_slices.png");
+    fmt::print("wrote plots to {}\n", options.out.string());
+  }
+}
+
+}  // namespace bench

@@ -1,0 +1,37 @@
+// `ibr bench depth-object`: what accuracy costs in time for image-based depth
+// objects (Kautz-Seidel 2001, sec. 4), printed and written, never asserted.
+//
+// Sweep: slicing family (orthogonal, screen) x slices x output size x object
+// (bunny, spot, teapot from ../shared/data/meshes, the analytic cup), each
+// object captured with the paper's cube rig (six orthographic maps, 256 px).
+// Per configuration: median frame time after warm-up (glFinish, wall clock;
+// render::TimeFrames), the fraction of the fill rate calibrated in the same
+// run (render::MeasureFillRate) that the slice passes reach, and against
+// the true mesh rendered from the same novel views (bench/peer.h metrics):
+// silhouette IoU, mean and 95th-percentile depth error in cube-edge units,
+// colour PSNR on the object pixels for textured objects (Spot).
+// The Open3D peer (bench/peer.h) runs in the same sweep on a perspective
+// capture of the bunny (sphere:6, Open3D has no orthographic camera) with
+// time to first image and the same metrics.
+// Also the paper's Figure 12 analogues on the bunny: time against pixel
+// coverage at 128 slices, and against slice count at 300x300.
+#pragma once
+
+#include <filesystem>
+
+namespace bench {
+
+struct DepthObjectBenchOptions {
+  std::filesystem::path csv;  // required: the sweep table; fig12 tables go beside it (*_fig12_*.csv)
+  std::filesystem::path out;  // optional: PNG plots (error vs time, Fig. 12 analogues)
+  // Small sweep (smoke test, ~30 s): the cup only, two slice counts, 128 px,
+  // TSDF at 64 for the peer.
+  bool quick = false;
+  void Check() const;
+};
+
+// Needs ../shared/data for the meshes (the cup is analytic); objects whose
+// mesh is absent are skipped with a message. Creates its own GL context.
+void RunDepthObjectBench(const DepthObjectBenchOptions& options);
+
+}  // namespace bench

@@ -1,0 +1,82 @@
+// Smoke test of `ibr bench depth-object --quick`: the table has its columns,
+// every measured value is a finite number in range, the Fig. 12 tables and
+// the plots are written, and the Open3D peer's row is there.
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+#include "bench/depth_object_bench.h"
+#include "tests/support/gl_test.h"
+
+namespace bench {
+namespace {
+
+namespace fs = std::filesystem;
+
+std::vector<std::vector<std::string>> ReadCsv(const fs::path& path) {
+  std::ifstream in(path);
+  std::vector<std::vector<std::string>> rows;
+  std::string line;
+  while (std::getline(in, line)) {
+    std::vector<std::string> cells;
+    std::stringstream s(line);
+    std::string cell;
+    while (std::getline(s, cell, ',')) cells.push_back(cell);
+    rows.push_back(cells);
+  }
+  return rows;
+}
+
+TEST(DepthObjectBench, QuickRunWritesFiniteTableAndPlots) {
+  std::string reason;
+  if (!test_support::SharedContext(&reason)) GTEST_SKIP() << "no GL context: " << reason;
+  const fs::path out = test_support::TestOutputDir();
+  fs::remove_all(out / "plots");
+  DepthObjectBenchOptions o;
+  o.csv = out / "quick.csv";
+  o.out = out / "plots";
+  o.quick = true;
+  RunDepthObjectBench(o);
+
+  const auto rows = ReadCsv(o.csv);
+  ASSERT_GE(rows.size(), 2u);
+  const std::vector<std::string> columns = {"object", "method", "slices", "size", "ms_per_frame",
+                                            "fill_rate_fraction", "time_to_first_image_s", "iou_mean", "iou_min",
+                                            "mean_depth_error", "p95_depth_error", "psnr_db"};
+  ASSERT_EQ(rows[0], columns);
+  int ours = 0, peer = 0;
+  for (size_t r = 1; r < rows.size(); ++r) {
+    ASSERT_EQ(rows[r].size(), columns.size()) << r;
+    const bool is_peer = rows[r][1].rfind("open3d", 0) == 0;
+    (is_peer ? peer : ours)++;
+    for (size_t c = 4; c < columns.size(); ++c) {
+      const double v = std::stod(rows[r][c]);
+      // Our rows: every column measured (psnr only for textured objects; the
+      // quick run's cup is not); the peer has no fill-rate fraction.
+      const bool may_be_nan = columns[c] == "psnr_db" || (is_peer && columns[c] == "fill_rate_fraction");
+      if (may_be_nan && std::isnan(v)) continue;
+      EXPECT_TRUE(std::isfinite(v)) << rows[r][1] << " " << columns[c] << " = " << rows[r][c];
+      EXPECT_GE(v, 0) << rows[r][1] << " " << columns[c];
+    }
+    const double iou = std::stod(rows[r][7]);
+    EXPECT_LE(iou, 1.0);
+    EXPECT_GT(iou, 0.5) << rows[r][1] << " " << rows[r][2] << " slices: the cup was not reconstructed";
+  }
+  EXPECT_EQ(ours, 4);  // 2 families x 2 slice counts x 1 size x the cup
+  EXPECT_EQ(peer, 1) << "the Open3D peer's TSDF row (python3-open3d installed?)";
+  const fs::path stem = o.csv.parent_path() / o.csv.stem();
+  EXPECT_GE(ReadCsv(stem.string() + "_fig12_coverage.csv").size(), 5u);  // header + 2 families x 2 sizes
+  EXPECT_GE(ReadCsv(stem.string() + "_fig12_slices.csv").size(), 5u);
+  for (const char* png : {"error_vs_time.png", "iou_vs_time.png", "fig12_time_vs_coverage.png",
+                          "fig12_time_vs_slices.png"}) {
+    EXPECT_GT(fs::exists(o.out / png) ? fs::file_size(o.out / png) : 0, 1000u) << png;
+  }
+}
+
+}  // namespace
+}  // namespace bench
