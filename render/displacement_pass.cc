@@ -254,14 +254,7 @@ void DisplacementPass::Draw(const RenderTarget& target, const ViewSetup& view, c
   if (full_size) desc.defines.push_back("FULL_SIZE_SLICES");
   const Program& program = programs_->Get(desc);
 
-  target.Bind();
-  const float background[4] = {0, 0, 0, 0};
-  target.Clear(background);
-  glEnable(GL_DEPTH_TEST);
-  glDepthFunc(GL_LESS);
-  glDisable(GL_STENCIL_TEST);
-  glDisable(GL_BLEND);
-  glDisable(GL_CULL_FACE);
+  BeginDepthTestedFrame(target);
   program.Use();
   glUniformMatrix4fv(program.Uniform("u_cam_from_world"), 1, GL_FALSE, glm::value_ptr(view.cam_from_world));
   glUniformMatrix4fv(program.Uniform("u_clip_from_cam"), 1, GL_FALSE, glm::value_ptr(view.clip_from_cam));
@@ -292,11 +285,7 @@ void DisplacementPass::Draw(const RenderTarget& target, const ViewSetup& view, c
 DisplacementFrame ReadDisplacementFrame(const RenderTarget& target) {
   DisplacementFrame frame;
   frame.color = target.ReadColor8(0);
-  const core::ImageF depth4 = target.ReadColorF(1);
-  frame.depth = core::ImageF(target.width(), target.height(), 1);
-  for (int y = 0; y < target.height(); ++y) {
-    for (int x = 0; x < target.width(); ++x) frame.depth.at(x, y) = depth4.at(x, y, 0);
-  }
+  frame.depth = target.ReadChannelsF(1, 1);
   return frame;
 }
 

@@ -16,14 +16,7 @@ void DrawMesh(ProgramCache& programs, const RenderTarget& target, const GpuMesh&
   if (view.orthographic) desc.defines.push_back("ORTHOGRAPHIC");
   const Program& program = programs.Get(desc);
 
-  target.Bind();
-  const float background[4] = {0, 0, 0, 0};
-  target.Clear(background);
-  glEnable(GL_DEPTH_TEST);
-  glDepthFunc(GL_LESS);
-  glDisable(GL_STENCIL_TEST);
-  glDisable(GL_BLEND);
-  glDisable(GL_CULL_FACE);
+  BeginDepthTestedFrame(target);
   program.Use();
   glUniformMatrix4fv(program.Uniform("u_cam_from_world"), 1, GL_FALSE, glm::value_ptr(view.cam_from_world));
   glUniformMatrix4fv(program.Uniform("u_clip_from_cam"), 1, GL_FALSE, glm::value_ptr(view.clip_from_cam));
@@ -41,16 +34,8 @@ MeshFrame RenderMesh(ProgramCache& programs, const GpuMesh& mesh, const ViewSetu
   DrawMesh(programs, target, mesh, view, options);
   MeshFrame frame;
   frame.color = target.ReadColor8(0);
-  const core::ImageF depth4 = target.ReadColorF(1);
-  const core::ImageF normal4 = target.ReadColorF(2);
-  frame.depth = core::ImageF(width, height, 1);
-  frame.normal = core::ImageF(width, height, 3);
-  for (int y = 0; y < height; ++y) {
-    for (int x = 0; x < width; ++x) {
-      frame.depth.at(x, y) = depth4.at(x, y, 0);
-      for (int c = 0; c < 3; ++c) frame.normal.at(x, y, c) = normal4.at(x, y, c);
-    }
-  }
+  frame.depth = target.ReadChannelsF(1, 1);
+  frame.normal = target.ReadChannelsF(2, 3);
   return frame;
 }
 

@@ -124,16 +124,8 @@ ReliefFrame ReliefTarget::Read() const {
   const int w = target_.width(), h = target_.height();
   ReliefFrame frame;
   frame.color = target_.ReadColor8(0);
-  const core::ImageF depth4 = target_.ReadColorF(1);
-  const core::ImageF normal4 = target_.ReadColorF(2);
-  frame.depth = core::ImageF(w, h, 1);
-  frame.normal = core::ImageF(w, h, 3);
-  for (int y = 0; y < h; ++y) {
-    for (int x = 0; x < w; ++x) {
-      frame.depth.at(x, y) = depth4.at(x, y, 0);
-      for (int c = 0; c < 3; ++c) frame.normal.at(x, y, c) = normal4.at(x, y, c);
-    }
-  }
+  frame.depth = target_.ReadChannelsF(1, 1);
+  frame.normal = target_.ReadChannelsF(2, 3);
   glMemoryBarrier(GL_TEXTURE_UPDATE_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
   std::vector<uint32_t> flags(static_cast<size_t>(w) * h);
   glGetTextureImage(flags_.id(), 0, GL_RED_INTEGER, GL_UNSIGNED_INT,
@@ -205,16 +197,9 @@ void ReliefSurface::Draw(ProgramCache& programs, const ReliefTarget& target, con
   const glm::vec3 view_dir_in_object = glm::normalize(glm::mat3(object_from_cam) * glm::vec3(0, 0, 1));
   const glm::mat3 world_normal_from_object = glm::transpose(glm::inverse(glm::mat3(options.world_from_object)));
 
-  target.target().Bind();
-  const float background[4] = {0, 0, 0, 0};
-  target.target().Clear(background);
+  BeginDepthTestedFrame(target.target());
   const GLuint zero = 0;
   glClearTexImage(target.flags().id(), 0, GL_RED_INTEGER, GL_UNSIGNED_INT, &zero);
-  glEnable(GL_DEPTH_TEST);
-  glDepthFunc(GL_LESS);
-  glDisable(GL_STENCIL_TEST);
-  glDisable(GL_BLEND);
-  glDisable(GL_CULL_FACE);
   program.Use();
   SetRayCoreUniforms(program, core);
   glUniformMatrix4fv(program.Uniform("u_cam_from_object"), 1, GL_FALSE, glm::value_ptr(cam_from_object));

@@ -90,6 +90,19 @@ core::ImageF RenderTarget::ReadColorF(int attachment) const {
   return image;
 }
 
+core::ImageF RenderTarget::ReadChannelsF(int attachment, int channels) const {
+  IBR_CHECK(channels >= 1 && channels <= 4);
+  const core::ImageF rgba = ReadColorF(attachment);
+  if (channels == 4) return rgba;
+  core::ImageF out(options_.width, options_.height, channels);
+  for (int y = 0; y < options_.height; ++y) {
+    for (int x = 0; x < options_.width; ++x) {
+      for (int c = 0; c < channels; ++c) out.at(x, y, c) = rgba.at(x, y, c);
+    }
+  }
+  return out;
+}
+
 core::ImageF RenderTarget::ReadDepth() const {
   IBR_CHECK(options_.depth_stencil);
   core::ImageF image(options_.width, options_.height, 1);
@@ -104,6 +117,17 @@ core::Image8 RenderTarget::ReadStencil() const {
   ReadPixels(framebuffer_.id(), colors_.empty() ? GL_NONE : GL_COLOR_ATTACHMENT0,
              GL_STENCIL_INDEX, GL_UNSIGNED_BYTE, image);
   return image;
+}
+
+void BeginDepthTestedFrame(const RenderTarget& target) {
+  target.Bind();
+  const float background[4] = {0, 0, 0, 0};
+  target.Clear(background);
+  glEnable(GL_DEPTH_TEST);
+  glDepthFunc(GL_LESS);
+  glDisable(GL_STENCIL_TEST);
+  glDisable(GL_BLEND);
+  glDisable(GL_CULL_FACE);
 }
 
 void BindDefaultFramebuffer(int width, int height) {

@@ -39,6 +39,9 @@ class RenderTarget {
 
   core::Image8 ReadColor8(int attachment = 0) const;    // 4 channels
   core::ImageF ReadColorF(int attachment = 0) const;    // 4 channels
+  // The first `channels` (1..4) channels of a float attachment (e.g. 1 for an
+  // R32F camera-z attachment, 3 for normals).
+  core::ImageF ReadChannelsF(int attachment, int channels) const;
   core::ImageF ReadDepth() const;                       // window depth in [0, 1]
   core::Image8 ReadStencil() const;                     // 1 channel
 
@@ -48,6 +51,11 @@ class RenderTarget {
   std::vector<Texture> colors_;
   Texture depth_stencil_;
 };
+
+// Starts an opaque, depth-tested surface frame on `target`: binds it, clears
+// colour to 0, depth to 1, stencil to 0; depth test LESS; no stencil, blending
+// or face culling. The mesh, displacement and relief passes all begin so.
+void BeginDepthTestedFrame(const RenderTarget& target);
 
 // Binds the default framebuffer 0 (the window in the viewer).
 void BindDefaultFramebuffer(int width, int height);

@@ -20,13 +20,9 @@
 namespace {
 namespace fs = std::filesystem;
 using test_support::IbrBinary;
+using test_support::CountLines;
 using test_support::RunCommand;
 
-int Lines(const std::string& s) {
-  int n = 0;
-  for (char c : s) n += c == '\n';
-  return n;
-}
 
 std::string Quote(const fs::path& p) {
   std::string quoted(1, '\'');  // built piecewise: GCC 12's -Wrestrict misfires on "'" + s
@@ -211,7 +207,7 @@ TEST(CaptureCli, BadInputsGiveOneErrorLineAndNoOutput) {
     if (const auto at = args.find("OUT"); at != std::string::npos) args.replace(at, 3, out.string());
     const auto r = RunCommand(IbrBinary() + " " + args);
     EXPECT_NE(r.exit_code, 0) << c.name;
-    EXPECT_EQ(Lines(r.err), 1) << c.name << ":\n" << r.err;
+    EXPECT_EQ(CountLines(r.err), 1) << c.name << ":\n" << r.err;
     EXPECT_EQ(r.err.rfind("ibr: error: ", 0), 0u) << c.name << ":\n" << r.err;
     EXPECT_NE(r.err.find(c.expected), std::string::npos) << c.name << ": expected '" << c.expected << "' in\n" << r.err;
     EXPECT_FALSE(fs::exists(out)) << c.name;

@@ -12,13 +12,9 @@
 namespace {
 namespace fs = std::filesystem;
 using test_support::IbrBinary;
+using test_support::CountLines;
 using test_support::RunCommand;
 
-int Lines(const std::string& s) {
-  int n = 0;
-  for (char c : s) n += c == '\n';
-  return n;
-}
 
 TEST(Cli, HelpListsTheSubcommands) {
   const auto r = RunCommand(IbrBinary() + " --help");
@@ -45,7 +41,7 @@ TEST(Cli, AbsurdOptionGivesOneLineAndNoOutput) {
   const fs::path out = test_support::TestOutputDir() / "never";
   const auto r = RunCommand(IbrBinary() + " demo --size 3 --out '" + out.string() + "'");
   EXPECT_NE(r.exit_code, 0);
-  EXPECT_EQ(Lines(r.err), 1) << r.err;
+  EXPECT_EQ(CountLines(r.err), 1) << r.err;
   EXPECT_NE(r.err.find("--size"), std::string::npos) << r.err;
   EXPECT_FALSE(fs::exists(out));
 }

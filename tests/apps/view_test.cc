@@ -13,13 +13,9 @@
 namespace {
 namespace fs = std::filesystem;
 using test_support::IbrBinary;
+using test_support::CountLines;
 using test_support::RunCommand;
 
-int Lines(const std::string& s) {
-  int n = 0;
-  for (char c : s) n += c == '\n';
-  return n;
-}
 
 class ViewTest : public ::testing::Test {
  protected:
@@ -67,7 +63,7 @@ TEST_F(ViewTest, ScreenshotShowsTheObjectAndThePanel) {
 TEST_F(ViewTest, MissingDatasetIsOneLineAndNoWindow) {
   const auto r = RunCommand(IbrBinary() + " view '" + (*dir_ / "nope").string() + "'");
   EXPECT_NE(r.exit_code, 0);
-  EXPECT_EQ(Lines(r.err), 1) << r.err;
+  EXPECT_EQ(CountLines(r.err), 1) << r.err;
   EXPECT_NE(r.err.find("nope"), std::string::npos) << r.err;
 }
 
@@ -76,7 +72,7 @@ TEST_F(ViewTest, NoDisplayIsOneClearLine) {
   ASSERT_EQ(std::getenv("DISPLAY"), nullptr);
   const auto r = RunCommand(IbrBinary() + " view '" + (*dir_ / "sphere").string() + "' --screenshot x.png");
   EXPECT_NE(r.exit_code, 0);
-  EXPECT_EQ(Lines(r.err), 1) << r.err;
+  EXPECT_EQ(CountLines(r.err), 1) << r.err;
   EXPECT_NE(r.err.find("DISPLAY"), std::string::npos) << r.err;
 }
 

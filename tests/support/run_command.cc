@@ -34,6 +34,12 @@ CommandResult RunCommand(const std::string& command) {
   return result;
 }
 
+int CountLines(const std::string& text) {
+  int n = 0;
+  for (char c : text) n += c == '\n';
+  return n;
+}
+
 std::string IbrBinary() {
   const char* path = std::getenv("IBR_BINARY");
   return path ? path : "ibr";

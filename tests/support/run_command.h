@@ -13,6 +13,9 @@ struct CommandResult {
 
 CommandResult RunCommand(const std::string& command);
 
+// Number of newline-terminated lines in `text` (an error message must be one).
+int CountLines(const std::string& text);
+
 // The `ibr` binary under test (IBR_BINARY, set by ctest).
 std::string IbrBinary();
 
