@@ -161,7 +161,7 @@ void RunDepthObjectBench(const DepthObjectBenchOptions& options) {
       const std::vector<ibr::ViewCamera> views = Views(maps, 2, size);
       std::vector<capture::CapturedView> truth;
       for (const ibr::ViewCamera& v : views) truth.push_back(Truth(programs, object.scene, v, bounds));
-      for (ibr::Slicing slicing : {ibr::Slicing::kOrthogonal, ibr::Slicing::kScreen}) {
+      for (ibr::Slicing slicing : {ibr::Slicing::kOrthogonal, ibr::Slicing::kScreen, ibr::Slicing::kRay}) {
         for (int slices : slice_counts) {
           ibr::DepthObjectOptions o;
           o.slicing = slicing;
@@ -174,13 +174,18 @@ void RunDepthObjectBench(const DepthObjectBenchOptions& options) {
               ibr::DepthObjectRenderer::OutputTargetOptions(views[0].camera.width, views[0].camera.height));
           const core::TimingStats t = render::TimeFrames([&] { renderer.Render(views[0], o, target); }, timer);
           // Fragments the slice passes shade: slice coverage x maps in the loop.
-          const ibr::FrameParams params = ibr::PrepareFrame(renderer.maps(), views[0], o);
-          double fragments = 0;
-          for (const core::Image8& c : renderer.SliceCoverage(params)) {
-            for (uint8_t v : c.values()) fragments += v > 0;
+          // The ray variant shades one fragment per pixel that marches many
+          // steps: no fill-rate fraction is comparable (nan).
+          double fraction = std::nan("");
+          if (slicing != ibr::Slicing::kRay) {
+            const ibr::FrameParams params = ibr::PrepareFrame(renderer.maps(), views[0], o);
+            double fragments = 0;
+            for (const core::Image8& c : renderer.SliceCoverage(params)) {
+              for (uint8_t v : c.values()) fragments += v > 0;
+            }
+            fragments *= static_cast<double>(params.active.size());
+            fraction = fragments / (t.median_ms / 1000.0) / fill.fragments_per_second;
           }
-          fragments *= static_cast<double>(params.active.size());
-          const double fraction = fragments / (t.median_ms / 1000.0) / fill.fragments_per_second;
           std::vector<ViewAccuracy> acc;
           double psnr = 0;
           for (size_t i = 0; i < views.size(); ++i) {
