@@ -122,6 +122,9 @@ Dataset ImportRedwood(const fs::path& source, const fs::path& out, const Redwood
   DatasetWriter writer(out);
   writer.SetDepthUnits("m");
   const int cam_id = writer.AddCamera(camera);
+  // The bounds are those of every valid sensor point in the world, so that
+  // the renderers (which slice the object's box) can use the sequence as is.
+  glm::dvec3 lo(INFINITY), hi(-INFINITY);
   for (size_t i = 0; i < colors.size(); ++i) {
     const std::string stem = colors[i].stem().string();
     const fs::path depth_path = source / "depth" / (stem + ".png");
@@ -132,13 +135,23 @@ Dataset ImportRedwood(const fs::path& source, const fs::path& out, const Redwood
     }
     core::ImageF depth(width, height, 1);
     core::Image8 mask(width, height, 1);
-    for (size_t p = 0; p < depth.pixel_count(); ++p) {
-      depth.data()[p] = static_cast<float>(raw.data()[p] / options.depth_scale);
-      mask.data()[p] = raw.data()[p] > 0 ? 255 : 0;
+    const Rigid3 world_from_cam = poses[i].Inverse();
+    for (int row = 0; row < height; ++row) {
+      for (int col = 0; col < width; ++col) {
+        const size_t p = static_cast<size_t>(row) * width + col;
+        depth.data()[p] = static_cast<float>(raw.data()[p] / options.depth_scale);
+        mask.data()[p] = raw.data()[p] > 0 ? 255 : 0;
+        if (raw.data()[p] == 0) continue;
+        const glm::dvec3 p_in_world = world_from_cam * camera.UnprojectPixel(col, row, depth.data()[p]);
+        lo = glm::min(lo, p_in_world);
+        hi = glm::max(hi, p_in_world);
+      }
     }
     writer.AddView(stem, cam_id, poses[i], color, depth, mask, {});
     if (progress) progress(static_cast<int>(i) + 1, static_cast<int>(colors.size()));
   }
+  if (!(lo.x <= hi.x)) core::ThrowFileError(kWhere, source / "depth", "no valid depth pixel in any frame");
+  writer.SetBounds({lo, hi});
   writer.Commit();
   return writer.dataset();
 }

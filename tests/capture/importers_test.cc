@@ -176,6 +176,20 @@ TEST(RedwoodImport, SharedDataDepthPosesAndIntrinsics) {
       valid += raw.data()[p] > 0;
     }
     EXPECT_GT(valid, depth.pixel_count() / 2) << stem;
+    // The bounds hold every valid sensor point of every frame.
+    ASSERT_TRUE(d.bounds.has_value());
+    const Rigid3 world_from_cam_v = pose.Inverse();
+    for (int row = 0; row < 480; row += 7) {
+      for (int col = 0; col < 640; col += 7) {
+        const float z = depth.at(col, row);
+        if (!(z > 0)) continue;
+        const glm::dvec3 p = world_from_cam_v * cam.UnprojectPixel(col, row, z);
+        for (int a = 0; a < 3; ++a) {
+          ASSERT_GE(p[a], d.bounds->min[a] - 1e-9);
+          ASSERT_LE(p[a], d.bounds->max[a] + 1e-9);
+        }
+      }
+    }
   }
 
   // The poses are right when the frames' depth maps agree in 3D: frame 0's
