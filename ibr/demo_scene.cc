@@ -7,6 +7,7 @@
 #include "core/error.h"
 #include "ibr/dataset_maps.h"
 #include "ibr/views.h"
+#include "capture/builtin_scenes.h"
 #include "render/gl.h"
 
 namespace ibr {
@@ -19,10 +20,7 @@ void DepthObjectDemoOptions::Check() const {
   render.Check();
 }
 
-std::filesystem::path SharedDataDir() {
-  if (const char* env = std::getenv("IBR_SHARED_DATA"); env != nullptr && *env != 0) return env;
-  return std::filesystem::path(IBR_SOURCE_DIR) / ".." / "shared" / "data";
-}
+std::filesystem::path SharedDataDir() { return capture::DefaultSharedDataDir(); }
 
 MeshAccuracy CompareToMesh(render::ProgramCache& programs, const capture::SceneMesh& scene,
                            const ViewCamera& view, const core::ImageF& depth, double edge) {

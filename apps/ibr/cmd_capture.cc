@@ -7,6 +7,7 @@
 #include <spdlog/spdlog.h>
 
 #include "apps/ibr/commands.h"
+#include "capture/builtin_scenes.h"
 #include "capture/synthetic.h"
 #include "core/error.h"
 #include "render/context.h"
@@ -18,12 +19,26 @@ struct CaptureCommandOptions {
   std::filesystem::path mesh;     // OBJ/PLY/... (assimp); exclusive with shape
   std::string shape;              // sphere | torus | box | cup
   std::filesystem::path texture;  // optional texture override
+  std::string scene;              // a built-in scene (datasets/scenes/NAME.json)
   std::filesystem::path out;      // dataset directory, replaced atomically
   capture::CaptureOptions capture;
 };
 
-void RunCapture(const CaptureCommandOptions& o) {
-  if (o.mesh.empty() == o.shape.empty()) core::ThrowInputError("ibr capture", "give exactly one of --mesh PATH or --shape NAME");
+void RunCapture(CaptureCommandOptions o, bool rig_given, bool size_given) {
+  if (!o.scene.empty()) {
+    if (!o.mesh.empty() || !o.shape.empty()) {
+      core::ThrowInputError("ibr capture", "give --scene NAME alone, without --mesh or --shape");
+    }
+    // The scene's object, rig and size; --rig / --size given on the command line win.
+    const capture::BuiltinScene scene = capture::LoadBuiltinScene(o.scene);
+    o.shape = scene.shape;
+    if (!scene.shared_mesh.empty()) o.mesh = capture::DefaultSharedDataDir() / scene.shared_mesh;
+    if (!rig_given) o.capture.rig = scene.capture.rig;
+    if (!size_given) o.capture.size = scene.capture.size;
+  }
+  if (o.mesh.empty() == o.shape.empty()) {
+    core::ThrowInputError("ibr capture", "give exactly one of --mesh PATH, --shape NAME or --scene NAME");
+  }
   if (o.out.empty()) core::ThrowInputError("ibr capture", "--out DIR is required");
   o.capture.Check();
   const auto start = std::chrono::steady_clock::now();
@@ -45,6 +60,9 @@ void AddCaptureCommand(CLI::App& app) {
   auto* cmd = app.add_subcommand("capture", "Render a mesh or analytic shape from a camera rig into a dataset");
   cmd->add_option("--mesh", o.mesh, "mesh file (OBJ, PLY, ... through assimp)");
   cmd->add_option("--shape", o.shape, "analytic shape: sphere, torus, box or cup");
+  std::string names;
+  for (const auto& n : capture::BuiltinSceneNames()) names += (names.empty() ? "" : ", ") + n;
+  cmd->add_option("--scene", o.scene, "built-in scene (object, rig, size): " + names);
   cmd->add_option("--texture", o.texture, "texture image (default: the material's, or <stem>_texture.png)");
   cmd->add_option("--rig", o.capture.rig, "cube | ring:N | sphere:N")->capture_default_str();
   cmd->add_option("--size", o.capture.size, "image width = height in pixels")
@@ -56,7 +74,7 @@ void AddCaptureCommand(CLI::App& app) {
       ->check(CLI::IsMember({"black", "noise"}))
       ->capture_default_str();
   cmd->add_option("--out", o.out, "output dataset directory")->required();
-  cmd->callback([] { RunCapture(o); });
+  cmd->callback([cmd] { RunCapture(o, cmd->count("--rig") > 0, cmd->count("--size") > 0); });
 }
 
 }  // namespace

@@ -218,4 +218,19 @@ TEST(CaptureCli, BadInputsGiveOneErrorLineAndNoOutput) {
   }
 }
 
+
+TEST(CaptureCli, BuiltinSceneCapturesWithItsRig) {
+  const fs::path out = test_support::TestOutputDir() / "scene";
+  const auto r = RunCommand(IbrBinary() + " capture --scene torus-ring12 --size 32 --out '" + out.string() + "'");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const capture::Dataset d = capture::ReadDataset(out);
+  EXPECT_EQ(d.views.size(), 12u);  // the scene's ring:12
+  EXPECT_EQ(d.camera(d.views[0]).width, 32);  // --size wins over the scene's 256
+  const auto bad = RunCommand(IbrBinary() + " capture --scene no-such-scene --out '" + (out.string() + "2") + "'");
+  EXPECT_NE(bad.exit_code, 0);
+  EXPECT_EQ(CountLines(bad.err), 1) << bad.err;
+  EXPECT_NE(bad.err.find("no-such-scene"), std::string::npos) << bad.err;
+  EXPECT_FALSE(fs::exists(out.string() + "2"));
+}
+
 }  // namespace

@@ -1,0 +1,17 @@
+// Rendering options from a built-in scene's "render" object
+// (datasets/scenes/*.json): the same names as `ibr render`'s options.
+#pragma once
+
+#include <string>
+
+#include <nlohmann/json.hpp>
+
+#include "ibr/depth_object.h"
+
+namespace ibr {
+
+// Keys: method, slicing, slices, texturing, robust (all optional; defaults are
+// DepthObjectOptions'). InputError naming `where` and the key on a bad value.
+DepthObjectOptions DepthObjectOptionsFromJson(const nlohmann::json& render, const std::string& where);
+
+}  // namespace ibr

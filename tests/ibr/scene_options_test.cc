@@ -1,0 +1,60 @@
+// The built-in scenes (datasets/scenes/*.json): every definition parses, its
+// capture and render options are valid, its object can be loaded; bad
+// definitions are InputErrors naming the scene.
+#include <gtest/gtest.h>
+
+#include "capture/builtin_scenes.h"
+#include "core/error.h"
+#include "ibr/scene_options.h"
+#include "tests/support/gl_test.h"
+
+namespace ibr {
+namespace {
+
+TEST(BuiltinScenes, EveryDefinitionIsValidAndItsObjectLoads) {
+  const std::vector<std::string> names = capture::BuiltinSceneNames();
+  ASSERT_GE(names.size(), 5u);
+  EXPECT_NE(std::find(names.begin(), names.end(), "spot-cube"), names.end()) << "the demo's scene";
+  for (const std::string& name : names) {
+    const capture::BuiltinScene scene = capture::LoadBuiltinScene(name);
+    EXPECT_EQ(scene.name, name);
+    EXPECT_FALSE(scene.description.empty()) << name;
+    EXPECT_NO_THROW(DepthObjectOptionsFromJson(scene.render, name)) << name;
+    if (!scene.shape.empty()) {
+      EXPECT_GT(capture::LoadBuiltinSceneMesh(scene, {}).mesh.triangle_count(), 0u) << name;
+    } else if (!test_support::SharedData(scene.shared_mesh).empty()) {
+      const auto mesh = capture::LoadBuiltinSceneMesh(scene, test_support::SharedData(""));
+      EXPECT_GT(mesh.mesh.triangle_count(), 100u) << name;
+    }
+  }
+  const DepthObjectOptions demo = DepthObjectOptionsFromJson(capture::LoadBuiltinScene("spot-cube").render, "x");
+  EXPECT_EQ(demo.texturing, Texturing::kVisibility);
+  EXPECT_EQ(demo.slices, 256);
+}
+
+TEST(BuiltinScenes, BadDefinitionsNameTheScene) {
+  const char* bad[] = {
+      "not json",
+      R"({"capture": {"rig": "cube"}})",                                           // no object
+      R"({"object": {"shape": "cup", "shared_mesh": "meshes/spot.obj"}})",         // both
+      R"({"object": {}})",                                                         // neither
+      R"({"object": {"shape": "cup"}, "capture": {"rig": "hexagon"}})",           // bad rig
+      R"({"object": {"shape": "cup"}, "capture": {"size": 3}})",                  // absurd size
+      R"({"object": {"shape": "cup"}, "render": 7})",                             // render not an object
+  };
+  for (const char* text : bad) {
+    try {
+      capture::ParseBuiltinScene("broken-scene", text);
+      ADD_FAILURE() << "accepted: " << text;
+    } catch (const core::InputError& e) {
+      EXPECT_NE(std::string(e.what()).find("broken-scene"), std::string::npos) << e.what();
+    }
+  }
+  EXPECT_THROW(capture::LoadBuiltinScene("no-such-scene"), core::InputError);
+  EXPECT_THROW(DepthObjectOptionsFromJson(nlohmann::json::parse(R"({"slicing": "diagonal"})"), "s"), core::InputError);
+  EXPECT_THROW(DepthObjectOptionsFromJson(nlohmann::json::parse(R"({"slices": "many"})"), "s"), core::InputError);
+  EXPECT_THROW(DepthObjectOptionsFromJson(nlohmann::json::parse(R"({"slices": 0})"), "s"), core::InputError);
+}
+
+}  // namespace
+}  // namespace ibr
