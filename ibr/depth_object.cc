@@ -435,6 +435,17 @@ void DepthObjectRenderer::DrawSlices(const FrameParams& frame, const DepthObject
   glBlendFunci(0, GL_ONE, GL_ZERO);
 }
 
+// One full-screen triangle (fullscreen.vert.glsl) with no depth, stencil or
+// blending: the ray pass and the resolve pass.
+void DepthObjectRenderer::DrawFullScreenPass() const {
+  glDisable(GL_DEPTH_TEST);
+  glDisable(GL_STENCIL_TEST);
+  glDisable(GL_BLEND);
+  glBindVertexArray(empty_vao_.id());
+  glDrawArrays(GL_TRIANGLES, 0, 3);
+  glBindVertexArray(0);
+}
+
 void DepthObjectRenderer::DrawRay(const FrameParams& frame, const DepthObjectOptions& options,
                                   const render::RenderTarget& accum) {
   IBR_CHECK_EQ(accum.width(), frame.width);
@@ -460,12 +471,7 @@ void DepthObjectRenderer::DrawRay(const FrameParams& frame, const DepthObjectOpt
   glUniform1f(program.Uniform("u_field_scale"), extent);
   glUniform1f(program.Uniform("u_ray_step"), frame.stack.spacing_world);
   accum.Bind();
-  glDisable(GL_DEPTH_TEST);
-  glDisable(GL_STENCIL_TEST);
-  glDisable(GL_BLEND);
-  glBindVertexArray(empty_vao_.id());
-  glDrawArrays(GL_TRIANGLES, 0, 3);
-  glBindVertexArray(0);
+  DrawFullScreenPass();
 }
 
 void DepthObjectRenderer::DrawResolve(const FrameParams& frame, const DepthObjectOptions& options,
@@ -497,12 +503,7 @@ void DepthObjectRenderer::DrawResolve(const FrameParams& frame, const DepthObjec
                                                                        : frame.stack.spacing_world);
   }
   glUniform1i(resolve.Uniform("u_required"), frame.required);
-  glDisable(GL_DEPTH_TEST);
-  glDisable(GL_STENCIL_TEST);
-  glDisable(GL_BLEND);
-  glBindVertexArray(empty_vao_.id());
-  glDrawArrays(GL_TRIANGLES, 0, 3);
-  glBindVertexArray(0);
+  DrawFullScreenPass();
 }
 
 void DepthObjectRenderer::Render(const ViewCamera& view, const DepthObjectOptions& options,

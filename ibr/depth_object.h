@@ -197,6 +197,7 @@ class DepthObjectRenderer {
   void UploadFrame(const FrameParams& frame);
   void SetCommonUniforms(const render::Program& program, const FrameParams& frame, bool slices) const;
   const render::RenderTarget& Accum(int width, int height);
+  void DrawFullScreenPass() const;
 
   render::ProgramCache* programs_;
   MapSet maps_;
