@@ -8,6 +8,7 @@
 #include "ibr/dataset_maps.h"
 #include "ibr/views.h"
 #include "capture/builtin_scenes.h"
+#include "core/depth_metrics.h"
 #include "render/gl.h"
 
 namespace ibr {
@@ -44,16 +45,9 @@ MeshAccuracy CompareToMesh(render::ProgramCache& programs, const capture::SceneM
   co.size = std::max(view.camera.width, 16);
   const capture::CapturedView truth = capture::RenderView(programs, scene, rv, co);
   MeshAccuracy a;
-  int64_t inter = 0, uni = 0;
-  for (int y = 0; y < depth.height(); ++y) {
-    for (int x = 0; x < depth.width(); ++x) {
-      const bool p = depth.at(x, y) > 0, t = truth.depth.at(x, y) > 0;
-      inter += p && t;
-      uni += p || t;
-      if (p && t) a.depth_errors.push_back(std::abs(depth.at(x, y) - truth.depth.at(x, y)) / edge);
-    }
-  }
-  a.iou = uni > 0 ? static_cast<double>(inter) / uni : 1.0;
+  const core::ViewAccuracy accuracy = core::CompareDepth(depth, truth.depth, edge);
+  a.iou = accuracy.iou;
+  a.depth_errors.assign(accuracy.errors.begin(), accuracy.errors.end());
   a.truth = core::Image8(truth.color.width(), truth.color.height(), 4, 255);
   for (int y = 0; y < truth.color.height(); ++y) {
     for (int x = 0; x < truth.color.width(); ++x) {
