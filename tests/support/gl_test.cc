@@ -38,12 +38,13 @@ render::HeadlessContext* SharedContext(std::string* reason) {
 std::filesystem::path TestOutputDir() {
   const char* root = std::getenv("IBR_TEST_OUTPUT");
   std::filesystem::path dir = root ? root : "test-output";
-  if (const auto* info = ::testing::UnitTest::GetInstance()->current_test_info()) {
-    dir /= std::string(info->test_suite_name()) + "." + info->name();
-  }
-  // Fresh for each test: the first call in a test empties what an earlier run left.
+  const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
+  if (info) dir /= std::string(info->test_suite_name()) + "." + info->name();
+  // Fresh for each test: the first call in a test empties what an earlier run
+  // left. Outside a test (SetUpTestSuite) this is the shared root, which other
+  // test processes are writing into: never empty it.
   static std::string last;
-  if (last != dir.string()) {
+  if (info && last != dir.string()) {
     last = dir.string();
     std::filesystem::remove_all(dir);
   }

@@ -19,7 +19,8 @@ namespace test_support {
 // none can be made.
 render::HeadlessContext* SharedContext(std::string* reason = nullptr);
 
-// Where failing tests write images: $IBR_TEST_OUTPUT/<test name>/, created.
+// Where tests write files: $IBR_TEST_OUTPUT/<suite.test>/, created, and
+// emptied on its first use in each test (outside a test: the root, kept).
 std::filesystem::path TestOutputDir();
 
 // Writes `image` as PNG/EXR (by extension) under TestOutputDir().
