@@ -18,9 +18,9 @@
 #include "ibr/demo_scene.h"
 #include "ibr/depth_object.h"
 #include "ibr/views.h"
-#include "render/context.h"
-#include "render/fill_rate.h"
-#include "render/frame_timer.h"
+#include "render/gl/context.h"
+#include "render/gl/fill_rate.h"
+#include "render/gl/frame_timer.h"
 
 namespace bench {
 namespace {

@@ -10,12 +10,12 @@
 #include "core/error.h"
 #include "core/image_io.h"
 #include "core/projection.h"
-#include "render/context.h"
-#include "render/displacement_error.h"
-#include "render/displacement_pass.h"
-#include "render/fill_rate.h"
-#include "render/frame_timer.h"
-#include "render/gpu_mesh.h"
+#include "render/gl/context.h"
+#include "core/displacement_error.h"
+#include "render/passes/displacement_pass.h"
+#include "render/gl/fill_rate.h"
+#include "render/gl/frame_timer.h"
+#include "render/gl/gpu_mesh.h"
 
 namespace bench {
 namespace fs = std::filesystem;
@@ -95,7 +95,7 @@ DisplacementBenchResult RunDisplacementBench(const DisplacementBenchOptions& opt
   const core::ImageF height = DisplacementHeightMap(core::HeightPattern::kBumps, kTexels, 0.15f);
   const render::Texture texture = render::UploadDisplacementTexture(render::MakeDisplacementTexels(height));
   const render::GpuMesh truth_mesh(render::MakeDisplacedGroundTruth(base, height, kMaxDisplacement, kTiling));
-  const float texel = render::HeightTexelWorldSize(base, kTexels, kTiling);
+  const float texel = core::HeightTexelWorldSize(base, kTexels, kTiling);
   render::DisplacementPassOptions pass_options;
   pass_options.max_displacement = kMaxDisplacement;
   pass_options.tiling = kTiling;
@@ -156,10 +156,10 @@ DisplacementBenchResult RunDisplacementBench(const DisplacementBenchOptions& opt
           pass.CountFragments(false);
           const double fragments = pass.last_stats().fragments;
           const render::DisplacementFrame frame = render::ReadDisplacementFrame(target);
-          render::DisplacementErrorOptions error_options;
+          core::DisplacementErrorOptions error_options;
           error_options.depth_unit = texel;
-          const render::DisplacementError error =
-              render::CompareToGroundTruth(frame.color, frame.depth, truth.color, truth.depth, error_options);
+          const core::DisplacementError error =
+              core::CompareToGroundTruth(frame.color, frame.depth, truth.color, truth.depth, error_options);
           const double fill_fraction = fragments < 0 ? std::nan("")
               : fragments / (time.median_ms * 1e-3) / fill.fragments_per_second;
           table.AddRow({family.label, std::to_string(count), Num(elevation, 0), std::to_string(size),

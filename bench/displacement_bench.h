@@ -13,7 +13,7 @@
 #include "core/heightfield.h"
 #include "core/image.h"
 #include "core/mesh.h"
-#include "render/mesh_pass.h"
+#include "render/passes/mesh_pass.h"
 
 namespace bench {
 

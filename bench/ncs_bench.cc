@@ -13,9 +13,9 @@
 #include "core/image_io.h"
 #include "core/mesh.h"
 #include "core/projection.h"
-#include "render/gpu_mesh.h"
-#include "render/mesh_pass.h"
-#include "render/relief_surface_pass.h"
+#include "render/gl/gpu_mesh.h"
+#include "render/passes/mesh_pass.h"
+#include "render/passes/relief_surface_pass.h"
 
 namespace bench {
 

@@ -12,8 +12,8 @@
 
 #include "bench/report.h"
 #include "core/image.h"
-#include "render/frame_timer.h"
-#include "render/shader_program.h"
+#include "render/gl/frame_timer.h"
+#include "render/gl/shader_program.h"
 
 namespace bench {
 

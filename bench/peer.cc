@@ -15,8 +15,8 @@
 #include "core/error.h"
 #include "core/projection.h"
 #include "core/timing.h"
-#include "render/gpu_mesh.h"
-#include "render/mesh_pass.h"
+#include "render/gl/gpu_mesh.h"
+#include "render/passes/mesh_pass.h"
 
 namespace bench {
 namespace {

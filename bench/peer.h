@@ -34,8 +34,8 @@
 #include "core/mesh.h"
 #include "ibr/depth_object.h"
 #include "ibr/image_maps.h"
-#include "render/mesh_pass.h"
-#include "render/shader_program.h"
+#include "render/passes/mesh_pass.h"
+#include "render/gl/shader_program.h"
 
 namespace bench {
 

@@ -17,8 +17,8 @@
 #include "core/error.h"
 #include "core/image_io.h"
 #include "core/projection.h"
-#include "render/gpu_mesh.h"
-#include "render/mesh_pass.h"
+#include "render/gl/gpu_mesh.h"
+#include "render/passes/mesh_pass.h"
 
 namespace capture {
 namespace fs = std::filesystem;

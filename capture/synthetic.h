@@ -1,5 +1,5 @@
 // Synthetic capture: render a mesh (a file through assimp, or an analytic
-// shape) from a camera rig with the reference rasteriser (render/mesh_pass.h)
+// shape) from a camera rig with the reference rasteriser (render/passes/mesh_pass.h)
 // and write a dataset (colour, camera-z depth, mask, world normals). Uses GL:
 // a context must be current. Deterministic: same inputs, same files.
 #pragma once
@@ -15,7 +15,7 @@
 #include "capture/dataset.h"
 #include "core/image.h"
 #include "core/mesh.h"
-#include "render/shader_program.h"
+#include "render/gl/shader_program.h"
 
 namespace capture {
 

@@ -1,5 +1,5 @@
 // CPU triangle meshes and analytic shapes. Plain data, no GL: the GPU upload
-// lives in render/gpu_mesh.h.
+// lives in render/gl/gpu_mesh.h.
 #pragma once
 
 #include <cstdint>

@@ -9,7 +9,7 @@
 #include "ibr/views.h"
 #include "capture/builtin_scenes.h"
 #include "core/depth_metrics.h"
-#include "render/gl.h"
+#include "render/gl/gl.h"
 
 namespace ibr {
 

@@ -12,7 +12,7 @@
 #include "core/image.h"
 #include "core/timing.h"
 #include "ibr/depth_object.h"
-#include "render/shader_program.h"
+#include "render/gl/shader_program.h"
 
 namespace ibr {
 

@@ -10,7 +10,7 @@
 #include "core/error.h"
 #include "core/projection.h"
 #include "ibr/view_weights.h"
-#include "render/ray_core.h"
+#include "render/cores/ray_core.h"
 
 namespace ibr {
 
@@ -362,7 +362,7 @@ void DepthObjectRenderer::DrawSlices(const FrameParams& frame, const DepthObject
   UploadFrame(frame);
   BindMaps(tables);
   const render::Program& pass = programs_->Get(
-      {.vertex = "slice.vert.glsl", .fragment = "depth_object.frag.glsl", .defines = Defines(frame, options)});
+      {.vertex = "cores/slice.vert.glsl", .fragment = "passes/depth_object.frag.glsl", .defines = Defines(frame, options)});
   SetCommonUniforms(pass, frame, true);
   const GLint loc_plane = pass.Uniform("u_slice_plane");
   const GLint loc_clear = pass.Uniform("u_clear_pass");
@@ -460,7 +460,7 @@ void DepthObjectRenderer::DrawRay(const FrameParams& frame, const DepthObjectOpt
   if (frame.robust) defines.push_back("ROBUST_COUNT");
   for (const std::string& d : render::RayCoreDefines(ray)) defines.push_back(d);
   const render::Program& program = programs_->Get(
-      {.vertex = "fullscreen.vert.glsl", .fragment = "depth_object_ray.frag.glsl", .defines = defines});
+      {.vertex = "common/fullscreen.vert.glsl", .fragment = "passes/depth_object_ray.frag.glsl", .defines = defines});
   SetCommonUniforms(program, frame, false);
   render::SetRayCoreUniforms(program, ray);
   const glm::mat4 box_from_cam = glm::inverse(frame.cam_from_world * frame.world_from_box);
@@ -484,7 +484,7 @@ void DepthObjectRenderer::DrawResolve(const FrameParams& frame, const DepthObjec
                     : options.texturing == Texturing::kVisibility  ? "TEXTURING_VISIBILITY"
                                                                    : "TEXTURING_NONE");
   const render::Program& resolve = programs_->Get(
-      {.vertex = "fullscreen.vert.glsl", .fragment = "depth_object_resolve.frag.glsl", .defines = defines});
+      {.vertex = "common/fullscreen.vert.glsl", .fragment = "passes/depth_object_resolve.frag.glsl", .defines = defines});
   SetCommonUniforms(resolve, frame, false);
   glBindTextureUnit(3, accum.color(0).id());
   glBindTextureUnit(4, accum.color(1).id());
@@ -564,7 +564,7 @@ std::vector<core::Image8> DepthObjectRenderer::SliceCoverage(const FrameParams& 
   // The clear pass writes constants and never discards.
   DepthObjectOptions o;
   const render::Program& p = programs_->Get(
-      {.vertex = "slice.vert.glsl", .fragment = "depth_object.frag.glsl", .defines = Defines(frame, o)});
+      {.vertex = "cores/slice.vert.glsl", .fragment = "passes/depth_object.frag.glsl", .defines = Defines(frame, o)});
   SetCommonUniforms(p, frame, true);
   glUniform1i(p.Uniform("u_clear_pass"), 1);
   slice_buffer_.Upload(frame.stack);

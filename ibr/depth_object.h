@@ -17,10 +17,10 @@
 
 #include "core/image.h"
 #include "ibr/image_maps.h"
-#include "render/render_target.h"
-#include "render/shader_program.h"
-#include "render/slice_buffer.h"
-#include "render/slicing.h"
+#include "render/gl/render_target.h"
+#include "render/gl/shader_program.h"
+#include "render/cores/slice_buffer.h"
+#include "render/cores/slicing.h"
 
 namespace ibr {
 
@@ -31,7 +31,7 @@ enum class Method {
 enum class Slicing {
   kOrthogonal,  // box-axis slices in the best direction (sec. 3.2, 4.1)
   kScreen,      // view-plane slices (sec. 3.3)
-  kRay,         // one pass, a ray per pixel on the shared ray core (render/ray_core.h)
+  kRay,         // one pass, a ray per pixel on the shared ray core (render/cores/ray_core.h)
 };
 enum class Texturing {
   kViewDependent,  // the paper's VDT, blended in the map loop (sec. 4.2)

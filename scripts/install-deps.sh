@@ -18,7 +18,7 @@ PACKAGES=(
   # viewer GUI
   libimgui-dev
   # tests and benchmarks
-  googletest libgtest-dev libgmock-dev libbenchmark-dev
+  googletest libgtest-dev libgmock-dev clang-format
   # plots for benchmarks; the real COLMAP binary for the interop tests
   gnuplot-nox colmap
   # libFuzzer targets for the parsers (IBR_FUZZ=ON, fuzz/): clang++ and its

@@ -7,7 +7,7 @@
 namespace shaders {
 
 struct EmbeddedFile {
-  std::string_view name;    // path relative to shaders/, e.g. "mesh.frag.glsl"
+  std::string_view name;    // path relative to shaders/, e.g. "passes/mesh.frag.glsl"
   std::string_view source;  // the file's bytes
 };
 

@@ -2,8 +2,8 @@
 #include <fmt/format.h>
 
 #include "apps/ibr/commands.h"
-#include "render/context.h"
-#include "render/fill_rate.h"
+#include "render/gl/context.h"
+#include "render/gl/fill_rate.h"
 
 namespace apps {
 

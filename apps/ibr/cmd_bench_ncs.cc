@@ -7,7 +7,7 @@
 #include "apps/ibr/commands.h"
 #include "bench/ncs_bench.h"
 #include "core/error.h"
-#include "render/context.h"
+#include "render/gl/context.h"
 
 namespace apps {
 

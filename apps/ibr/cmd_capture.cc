@@ -10,7 +10,7 @@
 #include "capture/builtin_scenes.h"
 #include "capture/synthetic.h"
 #include "core/error.h"
-#include "render/context.h"
+#include "render/gl/context.h"
 
 namespace apps {
 namespace {

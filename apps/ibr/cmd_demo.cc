@@ -17,12 +17,12 @@
 #include "core/image_io.h"
 #include "core/projection.h"
 #include "ibr/demo_scene.h"
-#include "render/context.h"
-#include "render/frame_timer.h"
-#include "render/displacement_error.h"
-#include "render/displacement_pass.h"
-#include "render/gpu_mesh.h"
-#include "render/mesh_pass.h"
+#include "render/gl/context.h"
+#include "render/gl/frame_timer.h"
+#include "core/displacement_error.h"
+#include "render/passes/displacement_pass.h"
+#include "render/gl/gpu_mesh.h"
+#include "render/passes/mesh_pass.h"
 
 namespace apps {
 namespace {
@@ -116,10 +116,10 @@ void RunDemo(const DemoOptions& options) {
   render::DrawMesh(programs, truth_target, truth_mesh, view, truth_options);
   const render::DisplacementFrame truth = render::ReadDisplacementFrame(truth_target);
 
-  render::DisplacementErrorOptions error_options;
-  error_options.depth_unit = render::HeightTexelWorldSize(base, kTexels, kTiling);
-  const render::DisplacementError error =
-      render::CompareToGroundTruth(frame.color, frame.depth, truth.color, truth.depth, error_options);
+  core::DisplacementErrorOptions error_options;
+  error_options.depth_unit = core::HeightTexelWorldSize(base, kTexels, kTiling);
+  const core::DisplacementError error =
+      core::CompareToGroundTruth(frame.color, frame.depth, truth.color, truth.depth, error_options);
 
   core::StagedDirectory out(options.out);
   core::WriteImage(out.path() / "color.png", frame.color);

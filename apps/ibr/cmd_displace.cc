@@ -19,13 +19,13 @@
 #include "core/heightfield.h"
 #include "core/image_io.h"
 #include "core/timing.h"
-#include "render/context.h"
-#include "render/displacement_error.h"
-#include "render/displacement_pass.h"
-#include "render/frame_timer.h"
-#include "render/gpu_mesh.h"
-#include "render/mesh_pass.h"
-#include "render/relief_surface_pass.h"
+#include "render/gl/context.h"
+#include "core/displacement_error.h"
+#include "render/passes/displacement_pass.h"
+#include "render/gl/frame_timer.h"
+#include "render/gl/gpu_mesh.h"
+#include "render/passes/mesh_pass.h"
+#include "render/passes/relief_surface_pass.h"
 
 namespace apps {
 namespace {
@@ -87,7 +87,7 @@ DisplaceResult RenderTessellated(const DisplaceScene& scene) {
   return result;
 }
 
-// Per-pixel ray marching through the ray core (render/relief_surface_pass.h):
+// Per-pixel ray marching through the ray core (render/passes/relief_surface_pass.h):
 // NCS (Chen-Chang, curved silhouettes), relief mapping, POM; defaults: 32
 // steps, c = 2.5.
 DisplaceResult RenderRelief(const DisplaceScene& scene, render::ReliefMethod method) {
@@ -183,9 +183,9 @@ void RunDisplace(const DisplaceOptions& o) {
              o.size, o.size, result.timing.median_ms, result.timing.samples, result.detail);
   if (o.compare && o.method != "tessellated") {
     const DisplaceResult truth = RenderTessellated(scene);
-    render::DisplacementErrorOptions error_options;
-    error_options.depth_unit = render::HeightTexelWorldSize(scene.base, o.texels, o.tiling);
-    const render::DisplacementError e = render::CompareToGroundTruth(
+    core::DisplacementErrorOptions error_options;
+    error_options.depth_unit = core::HeightTexelWorldSize(scene.base, o.texels, o.tiling);
+    const core::DisplacementError e = core::CompareToGroundTruth(
         result.frame.color, result.frame.depth, truth.frame.color, truth.frame.depth, error_options);
     fmt::print("displace: vs tessellated ({:.2f} ms/frame): coverage IoU {:.4f}, depth error mean {:.3f} / p95 {:.3f} "
                "texels, {} see-through pixels\n", truth.timing.median_ms, e.coverage_iou, e.mean_depth_error,

@@ -9,8 +9,8 @@
 
 #include "apps/ibr/commands.h"
 #include "capture/dataset.h"
-#include "render/context.h"
-#include "render/shader_program.h"
+#include "render/gl/context.h"
+#include "render/gl/shader_program.h"
 
 namespace apps {
 

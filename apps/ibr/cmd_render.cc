@@ -19,8 +19,8 @@
 #include "ibr/demo_scene.h"
 #include "ibr/depth_object.h"
 #include "ibr/views.h"
-#include "render/context.h"
-#include "render/gl.h"
+#include "render/gl/context.h"
+#include "render/gl/gl.h"
 
 namespace apps {
 namespace {

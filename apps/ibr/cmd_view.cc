@@ -18,7 +18,7 @@
 #include "core/error.h"
 #include "ibr/dataset_maps.h"
 #include "ibr/depth_object.h"
-#include "render/shader_program.h"
+#include "render/gl/shader_program.h"
 
 namespace apps {
 namespace {

@@ -17,8 +17,8 @@
 #include "core/image_io.h"
 #include "core/projection.h"
 #include "core/timing.h"
-#include "render/context.h"
-#include "render/gl.h"
+#include "render/gl/context.h"
+#include "render/gl/gl.h"
 
 namespace viewer {
 

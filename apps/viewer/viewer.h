@@ -12,7 +12,7 @@
 
 #include <glm/glm.hpp>
 
-#include "render/render_target.h"
+#include "render/gl/render_target.h"
 
 namespace viewer {
 

@@ -10,7 +10,7 @@
 
 #include <gtest/gtest.h>
 
-#include "render/render_target.h"
+#include "render/gl/render_target.h"
 #include "tests/support/gl_test.h"
 
 namespace ibr {

@@ -9,9 +9,9 @@
 #include <gtest/gtest.h>
 
 #include "core/image.h"
-#include "render/context.h"
-#include "render/gl_debug.h"
-#include "render/shader_program.h"
+#include "render/gl/context.h"
+#include "render/gl/gl_debug.h"
+#include "render/gl/shader_program.h"
 
 namespace test_support {
 

@@ -1,0 +1,67 @@
+// The ray core, C++ side: options, the #defines that select the step policy
+// and refinement, the uniforms, and the per-pixel outcome codes shared with
+// shaders/ray_core.glsl (whose header documents the GLSL contract: the
+// includer supplies RayField, optionally RayBend / RayInDomain / RayJacobian,
+// and never copies the marching loop). Used by NCS, POM and relief mapping
+// (render/passes/relief_surface_pass.h) and by the depth-object ray variant and the
+// cut/deformation shaders.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "render/gl/handles.h"
+
+namespace render {
+
+// What happened to one ray; the integer values are the GLSL RAY_OUTCOME_*
+// codes (RayCoreDefines inserts them), so outcome images read back as these.
+enum class RayOutcome : int {
+  kNone = 0,              // no ray was cast at this pixel
+  kHit = 1,               // crossed into the solid; the crossing was refined
+  kExited = 2,            // left the domain (box exit, above the shell, off the chart)
+  kEarlyTermination = 3,  // ran out of steps while still inside the domain (Chen-Chang sec. 5)
+};
+std::string RayOutcomeName(RayOutcome outcome);
+
+// How the linear search chooses its step (Correa-Silver-Chen 2007, sec. 3.1.1).
+enum class RayStepPolicy {
+  kFixed,      // the includer's step every time
+  kThreshold,  // steps times fine_step_scale where |field| < threshold (Hadwiger et al. 2005)
+  kJacobian,   // step / |J_{T^-1} v| (Correa 2007 eq. 4); the includer supplies RayJacobian
+};
+// "fixed", "threshold", "jacobian" (InputError otherwise).
+RayStepPolicy RayStepPolicyFromName(const std::string& name);
+std::string RayStepPolicyName(RayStepPolicy policy);
+
+enum class RayRefinement {
+  kBisection,  // relief mapping's binary search [POC05]
+  kSecant,     // one intersection with the linear approximation (POM [Tat06])
+};
+
+struct RayCoreOptions {
+  // Linear-search samples per ray; a ray still inside its domain after them
+  // is an early termination. 64 is relief mapping's usual budget.
+  int max_steps = 64;
+  // Bisection iterations after the first inside sample: the crossing is then
+  // known to 1/2^(n+1) of one step. 8 halves a 1/64 step below 1e-4.
+  int refine_steps = 8;
+  RayStepPolicy step_policy = RayStepPolicy::kFixed;
+  RayRefinement refinement = RayRefinement::kBisection;
+  // kThreshold: field magnitude (field units) under which steps shrink; 0.04
+  // is the value of Correa 2007, Fig. 3(c).
+  float threshold = 0.04f;
+  // kThreshold: step factor near the surface, in (0, 1].
+  float fine_step_scale = 0.25f;
+
+  void Check() const;  // InputError on out-of-range values
+};
+
+// The #defines a program including ray_core.glsl needs: outcome codes, step
+// policy, refinement. Append them to ProgramDesc::defines.
+std::vector<std::string> RayCoreDefines(const RayCoreOptions& options);
+
+// Sets u_ray_* on `program` (which must be in use).
+void SetRayCoreUniforms(const Program& program, const RayCoreOptions& options);
+
+}  // namespace render

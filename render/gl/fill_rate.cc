@@ -1,0 +1,70 @@
+#include "render/gl/fill_rate.h"
+
+#include <vector>
+
+#include "core/error.h"
+#include "render/gl/render_target.h"
+
+namespace render {
+
+void FillRateOptions::Check() const {
+  if (width < 1 || height < 1 || width > 8192 || height > 8192 || layers_per_frame < 1 ||
+      layers_per_frame > 4096) {
+    core::ThrowInputError("FillRateOptions", "{}x{} x {} layers is out of range", width, height,
+                          layers_per_frame);
+  }
+  timer.Check();
+}
+
+FillRate MeasureFillRate(ProgramCache& programs, const FillRateOptions& options) {
+  options.Check();
+  RenderTarget target({options.width, options.height, {GL_RGBA8}, true});
+  // A deterministic 256^2 RGBA texture with alpha > 0 everywhere: the alpha
+  // test never discards, but the compiler cannot know it, so the rasteriser
+  // cannot treat the pass as opaque and skip overdrawn layers.
+  constexpr int kTex = 256;
+  std::vector<uint8_t> texels(kTex * kTex * 4);
+  for (int i = 0; i < kTex * kTex; ++i) {
+    texels[4 * i + 0] = static_cast<uint8_t>(i * 7);
+    texels[4 * i + 1] = static_cast<uint8_t>(i * 13);
+    texels[4 * i + 2] = static_cast<uint8_t>(i * 29);
+    texels[4 * i + 3] = static_cast<uint8_t>(128 + (i % 127));
+  }
+  Texture texture = Texture::Create2D(GL_RGBA8, kTex, kTex);
+  glTextureSubImage2D(texture.id(), 0, 0, 0, kTex, kTex, GL_RGBA, GL_UNSIGNED_BYTE, texels.data());
+  const GLint filter = options.linear_filter ? GL_LINEAR : GL_NEAREST;
+  glTextureParameteri(texture.id(), GL_TEXTURE_MIN_FILTER, filter);
+  glTextureParameteri(texture.id(), GL_TEXTURE_MAG_FILTER, filter);
+  glTextureParameteri(texture.id(), GL_TEXTURE_WRAP_S, GL_REPEAT);
+  glTextureParameteri(texture.id(), GL_TEXTURE_WRAP_T, GL_REPEAT);
+
+  const Program& program = programs.Get({.vertex = "common/fullscreen.vert.glsl",
+                                         .fragment = "common/fill_rate.frag.glsl"});
+  VertexArray vao = VertexArray::Create();
+  target.Bind();
+  glDisable(GL_DEPTH_TEST);
+  glDisable(GL_STENCIL_TEST);
+  glDisable(GL_BLEND);
+  program.Use();
+  glBindVertexArray(vao.id());
+  glBindTextureUnit(0, texture.id());
+  const GLint u_layer = program.Uniform("u_layer");
+  const float clear[4] = {0, 0, 0, 0};
+  auto frame = [&] {
+    target.Clear(clear);
+    for (int layer = 0; layer < options.layers_per_frame; ++layer) {
+      glUniform1f(u_layer, static_cast<float>(layer));
+      glDrawArrays(GL_TRIANGLES, 0, 3);
+    }
+  };
+  const core::TimingStats stats = TimeFrames(frame, options.timer);
+  glBindVertexArray(0);
+  FillRate result;
+  result.fragments_per_frame =
+      static_cast<double>(options.width) * options.height * options.layers_per_frame;
+  result.ms_per_frame = stats.median_ms;
+  result.fragments_per_second = result.fragments_per_frame / (stats.median_ms * 1e-3);
+  return result;
+}
+
+}  // namespace render

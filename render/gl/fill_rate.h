@@ -1,0 +1,30 @@
+// Fill-rate calibration: how many fragments per second this machine shades
+// for a trivial textured, alpha-tested full-screen pass (the cost model of one
+// slice). Benchmarks report their speed as a fraction of this figure.
+#pragma once
+
+#include "render/gl/frame_timer.h"
+#include "render/gl/shader_program.h"
+
+namespace render {
+
+struct FillRateOptions {
+  int width = 512;          // pixels of the target
+  int height = 512;         // pixels
+  int layers_per_frame = 64;  // full-screen passes per timed frame (overdraw)
+  bool linear_filter = false; // NEAREST models the slicing passes' default lookups
+  FrameTimerOptions timer{2, 5};
+
+  void Check() const;
+};
+
+struct FillRate {
+  double fragments_per_second = 0;  // median frame
+  double ms_per_frame = 0;          // median
+  double fragments_per_frame = 0;
+};
+
+// Needs a current context.
+FillRate MeasureFillRate(ProgramCache& programs, const FillRateOptions& options = {});
+
+}  // namespace render

@@ -1,0 +1,29 @@
+// A TriangleMesh on the GPU: interleaved position / normal / uv buffer, index
+// buffer and vertex array. Attribute locations are fixed project-wide:
+// 0 = a_position, 1 = a_normal, 2 = a_uv.
+#pragma once
+
+#include "core/mesh.h"
+#include "render/gl/handles.h"
+
+namespace render {
+
+inline constexpr GLuint kPositionLocation = 0;
+inline constexpr GLuint kNormalLocation = 1;
+inline constexpr GLuint kUvLocation = 2;
+
+class GpuMesh {
+ public:
+  explicit GpuMesh(const core::TriangleMesh& mesh);
+  // Issues the indexed draw; binds and unbinds the vertex array.
+  void Draw() const;
+  GLsizei index_count() const { return index_count_; }
+
+ private:
+  Buffer vertices_;
+  Buffer indices_;
+  VertexArray vao_;
+  GLsizei index_count_ = 0;
+};
+
+}  // namespace render

@@ -1,0 +1,153 @@
+// Displacement mapping by slicing with the alpha test (Kautz-Seidel 2001,
+// sec. 3): every face of a base mesh gets a displacement volume (the face
+// extruded along its interpolated vertex normals by `max_displacement`), the
+// slicing core cuts it into slices (surface-aligned, orthogonal or
+// screen-space), and each slice fragment is kept iff the displacement texture's
+// height minus the fragment's ramp value h_alpha is > 0 (sec. 3.2, the same
+// test for every family, so a height of 0 is never drawn).
+//
+// Displacement texture: ONE RGBA texture, RGB = colour, A = height in [0, 1]
+// (1 = max_displacement scene units), the paper's RGB-alpha layout (sec. 3.1).
+// RGBA8 is the paper's format; RGBA32F keeps heights exact (tests of the
+// strict inequality). Looked up at uv * tiling with REPEAT wrapping.
+//
+// Outputs (DisplacementTargetOptions): colour RGBA8 and camera z (R32F, 0 where
+// empty), the same as render/passes/mesh_pass.h, so a frame compares pixel by pixel
+// with the tessellated ground truth (MakeDisplacedGroundTruth + RenderMesh).
+#pragma once
+
+#include <vector>
+
+#include <glm/glm.hpp>
+
+#include "core/image.h"
+#include "core/mesh.h"
+#include "render/gl/handles.h"
+#include "render/passes/mesh_pass.h"
+#include "render/gl/render_target.h"
+#include "render/gl/shader_program.h"
+#include "render/cores/slice_buffer.h"
+#include "render/cores/slicing.h"
+
+namespace render {
+
+// ---- displacement textures ----
+
+// RGBA float texels from a height map (1 channel, values in [0, 1]): A = the
+// height; RGB = an albedo ramp by height lit by a fixed light over the
+// height map's own slopes (`relief` = height units per texel width that give
+// the shading its contrast), so the colour reads without mesh normals.
+core::ImageF MakeDisplacementTexels(const core::ImageF& height, float relief = 24.0f);
+
+struct DisplacementTextureOptions {
+  GLenum internal_format = GL_RGBA8;  // GL_RGBA8 (paper) or GL_RGBA32F (exact heights)
+  bool linear_filter = true;          // LINEAR matches the ground truth's bilinear heights
+  void Check() const;
+};
+
+// Uploads RGBA texels (4-channel float image, values in [0, 1]), REPEAT wrap.
+Texture UploadDisplacementTexture(const core::ImageF& rgba, const DisplacementTextureOptions& options = {});
+
+// ---- per-face displacement volumes ----
+
+// One face's displacement volume. Box coordinates (x, y, z): the base point
+// is p[0] + x (p[1] - p[0]) + y (p[2] - p[0]) (likewise normals and uvs), and
+// z in [0, 1] is the height as a fraction of max_displacement, measured along
+// the normalised interpolated normal (sec. 3, Figure 2). A parallelogram
+// covers the whole box [0, 1]^2; a triangle only x + y <= 1.
+struct DisplacementVolume {
+  glm::vec3 p[3];   // object = world space
+  glm::vec3 n[3];   // unit vertex normals
+  glm::vec2 uv[3];  // texture coordinates before tiling
+  bool triangle = true;
+};
+
+// The base mesh's faces as displacement volumes: consecutive triangle pairs
+// that form a parallelogram in position, normal and uv (MakePlane's quads)
+// become one parallelogram volume, every other triangle its own; faces of
+// zero area (or whose normals lie in the face) are dropped, since they bound
+// no volume. Needs normals and uvs (InputError otherwise).
+std::vector<DisplacementVolume> DisplacementVolumesFromMesh(const core::TriangleMesh& base);
+
+// The affine box the slicing core slices for `volume` (exact for planar faces
+// with one normal; for curved faces the box extrudes along the mean normal and
+// the shader maps slice vertices through the interpolated normals).
+SliceBox DisplacementVolumeBox(const DisplacementVolume& volume, float max_displacement);
+
+// The volume's point at box coordinates p (the shader's map, on the CPU).
+glm::vec3 DisplacementVolumePoint(const DisplacementVolume& volume, glm::vec3 p_in_box,
+                                  float max_displacement);
+
+// ---- the pass ----
+
+struct DisplacementPassOptions {
+  // Family, slice count PER VOLUME along its slicing axis (screen: along
+  // camera z over the volume's depth range), order, full-size screen slices.
+  SlicingOptions slicing;
+  float max_displacement = 0.1f;  // scene units for height 1.0; > 0
+  float tiling = 1.0f;            // the texture repeats `tiling` times across uv [0, 1]
+  void Check() const;
+};
+
+// Counts of the last Draw(), for fill-rate accounting.
+struct DisplacementDrawStats {
+  int volumes = 0;
+  int slices = 0;
+  int triangles = 0;
+  double fragments = -1;  // fragment-shader invocations (pipeline statistics), -1 if unavailable
+};
+
+// Colour RGBA8 + camera z R32F + depth/stencil.
+RenderTargetOptions DisplacementTargetOptions(int width, int height);
+
+struct DisplacementFrame {
+  core::Image8 color;  // RGBA8, alpha 255 where a slice fragment survived
+  core::ImageF depth;  // 1 channel camera z, 0 where empty
+};
+
+class DisplacementPass {
+ public:
+  // Builds the volumes of `base` and uploads them; needs a current context.
+  DisplacementPass(ProgramCache& programs, const core::TriangleMesh& base,
+                   const DisplacementPassOptions& options);
+
+  const DisplacementPassOptions& options() const { return options_; }
+  // Changes family/count/order; volumes stay.
+  void SetSlicing(const SlicingOptions& slicing);
+  const std::vector<DisplacementVolume>& volumes() const { return volumes_; }
+
+  // Slices for this view (CPU), upload, clear `target` (DisplacementTargetOptions)
+  // and draw with `displacement` (UploadDisplacementTexture) bound.
+  void Draw(const RenderTarget& target, const ViewSetup& view, const Texture& displacement);
+  // Draw into a fresh target and read back.
+  DisplacementFrame Render(const ViewSetup& view, const Texture& displacement, int width, int height);
+  // Count fragment-shader invocations in Draw() (a query per frame; off by default).
+  void CountFragments(bool on) { count_fragments_ = on; }
+  const DisplacementDrawStats& last_stats() const { return stats_; }
+
+ private:
+  ProgramCache* programs_;
+  DisplacementPassOptions options_;
+  std::vector<DisplacementVolume> volumes_;
+  std::vector<SliceBox> boxes_;
+  std::vector<SliceStack> stacks_;
+  Buffer volume_data_;
+  SliceBuffer slices_;
+  bool count_fragments_ = false;
+  DisplacementDrawStats stats_;
+};
+
+// Read back a target drawn by DisplacementPass::Draw (or DrawMesh's first two attachments).
+DisplacementFrame ReadDisplacementFrame(const RenderTarget& target);
+
+// ---- the ground truth (seed 002's "ground truth model") ----
+
+// `base` tessellated at the texture's resolution (every face subdivided so
+// its triangles are about one height texel wide, at most 512 per edge) and
+// displaced along interpolated normals by bilinear heights; uvs are
+// multiplied by `tiling`, so render::DrawMesh with the displacement texture
+// (TEXTURED, shade off) shows the same colours as the pass.
+core::TriangleMesh MakeDisplacedGroundTruth(const core::TriangleMesh& base, const core::ImageF& height,
+                                            float max_displacement, float tiling);
+
+}  // namespace render

@@ -1,0 +1,48 @@
+#include "render/passes/pass.h"
+
+namespace render {
+
+RenderTargetOptions FrameTargetOptions(int width, int height) {
+  RenderTargetOptions options;
+  options.width = width;
+  options.height = height;
+  options.color_formats = {GL_RGBA8, GL_R32F, GL_RGBA16F, GL_R32UI};
+  options.depth_stencil = true;
+  return options;
+}
+
+void BeginFrame(const RenderTarget& target) {
+  target.Bind();
+  const float background[4] = {0, 0, 0, 0};
+  target.Clear(background);
+  glEnable(GL_DEPTH_TEST);
+  glDepthFunc(GL_LESS);
+  glDepthMask(GL_TRUE);
+  glDisable(GL_STENCIL_TEST);
+  glDisable(GL_BLEND);
+  glDisable(GL_CULL_FACE);
+}
+
+Frame ReadFrame(const RenderTarget& target) {
+  Frame frame;
+  frame.color = target.ReadColor8(kFrameColor);
+  frame.depth = target.ReadChannelsF(kFrameCameraZ, 1);
+  frame.normal = target.ReadChannelsF(kFrameNormal, 3);
+  frame.outcome = target.ReadUint32(kFrameOutcome);
+  return frame;
+}
+
+int64_t Frame::CountOutcome(uint32_t bits) const {
+  int64_t n = 0;
+  for (uint32_t v : outcome.values()) n += (v & bits) != 0;
+  return n;
+}
+
+Frame RenderFrame(Pass& pass, const ViewSetup& view, int width, int height) {
+  RenderTarget target(FrameTargetOptions(width, height));
+  BeginFrame(target);
+  pass.Draw(target, view);
+  return ReadFrame(target);
+}
+
+}  // namespace render

@@ -1,0 +1,78 @@
+// The one contract every pass implements (mesh, slice displacement,
+// relief/NCS/POM, depth objects and visual hulls, volumes, cuts and
+// deformations), and the one frame they all draw into.
+//
+// A pass is built from plain CPU data (meshes, images, volumes) and an options
+// struct; the constructor calls `options.Check()` (bad values throw
+// core::InputError) and uploads what it needs. The options struct alone decides
+// the shader variant: each pass has one function that turns options into
+// `#define`s (`Defines()`), so the program cache compiles only the variants a
+// scene uses. `Draw` draws the pass's object into a frame target that
+// BeginFrame started, depth-tested (LESS) against what earlier passes left
+// there, so several passes drawn into one target composite by depth.
+#pragma once
+
+#include <cstdint>
+#include <string_view>
+
+#include <glm/glm.hpp>
+
+#include "core/image.h"
+#include "render/gl/render_target.h"
+
+namespace render {
+
+// Where the camera is and how it projects (see core/projection.h).
+struct ViewSetup {
+  glm::mat4 cam_from_world{1.0f};
+  glm::mat4 clip_from_cam{1.0f};
+  bool orthographic = false;
+};
+
+// Attachment indices of a frame target (FrameTargetOptions). Every pass writes
+// all four outputs at these fragment-output locations.
+enum FrameAttachment : int {
+  kFrameColor = 0,    // RGBA8: shaded colour, alpha 255 where covered
+  kFrameCameraZ = 1,  // R32F: camera z in scene units, 0 where empty
+  kFrameNormal = 2,   // RGBA16F: world-space unit normal (xyz), 0 where empty or unknown
+  kFrameOutcome = 3,  // R32UI: pass-defined per-pixel outcome bits, 0 = none
+};
+
+// The frame target every pass draws into: the four attachments above plus a
+// D24S8 depth/stencil buffer holding window depth (the compositing test).
+RenderTargetOptions FrameTargetOptions(int width, int height);
+
+// Binds `target` and clears it for a new frame: colour, camera z, normal and
+// outcome to 0, depth to 1, stencil to 0; depth test LESS on, no stencil,
+// blending or face culling (the state every pass may assume on entry).
+void BeginFrame(const RenderTarget& target);
+
+// A frame read back to the CPU (rows top first, like core::Image).
+struct Frame {
+  core::Image8 color;               // RGBA8
+  core::ImageF depth;               // 1 channel camera z (scene units), 0 where empty
+  core::ImageF normal;              // 3 channels, world space
+  core::Image<uint32_t> outcome;    // 1 channel of outcome bits
+  // Coverage = colour alpha 255 (every pass writes alpha 255 where it drew).
+  bool Covered(int x, int y) const { return color.at(x, y, 3) == 255; }
+  // Pixels whose outcome has any of `bits` set.
+  int64_t CountOutcome(uint32_t bits) const;
+};
+
+// Reads back every attachment of a target made with FrameTargetOptions.
+Frame ReadFrame(const RenderTarget& target);
+
+// Every pass. Draw() requires the state BeginFrame leaves (depth test LESS,
+// target bound) and leaves it so; it never clears the target.
+class Pass {
+ public:
+  virtual ~Pass() = default;
+  // A short stable name ("mesh", "displacement", "relief", "depth-object", ...).
+  virtual std::string_view name() const = 0;
+  virtual void Draw(const RenderTarget& target, const ViewSetup& view) = 0;
+};
+
+// BeginFrame on a fresh FrameTargetOptions target, pass.Draw, ReadFrame.
+Frame RenderFrame(Pass& pass, const ViewSetup& view, int width, int height);
+
+}  // namespace render

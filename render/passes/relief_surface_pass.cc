@@ -1,0 +1,236 @@
+#include "render/passes/relief_surface_pass.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <vector>
+
+#include <glm/gtc/type_ptr.hpp>
+
+#include "core/error.h"
+
+namespace render {
+
+ReliefMethod ReliefMethodFromName(const std::string& name) {
+  if (name == "ncs") return ReliefMethod::kNcs;
+  if (name == "relief") return ReliefMethod::kRelief;
+  if (name == "pom") return ReliefMethod::kPom;
+  core::ThrowInputError("ReliefMethodFromName", "unknown method '{}' (ncs, relief, pom)", name);
+}
+
+std::string ReliefMethodName(ReliefMethod method) {
+  switch (method) {
+    case ReliefMethod::kNcs: return "ncs";
+    case ReliefMethod::kRelief: return "relief";
+    case ReliefMethod::kPom: return "pom";
+  }
+  return "unknown";
+}
+
+void ReliefGeometryOptions::Check() const {
+  if (!std::isfinite(max_displacement) || !(max_displacement > 0)) {
+    core::ThrowInputError("ReliefGeometryOptions", "max_displacement {} must be finite and > 0",
+                          max_displacement);
+  }
+  tangent_maps.Check();
+}
+
+void ReliefSurfaceOptions::Check() const {
+  if (steps < 1 || steps > 65536) core::ThrowInputError("ReliefSurfaceOptions", "steps {} outside 1..65536", steps);
+  if (!std::isfinite(step_enlargement) || step_enlargement < 0.01f || step_enlargement > 1000) {
+    core::ThrowInputError("ReliefSurfaceOptions", "step enlargement c = {} outside [0.01, 1000]", step_enlargement);
+  }
+  // pom_min_steps above `steps` is used as min(pom_min_steps, steps), so
+  // `--steps 1` needs no second option.
+  if (pom_min_steps < 1) core::ThrowInputError("ReliefSurfaceOptions", "pom_min_steps {} < 1", pom_min_steps);
+  if (!std::isfinite(tiling) || tiling <= 0 || tiling > 1024) {
+    core::ThrowInputError("ReliefSurfaceOptions", "tiling {} outside (0, 1024]", tiling);
+  }
+  if (!(min_view_cos > 0 && min_view_cos <= 1)) {
+    core::ThrowInputError("ReliefSurfaceOptions", "min_view_cos {} outside (0, 1]", min_view_cos);
+  }
+  if (step_policy == RayStepPolicy::kJacobian) {
+    core::ThrowInputError("ReliefSurfaceOptions", "the Jacobian step policy needs a warp; use fixed or threshold");
+  }
+  RayCore().Check();
+}
+
+RayCoreOptions ReliefSurfaceOptions::RayCore() const {
+  RayCoreOptions core;
+  core.max_steps = steps;
+  core.refine_steps = refine_steps;
+  core.step_policy = step_policy;
+  core.threshold = threshold;
+  core.refinement = method == ReliefMethod::kPom ? RayRefinement::kSecant : RayRefinement::kBisection;
+  if (step_policy == RayStepPolicy::kThreshold) {
+    // Finer steps need more of them to cross the same shell.
+    core.max_steps = steps * 4;
+    core.fine_step_scale = 0.25f;
+  }
+  return core;
+}
+
+core::TriangleMesh MakeReliefShell(const core::TriangleMesh& base, float max_displacement) {
+  base.Validate("MakeReliefShell");
+  if (base.normals.empty() || base.uvs.empty()) {
+    core::ThrowInputError("MakeReliefShell", "the base mesh needs normals and uvs");
+  }
+  core::TriangleMesh shell = base;
+  for (size_t i = 0; i < shell.positions.size(); ++i) {
+    shell.positions[i] += max_displacement * glm::normalize(base.normals[i]);
+  }
+  return shell;
+}
+
+SilhouetteError CompareToTruth(const core::Image8& color, const core::ImageF& depth,
+                               const core::Image8& truth_color, const core::ImageF& truth_depth) {
+  IBR_CHECK(color.width() == truth_color.width() && color.height() == truth_color.height());
+  IBR_CHECK(depth.width() == color.width() && truth_depth.width() == color.width());
+  SilhouetteError e;
+  std::vector<double> errors;
+  int64_t both = 0;
+  for (int y = 0; y < color.height(); ++y) {
+    for (int x = 0; x < color.width(); ++x) {
+      const bool a = color.at(x, y, 3) == 255, b = truth_color.at(x, y, 3) == 255;
+      e.rendered_pixels += a;
+      e.truth_pixels += b;
+      if (a != b) ++e.wrong_pixels;
+      if (a && b) {
+        ++both;
+        errors.push_back(std::abs(static_cast<double>(depth.at(x, y)) - truth_depth.at(x, y)));
+      }
+    }
+  }
+  const int64_t uni = both + e.wrong_pixels;
+  e.iou = uni == 0 ? 1.0 : static_cast<double>(both) / static_cast<double>(uni);
+  if (errors.empty()) {
+    e.mean_depth_error = e.p95_depth_error = e.max_depth_error = std::numeric_limits<double>::quiet_NaN();
+    return e;
+  }
+  double sum = 0;
+  for (double v : errors) sum += v;
+  e.mean_depth_error = sum / static_cast<double>(errors.size());
+  e.max_depth_error = *std::max_element(errors.begin(), errors.end());
+  const size_t rank = std::min(errors.size() - 1, static_cast<size_t>(0.95 * static_cast<double>(errors.size())));
+  std::nth_element(errors.begin(), errors.begin() + static_cast<std::ptrdiff_t>(rank), errors.end());
+  e.p95_depth_error = errors[rank];
+  return e;
+}
+
+ReliefTarget::ReliefTarget(int width, int height)
+    : target_(MeshTargetOptions(width, height)), flags_(Texture::Create2D(GL_R32UI, width, height)) {}
+
+ReliefFrame ReliefTarget::Read() const {
+  const int w = target_.width(), h = target_.height();
+  ReliefFrame frame;
+  frame.color = target_.ReadColor8(0);
+  frame.depth = target_.ReadChannelsF(1, 1);
+  frame.normal = target_.ReadChannelsF(2, 3);
+  glMemoryBarrier(GL_TEXTURE_UPDATE_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
+  std::vector<uint32_t> flags(static_cast<size_t>(w) * h);
+  glGetTextureImage(flags_.id(), 0, GL_RED_INTEGER, GL_UNSIGNED_INT,
+                    static_cast<GLsizei>(flags.size() * sizeof(uint32_t)), flags.data());
+  frame.outcome_flags = core::Image8(w, h, 1);
+  const uint32_t early = 1u << static_cast<int>(RayOutcome::kEarlyTermination);
+  for (int y = 0; y < h; ++y) {
+    for (int x = 0; x < w; ++x) {
+      // GL rows run bottom-up; images top-down.
+      const uint32_t f = flags[static_cast<size_t>(h - 1 - y) * w + x];
+      frame.outcome_flags.at(x, y) = static_cast<uint8_t>(f);
+      if (f & early) ++frame.early_termination_pixels;
+    }
+  }
+  return frame;
+}
+
+namespace {
+Texture UploadHeight(const core::ImageF& height, bool bilinear) {
+  if (height.empty() || height.channels() != 1) {
+    core::ThrowInputError("ReliefSurface", "height map must be a non-empty 1-channel image");
+  }
+  for (float v : height.values()) {
+    if (!(v >= 0.0f && v <= 1.0f)) core::ThrowInputError("ReliefSurface", "height {} outside [0, 1]", v);
+  }
+  Texture tex = Texture::Create2D(GL_R32F, height.width(), height.height());
+  // Row y of the image is v = (y + 0.5) / n (core::MakeHeightMap), which is
+  // GL's texel row y: upload unflipped.
+  glTextureSubImage2D(tex.id(), 0, 0, 0, height.width(), height.height(), GL_RED, GL_FLOAT, height.data());
+  const GLint filter = bilinear ? GL_LINEAR : GL_NEAREST;
+  glTextureParameteri(tex.id(), GL_TEXTURE_MIN_FILTER, filter);
+  glTextureParameteri(tex.id(), GL_TEXTURE_MAG_FILTER, filter);
+  glTextureParameteri(tex.id(), GL_TEXTURE_WRAP_S, GL_REPEAT);
+  glTextureParameteri(tex.id(), GL_TEXTURE_WRAP_T, GL_REPEAT);
+  return tex;
+}
+}  // namespace
+
+ReliefSurface::ReliefSurface(ProgramCache& programs, const core::TriangleMesh& base,
+                             const core::ImageF& height, const ReliefGeometryOptions& options)
+    : geometry_((options.Check(), options)),
+      shell_(MakeReliefShell(base, options.max_displacement)),
+      height_(UploadHeight(height, options.height_bilinear)),
+      maps_(RenderTangentMaps(programs, base, options.tangent_maps)) {}
+
+void ReliefSurface::Draw(ProgramCache& programs, const ReliefTarget& target, const ViewSetup& view,
+                         const ReliefSurfaceOptions& options) const {
+  options.Check();
+  const RayCoreOptions core = options.RayCore();
+  ProgramDesc desc{.vertex = "passes/relief_surface.vert.glsl", .fragment = "passes/relief_surface.frag.glsl"};
+  desc.defines = RayCoreDefines(core);
+  switch (options.method) {
+    case ReliefMethod::kNcs: desc.defines.push_back("METHOD_NCS"); break;
+    case ReliefMethod::kRelief: desc.defines.push_back("METHOD_RELIEF"); break;
+    case ReliefMethod::kPom: desc.defines.push_back("METHOD_POM"); break;
+  }
+  if (view.orthographic) desc.defines.push_back("ORTHOGRAPHIC");
+  if (options.shade) desc.defines.push_back("SHADED");
+  if (geometry_.tangent_maps.wrap_u) desc.defines.push_back("WRAP_U");
+  if (geometry_.tangent_maps.wrap_v) desc.defines.push_back("WRAP_V");
+  if (options.mark_early_termination && options.method == ReliefMethod::kNcs) {
+    desc.defines.push_back("MARK_EARLY_TERMINATION");
+  }
+  const Program& program = programs.Get(desc);
+
+  const glm::mat4 cam_from_object = view.cam_from_world * options.world_from_object;
+  const glm::mat4 object_from_cam = glm::inverse(cam_from_object);
+  const glm::vec3 eye_in_object = glm::vec3(object_from_cam * glm::vec4(0, 0, 0, 1));
+  const glm::vec3 view_dir_in_object = glm::normalize(glm::mat3(object_from_cam) * glm::vec3(0, 0, 1));
+  const glm::mat3 world_normal_from_object = glm::transpose(glm::inverse(glm::mat3(options.world_from_object)));
+
+  BeginDepthTestedFrame(target.target());
+  const GLuint zero = 0;
+  glClearTexImage(target.flags().id(), 0, GL_RED_INTEGER, GL_UNSIGNED_INT, &zero);
+  program.Use();
+  SetRayCoreUniforms(program, core);
+  glUniformMatrix4fv(program.Uniform("u_cam_from_object"), 1, GL_FALSE, glm::value_ptr(cam_from_object));
+  glUniformMatrix4fv(program.Uniform("u_clip_from_cam"), 1, GL_FALSE, glm::value_ptr(view.clip_from_cam));
+  glUniformMatrix3fv(program.Uniform("u_world_normal_from_object"), 1, GL_FALSE,
+                     glm::value_ptr(world_normal_from_object));
+  glUniform3fv(program.Uniform("u_eye_in_object"), 1, glm::value_ptr(eye_in_object));
+  glUniform3fv(program.Uniform("u_view_dir_in_object"), 1, glm::value_ptr(view_dir_in_object));
+  glUniform1f(program.Uniform("u_max_displacement"), geometry_.max_displacement);
+  glUniform1f(program.Uniform("u_tiling"), options.tiling);
+  glUniform1f(program.Uniform("u_step_enlargement"), options.step_enlargement);
+  glUniform1f(program.Uniform("u_min_view_cos"), options.min_view_cos);
+  glUniform1i(program.Uniform("u_steps"), options.steps);
+  glUniform1i(program.Uniform("u_pom_min_steps"), std::min(options.pom_min_steps, options.steps));
+  glUniform4fv(program.Uniform("u_base_color"), 1, glm::value_ptr(options.base_color));
+  glUniform1i(program.Uniform("u_height"), 0);
+  glUniform1i(program.Uniform("u_normal_map"), 1);
+  glUniform1i(program.Uniform("u_tangent_map"), 2);
+  glBindTextureUnit(0, height_.id());
+  glBindTextureUnit(1, maps_.normal_map.id());
+  glBindTextureUnit(2, maps_.tangent_map.id());
+  glBindImageTexture(0, target.flags().id(), 0, GL_FALSE, 0, GL_READ_WRITE, GL_R32UI);
+  shell_.Draw();
+  glDisable(GL_DEPTH_TEST);
+}
+
+ReliefFrame ReliefSurface::Render(ProgramCache& programs, const ViewSetup& view, int width, int height,
+                                  const ReliefSurfaceOptions& options) const {
+  ReliefTarget target(width, height);
+  Draw(programs, target, view, options);
+  return target.Read();
+}
+
+}  // namespace render

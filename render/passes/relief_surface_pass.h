@@ -1,0 +1,157 @@
+// Per-pixel displacement of a curved base mesh by ray marching in texture
+// space, three methods over ONE ray core (render/cores/ray_core.h):
+//  - NCS, normal-based curved silhouettes (Chen-Chang, sec. 3.2, Algorithm 2):
+//    at every step the tangent frame at the current uv is looked up in the
+//    tangent-space maps (render/passes/tangent_maps.h) and the ray is bent, so a
+//    straight object-space ray becomes a curve in texture space; rays that
+//    leave the shell are discarded: prism-free silhouettes;
+//  - relief mapping [POC05]: linear + binary search with the frame of the
+//    entry fragment, a straight texture-space ray, no silhouettes;
+//  - parallax occlusion mapping [BT04, Tat06]: linear search with a
+//    view-dependent sample count and one intersection with the linear
+//    approximation of the height profile, no silhouettes.
+//
+// Geometry and the texture volume: heights h in [0, 1] displace OUTWARD
+// along the normal by h * max_displacement (the convention of
+// core::TessellateDisplaced, the ground truth). The rasterised mesh is the
+// outer shell, base + max_displacement * N; texture space is (u, v, w) with
+// w = height above the base in units of max_displacement, so every ray
+// starts at w = 1 and the solid is w <= h(u, v). The paper measures depth
+// from the top instead (its z = 1 - w): its "z < 0, discard" is our w > 1,
+// "left the shell through the top", and its "z > H" is our w < h.
+// A texture-space step for object-space direction V (unit) and path length
+// dt (scene units) is dt * (S_t T.V, S_b B.V, N.V / max_displacement), and
+// the object-space ray stays straight: the hit is entry + t * V, which gives
+// the depth written to the depth buffer and the camera-z output.
+#pragma once
+
+#include <cstdint>
+#include <optional>
+#include <string>
+
+#include <glm/glm.hpp>
+
+#include "core/image.h"
+#include "core/mesh.h"
+#include "render/gl/gpu_mesh.h"
+#include "render/passes/mesh_pass.h"
+#include "render/cores/ray_core.h"
+#include "render/gl/render_target.h"
+#include "render/gl/shader_program.h"
+#include "render/passes/tangent_maps.h"
+
+namespace render {
+
+enum class ReliefMethod { kNcs, kRelief, kPom };
+// "ncs", "relief", "pom" (InputError otherwise).
+ReliefMethod ReliefMethodFromName(const std::string& name);
+std::string ReliefMethodName(ReliefMethod method);
+
+// What is fixed for a displaced object: its shell and maps.
+struct ReliefGeometryOptions {
+  float max_displacement = 0.1f;  // scene units for height 1 (as DisplacedMeshOptions)
+  TangentMapOptions tangent_maps;  // resolution and periodicity of the parameterisation
+  bool height_bilinear = true;     // LINEAR (true) or NEAREST height lookups, as the ground truth's `bilinear`
+  void Check() const;
+};
+
+// Per frame.
+struct ReliefSurfaceOptions {
+  ReliefMethod method = ReliefMethod::kNcs;
+  // Linear-search steps: NCS's num_step (Algorithm 2), relief's linear search,
+  // POM's maximum sample count. 32 keeps 512^2 frames interactive on llvmpipe.
+  int steps = 32;
+  // NCS step enlargement c (sec. 5): step = c * l / steps with l the
+  // flat-surface path length through the shell; the paper uses 2.5.
+  float step_enlargement = 2.5f;
+  // Bisection iterations (NCS, relief); POM uses its secant step instead.
+  int refine_steps = 6;
+  // POM's minimum sample count at normal incidence (Tatarchuk 2006 varies the
+  // count linearly with the view angle between this and `steps`).
+  int pom_min_steps = 8;
+  // Height map repeats across uv [0, 1] (the paper's Figure 6 tiling).
+  float tiling = 1.0f;
+  // The flat-surface path length l = max_displacement / max(cos, min_view_cos):
+  // at grazing incidence l would be unbounded; 0.02 caps it at 50 shell thicknesses.
+  float min_view_cos = 0.02f;
+  // Step policy of the ray core (fixed or threshold; the texture-space march
+  // has no warp Jacobian, so kJacobian is rejected).
+  RayStepPolicy step_policy = RayStepPolicy::kFixed;
+  float threshold = 0.04f;  // kThreshold: in units of max_displacement
+  // NCS: paint early-terminated fragments red instead of discarding them
+  // (the paper's Figure 7); off for measurements.
+  bool mark_early_termination = false;
+  glm::vec4 base_color{0.8f, 0.8f, 0.8f, 1.0f};
+  bool shade = true;  // Lambert head light as render::DrawMesh, with the displaced normal
+  glm::mat4 world_from_object{1.0f};
+  void Check() const;
+  RayCoreOptions RayCore() const;
+};
+
+struct ReliefFrame {
+  core::Image8 color;          // RGBA8, alpha 255 where covered
+  core::ImageF depth;          // camera z, 0 where empty
+  core::ImageF normal;         // world-space unit normal (3 channels), 0 where empty
+  core::Image8 outcome_flags;  // bit (1 << RayOutcome) set when any ray at the pixel had that outcome
+  int64_t early_termination_pixels = 0;  // pixels with at least one early-terminated ray
+};
+
+// Render target for ReliefSurface::Draw: MeshTargetOptions' attachments (RGBA8 colour,
+// R32F camera z, RGBA16F normal) + depth, and an R32UI outcome-flag image.
+class ReliefTarget {
+ public:
+  ReliefTarget(int width, int height);
+  const RenderTarget& target() const { return target_; }
+  const Texture& flags() const { return flags_; }
+  ReliefFrame Read() const;
+
+ private:
+  RenderTarget target_;
+  Texture flags_;
+};
+
+// A displaced object on the GPU: the shell mesh, the height texture and the
+// tangent-space maps.
+class ReliefSurface {
+ public:
+  // `base` needs normals and uvs with a continuous parameterisation; `height`
+  // is a 1-channel map in [0, 1] (core::MakeHeightMap).
+  ReliefSurface(ProgramCache& programs, const core::TriangleMesh& base, const core::ImageF& height,
+                const ReliefGeometryOptions& options);
+
+  // Clears `target` and draws.
+  void Draw(ProgramCache& programs, const ReliefTarget& target, const ViewSetup& view,
+            const ReliefSurfaceOptions& options) const;
+  // Draw + readback.
+  ReliefFrame Render(ProgramCache& programs, const ViewSetup& view, int width, int height,
+                     const ReliefSurfaceOptions& options) const;
+
+  const TangentMaps& tangent_maps() const { return maps_; }
+  const ReliefGeometryOptions& geometry() const { return geometry_; }
+
+ private:
+  ReliefGeometryOptions geometry_;
+  GpuMesh shell_;
+  Texture height_;
+  TangentMaps maps_;
+};
+
+// A rendering against the tessellated ground truth from the same view
+// (coverage = alpha 255 in both).
+struct SilhouetteError {
+  int64_t truth_pixels = 0;     // covered in the ground truth
+  int64_t rendered_pixels = 0;  // covered in the rendering
+  int64_t wrong_pixels = 0;     // covered in exactly one of them (silhouette errors)
+  double iou = 1;               // both / union, 1 when both are empty
+  // |camera z - truth camera z| (scene units) over pixels covered in both; NaN if none.
+  double mean_depth_error = 0;
+  double p95_depth_error = 0;
+  double max_depth_error = 0;
+};
+SilhouetteError CompareToTruth(const core::Image8& color, const core::ImageF& depth,
+                               const core::Image8& truth_color, const core::ImageF& truth_depth);
+
+// The outer shell: base + max_displacement * N at every vertex, same uvs and normals.
+core::TriangleMesh MakeReliefShell(const core::TriangleMesh& base, float max_displacement);
+
+}  // namespace render

@@ -1,0 +1,187 @@
+// The ray core, GPU side: ONE marching loop for every pass that casts rays
+// (NCS, parallax occlusion mapping, relief mapping, the depth-object ray
+// variant, cut/deformation shaders). Passes include it; none copies the loop.
+// C++ side: render/cores/ray_core.h (options, #defines, uniforms, outcome codes).
+//
+// The march (Correa-Silver-Chen 2007, sec. 3.1): samples p_i along the ray,
+// linear search for the first sample that is inside the solid, then a
+// refinement of the crossing between the last outside and the first inside
+// sample (bisection as in relief mapping [POC05]; or one secant step, POM's
+// "intersect the linear approximation" [Tat06]).
+//
+// ---------------------------------------------------------------------------
+// CONTRACT. Before `#include "cores/ray_core.glsl"` the includer defines:
+//
+//   float RayField(vec3 p);                                       (required)
+//       The field at march-space point p: > 0 in empty space, <= 0 inside
+//       the solid. "Hit" = the first sample with RayField <= 0. Whatever the
+//       per-sample transform is (Correa's inverse warp p -> T^-1(p), a height
+//       field lookup, "inside all depth maps" = max over maps of the signed
+//       depth difference, ...), it lives inside RayField; the core only sees
+//       the sign and, for the threshold and secant options, the value.
+//
+//   #define RAY_BEND and  vec3 RayBend(vec3 p);                   (optional)
+//       Per-step bend (Chen-Chang, Algorithm 2 line 4): the march-space
+//       direction per unit of path parameter t at p. The ray then advances
+//       incrementally, p_{i+1} = p_i + dt * RayBend(p_i): a straight
+//       object-space ray traced as a piecewise-linear curve in a curved
+//       (texture) space. Without RAY_BEND the ray is straight,
+//       p(t) = origin + t * dir.
+//
+//   #define RAY_DOMAIN and  bool RayInDomain(vec3 p);              (optional)
+//       False once a sample has left the marched region (NCS: above the shell
+//       or off the texture chart); the march then reports RAY_OUTCOME_EXITED.
+//       Straight rays also exit when t reaches RayMarch.t_max (the box exit).
+//
+//   RAY_STEP_JACOBIAN also requires  mat3 RayJacobian(vec3 p);
+//       the Jacobian J_{T^-1}(p) = I + J_D(p) of the inverse warp at p
+//       (Correa 2007, eq. 4).
+//
+// Defines that render::RayCoreDefines() inserts (never written by hand):
+//   RAY_OUTCOME_HIT / RAY_OUTCOME_EXITED / RAY_OUTCOME_EARLY_TERMINATION:
+//       the outcome codes, shared with C++ render::RayOutcome;
+//   exactly one step policy: RAY_STEP_FIXED | RAY_STEP_THRESHOLD | RAY_STEP_JACOBIAN;
+//   exactly one refinement: RAY_REFINE_BISECTION | RAY_REFINE_SECANT.
+// Uniforms (render::SetRayCoreUniforms): u_ray_max_steps, u_ray_refine_steps,
+// u_ray_threshold, u_ray_fine_step_scale.
+//
+// Per ray the includer fills a RayMarch {origin, dir, t_max, step} and calls
+// RayMarchRun(); the result says hit / exited / ran out of steps (= early
+// termination, Chen-Chang sec. 5) with the refined point and path parameter.
+// ---------------------------------------------------------------------------
+
+#if !defined(RAY_OUTCOME_HIT) || !defined(RAY_OUTCOME_EXITED) || !defined(RAY_OUTCOME_EARLY_TERMINATION)
+#error "ray_core.glsl: outcome codes missing; build the program with render::RayCoreDefines()"
+#endif
+#if defined(RAY_STEP_FIXED) + defined(RAY_STEP_THRESHOLD) + defined(RAY_STEP_JACOBIAN) != 1
+#error "ray_core.glsl: define exactly one of RAY_STEP_FIXED, RAY_STEP_THRESHOLD, RAY_STEP_JACOBIAN"
+#endif
+#if defined(RAY_REFINE_BISECTION) + defined(RAY_REFINE_SECANT) != 1
+#error "ray_core.glsl: define exactly one of RAY_REFINE_BISECTION, RAY_REFINE_SECANT"
+#endif
+
+uniform int u_ray_max_steps;          // linear-search samples before early termination
+uniform int u_ray_refine_steps;       // bisection iterations after the first inside sample
+uniform float u_ray_threshold;        // RAY_STEP_THRESHOLD: |field| below which steps shrink
+uniform float u_ray_fine_step_scale;  // RAY_STEP_THRESHOLD: step factor near the surface
+
+struct RayMarch {
+  vec3 origin;  // march-space start point (the entry: rasterised surface, box entry, ...)
+  vec3 dir;     // march-space direction per unit t (straight rays; ignored with RAY_BEND)
+  float t_max;  // path parameter at the exit (straight rays; use 1e30 for "no exit")
+  float step;   // base step in t units (fixed policy: the step; others scale it)
+};
+
+struct RayResult {
+  int outcome;  // RAY_OUTCOME_*
+  vec3 p;       // refined crossing (hit), else the last sample
+  float t;      // path parameter of p
+  int steps;    // linear-search samples taken
+};
+
+// Entry/exit parameters of the straight ray o + t d against the box [lo, hi]:
+// (t_near, t_far); t_near > t_far when it misses. Axis-parallel components are
+// handled explicitly (no reliance on 1/0 = inf).
+vec2 RayBoxInterval(vec3 o, vec3 d, vec3 lo, vec3 hi) {
+  float t_near = -1e30, t_far = 1e30;
+  for (int k = 0; k < 3; ++k) {
+    if (abs(d[k]) < 1e-12) {
+      if (o[k] < lo[k] || o[k] > hi[k]) return vec2(1.0, -1.0);
+    } else {
+      float a = (lo[k] - o[k]) / d[k], b = (hi[k] - o[k]) / d[k];
+      t_near = max(t_near, min(a, b));
+      t_far = min(t_far, max(a, b));
+    }
+  }
+  return vec2(t_near, t_far);
+}
+
+// Step length at sample p (policy chosen by #define).
+float RayStepLength(vec3 p, vec3 dir, float field, float base_step) {
+#if defined(RAY_STEP_THRESHOLD)
+  // Threshold-adaptive sampling (Hadwiger et al. 2005, as offered by Correa
+  // 2007 sec. 3.1.1): finer steps where the field is close to the surface.
+  return abs(field) < u_ray_threshold ? base_step * u_ray_fine_step_scale : base_step;
+#elif defined(RAY_STEP_JACOBIAN)
+  // Jacobian sampling, Correa 2007 eq. 4: dt_i = ds / |J_{T^-1}(p_i) v|, so
+  // samples are uniform along the warped curve in undeformed space.
+  return base_step / max(length(RayJacobian(p) * dir), 1e-6);
+#else
+  return base_step;
+#endif
+}
+
+RayResult RayMarchRun(RayMarch r) {
+  RayResult res;
+  res.steps = 0;
+  res.t = 0.0;
+  res.p = r.origin;
+  float f = RayField(r.origin);
+  if (f <= 0.0) {
+    res.outcome = RAY_OUTCOME_HIT;  // starts inside: the entry is the crossing
+    return res;
+  }
+  vec3 p = r.origin;
+  float t = 0.0;
+  for (int i = 0; i < u_ray_max_steps; ++i) {
+#ifdef RAY_BEND
+    vec3 dir = RayBend(p);
+#else
+    vec3 dir = r.dir;
+#endif
+    float dt = RayStepLength(p, dir, f, r.step);
+    if (!(dt > 0.0) || isinf(dt)) dt = r.step;  // NaN/inf-safe: a bad policy value never stalls
+    // The sample that would pass the exit lands exactly on it (a relative
+    // slack absorbs rounding so n steps of t_max/n do reach the exit).
+    bool last = t + dt >= r.t_max - 1e-4 * dt;
+    if (last) dt = r.t_max - t;
+#ifdef RAY_BEND
+    vec3 q = p + dt * dir;
+#else
+    vec3 q = r.origin + (t + dt) * r.dir;
+#endif
+    float fq = RayField(q);
+    res.steps = i + 1;
+    if (fq <= 0.0) {
+      // The crossing lies on the segment [p, q] (straight in march space even
+      // for bent rays: the piecewise-linear curve of Chen-Chang Fig. 5).
+      float ta = 0.0, tb = 1.0;  // fractions along [p, q]
+#if defined(RAY_REFINE_SECANT)
+      float s = f / max(f - fq, 1e-30);
+      ta = tb = clamp(s, 0.0, 1.0);
+#else
+      for (int k = 0; k < u_ray_refine_steps; ++k) {
+        float tm = 0.5 * (ta + tb);
+        float fm = RayField(mix(p, q, tm));
+        if (fm <= 0.0) tb = tm; else ta = tm;
+      }
+#endif
+      float s_hit = 0.5 * (ta + tb);
+      res.outcome = RAY_OUTCOME_HIT;
+      res.p = mix(p, q, s_hit);
+      res.t = t + s_hit * dt;
+      return res;
+    }
+    p = q;
+    t += dt;
+    f = fq;
+    if (last) {
+      res.outcome = RAY_OUTCOME_EXITED;
+      res.p = p;
+      res.t = t;
+      return res;
+    }
+#ifdef RAY_DOMAIN
+    if (!RayInDomain(p)) {
+      res.outcome = RAY_OUTCOME_EXITED;
+      res.p = p;
+      res.t = t;
+      return res;
+    }
+#endif
+  }
+  res.outcome = RAY_OUTCOME_EARLY_TERMINATION;  // still inside the domain: steps ran out
+  res.p = p;
+  res.t = t;
+  return res;
+}

@@ -1,0 +1,156 @@
+// Image-based depth objects and visual hulls (Kautz-Seidel 2001, sec. 4-5),
+// GPU side: the per-map test "is this point inside what map i allows" -- the
+// paper's alpha test after ramp subtraction, generalised from a displacement
+// map on a cube face to any registered orthographic or pinhole camera.
+// Included by the slice passes, the resolve pass and the ray variant; never
+// copied.
+//
+// Arithmetic contract: every `precise` line here is mirrored operation for
+// operation by ibr/reference.cc, so the CPU reference reproduces each decision
+// bit for bit (IEEE single precision, source order, no fused multiply-add;
+// checked on the driver by tests/ibr/shader_arithmetic_test). Texels are
+// fetched with integer indices (texelFetch), never filtered.
+//
+// Variant defines:
+//   VISUAL_HULL              test silhouettes only (sec. 5), else depth (sec. 4)
+//   OUTSIDE_PASSES           points outside a map's image (or behind a pinhole
+//                            map) are not constrained by it; else they are carved
+//   INVALID_DEPTH_PASSES     depth 0 inside the silhouette = no constraint; else empty
+//   VIEW_ORTHOGRAPHIC        the novel view is orthographic
+//   MAX_MAPS                 size of the map table (default 64)
+
+#ifndef MAX_MAPS
+#define MAX_MAPS 64
+#endif
+
+struct MapRecord {
+  vec4 m0, m1, m2, m3;  // columns of map_cam_from_view_cam (xyz; w unused)
+  vec4 proj;            // fx, fy, cx, cy (orthographic: sx, sy in pixels per unit)
+  ivec4 info;           // width, height, orthographic (0/1), texture layer
+  vec4 extra;           // x: view-dependent weight, y: 1 = the map carves this view (active), zw unused
+  vec4 centre_in_view;  // map's centre (orthographic: a point far back along its axis) in view camera space, w = orthographic
+  vec4 axis_in_view;    // map's +z axis in view camera space
+};
+
+layout(std140, binding = 0) uniform DepthObjectMaps {
+  MapRecord u_maps[MAX_MAPS];
+};
+uniform int u_map_count;
+
+// R32F, one fetch answers both questions: < 0 = outside the silhouette
+// (empty), 0 = invalid depth inside it, > 0 = camera z of the surface seen
+// (visual hulls: 1 inside). See ibr::MakeMapTables.
+uniform sampler2DArray u_depth_maps;
+uniform usampler2DArray u_color_maps;  // RGBA8UI
+
+// The novel view's pixel rays: perspective direction (u ax + bx, v ay + by, 1)
+// from the origin; orthographic origin (u ax + bx, v ay + by, 0) along +z.
+uniform vec4 u_view_ray;     // ax, ay, bx, by
+uniform float u_view_height; // pixels
+
+// The fragment's image coordinates (sparse convention: pixel centres at +0.5),
+// exact: gl_FragCoord holds the pixel centre.
+vec2 FragmentUv() {
+  precise float v = u_view_height - gl_FragCoord.y;
+  return vec2(gl_FragCoord.x, v);
+}
+
+// The point of plane dot(n, p) = d (view camera space, plane = (n, d)) seen
+// through image point uv. The slice polygons only decide WHICH pixels a slice
+// covers; the point itself is recomputed here from the pixel centre so the
+// CPU reference can reproduce it exactly.
+vec3 ViewPointOnPlane(vec2 uv, vec4 plane) {
+#ifdef VIEW_ORTHOGRAPHIC
+  precise float ox = uv.x * u_view_ray.x + u_view_ray.z;
+  precise float oy = uv.y * u_view_ray.y + u_view_ray.w;
+  precise float s = plane.w - (plane.x * ox + plane.y * oy);
+  precise float z = s / plane.z;
+  precise vec3 p = vec3(ox, oy, z);
+#else
+  precise float dx = uv.x * u_view_ray.x + u_view_ray.z;
+  precise float dy = uv.y * u_view_ray.y + u_view_ray.w;
+  precise float den = (plane.x * dx + plane.y * dy) + plane.z;
+  precise float t = plane.w / den;
+  precise vec3 p = vec3(t * dx, t * dy, t);
+#endif
+  return p;
+}
+
+// The point at camera depth z (> 0) on the ray through uv.
+vec3 ViewPointAtDepth(vec2 uv, float z) {
+#ifdef VIEW_ORTHOGRAPHIC
+  precise float ox = uv.x * u_view_ray.x + u_view_ray.z;
+  precise float oy = uv.y * u_view_ray.y + u_view_ray.w;
+  precise vec3 p = vec3(ox, oy, z);
+#else
+  precise float dx = uv.x * u_view_ray.x + u_view_ray.z;
+  precise float dy = uv.y * u_view_ray.y + u_view_ray.w;
+  precise vec3 p = vec3(z * dx, z * dy, z);
+#endif
+  return p;
+}
+
+// Where view-camera point p falls in map m: its map-camera point q and its
+// texel (layer in .z). Returns false when p is outside the map's image or
+// behind a pinhole map.
+bool MapLookup(MapRecord m, vec3 p, out vec3 q, out ivec3 texel) {
+  precise vec3 qq = m.m0.xyz * p.x + m.m1.xyz * p.y + m.m2.xyz * p.z + m.m3.xyz;
+  q = qq;
+  texel = ivec3(-1);
+  precise float u;
+  precise float v;
+  bool in_front;
+  if (m.info.z == 1) {
+    u = qq.x * m.proj.x + m.proj.z;
+    v = qq.y * m.proj.y + m.proj.w;
+    in_front = true;
+  } else {
+    u = (qq.x / qq.z) * m.proj.x + m.proj.z;
+    v = (qq.y / qq.z) * m.proj.y + m.proj.w;
+    in_front = qq.z > 0.0;
+  }
+  // Range test in float first (NaN fails), so the integer conversion only
+  // ever sees values in [0, size): truncation is then floor.
+  if (!(in_front && u >= 0.0 && u < float(m.info.x) && v >= 0.0 &&
+        v < float(m.info.y))) {
+    return false;
+  }
+  texel = ivec3(int(u), int(v), m.info.w);
+  return true;
+}
+
+// Kautz-Seidel 2001, sec. 4.1: a point belongs to the object if it passes
+// the test of every map; this is map m's test. Depth object: the point is
+// at or behind the surface map i saw (camera z >= depth; the paper: the
+// displacement exceeds the ramp). Visual hull (sec. 5): the point projects
+// inside map i's silhouette. `texel` is the texel used (-1 when outside).
+bool MapAccepts(MapRecord m, vec3 p, out ivec3 texel) {
+  vec3 q;
+  if (!MapLookup(m, p, q, texel)) {
+#ifdef OUTSIDE_PASSES
+    return true;
+#else
+    return false;
+#endif
+  }
+  float d = texelFetch(u_depth_maps, texel, 0).r;
+  if (d < 0.0) return false;  // outside the silhouette
+#ifdef VISUAL_HULL
+  return true;
+#else
+  if (d > 0.0) return q.z >= d;
+#ifdef INVALID_DEPTH_PASSES
+  return true;
+#else
+  return false;
+#endif
+#endif
+}
+
+// Map i's colour at a texel, in [0, 1] (u_inv255 = 1/255 as a float uniform,
+// so the CPU multiplies by the same value).
+uniform float u_inv255;
+vec4 MapColor(ivec3 texel) {
+  precise vec4 c = vec4(texelFetch(u_color_maps, texel, 0)) * u_inv255;
+  return c;
+}

@@ -1,0 +1,164 @@
+#version 450 core
+// Texturing and background after the stencil slice passes (ibr/depth_object.cc):
+// a full-screen pass (fullscreen.vert.glsl) reading the accumulated colour
+// and the first-surface depth.
+//   TEXTURING_VDT         the paper's view-dependent texturing (sec. 4.2), already
+//                         blended during the map loop: colour = sum(w c) / sum(w)
+//   TEXTURING_VISIBILITY  per pixel, only maps that saw this point (their
+//                         bilinear depth matches within u_visibility_tolerance,
+//                         softly) contribute, weighted by cos^8 of the angle
+//                         between their ray and the view's; where no map saw it,
+//                         the map whose surface is nearest; else VDT
+//   TEXTURING_NONE        grey, Lambert-shaded with normals from depth differences
+#include "passes/depth_object_core.glsl"
+
+uniform sampler2D u_accum_color;  // RGBA32F: sum of w c, sum of w
+uniform sampler2D u_accum_depth;  // RG32F: view camera z of the first surface, covered flag
+uniform vec4 u_background;        // RGBA where nothing is drawn
+uniform float u_visibility_tolerance;  // scene units along each map's z
+// Refinement of the first surface between the slice that finished the pixel
+// and the one before it (all slices of a frame are parallel planes):
+uniform int u_refine_steps;    // bisection steps, 0 = the slice position itself
+uniform vec4 u_plane0;         // the first slice's plane (normal in xyz)
+uniform float u_plane_step;    // |w| difference between neighbouring slices (> 0)
+uniform int u_required;        // maps that must accept a point (N - k)
+
+// How many active maps accept p (extra.y = 1 marks the active maps).
+int AcceptCount(vec3 p) {
+  int n = 0;
+  for (int i = 0; i < u_map_count; ++i) {
+    if (u_maps[i].extra.y < 0.5) continue;
+    ivec3 texel;
+    if (MapAccepts(u_maps[i], p, texel)) ++n;
+  }
+  return n;
+}
+
+// Bisection on the pixel's ray between the previous slice (outside) and the
+// finishing slice (inside): the first-surface point to texture and to report.
+vec3 RefineSurface(vec2 uv, vec3 p_inside) {
+  // The neighbouring plane on the eye's side: along the ray, w grows with
+  // the distance when dot(n, ray) > 0 (perspective: sign(w), the eye has w 0).
+  float w = dot(u_plane0.xyz, p_inside);
+#ifdef VIEW_ORTHOGRAPHIC
+  float toward_eye = u_plane0.z > 0.0 ? -1.0 : 1.0;
+#else
+  float toward_eye = w > 0.0 ? -1.0 : 1.0;
+#endif
+  vec3 p_outside = ViewPointOnPlane(uv, vec4(u_plane0.xyz, w + toward_eye * u_plane_step));
+  for (int k = 0; k < u_refine_steps; ++k) {
+    vec3 mid = 0.5 * (p_outside + p_inside);
+    if (AcceptCount(mid) >= u_required) p_inside = mid; else p_outside = mid;
+  }
+  return p_inside;
+}
+
+layout(location = 0) out vec4 o_color;
+layout(location = 1) out vec2 o_depth;  // camera z (0 where empty), covered
+
+vec3 VdtColor(ivec2 px) {
+  vec4 acc = texelFetch(u_accum_color, px, 0);
+  // Robust intersection can finish a pixel where no weighted map passed.
+  return acc.a > 0.0 ? acc.rgb / acc.a : vec3(0.5);
+}
+
+#ifdef TEXTURING_VISIBILITY
+// Bilinear depth and colour of map m at map-camera point q (texel centres at
+// +0.5), for texturing only (the object itself uses nearest texels). A
+// nearest-texel depth would make the visibility residual a sawtooth of a
+// texel times the surface slope, which shows as contour stripes. Falls back
+// to the nearest texel where a neighbour is invalid or outside the mask.
+bool MapSampleBilinear(MapRecord m, vec3 q, ivec3 nearest, out float depth, out vec3 color) {
+  vec2 uv = m.info.z == 1 ? q.xy * m.proj.xy + m.proj.zw : (q.xy / q.z) * m.proj.xy + m.proj.zw;
+  vec2 f = uv - 0.5;
+  ivec2 i0 = ivec2(floor(f));
+  vec2 t = f - vec2(i0);
+  ivec2 size = m.info.xy;
+  float d[4];
+  vec3 c[4];
+  bool ok = true;
+  for (int k = 0; k < 4; ++k) {
+    ivec2 ij = clamp(i0 + ivec2(k & 1, k >> 1), ivec2(0), size - 1);
+    d[k] = texelFetch(u_depth_maps, ivec3(ij, m.info.w), 0).r;
+    c[k] = MapColor(ivec3(ij, m.info.w)).rgb;
+    ok = ok && d[k] > 0.0;
+  }
+  if (!ok) {
+    depth = texelFetch(u_depth_maps, nearest, 0).r;
+    color = MapColor(nearest).rgb;
+    return depth > 0.0;
+  }
+  depth = mix(mix(d[0], d[1], t.x), mix(d[2], d[3], t.x), t.y);
+  color = mix(mix(c[0], c[1], t.x), mix(c[2], c[3], t.x), t.y);
+  return true;
+}
+
+vec3 VisibilityColor(ivec2 px, vec3 p) {
+  vec3 view_ray;
+#ifdef VIEW_ORTHOGRAPHIC
+  view_ray = vec3(0.0, 0.0, 1.0);
+#else
+  view_ray = normalize(p);
+#endif
+  // Soft visibility times a view-dependent falloff: w = v * cos^8(theta),
+  // v = 1 - smoothstep(tol/2, tol, residual). Both factors are continuous in
+  // the point and the camera, so maps fade in and out instead of switching
+  // (hard set changes show as seams where the maps' shading differs).
+  float nearest_residual = 1e30;
+  vec3 nearest_color = VdtColor(px);
+  vec3 sum = vec3(0.0);
+  float wsum = 0.0;
+  for (int i = 0; i < u_map_count; ++i) {
+    vec3 q;
+    ivec3 texel;
+    if (!MapLookup(u_maps[i], p, q, texel)) continue;
+    float d;
+    vec3 c;
+    if (!MapSampleBilinear(u_maps[i], q, texel, d, c)) continue;
+    float residual = abs(q.z - d);
+    if (residual < nearest_residual) {
+      nearest_residual = residual;
+      nearest_color = c;
+    }
+    float v = 1.0 - smoothstep(0.5 * u_visibility_tolerance, u_visibility_tolerance, residual);
+    vec3 map_ray = u_maps[i].centre_in_view.w > 0.5 ? u_maps[i].axis_in_view.xyz
+                                                    : normalize(p - u_maps[i].centre_in_view.xyz);
+    float cos_theta = max(dot(map_ray, view_ray), 0.0);
+    float c2 = cos_theta * cos_theta, c4 = c2 * c2;
+    float w = v * c4 * c4;
+    sum += w * c;
+    wsum += w;
+  }
+  // Graceful fallback: where no map saw the point, the map whose surface is
+  // nearest to it (in its own depth); where none has valid depth there, VDT.
+  return wsum > 1e-6 ? sum / wsum : nearest_color;
+}
+#endif
+
+void main() {
+  ivec2 px = ivec2(gl_FragCoord.xy);
+  vec2 zc = texelFetch(u_accum_depth, px, 0).rg;
+  vec3 p = ViewPointAtDepth(FragmentUv(), zc.x);
+#ifdef TEXTURING_NONE
+  // Derivatives before any branch (uniform control flow).
+  vec3 n = cross(dFdx(p), dFdy(p));
+#endif
+  if (zc.y < 0.5) {
+    o_color = u_background;
+    o_depth = vec2(0.0);
+    return;
+  }
+  if (u_refine_steps > 0) p = RefineSurface(FragmentUv(), p);
+  vec3 rgb;
+#if defined(TEXTURING_VISIBILITY)
+  rgb = VisibilityColor(px, p);
+#elif defined(TEXTURING_NONE)
+  float len = length(n);
+  float lambert = len > 0.0 ? abs(n.z) / len : 1.0;
+  rgb = vec3(0.15 + 0.75 * lambert);
+#else
+  rgb = VdtColor(px);
+#endif
+  o_color = vec4(rgb, 1.0);
+  o_depth = vec2(p.z, 1.0);
+}

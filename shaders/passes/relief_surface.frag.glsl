@@ -1,0 +1,175 @@
+#version 450 core
+// Inverse displacement mapping on a curved base mesh, all methods through the
+// ray core (render/passes/relief_surface_pass.h explains the texture volume:
+// (u, v, w), w = height above the base in units of u_max_displacement, the
+// solid is w <= h(u, v), rays start on the outer shell at w = 1).
+// Variants: METHOD_NCS (Chen-Chang Algorithm 2) | METHOD_RELIEF [POC05] |
+// METHOD_POM [Tat06]; ORTHOGRAPHIC; SHADED; WRAP_U / WRAP_V (periodic
+// parameterisation); MARK_EARLY_TERMINATION (NCS: red instead of discard,
+// the paper's Figure 7); plus render::RayCoreDefines().
+in vec3 v_p_in_object;
+in vec2 v_uv;
+
+uniform mat4 u_cam_from_object;
+uniform mat4 u_clip_from_cam;
+uniform mat3 u_world_normal_from_object;
+uniform vec3 u_eye_in_object;
+uniform vec3 u_view_dir_in_object;  // ORTHOGRAPHIC
+uniform float u_max_displacement;   // scene units for w = 1
+uniform float u_tiling;             // height map repeats per uv unit
+uniform float u_step_enlargement;   // NCS c (sec. 5)
+uniform float u_min_view_cos;       // caps the flat path length l
+uniform int u_steps;                // NCS num_step / relief linear steps / POM max samples
+uniform int u_pom_min_steps;
+uniform vec4 u_base_color;
+uniform sampler2D u_height;         // R32F, REPEAT
+uniform sampler2D u_normal_map;     // xyz = N, w = S_binormal (Algorithm 1)
+uniform sampler2D u_tangent_map;    // xyz = T, w = handedness * S_tangent
+layout(r32ui) uniform coherent uimage2D u_outcome_flags;
+
+layout(location = 0) out vec4 o_color;
+layout(location = 1) out float o_depth;  // camera z
+layout(location = 2) out vec4 o_normal;  // world-space unit normal
+
+struct TangentFrame {
+  vec3 t, b, n;
+  float s_t, s_b;  // texture units per scene unit along t, b
+};
+
+// SetData of Algorithm 2, line 3: the frame at any uv from the maps.
+TangentFrame LookupFrame(vec2 uv) {
+  vec4 nm = texture(u_normal_map, uv);
+  vec4 tm = texture(u_tangent_map, uv);
+  TangentFrame f;
+  float n_len = length(nm.xyz);
+  f.n = n_len > 1e-12 ? nm.xyz / n_len : vec3(0.0, 0.0, 1.0);
+  vec3 t = tm.xyz - dot(tm.xyz, f.n) * f.n;  // bilinear blends are re-orthogonalised
+  float t_len = length(t);
+  if (t_len > 1e-12) {
+    f.t = t / t_len;
+  } else {
+    // Degenerate frame (pole): any unit vector orthogonal to n.
+    vec3 a = abs(f.n.x) < 0.9 ? vec3(1.0, 0.0, 0.0) : vec3(0.0, 1.0, 0.0);
+    f.t = normalize(cross(f.n, a));
+  }
+  f.b = (tm.w < 0.0 ? -1.0 : 1.0) * cross(f.n, f.t);
+  f.s_t = abs(tm.w);
+  f.s_b = nm.w;
+  return f;
+}
+
+// [S] [TBN] V of Algorithm 2, line 4: texture-space change per scene unit of
+// object-space path along V.
+vec3 TextureDirection(TangentFrame f, vec3 v_in_object) {
+  return vec3(f.s_t * dot(f.t, v_in_object), f.s_b * dot(f.b, v_in_object),
+              dot(f.n, v_in_object) / u_max_displacement);
+}
+
+float HeightAt(vec2 uv) { return texture(u_height, uv * u_tiling).r; }
+
+// The ray core's field: > 0 above the height field. The 1e-5 (of a shell
+// thickness) counts a sample landing exactly on the surface -- e.g. on the
+// base of a zero height map after exactly l -- as inside.
+float RayField(vec3 p) { return p.z - HeightAt(p.xy) - 1e-5; }
+
+#ifdef METHOD_NCS
+vec3 g_view_in_object;  // the straight object-space ray (unit)
+#define RAY_BEND
+// Algorithm 2, lines 3-4: look up the frame at the current uv, bend.
+vec3 RayBend(vec3 p) { return TextureDirection(LookupFrame(p.xy), g_view_in_object); }
+#define RAY_DOMAIN
+// Left the texture volume: through the top of the shell (the paper's z < 0)
+// or off a non-periodic chart.
+bool RayInDomain(vec3 p) {
+  bool inside = p.z <= 1.0;
+#ifndef WRAP_U
+  inside = inside && p.x >= 0.0 && p.x <= 1.0;
+#endif
+#ifndef WRAP_V
+  inside = inside && p.y >= 0.0 && p.y <= 1.0;
+#endif
+  return inside;
+}
+#endif
+
+#include "cores/ray_core.glsl"
+
+void main() {
+#ifdef ORTHOGRAPHIC
+  vec3 v = u_view_dir_in_object;
+#else
+  vec3 v = normalize(v_p_in_object - u_eye_in_object);
+#endif
+  TangentFrame f0 = LookupFrame(v_uv);
+  float cos_in = -dot(f0.n, v);
+  // Flat-surface path length through the shell (sec. 5: "l"), capped at grazing.
+  float l = u_max_displacement / max(cos_in, u_min_view_cos);
+  RayMarch r;
+  r.origin = vec3(v_uv, 1.0);
+  r.dir = TextureDirection(f0, v);
+#ifdef METHOD_NCS
+  g_view_in_object = v;
+  r.t_max = 1e30;  // NCS ends by hit, leaving the domain, or running out of steps
+  r.step = u_step_enlargement * l / float(u_steps);  // c * delta, Algorithm 2 line 4
+#else
+  if (cos_in <= 0.0) {
+    // Back-facing or tangent to the shell: a straight ray in the fragment's
+    // tangent space never enters the volume.
+    imageAtomicOr(u_outcome_flags, ivec2(gl_FragCoord.xy), 1u << RAY_OUTCOME_EXITED);
+    discard;
+  }
+  r.t_max = l;
+#ifdef METHOD_POM
+  // Tatarchuk 2006: sample count from the view angle.
+  float n = floor(mix(float(u_steps), float(u_pom_min_steps), clamp(cos_in, 0.0, 1.0)) + 0.5);
+  r.step = l / max(n, 1.0);
+#else
+  r.step = l / float(u_steps);
+#endif
+#endif
+  RayResult res = RayMarchRun(r);
+  imageAtomicOr(u_outcome_flags, ivec2(gl_FragCoord.xy), 1u << res.outcome);
+
+  vec3 color_override = vec3(-1.0);
+#ifdef METHOD_NCS
+  if (res.outcome == RAY_OUTCOME_EARLY_TERMINATION) {
+#ifdef MARK_EARLY_TERMINATION
+    color_override = vec3(1.0, 0.0, 0.0);
+#else
+    discard;  // sec. 3.2: no intersection within num_step steps
+#endif
+  } else if (res.outcome != RAY_OUTCOME_HIT) {
+    discard;  // left the texture volume: a carved silhouette pixel
+  }
+#endif
+  // Relief and POM shade wherever the march stopped (they never carve).
+
+  vec3 p_in_object = v_p_in_object + res.t * v;  // the object-space ray is straight
+  vec4 p_in_cam = u_cam_from_object * vec4(p_in_object, 1.0);
+  vec4 clip = u_clip_from_cam * p_in_cam;
+  gl_FragDepth = clamp(0.5 * clip.z / clip.w + 0.5, 0.0, 1.0);
+
+  // Normal of the displaced surface P + md h N at the hit (central
+  // differences one texel apart): N - md (S_t h_u T + S_b h_v B).
+  TangentFrame f = LookupFrame(res.p.xy);
+  vec2 texel = 1.0 / (vec2(textureSize(u_height, 0)) * u_tiling);
+  float h_u = (HeightAt(res.p.xy + vec2(texel.x, 0.0)) - HeightAt(res.p.xy - vec2(texel.x, 0.0))) / (2.0 * texel.x);
+  float h_v = (HeightAt(res.p.xy + vec2(0.0, texel.y)) - HeightAt(res.p.xy - vec2(0.0, texel.y))) / (2.0 * texel.y);
+  vec3 n_object = normalize(f.n - u_max_displacement * (f.s_t * h_u * f.t + f.s_b * h_v * f.b));
+  vec3 n_world = normalize(u_world_normal_from_object * n_object);
+
+  vec3 color = u_base_color.rgb;
+#ifdef SHADED
+  vec3 n_cam = normalize(mat3(u_cam_from_object) * n_object);
+#ifdef ORTHOGRAPHIC
+  vec3 to_eye = vec3(0.0, 0.0, -1.0);
+#else
+  vec3 to_eye = normalize(-p_in_cam.xyz);
+#endif
+  color *= 0.25 + 0.75 * abs(dot(n_cam, to_eye));  // as mesh.frag.glsl
+#endif
+  if (color_override.r >= 0.0) color = color_override;
+  o_color = vec4(color, 1.0);
+  o_depth = p_in_cam.z;
+  o_normal = vec4(n_world, 0.0);
+}
