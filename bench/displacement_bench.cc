@@ -99,7 +99,7 @@ DisplacementBenchResult RunDisplacementBench(const DisplacementBenchOptions& opt
   render::DisplacementPassOptions pass_options;
   pass_options.max_displacement = kMaxDisplacement;
   pass_options.tiling = kTiling;
-  render::DisplacementPass pass(programs, base, pass_options);
+  render::DisplacementPass pass(programs, base, texture, pass_options);
 
   const std::vector<Family> families = {{"surface", render::SliceFamily::kSurfaceAligned, false},
                                         {"orthogonal", render::SliceFamily::kOrthogonal, false},
@@ -116,6 +116,7 @@ DisplacementBenchResult RunDisplacementBench(const DisplacementBenchOptions& opt
   render::MeshPassOptions truth_options;
   truth_options.texture = &texture;
   truth_options.shade = false;
+  render::MeshPass truth_pass(programs, truth_mesh, truth_options);
 
   Table table({"family", "slices", "elevation_deg", "size_px", "ms_per_frame", "fragments_M", "fill_fraction",
                "coverage_iou", "mean_depth_error_texels", "p95_depth_error_texels", "see_through_pixels",
@@ -133,14 +134,14 @@ DisplacementBenchResult RunDisplacementBench(const DisplacementBenchOptions& opt
     const render::FillRate fill = render::MeasureFillRate(programs, fill_options);
     fmt::print("size {} px: calibrated fill rate (LINEAR) {:.1f} M fragments/s\n", size,
                fill.fragments_per_second * 1e-6);
-    render::RenderTarget target(render::DisplacementTargetOptions(size, size));
-    render::RenderTarget truth_target(render::MeshTargetOptions(size, size));
+    render::RenderTarget target(render::FrameTargetOptions(size, size));
+    render::RenderTarget truth_target(render::FrameTargetOptions(size, size));
     for (double elevation : elevations) {
       const render::ViewSetup view = OrbitView(base, kMaxDisplacement, elevation, kAzimuth, size);
       const core::TimingStats truth_time =
-          render::TimeFrames([&] { render::DrawMesh(programs, truth_target, truth_mesh, view, truth_options); }, timer);
-      render::DrawMesh(programs, truth_target, truth_mesh, view, truth_options);
-      const render::DisplacementFrame truth = render::ReadDisplacementFrame(truth_target);
+          render::TimeFrames([&] { render::DrawFrame(truth_target, truth_pass, view); }, timer);
+      render::DrawFrame(truth_target, truth_pass, view);
+      const render::Frame truth = render::ReadFrame(truth_target);
       if (elevation == grazing && size == sizes.front()) grazing_truth = truth.color;
       for (const Family& family : families) {
         for (int count : counts) {
@@ -150,12 +151,12 @@ DisplacementBenchResult RunDisplacementBench(const DisplacementBenchOptions& opt
           slicing.full_size_screen_slices = family.full_size;
           pass.SetSlicing(slicing);
           const core::TimingStats time =
-              render::TimeFrames([&] { pass.Draw(target, view, texture); }, timer);
+              render::TimeFrames([&] { render::DrawFrame(target, pass, view); }, timer);
           pass.CountFragments(true);
-          pass.Draw(target, view, texture);
+          render::DrawFrame(target, pass, view);
           pass.CountFragments(false);
           const double fragments = pass.last_stats().fragments;
-          const render::DisplacementFrame frame = render::ReadDisplacementFrame(target);
+          const render::Frame frame = render::ReadFrame(target);
           core::DisplacementErrorOptions error_options;
           error_options.depth_unit = texel;
           const core::DisplacementError error =

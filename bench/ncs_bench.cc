@@ -116,7 +116,7 @@ NcsBenchResult RunNcsBench(render::ProgramCache& programs, const NcsBenchOptions
   geometry.max_displacement = kMaxDisplacement;
   geometry.tangent_maps.size = 512;  // the paper's map size
   geometry.tangent_maps.wrap_u = geometry.tangent_maps.wrap_v = true;
-  const render::ReliefSurface surface(programs, torus, height, geometry);
+  render::ReliefSurface surface(programs, torus, height, geometry);
 
   NcsBenchResult result{
       Table({"method", "view", "tiling", "steps", "c", "ms_per_frame", "min_ms_per_frame", "silhouette_iou", "wrong_silhouette_px",
@@ -125,8 +125,8 @@ NcsBenchResult RunNcsBench(render::ProgramCache& programs, const NcsBenchOptions
              "ncs_over_tessellated"}),
       {}};
   const int n = options.size;
-  render::ReliefTarget relief_target(n, n);
-  render::RenderTarget mesh_target(render::MeshTargetOptions(n, n));
+  render::RenderTarget relief_target(render::FrameTargetOptions(n, n));
+  render::RenderTarget mesh_target(render::FrameTargetOptions(n, n));
   std::vector<core::Image8> strip_top, strip_bottom;
   const int strip_tiling = options.tilings.front();
   const std::string strip_view =
@@ -142,19 +142,14 @@ NcsBenchResult RunNcsBench(render::ProgramCache& programs, const NcsBenchOptions
     dm.subdivisions = std::clamp(wanted, 1, options.max_truth_subdivisions);
     const core::TriangleMesh truth_mesh = core::TessellateDisplaced(torus, height, dm);
     const render::GpuMesh truth_gpu(truth_mesh);
+    render::MeshPass truth_pass(programs, truth_gpu);
     const std::string triangles = std::to_string(truth_mesh.triangle_count());
     for (const std::string& view_name : options.views) {
       const render::ViewSetup view = MakeView(view_name, n);
-      render::DrawMesh(programs, mesh_target, truth_gpu, view);
-      render::MeshFrame truth;
-      truth.color = mesh_target.ReadColor8(0);
-      const core::ImageF truth_depth4 = mesh_target.ReadColorF(1);
-      truth.depth = core::ImageF(n, n, 1);
-      for (int y = 0; y < n; ++y) {
-        for (int x = 0; x < n; ++x) truth.depth.at(x, y) = truth_depth4.at(x, y, 0);
-      }
+      render::DrawFrame(mesh_target, truth_pass, view);
+      const render::Frame truth = render::ReadFrame(mesh_target);
       const core::TimingStats truth_time =
-          render::TimeFrames([&] { render::DrawMesh(programs, mesh_target, truth_gpu, view); }, options.timer);
+          render::TimeFrames([&] { render::DrawFrame(mesh_target, truth_pass, view); }, options.timer);
       const double truth_ms = truth_time.min_ms;
       int64_t truth_px = 0;
       for (int y = 0; y < n; ++y) {
@@ -183,17 +178,18 @@ NcsBenchResult RunNcsBench(render::ProgramCache& programs, const NcsBenchOptions
             o.steps = steps;
             o.step_enlargement = c;
             o.tiling = static_cast<float>(tiling);
+            surface.SetOptions(o);
             const core::TimingStats time =
-                render::TimeFrames([&] { surface.Draw(programs, relief_target, view, o); }, options.timer);
+                render::TimeFrames([&] { render::DrawFrame(relief_target, surface, view); }, options.timer);
             const double ms = time.min_ms;
-            surface.Draw(programs, relief_target, view, o);
-            const render::ReliefFrame frame = relief_target.Read();
+            render::DrawFrame(relief_target, surface, view);
+            const render::Frame frame = render::ReadFrame(relief_target);
             const render::SilhouetteError e = render::CompareToTruth(frame.color, frame.depth, truth.color, truth.depth);
             result.table.AddRow({render::ReliefMethodName(method), view_name, std::to_string(tiling),
                                  std::to_string(steps), ncs ? Num(c, 1) : "", Num(time.median_ms, 2), Num(ms, 2),
                                  Num(e.iou, 4),
                                  std::to_string(e.wrong_pixels), Num(e.mean_depth_error, 5),
-                                 Num(e.p95_depth_error, 5), std::to_string(frame.early_termination_pixels),
+                                 Num(e.p95_depth_error, 5), std::to_string(frame.CountOutcome(render::OutcomeBit(render::RayOutcome::kEarlyTermination))),
                                  std::to_string(e.truth_pixels), std::to_string(torus.triangle_count())});
             const bool summary_c = !ncs || std::abs(c - 2.5f) < 1e-6f ||
                                    (options.step_enlargements.size() == 1 && c == options.step_enlargements[0]);

@@ -218,7 +218,7 @@ std::vector<MethodRow> EvaluatePeer(render::ProgramCache& programs, const Open3d
       row.upload_ms = watch.ElapsedMs();
       for (size_t i = 0; i < views.size(); ++i) {
         watch.Restart();
-        const render::MeshFrame frame = render::RenderMesh(programs, gpu, ViewSetupFor(views[i], bounds),
+        const render::Frame frame = render::RenderMesh(programs, gpu, ViewSetupFor(views[i], bounds),
                                                            views[i].camera.width, views[i].camera.height);
         const double ms = watch.ElapsedMs();
         if (i == 0) {

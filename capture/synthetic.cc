@@ -390,7 +390,7 @@ CapturedView Render(render::ProgramCache& programs, const GpuScene& gpu, const R
   pass.base_color = options.base_color;
   pass.texture = gpu.texture();
   pass.shade = options.shade;
-  const render::MeshFrame frame = render::RenderMesh(programs, gpu.mesh(), setup, cam.width, cam.height, pass);
+  const render::Frame frame = render::RenderMesh(programs, gpu.mesh(), setup, cam.width, cam.height, pass);
 
   CapturedView out;
   out.color = core::Image8(cam.width, cam.height, 3);

@@ -99,22 +99,22 @@ void RunDemo(const DemoOptions& options) {
   pass_options.slicing.count = kSlices;
   pass_options.max_displacement = kMaxDisplacement;
   pass_options.tiling = kTiling;
-  render::DisplacementPass pass(programs, base, pass_options);
-  render::RenderTarget target(render::DisplacementTargetOptions(options.size, options.size));
+  render::DisplacementPass pass(programs, base, texture, pass_options);
+  render::RenderTarget target(render::FrameTargetOptions(options.size, options.size));
   const render::FrameTimerOptions timer{1, 3};
-  const core::TimingStats timing = render::TimeFrames([&] { pass.Draw(target, view, texture); }, timer);
-  pass.Draw(target, view, texture);
-  const render::DisplacementFrame frame = render::ReadDisplacementFrame(target);
+  const core::TimingStats timing = render::TimeFrames([&] { render::DrawFrame(target, pass, view); }, timer);
+  render::DrawFrame(target, pass, view);
+  const render::Frame frame = render::ReadFrame(target);
 
   const render::GpuMesh truth_mesh(render::MakeDisplacedGroundTruth(base, height, kMaxDisplacement, kTiling));
   render::MeshPassOptions truth_options;
   truth_options.texture = &texture;
   truth_options.shade = false;
-  render::RenderTarget truth_target(render::MeshTargetOptions(options.size, options.size));
-  const core::TimingStats truth_timing = render::TimeFrames(
-      [&] { render::DrawMesh(programs, truth_target, truth_mesh, view, truth_options); }, timer);
-  render::DrawMesh(programs, truth_target, truth_mesh, view, truth_options);
-  const render::DisplacementFrame truth = render::ReadDisplacementFrame(truth_target);
+  render::MeshPass truth_pass(programs, truth_mesh, truth_options);
+  const core::TimingStats truth_timing =
+      render::TimeFrames([&] { render::DrawFrame(target, truth_pass, view); }, timer);
+  render::DrawFrame(target, truth_pass, view);
+  const render::Frame truth = render::ReadFrame(target);
 
   core::DisplacementErrorOptions error_options;
   error_options.depth_unit = core::HeightTexelWorldSize(base, kTexels, kTiling);

@@ -46,12 +46,22 @@ struct DisplaceScene {
 };
 
 struct DisplaceResult {
-  render::DisplacementFrame frame;  // colour RGBA8 + camera z (0 = empty)
+  render::Frame frame;              // colour RGBA8 + camera z (0 = empty)
   core::TimingStats timing;         // per frame, after warm-up
   std::string detail;               // one line for the log (counts)
 };
 
 using DisplaceMethod = std::function<DisplaceResult(const DisplaceScene&)>;
+
+// Times whole frames of `pass` (after warm-up), then keeps one.
+DisplaceResult TimePass(const DisplaceScene& scene, render::Pass& pass) {
+  render::RenderTarget target(render::FrameTargetOptions(scene.size, scene.size));
+  DisplaceResult result;
+  result.timing = render::TimeFrames([&] { render::DrawFrame(target, pass, scene.view); });
+  render::DrawFrame(target, pass, scene.view);
+  result.frame = render::ReadFrame(target);
+  return result;
+}
 
 DisplaceResult RenderSlices(const DisplaceScene& scene, render::SliceFamily family) {
   render::DisplacementPassOptions options;
@@ -59,12 +69,8 @@ DisplaceResult RenderSlices(const DisplaceScene& scene, render::SliceFamily fami
   options.slicing.count = scene.slices;
   options.max_displacement = scene.max_displacement;
   options.tiling = scene.tiling;
-  render::DisplacementPass pass(*scene.programs, scene.base, options);
-  render::RenderTarget target(render::DisplacementTargetOptions(scene.size, scene.size));
-  DisplaceResult result;
-  result.timing = render::TimeFrames([&] { pass.Draw(target, scene.view, *scene.texture); });
-  pass.Draw(target, scene.view, *scene.texture);
-  result.frame = render::ReadDisplacementFrame(target);
+  render::DisplacementPass pass(*scene.programs, scene.base, *scene.texture, options);
+  DisplaceResult result = TimePass(scene, pass);
   const auto& s = pass.last_stats();
   result.detail = fmt::format("{} volumes, {} slices, {} triangles", s.volumes, s.slices, s.triangles);
   return result;
@@ -78,11 +84,8 @@ DisplaceResult RenderTessellated(const DisplaceScene& scene) {
   render::MeshPassOptions options;
   options.texture = scene.texture;
   options.shade = false;  // the texture's colour, as the slicing passes show it
-  render::RenderTarget target(render::MeshTargetOptions(scene.size, scene.size));
-  DisplaceResult result;
-  result.timing = render::TimeFrames([&] { render::DrawMesh(*scene.programs, target, gpu, scene.view, options); });
-  render::DrawMesh(*scene.programs, target, gpu, scene.view, options);
-  result.frame = render::ReadDisplacementFrame(target);
+  render::MeshPass pass(*scene.programs, gpu, options);
+  DisplaceResult result = TimePass(scene, pass);
   result.detail = fmt::format("{} triangles", mesh.triangle_count());
   return result;
 }
@@ -94,19 +97,13 @@ DisplaceResult RenderRelief(const DisplaceScene& scene, render::ReliefMethod met
   render::ReliefGeometryOptions geometry;
   geometry.max_displacement = scene.max_displacement;
   render::DetectPeriodicAxes(scene.base, geometry.tangent_maps.wrap_u, geometry.tangent_maps.wrap_v);
-  const render::ReliefSurface surface(*scene.programs, scene.base, scene.height, geometry);
   render::ReliefSurfaceOptions options;
   options.method = method;
   options.tiling = scene.tiling;
-  render::ReliefTarget target(scene.size, scene.size);
-  DisplaceResult result;
-  result.timing = render::TimeFrames([&] { surface.Draw(*scene.programs, target, scene.view, options); });
-  surface.Draw(*scene.programs, target, scene.view, options);
-  render::ReliefFrame frame = target.Read();
-  result.frame.color = std::move(frame.color);
-  result.frame.depth = std::move(frame.depth);
-  result.detail = fmt::format("{} steps, c = {}, {} early-terminated pixels", options.steps,
-                              options.step_enlargement, frame.early_termination_pixels);
+  render::ReliefSurface surface(*scene.programs, scene.base, scene.height, geometry, options);
+  DisplaceResult result = TimePass(scene, surface);
+  result.detail = fmt::format("{} steps, c = {}, {} early-terminated pixels", options.steps, options.step_enlargement,
+                              result.frame.CountOutcome(render::OutcomeBit(render::RayOutcome::kEarlyTermination)));
   return result;
 }
 

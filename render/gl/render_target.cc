@@ -132,17 +132,6 @@ core::Image8 RenderTarget::ReadStencil() const {
   return image;
 }
 
-void BeginDepthTestedFrame(const RenderTarget& target) {
-  target.Bind();
-  const float background[4] = {0, 0, 0, 0};
-  target.Clear(background);
-  glEnable(GL_DEPTH_TEST);
-  glDepthFunc(GL_LESS);
-  glDisable(GL_STENCIL_TEST);
-  glDisable(GL_BLEND);
-  glDisable(GL_CULL_FACE);
-}
-
 void BindDefaultFramebuffer(int width, int height) {
   glBindFramebuffer(GL_FRAMEBUFFER, 0);
   glViewport(0, 0, width, height);

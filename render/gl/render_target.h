@@ -53,11 +53,6 @@ class RenderTarget {
   Texture depth_stencil_;
 };
 
-// Starts an opaque, depth-tested surface frame on `target`: binds it, clears
-// colour to 0, depth to 1, stencil to 0; depth test LESS; no stencil, blending
-// or face culling. The mesh, displacement and relief passes all begin so.
-void BeginDepthTestedFrame(const RenderTarget& target);
-
 // Binds the default framebuffer 0 (the window in the viewer).
 void BindDefaultFramebuffer(int width, int height);
 

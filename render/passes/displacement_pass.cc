@@ -184,8 +184,13 @@ void DisplacementPassOptions::Check() const {
   }
 }
 
-RenderTargetOptions DisplacementTargetOptions(int width, int height) {
-  return {width, height, {GL_RGBA8, GL_R32F}, true};
+std::vector<std::string> DisplacementPassOptions::Defines() const {
+  std::vector<std::string> defines;
+  if (slicing.family == SliceFamily::kSurfaceAligned) defines.push_back("SURFACE_ALIGNED");
+  if (slicing.family == SliceFamily::kScreen && slicing.full_size_screen_slices) {
+    defines.push_back("FULL_SIZE_SLICES");
+  }
+  return defines;
 }
 
 namespace {
@@ -203,8 +208,8 @@ static_assert(sizeof(GpuVolume) == 9 * 16);
 }  // namespace
 
 DisplacementPass::DisplacementPass(ProgramCache& programs, const core::TriangleMesh& base,
-                                   const DisplacementPassOptions& options)
-    : programs_(&programs), options_(options) {
+                                   const Texture& displacement, const DisplacementPassOptions& options)
+    : programs_(&programs), displacement_(&displacement), options_(options) {
   options_.Check();
   volumes_ = DisplacementVolumesFromMesh(base);
   std::vector<GpuVolume> gpu(std::max<size_t>(1, volumes_.size()));
@@ -227,7 +232,7 @@ void DisplacementPass::SetSlicing(const SlicingOptions& slicing) {
   options_.slicing = slicing;
 }
 
-void DisplacementPass::Draw(const RenderTarget& target, const ViewSetup& view, const Texture& displacement) {
+void DisplacementPass::Draw(const RenderTarget& target, const ViewSetup& view) {
   const SlicingOptions& slicing = options_.slicing;
   const bool full_size = slicing.family == SliceFamily::kScreen && slicing.full_size_screen_slices;
   const SliceView slice_view{view.cam_from_world, view.orthographic};
@@ -249,20 +254,18 @@ void DisplacementPass::Draw(const RenderTarget& target, const ViewSetup& view, c
   slices_.UploadVolumes(stacks_);
   stats_.triangles = slices_.triangle_count();
 
-  ProgramDesc desc{.vertex = "passes/displacement.vert.glsl", .fragment = "passes/displacement.frag.glsl"};
-  if (slicing.family == SliceFamily::kSurfaceAligned) desc.defines.push_back("SURFACE_ALIGNED");
-  if (full_size) desc.defines.push_back("FULL_SIZE_SLICES");
-  const Program& program = programs_->Get(desc);
-
-  BeginDepthTestedFrame(target);
+  const Program& program = programs_->Get({.vertex = "passes/displacement.vert.glsl",
+                                           .fragment = "passes/displacement.frag.glsl",
+                                           .defines = options_.Defines()});
+  target.Bind();
   program.Use();
-  glUniformMatrix4fv(program.Uniform("u_cam_from_world"), 1, GL_FALSE, glm::value_ptr(view.cam_from_world));
-  glUniformMatrix4fv(program.Uniform("u_clip_from_cam"), 1, GL_FALSE, glm::value_ptr(view.clip_from_cam));
-  glUniform1f(program.Uniform("u_max_displacement"), options_.max_displacement);
-  glUniform1f(program.Uniform("u_tiling"), options_.tiling);
-  glUniform1i(program.Uniform("u_displacement"), 0);
+  program.Set("u_cam_from_world", view.cam_from_world);
+  program.Set("u_clip_from_cam", view.clip_from_cam);
+  program.Set("u_max_displacement", options_.max_displacement);
+  program.Set("u_tiling", options_.tiling);
+  program.Set("u_displacement", 0);
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, volume_data_.id());
-  glBindTextureUnit(0, displacement.id());
+  glBindTextureUnit(0, displacement_->id());
   Query query;
   const bool count = count_fragments_ && epoxy_has_gl_extension("GL_ARB_pipeline_statistics_query");
   if (count) {
@@ -279,21 +282,6 @@ void DisplacementPass::Draw(const RenderTarget& target, const ViewSetup& view, c
     stats_.fragments = static_cast<double>(invocations);
   }
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, 0);
-  glDisable(GL_DEPTH_TEST);
-}
-
-DisplacementFrame ReadDisplacementFrame(const RenderTarget& target) {
-  DisplacementFrame frame;
-  frame.color = target.ReadColor8(0);
-  frame.depth = target.ReadChannelsF(1, 1);
-  return frame;
-}
-
-DisplacementFrame DisplacementPass::Render(const ViewSetup& view, const Texture& displacement, int width,
-                                           int height) {
-  RenderTarget target(DisplacementTargetOptions(width, height));
-  Draw(target, view, displacement);
-  return ReadDisplacementFrame(target);
 }
 
 // ---- the ground truth ----

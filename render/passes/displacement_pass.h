@@ -11,11 +11,12 @@
 // RGBA8 is the paper's format; RGBA32F keeps heights exact (tests of the
 // strict inequality). Looked up at uv * tiling with REPEAT wrapping.
 //
-// Outputs (DisplacementTargetOptions): colour RGBA8 and camera z (R32F, 0 where
-// empty), the same as render/passes/mesh_pass.h, so a frame compares pixel by pixel
-// with the tessellated ground truth (MakeDisplacedGroundTruth + RenderMesh).
+// Outputs: a frame (render/passes/pass.h) like the mesh pass's, so a frame
+// compares pixel by pixel with the tessellated ground truth
+// (MakeDisplacedGroundTruth + RenderMesh); normals are 0 (not computed).
 #pragma once
 
+#include <string>
 #include <vector>
 
 #include <glm/glm.hpp>
@@ -25,6 +26,7 @@
 #include "render/gl/handles.h"
 #include "render/passes/mesh_pass.h"
 #include "render/gl/render_target.h"
+#include "render/passes/pass.h"
 #include "render/gl/shader_program.h"
 #include "render/cores/slice_buffer.h"
 #include "render/cores/slicing.h"
@@ -87,6 +89,8 @@ struct DisplacementPassOptions {
   float max_displacement = 0.1f;  // scene units for height 1.0; > 0
   float tiling = 1.0f;            // the texture repeats `tiling` times across uv [0, 1]
   void Check() const;
+  // The shader variant these options need (the one place options become #defines).
+  std::vector<std::string> Defines() const;
 };
 
 // Counts of the last Draw(), for fill-rate accounting.
@@ -97,36 +101,28 @@ struct DisplacementDrawStats {
   double fragments = -1;  // fragment-shader invocations (pipeline statistics), -1 if unavailable
 };
 
-// Colour RGBA8 + camera z R32F + depth/stencil.
-RenderTargetOptions DisplacementTargetOptions(int width, int height);
-
-struct DisplacementFrame {
-  core::Image8 color;  // RGBA8, alpha 255 where a slice fragment survived
-  core::ImageF depth;  // 1 channel camera z, 0 where empty
-};
-
-class DisplacementPass {
+class DisplacementPass final : public Pass {
  public:
   // Builds the volumes of `base` and uploads them; needs a current context.
-  DisplacementPass(ProgramCache& programs, const core::TriangleMesh& base,
+  // `displacement` (UploadDisplacementTexture) must outlive the pass.
+  DisplacementPass(ProgramCache& programs, const core::TriangleMesh& base, const Texture& displacement,
                    const DisplacementPassOptions& options);
+
+  std::string_view name() const override { return "displacement"; }
+  // Slices for this view (CPU), upload, draw into a frame target.
+  void Draw(const RenderTarget& target, const ViewSetup& view) override;
 
   const DisplacementPassOptions& options() const { return options_; }
   // Changes family/count/order; volumes stay.
   void SetSlicing(const SlicingOptions& slicing);
   const std::vector<DisplacementVolume>& volumes() const { return volumes_; }
-
-  // Slices for this view (CPU), upload, clear `target` (DisplacementTargetOptions)
-  // and draw with `displacement` (UploadDisplacementTexture) bound.
-  void Draw(const RenderTarget& target, const ViewSetup& view, const Texture& displacement);
-  // Draw into a fresh target and read back.
-  DisplacementFrame Render(const ViewSetup& view, const Texture& displacement, int width, int height);
   // Count fragment-shader invocations in Draw() (a query per frame; off by default).
   void CountFragments(bool on) { count_fragments_ = on; }
   const DisplacementDrawStats& last_stats() const { return stats_; }
 
  private:
   ProgramCache* programs_;
+  const Texture* displacement_;
   DisplacementPassOptions options_;
   std::vector<DisplacementVolume> volumes_;
   std::vector<SliceBox> boxes_;
@@ -136,9 +132,6 @@ class DisplacementPass {
   bool count_fragments_ = false;
   DisplacementDrawStats stats_;
 };
-
-// Read back a target drawn by DisplacementPass::Draw (or DrawMesh's first two attachments).
-DisplacementFrame ReadDisplacementFrame(const RenderTarget& target);
 
 // ---- the ground truth (seed 002's "ground truth model") ----
 

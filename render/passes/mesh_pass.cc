@@ -1,42 +1,52 @@
 #include "render/passes/mesh_pass.h"
 
-#include <glm/gtc/type_ptr.hpp>
+#include <cmath>
+
+#include "core/error.h"
 
 namespace render {
 
-RenderTargetOptions MeshTargetOptions(int width, int height) {
-  return {width, height, {GL_RGBA8, GL_R32F, GL_RGBA16F}, true};
+void MeshPassOptions::Check() const {
+  for (int i = 0; i < 4; ++i) {
+    if (!std::isfinite(base_color[i])) core::ThrowInputError("MeshPassOptions", "base colour is not finite");
+    for (int j = 0; j < 4; ++j) {
+      if (!std::isfinite(world_from_object[i][j])) {
+        core::ThrowInputError("MeshPassOptions", "world_from_object is not finite");
+      }
+    }
+  }
 }
 
-void DrawMesh(ProgramCache& programs, const RenderTarget& target, const GpuMesh& mesh,
-              const ViewSetup& view, const MeshPassOptions& options) {
-  ProgramDesc desc{.vertex = "passes/mesh.vert.glsl", .fragment = "passes/mesh.frag.glsl"};
-  if (options.texture) desc.defines.push_back("TEXTURED");
-  if (options.shade) desc.defines.push_back("SHADED");
-  if (view.orthographic) desc.defines.push_back("ORTHOGRAPHIC");
-  const Program& program = programs.Get(desc);
+std::vector<std::string> MeshPassOptions::Defines(bool orthographic) const {
+  std::vector<std::string> defines;
+  if (texture) defines.push_back("TEXTURED");
+  if (shade) defines.push_back("SHADED");
+  if (orthographic) defines.push_back("ORTHOGRAPHIC");
+  return defines;
+}
 
-  BeginDepthTestedFrame(target);
+MeshPass::MeshPass(ProgramCache& programs, const GpuMesh& mesh, const MeshPassOptions& options)
+    : programs_(&programs), mesh_(&mesh), options_(options) {
+  options_.Check();
+}
+
+void MeshPass::Draw(const RenderTarget& target, const ViewSetup& view) {
+  const Program& program = programs_->Get(
+      {.vertex = "passes/mesh.vert.glsl", .fragment = "passes/mesh.frag.glsl", .defines = options_.Defines(view.orthographic)});
+  target.Bind();
   program.Use();
-  glUniformMatrix4fv(program.Uniform("u_cam_from_world"), 1, GL_FALSE, glm::value_ptr(view.cam_from_world));
-  glUniformMatrix4fv(program.Uniform("u_clip_from_cam"), 1, GL_FALSE, glm::value_ptr(view.clip_from_cam));
-  glUniformMatrix4fv(program.Uniform("u_world_from_object"), 1, GL_FALSE,
-                     glm::value_ptr(options.world_from_object));
-  glUniform4fv(program.Uniform("u_base_color"), 1, glm::value_ptr(options.base_color));
-  if (options.texture) glBindTextureUnit(0, options.texture->id());
-  mesh.Draw();
-  glDisable(GL_DEPTH_TEST);
+  program.Set("u_cam_from_world", view.cam_from_world);
+  program.Set("u_clip_from_cam", view.clip_from_cam);
+  program.Set("u_world_from_object", options_.world_from_object);
+  program.Set("u_base_color", options_.base_color);
+  if (options_.texture) glBindTextureUnit(0, options_.texture->id());
+  mesh_->Draw();
 }
 
-MeshFrame RenderMesh(ProgramCache& programs, const GpuMesh& mesh, const ViewSetup& view, int width,
-                     int height, const MeshPassOptions& options) {
-  RenderTarget target(MeshTargetOptions(width, height));
-  DrawMesh(programs, target, mesh, view, options);
-  MeshFrame frame;
-  frame.color = target.ReadColor8(0);
-  frame.depth = target.ReadChannelsF(1, 1);
-  frame.normal = target.ReadChannelsF(2, 3);
-  return frame;
+Frame RenderMesh(ProgramCache& programs, const GpuMesh& mesh, const ViewSetup& view, int width, int height,
+                 const MeshPassOptions& options) {
+  MeshPass pass(programs, mesh, options);
+  return RenderFrame(pass, view, width, height);
 }
 
 }  // namespace render

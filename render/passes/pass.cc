@@ -21,9 +21,16 @@ void BeginFrame(const RenderTarget& target) {
   glDisable(GL_STENCIL_TEST);
   glDisable(GL_BLEND);
   glDisable(GL_CULL_FACE);
+  glColorMaski(kFrameOutcome, GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);
+}
+
+void BindOutcomeImage(const RenderTarget& target, GLuint unit) {
+  glBindImageTexture(unit, target.color(kFrameOutcome).id(), 0, GL_FALSE, 0, GL_READ_WRITE, GL_R32UI);
 }
 
 Frame ReadFrame(const RenderTarget& target) {
+  // Image stores (outcome bits) must land before the readback.
+  glMemoryBarrier(GL_FRAMEBUFFER_BARRIER_BIT | GL_TEXTURE_UPDATE_BARRIER_BIT | GL_PIXEL_BUFFER_BARRIER_BIT);
   Frame frame;
   frame.color = target.ReadColor8(kFrameColor);
   frame.depth = target.ReadChannelsF(kFrameCameraZ, 1);
@@ -38,10 +45,14 @@ int64_t Frame::CountOutcome(uint32_t bits) const {
   return n;
 }
 
-Frame RenderFrame(Pass& pass, const ViewSetup& view, int width, int height) {
-  RenderTarget target(FrameTargetOptions(width, height));
+void DrawFrame(const RenderTarget& target, Pass& pass, const ViewSetup& view) {
   BeginFrame(target);
   pass.Draw(target, view);
+}
+
+Frame RenderFrame(Pass& pass, const ViewSetup& view, int width, int height) {
+  RenderTarget target(FrameTargetOptions(width, height));
+  DrawFrame(target, pass, view);
   return ReadFrame(target);
 }
 

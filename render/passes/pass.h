@@ -29,14 +29,24 @@ struct ViewSetup {
   bool orthographic = false;
 };
 
-// Attachment indices of a frame target (FrameTargetOptions). Every pass writes
-// all four outputs at these fragment-output locations.
+// Attachment indices of a frame target (FrameTargetOptions). Every pass
+// writes the first three at these fragment-output locations (a pass without
+// normals writes 0). The outcome attachment is NOT a draw target: BeginFrame
+// masks it, and a pass that reports outcomes ORs bits into it as an image
+// (BindOutcomeImage + imageAtomicOr in the shader), for every ray it casts,
+// kept or discarded, visible or hidden; so the composite's bits are the OR of
+// every pass's in any draw order. Bits are pass-defined (ray passes use
+// 1u << RayOutcome).
 enum FrameAttachment : int {
   kFrameColor = 0,    // RGBA8: shaded colour, alpha 255 where covered
   kFrameCameraZ = 1,  // R32F: camera z in scene units, 0 where empty
   kFrameNormal = 2,   // RGBA16F: world-space unit normal (xyz), 0 where empty or unknown
-  kFrameOutcome = 3,  // R32UI: pass-defined per-pixel outcome bits, 0 = none
+  kFrameOutcome = 3,  // R32UI image: OR of outcome bits, 0 = none
 };
+
+// Binds the frame's outcome attachment to image unit `unit` (r32ui,
+// read-write) for imageAtomicOr.
+void BindOutcomeImage(const RenderTarget& target, GLuint unit = 0);
 
 // The frame target every pass draws into: the four attachments above plus a
 // D24S8 depth/stencil buffer holding window depth (the compositing test).
@@ -44,7 +54,8 @@ RenderTargetOptions FrameTargetOptions(int width, int height);
 
 // Binds `target` and clears it for a new frame: colour, camera z, normal and
 // outcome to 0, depth to 1, stencil to 0; depth test LESS on, no stencil,
-// blending or face culling (the state every pass may assume on entry).
+// blending or face culling, the outcome draw buffer masked (the state every
+// pass may assume on entry and must leave).
 void BeginFrame(const RenderTarget& target);
 
 // A frame read back to the CPU (rows top first, like core::Image).
@@ -71,6 +82,10 @@ class Pass {
   virtual std::string_view name() const = 0;
   virtual void Draw(const RenderTarget& target, const ViewSetup& view) = 0;
 };
+
+// BeginFrame + pass.Draw: one whole frame of one pass into `target` (what a
+// benchmark times).
+void DrawFrame(const RenderTarget& target, Pass& pass, const ViewSetup& view);
 
 // BeginFrame on a fresh FrameTargetOptions target, pass.Draw, ReadFrame.
 Frame RenderFrame(Pass& pass, const ViewSetup& view, int width, int height);

@@ -117,32 +117,6 @@ SilhouetteError CompareToTruth(const core::Image8& color, const core::ImageF& de
   return e;
 }
 
-ReliefTarget::ReliefTarget(int width, int height)
-    : target_(MeshTargetOptions(width, height)), flags_(Texture::Create2D(GL_R32UI, width, height)) {}
-
-ReliefFrame ReliefTarget::Read() const {
-  const int w = target_.width(), h = target_.height();
-  ReliefFrame frame;
-  frame.color = target_.ReadColor8(0);
-  frame.depth = target_.ReadChannelsF(1, 1);
-  frame.normal = target_.ReadChannelsF(2, 3);
-  glMemoryBarrier(GL_TEXTURE_UPDATE_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
-  std::vector<uint32_t> flags(static_cast<size_t>(w) * h);
-  glGetTextureImage(flags_.id(), 0, GL_RED_INTEGER, GL_UNSIGNED_INT,
-                    static_cast<GLsizei>(flags.size() * sizeof(uint32_t)), flags.data());
-  frame.outcome_flags = core::Image8(w, h, 1);
-  const uint32_t early = 1u << static_cast<int>(RayOutcome::kEarlyTermination);
-  for (int y = 0; y < h; ++y) {
-    for (int x = 0; x < w; ++x) {
-      // GL rows run bottom-up; images top-down.
-      const uint32_t f = flags[static_cast<size_t>(h - 1 - y) * w + x];
-      frame.outcome_flags.at(x, y) = static_cast<uint8_t>(f);
-      if (f & early) ++frame.early_termination_pixels;
-    }
-  }
-  return frame;
-}
-
 namespace {
 Texture UploadHeight(const core::ImageF& height, bool bilinear) {
   if (height.empty() || height.channels() != 1) {
@@ -165,31 +139,47 @@ Texture UploadHeight(const core::ImageF& height, bool bilinear) {
 }  // namespace
 
 ReliefSurface::ReliefSurface(ProgramCache& programs, const core::TriangleMesh& base,
-                             const core::ImageF& height, const ReliefGeometryOptions& options)
-    : geometry_((options.Check(), options)),
+                             const core::ImageF& height, const ReliefGeometryOptions& options,
+                             const ReliefSurfaceOptions& surface)
+    : programs_(&programs),
+      geometry_((options.Check(), options)),
+      options_((surface.Check(), surface)),
       shell_(MakeReliefShell(base, options.max_displacement)),
       height_(UploadHeight(height, options.height_bilinear)),
       maps_(RenderTangentMaps(programs, base, options.tangent_maps)) {}
 
-void ReliefSurface::Draw(ProgramCache& programs, const ReliefTarget& target, const ViewSetup& view,
-                         const ReliefSurfaceOptions& options) const {
+std::vector<std::string> ReliefSurfaceOptions::Defines(const ReliefGeometryOptions& geometry,
+                                                       bool orthographic) const {
+  std::vector<std::string> defines = RayCoreDefines(RayCore());
+  switch (method) {
+    case ReliefMethod::kNcs: defines.push_back("METHOD_NCS"); break;
+    case ReliefMethod::kRelief: defines.push_back("METHOD_RELIEF"); break;
+    case ReliefMethod::kPom: defines.push_back("METHOD_POM"); break;
+  }
+  if (orthographic) defines.push_back("ORTHOGRAPHIC");
+  if (shade) defines.push_back("SHADED");
+  if (geometry.tangent_maps.wrap_u) defines.push_back("WRAP_U");
+  if (geometry.tangent_maps.wrap_v) defines.push_back("WRAP_V");
+  if (mark_early_termination && method == ReliefMethod::kNcs) defines.push_back("MARK_EARLY_TERMINATION");
+  return defines;
+}
+
+void ReliefSurface::SetOptions(const ReliefSurfaceOptions& options) {
   options.Check();
+  options_ = options;
+}
+
+Frame ReliefSurface::Render(const ViewSetup& view, int width, int height, const ReliefSurfaceOptions& options) {
+  SetOptions(options);
+  return RenderFrame(*this, view, width, height);
+}
+
+void ReliefSurface::Draw(const RenderTarget& target, const ViewSetup& view) {
+  const ReliefSurfaceOptions& options = options_;
   const RayCoreOptions core = options.RayCore();
-  ProgramDesc desc{.vertex = "passes/relief_surface.vert.glsl", .fragment = "passes/relief_surface.frag.glsl"};
-  desc.defines = RayCoreDefines(core);
-  switch (options.method) {
-    case ReliefMethod::kNcs: desc.defines.push_back("METHOD_NCS"); break;
-    case ReliefMethod::kRelief: desc.defines.push_back("METHOD_RELIEF"); break;
-    case ReliefMethod::kPom: desc.defines.push_back("METHOD_POM"); break;
-  }
-  if (view.orthographic) desc.defines.push_back("ORTHOGRAPHIC");
-  if (options.shade) desc.defines.push_back("SHADED");
-  if (geometry_.tangent_maps.wrap_u) desc.defines.push_back("WRAP_U");
-  if (geometry_.tangent_maps.wrap_v) desc.defines.push_back("WRAP_V");
-  if (options.mark_early_termination && options.method == ReliefMethod::kNcs) {
-    desc.defines.push_back("MARK_EARLY_TERMINATION");
-  }
-  const Program& program = programs.Get(desc);
+  const Program& program = programs_->Get({.vertex = "passes/relief_surface.vert.glsl",
+                                           .fragment = "passes/relief_surface.frag.glsl",
+                                           .defines = options.Defines(geometry_, view.orthographic)});
 
   const glm::mat4 cam_from_object = view.cam_from_world * options.world_from_object;
   const glm::mat4 object_from_cam = glm::inverse(cam_from_object);
@@ -197,40 +187,29 @@ void ReliefSurface::Draw(ProgramCache& programs, const ReliefTarget& target, con
   const glm::vec3 view_dir_in_object = glm::normalize(glm::mat3(object_from_cam) * glm::vec3(0, 0, 1));
   const glm::mat3 world_normal_from_object = glm::transpose(glm::inverse(glm::mat3(options.world_from_object)));
 
-  BeginDepthTestedFrame(target.target());
-  const GLuint zero = 0;
-  glClearTexImage(target.flags().id(), 0, GL_RED_INTEGER, GL_UNSIGNED_INT, &zero);
+  target.Bind();
   program.Use();
   SetRayCoreUniforms(program, core);
-  glUniformMatrix4fv(program.Uniform("u_cam_from_object"), 1, GL_FALSE, glm::value_ptr(cam_from_object));
-  glUniformMatrix4fv(program.Uniform("u_clip_from_cam"), 1, GL_FALSE, glm::value_ptr(view.clip_from_cam));
-  glUniformMatrix3fv(program.Uniform("u_world_normal_from_object"), 1, GL_FALSE,
-                     glm::value_ptr(world_normal_from_object));
-  glUniform3fv(program.Uniform("u_eye_in_object"), 1, glm::value_ptr(eye_in_object));
-  glUniform3fv(program.Uniform("u_view_dir_in_object"), 1, glm::value_ptr(view_dir_in_object));
-  glUniform1f(program.Uniform("u_max_displacement"), geometry_.max_displacement);
-  glUniform1f(program.Uniform("u_tiling"), options.tiling);
-  glUniform1f(program.Uniform("u_step_enlargement"), options.step_enlargement);
-  glUniform1f(program.Uniform("u_min_view_cos"), options.min_view_cos);
-  glUniform1i(program.Uniform("u_steps"), options.steps);
-  glUniform1i(program.Uniform("u_pom_min_steps"), std::min(options.pom_min_steps, options.steps));
-  glUniform4fv(program.Uniform("u_base_color"), 1, glm::value_ptr(options.base_color));
-  glUniform1i(program.Uniform("u_height"), 0);
-  glUniform1i(program.Uniform("u_normal_map"), 1);
-  glUniform1i(program.Uniform("u_tangent_map"), 2);
+  program.Set("u_cam_from_object", cam_from_object);
+  program.Set("u_clip_from_cam", view.clip_from_cam);
+  program.Set("u_world_normal_from_object", world_normal_from_object);
+  program.Set("u_eye_in_object", eye_in_object);
+  program.Set("u_view_dir_in_object", view_dir_in_object);
+  program.Set("u_max_displacement", geometry_.max_displacement);
+  program.Set("u_tiling", options.tiling);
+  program.Set("u_step_enlargement", options.step_enlargement);
+  program.Set("u_min_view_cos", options.min_view_cos);
+  program.Set("u_steps", options.steps);
+  program.Set("u_pom_min_steps", std::min(options.pom_min_steps, options.steps));
+  program.Set("u_base_color", options.base_color);
+  program.Set("u_height", 0);
+  program.Set("u_normal_map", 1);
+  program.Set("u_tangent_map", 2);
   glBindTextureUnit(0, height_.id());
   glBindTextureUnit(1, maps_.normal_map.id());
   glBindTextureUnit(2, maps_.tangent_map.id());
-  glBindImageTexture(0, target.flags().id(), 0, GL_FALSE, 0, GL_READ_WRITE, GL_R32UI);
+  BindOutcomeImage(target);  // every ray ORs its outcome, discarded ones too
   shell_.Draw();
-  glDisable(GL_DEPTH_TEST);
-}
-
-ReliefFrame ReliefSurface::Render(ProgramCache& programs, const ViewSetup& view, int width, int height,
-                                  const ReliefSurfaceOptions& options) const {
-  ReliefTarget target(width, height);
-  Draw(programs, target, view, options);
-  return target.Read();
 }
 
 }  // namespace render

@@ -28,6 +28,7 @@
 #include <cstdint>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include <glm/glm.hpp>
 
@@ -35,6 +36,7 @@
 #include "core/mesh.h"
 #include "render/gl/gpu_mesh.h"
 #include "render/passes/mesh_pass.h"
+#include "render/passes/pass.h"
 #include "render/cores/ray_core.h"
 #include "render/gl/render_target.h"
 #include "render/gl/shader_program.h"
@@ -86,51 +88,41 @@ struct ReliefSurfaceOptions {
   glm::mat4 world_from_object{1.0f};
   void Check() const;
   RayCoreOptions RayCore() const;
+  // The shader variant (the one place these options become #defines).
+  std::vector<std::string> Defines(const ReliefGeometryOptions& geometry, bool orthographic) const;
 };
 
-struct ReliefFrame {
-  core::Image8 color;          // RGBA8, alpha 255 where covered
-  core::ImageF depth;          // camera z, 0 where empty
-  core::ImageF normal;         // world-space unit normal (3 channels), 0 where empty
-  core::Image8 outcome_flags;  // bit (1 << RayOutcome) set when any ray at the pixel had that outcome
-  int64_t early_termination_pixels = 0;  // pixels with at least one early-terminated ray
-};
-
-// Render target for ReliefSurface::Draw: MeshTargetOptions' attachments (RGBA8 colour,
-// R32F camera z, RGBA16F normal) + depth, and an R32UI outcome-flag image.
-class ReliefTarget {
- public:
-  ReliefTarget(int width, int height);
-  const RenderTarget& target() const { return target_; }
-  const Texture& flags() const { return flags_; }
-  ReliefFrame Read() const;
-
- private:
-  RenderTarget target_;
-  Texture flags_;
-};
+// The bit of a frame's outcome (render/passes/pass.h) set when any ray at the
+// pixel ended with `outcome` (the relief pass ORs 1u << RayOutcome per ray).
+constexpr uint32_t OutcomeBit(RayOutcome outcome) { return 1u << static_cast<int>(outcome); }
 
 // A displaced object on the GPU: the shell mesh, the height texture and the
-// tangent-space maps.
-class ReliefSurface {
+// tangent-space maps, drawn with per-frame ReliefSurfaceOptions.
+class ReliefSurface final : public Pass {
  public:
   // `base` needs normals and uvs with a continuous parameterisation; `height`
   // is a 1-channel map in [0, 1] (core::MakeHeightMap).
   ReliefSurface(ProgramCache& programs, const core::TriangleMesh& base, const core::ImageF& height,
-                const ReliefGeometryOptions& options);
+                const ReliefGeometryOptions& options, const ReliefSurfaceOptions& surface = {});
 
-  // Clears `target` and draws.
-  void Draw(ProgramCache& programs, const ReliefTarget& target, const ViewSetup& view,
-            const ReliefSurfaceOptions& options) const;
-  // Draw + readback.
-  ReliefFrame Render(ProgramCache& programs, const ViewSetup& view, int width, int height,
-                     const ReliefSurfaceOptions& options) const;
+  std::string_view name() const override { return "relief"; }
+  // Draws into a frame target; every ray ORs OutcomeBit(its outcome) into the
+  // frame's outcome image, also rays whose fragment is discarded or hidden.
+  void Draw(const RenderTarget& target, const ViewSetup& view) override;
+
+  // Method, steps, step policy...: per frame, the geometry stays.
+  void SetOptions(const ReliefSurfaceOptions& options);
+  const ReliefSurfaceOptions& options() const { return options_; }
+  // SetOptions + RenderFrame.
+  Frame Render(const ViewSetup& view, int width, int height, const ReliefSurfaceOptions& options);
 
   const TangentMaps& tangent_maps() const { return maps_; }
   const ReliefGeometryOptions& geometry() const { return geometry_; }
 
  private:
+  ProgramCache* programs_;
   ReliefGeometryOptions geometry_;
+  ReliefSurfaceOptions options_;
   GpuMesh shell_;
   Texture height_;
   TangentMaps maps_;

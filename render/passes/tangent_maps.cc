@@ -162,7 +162,8 @@ TangentMaps RenderTangentMaps(ProgramCache& programs, const core::TriangleMesh& 
   VertexArray vao = VertexArray::Create();
   glVertexArrayVertexBuffer(vao.id(), 0, vbo.id(), 0, sizeof(MapVertex));
   glVertexArrayElementBuffer(vao.id(), ibo.id());
-  const GLuint locations[] = {0, 1, 2, 3};
+  // The attribute convention (ARCHITECTURE.md): 1 normal, 2 uv; 3-4 the frame.
+  const GLuint locations[] = {2, 1, 3, 4};
   const GLint sizes[] = {2, 3, 4, 1};
   const GLuint offsets[] = {offsetof(MapVertex, uv), offsetof(MapVertex, normal),
                             offsetof(MapVertex, tangent), offsetof(MapVertex, s_binormal)};

@@ -1,4 +1,4 @@
-#version 330 core
+#version 450 core
 // Fill-rate calibration: one texture lookup + an alpha test per fragment, the
 // per-fragment work of one displacement slice (Kautz-Seidel 2001, sec. 3).
 in vec2 v_uv;

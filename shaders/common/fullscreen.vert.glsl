@@ -1,4 +1,4 @@
-#version 330 core
+#version 450 core
 // One triangle covering the viewport, generated from gl_VertexID (no buffers).
 // v_uv runs 0..1 across the viewport, origin bottom-left (GL convention).
 out vec2 v_uv;

@@ -1,4 +1,4 @@
-#version 330 core
+#version 450 core
 // Vertex stage shared by all slicing passes (displacement, depth objects,
 // visual hulls, volumes): places slice polygons given in box coordinates.
 #include "cores/slicing_core.glsl"

@@ -18,6 +18,7 @@ uniform sampler2D u_displacement;  // RGB colour, A height / max displacement
 
 layout(location = 0) out vec4 o_color;
 layout(location = 1) out float o_depth;  // camera z
+layout(location = 2) out vec4 o_normal;  // unknown here: 0 (render/passes/pass.h)
 
 void main() {
 #ifdef FULL_SIZE_SLICES
@@ -33,4 +34,5 @@ void main() {
   if (!SliceAlphaTest(texel.a, h_alpha)) discard;
   o_color = vec4(texel.rgb, 1.0);
   o_depth = v_p_in_cam.z;
+  o_normal = vec4(0.0);
 }

@@ -1,6 +1,8 @@
-#version 330 core
+#version 450 core
 // Variants: TEXTURED (colour from u_texture at v_uv), SHADED (Lambert with a
 // light at the camera), ORTHOGRAPHIC (view direction is the camera z axis).
+#include "common/shading.glsl"
+
 in vec3 v_normal_world;
 in vec3 v_p_in_cam;
 in vec2 v_uv;
@@ -24,14 +26,7 @@ void main() {
 #endif
   vec3 color = albedo.rgb;
 #ifdef SHADED
-  vec3 n_cam = normalize(mat3(u_cam_from_world) * n_world);
-#ifdef ORTHOGRAPHIC
-  vec3 to_eye = vec3(0.0, 0.0, -1.0);
-#else
-  vec3 to_eye = normalize(-v_p_in_cam);
-#endif
-  // Two-sided head light: 0.25 ambient + 0.75 diffuse.
-  color *= 0.25 + 0.75 * abs(dot(n_cam, to_eye));
+  color = HeadLight(color, normalize(mat3(u_cam_from_world) * n_world), v_p_in_cam);
 #endif
   o_color = vec4(color, 1.0);
   o_depth = v_p_in_cam.z;

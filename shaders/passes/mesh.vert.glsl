@@ -1,4 +1,4 @@
-#version 330 core
+#version 450 core
 // Mesh rasterisation (render/passes/mesh_pass.h). Camera convention: x right, y down,
 // z forward; v_cam_z is the depth we write out (camera z, scene units).
 layout(location = 0) in vec3 a_position;

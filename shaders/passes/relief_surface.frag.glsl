@@ -7,6 +7,8 @@
 // METHOD_POM [Tat06]; ORTHOGRAPHIC; SHADED; WRAP_U / WRAP_V (periodic
 // parameterisation); MARK_EARLY_TERMINATION (NCS: red instead of discard,
 // the paper's Figure 7); plus render::RayCoreDefines().
+#include "common/shading.glsl"
+
 in vec3 v_p_in_object;
 in vec2 v_uv;
 
@@ -160,13 +162,7 @@ void main() {
 
   vec3 color = u_base_color.rgb;
 #ifdef SHADED
-  vec3 n_cam = normalize(mat3(u_cam_from_object) * n_object);
-#ifdef ORTHOGRAPHIC
-  vec3 to_eye = vec3(0.0, 0.0, -1.0);
-#else
-  vec3 to_eye = normalize(-p_in_cam.xyz);
-#endif
-  color *= 0.25 + 0.75 * abs(dot(n_cam, to_eye));  // as mesh.frag.glsl
+  color = HeadLight(color, normalize(mat3(u_cam_from_object) * n_object), p_in_cam.xyz);
 #endif
   if (color_override.r >= 0.0) color = color_override;
   o_color = vec4(color, 1.0);

@@ -66,14 +66,14 @@ glm::dvec3 PlanePoint(const Camera& cam, int col, int row, double height) {
   return glm::dvec3(glm::inverse(cam.view.cam_from_world) * glm::vec4(glm::vec3(p_cam), 1.0f));
 }
 
-int Covered(const DisplacementFrame& frame) {
+int Covered(const Frame& frame) {
   int n = 0;
   for (int y = 0; y < frame.color.height(); ++y)
     for (int x = 0; x < frame.color.width(); ++x) n += frame.color.at(x, y, 3) == 255;
   return n;
 }
 
-void ExpectFinite(const DisplacementFrame& frame) {
+void ExpectFinite(const Frame& frame) {
   for (int y = 0; y < frame.depth.height(); ++y) {
     for (int x = 0; x < frame.depth.width(); ++x) {
       const float z = frame.depth.at(x, y);
@@ -91,16 +91,16 @@ void ExpectFinite(const DisplacementFrame& frame) {
 
 class DisplacementTest : public test_support::GlTest {
  protected:
-  DisplacementFrame RenderPlane(const core::ImageF& height, SliceFamily family, int count, const Camera& cam,
+  Frame RenderPlane(const core::ImageF& height, SliceFamily family, int count, const Camera& cam,
                                 int size, const core::TriangleMesh& base = core::MakePlane(1.0f, 1),
                                 bool linear = false) {
     DisplacementPassOptions options;
     options.slicing.family = family;
     options.slicing.count = count;
     options.max_displacement = kMaxDisplacement;
-    DisplacementPass pass(programs(), base, options);
     const Texture texture = UploadDisplacementTexture(MakeDisplacementTexels(height), {GL_RGBA32F, linear});
-    return pass.Render(cam.view, texture, size, size);
+    DisplacementPass pass(programs(), base, texture, options);
+    return RenderFrame(pass, cam.view, size, size);
   }
 };
 
@@ -111,7 +111,7 @@ TEST_F(DisplacementTest, ConstantHeightIsThePlaneAtTheHighestSliceBelowIt) {
   constexpr int kSize = 128, kSlices = 16;
   const Camera cam = OrbitCamera(60, -60, kSize);
   for (float h : {0.3f, 0.5f, 0.77f, 1.0f}) {
-    const DisplacementFrame frame = RenderPlane(ConstantHeight(h), SliceFamily::kSurfaceAligned, kSlices, cam, kSize);
+    const Frame frame = RenderPlane(ConstantHeight(h), SliceFamily::kSurfaceAligned, kSlices, cam, kSize);
     ExpectFinite(frame);
     const double k = std::ceil(h * kSlices - 0.5) - 1;
     const double seen = (k + 0.5) / kSlices * kMaxDisplacement;
@@ -164,7 +164,7 @@ TEST_F(DisplacementTest, ConstantHeightIsWithinOneSliceOfThePlaneForEveryFamily)
         const glm::vec3 g(inv[0][stack.axis], inv[1][stack.axis], inv[2][stack.axis]);
         m_cam = glm::normalize(glm::dvec3(glm::mat3(cam.view.cam_from_world) * g));
       }
-      const DisplacementFrame frame = RenderPlane(ConstantHeight(h), family, kSlices, cam, kSize);
+      const Frame frame = RenderPlane(ConstantHeight(h), family, kSlices, cam, kSize);
       ExpectFinite(frame);
       int checked = 0;
       double worst = 0;
@@ -196,8 +196,8 @@ TEST_F(DisplacementTest, HeightExactlyAtASliceHeightTestsBothSidesOfTheStrictIne
   const Camera cam = OrbitCamera(70, -60, kSize);
   // Two slices, at heights 0.25 and 0.75.
   const float at = 0.75f, above = std::nextafter(0.75f, 1.0f);
-  const DisplacementFrame at_frame = RenderPlane(ConstantHeight(at), SliceFamily::kSurfaceAligned, 2, cam, kSize);
-  const DisplacementFrame above_frame = RenderPlane(ConstantHeight(above), SliceFamily::kSurfaceAligned, 2, cam, kSize);
+  const Frame at_frame = RenderPlane(ConstantHeight(at), SliceFamily::kSurfaceAligned, 2, cam, kSize);
+  const Frame above_frame = RenderPlane(ConstantHeight(above), SliceFamily::kSurfaceAligned, 2, cam, kSize);
   const int col = kSize / 2, row = kSize / 2;
   ASSERT_EQ(at_frame.color.at(col, row, 3), 255);
   ASSERT_EQ(above_frame.color.at(col, row, 3), 255);
@@ -206,7 +206,7 @@ TEST_F(DisplacementTest, HeightExactlyAtASliceHeightTestsBothSidesOfTheStrictIne
   EXPECT_NEAR(at_frame.depth.at(col, row), low, 1e-5 * low);
   EXPECT_NEAR(above_frame.depth.at(col, row), high, 1e-5 * high);
   // Exactly the lowest slice's height: nothing at all.
-  const DisplacementFrame none = RenderPlane(ConstantHeight(0.25f), SliceFamily::kSurfaceAligned, 2, cam, kSize);
+  const Frame none = RenderPlane(ConstantHeight(0.25f), SliceFamily::kSurfaceAligned, 2, cam, kSize);
   EXPECT_EQ(Covered(none), 0);
   EXPECT_NO_GL_ERROR();
 }
@@ -216,7 +216,7 @@ TEST_F(DisplacementTest, HeightZeroRendersNothingForEveryFamilyAndBase) {
   const Camera cam = OrbitCamera(40, -60, kSize, 6.0);
   for (const core::TriangleMesh& base : {core::MakePlane(1.0f, 1), core::MakeTorus(1.0f, 0.4f, 25, 25)}) {
     for (SliceFamily family : {SliceFamily::kSurfaceAligned, SliceFamily::kOrthogonal, SliceFamily::kScreen}) {
-      const DisplacementFrame frame = RenderPlane(ConstantHeight(0.0f), family, 16, cam, kSize, base, true);
+      const Frame frame = RenderPlane(ConstantHeight(0.0f), family, 16, cam, kSize, base, true);
       EXPECT_EQ(Covered(frame), 0) << SliceFamilyName(family);
       ExpectFinite(frame);
     }
@@ -230,7 +230,7 @@ class GroundTruthTest : public DisplacementTest {
  protected:
   struct Result {
     DisplacementError error;
-    DisplacementFrame frame, truth;
+    Frame frame, truth;
   };
   // Bumps on a solid floor (every ground-truth pixel is surface), 128 texels.
   Result Compare(const core::TriangleMesh& base, SliceFamily family, int count, const Camera& cam, int size,
@@ -246,14 +246,14 @@ class GroundTruthTest : public DisplacementTest {
     options.slicing.count = count;
     options.max_displacement = kMaxDisplacement;
     options.tiling = tiling;
-    DisplacementPass pass(programs(), base, options);
+    DisplacementPass pass(programs(), base, texture, options);
     Result r;
-    r.frame = pass.Render(cam.view, texture, size, size);
+    r.frame = RenderFrame(pass, cam.view, size, size);
     const GpuMesh truth_mesh(MakeDisplacedGroundTruth(base, height, kMaxDisplacement, tiling));
     MeshPassOptions mesh_options;
     mesh_options.texture = &texture;
     mesh_options.shade = false;
-    const MeshFrame truth = RenderMesh(programs(), truth_mesh, cam.view, size, size, mesh_options);
+    const Frame truth = RenderMesh(programs(), truth_mesh, cam.view, size, size, mesh_options);
     r.truth = {truth.color, truth.depth};
     DisplacementErrorOptions error_options;
     error_options.depth_unit = HeightTexelWorldSize(base, 128, tiling);
@@ -323,10 +323,10 @@ TEST_F(DisplacementTest, HardCasesAreFiniteAndNaNFree) {
     ExpectFinite(RenderPlane(ConstantHeight(0.5f), family, 16, top, kSize));
     ExpectFinite(RenderPlane(ConstantHeight(0.5f), family, 16, edge_on, kSize));
     // 1 slice (at mid height) and 4096 slices, maximum height 1.0.
-    const DisplacementFrame one = RenderPlane(ConstantHeight(1.0f), family, 1, top, kSize);
+    const Frame one = RenderPlane(ConstantHeight(1.0f), family, 1, top, kSize);
     ExpectFinite(one);
     EXPECT_GT(Covered(one), 500);
-    const DisplacementFrame many = RenderPlane(ConstantHeight(1.0f), family, 4096, top, kSize);
+    const Frame many = RenderPlane(ConstantHeight(1.0f), family, 4096, top, kSize);
     ExpectFinite(many);
     // The top of the volume, within one of the 4096 slices.
     const double truth = PlaneDepth(top, kSize / 2, kSize / 2, kMaxDisplacement);
@@ -346,8 +346,8 @@ TEST_F(DisplacementTest, HardCasesAreFiniteAndNaNFree) {
   EXPECT_EQ(DisplacementVolumesFromMesh(mixed).size(), 1u);
   const Camera cam = OrbitCamera(50, -60, kSize);
   for (SliceFamily family : {SliceFamily::kSurfaceAligned, SliceFamily::kOrthogonal, SliceFamily::kScreen}) {
-    const DisplacementFrame a = RenderPlane(ConstantHeight(0.5f), family, 16, cam, kSize, mixed);
-    const DisplacementFrame b = RenderPlane(ConstantHeight(0.5f), family, 16, cam, kSize, plane);
+    const Frame a = RenderPlane(ConstantHeight(0.5f), family, 16, cam, kSize, mixed);
+    const Frame b = RenderPlane(ConstantHeight(0.5f), family, 16, cam, kSize, plane);
     ExpectFinite(a);
     EXPECT_EQ(a.depth, b.depth);
   }
@@ -374,14 +374,14 @@ TEST_F(DisplacementTest, FullSizeScreenSlicesDrawTheSamePixelsWithMoreFragments)
   options.slicing.count = 32;
   options.max_displacement = kMaxDisplacement;
   for (const core::TriangleMesh& base : {core::MakePlane(1.0f, 1)}) {  // affine volume: same planes
-    DisplacementPass pass(programs(), base, options);
+    DisplacementPass pass(programs(), base, texture, options);
     pass.CountFragments(true);
-    const DisplacementFrame exact = pass.Render(cam.view, texture, kSize, kSize);
+    const Frame exact = RenderFrame(pass, cam.view, kSize, kSize);
     const double exact_fragments = pass.last_stats().fragments;
     SlicingOptions full = options.slicing;
     full.full_size_screen_slices = true;
     pass.SetSlicing(full);
-    const DisplacementFrame padded = pass.Render(cam.view, texture, kSize, kSize);
+    const Frame padded = RenderFrame(pass, cam.view, kSize, kSize);
     const double full_fragments = pass.last_stats().fragments;
     DisplacementErrorOptions e;
     e.depth_unit = kMaxDisplacement / 32;

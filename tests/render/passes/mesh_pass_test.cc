@@ -24,7 +24,7 @@ TEST_F(MeshPassTest, OrthographicSphereMatchesAnalyticDiscAndDepth) {
   view.cam_from_world = core::CamFromWorldLookAt({0, 0, 5}, {0, 0, 0}, {0, 1, 0});
   view.clip_from_cam = core::ClipFromCamOrthographic(kScale, kScale, kSize / 2.0, kSize / 2.0,
                                                       kSize, kSize, 0.5, 10.0);
-  const MeshFrame frame = RenderMesh(programs(), sphere, view, kSize, kSize);
+  const Frame frame = RenderMesh(programs(), sphere, view, kSize, kSize);
   // The mesh is inscribed: its silhouette is inside the true circle by at most
   // 1 - cos(pi / 256) = 7.5e-5 units = 0.008 px. Pixels whose centre lies within
   // 0.05 px of the circle are ambiguous and skipped.
@@ -68,7 +68,7 @@ TEST_F(MeshPassTest, PerspectiveTiltedPlaneDepthAndNormalAreExact) {
   ViewSetup view;
   view.cam_from_world = core::CamFromWorldLookAt({0, 0, 3}, {0, 0, 0}, {0, 1, 0});
   view.clip_from_cam = core::ClipFromCamPerspective(f, f, cx, cy, kW, kH, 0.1, 10.0);
-  const MeshFrame frame = RenderMesh(programs(), plane, view, kW, kH, options);
+  const Frame frame = RenderMesh(programs(), plane, view, kW, kH, options);
   // Plane through the world origin with normal n: in the camera, through p0
   // (origin in cam) with normal n_cam; the ray through pixel centre (u, v) has
   // direction d = ((u - cx)/f, (v - cy)/f, 1) and meets it at depth n.p0 / n.d.

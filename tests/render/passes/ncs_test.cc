@@ -95,7 +95,7 @@ core::Image8 DiffImage(const core::Image8& color, const core::ImageF& depth, con
 
 class NcsTest : public test_support::GlTest {
  protected:
-  MeshFrame RenderTruth(const core::TriangleMesh& base, const core::ImageF& height, float md,
+  Frame RenderTruth(const core::TriangleMesh& base, const core::ImageF& height, float md,
                         const ViewSetup& view, float tiling = 1, int subdivisions = 6) {
     core::DisplacedMeshOptions o;
     o.max_displacement = md;
@@ -150,23 +150,23 @@ TEST_F(NcsTest, ZeroHeightRendersAsTheBaseMeshAndConstantHeightAsTheOffsetSurfac
   const float md = 0.08f;
   const ViewSetup view = PerspectiveView({0.3f, -3.2f, 1.6f});
   for (float level : {0.0f, 0.5f}) {
-    const ReliefSurface surface(programs(), torus, HeightMap(core::HeightPattern::kConstant, level),
+    ReliefSurface surface(programs(), torus, HeightMap(core::HeightPattern::kConstant, level),
                                 Geometry(md, true, true));
     const GpuMesh offset(MakeReliefShell(torus, level * md));
-    const MeshFrame truth = RenderMesh(programs(), offset, view, kSize, kSize);
+    const Frame truth = RenderMesh(programs(), offset, view, kSize, kSize);
     ReliefSurfaceOptions o;
     o.method = ReliefMethod::kNcs;
     // c = 10 as in the paper's Figure 7 so that no ray terminates early:
     // rays grazing the inner (saddle) side run for many shell thicknesses.
     o.steps = 128;
     o.step_enlargement = 10;
-    const ReliefFrame ncs = surface.Render(programs(), view, kSize, kSize, o);
+    const Frame ncs = surface.Render(view, kSize, kSize, o);
     const SilhouetteError e = CompareToTruth(ncs.color, ncs.depth, truth.color, truth.depth);
     const int64_t away = WrongAwayFromEdge(ncs.color, truth.color);
     std::printf("level %.1f: truth %lld rendered %lld wrong %lld (away from edge %lld) iou %.5f depth mean %.2e "
                 "p95 %.2e early %lld\n",
                 level, (long long)e.truth_pixels, (long long)e.rendered_pixels, (long long)e.wrong_pixels,
-                (long long)away, e.iou, e.mean_depth_error, e.p95_depth_error, (long long)ncs.early_termination_pixels);
+                (long long)away, e.iou, e.mean_depth_error, e.p95_depth_error, (long long)ncs.CountOutcome(OutcomeBit(RayOutcome::kEarlyTermination)));
     // Coverage: the tangent frames are those of the base, so near the
     // silhouette the bent ray turns up slightly early (the shell's metric is
     // (1 + w md / r) larger); the error is a band about one pixel wide,
@@ -174,7 +174,7 @@ TEST_F(NcsTest, ZeroHeightRendersAsTheBaseMeshAndConstantHeightAsTheOffsetSurfac
     // side: at most 0.5 % of the silhouette's pixels lie off that band.
     EXPECT_GT(e.iou, 0.985) << "level " << level;
     EXPECT_LE(away, e.truth_pixels / 200) << "level " << level;
-    EXPECT_EQ(ncs.early_termination_pixels, 0);
+    EXPECT_EQ(ncs.CountOutcome(OutcomeBit(RayOutcome::kEarlyTermination)), 0);
     // Depth: 32 tube segments sag by up to 0.0019 units, the faceted shell
     // and base differ by as much, and grazing pixels amplify it: mean within
     // 8 % and p95 within 20 % of the shell thickness md = 0.08.
@@ -193,7 +193,7 @@ TEST_F(NcsTest, OnAPlaneNcsEqualsReliefMapping) {
   // A flat base: every frame lookup returns the same T, B, N, S, so the bent
   // ray is the straight one, step for step (c = 1, same step count).
   const core::TriangleMesh plane = core::MakePlane(1.0f, 8);
-  const ReliefSurface surface(programs(), plane, HeightMap(core::HeightPattern::kBumps, 1.0f),
+  ReliefSurface surface(programs(), plane, HeightMap(core::HeightPattern::kBumps, 1.0f),
                               // Periodic chart: NCS then never discards a ray for
                               // leaving through the plane's border, which relief
                               // mapping cannot do either.
@@ -204,9 +204,9 @@ TEST_F(NcsTest, OnAPlaneNcsEqualsReliefMapping) {
   o.step_enlargement = 1;
   o.tiling = 2;
   o.method = ReliefMethod::kNcs;
-  const ReliefFrame ncs = surface.Render(programs(), view, kSize, kSize, o);
+  const Frame ncs = surface.Render(view, kSize, kSize, o);
   o.method = ReliefMethod::kRelief;
-  const ReliefFrame relief = surface.Render(programs(), view, kSize, kSize, o);
+  const Frame relief = surface.Render(view, kSize, kSize, o);
   int64_t both = 0, differ = 0, only_one = 0;
   double worst = 0;
   for (int y = 0; y < kSize; ++y) {
@@ -228,7 +228,7 @@ TEST_F(NcsTest, OnAPlaneNcsEqualsReliefMapping) {
   // and move the crossing by a step: allow 0.1 % of the pixels.
   EXPECT_LE(differ, both / 1000);
   EXPECT_EQ(only_one, 0);
-  EXPECT_EQ(ncs.early_termination_pixels, 0);
+  EXPECT_EQ(ncs.CountOutcome(OutcomeBit(RayOutcome::kEarlyTermination)), 0);
   EXPECT_NO_GL_ERROR();
 }
 
@@ -243,8 +243,8 @@ struct GrazingScene {
 
 TEST_F(NcsTest, TorusGrazingViewNcsSilhouetteBeatsPomAndRelief) {
   const GrazingScene scene;
-  const MeshFrame truth = RenderTruth(scene.torus, scene.height, scene.md, scene.view, 1, 8);
-  const ReliefSurface surface(programs(), scene.torus, scene.height, Geometry(scene.md, true, true));
+  const Frame truth = RenderTruth(scene.torus, scene.height, scene.md, scene.view, 1, 8);
+  ReliefSurface surface(programs(), scene.torus, scene.height, Geometry(scene.md, true, true));
   ReliefSurfaceOptions o;
   o.steps = 64;
   SilhouetteError errors[3];
@@ -252,12 +252,12 @@ TEST_F(NcsTest, TorusGrazingViewNcsSilhouetteBeatsPomAndRelief) {
   const ReliefMethod methods[3] = {ReliefMethod::kNcs, ReliefMethod::kRelief, ReliefMethod::kPom};
   for (int m = 0; m < 3; ++m) {
     o.method = methods[m];
-    const ReliefFrame frame = surface.Render(programs(), scene.view, kSize, kSize, o);
+    const Frame frame = surface.Render(scene.view, kSize, kSize, o);
     errors[m] = CompareToTruth(frame.color, frame.depth, truth.color, truth.depth);
     std::printf("grazing %-6s: wrong silhouette pixels %lld of %lld truth, iou %.4f, depth mean %.4f p95 %.4f, early %lld\n",
                 ReliefMethodName(methods[m]).c_str(), (long long)errors[m].wrong_pixels,
                 (long long)errors[m].truth_pixels, errors[m].iou, errors[m].mean_depth_error,
-                errors[m].p95_depth_error, (long long)frame.early_termination_pixels);
+                errors[m].p95_depth_error, (long long)frame.CountOutcome(OutcomeBit(RayOutcome::kEarlyTermination)));
     diffs[m] = DiffImage(frame.color, frame.depth, truth.color, truth.depth, 0.04f);
   }
   // Stated bound: NCS misses or adds at most 4 % of the true silhouette's
@@ -275,11 +275,11 @@ TEST_F(NcsTest, TorusGrazingViewNcsSilhouetteBeatsPomAndRelief) {
 
 // Checks every pixel of a frame: finite depth and normal, only valid outcome
 // bits, and (NCS without marking) covered <=> a ray hit there.
-void ExpectSane(const ReliefFrame& f, ReliefMethod method, const std::string& what) {
+void ExpectSane(const Frame& f, ReliefMethod method, const std::string& what) {
   int64_t bad_flags = 0, covered_without_hit = 0;
   for (int y = 0; y < f.color.height(); ++y) {
     for (int x = 0; x < f.color.width(); ++x) {
-      const uint8_t flags = f.outcome_flags.at(x, y);
+      const uint32_t flags = f.outcome.at(x, y);
       if (flags & ~0x0Eu) ++bad_flags;  // bits 1..3 only
       const bool covered = f.color.at(x, y, 3) == 255;
       if (covered && !(flags & (1u << static_cast<int>(RayOutcome::kHit))) && method == ReliefMethod::kNcs) {
@@ -312,19 +312,19 @@ TEST_F(NcsTest, EveryBaseMeshMatchesItsTessellatedTruth) {
   for (const Case& c : cases) {
     bool wrap_u = false, wrap_v = false;
     DetectPeriodicAxes(c.mesh, wrap_u, wrap_v);
-    const ReliefSurface surface(programs(), c.mesh, height, Geometry(md, wrap_u, wrap_v));
+    ReliefSurface surface(programs(), c.mesh, height, Geometry(md, wrap_u, wrap_v));
     const ViewSetup view = PerspectiveView(c.eye, {0, 0, 0}, {0, 0, 1}, 1.2 * kSize);
-    const MeshFrame truth = RenderTruth(c.mesh, height, md, view, 1, 8);
+    const Frame truth = RenderTruth(c.mesh, height, md, view, 1, 8);
     ReliefSurfaceOptions o;
     o.steps = 64;
-    const ReliefFrame ncs = surface.Render(programs(), view, kSize, kSize, o);
+    const Frame ncs = surface.Render(view, kSize, kSize, o);
     o.method = ReliefMethod::kRelief;
-    const ReliefFrame relief = surface.Render(programs(), view, kSize, kSize, o);
+    const Frame relief = surface.Render(view, kSize, kSize, o);
     const SilhouetteError e = CompareToTruth(ncs.color, ncs.depth, truth.color, truth.depth);
     const SilhouetteError r = CompareToTruth(relief.color, relief.depth, truth.color, truth.depth);
     std::printf("%-8s ncs: iou %.4f wrong %lld mean %.4f p95 %.4f early %lld | relief: iou %.4f wrong %lld p95 %.4f\n",
                 c.name, e.iou, (long long)e.wrong_pixels, e.mean_depth_error, e.p95_depth_error,
-                (long long)ncs.early_termination_pixels, r.iou, (long long)r.wrong_pixels, r.p95_depth_error);
+                (long long)ncs.CountOutcome(OutcomeBit(RayOutcome::kEarlyTermination)), r.iou, (long long)r.wrong_pixels, r.p95_depth_error);
     ExpectSane(ncs, ReliefMethod::kNcs, c.name);
     // Bounds with margin over the measured values (see the printout): the
     // silhouette is right to a few percent of the covered area, depth to a
@@ -352,7 +352,7 @@ TEST_F(NcsTest, HardCasesStayFiniteWithCorrectOutcomes) {
   sphere.indices.insert(sphere.indices.end(), {k, k + 1, k + 2});
   const ViewSetup pole_view = PerspectiveView({0.4f, -0.6f, 3.2f}, {0, 0, 0}, {0, 1, 0});
   for (float level : {0.0f, 1.0f}) {
-    const ReliefSurface surface(programs(), sphere, HeightMap(core::HeightPattern::kConstant, level),
+    ReliefSurface surface(programs(), sphere, HeightMap(core::HeightPattern::kConstant, level),
                                 Geometry(0.1f, true, false, 128));
     for (ReliefMethod method : {ReliefMethod::kNcs, ReliefMethod::kRelief, ReliefMethod::kPom}) {
       for (float c : {1.0f, 2.5f, 10.0f}) {
@@ -361,14 +361,14 @@ TEST_F(NcsTest, HardCasesStayFiniteWithCorrectOutcomes) {
           o.method = method;
           o.step_enlargement = c;
           o.steps = steps;
-          const ReliefFrame f = surface.Render(programs(), pole_view, 96, 96, o);
+          const Frame f = surface.Render(pole_view, 96, 96, o);
           const std::string what = ReliefMethodName(method) + " level " + std::to_string(level) + " c " +
                                    std::to_string(c) + " steps " + std::to_string(steps);
           ExpectSane(f, method, what);
           if (level == 1.0f) {
             // Height 1 everywhere: the surface IS the shell; every front ray
             // hits at its entry, nothing is left to terminate early.
-            EXPECT_EQ(f.early_termination_pixels, 0) << what;
+            EXPECT_EQ(f.CountOutcome(OutcomeBit(RayOutcome::kEarlyTermination)), 0) << what;
           }
           if (method != ReliefMethod::kNcs || c != 2.5f) continue;
           // steps 1 with c = 2.5 on a zero height map: the one step goes 2.5 l
@@ -383,7 +383,7 @@ TEST_F(NcsTest, HardCasesStayFiniteWithCorrectOutcomes) {
   // Rays exactly tangent to the base: an orthographic view of a cylinder
   // across its axis with pixel centres exactly on x = +-radius.
   const core::TriangleMesh cylinder = core::MakeCylinder(0.5f, 2.0f, 64, 4);
-  const ReliefSurface cyl(programs(), cylinder, HeightMap(core::HeightPattern::kConstant, 0.0f),
+  ReliefSurface cyl(programs(), cylinder, HeightMap(core::HeightPattern::kConstant, 0.0f),
                           Geometry(0.05f, true, false, 128));
   ViewSetup ortho;
   ortho.orthographic = true;
@@ -394,7 +394,7 @@ TEST_F(NcsTest, HardCasesStayFiniteWithCorrectOutcomes) {
   for (ReliefMethod method : {ReliefMethod::kNcs, ReliefMethod::kRelief, ReliefMethod::kPom}) {
     ReliefSurfaceOptions o;
     o.method = method;
-    const ReliefFrame f = cyl.Render(programs(), ortho, 64, 64, o);
+    const Frame f = cyl.Render(ortho, 64, 64, o);
     ExpectSane(f, method, "tangent " + ReliefMethodName(method));
   }
   EXPECT_NO_GL_ERROR();
