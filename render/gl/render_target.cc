@@ -119,16 +119,14 @@ core::Image<uint32_t> RenderTarget::ReadUint32(int attachment) const {
 core::ImageF RenderTarget::ReadDepth() const {
   IBR_CHECK(options_.depth_stencil);
   core::ImageF image(options_.width, options_.height, 1);
-  ReadPixels(framebuffer_.id(), colors_.empty() ? GL_NONE : GL_COLOR_ATTACHMENT0,
-             GL_DEPTH_COMPONENT, GL_FLOAT, image);
+  ReadPixels(framebuffer_.id(), GL_NONE, GL_DEPTH_COMPONENT, GL_FLOAT, image);
   return image;
 }
 
 core::Image8 RenderTarget::ReadStencil() const {
   IBR_CHECK(options_.depth_stencil);
   core::Image8 image(options_.width, options_.height, 1);
-  ReadPixels(framebuffer_.id(), colors_.empty() ? GL_NONE : GL_COLOR_ATTACHMENT0,
-             GL_STENCIL_INDEX, GL_UNSIGNED_BYTE, image);
+  ReadPixels(framebuffer_.id(), GL_NONE, GL_STENCIL_INDEX, GL_UNSIGNED_BYTE, image);
   return image;
 }
 

@@ -168,6 +168,18 @@ std::string TranslateShaderLog(const std::string& log, const std::vector<std::st
 
 namespace {
 
+// The info log of a shader or program (glGetShaderiv + glGetShaderInfoLog,
+// or the program pair), without its terminating NUL.
+template <typename GetIv, typename GetLog>
+std::string InfoLog(GLuint id, GetIv get_iv, GetLog get_log) {
+  GLint length = 0;
+  get_iv(id, GL_INFO_LOG_LENGTH, &length);
+  std::string log(static_cast<size_t>(std::max(length, 1)), '\0');
+  get_log(id, length, nullptr, log.data());
+  log.resize(std::strlen(log.c_str()));
+  return log;
+}
+
 Shader CompileStage(const ShaderSources& sources, GLenum stage, const std::string& file,
                     const std::vector<std::string>& defines) {
   const PreprocessedSource pre = PreprocessShader(sources, file, defines);
@@ -178,11 +190,7 @@ Shader CompileStage(const ShaderSources& sources, GLenum stage, const std::strin
   GLint ok = GL_FALSE;
   glGetShaderiv(shader.id(), GL_COMPILE_STATUS, &ok);
   if (!ok) {
-    GLint length = 0;
-    glGetShaderiv(shader.id(), GL_INFO_LOG_LENGTH, &length);
-    std::string log(static_cast<size_t>(std::max(length, 1)), '\0');
-    glGetShaderInfoLog(shader.id(), length, nullptr, log.data());
-    log.resize(std::strlen(log.c_str()));
+    const std::string log = InfoLog(shader.id(), glGetShaderiv, glGetShaderInfoLog);
     std::string translated = TranslateShaderLog(log, pre.files);
     while (!translated.empty() && (translated.back() == '\n' || translated.back() == ' ')) translated.pop_back();
     // One line for the CLI: the first error first, the rest after " | ".
@@ -220,11 +228,7 @@ Program BuildProgram(const ShaderSources& sources, const ProgramDesc& desc) {
   GLint ok = GL_FALSE;
   glGetProgramiv(program.id(), GL_LINK_STATUS, &ok);
   if (!ok) {
-    GLint length = 0;
-    glGetProgramiv(program.id(), GL_INFO_LOG_LENGTH, &length);
-    std::string log(static_cast<size_t>(std::max(length, 1)), '\0');
-    glGetProgramInfoLog(program.id(), length, nullptr, log.data());
-    log.resize(std::strlen(log.c_str()));
+    std::string log = InfoLog(program.id(), glGetProgramiv, glGetProgramInfoLog);
     std::replace(log.begin(), log.end(), '\n', ' ');
     core::ThrowInputError("BuildProgram", "link error in {}: {}", desc.Key(), log);
   }
