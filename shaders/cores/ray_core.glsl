@@ -33,6 +33,11 @@
 //       or off the texture chart); the march then reports RAY_OUTCOME_EXITED.
 //       Straight rays also exit when t reaches RayMarch.t_max (the box exit).
 //
+//   #define RAY_SKIP and  float RaySkip(vec3 p);                     (optional)
+//       Empty-space skipping: a distance along the ray from sample p (t
+//       units) proven free of any crossing; the loop advances by
+//       max(step, skip). 0 = nothing known.
+//
 //   RAY_STEP_JACOBIAN also requires  mat3 RayJacobian(vec3 p);
 //       the Jacobian J_{T^-1}(p) = I + J_D(p) of the inverse warp at p
 //       (Correa 2007, eq. 4).
@@ -131,6 +136,9 @@ RayResult RayMarchRun(RayMarch r) {
 #endif
     float dt = RayStepLength(p, dir, f, r.step);
     if (!(dt > 0.0) || isinf(dt)) dt = r.step;  // NaN/inf-safe: a bad policy value never stalls
+#ifdef RAY_SKIP
+    dt = max(dt, RaySkip(p));
+#endif
     // The sample that would pass the exit lands exactly on it (a relative
     // slack absorbs rounding so n steps of t_max/n do reach the exit).
     bool last = t + dt >= r.t_max - 1e-4 * dt;
