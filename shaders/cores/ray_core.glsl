@@ -116,6 +116,25 @@ float RayStepLength(vec3 p, vec3 dir, float field, float base_step) {
 #endif
 }
 
+// The refinement (the one bisection): the crossing on the segment [p, q]
+// between a sample outside (RayField(p) = fp > 0) and one inside
+// (RayField(q) = fq <= 0), as a fraction of the way from p to q. Also called
+// by passes that find the bracketing samples another way (the depth-object
+// slice passes' resolve, between the finishing slice and the one before).
+float RayRefineCrossing(vec3 p, vec3 q, float fp, float fq) {
+#if defined(RAY_REFINE_SECANT)
+  return clamp(fp / max(fp - fq, 1e-30), 0.0, 1.0);
+#else
+  float ta = 0.0, tb = 1.0;
+  for (int k = 0; k < u_ray_refine_steps; ++k) {
+    float tm = 0.5 * (ta + tb);
+    float fm = RayField(mix(p, q, tm));
+    if (fm <= 0.0) tb = tm; else ta = tm;
+  }
+  return 0.5 * (ta + tb);
+#endif
+}
+
 RayResult RayMarchRun(RayMarch r) {
   RayResult res;
   res.steps = 0;
@@ -153,18 +172,7 @@ RayResult RayMarchRun(RayMarch r) {
     if (fq <= 0.0) {
       // The crossing lies on the segment [p, q] (straight in march space even
       // for bent rays: the piecewise-linear curve of Chen-Chang Fig. 5).
-      float ta = 0.0, tb = 1.0;  // fractions along [p, q]
-#if defined(RAY_REFINE_SECANT)
-      float s = f / max(f - fq, 1e-30);
-      ta = tb = clamp(s, 0.0, 1.0);
-#else
-      for (int k = 0; k < u_ray_refine_steps; ++k) {
-        float tm = 0.5 * (ta + tb);
-        float fm = RayField(mix(p, q, tm));
-        if (fm <= 0.0) tb = tm; else ta = tm;
-      }
-#endif
-      float s_hit = 0.5 * (ta + tb);
+      float s_hit = RayRefineCrossing(p, q, f, fq);
       res.outcome = RAY_OUTCOME_HIT;
       res.p = mix(p, q, s_hit);
       res.t = t + s_hit * dt;
