@@ -81,7 +81,7 @@ std::vector<Object> Objects(bool quick) {
   if (quick) return objects;
   const fs::path meshes = ibr::SharedDataDir() / "meshes";
   for (const auto& [name, file] : std::vector<std::pair<std::string, std::string>>{
-           {"bunny", "stanford-bunny.obj"}, {"spot", "spot.obj"}, {"teapot", "teapot.obj"}}) {
+           {"bunny", "stanford-bunny.obj"}, {"cow", "cow.obj"}, {"spot", "spot.obj"}, {"teapot", "teapot.obj"}}) {
     if (!fs::exists(meshes / file)) {
       fmt::print("bench depth-object: {} skipped: {} is absent\n", name, (meshes / file).string());
       continue;
@@ -130,18 +130,41 @@ void RunDepthObjectBench(const DepthObjectBenchOptions& options) {
   const render::FillRate fill = render::MeasureFillRate(programs, fo);
   fmt::print("fill rate: {:.1f} M fragments/s\n", fill.fragments_per_second * 1e-6);
 
-  const std::vector<int> slice_counts = options.quick ? std::vector<int>{16, 64} : std::vector<int>{16, 64, 256};
-  const std::vector<int> sizes = options.quick ? std::vector<int>{128} : std::vector<int>{128, 256, 512};
+  std::vector<int> slice_counts = options.quick ? std::vector<int>{16, 64} : std::vector<int>{16, 64, 256};
+  std::vector<int> sizes = options.quick ? std::vector<int>{128} : std::vector<int>{128, 256, 512};
+  if (!options.slices.empty()) slice_counts = options.slices;
+  if (!options.sizes.empty()) sizes = options.sizes;
   const render::FrameTimerOptions timer{1, 3};
   const fs::path work = fs::temp_directory_path() / fmt::format("ibr_bench_depth_object_{}", ::getpid());
   fs::remove_all(work);
 
   Table table({"object", "method", "slices", "size", "ms_per_frame", "fill_rate_fraction", "time_to_first_image_s",
                "iou_mean", "iou_min", "mean_depth_error", "p95_depth_error", "psnr_db"});
+  Table accuracy({"object", "path", "slices_auto", "views", "size", "iou_min", "p95_depth_error", "meets_target"});
   Table fig_coverage({"family", "slices", "size", "covered_pixels", "ms_per_frame"});
   Table fig_slices({"family", "slices", "size", "ms_per_frame"});
 
-  const std::vector<Object> objects = Objects(options.quick);
+  std::vector<Object> objects = Objects(options.quick);
+  if (!options.objects.empty()) {
+    std::erase_if(objects, [&](const Object& o) {
+      return std::find(options.objects.begin(), options.objects.end(), o.name) == options.objects.end();
+    });
+  }
+  // The paths: the paper's slicing families, the ray path marching every step
+  // (skip grid off), and with empty-space skipping (ibr/empty_space.h).
+  // ray-skip-subtexel adds sub-texel depth (DepthObjectOptions::subtexel_depth).
+  struct Path {
+    std::string name;
+    ibr::Slicing slicing;
+    int skip_grid;
+    bool subtexel = false;
+  };
+  const ibr::DepthObjectOptions defaults;
+  const std::vector<Path> paths = {{"orthogonal", ibr::Slicing::kOrthogonal, 0},
+                                   {"screen", ibr::Slicing::kScreen, 0},
+                                   {"ray", ibr::Slicing::kRay, 0},
+                                   {"ray-skip", ibr::Slicing::kRay, defaults.skip_grid},
+                                   {"ray-skip-subtexel", ibr::Slicing::kRay, defaults.skip_grid, true}};
   for (const Object& object : objects) {
     capture::CaptureOptions co;
     co.rig = "cube";
@@ -161,11 +184,14 @@ void RunDepthObjectBench(const DepthObjectBenchOptions& options) {
       const std::vector<ibr::ViewCamera> views = Views(maps, 2, size);
       std::vector<capture::CapturedView> truth;
       for (const ibr::ViewCamera& v : views) truth.push_back(Truth(programs, object.scene, v, bounds));
-      for (ibr::Slicing slicing : {ibr::Slicing::kOrthogonal, ibr::Slicing::kScreen, ibr::Slicing::kRay}) {
+      for (const Path& path : paths) {
+        const ibr::Slicing slicing = path.slicing;
         for (int slices : slice_counts) {
           ibr::DepthObjectOptions o;
           o.slicing = slicing;
           o.slices = slices;
+          o.skip_grid = path.skip_grid;
+          o.subtexel_depth = path.subtexel;
           o.texturing = object.textured ? ibr::Texturing::kViewDependent : ibr::Texturing::kNone;
           core::Stopwatch first;
           ibr::DepthObjectFrame frame0 = renderer.RenderImages(views[0], o);
@@ -194,7 +220,7 @@ void RunDepthObjectBench(const DepthObjectBenchOptions& options) {
             if (object.textured) psnr += Psnr(f.color, f.depth, truth[i].color, truth[i].depth) / double(views.size());
           }
           const Accuracy a = Pool(acc);
-          const std::string method = fmt::format("depth-object {}", ibr::SlicingName(slicing));
+          const std::string method = fmt::format("depth-object {}", path.name);
           table.AddRow({object.name, method, std::to_string(slices), std::to_string(size), Num(t.median_ms, 2),
                         Num(fraction, 3), Num((upload_ms + first_ms) / 1000.0, 3), Num(a.iou_mean, 4),
                         Num(a.iou_min, 4), Num(a.mean_depth_error, 5), Num(a.p95_depth_error, 5),
@@ -203,6 +229,34 @@ void RunDepthObjectBench(const DepthObjectBenchOptions& options) {
                      "p95 depth {:.5f} edges\n", object.name, method, slices, size, t.median_ms, fraction,
                      a.iou_mean, a.p95_depth_error);
         }
+      }
+    }
+
+    {
+      // The accuracy check (issue 12): every path at its defaults (slices
+      // auto), 8 novel perspective views at 256 px (quick: 4 at 128) against
+      // the true mesh from each; IoU and p95 depth error in cube edges.
+      const int n_views = options.quick ? 4 : 8, size = options.quick ? 128 : 256;
+      const std::vector<ibr::ViewCamera> views = Views(maps, n_views, size);
+      std::vector<core::ImageF> truth;
+      for (const ibr::ViewCamera& v : views) truth.push_back(Truth(programs, object.scene, v, bounds).depth);
+      for (const Path& path : paths) {
+        ibr::DepthObjectOptions o;
+        o.slicing = path.slicing;
+        o.skip_grid = path.skip_grid;
+        o.subtexel_depth = path.subtexel;
+        o.texturing = ibr::Texturing::kNone;
+        std::vector<ViewAccuracy> acc;
+        for (size_t i = 0; i < views.size(); ++i) {
+          acc.push_back(CompareDepth(renderer.RenderImages(views[i], o).depth, truth[i], edge));
+        }
+        const Accuracy a = Pool(acc);
+        const int slices = ibr::PrepareFrame(renderer.maps(), views[0], o).slice_count;
+        accuracy.AddRow({object.name, path.name, std::to_string(slices), std::to_string(n_views), std::to_string(size),
+                         Num(a.iou_min, 4), Num(a.p95_depth_error, 5),
+                         a.iou_min >= 0.985 && a.p95_depth_error <= 0.006 ? "yes" : "no"});
+        fmt::print("{:7} accuracy check {:11} (auto: {} slices): IoU_min {:.4f}, p95 {:.5f} edges\n", object.name,
+                   path.name, slices, a.iou_min, a.p95_depth_error);
       }
     }
 
@@ -275,7 +329,9 @@ void RunDepthObjectBench(const DepthObjectBenchOptions& options) {
   const fs::path stem = options.csv.parent_path() / options.csv.stem();
   fig_coverage.WriteCsv(stem.string() + "_fig12_coverage.csv");
   fig_slices.WriteCsv(stem.string() + "_fig12_slices.csv");
-  fmt::print("wrote {} (+ _fig12_coverage.csv, _fig12_slices.csv)\n", options.csv.string());
+  accuracy.WriteCsv(stem.string() + "_accuracy.csv");
+  fmt::print("\n{}\n", accuracy.Format());
+  fmt::print("wrote {} (+ _fig12_coverage.csv, _fig12_slices.csv, _accuracy.csv)\n", options.csv.string());
   if (!options.out.empty()) {
     fs::create_directories(options.out);
     PlotOptions p;

@@ -1,8 +1,9 @@
 // `ibr bench depth-object`: what accuracy costs in time for image-based depth
 // objects (Kautz-Seidel 2001, sec. 4), printed and written, never asserted.
 //
-// Sweep: slicing family (orthogonal, screen) x slices x output size x object
-// (bunny, spot, teapot from ../shared/data/meshes, the analytic cup), each
+// Sweep: path (orthogonal, screen slices; the ray path with and without
+// empty-space skipping) x slices x output size x object (bunny, cow, spot,
+// teapot from ../shared/data/meshes, the analytic cup), each
 // object captured with the paper's cube rig (six orthographic maps, 256 px).
 // Per configuration: median frame time after warm-up (glFinish, wall clock;
 // render::TimeFrames), the fraction of the fill rate calibrated in the same
@@ -18,6 +19,8 @@
 #pragma once
 
 #include <filesystem>
+#include <string>
+#include <vector>
 
 namespace bench {
 
@@ -27,6 +30,12 @@ struct DepthObjectBenchOptions {
   // Small sweep (smoke test, ~30 s): the cup only, two slice counts, 128 px,
   // TSDF at 64 for the peer.
   bool quick = false;
+  // Restrict the full sweep (empty = all): object names (cup, bunny, cow,
+  // spot, teapot), output sizes in pixels, slice counts. The Fig. 12
+  // analogues and the peer run when the bunny is in the sweep.
+  std::vector<std::string> objects;
+  std::vector<int> sizes;
+  std::vector<int> slices;
   void Check() const;
 };
 

@@ -4,11 +4,13 @@
 #include <cmath>
 #include <cstring>
 
+#include <fmt/format.h>
 #include <glm/gtc/type_ptr.hpp>
 
 #include "core/check.h"
 #include "core/error.h"
 #include "core/projection.h"
+#include "ibr/empty_space.h"
 #include "ibr/view_weights.h"
 #include "render/cores/ray_core.h"
 
@@ -33,6 +35,23 @@ Texturing TexturingFromName(const std::string& name) {
   if (name == "none") return Texturing::kNone;
   core::ThrowInputError("TexturingFromName", "unknown texturing '{}' (vdt, visibility, none)", name);
 }
+int SliceCountFromName(const std::string& name) {
+  if (name == "auto") return DepthObjectOptions::kAutoSlices;
+  int n = 0;
+  size_t used = 0;
+  try {
+    n = std::stoi(name, &used);
+  } catch (const std::exception&) {
+    used = 0;
+  }
+  if (used == 0 || used != name.size() || n < 1 || n > 16384) {
+    core::ThrowInputError("SliceCountFromName", "slices '{}' is neither 'auto' nor a count in 1..16384", name);
+  }
+  return n;
+}
+std::string SliceCountName(int slices) {
+  return slices == DepthObjectOptions::kAutoSlices ? "auto" : std::to_string(slices);
+}
 std::string MethodName(Method m) { return m == Method::kDepthObject ? "depth-object" : "visual-hull"; }
 std::string SlicingName(Slicing s) {
   return s == Slicing::kOrthogonal ? "orthogonal" : s == Slicing::kScreen ? "screen" : "ray";
@@ -42,12 +61,18 @@ std::string TexturingName(Texturing t) {
 }
 
 void DepthObjectOptions::Check() const {
-  if (slices < 1 || slices > 16384) {
-    core::ThrowInputError("DepthObjectOptions", "slices {} outside 1..16384", slices);
+  if (slices != kAutoSlices && (slices < 1 || slices > 16384)) {
+    core::ThrowInputError("DepthObjectOptions", "slices {} outside 1..16384 (0 = auto)", slices);
   }
   if (robust_k < 0) core::ThrowInputError("DepthObjectOptions", "robust k {} is negative", robust_k);
   if (refine_steps < 0 || refine_steps > 32) {
     core::ThrowInputError("DepthObjectOptions", "refine steps {} outside 0..32", refine_steps);
+  }
+  if (skip_grid < 0 || skip_grid > 255) {
+    core::ThrowInputError("DepthObjectOptions", "skip grid {} outside 0..255", skip_grid);
+  }
+  if (!(subtexel_edge > 0) || !std::isfinite(subtexel_edge)) {
+    core::ThrowInputError("DepthObjectOptions", "subtexel edge {} must be > 0 texels", subtexel_edge);
   }
   if (!(visibility_tolerance >= 0) || !std::isfinite(visibility_tolerance)) {
     core::ThrowInputError("DepthObjectOptions", "visibility tolerance {} must be >= 0",
@@ -136,6 +161,24 @@ std::vector<int> ActiveMaps(const MapSet& maps, Method method, bool skip_opposit
   return active;
 }
 
+int AutoSliceCount(const MapSet& maps, const std::vector<int>& active, float extent_world) {
+  const glm::dvec3 centre = BoxCentre(maps);
+  double texel = INFINITY;
+  for (int i : active) {
+    const ImageMap& m = maps.maps[i];
+    const double f = std::max(m.camera.fx, m.camera.fy);
+    if (m.camera.orthographic) {
+      texel = std::min(texel, 1.0 / f);
+    } else {
+      const double z = (m.cam_from_world * glm::dvec4(centre, 1.0)).z;
+      if (z > 0) texel = std::min(texel, z / f);
+    }
+  }
+  if (!std::isfinite(texel) || !(texel > 0)) return 256;  // no map sees the box centre: the paper's range
+  const double n = std::ceil(extent_world / texel);
+  return static_cast<int>(std::clamp(n, 1.0, 4096.0));
+}
+
 FrameParams PrepareFrame(const MapSet& maps, const ViewCamera& view, const DepthObjectOptions& options) {
   options.Check();
   view.camera.Check("PrepareFrame: view");
@@ -176,6 +219,19 @@ FrameParams PrepareFrame(const MapSet& maps, const ViewCamera& view, const Depth
                                                       : render::SliceFamily::kScreen;
   so.order = render::SliceOrder::kFrontToBack;
   so.count = options.slices;
+  if (options.slices == DepthObjectOptions::kAutoSlices) {
+    // The slicing direction's extent over the box: the orthogonal family's
+    // axis (the distance between its planes x_axis = 0 and 1), else the
+    // view's depth range.
+    so.count = 1;
+    const render::SliceStack one = render::MakeSlices({f.world_from_box}, {f.cam_from_world, vc.orthographic}, so);
+    const float extent_along = one.spacing_world;
+    const std::vector<int> active =
+        ActiveMaps(maps, options.method, options.hull_skip_opposite,
+                   LookDirection(vc.orthographic, view.cam_from_world, BoxCentre(maps)));
+    so.count = AutoSliceCount(maps, active, extent_along);
+  }
+  f.slice_count = so.count;
   f.stack = render::MakeSlices({f.world_from_box}, {f.cam_from_world, vc.orthographic}, so);
   // Each slice plane in view camera space: p_box = A p_cam + b, so
   // dot(n_box, p_box) = c  <=>  dot(A^T n_box, p_cam) = c - dot(n_box, b).
@@ -239,6 +295,11 @@ struct DepthObjectRenderer::GpuTables {
   render::Texture depth, color;
 };
 
+struct DepthObjectRenderer::SkipTexture {
+  int resolution = 0;
+  render::Texture grid;  // R8UI 3D, ibr::SkipGrid::distance
+};
+
 namespace {
 
 render::Texture CreateArray(GLenum format, int w, int h, int layers) {
@@ -286,6 +347,33 @@ const DepthObjectRenderer::GpuTables& DepthObjectRenderer::Tables(Method method)
     slot->color = CreateArray(GL_RGBA8UI, t.width, t.height, t.layers);
     glTextureSubImage3D(slot->color.id(), 0, 0, 0, 0, t.width, t.height, t.layers, GL_RGBA_INTEGER,
                         GL_UNSIGNED_BYTE, t.color.data());
+    glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
+  }
+  return *slot;
+}
+
+const DepthObjectRenderer::SkipTexture& DepthObjectRenderer::Skip(const FrameParams& frame,
+                                                                   const DepthObjectOptions& options) {
+  SkipGridPolicy policy;
+  policy.visual_hull = options.method == Method::kVisualHull;
+  policy.outside_passes = options.outside == OutsidePolicy::kPass;
+  policy.invalid_depth_passes = options.invalid_depth == InvalidDepthPolicy::kNoConstraint;
+  policy.rejections_needed = static_cast<int>(frame.active.size()) - frame.required + 1;
+  std::string key = fmt::format("{} {} {} {} {} {}:", policy.visual_hull, policy.outside_passes,
+                                policy.invalid_depth_passes, policy.rejections_needed, options.skip_grid,
+                                frame.active.size());
+  for (int a : frame.active) key += fmt::format(" {}", a);
+  auto& slot = skip_grids_[key];
+  if (!slot) {
+    const MapTables& t = Tables(options.method).cpu;
+    const SkipGrid grid = BuildSkipGrid(maps_, t.depth, t.width, t.height, frame.active, policy, options.skip_grid);
+    slot = std::make_unique<SkipTexture>();
+    const int n = grid.resolution;
+    slot->resolution = n;
+    slot->grid = render::Texture::Create3D(GL_R8UI, n, n, n);
+    glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
+    glTextureSubImage3D(slot->grid.id(), 0, 0, 0, 0, n, n, n, GL_RED_INTEGER, GL_UNSIGNED_BYTE,
+                        grid.distance.data());
     glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
   }
   return *slot;
@@ -437,8 +525,14 @@ void DepthObjectRenderer::DrawSlices(const FrameParams& frame, const DepthObject
 
 // One full-screen triangle (fullscreen.vert.glsl) with no depth, stencil or
 // blending: the ray pass and the resolve pass.
-void DepthObjectRenderer::DrawFullScreenPass() const {
-  glDisable(GL_DEPTH_TEST);
+void DepthObjectRenderer::DrawFullScreenPass(bool depth_test) const {
+  if (depth_test) {
+    glEnable(GL_DEPTH_TEST);
+    glDepthFunc(GL_LESS);
+    glDepthMask(GL_TRUE);
+  } else {
+    glDisable(GL_DEPTH_TEST);
+  }
   glDisable(GL_STENCIL_TEST);
   glDisable(GL_BLEND);
   glBindVertexArray(empty_vao_.id());
@@ -454,10 +548,13 @@ void DepthObjectRenderer::DrawRay(const FrameParams& frame, const DepthObjectOpt
   UploadFrame(frame);
   BindMaps(tables);
   render::RayCoreOptions ray;
-  ray.max_steps = options.slices + 2;  // the box's depth range in slice spacings, plus the ends
-  ray.refine_steps = 8;
+  ray.max_steps = frame.slice_count + 2;  // the box's depth range in slice spacings, plus the ends
+  ray.refine_steps = options.refine_steps;
   std::vector<std::string> defines = Defines(frame, options);
   if (frame.robust) defines.push_back("ROBUST_COUNT");
+  const SkipTexture* skip = options.skip_grid > 0 ? &Skip(frame, options) : nullptr;
+  if (skip) defines.push_back("EMPTY_SPACE_SKIPPING");
+  if (options.subtexel_depth) defines.push_back("SUBTEXEL_DEPTH");
   for (const std::string& d : render::RayCoreDefines(ray)) defines.push_back(d);
   const render::Program& program = programs_->Get(
       {.vertex = "common/fullscreen.vert.glsl", .fragment = "passes/depth_object_ray.frag.glsl", .defines = defines});
@@ -466,16 +563,24 @@ void DepthObjectRenderer::DrawRay(const FrameParams& frame, const DepthObjectOpt
   const glm::mat4 box_from_cam = glm::inverse(frame.cam_from_world * frame.world_from_box);
   SetMat4(program, "u_box_from_cam", box_from_cam);
   glUniform1i(program.Uniform("u_required"), frame.required);
-  float extent = 0;
-  for (int k = 0; k < 3; ++k) extent = std::max(extent, glm::length(glm::vec3(frame.world_from_box[k])));
-  glUniform1f(program.Uniform("u_field_scale"), extent);
   glUniform1f(program.Uniform("u_ray_step"), frame.stack.spacing_world);
+  if (options.subtexel_depth) glUniform1f(program.Uniform("u_subtexel_edge"), options.subtexel_edge);
+  if (skip) {
+    glBindTextureUnit(5, skip->grid.id());
+    glUniform1i(program.Uniform("u_skip_grid"), 5);
+    glUniform1i(program.Uniform("u_skip_resolution"), skip->resolution);
+  }
   accum.Bind();
   DrawFullScreenPass();
 }
 
 void DepthObjectRenderer::DrawResolve(const FrameParams& frame, const DepthObjectOptions& options,
                                       const render::RenderTarget& accum) {
+  Resolve(frame, options, accum, nullptr);
+}
+
+void DepthObjectRenderer::Resolve(const FrameParams& frame, const DepthObjectOptions& options,
+                                  const render::RenderTarget& accum, const glm::mat4* frame_clip_from_cam) {
   const GpuTables& tables = Tables(options.method);
   UploadFrame(frame);
   BindMaps(tables);
@@ -483,6 +588,14 @@ void DepthObjectRenderer::DrawResolve(const FrameParams& frame, const DepthObjec
   defines.push_back(options.texturing == Texturing::kViewDependent ? "TEXTURING_VDT"
                     : options.texturing == Texturing::kVisibility  ? "TEXTURING_VISIBILITY"
                                                                    : "TEXTURING_NONE");
+  if (frame.robust) defines.push_back("ROBUST_COUNT");
+  // The ray variant's hits are already refined by the ray core; the slice
+  // passes' are refined here by the same refinement (render/ray_core.h).
+  const bool refine = options.refine_steps > 0 && frame.planes.size() >= 2 && options.slicing != Slicing::kRay;
+  render::RayCoreOptions ray;
+  ray.refine_steps = options.refine_steps;
+  for (const std::string& d : render::RayCoreDefines(ray)) defines.push_back(d);
+  if (frame_clip_from_cam) defines.push_back("FRAME_OUTPUT");
   const render::Program& resolve = programs_->Get(
       {.vertex = "common/fullscreen.vert.glsl", .fragment = "passes/depth_object_resolve.frag.glsl", .defines = defines});
   SetCommonUniforms(resolve, frame, false);
@@ -492,9 +605,8 @@ void DepthObjectRenderer::DrawResolve(const FrameParams& frame, const DepthObjec
   glUniform1i(resolve.Uniform("u_accum_depth"), 4);
   glUniform4fv(resolve.Uniform("u_background"), 1, glm::value_ptr(options.background));
   glUniform1f(resolve.Uniform("u_visibility_tolerance"), frame.visibility_tolerance);
-  // The ray variant's hits are already refined by the ray core.
-  const bool refine = options.refine_steps > 0 && frame.planes.size() >= 2 && options.slicing != Slicing::kRay;
-  glUniform1i(resolve.Uniform("u_refine_steps"), refine ? options.refine_steps : 0);
+  render::SetRayCoreUniforms(resolve, ray);
+  glUniform1i(resolve.Uniform("u_refine"), refine ? 1 : 0);
   if (refine) {
     glUniform4fv(resolve.Uniform("u_plane0"), 1, glm::value_ptr(frame.planes[0]));
     // Box-axis planes are 1/n apart in box units; screen planes spacing_world
@@ -503,7 +615,37 @@ void DepthObjectRenderer::DrawResolve(const FrameParams& frame, const DepthObjec
                                                                        : frame.stack.spacing_world);
   }
   glUniform1i(resolve.Uniform("u_required"), frame.required);
-  DrawFullScreenPass();
+  if (frame_clip_from_cam) SetMat4(resolve, "u_clip_from_cam", *frame_clip_from_cam);
+  DrawFullScreenPass(frame_clip_from_cam != nullptr);
+}
+
+void DepthObjectRenderer::Accumulate(const FrameParams& frame, const DepthObjectOptions& options) {
+  const render::RenderTarget& accum = Accum(frame.width, frame.height);
+  if (options.slicing == Slicing::kRay) {
+    DrawRay(frame, options, accum);
+  } else {
+    DrawSlices(frame, options, accum);
+  }
+}
+
+void DepthObjectRenderer::DrawToFrame(const ViewCamera& view, const DepthObjectOptions& options,
+                                      const glm::mat4& clip_from_cam, const render::RenderTarget& frame_target) {
+  if (frame_target.width() != view.camera.width || frame_target.height() != view.camera.height) {
+    core::ThrowInputError("DepthObjectRenderer::DrawToFrame", "target {}x{} differs from the view's {}x{}",
+                          frame_target.width(), frame_target.height(), view.camera.width, view.camera.height);
+  }
+  GLboolean depth_test = GL_FALSE, depth_mask = GL_TRUE;
+  GLint depth_func = GL_LESS;
+  glGetBooleanv(GL_DEPTH_TEST, &depth_test);
+  glGetBooleanv(GL_DEPTH_WRITEMASK, &depth_mask);
+  glGetIntegerv(GL_DEPTH_FUNC, &depth_func);
+  const FrameParams frame = PrepareFrame(maps_, view, options);
+  Accumulate(frame, options);
+  frame_target.Bind();
+  Resolve(frame, options, Accum(frame.width, frame.height), &clip_from_cam);
+  if (depth_test) glEnable(GL_DEPTH_TEST); else glDisable(GL_DEPTH_TEST);
+  glDepthMask(depth_mask);
+  glDepthFunc(static_cast<GLenum>(depth_func));
 }
 
 void DepthObjectRenderer::Render(const ViewCamera& view, const DepthObjectOptions& options,
@@ -513,28 +655,18 @@ void DepthObjectRenderer::Render(const ViewCamera& view, const DepthObjectOption
                           output.width(), output.height(), view.camera.width, view.camera.height);
   }
   const FrameParams frame = PrepareFrame(maps_, view, options);
-  const render::RenderTarget& accum = Accum(frame.width, frame.height);
-  if (options.slicing == Slicing::kRay) {
-    DrawRay(frame, options, accum);
-  } else {
-    DrawSlices(frame, options, accum);
-  }
+  Accumulate(frame, options);
   output.Bind();
-  DrawResolve(frame, options, accum);
+  DrawResolve(frame, options, Accum(frame.width, frame.height));
 }
 
 void DepthObjectRenderer::RenderToFramebuffer(const ViewCamera& view, const DepthObjectOptions& options,
                                               GLuint fbo) {
   const FrameParams frame = PrepareFrame(maps_, view, options);
-  const render::RenderTarget& accum = Accum(frame.width, frame.height);
-  if (options.slicing == Slicing::kRay) {
-    DrawRay(frame, options, accum);
-  } else {
-    DrawSlices(frame, options, accum);
-  }
+  Accumulate(frame, options);
   glBindFramebuffer(GL_DRAW_FRAMEBUFFER, fbo);
   glViewport(0, 0, frame.width, frame.height);
-  DrawResolve(frame, options, accum);
+  DrawResolve(frame, options, Accum(frame.width, frame.height));
 }
 
 DepthObjectFrame DepthObjectRenderer::RenderImages(const ViewCamera& view, const DepthObjectOptions& options) {

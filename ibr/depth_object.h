@@ -9,6 +9,7 @@
 // exactly these numbers, so they can agree pixel for pixel.
 #pragma once
 
+#include <map>
 #include <memory>
 #include <string>
 #include <vector>
@@ -52,6 +53,9 @@ enum class InvalidDepthPolicy {
 Method MethodFromName(const std::string& name);          // "depth-object", "visual-hull"
 Slicing SlicingFromName(const std::string& name);        // "orthogonal", "screen", "ray"
 Texturing TexturingFromName(const std::string& name);    // "vdt", "visibility", "none"
+// "auto" -> DepthObjectOptions::kAutoSlices, else a count in 1..16384.
+int SliceCountFromName(const std::string& name);
+std::string SliceCountName(int slices);  // "auto" or the count
 std::string MethodName(Method m);
 std::string SlicingName(Slicing s);
 std::string TexturingName(Texturing t);
@@ -59,10 +63,14 @@ std::string TexturingName(Texturing t);
 struct DepthObjectOptions {
   Method method = Method::kDepthObject;
   Slicing slicing = Slicing::kOrthogonal;
-  // Slices through the box per frame (>= 1). Depth resolution is one slice
-  // spacing; 128-256 is the paper's range. kRay: linear-search steps across
-  // the box's depth range (the screen slices' spacing), then bisection.
-  int slices = 128;
+  // Slices through the box per frame (>= 1), or kAutoSlices. Depth
+  // resolution is one slice spacing; 128-256 is the paper's range. kRay:
+  // linear-search steps across the box's depth range (the screen slices'
+  // spacing), then bisection. kAutoSlices (the default): sec. 3.4's rule
+  // that the slices sample the depth maps as densely as they were taken, one
+  // slice per depth texel along the slicing direction (AutoSliceCount).
+  static constexpr int kAutoSlices = 0;
+  int slices = kAutoSlices;
   // Robust intersection: keep pixels where at least N - k of the N maps agree
   // (0 = the paper's exact intersection). k >= N keeps the whole box.
   int robust_k = 0;
@@ -88,6 +96,23 @@ struct DepthObjectOptions {
   // the output depth and the texturing; 0 = the slice position itself (the
   // paper's result). The stencil/colour accumulation is unaffected.
   int refine_steps = 6;
+  // kRay: empty-space skipping (ibr/empty_space.h): voxels per box axis of
+  // the occupancy grid built from the maps (once per method and active map
+  // set); rays jump over voxels the maps prove empty and take the fine steps
+  // only near surfaces, with the same samples there as without it. 0 = off
+  // (every step). 64: a voxel spans 4 texels of a 256 px map, so the grid
+  // builds in milliseconds and still hugs the object.
+  int skip_grid = 64;
+  // kRay, depth objects: each map's depth interpolated bilinearly between
+  // neighbouring texels inside its silhouette on the same surface (within
+  // subtexel_edge texel widths of the nearest texel's depth), instead of the
+  // nearest texel's: smooth surfaces instead of one-texel terraces. The
+  // silhouettes stay per texel. The slice passes always use nearest texels
+  // (their bit-exact CPU reference).
+  bool subtexel_depth = false;
+  // Depth difference (texel widths) beyond which neighbours count as another
+  // surface: 4 keeps slopes up to 76 degrees to the map smooth.
+  float subtexel_edge = 4.0f;
 
   void Check() const;
 };
@@ -106,6 +131,7 @@ static_assert(sizeof(MapRecord) == 9 * 16, "std140 layout");
 // Every number one frame uses.
 struct FrameParams {
   int width = 0, height = 0;  // pixels
+  int slice_count = 0;        // slices (kRay: linear-search steps) this frame uses
   bool view_orthographic = false;
   glm::vec4 view_ray{0};      // ax, ay, bx, by (see depth_object_core.glsl)
   float view_height = 0;      // = height, as the float the shader uses
@@ -135,6 +161,14 @@ struct MapTables {
 };
 
 MapTables MakeMapTables(const MapSet& maps, Method method);
+
+// kAutoSlices: the finest texel of the active maps near the box centre
+// (orthographic: 1 / pixels per unit; pinhole: depth of the box centre /
+// focal length), in world units, and the count that spaces the slices (kRay:
+// the steps) one such texel apart along the box's extent in the slicing
+// direction (orthogonal: the chosen box axis; screen, ray: the view's depth
+// range over the box), at most 4096.
+int AutoSliceCount(const MapSet& maps, const std::vector<int>& active, float extent_world);
 
 FrameParams PrepareFrame(const MapSet& maps, const ViewCamera& view, const DepthObjectOptions& options);
 
@@ -166,6 +200,14 @@ class DepthObjectRenderer {
   // Renders into framebuffer `fbo` (0 = the window) with a viewport of the
   // view's size: the viewer's per-frame call.
   void RenderToFramebuffer(const ViewCamera& view, const DepthObjectOptions& options, GLuint fbo);
+  // Draws into a frame target of the pass contract (render/passes/pass.h:
+  // RGBA8 colour, R32F camera z, R32UI outcome flags, D24S8) already bound
+  // and begun: the resolve pass writes gl_FragDepth from `clip_from_cam` and
+  // is depth-tested (LESS) against what the frame holds, so objects of
+  // several passes composite by depth; empty pixels are left untouched.
+  // Restores the GL state it changes. ibr::DepthObjectPass calls it.
+  void DrawToFrame(const ViewCamera& view, const DepthObjectOptions& options, const glm::mat4& clip_from_cam,
+                   const render::RenderTarget& frame_target);
   // Render + readback.
   DepthObjectFrame RenderImages(const ViewCamera& view, const DepthObjectOptions& options);
   // Readback of a target Render() drew into.
@@ -191,17 +233,24 @@ class DepthObjectRenderer {
 
  private:
   struct GpuTables;
+  struct SkipTexture;
+  const SkipTexture& Skip(const FrameParams& frame, const DepthObjectOptions& options);
   const GpuTables& Tables(Method method);
   std::vector<std::string> Defines(const FrameParams& frame, const DepthObjectOptions& options) const;
   void BindMaps(const GpuTables& tables) const;
   void UploadFrame(const FrameParams& frame);
   void SetCommonUniforms(const render::Program& program, const FrameParams& frame, bool slices) const;
   const render::RenderTarget& Accum(int width, int height);
-  void DrawFullScreenPass() const;
+  void DrawFullScreenPass(bool depth_test = false) const;
+  void Accumulate(const FrameParams& frame, const DepthObjectOptions& options);
+  void Resolve(const FrameParams& frame, const DepthObjectOptions& options, const render::RenderTarget& accum,
+               const glm::mat4* frame_clip_from_cam);
 
   render::ProgramCache* programs_;
   MapSet maps_;
   std::unique_ptr<GpuTables> tables_[2];
+  // Skip grids by what they depend on (method, policies, k, active maps, resolution).
+  std::map<std::string, std::unique_ptr<SkipTexture>> skip_grids_;
   render::Buffer map_ubo_;      // the whole table (resolve pass)
   render::Buffer current_ubo_;  // one record per map at an aligned stride (map passes)
   GLint current_stride_ = 0;

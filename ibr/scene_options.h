@@ -10,7 +10,7 @@
 
 namespace ibr {
 
-// Keys: method, slicing, slices, texturing, robust (all optional; defaults are
+// Keys: method, slicing, slices (a count or "auto"), texturing, robust (all optional; defaults are
 // DepthObjectOptions'). InputError naming `where` and the key on a bad value.
 DepthObjectOptions DepthObjectOptionsFromJson(const nlohmann::json& render, const std::string& where);
 

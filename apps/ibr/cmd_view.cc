@@ -26,8 +26,8 @@ namespace {
 struct ViewCommandOptions {
   std::filesystem::path dataset;
   std::string method = "depth-object";
-  std::string slicing = "orthogonal";
-  int slices = 64;  // interactive default; raise in the panel for accuracy
+  std::string slicing = "ray";  // the fastest path (empty-space skipping)
+  std::string slices = "auto";  // sec. 3.4: one slice (ray: step) per depth texel
   std::string texturing = "vdt";
   int robust = 0;
   std::string window = "960x720";
@@ -41,7 +41,7 @@ class DatasetScene : public viewer::Scene {
     options_.method = ibr::MethodFromName(o.method);
     options_.slicing = ibr::SlicingFromName(o.slicing);
     options_.texturing = ibr::TexturingFromName(o.texturing);
-    options_.slices = o.slices;
+    options_.slices = ibr::SliceCountFromName(o.slices);
     options_.robust_k = o.robust;
     options_.background = {0.12f, 0.12f, 0.14f, 1.0f};
     options_.Check();
@@ -63,7 +63,7 @@ class DatasetScene : public viewer::Scene {
     if (ImGui::Combo("slicing", &slicing, "orthogonal\0screen\0ray\0")) {
       options_.slicing = static_cast<ibr::Slicing>(slicing);
     }
-    ImGui::SliderInt("slices", &options_.slices, 8, 512);
+    ImGui::SliderInt("slices (0 = auto)", &options_.slices, 0, 512);
     int texturing = static_cast<int>(options_.texturing);
     if (ImGui::Combo("texturing", &texturing, "view-dependent\0visibility\0none\0")) {
       options_.texturing = static_cast<ibr::Texturing>(texturing);
@@ -85,8 +85,9 @@ class DatasetScene : public viewer::Scene {
   }
 
   std::string Status() const override {
-    return fmt::format("{} maps, {} {} slicing, {} slices", renderer_.maps().maps.size(),
-                       ibr::MethodName(options_.method), ibr::SlicingName(options_.slicing), options_.slices);
+    return fmt::format("{} maps, {} {} path, {} slices", renderer_.maps().maps.size(),
+                       ibr::MethodName(options_.method), ibr::SlicingName(options_.slicing),
+                       ibr::SliceCountName(options_.slices));
   }
 
  private:
@@ -113,7 +114,7 @@ void RunView(ViewCommandOptions& o) {
   check.method = ibr::MethodFromName(o.method);
   check.slicing = ibr::SlicingFromName(o.slicing);
   check.texturing = ibr::TexturingFromName(o.texturing);
-  check.slices = o.slices;
+  check.slices = ibr::SliceCountFromName(o.slices);
   check.robust_k = o.robust;
   check.Check();
   const capture::Dataset dataset = capture::ReadDataset(o.dataset);
@@ -129,7 +130,8 @@ void AddViewCommand(CLI::App& app) {
   cmd->add_option("DATASET", o.dataset, "dataset directory (dataset.json)")->required();
   cmd->add_option("--method", o.method, "depth-object | visual-hull")->capture_default_str();
   cmd->add_option("--slicing", o.slicing, "orthogonal | screen | ray")->capture_default_str();
-  cmd->add_option("--slices", o.slices, "slices per frame (ray: linear-search steps)")->capture_default_str();
+  cmd->add_option("--slices", o.slices, "slices per frame (ray: linear-search steps), or auto (one per depth texel)")
+      ->capture_default_str();
   cmd->add_option("--texturing", o.texturing, "vdt | visibility | none")->capture_default_str();
   cmd->add_option("--robust", o.robust, "keep pixels where at least N-K maps agree")->capture_default_str();
   cmd->add_option("--window", o.window, "window size WIDTHxHEIGHT in pixels")->capture_default_str();
@@ -138,6 +140,9 @@ void AddViewCommand(CLI::App& app) {
   cmd->add_option("--screenshot", o.viewer.screenshot,
                   "render --frames frames, save the window to this PNG and exit (no interaction)");
   cmd->add_option("--frames", o.viewer.frames, "frames before the screenshot")->capture_default_str();
+  cmd->add_option("--up", o.viewer.up, "the world's up axis: x, y, z, -x, -y, -z")->capture_default_str();
+  cmd->add_option("--coarse", o.viewer.coarse_factor, "resolution divisor while the mouse drags (1 = off)")
+      ->capture_default_str();
   cmd->callback([] { RunView(o); });
 }
 

@@ -30,20 +30,38 @@ void ViewerOptions::Check() const {
     core::ThrowInputError("ViewerOptions", "field of view {} outside (1, 170) degrees", fov_y_degrees);
   }
   if (frames < 1 || frames > 100000) core::ThrowInputError("ViewerOptions", "frames {} outside 1..100000", frames);
+  if (coarse_factor < 1 || coarse_factor > 8) {
+    core::ThrowInputError("ViewerOptions", "coarse factor {} outside 1..8", coarse_factor);
+  }
+  UpAxisFromName(up);
+}
+
+glm::vec3 UpAxisFromName(const std::string& name) {
+  const bool minus = !name.empty() && name[0] == '-';
+  const std::string axis = minus ? name.substr(1) : name;
+  const float sign = minus ? -1.0f : 1.0f;
+  if (axis == "x") return {sign, 0, 0};
+  if (axis == "y") return {0, sign, 0};
+  if (axis == "z") return {0, 0, sign};
+  core::ThrowInputError("ViewerOptions", "up axis '{}' is not one of x, y, z, -x, -y, -z", name);
 }
 
 FrameCamera OrbitCamera(glm::vec3 centre, float radius, float azimuth_degrees,
                             float elevation_degrees, float distance_scale, float fov_y_degrees,
-                            int width, int height) {
+                            int width, int height, glm::vec3 up) {
   const float az = glm::radians(azimuth_degrees);
   // Clamp short of the poles so the up vector stays defined.
   const float el = glm::radians(std::clamp(elevation_degrees, -89.0f, 89.0f));
   const float fov = glm::radians(fov_y_degrees);
   const float distance = distance_scale * radius / std::sin(0.5f * fov);
-  const glm::vec3 eye = centre + distance * glm::vec3(std::cos(el) * std::cos(az),
-                                                      std::cos(el) * std::sin(az), std::sin(el));
+  // Orbit frame: e0, e1 span the plane orthogonal to the pole `up`.
+  const glm::vec3 helper = std::abs(up.x) < 0.9f ? glm::vec3(1, 0, 0) : glm::vec3(0, 1, 0);
+  const glm::vec3 e0 = glm::normalize(glm::cross(helper, up));
+  const glm::vec3 e1 = glm::cross(up, e0);
+  const glm::vec3 eye = centre + distance * (std::cos(el) * std::cos(az) * e0 +
+                                             std::cos(el) * std::sin(az) * e1 + std::sin(el) * up);
   FrameCamera camera;
-  camera.cam_from_world = core::CamFromWorldLookAt(eye, centre, {0, 0, 1});
+  camera.cam_from_world = core::CamFromWorldLookAt(eye, centre, up);
   camera.fx = camera.fy = 0.5 * height / std::tan(0.5 * fov);
   camera.cx = 0.5 * width;
   camera.cy = 0.5 * height;
@@ -110,6 +128,7 @@ void Run(const SceneFactory& make_scene, const ViewerOptions& options) {
   ImGui_ImplGlfw_InitForOpenGL(window, true);
   ImGui_ImplOpenGL3_Init("#version 330 core");
 
+  const glm::vec3 up = UpAxisFromName(options.up);
   OrbitState orbit;
   orbit.azimuth = options.azimuth_degrees;
   orbit.elevation = options.elevation_degrees;
@@ -138,8 +157,11 @@ void Run(const SceneFactory& make_scene, const ViewerOptions& options) {
       if (io.MouseWheel != 0) orbit.distance_scale = std::clamp(orbit.distance_scale * std::pow(0.9f, io.MouseWheel), 0.2f, 20.0f);
     }
 
-    const FrameCamera camera = OrbitCamera(scene.Centre(), scene.Radius(), orbit.azimuth, orbit.elevation,
-                                           orbit.distance_scale, options.fov_y_degrees, fb_w, fb_h);
+    // Coarse frames while the mouse drags; the full frame when it stops.
+    const int scale = orbit.dragging ? options.coarse_factor : 1;
+    const FrameCamera camera =
+        OrbitCamera(scene.Centre(), scene.Radius(), orbit.azimuth, orbit.elevation, orbit.distance_scale,
+                    options.fov_y_degrees, std::max(fb_w / scale, 1), std::max(fb_h / scale, 1), up);
     glFinish();
     core::Stopwatch watch;
     const render::RenderTarget* target = nullptr;
@@ -158,7 +180,7 @@ void Run(const SceneFactory& make_scene, const ViewerOptions& options) {
     glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT | GL_STENCIL_BUFFER_BIT);
     if (target) {
       glBlitNamedFramebuffer(target->framebuffer().id(), 0, 0, 0, target->width(), target->height(), 0, 0,
-                             fb_w, fb_h, GL_COLOR_BUFFER_BIT, GL_NEAREST);
+                             fb_w, fb_h, GL_COLOR_BUFFER_BIT, scale > 1 ? GL_LINEAR : GL_NEAREST);
     }
 
     ImGui_ImplOpenGL3_NewFrame();
@@ -168,7 +190,8 @@ void Run(const SceneFactory& make_scene, const ViewerOptions& options) {
     ImGui::SetNextWindowSize(ImVec2(400, 0), ImGuiCond_FirstUseEver);
     ImGui::Begin(scene.Title().c_str());
     const core::TimingStats stats = core::Summarize({frame_ms.begin(), frame_ms.end()});
-    ImGui::Text("frame %.1f ms (median of %d), %dx%d", stats.median_ms, stats.samples, fb_w, fb_h);
+    ImGui::Text("frame %.1f ms (median of %d), %dx%d%s", stats.median_ms, stats.samples, camera.width,
+                camera.height, scale > 1 ? " (coarse while dragging)" : "");
     const std::string status = scene.Status();
     if (!status.empty()) ImGui::TextUnformatted(status.c_str());
     if (!error.empty()) ImGui::TextColored(ImVec4(1, 0.4f, 0.4f, 1), "%s", error.c_str());

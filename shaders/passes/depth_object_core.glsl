@@ -17,6 +17,9 @@
 //                            map) are not constrained by it; else they are carved
 //   INVALID_DEPTH_PASSES     depth 0 inside the silhouette = no constraint; else empty
 //   VIEW_ORTHOGRAPHIC        the novel view is orthographic
+//   ROBUST_COUNT             ObjectField counts accepting maps (robust intersection)
+//   SUBTEXEL_DEPTH           depth interpolated inside the silhouette (ray path only;
+//                            the slice passes stay bit-exact with nearest texels)
 //   MAX_MAPS                 size of the map table (default 64)
 
 #ifndef MAX_MAPS
@@ -93,10 +96,11 @@ vec3 ViewPointAtDepth(vec2 uv, float z) {
 // Where view-camera point p falls in map m: its map-camera point q and its
 // texel (layer in .z). Returns false when p is outside the map's image or
 // behind a pinhole map.
-bool MapLookup(MapRecord m, vec3 p, out vec3 q, out ivec3 texel) {
+bool MapLookupUv(MapRecord m, vec3 p, out vec3 q, out ivec3 texel, out vec2 uv) {
   precise vec3 qq = m.m0.xyz * p.x + m.m1.xyz * p.y + m.m2.xyz * p.z + m.m3.xyz;
   q = qq;
   texel = ivec3(-1);
+  uv = vec2(-1.0);
   precise float u;
   precise float v;
   bool in_front;
@@ -116,34 +120,106 @@ bool MapLookup(MapRecord m, vec3 p, out vec3 q, out ivec3 texel) {
     return false;
   }
   texel = ivec3(int(u), int(v), m.info.w);
+  uv = vec2(u, v);
   return true;
 }
+bool MapLookup(MapRecord m, vec3 p, out vec3 q, out ivec3 texel) {
+  vec2 uv;
+  return MapLookupUv(m, p, q, texel, uv);
+}
+
+#ifdef SUBTEXEL_DEPTH
+// Sub-texel depth (issue 12, item 2): the depth at image point uv (texel
+// centres at +0.5) interpolated bilinearly over the 2x2 texels around it,
+// using only texels inside the silhouette with valid depth on the same
+// surface as the nearest texel (within u_subtexel_edge texel widths of
+// depth, so no ramp is drawn across a depth edge and no background bleeds
+// in); the nearest texel's depth d0 where no neighbour qualifies.
+uniform float u_subtexel_edge;  // texel widths
+float SubtexelDepth(MapRecord m, vec2 uv, float d0, float q_z) {
+  vec2 f = uv - 0.5;
+  ivec2 i0 = ivec2(floor(f));
+  vec2 t = f - vec2(i0);
+  // One texel's width in scene units at this depth (orthographic: 1 / sx).
+  float texel_size = m.info.z == 1 ? 1.0 / m.proj.x : q_z / m.proj.x;
+  float edge = u_subtexel_edge * texel_size;
+  float wsum = 0.0, dsum = 0.0;
+  for (int k = 0; k < 4; ++k) {
+    ivec2 ij = clamp(i0 + ivec2(k & 1, k >> 1), ivec2(0), m.info.xy - 1);
+    float dk = texelFetch(u_depth_maps, ivec3(ij, m.info.w), 0).r;
+    float w = ((k & 1) != 0 ? t.x : 1.0 - t.x) * ((k >> 1) != 0 ? t.y : 1.0 - t.y);
+    if (dk > 0.0 && abs(dk - d0) <= edge) {
+      wsum += w;
+      dsum += w * dk;
+    }
+  }
+  return wsum > 0.0 ? dsum / wsum : d0;
+}
+#endif
 
 // Kautz-Seidel 2001, sec. 4.1: a point belongs to the object if it passes
-// the test of every map; this is map m's test. Depth object: the point is
-// at or behind the surface map i saw (camera z >= depth; the paper: the
-// displacement exceeds the ramp). Visual hull (sec. 5): the point projects
-// inside map i's silhouette. `texel` is the texel used (-1 when outside).
-bool MapAccepts(MapRecord m, vec3 p, out ivec3 texel) {
+// the test of every map; this is map m's test as a signed field at p: <= 0
+// where m accepts p, > 0 where it carves. Depth object: the point is at or
+// behind the surface map m saw (camera z >= depth; the paper: the
+// displacement exceeds the ramp), field = depth - z in scene units, so the
+// field is continuous at surfaces (d - z <= 0 exactly when z >= d in IEEE
+// arithmetic: the CPU mirror tests z >= d). Visual hull (sec. 5): the point
+// projects inside map m's silhouette. `texel` is the texel used (-1 when
+// outside the image).
+const float kMapFree = -1e30;   // no constraint from this map
+const float kMapCarved = 1e30;  // carved by this map
+float MapField(MapRecord m, vec3 p, out ivec3 texel) {
   vec3 q;
-  if (!MapLookup(m, p, q, texel)) {
+  vec2 uv;
+  if (!MapLookupUv(m, p, q, texel, uv)) {
 #ifdef OUTSIDE_PASSES
-    return true;
+    return kMapFree;
 #else
-    return false;
+    return kMapCarved;
 #endif
   }
   float d = texelFetch(u_depth_maps, texel, 0).r;
-  if (d < 0.0) return false;  // outside the silhouette
+  if (d < 0.0) return kMapCarved;  // outside the silhouette
 #ifdef VISUAL_HULL
-  return true;
+  return kMapFree;
 #else
-  if (d > 0.0) return q.z >= d;
-#ifdef INVALID_DEPTH_PASSES
-  return true;
+#ifdef SUBTEXEL_DEPTH
+  if (d > 0.0) return SubtexelDepth(m, uv, d, q.z) - q.z;
 #else
-  return false;
+  if (d > 0.0) return d - q.z;
 #endif
+#ifdef INVALID_DEPTH_PASSES
+  return kMapFree;
+#else
+  return kMapCarved;
+#endif
+#endif
+}
+
+// The map test of the slice passes (the alpha test of sec. 4.1 step 2(a)ii).
+bool MapAccepts(MapRecord m, vec3 p, out ivec3 texel) {
+  return MapField(m, p, texel) <= 0.0;
+}
+
+// The object as one field over the active maps (extra.y = 1), for the ray
+// core (ray pass, resolve pass): "inside all maps" is the largest map field
+// (Kautz-Seidel's intersection); robust (ROBUST_COUNT): at least u_required
+// maps accept, as a step field.
+uniform int u_required;  // maps that must accept a point (N - k)
+float ObjectField(vec3 p) {
+  ivec3 texel;
+#ifdef ROBUST_COUNT
+  int accepted = 0;
+  for (int i = 0; i < u_map_count; ++i) {
+    if (u_maps[i].extra.y > 0.5 && MapField(u_maps[i], p, texel) <= 0.0) ++accepted;
+  }
+  return accepted >= u_required ? -1.0 : 1.0;
+#else
+  float f = kMapFree;
+  for (int i = 0; i < u_map_count; ++i) {
+    if (u_maps[i].extra.y > 0.5) f = max(f, MapField(u_maps[i], p, texel));
+  }
+  return f;
 #endif
 }
 

@@ -8,58 +8,40 @@
 #include "passes/depth_object_core.glsl"
 
 uniform mat4 u_box_from_cam;   // view camera -> box [0,1]^3
-uniform int u_required;        // maps that must accept a point (N - k)
-uniform float u_field_scale;   // scene units: the field value of "carved" (outside a mask, ...)
 uniform float u_ray_step;      // camera z per linear-search step (the screen slice spacing)
 
 layout(location = 0) out vec4 o_color;
 layout(location = 1) out vec2 o_depth;
 
-// Map m's signed field at p: <= 0 where m accepts p (the same decision as
-// MapAccepts), > 0 where it carves; for valid depth the signed depth
-// difference d - z (scene units), so the field is continuous at surfaces.
-float MapField(MapRecord m, vec3 p) {
-  const float kFree = -1e30;
-  vec3 q;
-  ivec3 texel;
-  if (!MapLookup(m, p, q, texel)) {
-#ifdef OUTSIDE_PASSES
-    return kFree;
-#else
-    return u_field_scale;
-#endif
-  }
-  float d = texelFetch(u_depth_maps, texel, 0).r;
-  if (d < 0.0) return u_field_scale;  // outside the silhouette
-#ifdef VISUAL_HULL
-  return -u_field_scale;
-#else
-  if (d > 0.0) return d - q.z;
-#ifdef INVALID_DEPTH_PASSES
-  return kFree;
-#else
-  return u_field_scale;
-#endif
-#endif
-}
+float RayField(vec3 p) { return ObjectField(p); }
 
-// "Inside all maps" (Kautz-Seidel's intersection): the largest map field;
-// robust (ROBUST_COUNT): enough maps accept, as a step field.
-float RayField(vec3 p) {
-#ifdef ROBUST_COUNT
-  int accepted = 0;
-  for (int i = 0; i < u_map_count; ++i) {
-    if (u_maps[i].extra.y > 0.5 && MapField(u_maps[i], p) <= 0.0) ++accepted;
+#ifdef EMPTY_SPACE_SKIPPING
+// Empty-space skipping (ibr/empty_space.h): per voxel of the box, the
+// chessboard distance in voxels to the nearest voxel the maps do not prove
+// empty (0 = maybe occupied). From a sample in a voxel at distance D the
+// cube of voxels within D - 1 is free; the skip is the ray's path to that
+// cube's exit, rounded down to whole steps so that every sample the march
+// still takes is one the fine march takes too (same first surface).
+#define RAY_SKIP
+uniform usampler3D u_skip_grid;  // R8UI
+uniform int u_skip_resolution;   // voxels per box axis
+vec3 g_ray_dir_in_grid;          // the current ray's direction, grid units per t
+
+float RaySkip(vec3 p) {
+  vec3 g = (u_box_from_cam * vec4(p, 1.0)).xyz * float(u_skip_resolution);
+  ivec3 c = clamp(ivec3(floor(g)), ivec3(0), ivec3(u_skip_resolution - 1));
+  uint dist = texelFetch(u_skip_grid, c, 0).r;
+  if (dist == 0u) return 0.0;
+  vec3 lo = vec3(c) - float(dist - 1u), hi = vec3(c) + float(dist);
+  float t_exit = 1e30;
+  for (int k = 0; k < 3; ++k) {
+    float dk = g_ray_dir_in_grid[k];
+    if (dk > 0.0) t_exit = min(t_exit, (hi[k] - g[k]) / dk);
+    if (dk < 0.0) t_exit = min(t_exit, (lo[k] - g[k]) / dk);
   }
-  return accepted >= u_required ? -1.0 : 1.0;
-#else
-  float f = -1e30;
-  for (int i = 0; i < u_map_count; ++i) {
-    if (u_maps[i].extra.y > 0.5) f = max(f, MapField(u_maps[i], p));
-  }
-  return f;
-#endif
+  return floor(max(t_exit, 0.0) / u_ray_step) * u_ray_step;
 }
+#endif
 
 #include "cores/ray_core.glsl"
 
@@ -83,6 +65,9 @@ void main() {
   o_color = vec4(0.0);
   o_depth = vec2(0.0);
   if (!(span.x < span.y)) return;
+#ifdef EMPTY_SPACE_SKIPPING
+  g_ray_dir_in_grid = d_box * float(u_skip_resolution);
+#endif
   RayMarch r;
   r.origin = o + span.x * d;
   r.dir = d;

@@ -17,25 +17,17 @@ uniform sampler2D u_accum_depth;  // RG32F: view camera z of the first surface, 
 uniform vec4 u_background;        // RGBA where nothing is drawn
 uniform float u_visibility_tolerance;  // scene units along each map's z
 // Refinement of the first surface between the slice that finished the pixel
-// and the one before it (all slices of a frame are parallel planes):
-uniform int u_refine_steps;    // bisection steps, 0 = the slice position itself
+// and the one before it (all slices of a frame are parallel planes), by the
+// ray core's refinement (RayRefineCrossing) on the object's field:
+uniform int u_refine;          // 1 = refine, 0 = the slice position itself
 uniform vec4 u_plane0;         // the first slice's plane (normal in xyz)
 uniform float u_plane_step;    // |w| difference between neighbouring slices (> 0)
-uniform int u_required;        // maps that must accept a point (N - k)
 
-// How many active maps accept p (extra.y = 1 marks the active maps).
-int AcceptCount(vec3 p) {
-  int n = 0;
-  for (int i = 0; i < u_map_count; ++i) {
-    if (u_maps[i].extra.y < 0.5) continue;
-    ivec3 texel;
-    if (MapAccepts(u_maps[i], p, texel)) ++n;
-  }
-  return n;
-}
+float RayField(vec3 p) { return ObjectField(p); }
+#include "ray_core.glsl"
 
-// Bisection on the pixel's ray between the previous slice (outside) and the
-// finishing slice (inside): the first-surface point to texture and to report.
+// The first-surface point to texture and to report: the crossing between the
+// previous slice (outside) and the finishing slice (inside) on the pixel's ray.
 vec3 RefineSurface(vec2 uv, vec3 p_inside) {
   // The neighbouring plane on the eye's side: along the ray, w grows with
   // the distance when dot(n, ray) > 0 (perspective: sign(w), the eye has w 0).
@@ -46,15 +38,25 @@ vec3 RefineSurface(vec2 uv, vec3 p_inside) {
   float toward_eye = w > 0.0 ? -1.0 : 1.0;
 #endif
   vec3 p_outside = ViewPointOnPlane(uv, vec4(u_plane0.xyz, w + toward_eye * u_plane_step));
-  for (int k = 0; k < u_refine_steps; ++k) {
-    vec3 mid = 0.5 * (p_outside + p_inside);
-    if (AcceptCount(mid) >= u_required) p_inside = mid; else p_outside = mid;
-  }
-  return p_inside;
+  float s = RayRefineCrossing(p_outside, p_inside, RayField(p_outside), RayField(p_inside));
+  return mix(p_outside, p_inside, s);
 }
 
 layout(location = 0) out vec4 o_color;
 layout(location = 1) out vec2 o_depth;  // camera z (0 where empty), covered
+
+#ifdef FRAME_OUTPUT
+// The pass contract's frame (render/passes/pass.h): attachment 1 is R32F
+// (camera z: o_depth.x), 2 the R32UI outcome flags; the window depth from
+// u_clip_from_cam, depth-tested against the frame; empty pixels discarded.
+uniform mat4 u_clip_from_cam;
+layout(location = 2) out uint o_outcome;
+float WindowDepth(vec3 p) {
+  vec4 clip = u_clip_from_cam * vec4(p, 1.0);
+  float ndc = clip.z / clip.w;
+  return 0.5 * (gl_DepthRange.diff * ndc + gl_DepthRange.near + gl_DepthRange.far);
+}
+#endif
 
 vec3 VdtColor(ivec2 px) {
   vec4 acc = texelFetch(u_accum_color, px, 0);
@@ -144,11 +146,14 @@ void main() {
   vec3 n = cross(dFdx(p), dFdy(p));
 #endif
   if (zc.y < 0.5) {
+#ifdef FRAME_OUTPUT
+    discard;
+#endif
     o_color = u_background;
     o_depth = vec2(0.0);
     return;
   }
-  if (u_refine_steps > 0) p = RefineSurface(FragmentUv(), p);
+  if (u_refine != 0) p = RefineSurface(FragmentUv(), p);
   vec3 rgb;
 #if defined(TEXTURING_VISIBILITY)
   rgb = VisibilityColor(px, p);
@@ -161,4 +166,8 @@ void main() {
 #endif
   o_color = vec4(rgb, 1.0);
   o_depth = vec2(p.z, 1.0);
+#ifdef FRAME_OUTPUT
+  gl_FragDepth = WindowDepth(p);
+  o_outcome = 1u << RAY_OUTCOME_HIT;
+#endif
 }
