@@ -1,13 +1,13 @@
 #include "bench/depth_object_bench.h"
 
+#include <fmt/format.h>
+#include <unistd.h>
+
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <string>
 #include <vector>
-
-#include <fmt/format.h>
-#include <unistd.h>
 
 #include "bench/peer.h"
 #include "bench/report.h"
@@ -80,8 +80,11 @@ std::vector<Object> Objects(bool quick) {
   objects.push_back({"cup", capture::MakeShapeScene("cup"), false});
   if (quick) return objects;
   const fs::path meshes = ibr::SharedDataDir() / "meshes";
-  for (const auto& [name, file] : std::vector<std::pair<std::string, std::string>>{
-           {"bunny", "stanford-bunny.obj"}, {"cow", "cow.obj"}, {"spot", "spot.obj"}, {"teapot", "teapot.obj"}}) {
+  for (const auto& [name, file] :
+       std::vector<std::pair<std::string, std::string>>{{"bunny", "stanford-bunny.obj"},
+                                                        {"cow", "cow.obj"},
+                                                        {"spot", "spot.obj"},
+                                                        {"teapot", "teapot.obj"}}) {
     if (!fs::exists(meshes / file)) {
       fmt::print("bench depth-object: {} skipped: {} is absent\n", name, (meshes / file).string());
       continue;
@@ -113,7 +116,8 @@ void DepthObjectBenchOptions::Check() const {
   constexpr const char* kWhere = "bench depth-object";
   if (csv.empty()) core::ThrowInputError(kWhere, "--csv FILE is required");
   const fs::path folder = fs::absolute(csv).parent_path();
-  if (!fs::is_directory(folder)) core::ThrowInputError(kWhere, "--csv '{}': no folder '{}'", csv.string(), folder.string());
+  if (!fs::is_directory(folder))
+    core::ThrowInputError(kWhere, "--csv '{}': no folder '{}'", csv.string(), folder.string());
 }
 
 void RunDepthObjectBench(const DepthObjectBenchOptions& options) {
@@ -128,26 +132,31 @@ void RunDepthObjectBench(const DepthObjectBenchOptions& options) {
   fo.layers_per_frame = options.quick ? 8 : 32;
   fo.timer = {1, options.quick ? 3 : 5};
   const render::FillRate fill = render::MeasureFillRate(programs, fo);
-  fmt::print("fill rate: {:.1f} M fragments/s\n", fill.fragments_per_second * 1e-6);
+  fmt::print(stderr, "fill rate: {:.1f} M fragments/s\n", fill.fragments_per_second * 1e-6);
 
-  std::vector<int> slice_counts = options.quick ? std::vector<int>{16, 64} : std::vector<int>{16, 64, 256};
+  std::vector<int> slice_counts =
+      options.quick ? std::vector<int>{16, 64} : std::vector<int>{16, 64, 256};
   std::vector<int> sizes = options.quick ? std::vector<int>{128} : std::vector<int>{128, 256, 512};
   if (!options.slices.empty()) slice_counts = options.slices;
   if (!options.sizes.empty()) sizes = options.sizes;
   const render::FrameTimerOptions timer{1, 3};
-  const fs::path work = fs::temp_directory_path() / fmt::format("ibr_bench_depth_object_{}", ::getpid());
+  const fs::path work =
+      fs::temp_directory_path() / fmt::format("ibr_bench_depth_object_{}", ::getpid());
   fs::remove_all(work);
 
-  Table table({"object", "method", "slices", "size", "ms_per_frame", "fill_rate_fraction", "time_to_first_image_s",
-               "iou_mean", "iou_min", "mean_depth_error", "p95_depth_error", "psnr_db"});
-  Table accuracy({"object", "path", "slices_auto", "views", "size", "iou_min", "p95_depth_error", "meets_target"});
+  Table table({"object", "method", "slices", "size", "ms_per_frame", "fill_rate_fraction",
+               "time_to_first_image_s", "iou_mean", "iou_min", "mean_depth_error",
+               "p95_depth_error", "psnr_db"});
+  Table accuracy({"object", "path", "slices_auto", "views", "size", "iou_min", "p95_depth_error",
+                  "meets_target"});
   Table fig_coverage({"family", "slices", "size", "covered_pixels", "ms_per_frame"});
   Table fig_slices({"family", "slices", "size", "ms_per_frame"});
 
   std::vector<Object> objects = Objects(options.quick);
   if (!options.objects.empty()) {
     std::erase_if(objects, [&](const Object& o) {
-      return std::find(options.objects.begin(), options.objects.end(), o.name) == options.objects.end();
+      return std::find(options.objects.begin(), options.objects.end(), o.name) ==
+             options.objects.end();
     });
   }
   // The paths: the paper's slicing families, the ray path marching every step
@@ -160,17 +169,19 @@ void RunDepthObjectBench(const DepthObjectBenchOptions& options) {
     bool subtexel = false;
   };
   const ibr::DepthObjectOptions defaults;
-  const std::vector<Path> paths = {{"orthogonal", ibr::Slicing::kOrthogonal, 0},
-                                   {"screen", ibr::Slicing::kScreen, 0},
-                                   {"ray", ibr::Slicing::kRay, 0},
-                                   {"ray-skip", ibr::Slicing::kRay, defaults.skip_grid},
-                                   {"ray-skip-subtexel", ibr::Slicing::kRay, defaults.skip_grid, true}};
+  const std::vector<Path> paths = {
+      {"orthogonal", ibr::Slicing::kOrthogonal, 0},
+      {"screen", ibr::Slicing::kScreen, 0},
+      {"ray", ibr::Slicing::kRay, 0},
+      {"ray-skip", ibr::Slicing::kRay, defaults.skip_grid},
+      {"ray-skip-subtexel", ibr::Slicing::kRay, defaults.skip_grid, true}};
   for (const Object& object : objects) {
     capture::CaptureOptions co;
     co.rig = "cube";
     co.size = kMapSize;
     co.shade = false;  // albedo maps: colour compares with an unshaded truth
-    const capture::Dataset cube = capture::CaptureDataset(programs, object.scene, co, work / object.name / "cube");
+    const capture::Dataset cube =
+        capture::CaptureDataset(programs, object.scene, co, work / object.name / "cube");
     const capture::Dataset cube_read = capture::ReadDataset(work / object.name / "cube");
     const ibr::MapSet maps = ibr::MapsFromDataset(cube_read);
     const capture::Bounds bounds = *cube_read.bounds;
@@ -183,7 +194,8 @@ void RunDepthObjectBench(const DepthObjectBenchOptions& options) {
       // Two novel views per size: view 0 is timed, both are measured.
       const std::vector<ibr::ViewCamera> views = Views(maps, 2, size);
       std::vector<capture::CapturedView> truth;
-      for (const ibr::ViewCamera& v : views) truth.push_back(Truth(programs, object.scene, v, bounds));
+      for (const ibr::ViewCamera& v : views)
+        truth.push_back(Truth(programs, object.scene, v, bounds));
       for (const Path& path : paths) {
         const ibr::Slicing slicing = path.slicing;
         for (int slices : slice_counts) {
@@ -196,9 +208,10 @@ void RunDepthObjectBench(const DepthObjectBenchOptions& options) {
           core::Stopwatch first;
           ibr::DepthObjectFrame frame0 = renderer.RenderImages(views[0], o);
           const double first_ms = first.ElapsedMs();
-          const render::RenderTarget target(
-              ibr::DepthObjectRenderer::OutputTargetOptions(views[0].camera.width, views[0].camera.height));
-          const core::TimingStats t = render::TimeFrames([&] { renderer.Render(views[0], o, target); }, timer);
+          const render::RenderTarget target(ibr::DepthObjectRenderer::OutputTargetOptions(
+              views[0].camera.width, views[0].camera.height));
+          const core::TimingStats t =
+              render::TimeFrames([&] { renderer.Render(views[0], o, target); }, timer);
           // Fragments the slice passes shade: slice coverage x maps in the loop.
           // The ray variant shades one fragment per pixel that marches many
           // steps: no fill-rate fraction is comparable (nan).
@@ -215,19 +228,25 @@ void RunDepthObjectBench(const DepthObjectBenchOptions& options) {
           std::vector<ViewAccuracy> acc;
           double psnr = 0;
           for (size_t i = 0; i < views.size(); ++i) {
-            const ibr::DepthObjectFrame f = i == 0 ? std::move(frame0) : renderer.RenderImages(views[i], o);
+            const ibr::DepthObjectFrame f =
+                i == 0 ? std::move(frame0) : renderer.RenderImages(views[i], o);
             acc.push_back(CompareDepth(f.depth, truth[i].depth, edge));
-            if (object.textured) psnr += Psnr(f.color, f.depth, truth[i].color, truth[i].depth) / double(views.size());
+            if (object.textured)
+              psnr += Psnr(f.color, f.depth, truth[i].color, truth[i].depth) / double(views.size());
           }
           const Accuracy a = Pool(acc);
           const std::string method = fmt::format("depth-object {}", path.name);
-          table.AddRow({object.name, method, std::to_string(slices), std::to_string(size), Num(t.median_ms, 2),
-                        Num(fraction, 3), Num((upload_ms + first_ms) / 1000.0, 3), Num(a.iou_mean, 4),
+          table.AddRow({object.name, method, std::to_string(slices), std::to_string(size),
+                        Num(t.median_ms, 2), Num(fraction, 3),
+                        Num((upload_ms + first_ms) / 1000.0, 3), Num(a.iou_mean, 4),
                         Num(a.iou_min, 4), Num(a.mean_depth_error, 5), Num(a.p95_depth_error, 5),
                         object.textured ? Num(psnr, 2) : "nan"});
-          fmt::print("{:7} {:24} {:4} slices {:5} px: {:9.2f} ms/frame ({:.2f} of fill rate), IoU {:.4f}, "
-                     "p95 depth {:.5f} edges\n", object.name, method, slices, size, t.median_ms, fraction,
-                     a.iou_mean, a.p95_depth_error);
+          fmt::print(
+              stderr,
+              "{:7} {:24} {:4} slices {:5} px: {:9.2f} ms/frame ({:.2f} of fill rate), IoU {:.4f}, "
+              "p95 depth {:.5f} edges\n",
+              object.name, method, slices, size, t.median_ms, fraction, a.iou_mean,
+              a.p95_depth_error);
         }
       }
     }
@@ -239,7 +258,8 @@ void RunDepthObjectBench(const DepthObjectBenchOptions& options) {
       const int n_views = options.quick ? 4 : 8, size = options.quick ? 128 : 256;
       const std::vector<ibr::ViewCamera> views = Views(maps, n_views, size);
       std::vector<core::ImageF> truth;
-      for (const ibr::ViewCamera& v : views) truth.push_back(Truth(programs, object.scene, v, bounds).depth);
+      for (const ibr::ViewCamera& v : views)
+        truth.push_back(Truth(programs, object.scene, v, bounds).depth);
       for (const Path& path : paths) {
         ibr::DepthObjectOptions o;
         o.slicing = path.slicing;
@@ -252,19 +272,23 @@ void RunDepthObjectBench(const DepthObjectBenchOptions& options) {
         }
         const Accuracy a = Pool(acc);
         const int slices = ibr::PrepareFrame(renderer.maps(), views[0], o).slice_count;
-        accuracy.AddRow({object.name, path.name, std::to_string(slices), std::to_string(n_views), std::to_string(size),
-                         Num(a.iou_min, 4), Num(a.p95_depth_error, 5),
+        accuracy.AddRow({object.name, path.name, std::to_string(slices), std::to_string(n_views),
+                         std::to_string(size), Num(a.iou_min, 4), Num(a.p95_depth_error, 5),
                          a.iou_min >= 0.985 && a.p95_depth_error <= 0.006 ? "yes" : "no"});
-        fmt::print("{:7} accuracy check {:11} (auto: {} slices): IoU_min {:.4f}, p95 {:.5f} edges\n", object.name,
-                   path.name, slices, a.iou_min, a.p95_depth_error);
+        fmt::print(
+            stderr,
+            "{:7} accuracy check {:11} (auto: {} slices): IoU_min {:.4f}, p95 {:.5f} edges\n",
+            object.name, path.name, slices, a.iou_min, a.p95_depth_error);
       }
     }
 
-    if (object.name == "bunny" || options.quick) {
+    if ((object.name == "bunny" && options.figures) || options.quick) {
       // Figure 12 analogues (the paper: time against covered pixels at 128
       // slices; against slices at 300x300).
-      const std::vector<int> fig_sizes = options.quick ? std::vector<int>{64, 128} : std::vector<int>{128, 192, 256, 384, 512};
-      const std::vector<int> fig_slices_n = options.quick ? std::vector<int>{16, 32} : std::vector<int>{16, 32, 64, 128, 256, 512};
+      const std::vector<int> fig_sizes =
+          options.quick ? std::vector<int>{64, 128} : std::vector<int>{128, 192, 256, 384, 512};
+      const std::vector<int> fig_slices_n =
+          options.quick ? std::vector<int>{16, 32} : std::vector<int>{16, 32, 64, 128, 256, 512};
       for (ibr::Slicing slicing : {ibr::Slicing::kOrthogonal, ibr::Slicing::kScreen}) {
         ibr::DepthObjectOptions o;
         o.slicing = slicing;
@@ -275,19 +299,23 @@ void RunDepthObjectBench(const DepthObjectBenchOptions& options) {
           const ibr::DepthObjectFrame f = renderer.RenderImages(v, o);
           int64_t covered = 0;
           for (uint8_t m : f.mask.values()) covered += m > 0;
-          const render::RenderTarget target(ibr::DepthObjectRenderer::OutputTargetOptions(size, size));
-          const core::TimingStats t = render::TimeFrames([&] { renderer.Render(v, o, target); }, timer);
-          fig_coverage.AddRow({ibr::SlicingName(slicing), "128", std::to_string(size), std::to_string(covered),
-                               Num(t.median_ms, 2)});
+          const render::RenderTarget target(
+              ibr::DepthObjectRenderer::OutputTargetOptions(size, size));
+          const core::TimingStats t =
+              render::TimeFrames([&] { renderer.Render(v, o, target); }, timer);
+          fig_coverage.AddRow({ibr::SlicingName(slicing), "128", std::to_string(size),
+                               std::to_string(covered), Num(t.median_ms, 2)});
         }
         const int fig_size = options.quick ? 100 : 300;
         const ibr::ViewCamera v = Views(maps, 1, fig_size)[0];
-        const render::RenderTarget target(ibr::DepthObjectRenderer::OutputTargetOptions(fig_size, fig_size));
+        const render::RenderTarget target(
+            ibr::DepthObjectRenderer::OutputTargetOptions(fig_size, fig_size));
         for (int slices : fig_slices_n) {
           o.slices = slices;
-          const core::TimingStats t = render::TimeFrames([&] { renderer.Render(v, o, target); }, timer);
-          fig_slices.AddRow({ibr::SlicingName(slicing), std::to_string(slices), std::to_string(fig_size),
-                             Num(t.median_ms, 2)});
+          const core::TimingStats t =
+              render::TimeFrames([&] { renderer.Render(v, o, target); }, timer);
+          fig_slices.AddRow({ibr::SlicingName(slicing), std::to_string(slices),
+                             std::to_string(fig_size), Num(t.median_ms, 2)});
         }
       }
     }
@@ -306,16 +334,21 @@ void RunDepthObjectBench(const DepthObjectBenchOptions& options) {
         const int size = sizes.back();
         const std::vector<ibr::ViewCamera> views = Views(maps, 2, size);
         std::vector<core::ImageF> truth;
-        for (const ibr::ViewCamera& v : views) truth.push_back(Truth(programs, object.scene, v, bounds).depth);
+        for (const ibr::ViewCamera& v : views)
+          truth.push_back(Truth(programs, object.scene, v, bounds).depth);
         capture::Bounds draw = bounds;
         draw.min -= 0.1 * edge;
         draw.max += 0.1 * edge;
         for (const MethodRow& r : EvaluatePeer(programs, run, views, truth, draw, edge)) {
-          table.AddRow({object.name, r.method, "0", std::to_string(size), Num(r.median_frame_ms, 2), "nan",
-                        Num(r.time_to_first_image_s, 3), Num(r.accuracy.iou_mean, 4), Num(r.accuracy.iou_min, 4),
-                        Num(r.accuracy.mean_depth_error, 5), Num(r.accuracy.p95_depth_error, 5), "nan"});
-          fmt::print("{:7} {:24} {:5} px: first image {:.3f} s, IoU {:.4f}, p95 depth {:.5f} edges\n", object.name,
-                     r.method, size, r.time_to_first_image_s, r.accuracy.iou_mean, r.accuracy.p95_depth_error);
+          table.AddRow({object.name, r.method, "0", std::to_string(size), Num(r.median_frame_ms, 2),
+                        "nan", Num(r.time_to_first_image_s, 3), Num(r.accuracy.iou_mean, 4),
+                        Num(r.accuracy.iou_min, 4), Num(r.accuracy.mean_depth_error, 5),
+                        Num(r.accuracy.p95_depth_error, 5), "nan"});
+          fmt::print(
+              stderr,
+              "{:7} {:24} {:5} px: first image {:.3f} s, IoU {:.4f}, p95 depth {:.5f} edges\n",
+              object.name, r.method, size, r.time_to_first_image_s, r.accuracy.iou_mean,
+              r.accuracy.p95_depth_error);
         }
       } catch (const core::InputError& e) {
         fmt::print("bench depth-object: the Open3D peer did not run: {}\n", e.what());
@@ -331,7 +364,8 @@ void RunDepthObjectBench(const DepthObjectBenchOptions& options) {
   fig_slices.WriteCsv(stem.string() + "_fig12_slices.csv");
   accuracy.WriteCsv(stem.string() + "_accuracy.csv");
   fmt::print("\n{}\n", accuracy.Format());
-  fmt::print("wrote {} (+ _fig12_coverage.csv, _fig12_slices.csv, _accuracy.csv)\n", options.csv.string());
+  fmt::print("wrote {} (+ _fig12_coverage.csv, _fig12_slices.csv, _accuracy.csv)\n",
+             options.csv.string());
   if (!options.out.empty()) {
     fs::create_directories(options.out);
     PlotOptions p;

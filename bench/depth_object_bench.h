@@ -25,7 +25,8 @@
 namespace bench {
 
 struct DepthObjectBenchOptions {
-  std::filesystem::path csv;  // required: the sweep table; fig12 tables go beside it (*_fig12_*.csv)
+  std::filesystem::path
+      csv;  // required: the sweep table; fig12 tables go beside it (*_fig12_*.csv)
   std::filesystem::path out;  // optional: PNG plots (error vs time, Fig. 12 analogues)
   // Small sweep (smoke test, ~30 s): the cup only, two slice counts, 128 px,
   // TSDF at 64 for the peer.
@@ -36,6 +37,8 @@ struct DepthObjectBenchOptions {
   std::vector<std::string> objects;
   std::vector<int> sizes;
   std::vector<int> slices;
+  // The Fig. 12 analogues (bunny; minutes of the full run).
+  bool figures = true;
   void Check() const;
 };
 

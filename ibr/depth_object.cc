@@ -1,10 +1,10 @@
 #include "ibr/depth_object.h"
 
+#include <fmt/format.h>
+
 #include <algorithm>
 #include <cmath>
 #include <cstring>
-
-#include <fmt/format.h>
 #include <glm/gtc/type_ptr.hpp>
 
 #include "core/check.h"
@@ -33,7 +33,8 @@ Texturing TexturingFromName(const std::string& name) {
   if (name == "vdt") return Texturing::kViewDependent;
   if (name == "visibility") return Texturing::kVisibility;
   if (name == "none") return Texturing::kNone;
-  core::ThrowInputError("TexturingFromName", "unknown texturing '{}' (vdt, visibility, none)", name);
+  core::ThrowInputError("TexturingFromName", "unknown texturing '{}' (vdt, visibility, none)",
+                        name);
 }
 int SliceCountFromName(const std::string& name) {
   if (name == "auto") return DepthObjectOptions::kAutoSlices;
@@ -45,26 +46,32 @@ int SliceCountFromName(const std::string& name) {
     used = 0;
   }
   if (used == 0 || used != name.size() || n < 1 || n > 16384) {
-    core::ThrowInputError("SliceCountFromName", "slices '{}' is neither 'auto' nor a count in 1..16384", name);
+    core::ThrowInputError("SliceCountFromName",
+                          "slices '{}' is neither 'auto' nor a count in 1..16384", name);
   }
   return n;
 }
 std::string SliceCountName(int slices) {
   return slices == DepthObjectOptions::kAutoSlices ? "auto" : std::to_string(slices);
 }
-std::string MethodName(Method m) { return m == Method::kDepthObject ? "depth-object" : "visual-hull"; }
+std::string MethodName(Method m) {
+  return m == Method::kDepthObject ? "depth-object" : "visual-hull";
+}
 std::string SlicingName(Slicing s) {
   return s == Slicing::kOrthogonal ? "orthogonal" : s == Slicing::kScreen ? "screen" : "ray";
 }
 std::string TexturingName(Texturing t) {
-  return t == Texturing::kViewDependent ? "vdt" : t == Texturing::kVisibility ? "visibility" : "none";
+  return t == Texturing::kViewDependent ? "vdt"
+         : t == Texturing::kVisibility  ? "visibility"
+                                        : "none";
 }
 
 void DepthObjectOptions::Check() const {
   if (slices != kAutoSlices && (slices < 1 || slices > 16384)) {
     core::ThrowInputError("DepthObjectOptions", "slices {} outside 1..16384 (0 = auto)", slices);
   }
-  if (robust_k < 0) core::ThrowInputError("DepthObjectOptions", "robust k {} is negative", robust_k);
+  if (robust_k < 0)
+    core::ThrowInputError("DepthObjectOptions", "robust k {} is negative", robust_k);
   if (refine_steps < 0 || refine_steps > 32) {
     core::ThrowInputError("DepthObjectOptions", "refine steps {} outside 0..32", refine_steps);
   }
@@ -72,7 +79,8 @@ void DepthObjectOptions::Check() const {
     core::ThrowInputError("DepthObjectOptions", "skip grid {} outside 0..255", skip_grid);
   }
   if (!(subtexel_edge > 0) || !std::isfinite(subtexel_edge)) {
-    core::ThrowInputError("DepthObjectOptions", "subtexel edge {} must be > 0 texels", subtexel_edge);
+    core::ThrowInputError("DepthObjectOptions", "subtexel edge {} must be > 0 texels",
+                          subtexel_edge);
   }
   if (!(visibility_tolerance >= 0) || !std::isfinite(visibility_tolerance)) {
     core::ThrowInputError("DepthObjectOptions", "visibility tolerance {} must be >= 0",
@@ -126,7 +134,8 @@ glm::dvec3 BoxCentre(const MapSet& maps) {
 
 // The direction a camera looks at the box: orthographic: its axis; pinhole:
 // from its centre to the box centre (its axis if it sits at the centre).
-glm::dvec3 LookDirection(bool orthographic, const glm::dmat4& cam_from_world, const glm::dvec3& target) {
+glm::dvec3 LookDirection(bool orthographic, const glm::dmat4& cam_from_world,
+                         const glm::dvec3& target) {
   const glm::dvec3 axis = CameraAxis(cam_from_world);
   if (orthographic) return axis;
   const glm::dvec3 d = target - CameraCentre(cam_from_world);
@@ -174,12 +183,14 @@ int AutoSliceCount(const MapSet& maps, const std::vector<int>& active, float ext
       if (z > 0) texel = std::min(texel, z / f);
     }
   }
-  if (!std::isfinite(texel) || !(texel > 0)) return 256;  // no map sees the box centre: the paper's range
+  if (!std::isfinite(texel) || !(texel > 0))
+    return 256;  // no map sees the box centre: the paper's range
   const double n = std::ceil(extent_world / texel);
   return static_cast<int>(std::clamp(n, 1.0, 4096.0));
 }
 
-FrameParams PrepareFrame(const MapSet& maps, const ViewCamera& view, const DepthObjectOptions& options) {
+FrameParams PrepareFrame(const MapSet& maps, const ViewCamera& view,
+                         const DepthObjectOptions& options) {
   options.Check();
   view.camera.Check("PrepareFrame: view");
   FrameParams f;
@@ -224,7 +235,8 @@ FrameParams PrepareFrame(const MapSet& maps, const ViewCamera& view, const Depth
     // axis (the distance between its planes x_axis = 0 and 1), else the
     // view's depth range.
     so.count = 1;
-    const render::SliceStack one = render::MakeSlices({f.world_from_box}, {f.cam_from_world, vc.orthographic}, so);
+    const render::SliceStack one =
+        render::MakeSlices({f.world_from_box}, {f.cam_from_world, vc.orthographic}, so);
     const float extent_along = one.spacing_world;
     const std::vector<int> active =
         ActiveMaps(maps, options.method, options.hull_skip_opposite,
@@ -241,7 +253,8 @@ FrameParams PrepareFrame(const MapSet& maps, const ViewCamera& view, const Depth
   const glm::dvec3 n_box(f.stack.normal_in_box);
   for (const render::Slice& s : f.stack.slices) {
     const glm::dvec3 n_cam = glm::transpose(a) * n_box;
-    f.planes.emplace_back(glm::vec3(n_cam), static_cast<float>(s.offset_in_box - glm::dot(n_box, b)));
+    f.planes.emplace_back(glm::vec3(n_cam),
+                          static_cast<float>(s.offset_in_box - glm::dot(n_box, b)));
   }
 
   // Maps: view camera -> map camera, projection, texture layer.
@@ -283,8 +296,9 @@ FrameParams PrepareFrame(const MapSet& maps, const ViewCamera& view, const Depth
     f.maps[f.active[j]].extra.x = w[j];
     f.maps[f.active[j]].extra.y = 1.0f;
   }
-  f.visibility_tolerance = static_cast<float>(
-      options.visibility_tolerance > 0 ? options.visibility_tolerance : 4.0 * f.stack.spacing_world);
+  f.visibility_tolerance =
+      static_cast<float>(options.visibility_tolerance > 0 ? options.visibility_tolerance
+                                                          : 4.0 * f.stack.spacing_world);
   return f;
 }
 
@@ -328,7 +342,8 @@ DepthObjectRenderer::DepthObjectRenderer(render::ProgramCache& programs, MapSet 
   align = std::max(align, 1);
   current_stride_ = static_cast<GLint>((sizeof(MapRecord) + align - 1) / align * align);
   current_ubo_ = render::Buffer::Create();
-  glNamedBufferData(current_ubo_.id(), static_cast<GLsizeiptr>(current_stride_) * 64, nullptr, GL_DYNAMIC_DRAW);
+  glNamedBufferData(current_ubo_.id(), static_cast<GLsizeiptr>(current_stride_) * 64, nullptr,
+                    GL_DYNAMIC_DRAW);
   empty_vao_ = render::VertexArray::Create();
 }
 
@@ -352,21 +367,22 @@ const DepthObjectRenderer::GpuTables& DepthObjectRenderer::Tables(Method method)
   return *slot;
 }
 
-const DepthObjectRenderer::SkipTexture& DepthObjectRenderer::Skip(const FrameParams& frame,
-                                                                   const DepthObjectOptions& options) {
+const DepthObjectRenderer::SkipTexture& DepthObjectRenderer::Skip(
+    const FrameParams& frame, const DepthObjectOptions& options) {
   SkipGridPolicy policy;
   policy.visual_hull = options.method == Method::kVisualHull;
   policy.outside_passes = options.outside == OutsidePolicy::kPass;
   policy.invalid_depth_passes = options.invalid_depth == InvalidDepthPolicy::kNoConstraint;
   policy.rejections_needed = static_cast<int>(frame.active.size()) - frame.required + 1;
   std::string key = fmt::format("{} {} {} {} {} {}:", policy.visual_hull, policy.outside_passes,
-                                policy.invalid_depth_passes, policy.rejections_needed, options.skip_grid,
-                                frame.active.size());
+                                policy.invalid_depth_passes, policy.rejections_needed,
+                                options.skip_grid, frame.active.size());
   for (int a : frame.active) key += fmt::format(" {}", a);
   auto& slot = skip_grids_[key];
   if (!slot) {
     const MapTables& t = Tables(options.method).cpu;
-    const SkipGrid grid = BuildSkipGrid(maps_, t.depth, t.width, t.height, frame.active, policy, options.skip_grid);
+    const SkipGrid grid =
+        BuildSkipGrid(maps_, t.depth, t.width, t.height, frame.active, policy, options.skip_grid);
     slot = std::make_unique<SkipTexture>();
     const int n = grid.resolution;
     slot->resolution = n;
@@ -405,7 +421,8 @@ std::vector<std::string> DepthObjectRenderer::Defines(const FrameParams& frame,
   std::vector<std::string> d;
   if (options.method == Method::kVisualHull) d.push_back("VISUAL_HULL");
   if (options.outside == OutsidePolicy::kPass) d.push_back("OUTSIDE_PASSES");
-  if (options.invalid_depth == InvalidDepthPolicy::kNoConstraint) d.push_back("INVALID_DEPTH_PASSES");
+  if (options.invalid_depth == InvalidDepthPolicy::kNoConstraint)
+    d.push_back("INVALID_DEPTH_PASSES");
   if (frame.view_orthographic) d.push_back("VIEW_ORTHOGRAPHIC");
   return d;
 }
@@ -423,7 +440,8 @@ void DepthObjectRenderer::UploadFrame(const FrameParams& frame) {
   for (size_t i = 0; i < frame.maps.size(); ++i) {
     std::memcpy(strided.data() + i * current_stride_, &frame.maps[i], sizeof(MapRecord));
   }
-  glNamedBufferSubData(current_ubo_.id(), 0, static_cast<GLsizeiptr>(strided.size()), strided.data());
+  glNamedBufferSubData(current_ubo_.id(), 0, static_cast<GLsizeiptr>(strided.size()),
+                       strided.data());
 }
 
 void DepthObjectRenderer::SetCommonUniforms(const render::Program& p, const FrameParams& frame,
@@ -449,8 +467,9 @@ void DepthObjectRenderer::DrawSlices(const FrameParams& frame, const DepthObject
   const GpuTables& tables = Tables(options.method);
   UploadFrame(frame);
   BindMaps(tables);
-  const render::Program& pass = programs_->Get(
-      {.vertex = "cores/slice.vert.glsl", .fragment = "passes/depth_object.frag.glsl", .defines = Defines(frame, options)});
+  const render::Program& pass = programs_->Get({.vertex = "cores/slice.vert.glsl",
+                                                .fragment = "passes/depth_object.frag.glsl",
+                                                .defines = Defines(frame, options)});
   SetCommonUniforms(pass, frame, true);
   const GLint loc_plane = pass.Uniform("u_slice_plane");
   const GLint loc_clear = pass.Uniform("u_clear_pass");
@@ -490,7 +509,8 @@ void DepthObjectRenderer::DrawSlices(const FrameParams& frame, const DepthObject
         glStencilFunc(GL_EQUAL, 0, 0x80);
       }
       glBindBufferRange(GL_UNIFORM_BUFFER, 1, current_ubo_.id(),
-                        static_cast<GLintptr>(current_stride_) * frame.active[j], sizeof(MapRecord));
+                        static_cast<GLintptr>(current_stride_) * frame.active[j],
+                        sizeof(MapRecord));
       slice_buffer_.DrawSlice(s);  // (a)ii, with the alpha test (discard)
     }
     // Steps (c)-(f): clear colour and stencil where the count falls short.
@@ -556,15 +576,17 @@ void DepthObjectRenderer::DrawRay(const FrameParams& frame, const DepthObjectOpt
   if (skip) defines.push_back("EMPTY_SPACE_SKIPPING");
   if (options.subtexel_depth) defines.push_back("SUBTEXEL_DEPTH");
   for (const std::string& d : render::RayCoreDefines(ray)) defines.push_back(d);
-  const render::Program& program = programs_->Get(
-      {.vertex = "common/fullscreen.vert.glsl", .fragment = "passes/depth_object_ray.frag.glsl", .defines = defines});
+  const render::Program& program = programs_->Get({.vertex = "common/fullscreen.vert.glsl",
+                                                   .fragment = "passes/depth_object_ray.frag.glsl",
+                                                   .defines = defines});
   SetCommonUniforms(program, frame, false);
   render::SetRayCoreUniforms(program, ray);
   const glm::mat4 box_from_cam = glm::inverse(frame.cam_from_world * frame.world_from_box);
   SetMat4(program, "u_box_from_cam", box_from_cam);
   glUniform1i(program.Uniform("u_required"), frame.required);
   glUniform1f(program.Uniform("u_ray_step"), frame.stack.spacing_world);
-  if (options.subtexel_depth) glUniform1f(program.Uniform("u_subtexel_edge"), options.subtexel_edge);
+  if (options.subtexel_depth)
+    glUniform1f(program.Uniform("u_subtexel_edge"), options.subtexel_edge);
   if (skip) {
     glBindTextureUnit(5, skip->grid.id());
     glUniform1i(program.Uniform("u_skip_grid"), 5);
@@ -580,7 +602,8 @@ void DepthObjectRenderer::DrawResolve(const FrameParams& frame, const DepthObjec
 }
 
 void DepthObjectRenderer::Resolve(const FrameParams& frame, const DepthObjectOptions& options,
-                                  const render::RenderTarget& accum, const glm::mat4* frame_clip_from_cam) {
+                                  const render::RenderTarget& accum,
+                                  const glm::mat4* frame_clip_from_cam) {
   const GpuTables& tables = Tables(options.method);
   UploadFrame(frame);
   BindMaps(tables);
@@ -591,13 +614,16 @@ void DepthObjectRenderer::Resolve(const FrameParams& frame, const DepthObjectOpt
   if (frame.robust) defines.push_back("ROBUST_COUNT");
   // The ray variant's hits are already refined by the ray core; the slice
   // passes' are refined here by the same refinement (render/ray_core.h).
-  const bool refine = options.refine_steps > 0 && frame.planes.size() >= 2 && options.slicing != Slicing::kRay;
+  const bool refine =
+      options.refine_steps > 0 && frame.planes.size() >= 2 && options.slicing != Slicing::kRay;
   render::RayCoreOptions ray;
   ray.refine_steps = options.refine_steps;
   for (const std::string& d : render::RayCoreDefines(ray)) defines.push_back(d);
   if (frame_clip_from_cam) defines.push_back("FRAME_OUTPUT");
-  const render::Program& resolve = programs_->Get(
-      {.vertex = "common/fullscreen.vert.glsl", .fragment = "passes/depth_object_resolve.frag.glsl", .defines = defines});
+  const render::Program& resolve =
+      programs_->Get({.vertex = "common/fullscreen.vert.glsl",
+                      .fragment = "passes/depth_object_resolve.frag.glsl",
+                      .defines = defines});
   SetCommonUniforms(resolve, frame, false);
   glBindTextureUnit(3, accum.color(0).id());
   glBindTextureUnit(4, accum.color(1).id());
@@ -611,8 +637,8 @@ void DepthObjectRenderer::Resolve(const FrameParams& frame, const DepthObjectOpt
     glUniform4fv(resolve.Uniform("u_plane0"), 1, glm::value_ptr(frame.planes[0]));
     // Box-axis planes are 1/n apart in box units; screen planes spacing_world
     // apart in camera z (their normals are those units' gradients).
-    glUniform1f(resolve.Uniform("u_plane_step"), frame.stack.axis >= 0 ? frame.stack.spacing_in_box
-                                                                       : frame.stack.spacing_world);
+    glUniform1f(resolve.Uniform("u_plane_step"),
+                frame.stack.axis >= 0 ? frame.stack.spacing_in_box : frame.stack.spacing_world);
   }
   glUniform1i(resolve.Uniform("u_required"), frame.required);
   if (frame_clip_from_cam) SetMat4(resolve, "u_clip_from_cam", *frame_clip_from_cam);
@@ -629,10 +655,12 @@ void DepthObjectRenderer::Accumulate(const FrameParams& frame, const DepthObject
 }
 
 void DepthObjectRenderer::DrawToFrame(const ViewCamera& view, const DepthObjectOptions& options,
-                                      const glm::mat4& clip_from_cam, const render::RenderTarget& frame_target) {
+                                      const glm::mat4& clip_from_cam,
+                                      const render::RenderTarget& frame_target) {
   if (frame_target.width() != view.camera.width || frame_target.height() != view.camera.height) {
-    core::ThrowInputError("DepthObjectRenderer::DrawToFrame", "target {}x{} differs from the view's {}x{}",
-                          frame_target.width(), frame_target.height(), view.camera.width, view.camera.height);
+    core::ThrowInputError("DepthObjectRenderer::DrawToFrame",
+                          "target {}x{} differs from the view's {}x{}", frame_target.width(),
+                          frame_target.height(), view.camera.width, view.camera.height);
   }
   GLboolean depth_test = GL_FALSE, depth_mask = GL_TRUE;
   GLint depth_func = GL_LESS;
@@ -643,7 +671,10 @@ void DepthObjectRenderer::DrawToFrame(const ViewCamera& view, const DepthObjectO
   Accumulate(frame, options);
   frame_target.Bind();
   Resolve(frame, options, Accum(frame.width, frame.height), &clip_from_cam);
-  if (depth_test) glEnable(GL_DEPTH_TEST); else glDisable(GL_DEPTH_TEST);
+  if (depth_test)
+    glEnable(GL_DEPTH_TEST);
+  else
+    glDisable(GL_DEPTH_TEST);
   glDepthMask(depth_mask);
   glDepthFunc(static_cast<GLenum>(depth_func));
 }
@@ -651,8 +682,9 @@ void DepthObjectRenderer::DrawToFrame(const ViewCamera& view, const DepthObjectO
 void DepthObjectRenderer::Render(const ViewCamera& view, const DepthObjectOptions& options,
                                  const render::RenderTarget& output) {
   if (output.width() != view.camera.width || output.height() != view.camera.height) {
-    core::ThrowInputError("DepthObjectRenderer::Render", "target {}x{} differs from the view's {}x{}",
-                          output.width(), output.height(), view.camera.width, view.camera.height);
+    core::ThrowInputError("DepthObjectRenderer::Render",
+                          "target {}x{} differs from the view's {}x{}", output.width(),
+                          output.height(), view.camera.width, view.camera.height);
   }
   const FrameParams frame = PrepareFrame(maps_, view, options);
   Accumulate(frame, options);
@@ -660,8 +692,8 @@ void DepthObjectRenderer::Render(const ViewCamera& view, const DepthObjectOption
   DrawResolve(frame, options, Accum(frame.width, frame.height));
 }
 
-void DepthObjectRenderer::RenderToFramebuffer(const ViewCamera& view, const DepthObjectOptions& options,
-                                              GLuint fbo) {
+void DepthObjectRenderer::RenderToFramebuffer(const ViewCamera& view,
+                                              const DepthObjectOptions& options, GLuint fbo) {
   const FrameParams frame = PrepareFrame(maps_, view, options);
   Accumulate(frame, options);
   glBindFramebuffer(GL_DRAW_FRAMEBUFFER, fbo);
@@ -669,7 +701,8 @@ void DepthObjectRenderer::RenderToFramebuffer(const ViewCamera& view, const Dept
   DrawResolve(frame, options, Accum(frame.width, frame.height));
 }
 
-DepthObjectFrame DepthObjectRenderer::RenderImages(const ViewCamera& view, const DepthObjectOptions& options) {
+DepthObjectFrame DepthObjectRenderer::RenderImages(const ViewCamera& view,
+                                                   const DepthObjectOptions& options) {
   render::RenderTarget output(OutputTargetOptions(view.camera.width, view.camera.height));
   Render(view, options, output);
   return ReadFrame(output);
@@ -695,8 +728,9 @@ std::vector<core::Image8> DepthObjectRenderer::SliceCoverage(const FrameParams& 
   render::RenderTarget target({frame.width, frame.height, {GL_R8}, true});
   // The clear pass writes constants and never discards.
   DepthObjectOptions o;
-  const render::Program& p = programs_->Get(
-      {.vertex = "cores/slice.vert.glsl", .fragment = "passes/depth_object.frag.glsl", .defines = Defines(frame, o)});
+  const render::Program& p = programs_->Get({.vertex = "cores/slice.vert.glsl",
+                                             .fragment = "passes/depth_object.frag.glsl",
+                                             .defines = Defines(frame, o)});
   SetCommonUniforms(p, frame, true);
   glUniform1i(p.Uniform("u_clear_pass"), 1);
   slice_buffer_.Upload(frame.stack);

@@ -9,19 +9,18 @@
 // exactly these numbers, so they can agree pixel for pixel.
 #pragma once
 
+#include <glm/glm.hpp>
 #include <map>
 #include <memory>
 #include <string>
 #include <vector>
 
-#include <glm/glm.hpp>
-
 #include "core/image.h"
 #include "ibr/image_maps.h"
-#include "render/gl/render_target.h"
-#include "render/gl/shader_program.h"
 #include "render/cores/slice_buffer.h"
 #include "render/cores/slicing.h"
+#include "render/gl/render_target.h"
+#include "render/gl/shader_program.h"
 
 namespace ibr {
 
@@ -50,9 +49,9 @@ enum class InvalidDepthPolicy {
   kNoConstraint,  // a hole in a sensor / MVS map carves nothing
 };
 
-Method MethodFromName(const std::string& name);          // "depth-object", "visual-hull"
-Slicing SlicingFromName(const std::string& name);        // "orthogonal", "screen", "ray"
-Texturing TexturingFromName(const std::string& name);    // "vdt", "visibility", "none"
+Method MethodFromName(const std::string& name);        // "depth-object", "visual-hull"
+Slicing SlicingFromName(const std::string& name);      // "orthogonal", "screen", "ray"
+Texturing TexturingFromName(const std::string& name);  // "vdt", "visibility", "none"
 // "auto" -> DepthObjectOptions::kAutoSlices, else a count in 1..16384.
 int SliceCountFromName(const std::string& name);
 std::string SliceCountName(int slices);  // "auto" or the count
@@ -133,8 +132,8 @@ struct FrameParams {
   int width = 0, height = 0;  // pixels
   int slice_count = 0;        // slices (kRay: linear-search steps) this frame uses
   bool view_orthographic = false;
-  glm::vec4 view_ray{0};      // ax, ay, bx, by (see depth_object_core.glsl)
-  float view_height = 0;      // = height, as the float the shader uses
+  glm::vec4 view_ray{0};  // ax, ay, bx, by (see depth_object_core.glsl)
+  float view_height = 0;  // = height, as the float the shader uses
   float inv255 = 1.0f / 255.0f;
   glm::mat4 world_from_box{1}, cam_from_world{1}, clip_from_cam{1};  // for placing slices
   render::SliceStack stack;
@@ -170,7 +169,8 @@ MapTables MakeMapTables(const MapSet& maps, Method method);
 // range over the box), at most 4096.
 int AutoSliceCount(const MapSet& maps, const std::vector<int>& active, float extent_world);
 
-FrameParams PrepareFrame(const MapSet& maps, const ViewCamera& view, const DepthObjectOptions& options);
+FrameParams PrepareFrame(const MapSet& maps, const ViewCamera& view,
+                         const DepthObjectOptions& options);
 
 // Outputs of one frame, read back.
 struct DepthObjectFrame {
@@ -206,8 +206,8 @@ class DepthObjectRenderer {
   // is depth-tested (LESS) against what the frame holds, so objects of
   // several passes composite by depth; empty pixels are left untouched.
   // Restores the GL state it changes. ibr::DepthObjectPass calls it.
-  void DrawToFrame(const ViewCamera& view, const DepthObjectOptions& options, const glm::mat4& clip_from_cam,
-                   const render::RenderTarget& frame_target);
+  void DrawToFrame(const ViewCamera& view, const DepthObjectOptions& options,
+                   const glm::mat4& clip_from_cam, const render::RenderTarget& frame_target);
   // Render + readback.
   DepthObjectFrame RenderImages(const ViewCamera& view, const DepthObjectOptions& options);
   // Readback of a target Render() drew into.
@@ -222,7 +222,8 @@ class DepthObjectRenderer {
   void DrawSlices(const FrameParams& frame, const DepthObjectOptions& options,
                   const render::RenderTarget& accum);
   // The ray variant (Slicing::kRay) into `accum`, same layout as DrawSlices.
-  void DrawRay(const FrameParams& frame, const DepthObjectOptions& options, const render::RenderTarget& accum);
+  void DrawRay(const FrameParams& frame, const DepthObjectOptions& options,
+               const render::RenderTarget& accum);
   // Texturing + background from `accum` into the bound framebuffer.
   void DrawResolve(const FrameParams& frame, const DepthObjectOptions& options,
                    const render::RenderTarget& accum);
@@ -236,15 +237,17 @@ class DepthObjectRenderer {
   struct SkipTexture;
   const SkipTexture& Skip(const FrameParams& frame, const DepthObjectOptions& options);
   const GpuTables& Tables(Method method);
-  std::vector<std::string> Defines(const FrameParams& frame, const DepthObjectOptions& options) const;
+  std::vector<std::string> Defines(const FrameParams& frame,
+                                   const DepthObjectOptions& options) const;
   void BindMaps(const GpuTables& tables) const;
   void UploadFrame(const FrameParams& frame);
-  void SetCommonUniforms(const render::Program& program, const FrameParams& frame, bool slices) const;
+  void SetCommonUniforms(const render::Program& program, const FrameParams& frame,
+                         bool slices) const;
   const render::RenderTarget& Accum(int width, int height);
   void DrawFullScreenPass(bool depth_test = false) const;
   void Accumulate(const FrameParams& frame, const DepthObjectOptions& options);
-  void Resolve(const FrameParams& frame, const DepthObjectOptions& options, const render::RenderTarget& accum,
-               const glm::mat4* frame_clip_from_cam);
+  void Resolve(const FrameParams& frame, const DepthObjectOptions& options,
+               const render::RenderTarget& accum, const glm::mat4* frame_clip_from_cam);
 
   render::ProgramCache* programs_;
   MapSet maps_;

@@ -4,12 +4,16 @@
 
 namespace ibr {
 
-DepthObjectOptions DepthObjectOptionsFromJson(const nlohmann::json& render, const std::string& where) {
+DepthObjectOptions DepthObjectOptionsFromJson(const nlohmann::json& render,
+                                              const std::string& where) {
   DepthObjectOptions o;
   try {
-    if (render.contains("method")) o.method = MethodFromName(render.at("method").get<std::string>());
-    if (render.contains("slicing")) o.slicing = SlicingFromName(render.at("slicing").get<std::string>());
-    if (render.contains("texturing")) o.texturing = TexturingFromName(render.at("texturing").get<std::string>());
+    if (render.contains("method"))
+      o.method = MethodFromName(render.at("method").get<std::string>());
+    if (render.contains("slicing"))
+      o.slicing = SlicingFromName(render.at("slicing").get<std::string>());
+    if (render.contains("texturing"))
+      o.texturing = TexturingFromName(render.at("texturing").get<std::string>());
     if (render.contains("slices")) {
       // "auto" or a count >= 1 (a literal 0 is not a spelling of auto).
       const nlohmann::json& v = render.at("slices");

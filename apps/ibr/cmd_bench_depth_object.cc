@@ -9,14 +9,18 @@ namespace {
 
 void AddDepthObjectBench(CLI::App& app) {
   static bench::DepthObjectBenchOptions options;
-  auto* cmd = BenchGroup(app)->add_subcommand(
-      "depth-object",
-      "Slicing family x slices x size x object vs the true mesh, the Open3D peer (TSDF, carving), Fig. 12 analogues");
-  cmd->add_option("--csv", options.csv, "CSV file for the table (Fig. 12 tables beside it)")->required();
+  auto* cmd =
+      BenchGroup(app)->add_subcommand("depth-object",
+                                      "Slicing family x slices x size x object vs the true mesh, "
+                                      "the Open3D peer (TSDF, carving), Fig. 12 analogues");
+  cmd->add_option("--csv", options.csv, "CSV file for the table (Fig. 12 tables beside it)")
+      ->required();
   cmd->add_option("--out", options.out, "directory for the PNG plots");
   cmd->add_flag("--quick", options.quick, "small sweep (CI smoke run, ~30 s)");
-  cmd->add_option("--objects", options.objects, "only these objects (cup, bunny, cow, spot, teapot)");
+  cmd->add_option("--objects", options.objects,
+                  "only these objects (cup, bunny, cow, spot, teapot)");
   cmd->add_option("--sizes", options.sizes, "only these output sizes (pixels)");
+  cmd->add_flag("!--no-figures", options.figures, "skip the Fig. 12 analogues");
   cmd->add_option("--slices", options.slices, "only these slice counts");
   cmd->callback([] { bench::RunDepthObjectBench(options); });
 }

@@ -3,14 +3,14 @@
 // texturing and the robust k in the panel; the frame time is shown.
 #ifdef IBR_HAVE_VIEWER
 
+#include <fmt/format.h>
+#include <imgui.h>
+
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <memory>
 #include <optional>
-
-#include <fmt/format.h>
-#include <imgui.h>
 
 #include "apps/ibr/commands.h"
 #include "apps/viewer/viewer.h"
@@ -78,7 +78,8 @@ class DatasetScene : public viewer::Scene {
           ibr::DepthObjectRenderer::OutputTargetOptions(camera.width, camera.height));
     }
     ibr::ViewCamera view;
-    view.camera = ibr::MapCamera::Pinhole(camera.width, camera.height, camera.fx, camera.fy, camera.cx, camera.cy);
+    view.camera = ibr::MapCamera::Pinhole(camera.width, camera.height, camera.fx, camera.fy,
+                                          camera.cx, camera.cy);
     view.cam_from_world = glm::dmat4(camera.cam_from_world);
     renderer_.Render(view, options_, *output_);
     return *output_;
@@ -119,29 +120,39 @@ void RunView(ViewCommandOptions& o) {
   check.Check();
   const capture::Dataset dataset = capture::ReadDataset(o.dataset);
   ibr::MapSet maps = ibr::MapsFromDataset(dataset);
-  const std::string name = o.dataset.filename().empty() ? o.dataset.parent_path().filename().string()
-                                                          : o.dataset.filename().string();
+  const std::string name = o.dataset.filename().empty()
+                               ? o.dataset.parent_path().filename().string()
+                               : o.dataset.filename().string();
   viewer::Run([&] { return std::make_unique<DatasetScene>(o, std::move(maps), name); }, o.viewer);
 }
 
 void AddViewCommand(CLI::App& app) {
   static ViewCommandOptions o;
-  auto* cmd = app.add_subcommand("view", "Interactive viewer (GLFW + Dear ImGui) of a dataset's depth object or visual hull");
+  auto* cmd = app.add_subcommand(
+      "view", "Interactive viewer (GLFW + Dear ImGui) of a dataset's depth object or visual hull");
   cmd->add_option("DATASET", o.dataset, "dataset directory (dataset.json)")->required();
   cmd->add_option("--method", o.method, "depth-object | visual-hull")->capture_default_str();
   cmd->add_option("--slicing", o.slicing, "orthogonal | screen | ray")->capture_default_str();
-  cmd->add_option("--slices", o.slices, "slices per frame (ray: linear-search steps), or auto (one per depth texel)")
+  cmd->add_option("--slices", o.slices,
+                  "slices per frame (ray: linear-search steps), or auto (one per depth texel)")
       ->capture_default_str();
   cmd->add_option("--texturing", o.texturing, "vdt | visibility | none")->capture_default_str();
-  cmd->add_option("--robust", o.robust, "keep pixels where at least N-K maps agree")->capture_default_str();
-  cmd->add_option("--window", o.window, "window size WIDTHxHEIGHT in pixels")->capture_default_str();
-  cmd->add_option("--azimuth", o.viewer.azimuth_degrees, "initial orbit azimuth, degrees")->capture_default_str();
-  cmd->add_option("--elevation", o.viewer.elevation_degrees, "initial orbit elevation, degrees")->capture_default_str();
+  cmd->add_option("--robust", o.robust, "keep pixels where at least N-K maps agree")
+      ->capture_default_str();
+  cmd->add_option("--window", o.window, "window size WIDTHxHEIGHT in pixels")
+      ->capture_default_str();
+  cmd->add_option("--azimuth", o.viewer.azimuth_degrees, "initial orbit azimuth, degrees")
+      ->capture_default_str();
+  cmd->add_option("--elevation", o.viewer.elevation_degrees, "initial orbit elevation, degrees")
+      ->capture_default_str();
   cmd->add_option("--screenshot", o.viewer.screenshot,
                   "render --frames frames, save the window to this PNG and exit (no interaction)");
-  cmd->add_option("--frames", o.viewer.frames, "frames before the screenshot")->capture_default_str();
-  cmd->add_option("--up", o.viewer.up, "the world's up axis: x, y, z, -x, -y, -z")->capture_default_str();
-  cmd->add_option("--coarse", o.viewer.coarse_factor, "resolution divisor while the mouse drags (1 = off)")
+  cmd->add_option("--frames", o.viewer.frames, "frames before the screenshot")
+      ->capture_default_str();
+  cmd->add_option("--up", o.viewer.up, "the world's up axis: x, y, z, -x, -y, -z")
+      ->capture_default_str();
+  cmd->add_option("--coarse", o.viewer.coarse_factor,
+                  "resolution divisor while the mouse drags (1 = off)")
       ->capture_default_str();
   cmd->callback([] { RunView(o); });
 }

@@ -7,10 +7,10 @@
 
 #define GLFW_INCLUDE_NONE
 #include <GLFW/glfw3.h>
-#include <imgui.h>
 #include <backends/imgui_impl_glfw.h>
 #include <backends/imgui_impl_opengl3.h>
 #include <fmt/format.h>
+#include <imgui.h>
 #include <spdlog/spdlog.h>
 
 #include "core/error.h"
@@ -27,9 +27,11 @@ void ViewerOptions::Check() const {
     core::ThrowInputError("ViewerOptions", "window size {}x{} outside 64..8192", width, height);
   }
   if (!(fov_y_degrees > 1 && fov_y_degrees < 170)) {
-    core::ThrowInputError("ViewerOptions", "field of view {} outside (1, 170) degrees", fov_y_degrees);
+    core::ThrowInputError("ViewerOptions", "field of view {} outside (1, 170) degrees",
+                          fov_y_degrees);
   }
-  if (frames < 1 || frames > 100000) core::ThrowInputError("ViewerOptions", "frames {} outside 1..100000", frames);
+  if (frames < 1 || frames > 100000)
+    core::ThrowInputError("ViewerOptions", "frames {} outside 1..100000", frames);
   if (coarse_factor < 1 || coarse_factor > 8) {
     core::ThrowInputError("ViewerOptions", "coarse factor {} outside 1..8", coarse_factor);
   }
@@ -47,8 +49,8 @@ glm::vec3 UpAxisFromName(const std::string& name) {
 }
 
 FrameCamera OrbitCamera(glm::vec3 centre, float radius, float azimuth_degrees,
-                            float elevation_degrees, float distance_scale, float fov_y_degrees,
-                            int width, int height, glm::vec3 up) {
+                        float elevation_degrees, float distance_scale, float fov_y_degrees,
+                        int width, int height, glm::vec3 up) {
   const float az = glm::radians(azimuth_degrees);
   // Clamp short of the poles so the up vector stays defined.
   const float el = glm::radians(std::clamp(elevation_degrees, -89.0f, 89.0f));
@@ -67,10 +69,11 @@ FrameCamera OrbitCamera(glm::vec3 centre, float radius, float azimuth_degrees,
   camera.cy = 0.5 * height;
   camera.width = width;
   camera.height = height;
-  camera.near = std::max(1e-4, std::max(1e-3 * distance, static_cast<double>(distance - 2.0f * radius)));
+  camera.near =
+      std::max(1e-4, std::max(1e-3 * distance, static_cast<double>(distance - 2.0f * radius)));
   camera.far = distance + 4.0 * radius;
-  camera.clip_from_cam = core::ClipFromCamPerspective(camera.fx, camera.fy, camera.cx, camera.cy, width,
-                                                      height, camera.near, camera.far);
+  camera.clip_from_cam = core::ClipFromCamPerspective(camera.fx, camera.fy, camera.cx, camera.cy,
+                                                      width, height, camera.near, camera.far);
   return camera;
 }
 
@@ -78,9 +81,11 @@ namespace {
 
 struct GlfwSession {
   GlfwSession() {
-    glfwSetErrorCallback([](int code, const char* message) { spdlog::debug("GLFW {}: {}", code, message); });
+    glfwSetErrorCallback(
+        [](int code, const char* message) { spdlog::debug("GLFW {}: {}", code, message); });
     if (!glfwInit()) {
-      core::ThrowInputError("viewer::Run", "cannot initialise GLFW (is DISPLAY set? use xvfb-run -a for no screen)");
+      core::ThrowInputError(
+          "viewer::Run", "cannot initialise GLFW (is DISPLAY set? use xvfb-run -a for no screen)");
     }
   }
   ~GlfwSession() { glfwTerminate(); }
@@ -102,7 +107,8 @@ void Run(const SceneFactory& make_scene, const ViewerOptions& options) {
   glfwWindowHint(GLFW_OPENGL_PROFILE, GLFW_OPENGL_CORE_PROFILE);
   glfwWindowHint(GLFW_OPENGL_FORWARD_COMPAT, GLFW_TRUE);
   glfwWindowHint(GLFW_VISIBLE, options.screenshot.empty() ? GLFW_TRUE : GLFW_FALSE);
-  GLFWwindow* window = glfwCreateWindow(options.width, options.height, "ibr view", nullptr, nullptr);
+  GLFWwindow* window =
+      glfwCreateWindow(options.width, options.height, "ibr view", nullptr, nullptr);
   if (!window) {
     // Fall back to 4.3 / 3.3 like the headless context.
     for (int minor_major : {43, 33}) {
@@ -112,10 +118,13 @@ void Run(const SceneFactory& make_scene, const ViewerOptions& options) {
       if (window) break;
     }
   }
-  if (!window) core::ThrowInputError("viewer::Run", "cannot open a {}x{} OpenGL 3.3+ core window", options.width, options.height);
+  if (!window)
+    core::ThrowInputError("viewer::Run", "cannot open a {}x{} OpenGL 3.3+ core window",
+                          options.width, options.height);
   glfwMakeContextCurrent(window);
   glfwSwapInterval(options.screenshot.empty() ? 1 : 0);
-  const render::GlInfo info = render::InitializeCurrentContext("window", render::HeadlessContextOptions::DefaultDebug());
+  const render::GlInfo info =
+      render::InitializeCurrentContext("window", render::HeadlessContextOptions::DefaultDebug());
   spdlog::info("viewer: {} | {}", info.version, info.renderer);
   std::unique_ptr<Scene> scene_owner = make_scene();
   Scene& scene = *scene_owner;
@@ -149,19 +158,22 @@ void Run(const SceneFactory& make_scene, const ViewerOptions& options) {
       const bool down = glfwGetMouseButton(window, GLFW_MOUSE_BUTTON_LEFT) == GLFW_PRESS;
       if (down && orbit.dragging) {
         orbit.azimuth -= 0.4f * static_cast<float>(x - orbit.last_x);
-        orbit.elevation = std::clamp(orbit.elevation + 0.4f * static_cast<float>(y - orbit.last_y), -89.0f, 89.0f);
+        orbit.elevation = std::clamp(orbit.elevation + 0.4f * static_cast<float>(y - orbit.last_y),
+                                     -89.0f, 89.0f);
       }
       orbit.dragging = down;
       orbit.last_x = x;
       orbit.last_y = y;
-      if (io.MouseWheel != 0) orbit.distance_scale = std::clamp(orbit.distance_scale * std::pow(0.9f, io.MouseWheel), 0.2f, 20.0f);
+      if (io.MouseWheel != 0)
+        orbit.distance_scale =
+            std::clamp(orbit.distance_scale * std::pow(0.9f, io.MouseWheel), 0.2f, 20.0f);
     }
 
     // Coarse frames while the mouse drags; the full frame when it stops.
     const int scale = orbit.dragging ? options.coarse_factor : 1;
-    const FrameCamera camera =
-        OrbitCamera(scene.Centre(), scene.Radius(), orbit.azimuth, orbit.elevation, orbit.distance_scale,
-                    options.fov_y_degrees, std::max(fb_w / scale, 1), std::max(fb_h / scale, 1), up);
+    const FrameCamera camera = OrbitCamera(
+        scene.Centre(), scene.Radius(), orbit.azimuth, orbit.elevation, orbit.distance_scale,
+        options.fov_y_degrees, std::max(fb_w / scale, 1), std::max(fb_h / scale, 1), up);
     glFinish();
     core::Stopwatch watch;
     const render::RenderTarget* target = nullptr;
@@ -179,8 +191,9 @@ void Run(const SceneFactory& make_scene, const ViewerOptions& options) {
     glClearColor(0.12f, 0.12f, 0.14f, 1.0f);
     glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT | GL_STENCIL_BUFFER_BIT);
     if (target) {
-      glBlitNamedFramebuffer(target->framebuffer().id(), 0, 0, 0, target->width(), target->height(), 0, 0,
-                             fb_w, fb_h, GL_COLOR_BUFFER_BIT, scale > 1 ? GL_LINEAR : GL_NEAREST);
+      glBlitNamedFramebuffer(target->framebuffer().id(), 0, 0, 0, target->width(), target->height(),
+                             0, 0, fb_w, fb_h, GL_COLOR_BUFFER_BIT,
+                             scale > 1 ? GL_LINEAR : GL_NEAREST);
     }
 
     ImGui_ImplOpenGL3_NewFrame();
@@ -190,8 +203,8 @@ void Run(const SceneFactory& make_scene, const ViewerOptions& options) {
     ImGui::SetNextWindowSize(ImVec2(400, 0), ImGuiCond_FirstUseEver);
     ImGui::Begin(scene.Title().c_str());
     const core::TimingStats stats = core::Summarize({frame_ms.begin(), frame_ms.end()});
-    ImGui::Text("frame %.1f ms (median of %d), %dx%d%s", stats.median_ms, stats.samples, camera.width,
-                camera.height, scale > 1 ? " (coarse while dragging)" : "");
+    ImGui::Text("frame %.1f ms (median of %d), %dx%d%s", stats.median_ms, stats.samples,
+                camera.width, camera.height, scale > 1 ? " (coarse while dragging)" : "");
     const std::string status = scene.Status();
     if (!status.empty()) ImGui::TextUnformatted(status.c_str());
     if (!error.empty()) ImGui::TextColored(ImVec4(1, 0.4f, 0.4f, 1), "%s", error.c_str());
@@ -220,8 +233,8 @@ void Run(const SceneFactory& make_scene, const ViewerOptions& options) {
       for (int y = 0; y < fb_h; ++y)
         for (int x = 0; x < fb_w; ++x) shot.at(x, y, 3) = 255;
       core::WriteImage(options.screenshot, shot);
-      fmt::print("view: wrote {} after {} frames, last frame {:.1f} ms\n", options.screenshot.string(), frame,
-                 frame_ms.back());
+      fmt::print("view: wrote {} after {} frames, last frame {:.1f} ms\n",
+                 options.screenshot.string(), frame, frame_ms.back());
       glfwSetWindowShouldClose(window, GLFW_TRUE);
     }
     glfwSwapBuffers(window);

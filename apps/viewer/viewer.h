@@ -7,10 +7,9 @@
 
 #include <filesystem>
 #include <functional>
+#include <glm/glm.hpp>
 #include <memory>
 #include <string>
-
-#include <glm/glm.hpp>
 
 #include "render/gl/render_target.h"
 
@@ -44,14 +43,14 @@ class Scene {
 };
 
 struct ViewerOptions {
-  int width = 1024;   // window size in pixels
+  int width = 1024;  // window size in pixels
   int height = 768;
   float fov_y_degrees = 40.0f;
   // Non-empty: render `frames` frames, save the last one (window contents,
   // GUI included) to this PNG and exit. For tests under xvfb-run.
   std::filesystem::path screenshot;
   int frames = 3;
-  float azimuth_degrees = 30.0f;   // initial orbit
+  float azimuth_degrees = 30.0f;  // initial orbit
   float elevation_degrees = 20.0f;
   // The world's up axis, the orbit's pole: "x", "y", "z", "-x", "-y", "-z".
   // y: the synthetic rigs and most meshes; z for z-up scans.
@@ -73,8 +72,8 @@ void Run(const SceneFactory& make_scene, const ViewerOptions& options);
 
 // The orbit camera for a window of width x height; `up` is the pole (unit).
 FrameCamera OrbitCamera(glm::vec3 centre, float radius, float azimuth_degrees,
-                            float elevation_degrees, float distance_scale, float fov_y_degrees,
-                            int width, int height, glm::vec3 up = {0, 1, 0});
+                        float elevation_degrees, float distance_scale, float fov_y_degrees,
+                        int width, int height, glm::vec3 up = {0, 1, 0});
 // "x", "y", "z", "-x", "-y", "-z" -> unit axis (InputError otherwise).
 glm::vec3 UpAxisFromName(const std::string& name);
 

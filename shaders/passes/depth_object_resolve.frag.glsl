@@ -24,7 +24,7 @@ uniform vec4 u_plane0;         // the first slice's plane (normal in xyz)
 uniform float u_plane_step;    // |w| difference between neighbouring slices (> 0)
 
 float RayField(vec3 p) { return ObjectField(p); }
-#include "ray_core.glsl"
+#include "cores/ray_core.glsl"
 
 // The first-surface point to texture and to report: the crossing between the
 // previous slice (outside) and the finishing slice (inside) on the pixel's ray.
@@ -47,10 +47,12 @@ layout(location = 1) out vec2 o_depth;  // camera z (0 where empty), covered
 
 #ifdef FRAME_OUTPUT
 // The pass contract's frame (render/passes/pass.h): attachment 1 is R32F
-// (camera z: o_depth.x), 2 the R32UI outcome flags; the window depth from
-// u_clip_from_cam, depth-tested against the frame; empty pixels discarded.
+// (camera z: o_depth.x), 2 the world normal (unknown here: 0), 3 the R32UI
+// outcome flags; the window depth from u_clip_from_cam, depth-tested
+// against the frame; empty pixels discarded.
 uniform mat4 u_clip_from_cam;
-layout(location = 2) out uint o_outcome;
+layout(location = 2) out vec4 o_normal;
+layout(location = 3) out uint o_outcome;
 float WindowDepth(vec3 p) {
   vec4 clip = u_clip_from_cam * vec4(p, 1.0);
   float ndc = clip.z / clip.w;
@@ -168,6 +170,7 @@ void main() {
   o_depth = vec2(p.z, 1.0);
 #ifdef FRAME_OUTPUT
   gl_FragDepth = WindowDepth(p);
+  o_normal = vec4(0.0);
   o_outcome = 1u << RAY_OUTCOME_HIT;
 #endif
 }

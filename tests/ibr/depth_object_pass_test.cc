@@ -1,0 +1,101 @@
+// Depth objects on the pass contract (ibr/depth_object_pass.h): drawn alone
+// into a frame target the pass gives what DepthObjectRenderer gives, and two
+// depth objects drawn into one frame composite by depth (each pixel shows
+// the nearer one, coverage is the union), in either drawing order.
+#include "ibr/depth_object_pass.h"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+
+#include "core/projection.h"
+#include "render/passes/pass.h"
+#include "tests/ibr/scenes.h"
+#include "tests/support/gl_test.h"
+
+namespace ibr {
+namespace {
+
+using testing::Sphere;
+
+MapSet SphereCube(const Sphere& sphere, int map_size) {
+  MapSet set;
+  set.world_from_box = BoxFromBounds({-1, -1, -1}, {1, 1, 1});
+  set.maps = CubeRigMaps({0, 0, 0}, 1.0, map_size);
+  for (ImageMap& m : set.maps) testing::RenderSpheres({sphere}, m);
+  return set;
+}
+
+render::ViewSetup SetupOf(const ViewCamera& v, double near, double far) {
+  render::ViewSetup s;
+  s.cam_from_world = glm::mat4(v.cam_from_world);
+  s.clip_from_cam = core::ClipFromCamPerspective(v.camera.fx, v.camera.fy, v.camera.cx, v.camera.cy,
+                                                 v.camera.width, v.camera.height, near, far);
+  s.orthographic = false;
+  return s;
+}
+
+class DepthObjectPassTest : public test_support::GlTest {};
+
+TEST_F(DepthObjectPassTest, DrawsWhatTheRendererDrawsAndCompositesByDepth) {
+  constexpr int kSize = 128;
+  const ViewCamera view = testing::PerspectiveView({0.4, 0.9, 3.0}, {0, 0, 0}, {0, 1, 0}, kSize);
+  const render::ViewSetup setup = SetupOf(view, 0.5, 8.0);
+  // The camera is recovered from the projection.
+  const ViewCamera back = ViewCameraFromSetup(setup, kSize, kSize);
+  EXPECT_NEAR(back.camera.fx, view.camera.fx, 1e-3);
+  EXPECT_NEAR(back.camera.cy, view.camera.cy, 1e-3);
+
+  DepthObjectOptions o;
+  o.slicing = Slicing::kRay;
+  o.texturing = Texturing::kNone;
+  DepthObjectPass a(programs(), SphereCube({{-0.25, 0.0, 0.0}, 0.5}, 96), o);
+  DepthObjectPass b(programs(), SphereCube({{0.3, 0.1, 0.35}, 0.45}, 96), o);
+  EXPECT_EQ(a.name(), "depth-object");
+
+  // Alone: the renderer's image.
+  const render::Frame fa = render::RenderFrame(a, setup, kSize, kSize);
+  const render::Frame fb = render::RenderFrame(b, setup, kSize, kSize);
+  const DepthObjectFrame ra = a.renderer().RenderImages(view, o);
+  int64_t covered_a = 0;
+  for (int y = 0; y < kSize; ++y) {
+    for (int x = 0; x < kSize; ++x) {
+      ASSERT_EQ(fa.Covered(x, y), ra.mask.at(x, y) > 0) << x << " " << y;
+      if (!fa.Covered(x, y)) continue;
+      ++covered_a;
+      EXPECT_NEAR(fa.depth.at(x, y), ra.depth.at(x, y), 1e-6);
+      EXPECT_NE(fa.outcome.at(x, y), 0u);
+    }
+  }
+  EXPECT_GT(covered_a, 1000);
+
+  // Together, in both orders: the nearer surface wins. Where the two
+  // surfaces are closer than the 24-bit window depth can tell apart, either.
+  for (int order = 0; order < 2; ++order) {
+    render::RenderTarget target(render::FrameTargetOptions(kSize, kSize));
+    render::BeginFrame(target);
+    (order == 0 ? a : b).Draw(target, setup);
+    (order == 0 ? b : a).Draw(target, setup);
+    const render::Frame f = render::ReadFrame(target);
+    int64_t both = 0;
+    for (int y = 0; y < kSize; ++y) {
+      for (int x = 0; x < kSize; ++x) {
+        const bool ca = fa.Covered(x, y), cb = fb.Covered(x, y);
+        ASSERT_EQ(f.Covered(x, y), ca || cb) << x << " " << y;
+        if (!ca && !cb) continue;
+        const float za = ca ? fa.depth.at(x, y) : INFINITY, zb = cb ? fb.depth.at(x, y) : INFINITY;
+        both += ca && cb;
+        if (ca && cb && std::abs(za - zb) < 1e-3f) continue;
+        EXPECT_NEAR(f.depth.at(x, y), std::min(za, zb), 1e-6)
+            << x << " " << y << " order " << order;
+      }
+    }
+    EXPECT_GT(both, 200) << "the two objects overlap in the view";
+  }
+  EXPECT_NO_GL_ERROR();
+}
+
+}  // namespace
+}  // namespace ibr
