@@ -234,6 +234,9 @@ TEST_F(DepthObjectTest, RayVariantMatchesSphereAndSlicing) {
     DepthObjectOptions o;
     o.slices = 256;
     o.slicing = Slicing::kRay;
+    // The bisection depth this test was written with (the ray path then
+    // ignored refine_steps and always took 8; it now honours the option).
+    o.refine_steps = 8;
     renderer.RenderImages(view, o);  // warm-up (shader compilation)
     core::Stopwatch ray_watch;
     const DepthObjectFrame ray = renderer.RenderImages(view, o);
