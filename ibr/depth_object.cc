@@ -13,6 +13,7 @@
 #include "ibr/empty_space.h"
 #include "ibr/view_weights.h"
 #include "render/cores/ray_core.h"
+#include "render/passes/pass.h"
 
 namespace ibr {
 
@@ -670,6 +671,7 @@ void DepthObjectRenderer::DrawToFrame(const ViewCamera& view, const DepthObjectO
   const FrameParams frame = PrepareFrame(maps_, view, options);
   Accumulate(frame, options);
   frame_target.Bind();
+  render::BindOutcomeImage(frame_target, 0);
   Resolve(frame, options, Accum(frame.width, frame.height), &clip_from_cam);
   if (depth_test)
     glEnable(GL_DEPTH_TEST);

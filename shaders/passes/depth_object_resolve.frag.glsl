@@ -47,12 +47,14 @@ layout(location = 1) out vec2 o_depth;  // camera z (0 where empty), covered
 
 #ifdef FRAME_OUTPUT
 // The pass contract's frame (render/passes/pass.h): attachment 1 is R32F
-// (camera z: o_depth.x), 2 the world normal (unknown here: 0), 3 the R32UI
-// outcome flags; the window depth from u_clip_from_cam, depth-tested
-// against the frame; empty pixels discarded.
+// (camera z: o_depth.x), 2 the world normal (unknown here: 0); the outcome
+// bits are ORed into the frame's outcome image for every covered pixel,
+// visible or hidden (gl_FragDepth is written, so every fragment runs); the
+// window depth from u_clip_from_cam, depth-tested against the frame; empty
+// pixels discarded.
 uniform mat4 u_clip_from_cam;
 layout(location = 2) out vec4 o_normal;
-layout(location = 3) out uint o_outcome;
+layout(r32ui, binding = 0) uniform coherent uimage2D u_outcome_image;
 float WindowDepth(vec3 p) {
   vec4 clip = u_clip_from_cam * vec4(p, 1.0);
   float ndc = clip.z / clip.w;
@@ -171,6 +173,6 @@ void main() {
 #ifdef FRAME_OUTPUT
   gl_FragDepth = WindowDepth(p);
   o_normal = vec4(0.0);
-  o_outcome = 1u << RAY_OUTCOME_HIT;
+  imageAtomicOr(u_outcome_image, ivec2(gl_FragCoord.xy), 1u << RAY_OUTCOME_HIT);
 #endif
 }
