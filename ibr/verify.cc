@@ -959,8 +959,10 @@ glm::mat4 WorldFromObject(const SurfaceCase& c) {
 // wherever the march stopped (any outcome) and discard only back-facing
 // fragments (marked exited), so a drawn pixel has an outcome and a hit or an
 // early termination is always drawn.
-void CheckSurfaceFrame(Tally& tally, const core::Image8& color, const core::ImageF& depth,
-                       const core::ImageF* normal, const core::Image8* flags, bool carves) {
+void CheckSurfaceFrame(Tally& tally, const render::Frame& frame, bool ray_pass, bool carves) {
+  const core::ImageF& depth = frame.depth;
+  const core::ImageF* normal = &frame.normal;
+  const core::Image<uint32_t>* flags = ray_pass ? &frame.outcome : nullptr;
   HardTechniqueResult& r = tally.result;
   const uint32_t hit = 1u << static_cast<int>(render::RayOutcome::kHit);
   const uint32_t exited = 1u << static_cast<int>(render::RayOutcome::kExited);
@@ -977,7 +979,7 @@ void CheckSurfaceFrame(Tally& tally, const core::Image8& color, const core::Imag
         tally.NonFinite();
         continue;
       }
-      const bool covered = color.at(x, y, 3) == 255;
+      const bool covered = frame.Covered(x, y);
       r.covered += covered;
       if (covered != (z != 0))
         tally.Inconsistent(covered ? "drawn with depth 0" : "depth without coverage");
@@ -1020,9 +1022,9 @@ void HardDisplacementCase(render::ProgramCache& programs, std::mt19937& rng, int
   t.linear_filter = u(rng) < 0.5;
   const render::Texture texture =
       render::UploadDisplacementTexture(render::MakeDisplacementTexels(c.height_map), t);
-  render::DisplacementPass pass(programs, c.base, o);
-  const render::DisplacementFrame frame = pass.Render(c.view, texture, c.width, c.height);
-  CheckSurfaceFrame(tally, frame.color, frame.depth, nullptr, nullptr, false);
+  render::DisplacementPass pass(programs, c.base, texture, o);
+  const render::Frame frame = render::RenderFrame(pass, c.view, c.width, c.height);
+  CheckSurfaceFrame(tally, frame, false, false);
 }
 
 void HardReliefCase(render::ProgramCache& programs, std::mt19937& rng, render::ReliefMethod method,
@@ -1050,9 +1052,8 @@ void HardReliefCase(render::ProgramCache& programs, std::mt19937& rng, render::R
   // only with a far plane that contains the march).
   o.step_policy = u(rng) < 0.5 ? render::RayStepPolicy::kFixed : render::RayStepPolicy::kThreshold;
   o.world_from_object = WorldFromObject(c);
-  const render::ReliefFrame frame = surface.Render(programs, c.view, c.width, c.height, o);
-  CheckSurfaceFrame(tally, frame.color, frame.depth, &frame.normal, &frame.outcome_flags,
-                    method == render::ReliefMethod::kNcs);
+  const render::Frame frame = surface.Render(c.view, c.width, c.height, o);
+  CheckSurfaceFrame(tally, frame, true, method == render::ReliefMethod::kNcs);
 }
 
 }  // namespace
