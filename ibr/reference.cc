@@ -15,23 +15,33 @@ ReferenceVariant ReferenceVariant::From(const DepthObjectOptions& options) {
   return v;
 }
 
-glm::vec3 ReferenceViewPointOnPlane(const FrameParams& f, glm::vec2 uv, glm::vec4 plane) {
+namespace {
+
+float Div(float a, float b, const ReferenceDivision* division, ReferenceDivision::Site site) {
+  return division == nullptr ? a / b : division->Divide(a, b, site);
+}
+
+}  // namespace
+
+glm::vec3 ReferenceViewPointOnPlane(const FrameParams& f, glm::vec2 uv, glm::vec4 plane,
+                                    const ReferenceDivision* division) {
   const glm::vec4 r = f.view_ray;
   if (f.view_orthographic) {
     const float ox = uv.x * r.x + r.z;
     const float oy = uv.y * r.y + r.w;
     const float s = plane.w - (plane.x * ox + plane.y * oy);
-    const float z = s / plane.z;
+    const float z = Div(s, plane.z, division, ReferenceDivision::kViewPoint);
     return {ox, oy, z};
   }
   const float dx = uv.x * r.x + r.z;
   const float dy = uv.y * r.y + r.w;
   const float den = (plane.x * dx + plane.y * dy) + plane.z;
-  const float t = plane.w / den;
+  const float t = Div(plane.w, den, division, ReferenceDivision::kViewPoint);
   return {t * dx, t * dy, t};
 }
 
-bool ReferenceMapLookup(const MapRecord& m, glm::vec3 p, glm::vec3& q, glm::ivec3& texel) {
+bool ReferenceMapLookup(const MapRecord& m, glm::vec3 p, glm::vec3& q, glm::ivec3& texel,
+                        const ReferenceDivision* division) {
   for (int c = 0; c < 3; ++c) {
     const float a = m.m0[c] * p.x;
     const float b = m.m1[c] * p.y;
@@ -46,8 +56,8 @@ bool ReferenceMapLookup(const MapRecord& m, glm::vec3 p, glm::vec3& q, glm::ivec
     v = q.y * m.proj.y + m.proj.w;
     in_front = true;
   } else {
-    u = (q.x / q.z) * m.proj.x + m.proj.z;
-    v = (q.y / q.z) * m.proj.y + m.proj.w;
+    u = Div(q.x, q.z, division, ReferenceDivision::kMapU) * m.proj.x + m.proj.z;
+    v = Div(q.y, q.z, division, ReferenceDivision::kMapV) * m.proj.y + m.proj.w;
     in_front = q.z > 0.0f;
   }
   if (!(in_front && u >= 0.0f && u < static_cast<float>(m.info.x) && v >= 0.0f &&
@@ -59,9 +69,9 @@ bool ReferenceMapLookup(const MapRecord& m, glm::vec3 p, glm::vec3& q, glm::ivec
 }
 
 bool ReferenceMapAccepts(const MapTables& t, const MapRecord& m, const ReferenceVariant& variant,
-                         glm::vec3 p, glm::ivec3& texel, bool* tie) {
+                         glm::vec3 p, glm::ivec3& texel, bool* tie, const ReferenceDivision* division) {
   glm::vec3 q;
-  if (!ReferenceMapLookup(m, p, q, texel)) return variant.outside_passes;
+  if (!ReferenceMapLookup(m, p, q, texel, division)) return variant.outside_passes;
   const float d = t.depth[t.Index(texel.z, texel.x, texel.y)];
   if (d < 0.0f) return false;  // outside the silhouette
   if (variant.visual_hull) return true;

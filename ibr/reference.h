@@ -25,12 +25,27 @@ struct ReferenceVariant {
   static ReferenceVariant From(const DepthObjectOptions& options);
 };
 
+// The divisions of the mirrored functions. GLSL promises 2.5 ULP for
+// division, not correct rounding: `ibr verify` (ibr/verify.h) replays a
+// decision with other admissible quotients through this hook. nullptr (the
+// default) = the correctly rounded a / b.
+class ReferenceDivision {
+ public:
+  // Where a division sits: the view point on a slice plane, a pinhole map's u and v.
+  enum Site { kViewPoint = 0, kMapU = 1, kMapV = 2 };
+  virtual ~ReferenceDivision() = default;
+  virtual float Divide(float a, float b, Site site) const = 0;
+};
+
 // Mirrors of the GLSL functions, operation for operation.
-glm::vec3 ReferenceViewPointOnPlane(const FrameParams& frame, glm::vec2 uv, glm::vec4 plane);
-bool ReferenceMapLookup(const MapRecord& map, glm::vec3 p, glm::vec3& q, glm::ivec3& texel);
+glm::vec3 ReferenceViewPointOnPlane(const FrameParams& frame, glm::vec2 uv, glm::vec4 plane,
+                                    const ReferenceDivision* division = nullptr);
+bool ReferenceMapLookup(const MapRecord& map, glm::vec3 p, glm::vec3& q, glm::ivec3& texel,
+                        const ReferenceDivision* division = nullptr);
 // `tie` is set when the decision was an exact equality q.z == depth.
 bool ReferenceMapAccepts(const MapTables& tables, const MapRecord& map, const ReferenceVariant& variant,
-                         glm::vec3 p, glm::ivec3& texel, bool* tie = nullptr);
+                         glm::vec3 p, glm::ivec3& texel, bool* tie = nullptr,
+                         const ReferenceDivision* division = nullptr);
 
 struct ReferenceBuffers {
   core::Image8 stencil;  // 1 channel, row 0 on top
