@@ -133,7 +133,7 @@ Open3dRun RunOpen3dPeer(const std::filesystem::path& dataset, const Open3dPeerOp
   constexpr const char* kWhere = "RunOpen3dPeer";
   options.Check();
   const std::filesystem::path script =
-      options.script.empty() ? std::filesystem::path(__FILE__).parent_path() / "open3d_peer.py" : options.script;
+      options.script.empty() ? std::filesystem::path(IBR_BENCH_SOURCE_DIR) / "open3d_peer.py" : options.script;
   if (!std::filesystem::exists(script)) core::ThrowInputError(kWhere, "'{}': no such script", script.string());
   std::filesystem::create_directories(options.work_dir);
   const std::filesystem::path report = options.work_dir / "peer.json";

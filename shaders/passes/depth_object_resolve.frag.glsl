@@ -38,6 +38,17 @@ vec3 RefineSurface(vec2 uv, vec3 p_inside) {
   float toward_eye = w > 0.0 ? -1.0 : 1.0;
 #endif
   vec3 p_outside = ViewPointOnPlane(uv, vec4(u_plane0.xyz, w + toward_eye * u_plane_step));
+  // With the eye within one slice spacing of the finishing slice (the eye in
+  // the box) the previous plane meets the ray behind the eye (camera z <= 0):
+  // bracket from a point on the same ray just in front of the eye instead,
+  // so the refined surface never lies behind it (found by ibr verify --hard).
+  if (!(p_outside.z > 0.0)) {
+#ifdef VIEW_ORTHOGRAPHIC
+    p_outside = vec3(p_inside.xy, 1e-3 * p_inside.z);
+#else
+    p_outside = 1e-3 * p_inside;
+#endif
+  }
   float s = RayRefineCrossing(p_outside, p_inside, RayField(p_outside), RayField(p_inside));
   return mix(p_outside, p_inside, s);
 }
