@@ -57,6 +57,28 @@ std::string DeformationKindName(DeformationKind kind) {
   return "unknown";
 }
 
+CutMode CutModeFromName(const std::string& name) {
+  if (name == "none") return CutMode::kNone;
+  if (name == "hollow") return CutMode::kHollow;
+  if (name == "solid") return CutMode::kSolid;
+  if (name == "thick") return CutMode::kThick;
+  ThrowInputError("CutModeFromName", "unknown cut '{}' (none, hollow, solid, thick:T)", name);
+}
+
+std::string CutModeName(CutMode mode) {
+  switch (mode) {
+    case CutMode::kNone:
+      return "none";
+    case CutMode::kHollow:
+      return "hollow";
+    case CutMode::kSolid:
+      return "solid";
+    case CutMode::kThick:
+      return "thick";
+  }
+  return "unknown";
+}
+
 void Deformation::Check() const {
   if (!std::isfinite(amount) || !std::isfinite(width)) {
     ThrowInputError("Deformation", "{}: amount {} and width {} must be finite",

@@ -48,6 +48,14 @@ struct Deformation {
   bool HasCut() const { return kind == DeformationKind::kKnife; }
 };
 
+// How a cut alpha is rendered (sec. 5): no cut, hollow thin shell (hits in
+// the cut discarded), solid (eq. 6: the cut reveals a new face), thick shell
+// of thickness T (eq. 7).
+enum class CutMode { kNone, kHollow, kSolid, kThick };
+// "none", "hollow", "solid", "thick" (InputError otherwise).
+CutMode CutModeFromName(const std::string& name);
+std::string CutModeName(CutMode mode);
+
 // A sum of deformations (the paper's "addition of deformation textures"):
 // D = sum of D_i, A = max of A_i.
 struct DeformationSum {
