@@ -7,8 +7,12 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <bit>
 #include <cmath>
 #include <cstdio>
+#include <map>
+#include <random>
 
 #include "core/deform_reference.h"
 #include "core/error.h"
@@ -182,6 +186,8 @@ TEST_F(DeformPassTest, SolidKnifeCutAgreesWithTheReference) {
         "deg\n",
         core::CutModeName(cut).c_str(), a.agree, a.compared, 100.0 * a.agree / a.compared, a.band,
         a.cut_normals, a.worst_cut_normal_deg);
+    // (worst printed with more digits below)
+    std::printf("  worst cut-face normal angle %.6f deg\n", a.worst_cut_normal_deg);
     EXPECT_GE(a.agree, 0.995 * a.compared) << core::CutModeName(cut);
     if (cut == CutMode::kSolid) {
       EXPECT_GT(a.cut_normals, 50);
@@ -228,6 +234,228 @@ TEST_F(DeformPassTest, ZeroDeformationCompositeReproducesTheMesh) {
   // Trilinear interpolation of the distance to a curved surface and the
   // mesh's own facets: well under a voxel.
   EXPECT_LT(worst, 0.5 * sdf_.spacing);
+  EXPECT_NO_GL_ERROR();
+}
+
+TEST_F(DeformPassTest, ForwardTruthForTwistAndBend) {
+  // A standing torus (ring in the y-z plane), finely tessellated, deformed
+  // forward in closed form and rasterised by the mesh pass, against the
+  // ray-cast inverse deformation of its distance field.
+  core::TriangleMesh torus = core::MakeTorus(0.3f, 0.12f, 192, 48);
+  for (glm::vec3& p : torus.positions) p = glm::vec3(p.z, p.x, p.y);
+  for (glm::vec3& n : torus.normals) n = glm::vec3(n.z, n.x, n.y);
+  for (const core::Deformation& d : {Make(core::DeformationKind::kTwist, 1.5, 0.45),
+                                     Make(core::DeformationKind::kBend, 0.6, 0.0)}) {
+    Scene scene;
+    scene.mesh = torus;
+    scene.deformation.terms = {d};
+    scene.placement = core::Placement::FromRegion({{-0.5, -0.5, -0.5}, {0.5, 0.5, 0.5}});
+    scene.sdf_resolution = 96;
+    core::MeshDistance distance(scene.mesh, false, "torus");
+    // Close enough that the torus fills most of the image (IoU counts
+    // silhouette pixels: a small footprint would measure pixel sampling).
+    ViewSetup view = MakeView({1.05f, -0.9f, 0.5f});
+    Frame frame = Render(scene, DeformPassOptions{}, view, distance);
+    core::TriangleMesh forward = torus;
+    const glm::dmat4 box_from_object = scene.placement.BoxFromObject();
+    for (glm::vec3& p : forward.positions) {
+      glm::dvec3 u(box_from_object * glm::dvec4(glm::dvec3(p), 1.0));
+      p = glm::vec3(scene.placement.object_from_box * glm::dvec4(d.Forward(u), 1.0));
+    }
+    GpuMesh gpu_forward(forward);
+    MeshFrame truth = RenderMesh(programs(), gpu_forward, view, kSize, kSize);
+    test_support::WriteDebugImage("forward_" + core::DeformationKindName(d.kind) + "_ray.png",
+                                  frame.color);
+    test_support::WriteDebugImage("forward_" + core::DeformationKindName(d.kind) + "_truth.png",
+                                  truth.color);
+    int both = 0, differ = 0;
+    std::vector<double> errors;
+    for (int y = 0; y < kSize; ++y)
+      for (int x = 0; x < kSize; ++x) {
+        bool a = frame.Covered(x, y), b = truth.color.at(x, y, 3) == 255;
+        differ += a != b;
+        if (a && b) {
+          ++both;
+          errors.push_back(std::abs(double(frame.depth.at(x, y)) - truth.depth.at(x, y)));
+        }
+      }
+    std::sort(errors.begin(), errors.end());
+    double iou = double(both) / (both + differ);
+    double p95 = errors[static_cast<size_t>(0.95 * (errors.size() - 1))];
+    std::printf(
+        "forward truth, %s: IoU %.4f (%d pixels differ), p95 depth error %.3g = %.3f voxel\n",
+        core::DeformationKindName(d.kind).c_str(), iou, differ, p95, p95 / sdf_.spacing);
+    EXPECT_GE(iou, 0.995) << core::DeformationKindName(d.kind);
+    EXPECT_LE(p95, 0.5 * sdf_.spacing) << core::DeformationKindName(d.kind);
+  }
+  EXPECT_NO_GL_ERROR();
+}
+
+TEST_F(DeformPassTest, NarrowPullMissesPerStepPolicy) {
+  // Fig. 3 analogue: a flat top (box face at box z = 0.4) pulled into a
+  // spike of amplitude 0.5 and width 0.03 of the region; base step one voxel.
+  Scene scene;
+  scene.mesh = core::MakeBox(glm::vec3(0.45f, 0.45f, 0.3f));
+  for (glm::vec3& p : scene.mesh.positions) p.z -= 0.22f;  // top face at z = -0.02 (box z 0.4)
+  scene.deformation.terms = {Make(core::DeformationKind::kPull, 0.5, 0.03)};
+  scene.placement = core::Placement::FromRegion({{-0.5, -0.5, -0.5}, {0.5, 0.5, 0.5}});
+  scene.deformation_resolution = 128;
+  core::MeshDistance distance(scene.mesh, false, "box");
+  ViewSetup view = MakeView({2.4f, 0.9f, 0.9f});
+  core::DeformReference reference(distance, scene.deformation, scene.placement, CutMode::kNone, 0);
+  double fixed_mean = 0.0;
+  for (RayStepPolicy policy :
+       {RayStepPolicy::kFixed, RayStepPolicy::kThreshold, RayStepPolicy::kJacobian}) {
+    DeformPassOptions options;
+    options.step_policy = policy;
+    options.threshold = 0.04f;
+    options.step_voxels = 1.0f;
+    options.draw_mesh = false;
+    Frame frame = Render(scene, options, view, distance);
+    test_support::WriteDebugImage("pull_" + RayStepPolicyName(policy) + ".png", frame.color);
+    Agreement a = Compare(frame, view, reference, scene.placement);
+    // Misses: the reference hits, the shader found nothing (outside the band).
+    int misses = a.compared - a.agree;
+    double samples = 0;
+    int rays = 0;
+    std::map<int, int> histogram;  // samples per ray, in bins of 16
+    for (uint32_t bits : frame.outcome.values()) {
+      uint32_t n = bits >> kDeformSamplesShift;
+      if (n == 0) continue;
+      samples += n;
+      ++rays;
+      ++histogram[static_cast<int>(n / 16) * 16];
+    }
+    double mean = samples / std::max(rays, 1);
+    if (policy == RayStepPolicy::kFixed) fixed_mean = mean;
+    std::printf(
+        "narrow pull, %s: %d misses of %d compared pixels, %.1f samples per ray (%.2fx fixed)\n  "
+        "histogram:",
+        RayStepPolicyName(policy).c_str(), misses, a.compared, mean, mean / fixed_mean);
+    for (auto [bin, count] : histogram) std::printf(" %d-%d:%d", bin, bin + 15, count);
+    std::printf("\n");
+    if (policy == RayStepPolicy::kJacobian) {
+      EXPECT_EQ(misses, 0);
+      EXPECT_LE(mean, 2.0 * fixed_mean);
+    }
+  }
+  EXPECT_NO_GL_ERROR();
+}
+
+TEST_F(DeformPassTest, HardCaseSweepIsFiniteAndConsistent) {
+  // Random deformations (sums, folds from large amounts), cuts, step
+  // policies, regions (tiny, containing the whole mesh, missing it),
+  // placements (rotated, scaled 0.2-3x, far off), cameras (inside the box,
+  // grazing); every 8th configuration gets a NaN or infinite parameter,
+  // which must be a clear InputError.
+  core::TriangleMesh mesh = core::MakeSphere(0.5f, 12, 24);
+  core::MeshDistance distance(mesh, false, "sphere");
+  std::mt19937 rng(2007);
+  std::uniform_real_distribution<double> u01(0.0, 1.0);
+  auto uniform = [&](double lo, double hi) { return lo + (hi - lo) * u01(rng); };
+  const core::DeformationKind kinds[] = {core::DeformationKind::kTwist,
+                                         core::DeformationKind::kBend, core::DeformationKind::kPull,
+                                         core::DeformationKind::kKnife};
+  const CutMode cuts[] = {CutMode::kNone, CutMode::kHollow, CutMode::kSolid, CutMode::kThick};
+  const RayStepPolicy policies[] = {RayStepPolicy::kFixed, RayStepPolicy::kThreshold,
+                                    RayStepPolicy::kJacobian};
+  constexpr int kConfigs = 208, kPixels = 24;
+  int rendered = 0, refused = 0, bad_pixels = 0, inconsistent = 0, covered = 0;
+  for (int c = 0; c < kConfigs; ++c) {
+    Scene scene;
+    scene.mesh = mesh;
+    int terms = 1 + (u01(rng) < 0.3);
+    for (int t = 0; t < terms; ++t) {
+      core::DeformationKind kind = kinds[rng() % 4];
+      core::Deformation d = Make(kind, 0, 0);
+      switch (kind) {
+        case core::DeformationKind::kTwist:
+          d.amount = uniform(-8, 8), d.width = uniform(0, 0.5);
+          break;
+        case core::DeformationKind::kBend:
+          d.amount = uniform(-3, 3), d.width = 0;
+          break;
+        case core::DeformationKind::kPull:
+          d.amount = uniform(-1, 1), d.width = uniform(0.01, 0.5);
+          break;
+        case core::DeformationKind::kKnife:
+          d.amount = uniform(0.01, 0.5), d.width = uniform(0.05, 1);
+          break;
+      }
+      scene.deformation.terms.push_back(d);
+    }
+    const bool poisoned = c % 8 == 7;
+    if (poisoned) scene.deformation.terms[0].amount = (c % 16 == 7) ? NAN : INFINITY;
+    glm::dvec3 centre(uniform(-0.8, 0.8), uniform(-0.8, 0.8), uniform(-0.8, 0.8));
+    glm::dvec3 half(uniform(0.02, 1.2), uniform(0.02, 1.2), uniform(0.02, 1.2));
+    if (c % 5 == 0) centre = glm::dvec3(0.0), half = glm::dvec3(0.7);  // contains the whole mesh
+    if (c % 7 == 0) centre = glm::dvec3(3.0, 0, 0);                    // misses it
+    glm::dvec3 rotation(uniform(-180, 180), uniform(-180, 180), uniform(-180, 180));
+    if (c % 3 == 0) rotation = glm::dvec3(0.0);
+    scene.placement = core::Placement::FromRegion({centre - half, centre + half}, rotation,
+                                                  uniform(0.2, 3.0), glm::dvec3(0.0));
+    scene.sdf_resolution = 20;
+    scene.deformation_resolution = 16;
+    DeformPassOptions options;
+    options.cut = cuts[rng() % 4];
+    options.thickness = static_cast<float>(uniform(0.01, 0.3));
+    options.step_policy = policies[rng() % 3];
+    options.skip_empty = u01(rng) < 0.5;
+    options.max_steps = 256;
+    glm::vec3 eye =
+        glm::normalize(glm::vec3(uniform(-1, 1), uniform(-1, 1), uniform(-1, 1)) + 1e-3f);
+    eye *= static_cast<float>(c % 6 == 0 ? uniform(0.05, 0.4)
+                                         : uniform(1.2, 4.0));  // some inside the box
+    ViewSetup view;
+    view.cam_from_world = core::CamFromWorldLookAt(eye, {0.01f, 0.02f, 0.0f}, {0, 0, 1});
+    view.clip_from_cam = core::ClipFromCamPerspective(kPixels, kPixels, kPixels / 2.0,
+                                                      kPixels / 2.0, kPixels, kPixels, 0.01, 20);
+    Frame frame;
+    try {
+      double grow = core::MaxObjectDisplacement(scene.deformation, scene.placement,
+                                                scene.deformation_resolution);
+      core::DistanceFieldOptions sdf_options;
+      sdf_options.resolution = scene.sdf_resolution;
+      sdf_ = core::BuildDistanceField(distance, scene.placement.ObjectBounds().Grown(grow + 0.01),
+                                      sdf_options);
+      texture_ = core::SampleDeformation(scene.deformation, scene.deformation_resolution);
+      DeformPass pass(programs(), {&scene.mesh, &sdf_, &texture_, scene.placement}, options);
+      frame = RenderFrame(pass, view, kPixels, kPixels);
+    } catch (const core::InputError& e) {
+      ++refused;
+      EXPECT_TRUE(poisoned) << "config " << c << ": " << e.what();
+      continue;
+    }
+    EXPECT_FALSE(poisoned) << "config " << c << " accepted a non-finite parameter";
+    ++rendered;
+    const uint32_t ray_bits = (1u << 1) | (1u << 2) | (1u << 3);
+    for (int y = 0; y < kPixels; ++y)
+      for (int x = 0; x < kPixels; ++x) {
+        float z = frame.depth.at(x, y);
+        bool finite = std::isfinite(z);
+        for (int k = 0; k < 3; ++k) finite &= std::isfinite(frame.normal.at(x, y, k));
+        bad_pixels += !finite;
+        uint32_t bits = frame.outcome.at(x, y);
+        bool hit = bits & (1u << static_cast<int>(RayOutcome::kHit));
+        bool mesh_px = bits & kDeformMeshBit;
+        int ray_outcomes = std::popcount(bits & ray_bits);
+        bool ok = frame.Covered(x, y) == (hit || mesh_px) && ray_outcomes <= 1 &&
+                  !(hit && mesh_px) && (!(bits & kDeformCutFaceBit) || hit) &&
+                  (frame.Covered(x, y) ? z >= 0 : z == 0) &&
+                  ((bits >> kDeformSamplesShift) > 0) == (ray_outcomes == 1);
+        inconsistent += !ok;
+        covered += frame.Covered(x, y);
+      }
+  }
+  std::printf(
+      "hard cases: %d configurations rendered, %d refused (non-finite parameters), %d covered "
+      "pixels, "
+      "%d non-finite pixels, %d inconsistent outcome flags\n",
+      rendered, refused, covered, bad_pixels, inconsistent);
+  EXPECT_EQ(rendered + refused, kConfigs);
+  EXPECT_EQ(refused, kConfigs / 8);
+  EXPECT_EQ(bad_pixels, 0);
+  EXPECT_EQ(inconsistent, 0);
   EXPECT_NO_GL_ERROR();
 }
 
