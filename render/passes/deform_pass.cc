@@ -141,6 +141,7 @@ DeformPass::DeformPass(ProgramCache& programs, const DeformInputs& inputs,
 
 void DeformPass::Draw(const RenderTarget& target, const ViewSetup& view) {
   target.Bind();
+  BindOutcomeImage(target);  // both stages OR their bits (pass.h)
   const glm::mat4 object_from_box(placement_.object_from_box);
   const glm::mat4 box_from_object(placement_.BoxFromObject());
   const std::vector<std::string> view_defines = BitDefines(view.orthographic);
@@ -161,6 +162,7 @@ void DeformPass::Draw(const RenderTarget& target, const ViewSetup& view) {
     for (int i = 0; i < 6; ++i) glEnable(GL_CLIP_DISTANCE0 + i);
     for (int piece = 0; piece < 6; ++piece) {
       program.Set("u_piece", piece);
+      glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
       mesh_->Draw();
     }
     for (int i = 0; i < 6; ++i) glDisable(GL_CLIP_DISTANCE0 + i);

@@ -17,20 +17,19 @@ uniform vec4 u_base_color;
 layout(location = 0) out vec4 o_color;
 layout(location = 1) out float o_depth;    // camera z
 layout(location = 2) out vec4 o_normal;    // world-space unit normal
-layout(location = 3) out uint o_outcome;   // outcome bits
+// The frame's outcome bits (render/passes/pass.h), ORed per fragment.
+layout(r32ui) uniform coherent uimage2D u_outcome_flags;
 
-// Two-sided head light as passes/mesh.frag.glsl: 0.25 ambient + 0.75 diffuse.
+#include "common/shading.glsl"
+
 vec3 Shade(vec3 albedo, vec3 n_world, vec3 p_in_cam) {
-  vec3 n_cam = normalize(mat3(u_cam_from_world) * n_world);
-#ifdef ORTHOGRAPHIC
-  vec3 to_eye = vec3(0.0, 0.0, -1.0);
-#else
-  vec3 to_eye = normalize(-p_in_cam);
-#endif
-  return albedo * (0.25 + 0.75 * abs(dot(n_cam, to_eye)));
+  return HeadLight(albedo, normalize(mat3(u_cam_from_world) * n_world), p_in_cam);
 }
 
 #ifdef MESH_STAGE
+// Early tests: only fragments that pass the depth test (at the time they
+// are drawn) OR the mesh bit.
+layout(early_fragment_tests) in;
 in vec3 v_normal_world;
 in vec3 v_p_in_cam;
 void main() {
@@ -38,7 +37,7 @@ void main() {
   o_color = vec4(Shade(u_base_color.rgb, n, v_p_in_cam), 1.0);
   o_depth = v_p_in_cam.z;
   o_normal = vec4(n, 0.0);
-  o_outcome = DEFORM_MESH_BIT;
+  imageAtomicOr(u_outcome_flags, ivec2(gl_FragCoord.xy), DEFORM_MESH_BIT);
 }
 #endif
 
@@ -160,14 +159,9 @@ void main() {
   RayResult res = RayMarchRun(r);
   uint samples = uint(min(res.samples, 65535)) << DEFORM_SAMPLES_SHIFT;
   if (res.outcome != RAY_OUTCOME_HIT) {
-    // No surface: record the outcome and samples where nothing else is (the
-    // farthest depth short of the clear value passes LESS only there).
-    gl_FragDepth = 0.99999994;
-    o_color = vec4(0.0);
-    o_depth = 0.0;
-    o_normal = vec4(0.0);
-    o_outcome = (1u << uint(res.outcome)) | samples;
-    return;
+    // Every ray ORs its outcome and samples, those that find nothing too.
+    imageAtomicOr(u_outcome_flags, ivec2(gl_FragCoord.xy), (1u << uint(res.outcome)) | samples);
+    discard;
   }
   vec3 p = res.p;
   vec4 w = Warp(p);
@@ -195,6 +189,7 @@ void main() {
   o_color = vec4(Shade(albedo, n, p_in_cam.xyz), 1.0);
   o_depth = p_in_cam.z;
   o_normal = vec4(n, 0.0);
-  o_outcome = (1u << uint(res.outcome)) | (cut_face ? DEFORM_CUT_FACE_BIT : 0u) | samples;
+  imageAtomicOr(u_outcome_flags, ivec2(gl_FragCoord.xy),
+                (1u << uint(res.outcome)) | (cut_face ? DEFORM_CUT_FACE_BIT : 0u) | samples);
 }
 #endif
