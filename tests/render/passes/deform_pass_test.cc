@@ -213,7 +213,7 @@ TEST_F(DeformPassTest, ZeroDeformationCompositeReproducesTheMesh) {
   Frame frame = Render(scene, DeformPassOptions{}, view, distance);
   test_support::WriteDebugImage("composite.png", frame.color);
   GpuMesh gpu_mesh(scene.mesh);
-  MeshFrame truth = RenderMesh(programs(), gpu_mesh, view, kSize, kSize);
+  Frame truth = RenderMesh(programs(), gpu_mesh, view, kSize, kSize);
   int both = 0, differ = 0, rays = 0;
   double worst = 0.0;
   for (int y = 0; y < kSize; ++y)
@@ -265,7 +265,7 @@ TEST_F(DeformPassTest, ForwardTruthForTwistAndBend) {
       p = glm::vec3(scene.placement.object_from_box * glm::dvec4(d.Forward(u), 1.0));
     }
     GpuMesh gpu_forward(forward);
-    MeshFrame truth = RenderMesh(programs(), gpu_forward, view, kSize, kSize);
+    Frame truth = RenderMesh(programs(), gpu_forward, view, kSize, kSize);
     test_support::WriteDebugImage("forward_" + core::DeformationKindName(d.kind) + "_ray.png",
                                   frame.color);
     test_support::WriteDebugImage("forward_" + core::DeformationKindName(d.kind) + "_truth.png",
