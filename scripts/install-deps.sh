@@ -27,6 +27,9 @@ PACKAGES=(
   # the Open3D peer (bench/open3d_peer.py, run with /usr/bin/python3): TSDF integration and
   # voxel carving; OpenImageIO's binding reads the datasets' EXR depth maps there
   python3-open3d python3-openimageio
+  # signed distance fields of meshes (core/distance_field_cgal.cc, header-only CGAL);
+  # the OpenVDB level-set peer timed beside it by ibr bench deform
+  libcgal-dev python3-openvdb
 )
 
 missing=()

@@ -2,7 +2,11 @@
 // and refinement, the uniforms, and the per-pixel outcome codes shared with
 // shaders/ray_core.glsl (whose header documents the GLSL contract: the
 // includer supplies RayField, optionally RayBend / RayInDomain / RayJacobian,
-// and never copies the marching loop). Used by NCS, POM and relief mapping
+// and the hooks RAY_REJECT + RayRejectHit (reject a crossing and march on),
+// RAY_BOTH_CROSSINGS (a hit is a change of side either way) and RAY_SKIP +
+// RaySkip (empty-space skipping: a crossing-free distance in t units); it
+// never copies the marching loop). RayResult counts the field evaluations
+// per ray (samples). Used by NCS, POM and relief mapping
 // (render/passes/relief_surface_pass.h) and by the depth-object ray variant and the
 // cut/deformation shaders.
 #pragma once

@@ -33,14 +33,31 @@
 //       or off the texture chart); the march then reports RAY_OUTCOME_EXITED.
 //       Straight rays also exit when t reaches RayMarch.t_max (the box exit).
 //
-//   #define RAY_SKIP and  float RaySkip(vec3 p);                     (optional)
-//       Empty-space skipping: a distance along the ray from sample p (t
-//       units) proven free of any crossing; the loop advances by
-//       max(step, skip). 0 = nothing known.
-//
 //   RAY_STEP_JACOBIAN also requires  mat3 RayJacobian(vec3 p);
 //       the Jacobian J_{T^-1}(p) = I + J_D(p) of the inverse warp at p
 //       (Correa 2007, eq. 4).
+//
+//   #define RAY_BOTH_CROSSINGS                                     (optional)
+//       A hit is a change of side in either direction (empty -> solid or
+//       solid -> empty), so a ray that starts inside the solid is not a hit
+//       at its origin and finds where it leaves (thin shells seen from
+//       inside: Correa 2007 sec. 5.1.1, hollow cuts). Without it, a hit is
+//       empty -> solid only and a ray starting inside hits at its origin.
+//       RayResult.entering tells the direction.
+//
+//   #define RAY_REJECT and  bool RayRejectHit(vec3 p);             (optional)
+//       Called at every refined crossing; true rejects it and the march goes
+//       on from the sample after it, now on the crossing's far side (Correa
+//       2007 sec. 5.1.1: intersections inside the cut region are discarded).
+//       RayResult.rejected counts them.
+//
+//   #define RAY_SKIP and  float RaySkip(vec3 p);                   (optional)
+//       Empty-space skipping (Correa 2007 sec. 6.2): a distance along the
+//       ray, in t units, proven free of any crossing (and of any hit that
+//       would not be rejected) from sample p; the march advances by
+//       max(policy step, skip). Return 0 where nothing is known. A skip
+//       that is not a true lower bound loses hits: that is the includer's
+//       proof to make.
 //
 // Defines that render::RayCoreDefines() inserts (never written by hand):
 //   RAY_OUTCOME_HIT / RAY_OUTCOME_EXITED / RAY_OUTCOME_EARLY_TERMINATION:
@@ -52,7 +69,8 @@
 //
 // Per ray the includer fills a RayMarch {origin, dir, t_max, step} and calls
 // RayMarchRun(); the result says hit / exited / ran out of steps (= early
-// termination, Chen-Chang sec. 5) with the refined point and path parameter.
+// termination, Chen-Chang sec. 5) with the refined point and path parameter,
+// and how many field evaluations the ray cost (samples).
 // ---------------------------------------------------------------------------
 
 #if !defined(RAY_OUTCOME_HIT) || !defined(RAY_OUTCOME_EXITED) || !defined(RAY_OUTCOME_EARLY_TERMINATION)
@@ -82,6 +100,9 @@ struct RayResult {
   vec3 p;       // refined crossing (hit), else the last sample
   float t;      // path parameter of p
   int steps;    // linear-search samples taken
+  int samples;  // RayField evaluations: origin + linear search + refinement
+  bool entering;  // hit: the crossing goes empty -> solid (always, without RAY_BOTH_CROSSINGS)
+  int rejected;   // crossings RayRejectHit turned down (0 without RAY_REJECT)
 };
 
 // Entry/exit parameters of the straight ray o + t d against the box [lo, hi]:
@@ -117,19 +138,22 @@ float RayStepLength(vec3 p, vec3 dir, float field, float base_step) {
 }
 
 // The refinement (the one bisection): the crossing on the segment [p, q]
-// between a sample outside (RayField(p) = fp > 0) and one inside
-// (RayField(q) = fq <= 0), as a fraction of the way from p to q. Also called
-// by passes that find the bracketing samples another way (the depth-object
-// slice passes' resolve, between the finishing slice and the one before).
+// between two samples on different sides (RayField(p) = fp, RayField(q) = fq,
+// one > 0 and the other <= 0; either direction, for RAY_BOTH_CROSSINGS), as a
+// fraction of the way from p to q. Also called by passes that find the
+// bracketing samples another way (the depth-object slice passes' resolve,
+// between the finishing slice and the one before).
 float RayRefineCrossing(vec3 p, vec3 q, float fp, float fq) {
 #if defined(RAY_REFINE_SECANT)
-  return clamp(fp / max(fp - fq, 1e-30), 0.0, 1.0);
+  float den = fp - fq;
+  return clamp(fp / (abs(den) > 1e-30 ? den : 1e-30), 0.0, 1.0);
 #else
-  float ta = 0.0, tb = 1.0;
+  bool q_inside = fq <= 0.0;
+  float ta = 0.0, tb = 1.0;  // fractions along [p, q]: ta on p's side, tb on q's
   for (int k = 0; k < u_ray_refine_steps; ++k) {
     float tm = 0.5 * (ta + tb);
     float fm = RayField(mix(p, q, tm));
-    if (fm <= 0.0) tb = tm; else ta = tm;
+    if ((fm <= 0.0) == q_inside) tb = tm; else ta = tm;
   }
   return 0.5 * (ta + tb);
 #endif
@@ -138,13 +162,27 @@ float RayRefineCrossing(vec3 p, vec3 q, float fp, float fq) {
 RayResult RayMarchRun(RayMarch r) {
   RayResult res;
   res.steps = 0;
+  res.samples = 1;
+  res.rejected = 0;
+  res.entering = true;
   res.t = 0.0;
   res.p = r.origin;
   float f = RayField(r.origin);
-  if (f <= 0.0) {
+  bool inside = f <= 0.0;  // side of the last sample (<= 0 is solid)
+#if !defined(RAY_BOTH_CROSSINGS)
+  if (inside) {
+#ifdef RAY_REJECT
+    if (!RayRejectHit(r.origin)) {
+      res.outcome = RAY_OUTCOME_HIT;  // starts inside: the entry is the crossing
+      return res;
+    }
+    res.rejected = 1;
+#else
     res.outcome = RAY_OUTCOME_HIT;  // starts inside: the entry is the crossing
     return res;
+#endif
   }
+#endif
   vec3 p = r.origin;
   float t = 0.0;
   for (int i = 0; i < u_ray_max_steps; ++i) {
@@ -156,7 +194,8 @@ RayResult RayMarchRun(RayMarch r) {
     float dt = RayStepLength(p, dir, f, r.step);
     if (!(dt > 0.0) || isinf(dt)) dt = r.step;  // NaN/inf-safe: a bad policy value never stalls
 #ifdef RAY_SKIP
-    dt = max(dt, RaySkip(p));
+    float skip = RaySkip(p);
+    if (skip > dt && !isinf(skip)) dt = skip;  // NaN and inf skips are ignored
 #endif
     // The sample that would pass the exit lands exactly on it (a relative
     // slack absorbs rounding so n steps of t_max/n do reach the exit).
@@ -168,19 +207,39 @@ RayResult RayMarchRun(RayMarch r) {
     vec3 q = r.origin + (t + dt) * r.dir;
 #endif
     float fq = RayField(q);
+    bool inside_q = fq <= 0.0;
     res.steps = i + 1;
-    if (fq <= 0.0) {
+    res.samples += 1;
+#ifdef RAY_BOTH_CROSSINGS
+    bool crossed = inside_q != inside;
+#else
+    bool crossed = inside_q && !inside;
+#endif
+    if (crossed) {
       // The crossing lies on the segment [p, q] (straight in march space even
       // for bent rays: the piecewise-linear curve of Chen-Chang Fig. 5).
       float s_hit = RayRefineCrossing(p, q, f, fq);
-      res.outcome = RAY_OUTCOME_HIT;
-      res.p = mix(p, q, s_hit);
-      res.t = t + s_hit * dt;
-      return res;
+#if !defined(RAY_REFINE_SECANT)
+      res.samples += u_ray_refine_steps;
+#endif
+      vec3 hit = mix(p, q, s_hit);
+#ifdef RAY_REJECT
+      if (RayRejectHit(hit)) {
+        res.rejected += 1;
+      } else
+#endif
+      {
+        res.outcome = RAY_OUTCOME_HIT;
+        res.entering = inside_q;
+        res.p = hit;
+        res.t = t + s_hit * dt;
+        return res;
+      }
     }
     p = q;
     t += dt;
     f = fq;
+    inside = inside_q;
     if (last) {
       res.outcome = RAY_OUTCOME_EXITED;
       res.p = p;

@@ -1,0 +1,55 @@
+// `ibr deform`: a mesh deformed and cut by the deform pass (Correa, Silver,
+// Chen 2007; render/passes/deform_pass.h), from flags to one library call.
+// The mesh is normalised into the unit cube centred at the origin (longest
+// side 1), so regions, thicknesses and the threshold are in those units.
+#pragma once
+
+#include <cstdint>
+#include <filesystem>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "core/deformation.h"
+#include "core/distance_field.h"
+#include "render/gl/shader_program.h"
+#include "render/passes/deform_pass.h"
+
+namespace bench {
+
+struct DeformRunOptions {
+  std::filesystem::path mesh;  // OBJ/PLY/... (assimp)
+  bool cap_holes = false;      // fill the boundary loops of an open mesh
+  core::DeformationSum deformation;
+  // Region box in normalised units; empty = the mesh's bounds grown by 0.05.
+  std::optional<core::Box3d> region;
+  glm::dvec3 rotation_deg{0.0};  // placement: Euler angles about the region's centre
+  double scale = 1.0;            // placement: scale about the region's centre
+  glm::dvec3 translation{0.0};   // placement: translation (normalised units)
+  render::DeformPassOptions pass;
+  int sdf_resolution = 128;         // distance-field samples along the longest axis
+  int deformation_resolution = 64;  // deformation texture nodes per axis
+  int size = 512;                   // image width = height, pixels
+  double azimuth_deg = 30.0;        // camera orbit about +y (OBJ up)
+  double elevation_deg = 20.0;
+  std::filesystem::path out;  // colour PNG; camera z as <stem>.depth.exr beside it
+  void Check() const;
+};
+
+struct DeformRunReport {
+  double sdf_seconds = 0.0;
+  glm::ivec3 sdf_size{0};
+  double max_displacement = 0.0;  // normalised units
+  int64_t mesh_pixels = 0, hit_pixels = 0, cut_face_pixels = 0, exited_pixels = 0, early_pixels = 0;
+  double mean_samples = 0.0;  // per cast ray
+  double frame_ms = 0.0;      // median frame time after warm-up
+};
+
+// Loads, normalises, builds the distance field and the deformation texture,
+// renders and writes the outputs (staged: nothing partial on error).
+DeformRunReport RunDeform(render::ProgramCache& programs, const DeformRunOptions& options);
+
+// The deformation box of a run (normalised units) and its placement.
+core::Placement DeformPlacement(const DeformRunOptions& options, const core::Box3d& mesh_bounds);
+
+}  // namespace bench

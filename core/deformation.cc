@@ -1,0 +1,295 @@
+#include "core/deformation.h"
+
+#include <algorithm>
+#include <cmath>
+#include <glm/gtc/matrix_transform.hpp>
+
+#include "core/error.h"
+
+namespace core {
+namespace {
+
+constexpr glm::dvec2 kAxis{0.5, 0.5};  // twist and pull axis in (x, y), box units
+
+// Twist weight: 1 inside radius r0, smooth to 0 at the inscribed radius 0.5
+// (so the twist vanishes on the four side faces), times z (0 on the bottom).
+double TwistAngle(const Deformation& d, double r, double z) {
+  double r0 = std::min(d.width, 0.5);
+  double s = r <= r0 ? 1.0 : r >= 0.5 ? 0.0 : (0.5 - r) / (0.5 - r0);
+  s = s * s * (3 - 2 * s);
+  return d.amount * std::clamp(z, 0.0, 1.0) * s;
+}
+
+glm::dvec2 Rotate(const glm::dvec2& v, double a) {
+  double c = std::cos(a), s = std::sin(a);
+  return {c * v.x - s * v.y, s * v.x + c * v.y};
+}
+
+// Knife opening width at height z: 0 below the cut, growing linearly to
+// `amount` at the top face.
+double KnifeWidth(const Deformation& d, double z) {
+  double depth = std::max(d.width, 1e-9);
+  return d.amount * std::clamp((z - (1.0 - depth)) / depth, 0.0, 1.0);
+}
+
+}  // namespace
+
+DeformationKind DeformationKindFromName(const std::string& name) {
+  if (name == "twist") return DeformationKind::kTwist;
+  if (name == "bend") return DeformationKind::kBend;
+  if (name == "pull") return DeformationKind::kPull;
+  if (name == "knife") return DeformationKind::kKnife;
+  ThrowInputError("DeformationKindFromName", "unknown deformation '{}' (twist, bend, pull, knife)",
+                  name);
+}
+
+std::string DeformationKindName(DeformationKind kind) {
+  switch (kind) {
+    case DeformationKind::kTwist:
+      return "twist";
+    case DeformationKind::kBend:
+      return "bend";
+    case DeformationKind::kPull:
+      return "pull";
+    case DeformationKind::kKnife:
+      return "knife";
+  }
+  return "unknown";
+}
+
+CutMode CutModeFromName(const std::string& name) {
+  if (name == "none") return CutMode::kNone;
+  if (name == "hollow") return CutMode::kHollow;
+  if (name == "solid") return CutMode::kSolid;
+  if (name == "thick") return CutMode::kThick;
+  ThrowInputError("CutModeFromName", "unknown cut '{}' (none, hollow, solid, thick:T)", name);
+}
+
+std::string CutModeName(CutMode mode) {
+  switch (mode) {
+    case CutMode::kNone:
+      return "none";
+    case CutMode::kHollow:
+      return "hollow";
+    case CutMode::kSolid:
+      return "solid";
+    case CutMode::kThick:
+      return "thick";
+  }
+  return "unknown";
+}
+
+void Deformation::Check() const {
+  if (!std::isfinite(amount) || !std::isfinite(width)) {
+    ThrowInputError("Deformation", "{}: amount {} and width {} must be finite",
+                    DeformationKindName(kind), amount, width);
+  }
+  switch (kind) {
+    case DeformationKind::kTwist:
+      if (std::abs(amount) > 8 * M_PI || width < 0 || width > 0.5) {
+        ThrowInputError("Deformation",
+                        "twist: |angle| {} must be <= 8 pi and radius {} in [0, 0.5]", amount,
+                        width);
+      }
+      break;
+    case DeformationKind::kBend:
+      if (std::abs(amount) > M_PI)
+        ThrowInputError("Deformation", "bend: |angle| {} must be <= pi", amount);
+      break;
+    case DeformationKind::kPull:
+      if (std::abs(amount) > 1 || !(width > 1e-3) || width > 1) {
+        ThrowInputError("Deformation",
+                        "pull: |amplitude| {} must be <= 1 and width {} in (0.001, 1]", amount,
+                        width);
+      }
+      break;
+    case DeformationKind::kKnife:
+      if (!(amount > 0) || amount > 0.5 || !(width > 0) || width > 1) {
+        ThrowInputError("Deformation",
+                        "knife: opening {} must be in (0, 0.5] and depth {} in (0, 1]", amount,
+                        width);
+      }
+      break;
+  }
+}
+
+glm::dvec4 Deformation::Evaluate(const glm::dvec3& u) const {
+  switch (kind) {
+    case DeformationKind::kTwist: {
+      // Forward: rotate (x, y) about the axis by alpha(r, z); r is preserved,
+      // so the inverse rotates by -alpha(r, z) (Correa 2007 sec. 4: D = -D_f).
+      glm::dvec2 v = glm::dvec2(u) - kAxis;
+      glm::dvec2 w = Rotate(v, -TwistAngle(*this, glm::length(v), u.z));
+      return {w - v, 0.0, -1.0};
+    }
+    case DeformationKind::kBend: {
+      // Barr 1984: the line x = 0.5 bends into an arc of radius rho = 1/k
+      // about the centre (0.5 + rho, z = 0), k = amount; z beyond the bent
+      // part continues rigidly. Inverse: the point's angle about the centre,
+      // clamped to [0, amount], unrolls it.
+      if (std::abs(amount) < 1e-12) return {0, 0, 0, -1};
+      double rho = 1.0 / amount;
+      glm::dvec2 v(u.x - 0.5 - rho, u.z);
+      double theta = std::atan2(u.z * (rho > 0 ? 1 : -1), (0.5 + rho - u.x) * (rho > 0 ? 1 : -1));
+      double tc = std::clamp(theta, std::min(0.0, amount), std::max(0.0, amount));
+      double c = std::cos(tc), s = std::sin(tc);
+      glm::dvec2 v0(v.x * c - v.y * s, v.x * s + v.y * c);  // rotate by -tc (see Forward)
+      double x = 0.5 + rho + v0.x, z = rho * tc + v0.y;
+      return {x - u.x, 0.0, z - u.z, -1.0};
+    }
+    case DeformationKind::kPull: {
+      // The narrow pull of Fig. 3 (after Correa 2006 eq. 8): along +z, scaled
+      // by z and a Gaussian of the distance from the axis.
+      double r2 = glm::dot(glm::dvec2(u) - kAxis, glm::dvec2(u) - kAxis);
+      return {0.0, 0.0, -amount * std::clamp(u.z, 0.0, 1.0) * std::exp(-r2 / (2 * width * width)),
+              -1.0};
+    }
+    case DeformationKind::kKnife: {
+      // Forward: the halves x < 0.5 and x > 0.5 move apart by w(z)/2 each.
+      // Inverse: a point in the gap maps onto the plane x = 0.5 (D stays
+      // continuous); A = w/2 - |x - 0.5| is > 0 in the gap.
+      double half = 0.5 * KnifeWidth(*this, u.z);
+      double dx = -std::clamp(u.x - 0.5, -half, half);
+      double alpha = half > 0 ? half - std::abs(u.x - 0.5) : -1.0;
+      return {dx, 0.0, 0.0, alpha};
+    }
+  }
+  return {0, 0, 0, -1};
+}
+
+glm::dvec3 Deformation::Forward(const glm::dvec3& u) const {
+  switch (kind) {
+    case DeformationKind::kTwist: {
+      glm::dvec2 v = glm::dvec2(u) - kAxis;
+      return {kAxis + Rotate(v, TwistAngle(*this, glm::length(v), u.z)), u.z};
+    }
+    case DeformationKind::kBend: {
+      if (std::abs(amount) < 1e-12) return u;
+      double rho = 1.0 / amount;
+      double tc = std::clamp(u.z / rho, std::min(0.0, amount), std::max(0.0, amount));
+      glm::dvec2 v0(u.x - 0.5 - rho, u.z - rho * tc);
+      double c = std::cos(tc), s = std::sin(tc);
+      glm::dvec2 v(v0.x * c + v0.y * s, -v0.x * s + v0.y * c);  // rotate by +tc
+      return {0.5 + rho + v.x, u.y, v.y};
+    }
+    case DeformationKind::kKnife: {
+      double half = 0.5 * KnifeWidth(*this, u.z);
+      double side = u.x > 0.5 ? 1.0 : u.x < 0.5 ? -1.0 : 0.0;
+      return {u.x + side * half, u.y, u.z};
+    }
+    case DeformationKind::kPull:
+      break;
+  }
+  ThrowInputError("Deformation::Forward", "{} has no closed-form forward map",
+                  DeformationKindName(kind));
+}
+
+void DeformationSum::Check() const {
+  if (terms.empty()) ThrowInputError("DeformationSum", "no deformation given");
+  for (const Deformation& d : terms) d.Check();
+}
+
+glm::dvec4 DeformationSum::Evaluate(const glm::dvec3& u) const {
+  glm::dvec4 sum(0.0, 0.0, 0.0, -1.0);
+  for (const Deformation& d : terms) {
+    glm::dvec4 e = d.Evaluate(u);
+    sum = glm::dvec4(glm::dvec3(sum) + glm::dvec3(e), std::max(sum.w, e.w));
+  }
+  return sum;
+}
+
+glm::dmat3 DeformationSum::Jacobian(const glm::dvec3& u, double h) const {
+  glm::dmat3 j(0.0);
+  for (int a = 0; a < 3; ++a) {
+    glm::dvec3 e(0.0);
+    e[a] = h;
+    j[a] = (glm::dvec3(Evaluate(u + e)) - glm::dvec3(Evaluate(u - e))) /
+           (2 * h);  // column a = dD/du_a
+  }
+  return j;
+}
+
+bool DeformationSum::HasCut() const {
+  return std::any_of(terms.begin(), terms.end(), [](const Deformation& d) { return d.HasCut(); });
+}
+
+Placement Placement::FromRegion(const Box3d& region, const glm::dvec3& rotation_deg, double scale,
+                                const glm::dvec3& translation) {
+  glm::dvec3 centre = 0.5 * (region.lo + region.hi);
+  glm::dmat4 m = glm::translate(glm::dmat4(1.0), centre + translation);
+  m = glm::rotate(m, glm::radians(rotation_deg.z), glm::dvec3(0, 0, 1));
+  m = glm::rotate(m, glm::radians(rotation_deg.y), glm::dvec3(0, 1, 0));
+  m = glm::rotate(m, glm::radians(rotation_deg.x), glm::dvec3(1, 0, 0));
+  m = glm::scale(m, glm::dvec3(scale) * region.size());
+  m = glm::translate(m, glm::dvec3(-0.5));
+  Placement placement{m};
+  placement.Check();
+  return placement;
+}
+
+void Placement::Check() const {
+  for (int c = 0; c < 4; ++c)
+    for (int r = 0; r < 4; ++r) {
+      if (!std::isfinite(object_from_box[c][r]))
+        ThrowInputError("Placement", "the placement is not finite");
+    }
+  double det = glm::determinant(Linear());
+  if (!(std::abs(det) > 1e-18))
+    ThrowInputError("Placement", "the placement is singular (determinant {})", det);
+}
+
+Box3d Placement::ObjectBounds() const {
+  Box3d box{glm::dvec3(1e300), glm::dvec3(-1e300)};
+  for (int c = 0; c < 8; ++c) {
+    glm::dvec3 p(object_from_box * glm::dvec4(c & 1, (c >> 1) & 1, (c >> 2) & 1, 1.0));
+    box.lo = glm::min(box.lo, p);
+    box.hi = glm::max(box.hi, p);
+  }
+  return box;
+}
+
+glm::dvec4 DeformObjectPoint(const DeformationSum& deformation, const Placement& placement,
+                             const glm::dvec3& p_deformed) {
+  glm::dvec3 u(placement.BoxFromObject() * glm::dvec4(p_deformed, 1.0));
+  if (glm::any(glm::lessThan(u, glm::dvec3(0.0))) ||
+      glm::any(glm::greaterThan(u, glm::dvec3(1.0)))) {
+    return {p_deformed, -1.0};
+  }
+  glm::dvec4 e = deformation.Evaluate(u);
+  return {p_deformed + placement.Linear() * glm::dvec3(e), e.w};
+}
+
+DeformationTexture SampleDeformation(const DeformationSum& deformation, int resolution) {
+  deformation.Check();
+  if (resolution < 2 || resolution > 512) {
+    ThrowInputError("SampleDeformation", "resolution {} outside 2..512", resolution);
+  }
+  DeformationTexture texture;
+  texture.resolution = resolution;
+  texture.rgba.resize(static_cast<size_t>(resolution) * resolution * resolution * 4);
+  size_t n = 0;
+  for (int k = 0; k < resolution; ++k)
+    for (int j = 0; j < resolution; ++j)
+      for (int i = 0; i < resolution; ++i) {
+        glm::dvec4 e = deformation.Evaluate(glm::dvec3(i, j, k) / double(resolution - 1));
+        texture.max_displacement_box =
+            std::max(texture.max_displacement_box, glm::length(glm::dvec3(e)));
+        for (int c = 0; c < 4; ++c) texture.rgba[n++] = static_cast<float>(e[c]);
+      }
+  return texture;
+}
+
+double MaxObjectDisplacement(const DeformationSum& deformation, const Placement& placement,
+                             int resolution) {
+  double best = 0.0;
+  glm::dmat3 linear = placement.Linear();
+  for (int k = 0; k < resolution; ++k)
+    for (int j = 0; j < resolution; ++j)
+      for (int i = 0; i < resolution; ++i) {
+        glm::dvec4 e = deformation.Evaluate(glm::dvec3(i, j, k) / double(resolution - 1));
+        best = std::max(best, glm::length(linear * glm::dvec3(e)));
+      }
+  return best;
+}
+
+}  // namespace core

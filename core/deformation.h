@@ -1,0 +1,105 @@
+// Deformations as inverse displacement fields (Correa-Silver-Chen 2007,
+// sec. 3-4): a point p' of deformed space shows the undeformed point
+// p = p' + D(p') (eq. 1). D lives in a unit texture box u in [0, 1]^3; the
+// placement maps it into object space (eq. 2: p = p' + M D(M^-1 p'), M's
+// linear part applied to the displacement vector). Each deformation also
+// carries a cut alpha A(u) (sec. 5): A > 0 inside the cut (material removed
+// or opened), <= 0 elsewhere; -1 everywhere for continuous deformations.
+//
+// Which faces of the box each deformation vanishes on (the seam with the
+// rasterised, undeformed mesh must not cross any other face):
+//   twist  all faces but the top (z = 1)              (as the paper requires)
+//   bend   the bottom face (z = 0)
+//   pull   the bottom face (z = 0); the sides up to exp(-1/(8 w^2)) of the amplitude
+//   knife  the bottom face (z = 0); the cut opens from the top face
+#pragma once
+
+#include <glm/glm.hpp>
+#include <string>
+#include <vector>
+
+#include "core/distance_field.h"
+
+namespace core {
+
+enum class DeformationKind { kTwist, kBend, kPull, kKnife };
+DeformationKind DeformationKindFromName(const std::string& name);  // InputError if unknown
+std::string DeformationKindName(DeformationKind kind);
+
+struct Deformation {
+  DeformationKind kind = DeformationKind::kTwist;
+  // twist: angle (radians) at the top face around the box's z axis;
+  // bend: total bend angle (radians) over z in [0, 1], bending towards +x (Barr 1984);
+  // pull: amplitude (box units) of the Gaussian pull along +z (Fig. 3: 0.5);
+  // knife: opening width (box units) of the cut at the top face.
+  double amount = 1.0;
+  // twist: radius (box units) inside which the twist is rigid; it falls to 0 at 0.5;
+  // pull: Gaussian width sigma (box units; Fig. 3 analogue: 0.03);
+  // knife: depth of the cut from the top face (box units);
+  // bend: unused.
+  double width = 0.3;
+
+  void Check() const;  // InputError on NaN/inf or out-of-range values
+  // (D(u), A(u)): inverse displacement (box units) and cut alpha at u.
+  glm::dvec4 Evaluate(const glm::dvec3& u) const;
+  bool HasForward() const { return kind != DeformationKind::kPull; }
+  // The forward map T(u) (T^-1(T(u)) = u): twist, bend and knife only.
+  glm::dvec3 Forward(const glm::dvec3& u) const;
+  bool HasCut() const { return kind == DeformationKind::kKnife; }
+};
+
+// How a cut alpha is rendered (sec. 5): no cut, hollow thin shell (hits in
+// the cut discarded), solid (eq. 6: the cut reveals a new face), thick shell
+// of thickness T (eq. 7).
+enum class CutMode { kNone, kHollow, kSolid, kThick };
+// "none", "hollow", "solid", "thick" (InputError otherwise).
+CutMode CutModeFromName(const std::string& name);
+std::string CutModeName(CutMode mode);
+
+// A sum of deformations (the paper's "addition of deformation textures"):
+// D = sum of D_i, A = max of A_i.
+struct DeformationSum {
+  std::vector<Deformation> terms;
+  void Check() const;
+  glm::dvec4 Evaluate(const glm::dvec3& u) const;
+  // J_D(u) by central differences (step h in box units).
+  glm::dmat3 Jacobian(const glm::dvec3& u, double h = 1e-5) const;
+  bool HasCut() const;
+};
+
+// Where the deformation box sits in object space: object = M(u), affine.
+struct Placement {
+  glm::dmat4 object_from_box{1.0};
+
+  // The region box as given, then rotated about its centre by Euler angles
+  // (degrees, x then y then z), scaled about its centre, then translated.
+  static Placement FromRegion(const Box3d& region, const glm::dvec3& rotation_deg = glm::dvec3(0.0),
+                              double scale = 1.0, const glm::dvec3& translation = glm::dvec3(0.0));
+  glm::dmat4 BoxFromObject() const { return glm::inverse(object_from_box); }
+  glm::dmat3 Linear() const { return glm::dmat3(object_from_box); }
+  // Axis-aligned object-space bounds of the placed box.
+  Box3d ObjectBounds() const;
+  void Check() const;  // InputError when not finite or singular
+};
+
+// Eq. 2 in object space: the undeformed point p = p' + M D(M^-1 p') and the
+// cut alpha at p' (-1 outside the box, where D = 0).
+glm::dvec4 DeformObjectPoint(const DeformationSum& deformation, const Placement& placement,
+                             const glm::dvec3& p_deformed);
+
+// The deformation sampled on the nodes of a res^3 grid over the box
+// (node (i, j, k) at u = (i, j, k) / (res - 1); as a 3D texture its texel
+// centres are the nodes, lookup coordinate (u (res - 1) + 0.5) / res), RGBA:
+// D in box units, A.
+struct DeformationTexture {
+  int resolution = 0;
+  std::vector<float> rgba;            // 4 floats per node, x fastest
+  double max_displacement_box = 0.0;  // max |D| over the nodes, box units
+};
+DeformationTexture SampleDeformation(const DeformationSum& deformation, int resolution);
+
+// Max |M D| over the nodes: how far the distance field must extend beyond the box.
+double MaxObjectDisplacement(const DeformationSum& deformation, const Placement& placement,
+                             int resolution);
+
+}  // namespace core

@@ -1,0 +1,211 @@
+#include "render/passes/deform_pass.h"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+
+#include "core/error.h"
+
+namespace render {
+
+void DeformPassOptions::Check() const {
+  if (!std::isfinite(thickness) || !(thickness > 0)) {
+    core::ThrowInputError("DeformPassOptions", "thickness {} must be finite and > 0", thickness);
+  }
+  if (!std::isfinite(step_voxels) || step_voxels < 0.01f || step_voxels > 64) {
+    core::ThrowInputError("DeformPassOptions", "step {} voxels outside [0.01, 64]", step_voxels);
+  }
+  for (float c :
+       {base_color.r, base_color.g, base_color.b, cut_color.r, cut_color.g, cut_color.b}) {
+    if (!(c >= 0 && c <= 1))
+      core::ThrowInputError("DeformPassOptions", "colour component {} outside [0, 1]", c);
+  }
+  RayCore().Check();
+}
+
+RayCoreOptions DeformPassOptions::RayCore() const {
+  RayCoreOptions core;
+  core.max_steps = max_steps;
+  core.refine_steps = refine_steps;
+  core.step_policy = step_policy;
+  core.threshold = threshold;
+  core.fine_step_scale = 0.25f;
+  return core;
+}
+
+std::vector<std::string> DeformPassOptions::Defines() const {
+  std::vector<std::string> defines = RayCoreDefines(RayCore());
+  switch (cut) {
+    case CutMode::kNone:
+      break;
+    case CutMode::kHollow:
+      defines.push_back("CUT_HOLLOW");
+      break;
+    case CutMode::kSolid:
+      defines.push_back("CUT_SOLID");
+      break;
+    case CutMode::kThick:
+      defines.push_back("CUT_THICK");
+      break;
+  }
+  if (skip_empty && cut != CutMode::kNone) defines.push_back("SKIP_EMPTY");
+  defines.push_back("RAY_STAGE");
+  return defines;
+}
+
+namespace {
+
+// The outcome bits, shared by both stages' shaders.
+std::vector<std::string> BitDefines(bool orthographic) {
+  std::vector<std::string> defines = {fmt::format("DEFORM_CUT_FACE_BIT {}u", kDeformCutFaceBit),
+                                      fmt::format("DEFORM_MESH_BIT {}u", kDeformMeshBit),
+                                      fmt::format("DEFORM_SAMPLES_SHIFT {}", kDeformSamplesShift)};
+  if (orthographic) defines.push_back("ORTHOGRAPHIC");
+  return defines;
+}
+
+Texture Upload3D(GLenum format, GLenum channels, glm::ivec3 size, const float* data) {
+  Texture texture = Texture::Create3D(format, size.x, size.y, size.z);
+  glTextureSubImage3D(texture.id(), 0, 0, 0, 0, size.x, size.y, size.z, channels, GL_FLOAT, data);
+  glTextureParameteri(texture.id(), GL_TEXTURE_MIN_FILTER, GL_LINEAR);
+  glTextureParameteri(texture.id(), GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+  return texture;
+}
+
+// Upper bound of |grad A| in object units over the texture's trilinear
+// interpolant: per cell and axis the largest difference of A along that axis
+// (the interpolant's partial derivative is a convex combination of them),
+// mapped to object units through ||M^-T|| <= Frobenius norm of M^-1.
+float AlphaLipschitz(const core::DeformationTexture& texture, const core::Placement& placement) {
+  const int n = texture.resolution;
+  auto a = [&](int i, int j, int k) {
+    return texture.rgba[((static_cast<size_t>(k) * n + j) * n + i) * 4 + 3];
+  };
+  glm::dvec3 g(0.0);
+  for (int k = 0; k < n; ++k)
+    for (int j = 0; j < n; ++j)
+      for (int i = 0; i < n; ++i) {
+        if (i + 1 < n) g.x = std::max(g.x, double(std::abs(a(i + 1, j, k) - a(i, j, k))));
+        if (j + 1 < n) g.y = std::max(g.y, double(std::abs(a(i, j + 1, k) - a(i, j, k))));
+        if (k + 1 < n) g.z = std::max(g.z, double(std::abs(a(i, j, k + 1) - a(i, j, k))));
+      }
+  g *= double(n - 1);  // per box unit
+  glm::dmat3 inv = glm::inverse(placement.Linear());
+  double frobenius = 0.0;
+  for (int c = 0; c < 3; ++c) frobenius += glm::dot(inv[c], inv[c]);
+  return static_cast<float>(std::max(1e-6, glm::length(g) * std::sqrt(frobenius)));
+}
+
+}  // namespace
+
+DeformPass::DeformPass(ProgramCache& programs, const DeformInputs& inputs,
+                       const DeformPassOptions& options)
+    : programs_(programs), options_(options), placement_(inputs.placement) {
+  options_.Check();
+  placement_.Check();
+  if (!inputs.sdf || inputs.sdf->values.empty())
+    core::ThrowInputError("DeformPass", "no distance field");
+  if (!inputs.deformation || inputs.deformation->resolution < 2) {
+    core::ThrowInputError("DeformPass", "no deformation texture");
+  }
+  const core::DistanceField& sdf = *inputs.sdf;
+  sdf_ = Upload3D(GL_R32F, GL_RED, sdf.size, sdf.values.data());
+  sdf_origin_ = glm::vec3(sdf.origin);
+  sdf_spacing_ = static_cast<float>(sdf.spacing);
+  sdf_size_ = sdf.size;
+  const core::DeformationTexture& d = *inputs.deformation;
+  deformation_resolution_ = d.resolution;
+  deformation_ = Upload3D(GL_RGBA32F, GL_RGBA, glm::ivec3(d.resolution), d.rgba.data());
+  alpha_lipschitz_ = AlphaLipschitz(d, placement_);
+  if (inputs.mesh && options_.draw_mesh) {
+    inputs.mesh->Validate("DeformPass");
+    mesh_.emplace(*inputs.mesh);
+  }
+  // The unit box as 12 triangles (36 corners, positions in box units).
+  static const int kFaces[6][4] = {{0, 2, 6, 4}, {1, 5, 7, 3}, {0, 4, 5, 1},
+                                   {2, 3, 7, 6}, {0, 1, 3, 2}, {4, 6, 7, 5}};
+  std::vector<glm::vec3> corners;
+  for (const auto& f : kFaces) {
+    for (int c : {f[0], f[1], f[2], f[0], f[2], f[3]})
+      corners.emplace_back(c & 1, (c >> 1) & 1, (c >> 2) & 1);
+  }
+  box_vbo_ = Buffer::CreateWithData(corners.data(),
+                                    static_cast<GLsizeiptr>(corners.size() * sizeof(glm::vec3)));
+  box_vao_ = VertexArray::Create();
+  glVertexArrayVertexBuffer(box_vao_.id(), 0, box_vbo_.id(), 0, sizeof(glm::vec3));
+  glEnableVertexArrayAttrib(box_vao_.id(), kPositionLocation);
+  glVertexArrayAttribFormat(box_vao_.id(), kPositionLocation, 3, GL_FLOAT, GL_FALSE, 0);
+  glVertexArrayAttribBinding(box_vao_.id(), kPositionLocation, 0);
+}
+
+void DeformPass::Draw(const RenderTarget& target, const ViewSetup& view) {
+  target.Bind();
+  BindOutcomeImage(target);  // both stages OR their bits (pass.h)
+  const glm::mat4 object_from_box(placement_.object_from_box);
+  const glm::mat4 box_from_object(placement_.BoxFromObject());
+  const std::vector<std::string> view_defines = BitDefines(view.orthographic);
+
+  // Stage 1: the mesh outside the box, as six convex pieces of the box's
+  // complement (gl_ClipDistance keeps an intersection of half-spaces).
+  if (mesh_) {
+    ProgramDesc desc{.vertex = "passes/deform_mesh.vert.glsl",
+                     .fragment = "passes/deform.frag.glsl"};
+    desc.defines = view_defines;
+    desc.defines.push_back("MESH_STAGE");
+    const Program& program = programs_.Get(desc);
+    program.Use();
+    program.Set("u_cam_from_world", view.cam_from_world);
+    program.Set("u_clip_from_cam", view.clip_from_cam);
+    program.Set("u_box_from_object", box_from_object);
+    program.Set("u_base_color", options_.base_color);
+    for (int i = 0; i < 6; ++i) glEnable(GL_CLIP_DISTANCE0 + i);
+    for (int piece = 0; piece < 6; ++piece) {
+      program.Set("u_piece", piece);
+      glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
+      mesh_->Draw();
+    }
+    for (int i = 0; i < 6; ++i) glDisable(GL_CLIP_DISTANCE0 + i);
+  }
+
+  // Stage 2: the box's back faces, one ray per fragment (the camera may be
+  // inside the box; the rays start at max(entry, 0)).
+  ProgramDesc desc{.vertex = "passes/deform_box.vert.glsl", .fragment = "passes/deform.frag.glsl"};
+  desc.defines = options_.Defines();
+  desc.defines.insert(desc.defines.end(), view_defines.begin(), view_defines.end());
+  const Program& program = programs_.Get(desc);
+  program.Use();
+  SetRayCoreUniforms(program, options_.RayCore());
+  program.Set("u_cam_from_world", view.cam_from_world);
+  program.Set("u_clip_from_cam", view.clip_from_cam);
+  program.Set("u_world_from_cam", glm::inverse(view.cam_from_world));
+  program.Set("u_object_from_box", object_from_box);
+  program.Set("u_box_from_object", box_from_object);
+  program.Set("u_sdf_origin", sdf_origin_);
+  program.Set("u_sdf_spacing", sdf_spacing_);
+  program.Set("u_sdf_size", glm::vec3(sdf_size_));
+  program.Set("u_deform_resolution", static_cast<float>(deformation_resolution_));
+  program.Set("u_step", options_.step_voxels * sdf_spacing_);
+  program.Set("u_thickness", options_.thickness);
+  program.Set("u_alpha_lipschitz", alpha_lipschitz_);
+  program.Set("u_base_color", options_.base_color);
+  program.Set("u_cut_color", options_.cut_color);
+  program.Set("u_sdf", 0);
+  program.Set("u_deformation", 1);
+  glBindTextureUnit(0, sdf_.id());
+  glBindTextureUnit(1, deformation_.id());
+  // The box's triangles face inwards: the far faces are front-facing (for a
+  // mirroring placement, back-facing). Each pixel gets one fragment; its ray
+  // is intersected with the box analytically, so either face set would do.
+  glEnable(GL_CULL_FACE);
+  glCullFace(glm::determinant(placement_.Linear()) > 0 ? GL_BACK : GL_FRONT);
+  glBindVertexArray(box_vao_.id());
+  glDrawArrays(GL_TRIANGLES, 0, 36);
+  glBindVertexArray(0);
+  glDisable(GL_CULL_FACE);
+  glCullFace(GL_BACK);
+  glBindTextureUnit(0, 0);
+  glBindTextureUnit(1, 0);
+}
+
+}  // namespace render

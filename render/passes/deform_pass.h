@@ -1,0 +1,106 @@
+// Deformation and cut shaders on meshes (Correa, Silver, Chen 2007): the
+// mesh outside the deformation box is rasterised as is (stage 1, the box
+// removed exactly with gl_ClipDistance: its complement is drawn as six convex
+// pieces, one instance each); inside the box a ray is cast per fragment of
+// the box's back faces through the shared ray core (stage 2), sampling the
+// mesh's signed distance field (an R32F 3D texture) at the inversely warped
+// point p = p' + M D(M^-1 p') (eq. 1-2, D an RGBA 3D texture: xyz inverse
+// displacement in box units, w the cut alpha A), and writes gl_FragDepth, so
+// the two stages composite by the depth test wherever they overlap.
+//
+// Sign convention, converted once here: Correa's f is > 0 inside; the ray
+// core's field is > 0 in empty space, so RayField = sdf (> 0 outside), the
+// paper's f = -sdf. Cuts (sec. 5): hollow = hits of sdf in either direction,
+// those where A > 0 rejected (RAY_BOTH_CROSSINGS + RAY_REJECT); solid (eq. 6)
+// = the field max(sdf, A) with the cut face's normal grad A; thick shell
+// (eq. 7) = max(|sdf + T/2| - T/2, A). Normals (eq. 5): (I + J)^T grad sdf at
+// the warped point, J by central differences of the warp.
+//
+// Outcome bits (frame attachment 3): 1 << RayOutcome for ray-cast pixels,
+// kDeformMeshBit for rasterised mesh pixels, kDeformCutFaceBit where the hit
+// is on a cut face; bits 16..31 hold the ray's field samples (saturated).
+#pragma once
+
+#include <glm/glm.hpp>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "core/deformation.h"
+#include "core/distance_field.h"
+#include "core/mesh.h"
+#include "render/cores/ray_core.h"
+#include "render/gl/gpu_mesh.h"
+#include "render/gl/handles.h"
+#include "render/gl/shader_program.h"
+#include "render/passes/pass.h"
+
+namespace render {
+
+inline constexpr uint32_t kDeformCutFaceBit = 1u << 4;  // the ray hit a cut face (A = 0)
+inline constexpr uint32_t kDeformMeshBit = 1u << 5;     // rasterised, undeformed mesh
+inline constexpr int kDeformSamplesShift = 16;          // samples per ray in bits 16..31
+
+using core::CutMode;
+
+struct DeformPassOptions {
+  CutMode cut = CutMode::kNone;
+  // Thick shell thickness T (object units), CutMode::kThick only.
+  float thickness = 0.05f;
+  // Base step of the linear search in distance-field voxels: one voxel
+  // resolves what the field can hold (Correa's "constant ds").
+  float step_voxels = 1.0f;
+  // The ray core's policy and budget (threshold in object units: |sdf| below
+  // it takes steps of fine_step_scale; 0.04 is the paper's value for a unit
+  // object). max_steps caps the linear search.
+  RayStepPolicy step_policy = RayStepPolicy::kFixed;
+  float threshold = 0.04f;
+  int max_steps = 2048;
+  int refine_steps = 10;
+  // Empty-space skipping in the cut region by the cut alpha (sec. 6.2):
+  // RAY_SKIP with skip = A / Lipschitz(A), a true lower bound of the
+  // distance to the cut's boundary.
+  bool skip_empty = false;
+  bool draw_mesh = true;  // stage 1; off = the box's ray cast alone
+  glm::vec4 base_color{0.8f, 0.8f, 0.8f, 1.0f};
+  glm::vec4 cut_color{0.85f, 0.35f, 0.3f, 1.0f};  // cut faces and the inside of hollow shells
+
+  void Check() const;
+  RayCoreOptions RayCore() const;
+  // The shader #defines of the ray-cast stage (ray core's included).
+  std::vector<std::string> Defines() const;
+};
+
+// What the pass draws, as plain CPU data (world = object space).
+struct DeformInputs {
+  const core::TriangleMesh* mesh = nullptr;               // the undeformed mesh (stage 1)
+  const core::DistanceField* sdf = nullptr;               // over the box grown by max |M D|
+  const core::DeformationTexture* deformation = nullptr;  // D and A over the box
+  core::Placement placement;                              // object_from_box
+};
+
+class DeformPass : public Pass {
+ public:
+  DeformPass(ProgramCache& programs, const DeformInputs& inputs, const DeformPassOptions& options);
+  std::string_view name() const override { return "deform"; }
+  void Draw(const RenderTarget& target, const ViewSetup& view) override;
+  const DeformPassOptions& options() const { return options_; }
+
+ private:
+  ProgramCache& programs_;
+  DeformPassOptions options_;
+  core::Placement placement_;
+  std::optional<GpuMesh> mesh_;
+  Texture sdf_;
+  Texture deformation_;
+  glm::vec3 sdf_origin_{0.0f};
+  float sdf_spacing_ = 1.0f;
+  glm::ivec3 sdf_size_{0};
+  int deformation_resolution_ = 0;
+  float alpha_lipschitz_ = 1.0f;  // bound of |grad A| in object units (for the skip)
+  VertexArray box_vao_;
+  Buffer box_vbo_;
+};
+
+}  // namespace render

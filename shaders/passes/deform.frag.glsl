@@ -1,0 +1,195 @@
+#version 450 core
+// Deform pass fragments (render/passes/deform_pass.h), two variants:
+//   MESH_STAGE  the rasterised, undeformed mesh outside the box;
+//   RAY_STAGE   the ray cast inside the box (Correa-Silver-Chen 2007) on the
+//               shared ray core; writes gl_FragDepth.
+// Cut variants (RAY_STAGE): CUT_HOLLOW, CUT_SOLID, CUT_THICK; SKIP_EMPTY adds
+// empty-space skipping by the cut alpha. ORTHOGRAPHIC: parallel rays.
+//
+// Sign convention, converted here once: the paper's f is > 0 inside; the
+// ray core's field (RayField) is > 0 in empty space, so RayField works on
+// the signed distance sdf = -f (> 0 outside).
+
+uniform mat4 u_cam_from_world;
+uniform mat4 u_clip_from_cam;
+uniform vec4 u_base_color;
+
+layout(location = 0) out vec4 o_color;
+layout(location = 1) out float o_depth;    // camera z
+layout(location = 2) out vec4 o_normal;    // world-space unit normal
+// The frame's outcome bits (render/passes/pass.h), ORed per fragment.
+layout(r32ui) uniform coherent uimage2D u_outcome_flags;
+
+#include "common/shading.glsl"
+
+vec3 Shade(vec3 albedo, vec3 n_world, vec3 p_in_cam) {
+  return HeadLight(albedo, normalize(mat3(u_cam_from_world) * n_world), p_in_cam);
+}
+
+#ifdef MESH_STAGE
+// Early tests: only fragments that pass the depth test (at the time they
+// are drawn) OR the mesh bit.
+layout(early_fragment_tests) in;
+in vec3 v_normal_world;
+in vec3 v_p_in_cam;
+void main() {
+  vec3 n = length(v_normal_world) > 0.0 ? normalize(v_normal_world) : vec3(0.0, 0.0, 1.0);
+  o_color = vec4(Shade(u_base_color.rgb, n, v_p_in_cam), 1.0);
+  o_depth = v_p_in_cam.z;
+  o_normal = vec4(n, 0.0);
+  imageAtomicOr(u_outcome_flags, ivec2(gl_FragCoord.xy), DEFORM_MESH_BIT);
+}
+#endif
+
+#ifdef RAY_STAGE
+in vec3 v_p_world;
+
+uniform mat4 u_world_from_cam;
+uniform mat4 u_object_from_box;
+uniform mat4 u_box_from_object;
+uniform sampler3D u_sdf;          // signed distance, > 0 outside, nodes at texel centres
+uniform vec3 u_sdf_origin;        // object position of node (0, 0, 0)
+uniform float u_sdf_spacing;      // object units between nodes
+uniform vec3 u_sdf_size;          // nodes per axis
+uniform sampler3D u_deformation;  // xyz: D (box units), w: cut alpha A (> 0 cut)
+uniform float u_deform_resolution;
+uniform float u_step;             // base step, object units
+uniform float u_thickness;        // CUT_THICK: shell thickness T, object units
+uniform float u_alpha_lipschitz;  // bound of |grad A| in object units (SKIP_EMPTY)
+uniform vec4 u_cut_color;
+
+float Sdf(vec3 p) { return texture(u_sdf, ((p - u_sdf_origin) / u_sdf_spacing + 0.5) / u_sdf_size).r; }
+
+// (p' + M D(M^-1 p'), A(p')) for a deformed-space point p' (eq. 2); outside
+// the box D = 0 and A = -1.
+vec4 Warp(vec3 p) {
+  vec3 u = (u_box_from_object * vec4(p, 1.0)).xyz;
+  if (any(lessThan(u, vec3(0.0))) || any(greaterThan(u, vec3(1.0)))) return vec4(p, -1.0);
+  vec4 e = texture(u_deformation, (u * (u_deform_resolution - 1.0) + 0.5) / u_deform_resolution);
+  return vec4(p + mat3(u_object_from_box) * e.xyz, e.w);
+}
+
+// The object's field before the cut: sdf, or the thick shell of eq. 7
+// (solid where -T <= sdf <= 0).
+float Body(float sdf) {
+#ifdef CUT_THICK
+  return abs(sdf + 0.5 * u_thickness) - 0.5 * u_thickness;
+#else
+  return sdf;
+#endif
+}
+
+float RayField(vec3 p) {
+  vec4 w = Warp(p);
+  float body = Body(Sdf(w.xyz));
+#if defined(CUT_SOLID) || defined(CUT_THICK)
+  return max(body, w.w);  // eq. 6: inside the body and outside the cut
+#else
+  return body;
+#endif
+}
+
+// J_{T^-1} = I + J_D by central differences of the warp (half a texel of D).
+mat3 WarpJacobian(vec3 p) {
+  float h = 0.5 * length(mat3(u_object_from_box)[0]) / (u_deform_resolution - 1.0);
+  h = max(h, 1e-5);
+  mat3 j;
+  for (int a = 0; a < 3; ++a) {
+    vec3 e = vec3(0.0);
+    e[a] = h;
+    j[a] = (Warp(p + e).xyz - Warp(p - e).xyz) / (2.0 * h);
+  }
+  return j;
+}
+
+#ifdef RAY_STEP_JACOBIAN
+mat3 RayJacobian(vec3 p) { return WarpJacobian(p); }
+#endif
+
+#ifdef CUT_HOLLOW
+#define RAY_BOTH_CROSSINGS
+#define RAY_REJECT
+// Sec. 5.1.1: hits of the surface inside the cut are discarded.
+bool RayRejectHit(vec3 p) { return Warp(p).w > 0.0; }
+#endif
+
+#ifdef SKIP_EMPTY
+#define RAY_SKIP
+// Inside the cut (A > 0) nothing is hit within A / Lipschitz(A) (sec. 6.2).
+float RaySkip(vec3 p) {
+  float a = Warp(p).w;
+  return a > 0.0 ? a / u_alpha_lipschitz : 0.0;
+}
+#endif
+
+#include "cores/ray_core.glsl"
+
+vec3 SdfGradient(vec3 p) {
+  float h = 0.5 * u_sdf_spacing;
+  return vec3(Sdf(p + vec3(h, 0, 0)) - Sdf(p - vec3(h, 0, 0)), Sdf(p + vec3(0, h, 0)) - Sdf(p - vec3(0, h, 0)),
+              Sdf(p + vec3(0, 0, h)) - Sdf(p - vec3(0, 0, h)));
+}
+
+vec3 AlphaGradient(vec3 p) {
+  float h = 0.5 * length(mat3(u_object_from_box)[0]) / (u_deform_resolution - 1.0);
+  return vec3(Warp(p + vec3(h, 0, 0)).w - Warp(p - vec3(h, 0, 0)).w,
+              Warp(p + vec3(0, h, 0)).w - Warp(p - vec3(0, h, 0)).w,
+              Warp(p + vec3(0, 0, h)).w - Warp(p - vec3(0, 0, h)).w);
+}
+
+void main() {
+#ifdef ORTHOGRAPHIC
+  vec3 dir = normalize(mat3(u_world_from_cam) * vec3(0.0, 0.0, 1.0));
+  vec3 eye = v_p_world - 1e4 * dir;  // far in front: the box entry clamps it
+#else
+  vec3 eye = (u_world_from_cam * vec4(0.0, 0.0, 0.0, 1.0)).xyz;
+  vec3 dir = normalize(v_p_world - eye);
+#endif
+  // The box interval in box coordinates (affine: the same t).
+  vec3 o_box = (u_box_from_object * vec4(eye, 1.0)).xyz;
+  vec3 d_box = mat3(u_box_from_object) * dir;
+  vec2 iv = RayBoxInterval(o_box, d_box, vec3(0.0), vec3(1.0));
+  iv.x = max(iv.x, 0.0);
+  if (!(iv.x < iv.y)) discard;
+  RayMarch r;
+  r.origin = eye + iv.x * dir;
+  r.dir = dir;
+  r.t_max = iv.y - iv.x;
+  r.step = u_step;
+  RayResult res = RayMarchRun(r);
+  uint samples = uint(min(res.samples, 65535)) << DEFORM_SAMPLES_SHIFT;
+  if (res.outcome != RAY_OUTCOME_HIT) {
+    // Every ray ORs its outcome and samples, those that find nothing too.
+    imageAtomicOr(u_outcome_flags, ivec2(gl_FragCoord.xy), (1u << uint(res.outcome)) | samples);
+    discard;
+  }
+  vec3 p = res.p;
+  vec4 w = Warp(p);
+  float sdf = Sdf(w.xyz);
+  bool cut_face = false;
+#if defined(CUT_SOLID) || defined(CUT_THICK)
+  cut_face = w.w > Body(sdf);  // eq. 6: the cut's term is the active one
+#endif
+  vec3 n;
+  if (cut_face) {
+    n = normalize(AlphaGradient(p));  // out of the solid, into the cut
+  } else {
+    // Eq. 5: n' = (I + J_D)^T grad f at the warped point.
+    vec3 g = SdfGradient(w.xyz);
+#ifdef CUT_THICK
+    if (sdf + 0.5 * u_thickness < 0.0) g = -g;  // the shell's inner surface
+#endif
+    n = normalize(transpose(WarpJacobian(p)) * g);
+  }
+  vec4 p_in_cam = u_cam_from_world * vec4(p, 1.0);
+  vec4 clip = u_clip_from_cam * p_in_cam;
+  gl_FragDepth = clamp(0.5 * (clip.z / clip.w) + 0.5, 0.0, 1.0);
+  // Hollow: a hit leaving the solid shows the inside of the shell.
+  vec3 albedo = (cut_face || !res.entering) ? u_cut_color.rgb : u_base_color.rgb;
+  o_color = vec4(Shade(albedo, n, p_in_cam.xyz), 1.0);
+  o_depth = p_in_cam.z;
+  o_normal = vec4(n, 0.0);
+  imageAtomicOr(u_outcome_flags, ivec2(gl_FragCoord.xy),
+                (1u << uint(res.outcome)) | (cut_face ? DEFORM_CUT_FACE_BIT : 0u) | samples);
+}
+#endif

@@ -1,0 +1,172 @@
+// core/deformation: inverse displacements against their closed-form forward
+// maps, vanishing faces, the cut alpha, sums, placement (eq. 2) and the
+// sampled texture.
+#include "core/deformation.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <random>
+
+#include "core/error.h"
+
+namespace core {
+namespace {
+
+Deformation Make(DeformationKind kind, double amount, double width) {
+  Deformation d;
+  d.kind = kind;
+  d.amount = amount;
+  d.width = width;
+  d.Check();
+  return d;
+}
+
+TEST(Deformation, InverseUndoesTheForwardMap) {
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> u01(0.0, 1.0);
+  for (const Deformation& d :
+       {Make(DeformationKind::kTwist, 2.5, 0.3), Make(DeformationKind::kTwist, -1.0, 0.0),
+        Make(DeformationKind::kBend, 1.2, 0), Make(DeformationKind::kBend, -0.8, 0),
+        Make(DeformationKind::kKnife, 0.2, 0.6)}) {
+    double worst = 0.0;
+    int tested = 0;
+    for (int n = 0; n < 2000; ++n) {
+      glm::dvec3 u(u01(rng), u01(rng), u01(rng));
+      glm::dvec3 p = d.Forward(u);
+      if (glm::any(glm::lessThan(p, glm::dvec3(0.0))) ||
+          glm::any(glm::greaterThan(p, glm::dvec3(1.0)))) {
+        continue;  // left the box: D is only defined inside
+      }
+      if (d.kind == DeformationKind::kKnife && u.x == 0.5) continue;
+      glm::dvec3 back = p + glm::dvec3(d.Evaluate(p));
+      worst = std::max(worst, glm::length(back - u));
+      ++tested;
+    }
+    EXPECT_GT(tested, 500) << DeformationKindName(d.kind);
+    EXPECT_LT(worst, 1e-12) << DeformationKindName(d.kind) << " amount " << d.amount;
+  }
+}
+
+// Max |D| over a face of the box (axis a at value v), on a 33 x 33 grid.
+double MaxOnFace(const Deformation& d, int axis, double value) {
+  double worst = 0.0;
+  for (int i = 0; i <= 32; ++i)
+    for (int j = 0; j <= 32; ++j) {
+      glm::dvec3 u;
+      u[axis] = value;
+      u[(axis + 1) % 3] = i / 32.0;
+      u[(axis + 2) % 3] = j / 32.0;
+      worst = std::max(worst, glm::length(glm::dvec3(d.Evaluate(u))));
+    }
+  return worst;
+}
+
+TEST(Deformation, VanishesOnTheFacesItMust) {
+  Deformation twist = Make(DeformationKind::kTwist, 3.0, 0.35);
+  EXPECT_LT(MaxOnFace(twist, 2, 0.0), 1e-15);
+  for (int axis : {0, 1}) {
+    for (double v : {0.0, 1.0}) EXPECT_LT(MaxOnFace(twist, axis, v), 1e-15) << axis << " " << v;
+  }
+  EXPECT_GT(MaxOnFace(twist, 2, 1.0), 0.1);  // the top turns (the paper's exception)
+  for (const Deformation& d :
+       {Make(DeformationKind::kBend, 1.0, 0), Make(DeformationKind::kPull, 0.5, 0.03),
+        Make(DeformationKind::kKnife, 0.2, 0.5)}) {
+    EXPECT_LT(MaxOnFace(d, 2, 0.0), 1e-15) << DeformationKindName(d.kind);
+  }
+  // The narrow pull is negligible on the sides: exp(-1/(8 w^2)) * amplitude.
+  Deformation pull = Make(DeformationKind::kPull, 0.5, 0.03);
+  for (int axis : {0, 1}) EXPECT_LT(MaxOnFace(pull, axis, 0.0), 1e-30);
+}
+
+TEST(Deformation, PullMatchesTheFigure3Values) {
+  // Correa 2006 (notes): on the axis at z = 0.5, amplitude 1 gives D = (0, 0, -0.5).
+  glm::dvec4 e = Make(DeformationKind::kPull, 1.0, 0.03).Evaluate({0.5, 0.5, 0.5});
+  EXPECT_NEAR(e.z, -0.5, 1e-15);
+  EXPECT_EQ(e.x, 0.0);
+  EXPECT_EQ(e.w, -1.0);  // no cut
+}
+
+TEST(Deformation, KnifeAlphaMarksTheGap) {
+  Deformation knife = Make(DeformationKind::kKnife, 0.2, 0.5);
+  EXPECT_NEAR(knife.Evaluate({0.5, 0.3, 1.0}).w, 0.1, 1e-15);  // middle of the gap at the top
+  EXPECT_LT(knife.Evaluate({0.65, 0.3, 1.0}).w, 0.0);          // outside the gap
+  EXPECT_LT(knife.Evaluate({0.5, 0.3, 0.4}).w, 0.0);           // below the cut
+  EXPECT_NEAR(knife.Evaluate({0.55, 0.3, 0.75}).w, 0.0,
+              1e-15);  // on the gap's face (w = 0.1 there)
+  // The gap's material collapses onto x = 0.5: D continuous across its face.
+  glm::dvec4 in = knife.Evaluate({0.6 - 1e-9, 0.3, 1.0}),
+             out = knife.Evaluate({0.6 + 1e-9, 0.3, 1.0});
+  EXPECT_NEAR(in.x, out.x, 1e-8);
+}
+
+TEST(Deformation, SumAddsDisplacementsAndTakesTheLargestAlpha) {
+  DeformationSum sum{
+      {Make(DeformationKind::kTwist, 1.0, 0.3), Make(DeformationKind::kKnife, 0.2, 0.5)}};
+  glm::dvec3 u(0.45, 0.52, 0.9);
+  glm::dvec4 a = sum.terms[0].Evaluate(u), b = sum.terms[1].Evaluate(u), s = sum.Evaluate(u);
+  EXPECT_NEAR(glm::length(glm::dvec3(s) - glm::dvec3(a) - glm::dvec3(b)), 0.0, 1e-15);
+  EXPECT_EQ(s.w, std::max(a.w, b.w));
+  EXPECT_TRUE(sum.HasCut());
+}
+
+TEST(Deformation, JacobianOfTheTwistMatchesTheRotation) {
+  // Inside the rigid radius D = R(-a z) v - v: dD/dx = R(-a z) - I in (x, y).
+  DeformationSum sum{{Make(DeformationKind::kTwist, 2.0, 0.4)}};
+  glm::dvec3 u(0.55, 0.45, 0.7);
+  glm::dmat3 j = sum.Jacobian(u);
+  double a = -2.0 * 0.7;
+  EXPECT_NEAR(j[0][0], std::cos(a) - 1, 1e-8);
+  EXPECT_NEAR(j[0][1], std::sin(a), 1e-8);
+  EXPECT_NEAR(j[1][0], -std::sin(a), 1e-8);
+  EXPECT_NEAR(j[2][2], 0.0, 1e-8);
+}
+
+TEST(Deformation, PlacementAppliesEquation2) {
+  // A twist in a rotated, translated, scaled box: p = p' + M D(M^-1 p').
+  DeformationSum sum{{Make(DeformationKind::kTwist, 1.5, 0.3)}};
+  Placement placement =
+      Placement::FromRegion({{-1, -2, 0}, {1, 2, 3}}, {10, 20, 30}, 1.2, {0.1, 0.2, 0.3});
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> u01(0.02, 0.98);
+  for (int n = 0; n < 200; ++n) {
+    glm::dvec3 u(u01(rng), u01(rng), u01(rng));
+    glm::dvec3 p_def(placement.object_from_box * glm::dvec4(u, 1.0));
+    glm::dvec4 r = DeformObjectPoint(sum, placement, p_def);
+    glm::dvec3 expected(placement.object_from_box *
+                        glm::dvec4(u + glm::dvec3(sum.Evaluate(u)), 1.0));
+    EXPECT_NEAR(glm::length(glm::dvec3(r) - expected), 0.0, 1e-12);
+  }
+  // Outside the box the point is not deformed.
+  glm::dvec3 far(50, 0, 0);
+  EXPECT_EQ(glm::dvec3(DeformObjectPoint(sum, placement, far)), far);
+  Box3d b = placement.ObjectBounds();
+  EXPECT_GT(b.size().x, 2.0);
+}
+
+TEST(Deformation, TextureSamplesTheNodes) {
+  DeformationSum sum{{Make(DeformationKind::kBend, 0.9, 0)}};
+  DeformationTexture t = SampleDeformation(sum, 9);
+  ASSERT_EQ(t.rgba.size(), 9u * 9 * 9 * 4);
+  // Node (8, 3, 8) is u = (1, 3/8, 1).
+  size_t node = ((8 * 9 + 3) * 9 + 8) * 4;
+  glm::dvec4 e = sum.Evaluate({1.0, 3.0 / 8, 1.0});
+  for (int c = 0; c < 4; ++c) EXPECT_FLOAT_EQ(t.rgba[node + c], static_cast<float>(e[c]));
+  EXPECT_GT(t.max_displacement_box, 0.1);
+  Placement placement = Placement::FromRegion({{0, 0, 0}, {2, 2, 2}});
+  EXPECT_NEAR(MaxObjectDisplacement(sum, placement, 9), 2 * t.max_displacement_box, 1e-6);
+}
+
+TEST(Deformation, BadParametersAreClearErrors) {
+  EXPECT_THROW(Make(DeformationKind::kTwist, NAN, 0.3), InputError);
+  EXPECT_THROW(Make(DeformationKind::kPull, 0.5, INFINITY), InputError);
+  EXPECT_THROW(Make(DeformationKind::kKnife, 0.0, 0.5), InputError);
+  EXPECT_THROW(Make(DeformationKind::kBend, 4.0, 0), InputError);
+  EXPECT_THROW(DeformationKindFromName("peel2"), InputError);
+  EXPECT_THROW(Placement::FromRegion({{0, 0, 0}, {1, 1, 1}}, {0, 0, 0}, 0.0), InputError);
+  EXPECT_THROW(Placement::FromRegion({{0, 0, 0}, {1, NAN, 1}}), InputError);
+  EXPECT_THROW(DeformationSum{}.Check(), InputError);
+}
+
+}  // namespace
+}  // namespace core

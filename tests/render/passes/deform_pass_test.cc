@@ -1,0 +1,482 @@
+// render/passes/deform_pass against the independent CPU reference
+// (core/deform_reference.h: sphere tracing in double with the exact mesh
+// distance and the analytic deformation and cut), and the two-stage
+// composite against the plain mesh pass (a zero deformation must reproduce
+// the mesh).
+#include "render/passes/deform_pass.h"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <bit>
+#include <cmath>
+#include <cstdio>
+#include <map>
+#include <random>
+
+#include "core/deform_reference.h"
+#include "core/error.h"
+#include "core/projection.h"
+#include "render/passes/mesh_pass.h"
+#include "tests/support/gl_test.h"
+
+namespace render {
+namespace {
+
+constexpr int kSize = 96;
+// Focal length in pixels of MakeView and Compare (the narrow pull zooms in).
+double g_focal = 110.0;
+
+struct Scene {
+  core::TriangleMesh mesh;
+  core::DeformationSum deformation;
+  core::Placement placement;
+  int sdf_resolution = 64;
+  int deformation_resolution = 64;
+};
+
+ViewSetup MakeView(const glm::vec3& eye, const glm::vec3& target = glm::vec3(0.0f)) {
+  ViewSetup view;
+  view.cam_from_world = core::CamFromWorldLookAt(eye, target, {0, 0, 1});
+  view.clip_from_cam = core::ClipFromCamPerspective(g_focal, g_focal, kSize / 2.0, kSize / 2.0,
+                                                    kSize, kSize, 0.1, 20);
+  return view;
+}
+
+// Pixel classes: 0 nothing, 1 the mesh surface, 2 a cut face.
+int GpuClass(const Frame& frame, int x, int y) {
+  if (!frame.Covered(x, y)) return 0;
+  return (frame.outcome.at(x, y) & kDeformCutFaceBit) ? 2 : 1;
+}
+
+struct Agreement {
+  int compared = 0, agree = 0, band = 0;
+  double worst_cut_normal_deg = 0.0;
+  int cut_normals = 0;
+};
+
+// Traces every pixel centre on the CPU inside the box and compares the class
+// (and cut-face normals) with the GPU frame, outside a one-pixel band around
+// the reference's class boundaries.
+Agreement Compare(const Frame& frame, const ViewSetup& view, const core::DeformReference& reference,
+                  const core::Placement& placement) {
+  glm::dmat4 world_from_cam = glm::inverse(glm::dmat4(view.cam_from_world));
+  glm::dvec3 eye(world_from_cam * glm::dvec4(0, 0, 0, 1));
+  glm::dmat4 box_from_object = placement.BoxFromObject();
+  std::vector<int> cls(kSize * kSize);
+  std::vector<glm::dvec3> normals(kSize * kSize);
+  for (int y = 0; y < kSize; ++y)
+    for (int x = 0; x < kSize; ++x) {
+      glm::dvec3 d_cam((x + 0.5 - kSize / 2.0) / g_focal, (y + 0.5 - kSize / 2.0) / g_focal, 1.0);
+      glm::dvec3 dir = glm::normalize(glm::dmat3(world_from_cam) * d_cam);
+      // Box interval (slab test in box coordinates; the same t).
+      glm::dvec3 o = glm::dvec3(box_from_object * glm::dvec4(eye, 1)),
+                 d = glm::dmat3(box_from_object) * dir;
+      double t0 = 0, t1 = 1e30;
+      for (int a = 0; a < 3; ++a) {
+        double ta = (0 - o[a]) / d[a], tb = (1 - o[a]) / d[a];
+        t0 = std::max(t0, std::min(ta, tb));
+        t1 = std::min(t1, std::max(ta, tb));
+      }
+      int c = 0;
+      if (t0 < t1) {
+        core::DeformReferenceHit hit = reference.Trace(eye, dir, t0, t1);
+        if (hit.hit) c = hit.cut_face ? 2 : 1;
+        normals[y * kSize + x] = hit.normal;
+      }
+      cls[y * kSize + x] = c;
+    }
+  Agreement a;
+  for (int y = 0; y < kSize; ++y)
+    for (int x = 0; x < kSize; ++x) {
+      int c = cls[y * kSize + x];
+      bool band = false;
+      for (int dy = -1; dy <= 1; ++dy)
+        for (int dx = -1; dx <= 1; ++dx) {
+          int xx = std::clamp(x + dx, 0, kSize - 1), yy = std::clamp(y + dy, 0, kSize - 1);
+          band |= cls[yy * kSize + xx] != c;
+        }
+      if (band) {
+        ++a.band;
+        continue;
+      }
+      ++a.compared;
+      int g = GpuClass(frame, x, y);
+      a.agree += g == c;
+      if (c == 2 && g == 2) {
+        glm::dvec3 n_gpu(frame.normal.at(x, y, 0), frame.normal.at(x, y, 1),
+                         frame.normal.at(x, y, 2));
+        double cosine = glm::length(n_gpu) > 0.5
+                            ? glm::dot(glm::normalize(n_gpu), normals[y * kSize + x])
+                            : -1.0;
+        a.worst_cut_normal_deg = std::max(a.worst_cut_normal_deg,
+                                          glm::degrees(std::acos(std::clamp(cosine, -1.0, 1.0))));
+        ++a.cut_normals;
+      }
+    }
+  return a;
+}
+
+class DeformPassTest : public test_support::GlTest {
+ protected:
+  Frame Render(const Scene& scene, const DeformPassOptions& options, const ViewSetup& view,
+               const core::MeshDistance& distance) {
+    double grow = core::MaxObjectDisplacement(scene.deformation, scene.placement,
+                                              scene.deformation_resolution);
+    core::DistanceFieldOptions sdf_options;
+    sdf_options.resolution = scene.sdf_resolution;
+    sdf_ = core::BuildDistanceField(distance, scene.placement.ObjectBounds().Grown(grow + 0.02),
+                                    sdf_options);
+    texture_ = core::SampleDeformation(scene.deformation, scene.deformation_resolution);
+    DeformInputs inputs{&scene.mesh, &sdf_, &texture_, scene.placement};
+    DeformPass pass(programs(), inputs, options);
+    return RenderFrame(pass, view, kSize, kSize);
+  }
+  core::DistanceField sdf_;
+  core::DeformationTexture texture_;
+};
+
+core::Deformation Make(core::DeformationKind kind, double amount, double width) {
+  core::Deformation d;
+  d.kind = kind;
+  d.amount = amount;
+  d.width = width;
+  return d;
+}
+
+TEST_F(DeformPassTest, TwistedBoxAgreesWithTheReference) {
+  Scene scene;
+  scene.mesh = core::MakeBox(glm::vec3(0.3f, 0.3f, 0.4f));
+  scene.deformation.terms = {Make(core::DeformationKind::kTwist, 1.2, 0.45)};
+  scene.placement = core::Placement::FromRegion({{-0.5, -0.5, -0.6}, {0.5, 0.5, 0.5}});
+  core::MeshDistance distance(scene.mesh, false, "box");
+  DeformPassOptions options;
+  options.step_voxels = 0.5f;
+  ViewSetup view = MakeView({2.2f, 1.4f, 1.3f});
+  Frame frame = Render(scene, options, view, distance);
+  test_support::WriteDebugImage("twisted_box.png", frame.color);
+  core::DeformReference reference(distance, scene.deformation, scene.placement,
+                                  core::CutMode::kNone, 0);
+  Agreement a = Compare(frame, view, reference, scene.placement);
+  std::printf("twisted box: %d/%d pixels agree (%.3f %%), %d in the band\n", a.agree, a.compared,
+              100.0 * a.agree / a.compared, a.band);
+  EXPECT_GE(a.agree, 0.995 * a.compared);
+  EXPECT_GT(a.compared, kSize * kSize / 2);
+  EXPECT_NO_GL_ERROR();
+}
+
+TEST_F(DeformPassTest, SolidKnifeCutAgreesWithTheReference) {
+  Scene scene;
+  scene.mesh = core::MakeSphere(0.5f, 48, 96);
+  scene.deformation.terms = {Make(core::DeformationKind::kKnife, 0.25, 0.7)};
+  scene.placement = core::Placement::FromRegion({{-0.6, -0.6, -0.6}, {0.6, 0.6, 0.6}});
+  core::MeshDistance distance(scene.mesh, false, "sphere");
+  for (CutMode cut : {CutMode::kSolid, CutMode::kHollow, CutMode::kThick}) {
+    DeformPassOptions options;
+    options.cut = cut;
+    options.thickness = 0.08f;
+    options.step_voxels = 0.5f;
+    ViewSetup view = MakeView({0.9f, -2.0f, 2.0f});
+    Frame frame = Render(scene, options, view, distance);
+    test_support::WriteDebugImage("knife_" + core::CutModeName(cut) + ".png", frame.color);
+    core::DeformReference reference(distance, scene.deformation, scene.placement, cut,
+                                    options.thickness);
+    Agreement a = Compare(frame, view, reference, scene.placement);
+    std::printf(
+        "knife %s: %d/%d pixels agree (%.3f %%), %d in the band; cut-face normals: %d, worst %.3f "
+        "deg\n",
+        core::CutModeName(cut).c_str(), a.agree, a.compared, 100.0 * a.agree / a.compared, a.band,
+        a.cut_normals, a.worst_cut_normal_deg);
+    // (worst printed with more digits below)
+    std::printf("  worst cut-face normal angle %.6f deg\n", a.worst_cut_normal_deg);
+    EXPECT_GE(a.agree, 0.995 * a.compared) << core::CutModeName(cut);
+    if (cut == CutMode::kSolid) {
+      EXPECT_GT(a.cut_normals, 50);
+    }
+    if (cut != CutMode::kHollow) {
+      EXPECT_LT(a.worst_cut_normal_deg, 1.0) << core::CutModeName(cut);
+    }
+  }
+  EXPECT_NO_GL_ERROR();
+}
+
+TEST_F(DeformPassTest, ZeroDeformationCompositeReproducesTheMesh) {
+  // The box covers the top of the sphere: stage 1 draws the rest, stage 2
+  // ray casts the top from the distance field; together they are the mesh.
+  Scene scene;
+  scene.mesh = core::MakeSphere(0.5f, 64, 128);
+  scene.deformation.terms = {Make(core::DeformationKind::kTwist, 0.0, 0.3)};
+  scene.placement = core::Placement::FromRegion({{-0.3, -0.35, 0.1}, {0.4, 0.35, 0.7}});
+  scene.sdf_resolution = 64;
+  core::MeshDistance distance(scene.mesh, false, "sphere");
+  ViewSetup view = MakeView({1.6f, -1.7f, 1.2f});
+  Frame frame = Render(scene, DeformPassOptions{}, view, distance);
+  test_support::WriteDebugImage("composite.png", frame.color);
+  GpuMesh gpu_mesh(scene.mesh);
+  Frame truth = RenderMesh(programs(), gpu_mesh, view, kSize, kSize);
+  int both = 0, differ = 0, rays = 0;
+  double worst = 0.0;
+  for (int y = 0; y < kSize; ++y)
+    for (int x = 0; x < kSize; ++x) {
+      bool a = frame.Covered(x, y), b = truth.color.at(x, y, 3) == 255;
+      differ += a != b;
+      if (a && b) {
+        ++both;
+        worst = std::max(worst, std::abs(double(frame.depth.at(x, y)) - truth.depth.at(x, y)));
+        rays += (frame.outcome.at(x, y) & (1u << static_cast<int>(RayOutcome::kHit))) != 0;
+      }
+    }
+  double iou = double(both) / (both + differ);
+  std::printf(
+      "composite vs mesh: IoU %.4f, %d ray-cast pixels, max depth difference %.4g (voxel %.4g)\n",
+      iou, rays, worst, sdf_.spacing);
+  EXPECT_GT(rays, 200);  // both stages really drew
+  EXPECT_GE(iou, 0.99);
+  // Trilinear interpolation of the distance to a curved surface and the
+  // mesh's own facets: well under a voxel.
+  EXPECT_LT(worst, 0.5 * sdf_.spacing);
+  EXPECT_NO_GL_ERROR();
+}
+
+TEST_F(DeformPassTest, ForwardTruthForTwistAndBend) {
+  // A standing torus (ring in the y-z plane), finely tessellated, deformed
+  // forward in closed form and rasterised by the mesh pass, against the
+  // ray-cast inverse deformation of its distance field.
+  core::TriangleMesh torus = core::MakeTorus(0.3f, 0.12f, 192, 48);
+  for (glm::vec3& p : torus.positions) p = glm::vec3(p.z, p.x, p.y);
+  for (glm::vec3& n : torus.normals) n = glm::vec3(n.z, n.x, n.y);
+  for (const core::Deformation& d : {Make(core::DeformationKind::kTwist, 1.5, 0.45),
+                                     Make(core::DeformationKind::kBend, 0.6, 0.0)}) {
+    Scene scene;
+    scene.mesh = torus;
+    scene.deformation.terms = {d};
+    scene.placement = core::Placement::FromRegion({{-0.5, -0.5, -0.5}, {0.5, 0.5, 0.5}});
+    scene.sdf_resolution = 128;
+    core::MeshDistance distance(scene.mesh, false, "torus");
+    // Zoomed so the torus fills most of the image (IoU counts silhouette
+    // pixels: a small footprint would measure pixel sampling).
+    g_focal = 330.0;
+    ViewSetup view = MakeView({1.9f, -1.6f, 0.9f});
+    Frame frame = Render(scene, DeformPassOptions{}, view, distance);
+    core::TriangleMesh forward = torus;
+    const glm::dmat4 box_from_object = scene.placement.BoxFromObject();
+    for (glm::vec3& p : forward.positions) {
+      glm::dvec3 u(box_from_object * glm::dvec4(glm::dvec3(p), 1.0));
+      p = glm::vec3(scene.placement.object_from_box * glm::dvec4(d.Forward(u), 1.0));
+    }
+    GpuMesh gpu_forward(forward);
+    Frame truth = RenderMesh(programs(), gpu_forward, view, kSize, kSize);
+    test_support::WriteDebugImage("forward_" + core::DeformationKindName(d.kind) + "_ray.png",
+                                  frame.color);
+    test_support::WriteDebugImage("forward_" + core::DeformationKindName(d.kind) + "_truth.png",
+                                  truth.color);
+    int both = 0, differ = 0;
+    std::vector<double> errors;
+    for (int y = 0; y < kSize; ++y)
+      for (int x = 0; x < kSize; ++x) {
+        bool a = frame.Covered(x, y), b = truth.color.at(x, y, 3) == 255;
+        differ += a != b;
+        if (a && b) {
+          ++both;
+          errors.push_back(std::abs(double(frame.depth.at(x, y)) - truth.depth.at(x, y)));
+        }
+      }
+    std::sort(errors.begin(), errors.end());
+    double iou = double(both) / (both + differ);
+    double p95 = errors[static_cast<size_t>(0.95 * (errors.size() - 1))];
+    std::printf(
+        "forward truth, %s: IoU %.4f (%d pixels differ), p95 depth error %.3g = %.3f voxel\n",
+        core::DeformationKindName(d.kind).c_str(), iou, differ, p95, p95 / sdf_.spacing);
+    EXPECT_GE(iou, 0.995) << core::DeformationKindName(d.kind);
+    EXPECT_LE(p95, 0.5 * sdf_.spacing) << core::DeformationKindName(d.kind);
+  }
+  g_focal = 110.0;
+  EXPECT_NO_GL_ERROR();
+}
+
+TEST_F(DeformPassTest, NarrowPullMissesPerStepPolicy) {
+  // Fig. 3 analogue: a flat top (box face at box z = 0.4) pulled into a
+  // spike of amplitude 0.5 and width 0.03 of the region; base step one voxel.
+  Scene scene;
+  scene.mesh = core::MakeBox(glm::vec3(0.45f, 0.45f, 0.3f));
+  for (glm::vec3& p : scene.mesh.positions) p.z -= 0.22f;  // top face at z = -0.02 (box z 0.4)
+  scene.deformation.terms = {Make(core::DeformationKind::kPull, 0.5, 0.03)};
+  scene.placement = core::Placement::FromRegion({{-0.5, -0.5, -0.5}, {0.5, 0.5, 0.5}});
+  scene.deformation_resolution = 128;
+  core::MeshDistance distance(scene.mesh, false, "box");
+  // Zoomed onto the spike's upper half (it reaches z = 0.46), seen from the
+  // side: its tip is thinner than one step there.
+  g_focal = 600.0;
+  ViewSetup view = MakeView({2.4f, 0.9f, 0.35f}, {0.0f, 0.0f, 0.33f});
+  core::DeformReference reference(distance, scene.deformation, scene.placement, CutMode::kNone, 0);
+  double fixed_mean = 0.0;
+  for (RayStepPolicy policy :
+       {RayStepPolicy::kFixed, RayStepPolicy::kThreshold, RayStepPolicy::kJacobian}) {
+    DeformPassOptions options;
+    options.step_policy = policy;
+    options.threshold = 0.04f;
+    options.step_voxels = 1.0f;
+    options.draw_mesh = false;
+    Frame frame = Render(scene, options, view, distance);
+    test_support::WriteDebugImage("pull_" + RayStepPolicyName(policy) + ".png", frame.color);
+    Agreement a = Compare(frame, view, reference, scene.placement);
+    // Misses: the reference hits, the shader found nothing (outside the band).
+    int misses = a.compared - a.agree;
+    double samples = 0;
+    int rays = 0;
+    std::map<int, int> histogram;  // samples per ray, in bins of 16
+    for (uint32_t bits : frame.outcome.values()) {
+      uint32_t n = bits >> kDeformSamplesShift;
+      if (n == 0) continue;
+      samples += n;
+      ++rays;
+      ++histogram[static_cast<int>(n / 16) * 16];
+    }
+    double mean = samples / std::max(rays, 1);
+    if (policy == RayStepPolicy::kFixed) fixed_mean = mean;
+    std::printf(
+        "narrow pull, %s: %d misses of %d compared pixels, %.1f samples per ray (%.2fx fixed)\n  "
+        "histogram:",
+        RayStepPolicyName(policy).c_str(), misses, a.compared, mean, mean / fixed_mean);
+    for (auto [bin, count] : histogram) std::printf(" %d-%d:%d", bin, bin + 15, count);
+    std::printf("\n");
+    if (policy == RayStepPolicy::kJacobian) {
+      EXPECT_EQ(misses, 0);
+      EXPECT_LE(mean, 2.0 * fixed_mean);
+    }
+  }
+  g_focal = 110.0;
+  EXPECT_NO_GL_ERROR();
+}
+
+TEST_F(DeformPassTest, HardCaseSweepIsFiniteAndConsistent) {
+  // Random deformations (sums, folds from large amounts), cuts, step
+  // policies, regions (tiny, containing the whole mesh, missing it),
+  // placements (rotated, scaled 0.2-3x, far off), cameras (inside the box,
+  // grazing); every 8th configuration gets a NaN or infinite parameter,
+  // which must be a clear InputError.
+  core::TriangleMesh mesh = core::MakeSphere(0.5f, 12, 24);
+  core::MeshDistance distance(mesh, false, "sphere");
+  std::mt19937 rng(2007);
+  std::uniform_real_distribution<double> u01(0.0, 1.0);
+  auto uniform = [&](double lo, double hi) { return lo + (hi - lo) * u01(rng); };
+  const core::DeformationKind kinds[] = {core::DeformationKind::kTwist,
+                                         core::DeformationKind::kBend, core::DeformationKind::kPull,
+                                         core::DeformationKind::kKnife};
+  const CutMode cuts[] = {CutMode::kNone, CutMode::kHollow, CutMode::kSolid, CutMode::kThick};
+  const RayStepPolicy policies[] = {RayStepPolicy::kFixed, RayStepPolicy::kThreshold,
+                                    RayStepPolicy::kJacobian};
+  constexpr int kConfigs = 208, kPixels = 24;
+  int rendered = 0, refused = 0, bad_pixels = 0, inconsistent = 0, covered = 0;
+  for (int c = 0; c < kConfigs; ++c) {
+    Scene scene;
+    scene.mesh = mesh;
+    int terms = 1 + (u01(rng) < 0.3);
+    for (int t = 0; t < terms; ++t) {
+      core::DeformationKind kind = kinds[rng() % 4];
+      core::Deformation d = Make(kind, 0, 0);
+      switch (kind) {
+        case core::DeformationKind::kTwist:
+          d.amount = uniform(-8, 8), d.width = uniform(0, 0.5);
+          break;
+        case core::DeformationKind::kBend:
+          d.amount = uniform(-3, 3), d.width = 0;
+          break;
+        case core::DeformationKind::kPull:
+          d.amount = uniform(-1, 1), d.width = uniform(0.01, 0.5);
+          break;
+        case core::DeformationKind::kKnife:
+          d.amount = uniform(0.01, 0.5), d.width = uniform(0.05, 1);
+          break;
+      }
+      scene.deformation.terms.push_back(d);
+    }
+    const bool poisoned = c % 8 == 7;
+    if (poisoned) scene.deformation.terms[0].amount = (c % 16 == 7) ? NAN : INFINITY;
+    glm::dvec3 centre(uniform(-0.8, 0.8), uniform(-0.8, 0.8), uniform(-0.8, 0.8));
+    glm::dvec3 half(uniform(0.02, 1.2), uniform(0.02, 1.2), uniform(0.02, 1.2));
+    if (c % 5 == 0) centre = glm::dvec3(0.0), half = glm::dvec3(0.7);  // contains the whole mesh
+    if (c % 7 == 0) centre = glm::dvec3(3.0, 0, 0);                    // misses it
+    glm::dvec3 rotation(uniform(-180, 180), uniform(-180, 180), uniform(-180, 180));
+    if (c % 3 == 0) rotation = glm::dvec3(0.0);
+    scene.placement = core::Placement::FromRegion({centre - half, centre + half}, rotation,
+                                                  uniform(0.2, 3.0), glm::dvec3(0.0));
+    scene.sdf_resolution = 20;
+    scene.deformation_resolution = 16;
+    DeformPassOptions options;
+    options.cut = cuts[rng() % 4];
+    options.thickness = static_cast<float>(uniform(0.01, 0.3));
+    options.step_policy = policies[rng() % 3];
+    options.skip_empty = u01(rng) < 0.5;
+    options.max_steps = 256;
+    glm::vec3 eye =
+        glm::normalize(glm::vec3(uniform(-1, 1), uniform(-1, 1), uniform(-1, 1)) + 1e-3f);
+    eye *= static_cast<float>(c % 6 == 0 ? uniform(0.05, 0.4)
+                                         : uniform(1.2, 4.0));  // some inside the box
+    ViewSetup view;
+    view.cam_from_world = core::CamFromWorldLookAt(eye, {0.01f, 0.02f, 0.0f}, {0, 0, 1});
+    view.clip_from_cam = core::ClipFromCamPerspective(kPixels, kPixels, kPixels / 2.0,
+                                                      kPixels / 2.0, kPixels, kPixels, 0.01, 20);
+    Frame frame;
+    try {
+      double grow = core::MaxObjectDisplacement(scene.deformation, scene.placement,
+                                                scene.deformation_resolution);
+      core::DistanceFieldOptions sdf_options;
+      sdf_options.resolution = scene.sdf_resolution;
+      sdf_ = core::BuildDistanceField(distance, scene.placement.ObjectBounds().Grown(grow + 0.01),
+                                      sdf_options);
+      texture_ = core::SampleDeformation(scene.deformation, scene.deformation_resolution);
+      DeformPass pass(programs(), {&scene.mesh, &sdf_, &texture_, scene.placement}, options);
+      frame = RenderFrame(pass, view, kPixels, kPixels);
+    } catch (const core::InputError& e) {
+      ++refused;
+      EXPECT_TRUE(poisoned) << "config " << c << ": " << e.what();
+      continue;
+    }
+    EXPECT_FALSE(poisoned) << "config " << c << " accepted a non-finite parameter";
+    ++rendered;
+    const uint32_t ray_bits = (1u << 1) | (1u << 2) | (1u << 3);
+    for (int y = 0; y < kPixels; ++y)
+      for (int x = 0; x < kPixels; ++x) {
+        float z = frame.depth.at(x, y);
+        bool finite = std::isfinite(z);
+        for (int k = 0; k < 3; ++k) finite &= std::isfinite(frame.normal.at(x, y, k));
+        bad_pixels += !finite;
+        uint32_t bits = frame.outcome.at(x, y);
+        bool hit = bits & (1u << static_cast<int>(RayOutcome::kHit));
+        // A hit hidden behind the rasterised mesh still ORs its bit (every
+        // ray reports, pass.h), so hit and mesh bits may both be set.
+        bool mesh_px = bits & kDeformMeshBit;
+        int ray_outcomes = std::popcount(bits & ray_bits);
+        bool ok = frame.Covered(x, y) == (hit || mesh_px) && ray_outcomes <= 1 &&
+                  !(hit && mesh_px) && (!(bits & kDeformCutFaceBit) || hit) &&
+                  (frame.Covered(x, y) ? z >= 0 : z == 0) &&
+                  ((bits >> kDeformSamplesShift) > 0) == (ray_outcomes == 1);
+        inconsistent += !ok;
+        covered += frame.Covered(x, y);
+      }
+  }
+  std::printf(
+      "hard cases: %d configurations rendered, %d refused (non-finite parameters), %d covered "
+      "pixels, "
+      "%d non-finite pixels, %d inconsistent outcome flags\n",
+      rendered, refused, covered, bad_pixels, inconsistent);
+  EXPECT_EQ(rendered + refused, kConfigs);
+  EXPECT_EQ(refused, kConfigs / 8);
+  EXPECT_EQ(bad_pixels, 0);
+  EXPECT_EQ(inconsistent, 0);
+  EXPECT_NO_GL_ERROR();
+}
+
+TEST_F(DeformPassTest, BadOptionsAreClearErrors) {
+  DeformPassOptions options;
+  options.step_voxels = NAN;
+  EXPECT_THROW(options.Check(), core::InputError);
+  options = {};
+  options.thickness = -1;
+  EXPECT_THROW(options.Check(), core::InputError);
+  EXPECT_THROW(core::CutModeFromName("thin"), core::InputError);
+}
+
+}  // namespace
+}  // namespace render
