@@ -1,7 +1,15 @@
 #include "apps/ibr/commands.h"
 
+#include <fmt/format.h>
+
 #include <algorithm>
+#include <filesystem>
 #include <map>
+#include <string>
+#include <vector>
+
+#include "core/atomic_file.h"
+#include "core/error.h"
 
 namespace apps {
 namespace {
@@ -23,9 +31,56 @@ CLI::App* BenchGroup(CLI::App& app) {
   for (CLI::App* sub : app.get_subcommands([](CLI::App*) { return true; })) {
     if (sub->get_name() == "bench") return sub;
   }
-  CLI::App* bench = app.add_subcommand("bench", "Benchmarks that print time, throughput and accuracy");
+  CLI::App* bench =
+      app.add_subcommand("bench", "Benchmarks that print time, throughput and accuracy");
   bench->require_subcommand(1);
   return bench;
+}
+
+void CheckSubcommandNames(const CLI::App& app, int argc, const char* const* argv) {
+  const CLI::App* current = &app;
+  std::string path = "ibr";
+  for (int i = 1; i < argc; ++i) {
+    const std::string token = argv[i];
+    if (token == "--") return;
+    if (!token.empty() && token[0] == '-') {
+      // The root's only valued option; every group's other options are flags.
+      if (current == &app && token == "--log-level") ++i;
+      continue;
+    }
+    std::vector<const CLI::App*> subs =
+        current->get_subcommands([](const CLI::App*) { return true; });
+    if (subs.empty()) return;  // a leaf command: the rest are its arguments
+    const CLI::App* next = nullptr;
+    std::vector<std::string> names;
+    for (const CLI::App* sub : subs) {
+      names.push_back(sub->get_name());
+      if (sub->check_name(token)) next = sub;
+    }
+    if (next == nullptr) {
+      std::sort(names.begin(), names.end());
+      core::ThrowInputError(path, "unknown subcommand '{}' (valid: {})", token,
+                            fmt::join(names, ", "));
+    }
+    current = next;
+    path += " " + next->get_name();
+  }
+}
+
+void NoteCommandLineInputs(const CLI::App& app) {
+  for (const CLI::App* sub : app.get_subcommands()) {
+    for (const CLI::Option* option : sub->get_options()) {
+      // The options that name what a command writes.
+      if (option->check_lname("out") || option->check_lname("csv") ||
+          option->check_lname("screenshot"))
+        continue;
+      for (const std::string& value : option->results()) {
+        std::error_code ec;
+        if (!value.empty() && std::filesystem::exists(value, ec)) core::NoteInputPath(value);
+      }
+    }
+    NoteCommandLineInputs(*sub);
+  }
 }
 
 }  // namespace apps
