@@ -3,8 +3,10 @@
 #include <OpenImageIO/imageio.h>
 
 #include <algorithm>
+#include <array>
 #include <cctype>
 #include <fstream>
+#include <iterator>
 #include <memory>
 
 #include "core/atomic_file.h"
@@ -56,6 +58,42 @@ bool JpegHasEndMarker(const fs::path& path) {
   return bytes.find("\xFF\xD9") != std::string::npos;
 }
 
+// Walks a PNG's chunks (length, type, data, CRC-32) up to IEND: "" if the
+// file is whole, else what is wrong. libpng itself would print its own
+// "libpng error" lines on such files before OIIO reports them.
+std::string PngStructureProblem(const fs::path& path) {
+  static const std::array<uint32_t, 256> table = [] {
+    std::array<uint32_t, 256> t{};
+    for (uint32_t n = 0; n < 256; ++n) {
+      uint32_t c = n;
+      for (int k = 0; k < 8; ++k) c = (c & 1) ? 0xedb88320u ^ (c >> 1) : c >> 1;
+      t[n] = c;
+    }
+    return t;
+  }();
+  std::ifstream in(path, std::ios::binary);
+  const std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  if (bytes.size() < 8 || bytes.compare(0, 8, "\x89PNG\r\n\x1a\n", 8) != 0) return "no PNG signature";
+  auto be32 = [&](size_t at) {
+    uint32_t v = 0;
+    for (int k = 0; k < 4; ++k) v = (v << 8) | static_cast<unsigned char>(bytes[at + k]);
+    return v;
+  };
+  for (size_t at = 8;;) {
+    if (bytes.size() - at < 12) return "truncated PNG (no IEND chunk)";
+    const uint64_t length = be32(at);
+    const std::string type = bytes.substr(at + 4, 4);
+    if (length > bytes.size() - at - 12) return fmt::format("truncated PNG (ends inside chunk {})", type);
+    uint32_t crc = 0xffffffffu;
+    for (size_t i = at + 4; i < at + 8 + length; ++i) {
+      crc = table[(crc ^ static_cast<unsigned char>(bytes[i])) & 0xff] ^ (crc >> 8);
+    }
+    if ((crc ^ 0xffffffffu) != be32(at + 8 + length)) return fmt::format("corrupt PNG (chunk {} fails its CRC)", type);
+    if (type == "IEND") return "";
+    at += 12 + length;
+  }
+}
+
 std::unique_ptr<OIIO::ImageInput> OpenInput(const fs::path& path, std::string_view where) {
   if (!fs::exists(path)) ThrowFileError(where, path, "file does not exist");
   if (!fs::is_regular_file(path)) ThrowFileError(where, path, "not a regular file");
@@ -85,6 +123,11 @@ std::unique_ptr<OIIO::ImageInput> OpenInput(const fs::path& path, std::string_vi
         "image is {}x{} with {} channels; the limit is {} pixels a side, {} pixels and {} "
         "channels",
         spec.width, spec.height, spec.nchannels, kMaxImageSide, kMaxImagePixels, kMaxImageChannels);
+  }
+  if (expected == "png") {
+    if (const std::string problem = PngStructureProblem(path); !problem.empty()) {
+      ThrowFileError(where, path, "{}", problem);
+    }
   }
   if (expected == "jpeg" && !JpegHasEndMarker(path)) {
     ThrowFileError(where, path, "truncated JPEG (no end-of-image marker)");

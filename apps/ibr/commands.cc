@@ -17,6 +17,24 @@ std::map<std::string, CommandAdder>& Registry() {
   static std::map<std::string, CommandAdder> registry;
   return registry;
 }
+
+// Every existing path among the chosen subcommands' option values.
+void NoteInputs(const CLI::App& app) {
+  for (const CLI::App* sub : app.get_subcommands()) {
+    for (const CLI::Option* option : sub->get_options()) {
+      // The options that name what a command writes.
+      if (option->check_lname("out") || option->check_lname("csv") ||
+          option->check_lname("screenshot"))
+        continue;
+      for (const std::string& value : option->results()) {
+        std::error_code ec;
+        if (!value.empty() && std::filesystem::exists(value, ec)) core::NoteInputPath(value);
+      }
+    }
+    NoteInputs(*sub);
+  }
+}
+
 }  // namespace
 
 CommandRegistration::CommandRegistration(const char* name, CommandAdder add) {
@@ -59,8 +77,9 @@ void CheckSubcommandNames(const CLI::App& app, int argc, const char* const* argv
     }
     if (next == nullptr) {
       std::sort(names.begin(), names.end());
-      core::ThrowInputError(path, "unknown subcommand '{}' (valid: {})", token,
-                            fmt::join(names, ", "));
+      throw core::InputError(fmt::format(
+          "unknown subcommand '{}'{} (valid: {})", token,
+          current == &app ? std::string() : fmt::format(" of '{}'", path), fmt::join(names, ", ")));
     }
     current = next;
     path += " " + next->get_name();
@@ -68,18 +87,17 @@ void CheckSubcommandNames(const CLI::App& app, int argc, const char* const* argv
 }
 
 void NoteCommandLineInputs(const CLI::App& app) {
-  for (const CLI::App* sub : app.get_subcommands()) {
+  NoteInputs(app);
+  // Refuse an --out that overlaps an input now, before any work is done (the
+  // writers check again when they create the output).
+  for (const CLI::App* sub = &app; sub != nullptr;) {
+    const auto chosen = sub->get_subcommands();
     for (const CLI::Option* option : sub->get_options()) {
-      // The options that name what a command writes.
-      if (option->check_lname("out") || option->check_lname("csv") ||
-          option->check_lname("screenshot"))
-        continue;
-      for (const std::string& value : option->results()) {
-        std::error_code ec;
-        if (!value.empty() && std::filesystem::exists(value, ec)) core::NoteInputPath(value);
+      if (option->check_lname("out") && !option->results().empty()) {
+        core::CheckNotAnInput("--out", option->results().front());
       }
     }
-    NoteCommandLineInputs(*sub);
+    sub = chosen.empty() ? nullptr : chosen.front();
   }
 }
 

@@ -9,11 +9,13 @@
 // Also here: SIGINT / SIGTERM / SIGKILL sent to a running `ibr capture`, and
 // a user's folder given as --out.
 #include <fcntl.h>
+#include <fmt/format.h>
 #include <gtest/gtest.h>
 #include <spawn.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <cctype>
 #include <chrono>
 #include <csignal>
 #include <cstdint>
@@ -108,6 +110,7 @@ const Fixtures& GetFixtures() {
 // Copies the good dataset into `dir` and applies `edit` to its manifest.
 void DatasetWith(const fs::path& dir, const std::function<void(json&)>& edit,
                  const fs::path& source = {}) {
+  fs::create_directories(dir.parent_path());
   fs::copy(source.empty() ? GetFixtures().dataset : source, dir, fs::copy_options::recursive);
   fs::remove(dir / ".ibr-output");  // a user's copy, not an ibr output
   json j = json::parse(Slurp(dir / "dataset.json"));
@@ -390,7 +393,7 @@ std::vector<Case> Corpus() {
          json v = j["views"][0];
          j["views"] = json::array();
          for (int i = 0; i < 5000; ++i) {
-           v["name"] = "v" + std::to_string(i);
+           v["name"] = fmt::format("v{}", i);
            j["views"].push_back(v);
          }
        },
@@ -465,7 +468,7 @@ std::vector<Case> Corpus() {
         const std::string bytes = Slurp(p);
         Spit(p, bytes.substr(0, bytes.size() / 2));
       },
-      "color/");
+      "truncated PNG (ends inside chunk IDAT)");
   file_case(
       "color_truncated_jpeg",
       [](const fs::path& d) {
@@ -586,8 +589,8 @@ std::vector<Case> Corpus() {
            {"fov_nan", "--shape sphere --rig ring:4 --fov nan", "fov", 1},
            {"scene_bogus", "--scene nope", "nope", 1},
            {"background_bogus", "--shape sphere --background plaid", "--background", kCli},
-           {"texture_missing", "--shape sphere --texture /nonexistent-ibr.png",
-            "nonexistent-ibr.png", 1},
+           {"texture_with_shape", "--shape sphere --texture /nonexistent-ibr.png",
+            "--texture applies to --mesh only", 1},
        }) {
     add(
         "capture_" + name,
@@ -667,7 +670,7 @@ std::vector<Case> Corpus() {
         return "export colmap " + Quote(GetFixtures().persp) + " --point-step 0 --out " +
                Quote(out);
       },
-      "point-step");
+      "point_step_px 0 outside");
 
   // -- info, displace, demo, bench
   add("info_missing", fixed("info /nonexistent-ibr"), "not a directory");
@@ -714,8 +717,11 @@ TEST_P(BadInput, OneLineNonZeroInputsUntouchedNothingWritten) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Corpus, BadInput, ::testing::ValuesIn(Corpus()),
-                         [](const ::testing::TestParamInfo<Case>& info) {
-                           return info.param.name;
+                         [](const ::testing::TestParamInfo<Case>& p) {
+                           std::string name = p.param.name;  // gtest names: letters, digits, _
+                           for (char& c : name)
+                             c = std::isalnum(static_cast<unsigned char>(c)) ? c : '_';
+                           return name;
                          });
 
 TEST(BadInputCorpus, HasAtLeast80Cases) { EXPECT_GE(Corpus().size(), 80u); }
@@ -777,15 +783,17 @@ TEST_P(Signals, CaptureInterruptedLeavesNothingAndUserFolderSurvives) {
   const auto before = Snapshot(root);
   const int status = InterruptCapture(root / "out", sig);
   EXPECT_TRUE(WIFSIGNALED(status)) << "status " << status;
-  if (WIFSIGNALED(status)) EXPECT_EQ(WTERMSIG(status), sig);
+  if (WIFSIGNALED(status)) {
+    EXPECT_EQ(WTERMSIG(status), sig);
+  }
   EXPECT_EQ(Snapshot(root), before) << "something left behind (or removed) by signal " << sig;
 }
 
 INSTANTIATE_TEST_SUITE_P(Caught, Signals, ::testing::Values(SIGINT, SIGTERM, SIGHUP),
-                         [](const ::testing::TestParamInfo<int>& info) {
-                           return info.param == SIGINT    ? "SIGINT"
-                                  : info.param == SIGTERM ? "SIGTERM"
-                                                          : "SIGHUP";
+                         [](const ::testing::TestParamInfo<int>& p) {
+                           return p.param == SIGINT    ? "SIGINT"
+                                  : p.param == SIGTERM ? "SIGTERM"
+                                                       : "SIGHUP";
                          });
 
 TEST(Signals, KilledCaptureLeavesStagingThatTheNextRunRemoves) {
