@@ -73,7 +73,8 @@ std::string PngStructureProblem(const fs::path& path) {
   }();
   std::ifstream in(path, std::ios::binary);
   const std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  if (bytes.size() < 8 || bytes.compare(0, 8, "\x89PNG\r\n\x1a\n", 8) != 0) return "no PNG signature";
+  if (bytes.size() < 8 || bytes.compare(0, 8, "\x89PNG\r\n\x1a\n", 8) != 0)
+    return "no PNG signature";
   auto be32 = [&](size_t at) {
     uint32_t v = 0;
     for (int k = 0; k < 4; ++k) v = (v << 8) | static_cast<unsigned char>(bytes[at + k]);
@@ -83,12 +84,14 @@ std::string PngStructureProblem(const fs::path& path) {
     if (bytes.size() - at < 12) return "truncated PNG (no IEND chunk)";
     const uint64_t length = be32(at);
     const std::string type = bytes.substr(at + 4, 4);
-    if (length > bytes.size() - at - 12) return fmt::format("truncated PNG (ends inside chunk {})", type);
+    if (length > bytes.size() - at - 12)
+      return fmt::format("truncated PNG (ends inside chunk {})", type);
     uint32_t crc = 0xffffffffu;
     for (size_t i = at + 4; i < at + 8 + length; ++i) {
       crc = table[(crc ^ static_cast<unsigned char>(bytes[i])) & 0xff] ^ (crc >> 8);
     }
-    if ((crc ^ 0xffffffffu) != be32(at + 8 + length)) return fmt::format("corrupt PNG (chunk {} fails its CRC)", type);
+    if ((crc ^ 0xffffffffu) != be32(at + 8 + length))
+      return fmt::format("corrupt PNG (chunk {} fails its CRC)", type);
     if (type == "IEND") return "";
     at += 12 + length;
   }
