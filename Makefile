@@ -5,6 +5,10 @@
 #   make format - clang-format every C++ file in place
 #   make asan   - ASan + UBSan build of the tests, then run them
 #   make bench  - benchmarks that print figures and write plots under build/bench
+#   make fuzz   - clang + libFuzzer + ASan/UBSan build of every parser's fuzz
+#                 target (build-fuzz/), each run FUZZ_RUNS times (default 10^6)
+#                 from the seed corpus; runs per parser in build-fuzz/fuzz-runs.txt.
+#                 Not part of CI (about half an hour on 2 cores).
 # CI=true (as in .ci/run) adds -Werror.
 
 CMAKE_FLAGS :=
@@ -13,7 +17,13 @@ ifeq ($(CI),true)
 endif
 DEMO_OUT ?= build/demo
 
-.PHONY: deps configure build demo test asan bench clean format
+FUZZ_RUNS ?= 1000000
+SHARED_DATA ?= $(abspath ../shared/data)
+FUZZ_TARGETS := colmap_cameras_text colmap_images_text colmap_points3d_text \
+  colmap_cameras_bin colmap_images_bin colmap_points3d_bin \
+  dense_map fusion_cfg patch_match_cfg manifest redwood_log middlebury_par
+
+.PHONY: deps configure build demo test asan bench fuzz clean format
 
 deps:
 	@bash scripts/install-deps.sh
@@ -39,8 +49,23 @@ asan: deps
 format: configure
 	cmake --build --preset release --target format
 
+fuzz: deps
+	cmake -S . -B build-fuzz -G Ninja -DCMAKE_CXX_COMPILER=clang++ -DCMAKE_C_COMPILER=clang \
+	  -DCMAKE_BUILD_TYPE=RelWithDebInfo -DIBR_FUZZ=ON -DIBR_BUILD_TESTS=OFF -DIBR_BUILD_VIEWER=OFF
+	cmake --build build-fuzz --target fuzz_all
+	build-fuzz/bin/fuzz_make_seeds build-fuzz/fuzz/corpus $(SHARED_DATA)
+	@: > build-fuzz/fuzz-runs.txt
+	@set -e; for t in $(FUZZ_TARGETS); do \
+	  echo "fuzz: $$t, $(FUZZ_RUNS) runs"; \
+	  build-fuzz/bin/fuzz_$$t -runs=$(FUZZ_RUNS) -seed=1 -max_len=4096 -rss_limit_mb=2048 -print_final_stats=1 \
+	    build-fuzz/fuzz/corpus/$$t > build-fuzz/fuzz-$$t.log 2>&1 || { tail -40 build-fuzz/fuzz-$$t.log; exit 1; }; \
+	  runs=$$(sed -n 's/^stat::number_of_executed_units: *//p' build-fuzz/fuzz-$$t.log); \
+	  secs=$$(sed -n 's/^stat::average_exec_per_sec: *//p' build-fuzz/fuzz-$$t.log); \
+	  echo "$$t $$runs runs ($$secs/s)" | tee -a build-fuzz/fuzz-runs.txt; \
+	done
+
 bench: build
 	build/bin/ibr bench fillrate
 
 clean:
-	rm -rf build build-debug build-asan
+	rm -rf build build-debug build-asan build-fuzz

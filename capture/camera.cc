@@ -1,13 +1,17 @@
 #include "capture/camera.h"
 
-#include <cmath>
+#include <fmt/format.h>
 
+#include <cmath>
+#include <cstdint>
 #include <glm/gtc/quaternion.hpp>
 #include <opencv2/calib3d.hpp>
 #include <opencv2/imgproc.hpp>
+#include <tuple>
 
 #include "core/check.h"
 #include "core/error.h"
+#include "core/image_io.h"
 
 namespace capture {
 namespace {
@@ -77,14 +81,50 @@ Camera Camera::Orthographic(int width, int height, double sx, double sy, double 
   return {CameraModel::kOrthographic, width, height, {sx, sy, cx, cy}};
 }
 
+namespace {
+
+// The distortion must be one-to-one over the image, or no undistortion
+// exists: along rays from the principal point to each corner and edge
+// midpoint, the distorted point must move outward (strictly) and stay finite.
+void CheckInvertibleDistortion(const Camera& camera, std::string_view where) {
+  constexpr int kSteps = 512;
+  const double w = camera.width, h = camera.height;
+  for (const glm::dvec2 edge :
+       {glm::dvec2(0, 0), glm::dvec2(w, 0), glm::dvec2(0, h), glm::dvec2(w, h),
+        glm::dvec2(w / 2, 0), glm::dvec2(w / 2, h), glm::dvec2(0, h / 2), glm::dvec2(w, h / 2)}) {
+    const glm::dvec2 end((edge.x - camera.cx()) / camera.fx(),
+                         (edge.y - camera.cy()) / camera.fy());
+    const double length = glm::length(end);
+    if (!(length > 0)) continue;
+    const glm::dvec2 dir = end / length;
+    double previous = 0;
+    for (int i = 1; i <= kSteps; ++i) {
+      const glm::dvec2 d = camera.Distort(end * (static_cast<double>(i) / kSteps));
+      const double radial = glm::dot(d, dir);
+      if (!std::isfinite(d.x) || !std::isfinite(d.y) || !(radial > previous)) {
+        core::ThrowInputError(
+            where,
+            "{} distortion ({}) folds over within the image (towards pixel ({}, {})): "
+            "it cannot be undistorted",
+            CameraModelName(camera.model), fmt::join(camera.params, ", "), edge.x, edge.y);
+      }
+      previous = radial;
+    }
+  }
+}
+
+}  // namespace
+
 void Camera::Check(std::string_view where) const {
   const int n = CameraModelParamCount(model);
   if (static_cast<int>(params.size()) != n) {
     core::ThrowInputError(where, "camera model {} needs {} parameters ({}), got {}",
                           CameraModelName(model), n, CameraModelParamOrder(model), params.size());
   }
-  if (width <= 0 || height <= 0 || width > 1 << 16 || height > 1 << 16) {
-    core::ThrowInputError(where, "camera size {}x{} is not in 1..65536", width, height);
+  if (width <= 0 || height <= 0 || width > core::kMaxImageSide || height > core::kMaxImageSide ||
+      int64_t{width} * height > core::kMaxImagePixels) {
+    core::ThrowInputError(where, "camera size {}x{} is not in 1..{} a side and at most {} pixels",
+                          width, height, core::kMaxImageSide, core::kMaxImagePixels);
   }
   for (size_t i = 0; i < params.size(); ++i) {
     if (!std::isfinite(params[i])) {
@@ -96,6 +136,30 @@ void Camera::Check(std::string_view where) const {
     core::ThrowInputError(where, "camera focal length / scale must be positive (fx {}, fy {})",
                           fx(), fy());
   }
+  // What the image spans at unit depth (perspective: 2 tan(fov/2)) or in
+  // scene units (orthographic); outside these ranges the projection matrices
+  // lose float precision.
+  const double min_span = kCameraLimits.min_span;
+  const double max_span =
+      orthographic() ? kCameraLimits.max_orthographic_span : kCameraLimits.max_perspective_span;
+  for (const auto& [axis, pixels, focal] :
+       {std::tuple{"x", width, fx()}, std::tuple{"y", height, fy()}}) {
+    const double span = pixels / focal;
+    if (!(span >= min_span && span <= max_span)) {
+      core::ThrowInputError(
+          where, "{} {} {} gives an image span of {:.3g} {} along {}; allowed {:.3g}..{:.3g}",
+          orthographic() ? "scale" : "focal length", axis == std::string_view("x") ? "fx" : "fy",
+          focal, span, orthographic() ? "scene units" : "(2 tan(fov/2))", axis, min_span, max_span);
+    }
+  }
+  const double max_offset = kCameraLimits.max_principal_offset;
+  if (std::abs(cx() - 0.5 * width) > max_offset * width ||
+      std::abs(cy() - 0.5 * height) > max_offset * height) {
+    core::ThrowInputError(
+        where, "principal point ({}, {}) is more than {} image sizes from the centre of {}x{}",
+        cx(), cy(), max_offset, width, height);
+  }
+  if (distorted()) CheckInvertibleDistortion(*this, where);
 }
 
 bool Camera::distorted() const {
@@ -142,8 +206,8 @@ glm::dvec2 Camera::Distort(const glm::dvec2& n) const {
     }
     case CameraModel::kFullOpenCv: {
       const double r4 = r2 * r2, r6 = r4 * r2;
-      const double radial = (1 + p[4] * r2 + p[5] * r4 + p[8] * r6) /
-                            (1 + p[9] * r2 + p[10] * r4 + p[11] * r6);
+      const double radial =
+          (1 + p[4] * r2 + p[5] * r4 + p[8] * r6) / (1 + p[9] * r2 + p[10] * r4 + p[11] * r6);
       return {u * radial + 2 * p[6] * u * v + p[7] * (r2 + 2 * u * u),
               v * radial + 2 * p[7] * u * v + p[6] * (r2 + 2 * v * v)};
     }
@@ -221,9 +285,7 @@ glm::mat4 Rigid3::ToMat4() const {
   return glm::mat4(m);
 }
 
-Rigid3 Rigid3::FromMat4(const glm::dmat4& m) {
-  return {glm::dmat3(m), glm::dvec3(m[3])};
-}
+Rigid3 Rigid3::FromMat4(const glm::dmat4& m) { return {glm::dmat3(m), glm::dvec3(m[3])}; }
 
 void Rigid3::Check(std::string_view where, double tolerance) const {
   for (int c = 0; c < 3; ++c) {
@@ -241,7 +303,8 @@ void Rigid3::Check(std::string_view where, double tolerance) const {
       }
     }
   }
-  if (glm::determinant(rotation) < 0) core::ThrowInputError(where, "rotation is a reflection (det < 0)");
+  if (glm::determinant(rotation) < 0)
+    core::ThrowInputError(where, "rotation is a reflection (det < 0)");
 }
 
 Rigid3 LookAt(const glm::dvec3& eye, const glm::dvec3& target, const glm::dvec3& up) {
@@ -281,13 +344,30 @@ void OpenCvMaps(const Camera& camera, cv::Mat& map_x, cv::Mat& map_y) {
   std::vector<double> dist;
   bool fisheye = false;
   switch (camera.model) {
-    case CameraModel::kSimpleRadial: dist = {p[3], 0, 0, 0}; break;
-    case CameraModel::kRadial: dist = {p[3], p[4], 0, 0}; break;
-    case CameraModel::kOpenCv: dist = {p[4], p[5], p[6], p[7]}; break;
-    case CameraModel::kFullOpenCv: dist = {p[4], p[5], p[6], p[7], p[8], p[9], p[10], p[11]}; break;
-    case CameraModel::kOpenCvFisheye: dist = {p[4], p[5], p[6], p[7]}; fisheye = true; break;
-    case CameraModel::kSimpleRadialFisheye: dist = {p[3], 0, 0, 0}; fisheye = true; break;
-    case CameraModel::kRadialFisheye: dist = {p[3], p[4], 0, 0}; fisheye = true; break;
+    case CameraModel::kSimpleRadial:
+      dist = {p[3], 0, 0, 0};
+      break;
+    case CameraModel::kRadial:
+      dist = {p[3], p[4], 0, 0};
+      break;
+    case CameraModel::kOpenCv:
+      dist = {p[4], p[5], p[6], p[7]};
+      break;
+    case CameraModel::kFullOpenCv:
+      dist = {p[4], p[5], p[6], p[7], p[8], p[9], p[10], p[11]};
+      break;
+    case CameraModel::kOpenCvFisheye:
+      dist = {p[4], p[5], p[6], p[7]};
+      fisheye = true;
+      break;
+    case CameraModel::kSimpleRadialFisheye:
+      dist = {p[3], 0, 0, 0};
+      fisheye = true;
+      break;
+    case CameraModel::kRadialFisheye:
+      dist = {p[3], p[4], 0, 0};
+      fisheye = true;
+      break;
     default: {
       // FOV, THIN_PRISM_FISHEYE: OpenCV has no such model; map from Distort().
       map_x.create(size, CV_32FC1);

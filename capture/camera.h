@@ -18,12 +18,11 @@
 #pragma once
 
 #include <array>
+#include <glm/glm.hpp>
 #include <optional>
 #include <string>
 #include <string_view>
 #include <vector>
-
-#include <glm/glm.hpp>
 
 #include "core/image.h"
 
@@ -58,18 +57,31 @@ int CameraModelParamCount(CameraModel model);
 // "fx, fy, cx, cy, k1, k2, p1, p2" (COLMAP's order strings).
 std::string_view CameraModelParamOrder(CameraModel model);
 
+// Ranges every camera obeys (README "## Limits"), beyond the image size limits
+// of core/image_io.h. Span = image size / focal length: at unit depth for a
+// perspective camera (2 tan(fov/2): 1e-4 is a 0.006 degree field of view,
+// 1e3 is 179.9 degrees), in scene units for an orthographic one.
+struct CameraLimits {
+  double min_span = 1e-4;
+  double max_perspective_span = 1e3;
+  double max_orthographic_span = 2e6;  // twice the largest coordinate (dataset.h)
+  double max_principal_offset = 10;    // |c - size/2| in image sizes
+};
+inline constexpr CameraLimits kCameraLimits;
+
 struct Camera {
   CameraModel model = CameraModel::kPinhole;
-  int width = 0;   // pixels
-  int height = 0;  // pixels
+  int width = 0;               // pixels
+  int height = 0;              // pixels
   std::vector<double> params;  // in CameraModelParamOrder(model)
 
   static Camera Pinhole(int width, int height, double fx, double fy, double cx, double cy);
   static Camera Orthographic(int width, int height, double sx, double sy, double cx, double cy);
 
   // Throws core::InputError ("where: ...") unless the parameter count matches
-  // the model, the size is positive, every parameter is finite and focal
-  // lengths / scales are positive.
+  // the model, the size is within core's image limits, every parameter is
+  // finite, focal lengths / scales and the principal point are within
+  // kCameraLimits and any distortion is one-to-one over the image.
   void Check(std::string_view where) const;
 
   bool orthographic() const { return model == CameraModel::kOrthographic; }

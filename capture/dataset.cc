@@ -1,11 +1,14 @@
 #include "capture/dataset.h"
 
-#include <cmath>
-#include <fstream>
-#include <set>
-
 #include <fmt/format.h>
+
+#include <algorithm>
+#include <climits>
+#include <cmath>
+#include <cstdint>
+#include <fstream>
 #include <nlohmann/json.hpp>
+#include <set>
 
 #include "core/error.h"
 #include "core/image_io.h"
@@ -33,12 +36,29 @@ bool SafeRelativePath(const std::string& p) {
 // Typed access with messages naming the manifest and the JSON path.
 template <typename T>
 T Get(const json& j, const char* key, const std::string& where, const std::string& ctx) {
-  if (!j.is_object() || !j.contains(key)) core::ThrowInputError(where, "{}: missing \"{}\"", ctx, key);
+  if (!j.is_object() || !j.contains(key))
+    core::ThrowInputError(where, "{}: missing \"{}\"", ctx, key);
   try {
     return j.at(key).get<T>();
   } catch (const json::exception& e) {
     core::ThrowInputError(where, "{}.{}: wrong type ({})", ctx, key, e.what());
   }
+}
+
+// An integer: refuses 64.5, "64", 1e300 (nlohmann's get<int> truncates).
+int GetInt(const json& j, const char* key, const std::string& where, const std::string& ctx) {
+  if (!j.is_object() || !j.contains(key))
+    core::ThrowInputError(where, "{}: missing \"{}\"", ctx, key);
+  const json& v = j.at(key);
+  if (v.is_number_integer()) {
+    const auto i = v.get<int64_t>();
+    if (i >= INT32_MIN && i <= INT32_MAX) return static_cast<int>(i);
+  } else if (v.is_number_float()) {
+    const double d = v.get<double>();
+    if (std::isfinite(d) && d == std::floor(d) && std::abs(d) <= INT32_MAX)
+      return static_cast<int>(d);
+  }
+  core::ThrowInputError(where, "{}.{}: {} is not an integer", ctx, key, v.dump());
 }
 
 std::string OptionalString(const json& j, const char* key, const std::string& where,
@@ -47,9 +67,11 @@ std::string OptionalString(const json& j, const char* key, const std::string& wh
   return Get<std::string>(j, key, where, ctx);
 }
 
-glm::dvec3 GetVec3(const json& j, const char* key, const std::string& where, const std::string& ctx) {
+glm::dvec3 GetVec3(const json& j, const char* key, const std::string& where,
+                   const std::string& ctx) {
   const auto v = Get<std::vector<double>>(j, key, where, ctx);
-  if (v.size() != 3) core::ThrowInputError(where, "{}.{}: expected 3 numbers, got {}", ctx, key, v.size());
+  if (v.size() != 3)
+    core::ThrowInputError(where, "{}.{}: expected 3 numbers, got {}", ctx, key, v.size());
   return {v[0], v[1], v[2]};
 }
 
@@ -59,29 +81,72 @@ void Dataset::Check(std::string_view where) const {
   for (const auto& [id, camera] : cameras) {
     camera.Check(fmt::format("{}: camera {}", where, id));
     if (camera.distorted()) {
-      core::ThrowInputError(where, "camera {} has lens distortion ({}): datasets hold undistorted "
-                            "images", id, CameraModelName(camera.model));
+      core::ThrowInputError(where,
+                            "camera {} has lens distortion ({}): datasets hold undistorted "
+                            "images",
+                            id, CameraModelName(camera.model));
     }
   }
   if (views.empty()) core::ThrowInputError(where, "no views");
+  if (views.size() > kDatasetLimits.max_views) {
+    core::ThrowInputError(where, "{} views; at most {} are supported", views.size(),
+                          kDatasetLimits.max_views);
+  }
+  int64_t pixels = 0;
   std::set<std::string> names;
   for (const auto& view : views) {
     const std::string ctx = fmt::format("{}: view '{}'", where, view.name);
     if (view.name.empty()) core::ThrowInputError(where, "a view has an empty name");
     if (!names.insert(view.name).second) core::ThrowInputError(ctx, "duplicate view name");
-    if (!cameras.contains(view.camera_id)) core::ThrowInputError(ctx, "unknown camera id {}", view.camera_id);
+    if (!cameras.contains(view.camera_id))
+      core::ThrowInputError(ctx, "unknown camera id {}", view.camera_id);
     view.cam_from_world.Check(ctx);
-    if (!SafeRelativePath(view.color)) core::ThrowInputError(ctx, "bad color path '{}'", view.color);
+    const glm::dvec3 centre = view.cam_from_world.Centre();
+    if (!(glm::length(centre) <= kDatasetLimits.max_coordinate)) {
+      core::ThrowInputError(
+          ctx, "camera centre ({}, {}, {}) is farther than {} scene units from the origin",
+          centre.x, centre.y, centre.z, kDatasetLimits.max_coordinate);
+    }
+    if (cameras.contains(view.camera_id)) {
+      const Camera& camera = cameras.at(view.camera_id);
+      pixels += int64_t{camera.width} * camera.height;
+      if (pixels > kDatasetLimits.max_total_pixels) {
+        core::ThrowInputError(where, "the views hold more than {} pixels in all (at view '{}')",
+                              kDatasetLimits.max_total_pixels, view.name);
+      }
+    }
+    if (!SafeRelativePath(view.color))
+      core::ThrowInputError(ctx, "bad color path '{}'", view.color);
     for (const std::string* p : {&view.depth, &view.mask, &view.normal}) {
       if (!p->empty() && !SafeRelativePath(*p)) core::ThrowInputError(ctx, "bad path '{}'", *p);
     }
   }
-  if (bounds) {
-    for (int k = 0; k < 3; ++k) {
-      if (!std::isfinite(bounds->min[k]) || !std::isfinite(bounds->max[k]) ||
-          bounds->min[k] > bounds->max[k]) {
-        core::ThrowInputError(where, "bounds are not finite or min > max");
-      }
+  if (bounds) CheckBounds(*bounds, where);
+}
+
+void CheckBounds(const Bounds& bounds, std::string_view where) {
+  const glm::dvec3 &lo = bounds.min, &hi = bounds.max;
+  const std::string box =
+      fmt::format("bounds min ({}, {}, {}) max ({}, {}, {})", lo.x, lo.y, lo.z, hi.x, hi.y, hi.z);
+  double largest = 0;
+  for (int k = 0; k < 3; ++k) {
+    if (!std::isfinite(lo[k]) || !std::isfinite(hi[k]) || lo[k] > hi[k]) {
+      core::ThrowInputError(where, "{}: not finite or min > max", box);
+    }
+    largest = std::max({largest, std::abs(lo[k]), std::abs(hi[k])});
+  }
+  if (largest > kDatasetLimits.max_coordinate) {
+    core::ThrowInputError(where, "{}: coordinates beyond +-{} scene units", box,
+                          kDatasetLimits.max_coordinate);
+  }
+  // The renderer works in float: each side must span many float steps of the
+  // largest coordinate, and not be vanishingly small.
+  const double min_extent =
+      std::max(kDatasetLimits.min_extent, kDatasetLimits.min_relative_extent * largest);
+  for (int k = 0; k < 3; ++k) {
+    if (!(hi[k] - lo[k] >= min_extent)) {
+      core::ThrowInputError(where, "{}: side {} is {:.3g} scene units; at least {:.3g} is needed",
+                            box, "xyz"[k], hi[k] - lo[k], min_extent);
     }
   }
 }
@@ -90,6 +155,10 @@ void CheckDepthValues(const core::ImageF& depth, const std::string& where) {
   for (float d : depth.values()) {
     // Invalid = 0 or non-finite; a finite negative depth is nonsense.
     if (std::isfinite(d) && d < 0) core::ThrowInputError(where, "negative depth {}", d);
+    if (std::isfinite(d) && d > kDatasetLimits.max_coordinate) {
+      core::ThrowInputError(where, "depth {} is beyond {} scene units", d,
+                            kDatasetLimits.max_coordinate);
+    }
   }
 }
 
@@ -127,7 +196,8 @@ core::Image8 Dataset::LoadColor(size_t i) const {
   CheckSize(image, camera(view), path, "Dataset::LoadColor");
   if (image.channels() == 3) return image;
   if (image.channels() != 4 && image.channels() != 1) {
-    core::ThrowFileError("Dataset::LoadColor", path, "expected 1, 3 or 4 channels, got {}", image.channels());
+    core::ThrowFileError("Dataset::LoadColor", path, "expected 1, 3 or 4 channels, got {}",
+                         image.channels());
   }
   core::Image8 rgb(image.width(), image.height(), 3);
   for (int y = 0; y < image.height(); ++y) {
@@ -140,7 +210,8 @@ core::Image8 Dataset::LoadColor(size_t i) const {
 
 core::ImageF Dataset::LoadDepth(size_t i) const {
   const DatasetView& view = views.at(i);
-  if (view.depth.empty()) core::ThrowInputError("Dataset::LoadDepth", "view '{}' has no depth", view.name);
+  if (view.depth.empty())
+    core::ThrowInputError("Dataset::LoadDepth", "view '{}' has no depth", view.name);
   const fs::path path = root / view.depth;
   core::ImageF depth = core::ReadImage<float>(path, 1);
   CheckSize(depth, camera(view), path, "Dataset::LoadDepth");
@@ -150,7 +221,8 @@ core::ImageF Dataset::LoadDepth(size_t i) const {
 
 core::Image8 Dataset::LoadMask(size_t i) const {
   const DatasetView& view = views.at(i);
-  if (view.mask.empty()) core::ThrowInputError("Dataset::LoadMask", "view '{}' has no mask", view.name);
+  if (view.mask.empty())
+    core::ThrowInputError("Dataset::LoadMask", "view '{}' has no mask", view.name);
   const fs::path path = root / view.mask;
   core::Image8 mask = core::ReadImage<uint8_t>(path, 1);
   CheckSize(mask, camera(view), path, "Dataset::LoadMask");
@@ -159,7 +231,8 @@ core::Image8 Dataset::LoadMask(size_t i) const {
 
 core::ImageF Dataset::LoadNormal(size_t i) const {
   const DatasetView& view = views.at(i);
-  if (view.normal.empty()) core::ThrowInputError("Dataset::LoadNormal", "view '{}' has no normals", view.name);
+  if (view.normal.empty())
+    core::ThrowInputError("Dataset::LoadNormal", "view '{}' has no normals", view.name);
   const fs::path path = root / view.normal;
   core::ImageF normal = core::ReadImage<float>(path, 3);
   CheckSize(normal, camera(view), path, "Dataset::LoadNormal");
@@ -179,16 +252,19 @@ Dataset ReadManifest(std::istream& in, const std::string& name) {
   if (Get<std::string>(j, "format", where, "manifest") != kFormat) {
     core::ThrowInputError(where, "\"format\" is not \"{}\"", kFormat);
   }
-  const int version = Get<int>(j, "version", where, "manifest");
-  if (version != kVersion) core::ThrowInputError(where, "unsupported version {} (expected {})", version, kVersion);
+  const int version = GetInt(j, "version", where, "manifest");
+  if (version != kVersion)
+    core::ThrowInputError(where, "unsupported version {} (expected {})", version, kVersion);
 
   Dataset dataset;
   const json depth = j.contains("depth") ? j.at("depth") : json::object();
   if (depth.contains("kind") && Get<std::string>(depth, "kind", where, "depth") != "camera_z") {
     core::ThrowInputError(where, "depth.kind must be \"camera_z\"");
   }
-  if (depth.contains("units")) dataset.depth_units = Get<std::string>(depth, "units", where, "depth");
-  if (j.contains("normal_frame") && Get<std::string>(j, "normal_frame", where, "manifest") != "world") {
+  if (depth.contains("units"))
+    dataset.depth_units = Get<std::string>(depth, "units", where, "depth");
+  if (j.contains("normal_frame") &&
+      Get<std::string>(j, "normal_frame", where, "manifest") != "world") {
     core::ThrowInputError(where, "normal_frame must be \"world\"");
   }
   if (j.contains("bounds") && !j.at("bounds").is_null()) {
@@ -200,13 +276,14 @@ Dataset ReadManifest(std::istream& in, const std::string& name) {
   for (size_t i = 0; i < cameras.size(); ++i) {
     const std::string ctx = fmt::format("cameras[{}]", i);
     const json& c = cameras[i];
-    const int id = Get<int>(c, "id", where, ctx);
+    const int id = GetInt(c, "id", where, ctx);
     const auto model_name = Get<std::string>(c, "model", where, ctx);
     const auto model = CameraModelFromName(model_name);
     if (!model) core::ThrowInputError(where, "{}: unknown camera model '{}'", ctx, model_name);
-    Camera camera{*model, Get<int>(c, "width", where, ctx), Get<int>(c, "height", where, ctx),
+    Camera camera{*model, GetInt(c, "width", where, ctx), GetInt(c, "height", where, ctx),
                   Get<std::vector<double>>(c, "params", where, ctx)};
-    if (!dataset.cameras.emplace(id, camera).second) core::ThrowInputError(where, "{}: duplicate camera id {}", ctx, id);
+    if (!dataset.cameras.emplace(id, camera).second)
+      core::ThrowInputError(where, "{}: duplicate camera id {}", ctx, id);
   }
   const json views = Get<json>(j, "views", where, "manifest");
   if (!views.is_array()) core::ThrowInputError(where, "\"views\" is not an array");
@@ -215,7 +292,7 @@ Dataset ReadManifest(std::istream& in, const std::string& name) {
     const json& v = views[i];
     DatasetView view;
     view.name = Get<std::string>(v, "name", where, ctx);
-    view.camera_id = Get<int>(v, "camera", where, ctx);
+    view.camera_id = GetInt(v, "camera", where, ctx);
     const auto m = Get<std::vector<std::vector<double>>>(v, "cam_from_world", where, ctx);
     if (m.size() != 3 || m[0].size() != 4 || m[1].size() != 4 || m[2].size() != 4) {
       core::ThrowInputError(where, "{}.cam_from_world: expected 3 rows of 4 numbers", ctx);
@@ -238,7 +315,8 @@ void WriteManifest(std::ostream& out, const Dataset& dataset) {
   json j;
   j["format"] = kFormat;
   j["version"] = kVersion;
-  j["depth"] = {{"kind", "camera_z"}, {"units", dataset.depth_units}, {"invalid", "0 or non-finite"}};
+  j["depth"] = {
+      {"kind", "camera_z"}, {"units", dataset.depth_units}, {"invalid", "0 or non-finite"}};
   j["normal_frame"] = "world";
   if (dataset.bounds) {
     const auto& b = *dataset.bounds;
@@ -246,8 +324,11 @@ void WriteManifest(std::ostream& out, const Dataset& dataset) {
   }
   json cameras = json::array();
   for (const auto& [id, c] : dataset.cameras) {
-    cameras.push_back({{"id", id}, {"model", CameraModelName(c.model)}, {"width", c.width},
-                       {"height", c.height}, {"params", c.params}});
+    cameras.push_back({{"id", id},
+                       {"model", CameraModelName(c.model)},
+                       {"width", c.width},
+                       {"height", c.height},
+                       {"params", c.params}});
   }
   j["cameras"] = cameras;
   json views = json::array();
@@ -257,7 +338,8 @@ void WriteManifest(std::ostream& out, const Dataset& dataset) {
       const auto& R = v.cam_from_world.rotation;
       m.push_back({R[0][r], R[1][r], R[2][r], v.cam_from_world.translation[r]});
     }
-    json jv = {{"name", v.name}, {"camera", v.camera_id}, {"cam_from_world", m}, {"color", v.color}};
+    json jv = {
+        {"name", v.name}, {"camera", v.camera_id}, {"cam_from_world", m}, {"color", v.color}};
     if (!v.depth.empty()) jv["depth"] = v.depth;
     if (!v.mask.empty()) jv["mask"] = v.mask;
     if (!v.normal.empty()) jv["normal"] = v.normal;
@@ -284,7 +366,8 @@ Dataset ReadDataset(const fs::path& dir, bool check_pixels) {
       const core::ImageHeader header = core::ReadImageHeader(path);
       if (header.width != camera.width || header.height != camera.height) {
         core::ThrowFileError("ReadDataset", path, "image is {}x{}, camera {} is {}x{}",
-                             header.width, header.height, view.camera_id, camera.width, camera.height);
+                             header.width, header.height, view.camera_id, camera.width,
+                             camera.height);
       }
     }
     if (check_pixels) {
@@ -297,9 +380,7 @@ Dataset ReadDataset(const fs::path& dir, bool check_pixels) {
   return dataset;
 }
 
-DatasetWriter::DatasetWriter(const fs::path& dir) : staged_(dir) {
-  dataset_.root = staged_.path();
-}
+DatasetWriter::DatasetWriter(const fs::path& dir) : staged_(dir) { dataset_.root = staged_.path(); }
 
 int DatasetWriter::AddCamera(const Camera& camera) {
   camera.Check("DatasetWriter::AddCamera");
@@ -312,11 +393,14 @@ void DatasetWriter::AddView(const std::string& name, int camera_id, const Rigid3
                             const core::Image8& color, const core::ImageF& depth,
                             const core::Image8& mask, const core::ImageF& normal) {
   const std::string where = fmt::format("DatasetWriter::AddView: view '{}'", name);
-  if (!dataset_.cameras.contains(camera_id)) core::ThrowInputError(where, "unknown camera id {}", camera_id);
+  if (!dataset_.cameras.contains(camera_id))
+    core::ThrowInputError(where, "unknown camera id {}", camera_id);
   const Camera& camera = dataset_.cameras.at(camera_id);
-  auto check_size = [&](int w, int h, int channels, std::initializer_list<int> allowed, const char* what) {
+  auto check_size = [&](int w, int h, int channels, std::initializer_list<int> allowed,
+                        const char* what) {
     if (w != camera.width || h != camera.height) {
-      core::ThrowInputError(where, "{} is {}x{}, camera is {}x{}", what, w, h, camera.width, camera.height);
+      core::ThrowInputError(where, "{} is {}x{}, camera is {}x{}", what, w, h, camera.width,
+                            camera.height);
     }
     if (std::find(allowed.begin(), allowed.end(), channels) == allowed.end()) {
       core::ThrowInputError(where, "{} has {} channels", what, channels);

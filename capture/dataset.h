@@ -41,6 +41,19 @@
 
 namespace capture {
 
+// Limits every dataset obeys (README "## Limits"), checked by Dataset::Check
+// on read (before any image is opened) and on write.
+struct DatasetLimits {
+  size_t max_views = 4096;
+  int64_t max_total_pixels = int64_t{1} << 30;  // over all views' cameras
+  double max_coordinate = 1e6;                  // |bounds|, |camera centre|, depth (scene units)
+  double min_extent = 1e-4;                     // every side of the bounds (scene units)
+  // Every side of the bounds over the largest |coordinate|: float (24-bit
+  // mantissa) must resolve the box in thousands of steps.
+  double min_relative_extent = 1e-4;
+};
+inline constexpr DatasetLimits kDatasetLimits;
+
 struct Bounds {
   glm::dvec3 min{0.0};
   glm::dvec3 max{0.0};
@@ -50,13 +63,13 @@ struct Bounds {
 };
 
 struct DatasetView {
-  std::string name;      // unique, used for file names
-  int camera_id = 0;     // key into Dataset::cameras
+  std::string name;   // unique, used for file names
+  int camera_id = 0;  // key into Dataset::cameras
   Rigid3 cam_from_world;
-  std::string color;     // relative paths inside the dataset directory
-  std::string depth;     // empty = no depth for this view
-  std::string mask;      // empty = no mask
-  std::string normal;    // empty = no normals
+  std::string color;   // relative paths inside the dataset directory
+  std::string depth;   // empty = no depth for this view
+  std::string mask;    // empty = no mask
+  std::string normal;  // empty = no normals
   bool operator==(const DatasetView&) const = default;
 };
 
@@ -75,10 +88,10 @@ struct Dataset {
   // Loading one view's images; each validates the file against the view's
   // camera (size, channels, finite/non-negative values) and throws
   // core::InputError naming the file.
-  core::Image8 LoadColor(size_t view) const;  // 3 channels RGB
-  core::ImageF LoadDepth(size_t view) const;  // 1 channel; empty view.depth -> InputError
-  core::Image8 LoadMask(size_t view) const;   // 1 channel; empty view.mask -> InputError
-  core::ImageF LoadNormal(size_t view) const; // 3 channels
+  core::Image8 LoadColor(size_t view) const;   // 3 channels RGB
+  core::ImageF LoadDepth(size_t view) const;   // 1 channel; empty view.depth -> InputError
+  core::Image8 LoadMask(size_t view) const;    // 1 channel; empty view.mask -> InputError
+  core::ImageF LoadNormal(size_t view) const;  // 3 channels
   bool operator==(const Dataset& other) const {
     return cameras == other.cameras && views == other.views && depth_units == other.depth_units &&
            bounds == other.bounds;
@@ -118,7 +131,13 @@ class DatasetWriter {
   Dataset dataset_;
 };
 
-// Validation of images against a camera, shared by the readers.
+// InputError("where: bounds ...") unless finite, min <= max, within
+// kDatasetLimits.max_coordinate and every side at least min_extent and
+// min_relative_extent of the largest coordinate.
+void CheckBounds(const Bounds& bounds, std::string_view where);
+
+// Validation of images against a camera, shared by the readers (depth: 0 or
+// non-finite = invalid, else in 0..kDatasetLimits.max_coordinate).
 void CheckDepthValues(const core::ImageF& depth, const std::string& where);
 void CheckNormalValues(const core::ImageF& normal, const std::string& where);
 

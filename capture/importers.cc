@@ -1,14 +1,14 @@
 #include "capture/importers.h"
 
+#include <fmt/format.h>
+
 #include <cmath>
 #include <fstream>
-#include <regex>
-#include <sstream>
-
-#include <fmt/format.h>
 #include <nlohmann/json.hpp>
 #include <opencv2/core.hpp>
 #include <opencv2/imgproc.hpp>
+#include <regex>
+#include <sstream>
 
 #include "core/error.h"
 #include "core/image_io.h"
@@ -17,14 +17,20 @@ namespace capture {
 namespace fs = std::filesystem;
 
 void RedwoodImportOptions::Check() const {
-  if (!(depth_scale > 0 && std::isfinite(depth_scale))) {
-    core::ThrowInputError("RedwoodImportOptions", "depth_scale {} must be positive", depth_scale);
+  // 1e-3..1e6 depth units per metre: kilometres to micrometres.
+  if (!(depth_scale >= 1e-3 && depth_scale <= 1e6)) {
+    core::ThrowInputError("RedwoodImportOptions",
+                          "--depth-scale {} outside 1e-3..1e6 (depth units per metre)",
+                          depth_scale);
   }
 }
 
 void MiddleburyImportOptions::Check() const {
-  if (!(threshold >= 0 && threshold <= 1)) core::ThrowInputError("MiddleburyImportOptions", "threshold {} outside [0, 1]", threshold);
-  if (dilate_iterations < 0 || erode_iterations < 0 || dilate_iterations > 100 || erode_iterations > 100) {
+  if (!(threshold >= 0 && threshold <= 1)) {
+    core::ThrowInputError("MiddleburyImportOptions", "--threshold {} outside [0, 1]", threshold);
+  }
+  if (dilate_iterations < 0 || erode_iterations < 0 || dilate_iterations > 100 ||
+      erode_iterations > 100) {
     core::ThrowInputError("MiddleburyImportOptions", "dilate/erode iterations must be in 0..100");
   }
 }
@@ -38,7 +44,8 @@ std::ifstream Open(const fs::path& path, const char* where) {
 }
 
 // Whitespace-separated finite doubles; InputError naming the line otherwise.
-std::vector<double> ParseNumbers(const std::string& line, const std::string& where, int line_number) {
+std::vector<double> ParseNumbers(const std::string& line, const std::string& where,
+                                 int line_number) {
   std::istringstream s(line);
   std::vector<double> v;
   std::string tok;
@@ -50,7 +57,8 @@ std::vector<double> ParseNumbers(const std::string& line, const std::string& whe
     } catch (const std::exception&) {
       core::ThrowInputError(where, "line {}: '{}' is not a number", line_number, tok);
     }
-    if (used != tok.size() || !std::isfinite(x)) core::ThrowInputError(where, "line {}: '{}' is not a finite number", line_number, tok);
+    if (used != tok.size() || !std::isfinite(x))
+      core::ThrowInputError(where, "line {}: '{}' is not a finite number", line_number, tok);
     v.push_back(x);
   }
   return v;
@@ -67,13 +75,19 @@ std::vector<Rigid3> ReadRedwoodLog(std::istream& in, const std::string& name) {
     ++line_number;
     if (ParseNumbers(line, where, line_number).empty()) continue;
     const auto header = ParseNumbers(line, where, line_number);
-    if (header.size() != 3) core::ThrowInputError(where, "line {}: expected \"i j n\", got {} numbers", line_number, header.size());
+    if (header.size() != 3)
+      core::ThrowInputError(where, "line {}: expected \"i j n\", got {} numbers", line_number,
+                            header.size());
     glm::dmat4 world_from_cam(1.0);
     for (int r = 0; r < 4; ++r) {
-      if (!std::getline(in, line)) core::ThrowInputError(where, "truncated: matrix row {} missing after line {}", r, line_number);
+      if (!std::getline(in, line))
+        core::ThrowInputError(where, "truncated: matrix row {} missing after line {}", r,
+                              line_number);
       ++line_number;
       const auto row = ParseNumbers(line, where, line_number);
-      if (row.size() != 4) core::ThrowInputError(where, "line {}: expected 4 numbers, got {}", line_number, row.size());
+      if (row.size() != 4)
+        core::ThrowInputError(where, "line {}: expected 4 numbers, got {}", line_number,
+                              row.size());
       for (int c = 0; c < 4; ++c) world_from_cam[c][r] = row[c];
     }
     const Rigid3 pose = Rigid3::FromMat4(world_from_cam).Inverse();
@@ -84,7 +98,8 @@ std::vector<Rigid3> ReadRedwoodLog(std::istream& in, const std::string& name) {
   return poses;
 }
 
-Dataset ImportRedwood(const fs::path& source, const fs::path& out, const RedwoodImportOptions& options,
+Dataset ImportRedwood(const fs::path& source, const fs::path& out,
+                      const RedwoodImportOptions& options,
                       const std::function<void(int, int)>& progress) {
   constexpr const char* kWhere = "ImportRedwood";
   options.Check();
@@ -102,7 +117,9 @@ Dataset ImportRedwood(const fs::path& source, const fs::path& out, const Redwood
   } catch (const nlohmann::json::exception& e) {
     core::ThrowFileError(kWhere, intrinsics_path, "bad intrinsics JSON: {}", e.what());
   }
-  if (k.size() != 9) core::ThrowFileError(kWhere, intrinsics_path, "intrinsic_matrix has {} numbers, expected 9", k.size());
+  if (k.size() != 9)
+    core::ThrowFileError(kWhere, intrinsics_path, "intrinsic_matrix has {} numbers, expected 9",
+                         k.size());
   // Column-major 3x3: fx = k[0], fy = k[4], cx = k[6], cy = k[7]; Open3D's
   // integer pixel centres -> +0.5 in ours.
   const Camera camera = Camera::Pinhole(width, height, k[0], k[4], k[6] + 0.5, k[7] + 0.5);
@@ -117,7 +134,8 @@ Dataset ImportRedwood(const fs::path& source, const fs::path& out, const Redwood
   std::sort(colors.begin(), colors.end());
   if (colors.empty()) core::ThrowFileError(kWhere, source / "color", "no colour images");
   if (colors.size() != poses.size()) {
-    core::ThrowFileError(kWhere, source / "trajectory.log", "{} poses for {} colour images", poses.size(), colors.size());
+    core::ThrowFileError(kWhere, source / "trajectory.log", "{} poses for {} colour images",
+                         poses.size(), colors.size());
   }
   DatasetWriter writer(out);
   writer.SetDepthUnits("m");
@@ -131,7 +149,8 @@ Dataset ImportRedwood(const fs::path& source, const fs::path& out, const Redwood
     const core::Image<uint16_t> raw = core::ReadImage<uint16_t>(depth_path, 1);
     core::Image8 color = core::ReadImage<uint8_t>(colors[i], 3);
     if (raw.width() != width || raw.height() != height) {
-      core::ThrowFileError(kWhere, depth_path, "depth is {}x{}, camera is {}x{}", raw.width(), raw.height(), width, height);
+      core::ThrowFileError(kWhere, depth_path, "depth is {}x{}, camera is {}x{}", raw.width(),
+                           raw.height(), width, height);
     }
     core::ImageF depth(width, height, 1);
     core::Image8 mask(width, height, 1);
@@ -142,7 +161,8 @@ Dataset ImportRedwood(const fs::path& source, const fs::path& out, const Redwood
         depth.data()[p] = static_cast<float>(raw.data()[p] / options.depth_scale);
         mask.data()[p] = raw.data()[p] > 0 ? 255 : 0;
         if (raw.data()[p] == 0) continue;
-        const glm::dvec3 p_in_world = world_from_cam * camera.UnprojectPixel(col, row, depth.data()[p]);
+        const glm::dvec3 p_in_world =
+            world_from_cam * camera.UnprojectPixel(col, row, depth.data()[p]);
         lo = glm::min(lo, p_in_world);
         hi = glm::max(hi, p_in_world);
       }
@@ -150,7 +170,8 @@ Dataset ImportRedwood(const fs::path& source, const fs::path& out, const Redwood
     writer.AddView(stem, cam_id, poses[i], color, depth, mask, {});
     if (progress) progress(static_cast<int>(i) + 1, static_cast<int>(colors.size()));
   }
-  if (!(lo.x <= hi.x)) core::ThrowFileError(kWhere, source / "depth", "no valid depth pixel in any frame");
+  if (!(lo.x <= hi.x))
+    core::ThrowFileError(kWhere, source / "depth", "no valid depth pixel in any frame");
   writer.SetBounds({lo, hi});
   writer.Commit();
   return writer.dataset();
@@ -179,8 +200,11 @@ std::vector<MiddleburyView> ReadMiddleburyPar(std::istream& in, const std::strin
     std::string rest;
     std::getline(s, rest);
     const auto v = ParseNumbers(rest, where, line_number);
-    if (v.size() != 21) core::ThrowInputError(where, "line {}: expected name + 21 numbers, got {}", line_number, v.size());
-    if (std::abs(v[1]) > 1e-9 || std::abs(v[3]) > 1e-9 || std::abs(v[6]) > 1e-9 || std::abs(v[7]) > 1e-9 || v[8] != 1) {
+    if (v.size() != 21)
+      core::ThrowInputError(where, "line {}: expected name + 21 numbers, got {}", line_number,
+                            v.size());
+    if (std::abs(v[1]) > 1e-9 || std::abs(v[3]) > 1e-9 || std::abs(v[6]) > 1e-9 ||
+        std::abs(v[7]) > 1e-9 || v[8] != 1) {
       core::ThrowInputError(where, "line {}: K is not [fx 0 cx; 0 fy cy; 0 0 1]", line_number);
     }
     MiddleburyView view;
@@ -204,11 +228,13 @@ std::vector<MiddleburyView> ReadMiddleburyPar(std::istream& in, const std::strin
     views.push_back(view);
   }
   if (!declared) core::ThrowInputError(where, "empty file");
-  if (views.size() != *declared) core::ThrowInputError(where, "declares {} images, has {}", *declared, views.size());
+  if (views.size() != *declared)
+    core::ThrowInputError(where, "declares {} images, has {}", *declared, views.size());
   return views;
 }
 
-Dataset ImportMiddlebury(const fs::path& source, const fs::path& out, const MiddleburyImportOptions& options,
+Dataset ImportMiddlebury(const fs::path& source, const fs::path& out,
+                         const MiddleburyImportOptions& options,
                          const std::function<void(int, int)>& progress) {
   constexpr const char* kWhere = "ImportMiddlebury";
   options.Check();
@@ -220,16 +246,20 @@ Dataset ImportMiddlebury(const fs::path& source, const fs::path& out, const Midd
   if (par.empty()) core::ThrowFileError(kWhere, source, "no *_par.txt camera file");
   auto in = Open(par, kWhere);
   std::vector<MiddleburyView> views = ReadMiddleburyPar(in, par.string());
-  std::sort(views.begin(), views.end(), [](const auto& a, const auto& b) { return a.image < b.image; });
+  std::sort(views.begin(), views.end(),
+            [](const auto& a, const auto& b) { return a.image < b.image; });
 
   DatasetWriter writer(out);
   // README.txt: "(x y z)\n(x y z)" after "bounding box".
   if (std::ifstream readme(source / "README.txt"); readme) {
-    const std::string text((std::istreambuf_iterator<char>(readme)), std::istreambuf_iterator<char>());
-    const std::regex box(R"(\(\s*([-0-9.eE+]+)\s+([-0-9.eE+]+)\s+([-0-9.eE+]+)\s*\)\s*\(\s*([-0-9.eE+]+)\s+([-0-9.eE+]+)\s+([-0-9.eE+]+)\s*\))");
+    const std::string text((std::istreambuf_iterator<char>(readme)),
+                           std::istreambuf_iterator<char>());
+    const std::regex box(
+        R"(\(\s*([-0-9.eE+]+)\s+([-0-9.eE+]+)\s+([-0-9.eE+]+)\s*\)\s*\(\s*([-0-9.eE+]+)\s+([-0-9.eE+]+)\s+([-0-9.eE+]+)\s*\))");
     std::smatch m;
     if (std::regex_search(text, m, box)) {
-      writer.SetBounds({{std::stod(m[1]), std::stod(m[2]), std::stod(m[3])}, {std::stod(m[4]), std::stod(m[5]), std::stod(m[6])}});
+      writer.SetBounds({{std::stod(m[1]), std::stod(m[2]), std::stod(m[3])},
+                        {std::stod(m[4]), std::stod(m[5]), std::stod(m[6])}});
     }
   }
   const cv::Mat kernel = cv::getStructuringElement(cv::MORPH_RECT, {3, 3});
@@ -244,14 +274,17 @@ Dataset ImportMiddlebury(const fs::path& source, const fs::path& out, const Midd
     cv::Mat grey, mask_mat;
     cv::cvtColor(rgb, grey, cv::COLOR_RGB2GRAY);
     cv::threshold(grey, mask_mat, options.threshold * 255.0, 255, cv::THRESH_BINARY);
-    if (options.dilate_iterations > 0) cv::dilate(mask_mat, mask_mat, kernel, {-1, -1}, options.dilate_iterations);
-    if (options.erode_iterations > 0) cv::erode(mask_mat, mask_mat, kernel, {-1, -1}, options.erode_iterations);
+    if (options.dilate_iterations > 0)
+      cv::dilate(mask_mat, mask_mat, kernel, {-1, -1}, options.dilate_iterations);
+    if (options.erode_iterations > 0)
+      cv::erode(mask_mat, mask_mat, kernel, {-1, -1}, options.erode_iterations);
     core::Image8 mask(color.width(), color.height(), 1);
     for (int r = 0; r < mask.height(); ++r) {
       for (int c = 0; c < mask.width(); ++c) mask.at(c, r) = mask_mat.at<uint8_t>(r, c);
     }
     const int cam_id = writer.AddCamera(v.camera);
-    writer.AddView(fs::path(v.image).stem().string(), cam_id, v.cam_from_world, color, {}, mask, {});
+    writer.AddView(fs::path(v.image).stem().string(), cam_id, v.cam_from_world, color, {}, mask,
+                   {});
     if (progress) progress(static_cast<int>(i) + 1, static_cast<int>(views.size()));
   }
   writer.Commit();

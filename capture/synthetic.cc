@@ -1,5 +1,6 @@
 #include "capture/synthetic.h"
 
+#include <algorithm>
 #include <charconv>
 #include <chrono>
 #include <cmath>
@@ -27,7 +28,9 @@ namespace fs = std::filesystem;
 
 SceneMesh LoadSceneMesh(const fs::path& path, const fs::path& texture_path) {
   constexpr const char* kWhere = "LoadSceneMesh";
-  if (!fs::is_regular_file(path)) core::ThrowFileError(kWhere, path, "file does not exist");
+  if (fs::is_directory(path)) core::ThrowFileError(kWhere, path, "is a folder, not a mesh file");
+  if (!fs::exists(path)) core::ThrowFileError(kWhere, path, "file does not exist");
+  if (!fs::is_regular_file(path)) core::ThrowFileError(kWhere, path, "not a regular file");
   Assimp::Importer importer;
   const aiScene* scene = importer.ReadFile(
       path.string(), aiProcess_Triangulate | aiProcess_JoinIdenticalVertices | aiProcess_GenSmoothNormals |
@@ -75,6 +78,19 @@ SceneMesh LoadSceneMesh(const fs::path& path, const fs::path& texture_path) {
     n = std::isfinite(len) && len > 0 ? n / len : glm::vec3(0, 0, 1);
   }
   out.mesh.Validate(fmt::format("{}: '{}'", kWhere, path.string()));
+  // Captures and --truth-mesh frame the mesh by its bounds: they must be a
+  // box the float renderer can resolve (dataset.h's limits).
+  glm::vec3 lo, hi;
+  out.mesh.Bounds(lo, hi);
+  Bounds bounds{glm::dvec3(lo), glm::dvec3(hi)};
+  const glm::dvec3 extent = bounds.extent();
+  const double largest_side = std::max({extent.x, extent.y, extent.z});
+  const double pad = 0.5 * std::max(largest_side, kDatasetLimits.min_extent);
+  if (!(largest_side >= kDatasetLimits.min_extent)) {
+    core::ThrowFileError(kWhere, path, "mesh has no extent (all vertices within {:.3g} of each other)", largest_side);
+  }
+  // A flat mesh is fine (a plane); only its overall size is checked.
+  CheckBounds({bounds.centre() - pad, bounds.centre() + pad}, fmt::format("{}: '{}'", kWhere, path.string()));
 
   fs::path tex = texture_path;
   if (tex.empty() && !material_texture.empty()) tex = path.parent_path() / material_texture;

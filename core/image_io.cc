@@ -1,8 +1,13 @@
 #include "core/image_io.h"
 
-#include <memory>
-
 #include <OpenImageIO/imageio.h>
+
+#include <algorithm>
+#include <array>
+#include <cctype>
+#include <fstream>
+#include <iterator>
+#include <memory>
 
 #include "core/atomic_file.h"
 #include "core/error.h"
@@ -15,11 +20,82 @@ namespace {
 template <typename T>
 OIIO::TypeDesc TypeOf();
 template <>
-OIIO::TypeDesc TypeOf<uint8_t>() { return OIIO::TypeDesc::UINT8; }
+OIIO::TypeDesc TypeOf<uint8_t>() {
+  return OIIO::TypeDesc::UINT8;
+}
 template <>
-OIIO::TypeDesc TypeOf<uint16_t>() { return OIIO::TypeDesc::UINT16; }
+OIIO::TypeDesc TypeOf<uint16_t>() {
+  return OIIO::TypeDesc::UINT16;
+}
 template <>
-OIIO::TypeDesc TypeOf<float>() { return OIIO::TypeDesc::FLOAT; }
+OIIO::TypeDesc TypeOf<float>() {
+  return OIIO::TypeDesc::FLOAT;
+}
+
+// OIIO's format name for the file's extension ("" = any format accepted).
+std::string ExpectedFormat(const fs::path& path) {
+  std::string ext = path.extension().string();
+  std::transform(ext.begin(), ext.end(), ext.begin(),
+                 [](unsigned char c) { return std::tolower(c); });
+  if (ext == ".png") return "png";
+  if (ext == ".jpg" || ext == ".jpeg") return "jpeg";
+  if (ext == ".exr") return "openexr";
+  if (ext == ".tif" || ext == ".tiff") return "tiff";
+  return "";
+}
+
+// A JPEG ends with the EOI marker (FF D9); libjpeg fills a truncated file's
+// missing rows with grey and only warns, so the check is ours.
+bool JpegHasEndMarker(const fs::path& path) {
+  std::ifstream in(path, std::ios::binary | std::ios::ate);
+  const std::streamoff size = in.tellg();
+  if (size < 4) return false;
+  // Some writers pad after EOI: look at the last 64 bytes.
+  const std::streamoff tail = std::min<std::streamoff>(size, 64);
+  std::string bytes(static_cast<size_t>(tail), '\0');
+  in.seekg(size - tail);
+  in.read(bytes.data(), tail);
+  return bytes.find("\xFF\xD9") != std::string::npos;
+}
+
+// Walks a PNG's chunks (length, type, data, CRC-32) up to IEND: "" if the
+// file is whole, else what is wrong. libpng itself would print its own
+// "libpng error" lines on such files before OIIO reports them.
+std::string PngStructureProblem(const fs::path& path) {
+  static const std::array<uint32_t, 256> table = [] {
+    std::array<uint32_t, 256> t{};
+    for (uint32_t n = 0; n < 256; ++n) {
+      uint32_t c = n;
+      for (int k = 0; k < 8; ++k) c = (c & 1) ? 0xedb88320u ^ (c >> 1) : c >> 1;
+      t[n] = c;
+    }
+    return t;
+  }();
+  std::ifstream in(path, std::ios::binary);
+  const std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  if (bytes.size() < 8 || bytes.compare(0, 8, "\x89PNG\r\n\x1a\n", 8) != 0)
+    return "no PNG signature";
+  auto be32 = [&](size_t at) {
+    uint32_t v = 0;
+    for (int k = 0; k < 4; ++k) v = (v << 8) | static_cast<unsigned char>(bytes[at + k]);
+    return v;
+  };
+  for (size_t at = 8;;) {
+    if (bytes.size() - at < 12) return "truncated PNG (no IEND chunk)";
+    const uint64_t length = be32(at);
+    const std::string type = bytes.substr(at + 4, 4);
+    if (length > bytes.size() - at - 12)
+      return fmt::format("truncated PNG (ends inside chunk {})", type);
+    uint32_t crc = 0xffffffffu;
+    for (size_t i = at + 4; i < at + 8 + length; ++i) {
+      crc = table[(crc ^ static_cast<unsigned char>(bytes[i])) & 0xff] ^ (crc >> 8);
+    }
+    if ((crc ^ 0xffffffffu) != be32(at + 8 + length))
+      return fmt::format("corrupt PNG (chunk {} fails its CRC)", type);
+    if (type == "IEND") return "";
+    at += 12 + length;
+  }
+}
 
 std::unique_ptr<OIIO::ImageInput> OpenInput(const fs::path& path, std::string_view where) {
   if (!fs::exists(path)) ThrowFileError(where, path, "file does not exist");
@@ -28,7 +104,37 @@ std::unique_ptr<OIIO::ImageInput> OpenInput(const fs::path& path, std::string_vi
   OIIO::ImageSpec config;
   config.attribute("oiio:UnassociatedAlpha", 1);
   auto input = OIIO::ImageInput::open(path.string(), &config);
-  if (!input) ThrowFileError(where, path, "cannot decode image: {}", OIIO::geterror());
+  if (!input) {
+    std::string message = OIIO::geterror();
+    std::replace(message.begin(), message.end(), '\n', ' ');
+    ThrowFileError(where, path, "cannot decode image: {}", message);
+  }
+  const std::string expected = ExpectedFormat(path);
+  if (!expected.empty() && expected != input->format_name()) {
+    ThrowFileError(where, path, "is a {} file, not the {} its name says", input->format_name(),
+                   expected);
+  }
+  const OIIO::ImageSpec& spec = input->spec();
+  if (spec.width <= 0 || spec.height <= 0 || spec.nchannels <= 0 || spec.depth != 1) {
+    ThrowFileError(where, path, "empty or volumetric image ({}x{}x{}, {} channels)", spec.width,
+                   spec.height, spec.depth, spec.nchannels);
+  }
+  if (spec.width > kMaxImageSide || spec.height > kMaxImageSide ||
+      int64_t{spec.width} * spec.height > kMaxImagePixels || spec.nchannels > kMaxImageChannels) {
+    ThrowFileError(
+        where, path,
+        "image is {}x{} with {} channels; the limit is {} pixels a side, {} pixels and {} "
+        "channels",
+        spec.width, spec.height, spec.nchannels, kMaxImageSide, kMaxImagePixels, kMaxImageChannels);
+  }
+  if (expected == "png") {
+    if (const std::string problem = PngStructureProblem(path); !problem.empty()) {
+      ThrowFileError(where, path, "{}", problem);
+    }
+  }
+  if (expected == "jpeg" && !JpegHasEndMarker(path)) {
+    ThrowFileError(where, path, "truncated JPEG (no end-of-image marker)");
+  }
   return input;
 }
 
@@ -44,17 +150,16 @@ template <typename T>
 Image<T> ReadImage(const fs::path& path, int channels) {
   auto input = OpenInput(path, "ReadImage");
   const OIIO::ImageSpec& spec = input->spec();
-  if (spec.width <= 0 || spec.height <= 0 || spec.nchannels <= 0) {
-    ThrowFileError("ReadImage", path, "empty image ({}x{}x{})", spec.width, spec.height,
-                   spec.nchannels);
-  }
   if (channels > 0 && spec.nchannels != channels) {
     ThrowFileError("ReadImage", path, "expected {} channel(s), file has {}", channels,
                    spec.nchannels);
   }
   Image<T> image(spec.width, spec.height, spec.nchannels);
-  if (!input->read_image(0, 0, 0, spec.nchannels, TypeOf<T>(), image.data())) {
-    ThrowFileError("ReadImage", path, "corrupt or truncated image data: {}", input->geterror());
+  if (!input->read_image(0, 0, 0, spec.nchannels, TypeOf<T>(), image.data()) ||
+      input->has_error()) {
+    std::string message = input->geterror();
+    std::replace(message.begin(), message.end(), '\n', ' ');
+    ThrowFileError("ReadImage", path, "corrupt or truncated image data: {}", message);
   }
   input->close();
   return image;

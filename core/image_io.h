@@ -10,7 +10,15 @@
 
 namespace core {
 
-// Reads any image OpenImageIO understands, converting to T:
+// Limits every image read obeys, checked from the header before any pixel is
+// decoded (README "## Limits"): 16384 is the GL texture size limit of Mesa and
+// most GPUs; 2^26 pixels (8192 x 8192) keeps one float RGB image under 1 GiB.
+inline constexpr int kMaxImageSide = 16384;
+inline constexpr int64_t kMaxImagePixels = int64_t{1} << 26;
+inline constexpr int kMaxImageChannels = 4;
+
+// Reads any image OpenImageIO understands (a .png/.jpg/.exr/.tif must hold
+// that format; a JPEG must not be truncated; sizes within the limits above), converting to T:
 //   uint8_t/uint16_t: integer files keep their values when the bit depth matches;
 //   float: integer files are normalised to [0, 1] (OIIO convention), float
 //          files (EXR) are returned exactly.

@@ -40,6 +40,7 @@ void RunCapture(CaptureCommandOptions o, bool rig_given, bool size_given) {
     core::ThrowInputError("ibr capture", "give exactly one of --mesh PATH, --shape NAME or --scene NAME");
   }
   if (o.out.empty()) core::ThrowInputError("ibr capture", "--out DIR is required");
+  if (!o.texture.empty() && o.mesh.empty()) core::ThrowInputError("ibr capture", "--texture applies to --mesh only");
   o.capture.Check();
   const auto start = std::chrono::steady_clock::now();
   const capture::SceneMesh scene = o.mesh.empty() ? capture::MakeShapeScene(o.shape) : capture::LoadSceneMesh(o.mesh, o.texture);

@@ -1,7 +1,15 @@
 #include "apps/ibr/commands.h"
 
+#include <fmt/format.h>
+
 #include <algorithm>
+#include <filesystem>
 #include <map>
+#include <string>
+#include <vector>
+
+#include "core/atomic_file.h"
+#include "core/error.h"
 
 namespace apps {
 namespace {
@@ -9,6 +17,24 @@ std::map<std::string, CommandAdder>& Registry() {
   static std::map<std::string, CommandAdder> registry;
   return registry;
 }
+
+// Every existing path among the chosen subcommands' option values.
+void NoteInputs(const CLI::App& app) {
+  for (const CLI::App* sub : app.get_subcommands()) {
+    for (const CLI::Option* option : sub->get_options()) {
+      // The options that name what a command writes.
+      if (option->check_lname("out") || option->check_lname("csv") ||
+          option->check_lname("screenshot"))
+        continue;
+      for (const std::string& value : option->results()) {
+        std::error_code ec;
+        if (!value.empty() && std::filesystem::exists(value, ec)) core::NoteInputPath(value);
+      }
+    }
+    NoteInputs(*sub);
+  }
+}
+
 }  // namespace
 
 CommandRegistration::CommandRegistration(const char* name, CommandAdder add) {
@@ -23,9 +49,56 @@ CLI::App* BenchGroup(CLI::App& app) {
   for (CLI::App* sub : app.get_subcommands([](CLI::App*) { return true; })) {
     if (sub->get_name() == "bench") return sub;
   }
-  CLI::App* bench = app.add_subcommand("bench", "Benchmarks that print time, throughput and accuracy");
+  CLI::App* bench =
+      app.add_subcommand("bench", "Benchmarks that print time, throughput and accuracy");
   bench->require_subcommand(1);
   return bench;
+}
+
+void CheckSubcommandNames(const CLI::App& app, int argc, const char* const* argv) {
+  const CLI::App* current = &app;
+  std::string path = "ibr";
+  for (int i = 1; i < argc; ++i) {
+    const std::string token = argv[i];
+    if (token == "--") return;
+    if (!token.empty() && token[0] == '-') {
+      // The root's only valued option; every group's other options are flags.
+      if (current == &app && token == "--log-level") ++i;
+      continue;
+    }
+    std::vector<const CLI::App*> subs =
+        current->get_subcommands([](const CLI::App*) { return true; });
+    if (subs.empty()) return;  // a leaf command: the rest are its arguments
+    const CLI::App* next = nullptr;
+    std::vector<std::string> names;
+    for (const CLI::App* sub : subs) {
+      names.push_back(sub->get_name());
+      if (sub->check_name(token)) next = sub;
+    }
+    if (next == nullptr) {
+      std::sort(names.begin(), names.end());
+      throw core::InputError(fmt::format(
+          "unknown subcommand '{}'{} (valid: {})", token,
+          current == &app ? std::string() : fmt::format(" of '{}'", path), fmt::join(names, ", ")));
+    }
+    current = next;
+    path += " " + next->get_name();
+  }
+}
+
+void NoteCommandLineInputs(const CLI::App& app) {
+  NoteInputs(app);
+  // Refuse an --out that overlaps an input now, before any work is done (the
+  // writers check again when they create the output).
+  for (const CLI::App* sub = &app; sub != nullptr;) {
+    const auto chosen = sub->get_subcommands();
+    for (const CLI::Option* option : sub->get_options()) {
+      if (option->check_lname("out") && !option->results().empty()) {
+        core::CheckNotAnInput("--out", option->results().front());
+      }
+    }
+    sub = chosen.empty() ? nullptr : chosen.front();
+  }
 }
 
 }  // namespace apps

@@ -6,9 +6,8 @@
 // partial is left behind.
 #pragma once
 
-#include <string>
-
 #include <CLI/CLI.hpp>
+#include <string>
 
 namespace apps {
 
@@ -25,10 +24,21 @@ void AddRegisteredCommands(CLI::App& app);
 // its subcommands (`ibr bench fillrate`, `ibr bench displacement`, ...).
 CLI::App* BenchGroup(CLI::App& app);
 
+// Throws core::InputError "unknown subcommand 'X' of 'ibr import' (valid:
+// colmap, middlebury, redwood)" when argv names a subcommand that does not
+// exist where one is required (CLI11 alone says "A subcommand is required").
+void CheckSubcommandNames(const CLI::App& app, int argc, const char* const* argv);
+
+// Notes every existing path given to the chosen subcommand (positional or
+// option, except the outputs --out, --csv and --screenshot) as an input
+// (core::NoteInputPath), so no output of the command can replace, sit inside
+// or contain it.
+void NoteCommandLineInputs(const CLI::App& app);
+
 }  // namespace apps
 
 #define IBR_REGISTER_COMMAND_CONCAT2(a, b) a##b
 #define IBR_REGISTER_COMMAND_CONCAT(a, b) IBR_REGISTER_COMMAND_CONCAT2(a, b)
-#define IBR_REGISTER_COMMAND(name, adder)                 \
-  static const ::apps::CommandRegistration IBR_REGISTER_COMMAND_CONCAT( \
-      ibr_command_registration_, __LINE__)(name, adder)
+#define IBR_REGISTER_COMMAND(name, adder)                                                         \
+  static const ::apps::CommandRegistration IBR_REGISTER_COMMAND_CONCAT(ibr_command_registration_, \
+                                                                       __LINE__)(name, adder)

@@ -1,8 +1,13 @@
 #include "core/atomic_file.h"
 
-#include <fstream>
-
 #include <gtest/gtest.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <csignal>
+#include <cstdlib>
+#include <fstream>
+#include <set>
 
 #include "core/error.h"
 #include "tests/support/gl_test.h"
@@ -14,6 +19,39 @@ namespace fs = std::filesystem;
 std::string Slurp(const fs::path& p) {
   std::ifstream in(p);
   return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+}
+
+std::set<std::string> Entries(const fs::path& dir) {
+  std::set<std::string> names;
+  for (const auto& e : fs::recursive_directory_iterator(dir))
+    names.insert(fs::relative(e.path(), dir).generic_string());
+  return names;
+}
+
+// A user's folder: two documents and a subfolder.
+fs::path UserFolder(const fs::path& root) {
+  const fs::path docs = root / "Documents";
+  fs::create_directories(docs / "taxes");
+  std::ofstream(docs / "letter.txt") << "dear";
+  std::ofstream(docs / "taxes" / "2025.pdf") << "%PDF";
+  return docs;
+}
+
+void ExpectUserFolderIntact(const fs::path& docs) {
+  EXPECT_EQ(Slurp(docs / "letter.txt"), "dear");
+  EXPECT_EQ(Slurp(docs / "taxes" / "2025.pdf"), "%PDF");
+  EXPECT_EQ(Entries(docs), (std::set<std::string>{"letter.txt", "taxes", "taxes/2025.pdf"}));
+}
+
+// The message of the InputError `f` throws ("" if none).
+template <typename F>
+std::string ErrorOf(F&& f) {
+  try {
+    f();
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  return "";
 }
 
 TEST(AtomicWrite, ReplacesOnlyOnSuccess) {
@@ -67,6 +105,160 @@ TEST(StagedDirectory, RefusesAFileInTheWay) {
   std::ofstream(root / "file") << "x";
   EXPECT_THROW(StagedDirectory(root / "file"), InputError);
 }
+
+TEST(StagedDirectory, RefusesAFolderIbrDidNotWriteAndLeavesItIntact) {
+  const auto root = test_support::TestOutputDir();
+  const fs::path docs = UserFolder(root);
+  const std::string message = ErrorOf([&] { StagedDirectory staged(docs); });
+  EXPECT_NE(message.find("is not an earlier ibr output"), std::string::npos) << message;
+  EXPECT_NE(message.find(docs.string()), std::string::npos) << message;
+  ExpectUserFolderIntact(docs);
+  EXPECT_EQ(Entries(root), (std::set<std::string>{"Documents", "Documents/letter.txt",
+                                                  "Documents/taxes", "Documents/taxes/2025.pdf"}));
+}
+
+TEST(StagedDirectory, MarkerListsFilesAndAUserFileAddedLaterBlocksReplacement) {
+  const auto root = test_support::TestOutputDir();
+  const fs::path out = root / "out";
+  SetOutputDescription("ibr test --out out");
+  {
+    StagedDirectory staged(out);
+    fs::create_directories(staged.path() / "depth");
+    std::ofstream(staged.path() / "depth" / "a.exr") << "a";
+    std::ofstream(staged.path() / "dataset.json") << "{}";
+    staged.Commit();
+  }
+  EXPECT_EQ(Slurp(out / kOutputMarker),
+            "ibr output: ibr test --out out\ndataset.json\ndepth/a.exr\n");
+  {  // an earlier output is replaced
+    StagedDirectory staged(out);
+    std::ofstream(staged.path() / "dataset.json") << "{\"v\": 2}";
+    staged.Commit();
+  }
+  EXPECT_EQ(Slurp(out / "dataset.json"), "{\"v\": 2}");
+  EXPECT_FALSE(fs::exists(out / "depth"));
+  // The user keeps notes in it: now it is theirs too, and never replaced.
+  std::ofstream(out / "notes.txt") << "mine";
+  const std::string message = ErrorOf([&] { StagedDirectory staged(out); });
+  EXPECT_NE(message.find("holds 'notes.txt', which ibr did not write"), std::string::npos)
+      << message;
+  // ...also when the note appears while the output is being written.
+  fs::remove(out / "notes.txt");
+  {
+    StagedDirectory staged(out);
+    std::ofstream(out / "notes.txt") << "mine";
+    EXPECT_THROW(staged.Commit(), InputError);
+  }
+  EXPECT_EQ(Slurp(out / "notes.txt"), "mine");
+  EXPECT_EQ(Entries(root).size(), Entries(out).size() + 1) << "staging folder left behind";
+}
+
+TEST(StagedDirectory, EmptyFolderIsReplacedAndSymlinkIsRefused) {
+  const auto root = test_support::TestOutputDir();
+  fs::create_directories(root / "empty");
+  {
+    StagedDirectory staged(root / "empty");
+    std::ofstream(staged.path() / "x") << "x";
+    staged.Commit();
+  }
+  EXPECT_EQ(Slurp(root / "empty" / "x"), "x");
+  const fs::path docs = UserFolder(root);
+  fs::create_directory_symlink(docs, root / "link");
+  EXPECT_THROW(StagedDirectory(root / "link"), InputError);
+  ExpectUserFolderIntact(docs);
+}
+
+TEST(StagedDirectory, OutputNeverOverlapsAnInput) {
+  const auto root = test_support::TestOutputDir();
+  const fs::path input = root / "in";
+  {
+    StagedDirectory staged(
+        input);  // an earlier ibr output: replaceable, unless it is this run's input
+    std::ofstream(staged.path() / "dataset.json") << "{}";
+    staged.Commit();
+  }
+  fs::create_directory_symlink(input, root / "alias");
+  NoteInputPath(input);
+  for (const fs::path& out : {input, root / "alias", root / "in" / ".." / "in", input / "renders",
+                              root / "alias" / "sub" / "deeper", fs::path(root)}) {
+    const std::string message = ErrorOf([&] { StagedDirectory staged(out); });
+    EXPECT_FALSE(message.empty()) << out;
+    EXPECT_NE(message.find("input"), std::string::npos) << message;
+  }
+  EXPECT_THROW(AtomicWriteStream(input / "dataset.json", [](std::ostream& o) { o << "x"; }),
+               InputError);
+  EXPECT_EQ(Slurp(input / "dataset.json"), "{}");
+  // A sibling is fine.
+  {
+    StagedDirectory staged(root / "in2");
+    staged.Commit();
+  }
+  ClearInputPaths();
+  EXPECT_TRUE(fs::exists(root / "in2" / kOutputMarker));
+}
+
+TEST(StagedDirectory, StaleStagingOfDeadProcessesIsRemovedLiveOnesKept) {
+  const auto root = test_support::TestOutputDir();
+  const pid_t child = ::fork();
+  if (child == 0) ::_exit(0);
+  ASSERT_GT(child, 0);
+  ::waitpid(child, nullptr, 0);  // now a dead process id
+  const fs::path dead = root / fmt::format(".out.tmp-{}-0", child);
+  const fs::path dead_file = root / fmt::format(".out.tmp-{}-3", child);
+  const fs::path live = root / fmt::format(".out.tmp-{}-0", ::getppid());
+  const fs::path other = root / fmt::format(".other.tmp-{}-0", child);
+  const fs::path not_staging = root / fmt::format(".out.tmp-{}-x", child);
+  fs::create_directories(dead / "depth");
+  std::ofstream(dead / "depth" / "a.exr") << "a";
+  std::ofstream(dead_file) << "partial";
+  for (const fs::path& p : {live, other, not_staging}) fs::create_directories(p);
+  {
+    StagedDirectory staged(root / "out");
+    staged.Commit();
+  }
+  EXPECT_FALSE(fs::exists(dead));
+  EXPECT_FALSE(fs::exists(dead_file));
+  for (const fs::path& p : {live, other, not_staging}) EXPECT_TRUE(fs::exists(p)) << p;
+}
+
+// A child process stages an output and waits; `sig` must remove the staging
+// folder and still end the child by that signal.
+void ExpectSignalRemovesStaging(int sig) {
+  const auto root = test_support::TestOutputDir();
+  int ready[2];
+  ASSERT_EQ(::pipe(ready), 0);
+  const pid_t child = ::fork();
+  ASSERT_GE(child, 0);
+  if (child == 0) {
+    InstallCleanupSignalHandlers();
+    StagedDirectory staged(root / "out");
+    fs::create_directories(staged.path() / "color");
+    std::ofstream(staged.path() / "color" / "v0.png") << "png";
+    AtomicWriteStream(staged.path() / "dataset.json", [&](std::ostream& o) {
+      o << "{";
+      (void)!::write(ready[1], "r", 1);
+      if (sig == SIGABRT) std::abort();
+      for (;;) ::pause();
+    });
+    ::_exit(0);
+  }
+  char byte = 0;
+  ASSERT_EQ(::read(ready[0], &byte, 1), 1);
+  EXPECT_GT(Entries(root).size(), 0u);
+  if (sig != SIGABRT) ::kill(child, sig);
+  int status = 0;
+  ASSERT_EQ(::waitpid(child, &status, 0), child);
+  EXPECT_TRUE(WIFSIGNALED(status));
+  EXPECT_EQ(WTERMSIG(status), sig);
+  EXPECT_EQ(Entries(root), std::set<std::string>{}) << "left behind by signal " << sig;
+  ::close(ready[0]);
+  ::close(ready[1]);
+}
+
+TEST(StagedDirectory, SigintRemovesStaging) { ExpectSignalRemovesStaging(SIGINT); }
+TEST(StagedDirectory, SigtermRemovesStaging) { ExpectSignalRemovesStaging(SIGTERM); }
+TEST(StagedDirectory, SighupRemovesStaging) { ExpectSignalRemovesStaging(SIGHUP); }
+TEST(StagedDirectory, AbortRemovesStaging) { ExpectSignalRemovesStaging(SIGABRT); }
 
 }  // namespace
 }  // namespace core
