@@ -27,6 +27,10 @@ PACKAGES=(
   # the Open3D peer (bench/open3d_peer.py, run with /usr/bin/python3): TSDF integration and
   # voxel carving; OpenImageIO's binding reads the datasets' EXR depth maps there
   python3-open3d python3-openimageio
+  # gzip-encoded NRRD volumes (core/volume_io.cc)
+  zlib1g-dev
+  # the VTK volume-rendering peer (bench/vtk_volume_peer.py: vtkGPUVolumeRayCastMapper under xvfb-run)
+  python3-vtk9
 )
 
 missing=()
