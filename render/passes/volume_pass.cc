@@ -9,20 +9,9 @@
 
 #include "core/check.h"
 #include "core/error.h"
-#include "render/slicing.h"
 
 namespace render {
 namespace {
-
-void SetMat4(const Program& p, const char* name, const glm::mat4& m) {
-  glUniformMatrix4fv(p.Uniform(name), 1, GL_FALSE, glm::value_ptr(m));
-}
-void SetMat3(const Program& p, const char* name, const glm::mat3& m) {
-  glUniformMatrix3fv(p.Uniform(name), 1, GL_FALSE, glm::value_ptr(m));
-}
-void SetVec3(const Program& p, const char* name, const glm::vec3& v) {
-  glUniform3fv(p.Uniform(name), 1, glm::value_ptr(v));
-}
 
 void LinearClamp(GLuint id) {
   glTextureParameteri(id, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
@@ -173,7 +162,6 @@ std::vector<std::string> VolumePassOptions::Defines(int map_count) const {
   }
   if (mode == VolumeMode::kIso) {
     for (const std::string& r : RayCoreDefines(ray)) d.push_back(r);
-    if (output_normals) d.push_back("VOLUME_OUTPUT_NORMALS");
   }
   return d;
 }
@@ -264,31 +252,29 @@ glm::mat4 VolumePass::world_from_proxy() const {
 
 void VolumePass::SetCommonUniforms(const Program& program, const ViewSetup& view) const {
   const glm::vec3 lo(proxy_box_.lo), hi(proxy_box_.hi);
-  SetMat4(program, "u_world_from_box", world_from_proxy());
-  SetMat4(program, "u_cam_from_world", view.cam_from_world);
-  SetMat4(program, "u_clip_from_cam", view.clip_from_cam);
-  SetMat4(program, "u_tex_from_proxy", glm::scale(glm::translate(glm::mat4(1.0f), lo), hi - lo));
-  SetMat3(program, "u_normal_world_from_tex",
-          glm::transpose(glm::inverse(glm::mat3(world_from_volume_))));
-  SetVec3(program, "u_light_dir_world", glm::normalize(options_.light_dir_world));
-  glUniform1f(program.Uniform("u_ambient"), options_.ambient);
-  glUniform1i(program.Uniform("u_volume"), 0);
-  glUniform1i(program.Uniform("u_gradient"), 1);
-  glUniform1i(program.Uniform("u_transfer"), 2);
+  program.Set("u_world_from_box", world_from_proxy());
+  program.Set("u_cam_from_world", view.cam_from_world);
+  program.Set("u_clip_from_cam", view.clip_from_cam);
+  program.Set("u_tex_from_proxy", glm::scale(glm::translate(glm::mat4(1.0f), lo), hi - lo));
+  program.Set("u_normal_world_from_tex",
+              glm::transpose(glm::inverse(glm::mat3(world_from_volume_))));
+  program.Set("u_light_dir_world", glm::normalize(options_.light_dir_world));
+  program.Set("u_ambient", options_.ambient);
+  program.Set("u_volume", 0);
+  program.Set("u_gradient", 1);
+  program.Set("u_transfer", 2);
   glBindTextureUnit(0, volume_texture_.id());
   glBindTextureUnit(1, gradient_texture_.id());
   glBindTextureUnit(2, transfer_texture_.id());
   for (size_t i = 0; i < maps_.size(); ++i) {
     const glm::mat4 m(maps_[i].placement);
     const glm::mat3 a(m);
-    glUniform1i(program.Uniform(fmt::format("u_maps[{}]", i).c_str()), static_cast<GLint>(3 + i));
-    SetMat4(program, fmt::format("u_map_from_tex[{}]", i).c_str(),
-            glm::mat4(glm::inverse(maps_[i].placement)));
-    SetMat3(program, fmt::format("u_tex_from_map[{}]", i).c_str(), a);
-    SetMat3(program, fmt::format("u_map_from_tex_linear[{}]", i).c_str(), glm::inverse(a));
-    glUniform1f(program.Uniform(fmt::format("u_map_scale[{}]", i).c_str()), stored_[i].scale);
-    SetVec3(program, fmt::format("u_map_texel[{}]", i).c_str(),
-            1.0f / glm::vec3(maps_[i].map.dims));
+    program.Set(fmt::format("u_maps[{}]", i), static_cast<int>(3 + i));
+    program.Set(fmt::format("u_map_from_tex[{}]", i), glm::mat4(glm::inverse(maps_[i].placement)));
+    program.Set(fmt::format("u_tex_from_map[{}]", i), a);
+    program.Set(fmt::format("u_map_from_tex_linear[{}]", i), glm::inverse(a));
+    program.Set(fmt::format("u_map_scale[{}]", i), stored_[i].scale);
+    program.Set(fmt::format("u_map_texel[{}]", i), 1.0f / glm::vec3(maps_[i].map.dims));
     glBindTextureUnit(static_cast<GLuint>(3 + i), map_textures_[i].id());
   }
 }
@@ -328,15 +314,14 @@ void VolumePass::DrawDvr(const RenderTarget& target, const ViewSetup& view) {
   stats_.slices = static_cast<int>(stack.slices.size());
   stats_.slice_spacing_world = stack.spacing_world;
 
-  ProgramDesc desc{.vertex = "slice.vert.glsl", .fragment = "passes/volume_dvr.frag.glsl"};
+  ProgramDesc desc{.vertex = "cores/slice.vert.glsl", .fragment = "passes/volume_dvr.frag.glsl"};
   desc.defines = options_.Defines(static_cast<int>(maps_.size()));
   const Program& program = programs_->Get(desc);
   target.Bind();
   program.Use();
   SetCommonUniforms(program, view);
-  glUniform1f(program.Uniform("u_transfer_size"), static_cast<float>(kTransferSize));
-  glUniform1f(program.Uniform("u_opacity_exponent"),
-              static_cast<float>(stack.spacing_world / voxel_world_));
+  program.Set("u_transfer_size", static_cast<float>(kTransferSize));
+  program.Set("u_opacity_exponent", static_cast<float>(stack.spacing_world / voxel_world_));
 
   // Translucent slices: depth-tested against what is in the frame, no depth
   // writes, premultiplied back-to-front blending into attachment 0 only.
@@ -346,12 +331,10 @@ void VolumePass::DrawDvr(const RenderTarget& target, const ViewSetup& view) {
   glDisable(GL_CULL_FACE);
   glEnable(GL_BLEND);
   glBlendFunc(GL_ONE, GL_ONE_MINUS_SRC_ALPHA);
-  GLint attachments = 0;
-  glGetIntegerv(GL_MAX_DRAW_BUFFERS, &attachments);
-  for (GLuint i = 1; i < static_cast<GLuint>(std::min(attachments, 8)); ++i)
+  for (GLuint i : {kFrameCameraZ, kFrameNormal, kFrameOutcome})
     glColorMaski(i, GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);
   slices_.DrawAll();
-  for (GLuint i = 1; i < static_cast<GLuint>(std::min(attachments, 8)); ++i)
+  for (GLuint i : {kFrameCameraZ, kFrameNormal, kFrameOutcome})
     glColorMaski(i, GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
   glDisable(GL_BLEND);
   glDepthMask(GL_TRUE);
@@ -360,26 +343,25 @@ void VolumePass::DrawDvr(const RenderTarget& target, const ViewSetup& view) {
 void VolumePass::DrawIso(const RenderTarget& target, const ViewSetup& view) {
   const glm::mat4 world_from_box = world_from_proxy();
   const glm::mat4 box_from_world = glm::inverse(world_from_box);
-  ProgramDesc desc{.vertex = "slice.vert.glsl", .fragment = "passes/volume_iso.frag.glsl"};
+  ProgramDesc desc{.vertex = "cores/slice.vert.glsl", .fragment = "passes/volume_iso.frag.glsl"};
   desc.defines = options_.Defines(static_cast<int>(maps_.size()));
   const Program& program = programs_->Get(desc);
   target.Bind();
   program.Use();
   SetCommonUniforms(program, view);
   SetRayCoreUniforms(program, options_.ray);
-  glUniform1f(program.Uniform("u_iso"), static_cast<float>(options_.iso_value));
-  glUniform1i(program.Uniform("u_orthographic"), view.orthographic ? 1 : 0);
+  program.Set("u_iso", static_cast<float>(options_.iso_value));
+  program.Set("u_orthographic", view.orthographic ? 1 : 0);
   const glm::mat4 world_from_cam = glm::inverse(view.cam_from_world);
   const glm::vec3 eye_world(world_from_cam[3]);
   const glm::vec3 forward_world = glm::normalize(glm::vec3(world_from_cam[2]));
-  SetVec3(program, "u_eye_in_box", glm::vec3(box_from_world * glm::vec4(eye_world, 1.0f)));
-  SetVec3(program, "u_view_dir_in_box", glm::vec3(box_from_world * glm::vec4(forward_world, 0.0f)));
+  program.Set("u_eye_in_box", glm::vec3(box_from_world * glm::vec4(eye_world, 1.0f)));
+  program.Set("u_view_dir_in_box", glm::vec3(box_from_world * glm::vec4(forward_world, 0.0f)));
   glm::mat4 linear = box_from_world;
   linear[3] = glm::vec4(0, 0, 0, 1);
-  SetMat4(program, "u_box_from_world_linear", linear);
-  SetMat4(program, "u_cam_from_box", view.cam_from_world * world_from_box);
-  glUniform1f(program.Uniform("u_step_world"),
-              static_cast<float>(options_.sampling_distance_voxels * voxel_world_));
+  program.Set("u_box_from_world_linear", linear);
+  program.Set("u_cam_from_box", view.cam_from_world * world_from_box);
+  program.Set("u_step_world", static_cast<float>(options_.sampling_distance_voxels * voxel_world_));
   glEnable(GL_DEPTH_TEST);
   glDepthFunc(GL_LESS);
   glDepthMask(GL_TRUE);
@@ -388,27 +370,6 @@ void VolumePass::DrawIso(const RenderTarget& target, const ViewSetup& view) {
   glBindVertexArray(box_vao_.id());
   glDrawArrays(GL_TRIANGLES, 0, 36);
   glBindVertexArray(0);
-}
-
-RenderTargetOptions VolumeFrameOptions(int width, int height, bool float_color) {
-  RenderTargetOptions o;
-  o.width = width;
-  o.height = height;
-  o.color_formats = {static_cast<GLenum>(float_color ? GL_RGBA32F : GL_RGBA8), GL_R32F, GL_R32UI};
-  o.depth_stencil = true;
-  return o;
-}
-
-void BeginVolumeFrame(const RenderTarget& target) {
-  target.Bind();
-  const float zero[4] = {0, 0, 0, 0};
-  glClearBufferfv(GL_COLOR, 0, zero);
-  glClearBufferfv(GL_COLOR, 1, zero);
-  const GLuint zero_u[4] = {0, 0, 0, 0};
-  glClearBufferuiv(GL_COLOR, 2, zero_u);
-  glClearBufferfi(GL_DEPTH_STENCIL, 0, 1.0f, 0);
-  glEnable(GL_DEPTH_TEST);
-  glDepthFunc(GL_LESS);
 }
 
 }  // namespace render

@@ -35,13 +35,13 @@
 #include "core/transfer_function.h"
 #include "core/volume.h"
 #include "core/volume_displacement.h"
-#include "render/handles.h"
-#include "render/mesh_pass.h"
-#include "render/ray_core.h"
-#include "render/render_target.h"
-#include "render/shader_program.h"
-#include "render/slice_buffer.h"
-#include "render/slicing.h"
+#include "render/cores/ray_core.h"
+#include "render/cores/slice_buffer.h"
+#include "render/cores/slicing.h"
+#include "render/gl/handles.h"
+#include "render/gl/render_target.h"
+#include "render/gl/shader_program.h"
+#include "render/passes/pass.h"
 
 namespace render {
 
@@ -75,9 +75,6 @@ struct VolumePassOptions {
   float ambient = 0.3f;  // fraction of the colour lit without the light
   // Iso mode: linear-search steps beyond the box diagonal / step are capped here.
   RayCoreOptions ray{.max_steps = 4096, .refine_steps = 10};
-  // Iso mode, for tests: write the world normal (xyz) into colour instead of
-  // the shaded colour (needs a float colour attachment).
-  bool output_normals = false;
 
   void Check() const;  // InputError on bad values
   // The shader #defines these options select (one place).
@@ -96,7 +93,7 @@ struct VolumeDrawStats {
   double proxy_area_px = 0;  // sum of the slices' projected areas, pixels (fill estimate)
 };
 
-class VolumePass {
+class VolumePass : public Pass {
  public:
   // Plain CPU data in; uploads the volume (R8/R16/R32F), its gradient
   // (RGBA16F), the maps and the transfer function. world_from_volume maps
@@ -105,10 +102,12 @@ class VolumePass {
              const core::TransferFunction& transfer, std::vector<VolumeMapInput> maps,
              const glm::mat4& world_from_volume, const VolumePassOptions& options);
 
-  std::string_view name() const { return "volume"; }
-  // Draws into a frame target already begun (cleared) by the caller,
-  // depth-tested against it; restores the GL state it changes.
-  void Draw(const RenderTarget& target, const ViewSetup& view);
+  std::string_view name() const override { return "volume"; }
+  // The Pass contract: into a frame begun by BeginFrame, depth-tested against
+  // it, leaving BeginFrame's state. DVR writes colour only (premultiplied;
+  // the translucent slices have no single camera z or normal); iso writes all
+  // four attachments.
+  void Draw(const RenderTarget& target, const ViewSetup& view) override;
 
   const VolumePassOptions& options() const { return options_; }
   void SetOptions(const VolumePassOptions& options);          // same maps and volume
@@ -146,11 +145,5 @@ class VolumePass {
   VertexArray box_vao_;
   VolumeDrawStats stats_;
 };
-
-// Frame setup for tests and the command: colour RGBA8 (or RGBA32F for
-// truth comparisons), camera z R32F, outcome R32UI, depth/stencil.
-RenderTargetOptions VolumeFrameOptions(int width, int height, bool float_color = false);
-// Binds and clears to transparent black, depth 1, with depth test LESS.
-void BeginVolumeFrame(const RenderTarget& target);
 
 }  // namespace render

@@ -1,6 +1,6 @@
 #version 450 core
 // Volume pass, DVR: one screen-space slice fragment (render/passes/volume_pass.h).
-#include "slicing_core.glsl"
+#include "cores/slicing_core.glsl"
 #include "passes/volume_core.glsl"
 
 in vec3 v_p_in_box;  // proxy-box coordinates

@@ -2,7 +2,7 @@
 // Volume pass, iso mode: the first hit of the displaced field at an iso value,
 // marched by the shared ray core from the proxy box's back faces
 // (render/passes/volume_pass.h).
-#include "slicing_core.glsl"
+#include "cores/slicing_core.glsl"
 #include "passes/volume_core.glsl"
 
 uniform float u_iso;  // normalised scalar
@@ -14,7 +14,7 @@ float RayField(vec3 p_in_box) {
   return u_iso - VolumeDensity(d.p);
 }
 
-#include "ray_core.glsl"
+#include "cores/ray_core.glsl"
 
 in vec3 v_p_in_box;
 in vec3 v_p_in_cam;
@@ -28,7 +28,8 @@ uniform float u_step_world;      // linear-search step, world units
 
 layout(location = 0) out vec4 o_color;
 layout(location = 1) out float o_camera_z;
-layout(location = 2) out uint o_outcome;
+layout(location = 2) out vec4 o_normal;  // world, unit
+layout(location = 3) out uint o_outcome;
 
 void main() {
   vec3 o = v_p_in_box;
@@ -59,9 +60,6 @@ void main() {
   o_camera_z = p_cam.z;
   o_outcome = 1u << RAY_OUTCOME_HIT;
   Displaced d = VolumeDisplace((u_tex_from_proxy * vec4(res.p, 1.0)).xyz, true);
-#ifdef VOLUME_OUTPUT_NORMALS
-  o_color = vec4(VolumeNormal(d), 1.0);  // test variant: the world normal into a float target
-#else
+  o_normal = vec4(VolumeNormal(d), 0.0);
   o_color = vec4(VolumeShade(vec3(0.92, 0.88, 0.8), d), 1.0);
-#endif
 }

@@ -14,7 +14,7 @@
 
 #include "core/projection.h"
 #include "core/volume_io.h"
-#include "render/slicing.h"
+#include "render/cores/slicing.h"
 #include "tests/support/gl_test.h"
 
 namespace render {
@@ -87,6 +87,14 @@ glm::dvec3 PixelInCam(const OrthoCamera& c, int col, int row, double z) {
   return {(col + 0.5 - c.size / 2.0) / c.scale, (row + 0.5 - c.size / 2.0) / c.scale, z};
 }
 
+// The frame with a float colour attachment: the truth comparisons see the
+// blending without 8-bit rounding at every slice.
+RenderTargetOptions FloatFrameOptions(int size) {
+  RenderTargetOptions o = FrameTargetOptions(size, size);
+  o.color_formats[kFrameColor] = GL_RGBA32F;
+  return o;
+}
+
 struct Scene {
   core::Volume volume;
   core::TransferFunction transfer;
@@ -104,8 +112,8 @@ Rendered Render(GlTest& t, ProgramCache& programs, const Scene& s, const OrthoCa
   static std::unique_ptr<VolumePass> pass;
   pass = std::make_unique<VolumePass>(programs, s.volume, s.transfer, s.maps,
                                       CentredWorldFromVolume(s.volume), s.options);
-  RenderTarget target(VolumeFrameOptions(cam.size, cam.size, /*float_color=*/true));
-  BeginVolumeFrame(target);
+  RenderTarget target(FloatFrameOptions(cam.size));
+  BeginFrame(target);
   pass->Draw(target, cam.view);
   if (keep) *keep = pass.get();
   (void)t;
@@ -203,7 +211,7 @@ TEST_F(GlTest, VolumeFilteringErrorOfLlvmpipeIsMeasured) {
   const ShaderSources sources(files);
   ProgramCache cache(sources);
   const Program& program =
-      cache.Get({.vertex = "fullscreen.vert.glsl", .fragment = "probe.frag.glsl"});
+      cache.Get({.vertex = "common/fullscreen.vert.glsl", .fragment = "probe.frag.glsl"});
   constexpr int kSize = 256;
   std::mt19937 rng(17);
   std::uniform_real_distribution<float> u(0.0f, 1.0f);
