@@ -276,5 +276,311 @@ TEST_F(GlTest, VolumeFilteringErrorOfLlvmpipeIsMeasured) {
   EXPECT_NO_GL_ERROR();
 }
 
+
+// ---- 2. DVR against the double CPU reference ----
+
+struct Agreement {
+  double max = 0, mean = 0;  // per channel, in units of 1/255
+  int64_t compared = 0;
+};
+
+Agreement Compare(const core::ImageF& gpu, const Reference& ref) {
+  Agreement a;
+  double sum = 0;
+  for (int y = 0; y < gpu.height(); ++y)
+    for (int x = 0; x < gpu.width(); ++x) {
+      if (ref.ambiguous.at(x, y)) continue;
+      if (gpu.at(x, y, 3) == 0 && ref.color.at(x, y, 3) == 0) continue;  // empty in both: not a comparison
+      for (int c = 0; c < 4; ++c) {
+        const double e = std::abs(gpu.at(x, y, c) - ref.color.at(x, y, c)) * 255;
+        a.max = std::max(a.max, e);
+        sum += e;
+        ++a.compared;
+      }
+    }
+  a.mean = a.compared ? sum / a.compared : 0;
+  return a;
+}
+
+TEST_F(GlTest, VolumeDvrAgreesWithTheDoubleReference) {
+  const auto dat = test_support::SharedData("volumes/neghip_64x64x64_uint8.dat");
+  if (dat.empty()) GTEST_SKIP() << "../shared/data is absent";
+  struct Case {
+    const char* label;
+    Scene scene;
+  };
+  std::vector<Case> cases;
+  {
+    Scene s{core::ReadVolume(dat), core::TransferPreset("neghip"), {}, {}};
+    s.options.lighting = VolumeLighting::kNone;
+    cases.push_back({"neghip plain", s});
+    s.maps.push_back(PlacedEffect(core::Effect::kPeel, {32, 32, 32}));
+    cases.push_back({"neghip peel 16-bit", s});
+    s.options.displacement_bits = 32;
+    s.maps.push_back(PlacedEffect(core::Effect::kWave, {32, 8, 8},
+                                  glm::scale(glm::translate(glm::dmat4(1.0), glm::dvec3(0.1, 0.1, 0.0)), glm::dvec3(0.8, 0.8, 0.6))));
+    cases.push_back({"neghip peel+wave placed 32-bit", s});
+  }
+  {
+    Scene s{SmoothRandomVolume({20, 12, 7}, core::ScalarType::kUint16, 4), core::TransferPreset("ramp"), {}, {}};
+    s.volume.spacing = {1.0, 1.5, 3.0};  // non-cubic voxels
+    s.options.lighting = VolumeLighting::kNone;
+    s.options.sampling_distance_voxels = 0.7;
+    s.maps.push_back(PlacedEffect(core::Effect::kSlices, {32, 4, 4}));
+    cases.push_back({"random uint16 anisotropic slices", s});
+  }
+  for (const Case& c : cases) {
+    VolumePass* pass = nullptr;
+    const double radius = 0.5 * glm::length(c.scene.volume.Extent());
+    const OrthoCamera cam = Ortho(30, 25, 1.6 * radius, 96);
+    const Rendered got = Render(*this, programs(), c.scene, cam, &pass);
+    const Reference ref = DvrReference(c.scene, *pass, cam);
+    const Agreement a = Compare(got.color, ref);
+    double coverage = 0;
+    for (int y = 0; y < 96; ++y)
+      for (int x = 0; x < 96; ++x) coverage += got.color.at(x, y, 3) > 0.02;
+    std::printf("DVR vs double reference (%s): max %.3f/255, mean %.4f/255 over %lld channel values of non-empty pixels, %.0f covered px\n",
+                c.label, a.max, a.mean, static_cast<long long>(a.compared), coverage);
+    EXPECT_GT(coverage, 300) << c.label;
+    EXPECT_LE(a.max, 2.0) << c.label;
+    EXPECT_LE(a.mean, 0.2) << c.label;
+    {
+      core::Image8 img(96, 96, 4);
+      for (size_t i = 0; i < img.values().size(); ++i)
+        img.values()[i] = static_cast<uint8_t>(std::clamp(got.color.values()[i] * 255.0f, 0.0f, 255.0f));
+      test_support::WriteDebugImage(std::string("dvr-") + c.label + ".png", img);
+    }
+  }
+  EXPECT_NO_GL_ERROR();
+}
+
+
+// ---- 3. iso first hits against the double CPU march ----
+
+struct IsoReference {
+  core::Image8 hit;          // 1 where the CPU ray hits
+  core::ImageF camera_z;     // camera z of the hit
+  std::vector<glm::dvec3> p_prime;  // hit point, volume texture space (row-major pixels)
+};
+
+double IsoField(const Scene& s, const std::vector<core::PlacedMap>& placed, const glm::dvec3& pp) {
+  const core::DisplacedSample d = core::Displace(placed, pp);
+  if (d.alpha < 0.5) return 1.0;
+  return s.options.iso_value - Density(s.volume, d.p);
+}
+
+// The GPU's march in double: samples from the proxy entry at the same world
+// step (the last one on the exit), the first sample with field <= 0, then
+// bisection to 1e-10 of a step.
+IsoReference IsoMarch(const Scene& s, const VolumePass& pass, const OrthoCamera& cam) {
+  const glm::dmat4 world_from_box(pass.world_from_proxy());
+  const glm::dmat4 cam_from_box = glm::dmat4(cam.view.cam_from_world) * world_from_box;
+  const glm::dmat4 box_from_cam = glm::inverse(cam_from_box);
+  const core::Box3 proxy = pass.proxy_box();
+  const auto stored = StoredMaps(s);
+  const auto placed = Placed(s, stored);
+  const double step = s.options.sampling_distance_voxels * pass.voxel_world();
+  IsoReference r{core::Image8(cam.size, cam.size, 1, 0), core::ImageF(cam.size, cam.size, 1, 0.0f),
+                 std::vector<glm::dvec3>(static_cast<size_t>(cam.size) * cam.size)};
+  const glm::dvec3 dir = glm::dvec3(box_from_cam * glm::dvec4(0, 0, 1, 0));  // one world (= camera) unit
+  for (int row = 0; row < cam.size; ++row)
+    for (int col = 0; col < cam.size; ++col) {
+      const glm::dvec3 o = glm::dvec3(box_from_cam * glm::dvec4(PixelInCam(cam, col, row, 0.0), 1.0));
+      double t0 = -1e30, t1 = 1e30;
+      for (int k = 0; k < 3; ++k) {
+        if (std::abs(dir[k]) < 1e-12) {
+          if (o[k] < 0 || o[k] > 1) t0 = 1, t1 = -1;
+          continue;
+        }
+        const double a = -o[k] / dir[k], b = (1 - o[k]) / dir[k];
+        t0 = std::max(t0, std::min(a, b));
+        t1 = std::min(t1, std::max(a, b));
+      }
+      if (!(t0 < t1)) continue;
+      auto field = [&](double t) { return IsoField(s, placed, proxy.lo + (o + t * dir) * (proxy.hi - proxy.lo)); };
+      double t = t0, f = field(t);
+      bool hit = f <= 0;
+      double ta = t0, tb = t0;
+      while (!hit && t < t1) {
+        double next = t + step;
+        if (next >= t1 - 1e-4 * step) next = t1;
+        const double fn = field(next);
+        if (fn <= 0) {
+          hit = true;
+          ta = t;
+          tb = next;
+          break;
+        }
+        t = next;
+      }
+      if (!hit) continue;
+      for (int k = 0; k < 60 && tb - ta > 1e-10 * step; ++k) {
+        const double tm = 0.5 * (ta + tb);
+        (field(tm) <= 0 ? tb : ta) = tm;
+      }
+      const double th = 0.5 * (ta + tb);
+      const glm::dvec3 b = o + th * dir;
+      r.hit.at(col, row) = 1;
+      r.camera_z.at(col, row) = static_cast<float>((cam_from_box * glm::dvec4(b, 1.0)).z);
+      r.p_prime[static_cast<size_t>(row) * cam.size + col] = proxy.lo + b * (proxy.hi - proxy.lo);
+    }
+  return r;
+}
+
+struct IsoRun {
+  Frame frame;
+  IsoReference ref;
+  double voxel_world = 0;
+};
+
+IsoRun RunIso(GlTest& t, ProgramCache& programs, const Scene& s, const OrthoCamera& cam) {
+  VolumePass pass(programs, s.volume, s.transfer, s.maps, CentredWorldFromVolume(s.volume), s.options);
+  RenderTarget target(FrameTargetOptions(cam.size, cam.size));
+  BeginFrame(target);
+  pass.Draw(target, cam.view);
+  (void)t;
+  return {ReadFrame(target), IsoMarch(s, pass, cam), pass.voxel_world()};
+}
+
+Scene BallScene(int n) {
+  Scene s{BallVolume(n, 0.3, 2.0), core::TransferPreset("ramp"), {}, {}};
+  s.options.mode = VolumeMode::kIso;
+  s.options.iso_value = 0.5;
+  s.options.displacement_bits = 32;
+  return s;
+}
+
+TEST_F(GlTest, VolumeIsoFirstHitsAgreeWithTheDoubleMarch) {
+  std::vector<std::pair<std::string, Scene>> cases;
+  cases.push_back({"ball", BallScene(40)});
+  Scene waved = BallScene(40);
+  core::EffectOptions wave;
+  wave.effect = core::Effect::kWave;
+  wave.wave_amplitude = 0.08;
+  waved.maps.push_back({core::SampleEffect(wave, {48, 8, 8}), glm::dmat4(1.0)});
+  cases.push_back({"ball + wave", waved});
+  Scene peeled = waved;
+  peeled.maps.push_back(PlacedEffect(core::Effect::kPeel, {40, 40, 40}));
+  cases.push_back({"ball + wave o peel", peeled});
+  for (const auto& [label, s] : cases) {
+    const OrthoCamera cam = Ortho(35, 30, 0.45 * s.volume.dims.x, 96);
+    const IsoRun run = RunIso(*this, programs(), s, cam);
+    int64_t agree = 0, hits = 0, total = 0;
+    double worst_dz = 0;
+    std::vector<double> dz;
+    for (int y = 0; y < cam.size; ++y)
+      for (int x = 0; x < cam.size; ++x) {
+        const bool gpu = run.frame.outcome.at(x, y) != 0;
+        const bool cpu = run.ref.hit.at(x, y) != 0;
+        ++total;
+        agree += gpu == cpu;
+        if (gpu && cpu) {
+          ++hits;
+          const double e = std::abs(run.frame.depth.at(x, y) - run.ref.camera_z.at(x, y)) / run.voxel_world;
+          dz.push_back(e);
+          worst_dz = std::max(worst_dz, e);
+        }
+      }
+    std::sort(dz.begin(), dz.end());
+    const double p999 = dz.empty() ? 0 : dz[static_cast<size_t>(0.999 * (dz.size() - 1))];
+    std::printf("iso vs double march (%s): hit/miss agree on %.4f%% of %lld px (%lld hits), depth error max %.2g, "
+                "p99.9 %.2g voxel\n",
+                label.c_str(), 100.0 * agree / total, static_cast<long long>(total), static_cast<long long>(hits),
+                worst_dz, p999);
+    EXPECT_GT(hits, 1500) << label;
+    EXPECT_GE(static_cast<double>(agree) / total, 0.999) << label;
+    EXPECT_LE(p999, 1e-3) << label;
+  }
+  EXPECT_NO_GL_ERROR();
+}
+
+
+// ---- 4. normals on an analytic field, away from cuts ----
+
+// World normal of the displaced field at p' by central differences of the
+// whole CPU pipeline (maps as stored, trilinear volume): the truth the
+// precomputed gradient + (I + J_D)^T of eq. 6 approximates.
+glm::dvec3 FieldNormalWorld(const Scene& s, const std::vector<core::PlacedMap>& placed, const glm::dvec3& pp) {
+  glm::dvec3 g;
+  for (int a = 0; a < 3; ++a) {
+    // Half a voxel each side: the scale of the precomputed central
+    // differences; a smaller step sees the trilinear field's per-cell kinks.
+    const double h = 0.5 / s.volume.dims[a];
+    glm::dvec3 lo = pp, hi = pp;
+    lo[a] -= h;
+    hi[a] += h;
+    g[a] = (Density(s.volume, core::Displace(placed, hi).p) - Density(s.volume, core::Displace(placed, lo).p)) / (2 * h);
+  }
+  const glm::dmat3 normal_world_from_tex = glm::transpose(glm::inverse(glm::dmat3(CentredWorldFromVolume(s.volume))));
+  return -glm::normalize(normal_world_from_tex * g);
+}
+
+std::vector<double> NormalErrorsDeg(const Scene& s, const IsoRun& run, int size) {
+  const auto stored = StoredMaps(s);
+  const auto placed = Placed(s, stored);
+  std::vector<double> err;
+  for (int y = 0; y < size; ++y)
+    for (int x = 0; x < size; ++x) {
+      if (!run.ref.hit.at(x, y) || run.frame.outcome.at(x, y) == 0) continue;
+      const glm::dvec3 pp = run.ref.p_prime[static_cast<size_t>(y) * size + x];
+      if (core::Displace(placed, pp).alpha < 0.999) continue;  // away from cuts
+      const glm::dvec3 truth = FieldNormalWorld(s, placed, pp);
+      const glm::dvec3 got(run.frame.normal.at(x, y, 0), run.frame.normal.at(x, y, 1), run.frame.normal.at(x, y, 2));
+      if (!(glm::length(got) > 0.5)) {
+        err.push_back(180);
+        continue;
+      }
+      err.push_back(glm::degrees(std::acos(std::clamp(glm::dot(glm::normalize(got), truth), -1.0, 1.0))));
+    }
+  std::sort(err.begin(), err.end());
+  return err;
+}
+
+TEST_F(GlTest, VolumeIsoNormalsMatchTheDisplacedFieldsGradient) {
+  core::EffectOptions wave;
+  wave.effect = core::Effect::kWave;
+  wave.wave_amplitude = 0.06;
+  core::EffectOptions peel;
+  peel.effect = core::Effect::kPeel;
+  peel.peel_thickness = 0.3;
+  struct Case {
+    std::string label;
+    Scene scene;
+  };
+  std::vector<Case> cases;
+  cases.push_back({"ball", BallScene(48)});
+  Scene w = BallScene(48);
+  w.options.lighting = VolumeLighting::kTransformed;
+  w.maps.push_back({core::SampleEffect(wave, {64, 8, 8}), glm::dmat4(1.0)});
+  cases.push_back({"ball + wave", w});
+  Scene p = BallScene(48);
+  p.options.lighting = VolumeLighting::kTransformed;
+  // The peel's 160 degree flip, placed (eq. 10): eq. 6 must rotate the
+  // normals of the flipped part by the same angle.
+  p.maps.push_back({core::SampleEffect(peel, {48, 48, 48}),
+                    glm::translate(glm::dmat4(1.0), glm::dvec3(0.0, 0.0, 0.1))});
+  cases.push_back({"ball + placed peel", p});
+  for (const Case& c : cases) {
+    const OrthoCamera cam = Ortho(200, 35, 0.45 * c.scene.volume.dims.x, 96);
+    const IsoRun run = RunIso(*this, programs(), c.scene, cam);
+    const std::vector<double> err = NormalErrorsDeg(c.scene, run, cam.size);
+    ASSERT_GT(err.size(), 800u) << c.label;
+    const double median = err[err.size() / 2], p95 = err[static_cast<size_t>(0.95 * (err.size() - 1))];
+    std::printf("iso normals vs FD gradient of the displaced field (%s): median %.3f deg, p95 %.3f deg over %zu px\n",
+                c.label.c_str(), median, p95, err.size());
+    EXPECT_LE(median, 1.0) << c.label;
+    EXPECT_LE(p95, 3.0) << c.label;
+  }
+  // The test can fail: the flipped part keeps its old normals without eq. 6.
+  Scene uncorrected = cases.back().scene;
+  uncorrected.options.lighting = VolumeLighting::kGradient;
+  const OrthoCamera cam = Ortho(200, 35, 0.45 * uncorrected.volume.dims.x, 96);
+  const std::vector<double> err = NormalErrorsDeg(uncorrected, RunIso(*this, programs(), uncorrected, cam), cam.size);
+  const double p95 = err[static_cast<size_t>(0.95 * (err.size() - 1))];
+  std::printf("iso normals without eq. 6 (ball + placed peel, precomputed gradient only): p95 %.1f deg\n", p95);
+  EXPECT_GT(p95, 30.0);
+  EXPECT_NO_GL_ERROR();
+}
+
 }  // namespace
 }  // namespace render
