@@ -582,5 +582,102 @@ TEST_F(GlTest, VolumeIsoNormalsMatchTheDisplacedFieldsGradient) {
   EXPECT_NO_GL_ERROR();
 }
 
+
+// ---- 5. Fig. 4 as numbers ----
+
+// A plate (normalised density 1 inside x, y in [0.15, 0.85], z in [0.38, 0.5],
+// 2-voxel ramps at its faces), its right half peeled 160 degrees over its
+// left half: the flipped plate's underside now faces the light above, and the
+// cut leaves a rim facing +x at x = 0.5.
+Scene PlateScene(VolumeLighting lighting) {
+  const int n = 48;
+  core::Volume v = core::Volume::Zeros({n, n, n}, core::ScalarType::kFloat32);
+  for (int z = 0; z < n; ++z)
+    for (int y = 0; y < n; ++y)
+      for (int x = 0; x < n; ++x) {
+        const glm::dvec3 t((x + 0.5) / n, (y + 0.5) / n, (z + 0.5) / n);
+        const double d = std::min({t.x - 0.15, 0.85 - t.x, t.y - 0.15, 0.85 - t.y, t.z - 0.38, 0.5 - t.z});
+        v.SetValue(x, y, z, std::clamp(0.5 + d * n / 2, 0.0, 1.0));
+      }
+  Scene s{v, core::TransferPreset("ramp"), {}, {}};
+  s.options.mode = VolumeMode::kIso;
+  s.options.lighting = lighting;
+  s.options.displacement_bits = 32;
+  s.options.light_dir_world = glm::normalize(glm::vec3(0.3f, 0.0f, 1.0f));
+  core::EffectOptions peel;
+  peel.effect = core::Effect::kPeel;
+  peel.peel_top = 0.52;
+  peel.peel_thickness = 0.2;
+  s.maps.push_back({core::SampleEffect(peel, {48, 48, 48}, /*smooth_alpha_passes=*/2), glm::dmat4(1.0)});
+  return s;
+}
+
+struct Fig4Numbers {
+  int64_t underside = 0, underside_lit = 0;  // flipped plate's old bottom face: N.L > 0
+  int64_t rim = 0, rim_dark = 0;             // cut face at x = 0.5: N.L <= 0
+};
+
+Fig4Numbers MeasureFig4(GlTest& t, ProgramCache& programs, VolumeLighting lighting) {
+  const Scene s = PlateScene(lighting);
+  const auto stored = StoredMaps(s);
+  const auto placed = Placed(s, stored);
+  const glm::dvec3 light(s.options.light_dir_world);
+  Fig4Numbers r;
+  const double voxel = 1.0 / s.volume.dims.x;
+  // From above for the underside; from +x, low, for the rim.
+  for (const auto& [azimuth, elevation] : {std::pair{-90.0, 70.0}, std::pair{0.0, 15.0}}) {
+    const OrthoCamera cam = Ortho(azimuth, elevation, 0.45 * s.volume.dims.x, 128);
+    const IsoRun run = RunIso(t, programs, s, cam);
+    for (int y = 0; y < cam.size; ++y)
+      for (int x = 0; x < cam.size; ++x) {
+        if (!run.ref.hit.at(x, y) || run.frame.outcome.at(x, y) == 0) continue;
+        const glm::dvec3 pp = run.ref.p_prime[static_cast<size_t>(y) * cam.size + x];
+        const core::DisplacedSample d = core::Displace(placed, pp);
+        const glm::dvec3 n(run.frame.normal.at(x, y, 0), run.frame.normal.at(x, y, 1), run.frame.normal.at(x, y, 2));
+        const bool lit = glm::dot(n, light) > 0;
+        const bool moved = glm::length(d.p - pp) > 0.02;
+        if (elevation > 45 && moved && d.p.z < 0.44) {
+          ++r.underside;
+          r.underside_lit += lit;
+        }
+        if (elevation < 45 && !moved && std::abs(pp.x - 0.5) < 2 * voxel && pp.z > 0.39 && pp.z < 0.49 && pp.y > 0.2 &&
+            pp.y < 0.8) {
+          ++r.rim;
+          r.rim_dark += !lit;
+        }
+      }
+  }
+  return r;
+}
+
+TEST_F(GlTest, VolumeFig4LightingAblationAsNumbers) {
+  for (VolumeLighting l : {VolumeLighting::kGradient, VolumeLighting::kTransformed, VolumeLighting::kBlended}) {
+    const Fig4Numbers f = MeasureFig4(*this, programs(), l);
+    const double lit = f.underside ? static_cast<double>(f.underside_lit) / f.underside : 0;
+    const double dark = f.rim ? static_cast<double>(f.rim_dark) / f.rim : 0;
+    std::printf("Fig. 4 (%s): peeled underside N.L > 0 on %.1f%% of %lld px; dark rim %.1f%% of %lld px\n",
+                VolumeLightingName(l).data(), 100 * lit, static_cast<long long>(f.underside), 100 * dark,
+                static_cast<long long>(f.rim));
+    ASSERT_GT(f.underside, 300) << VolumeLightingName(l);
+    ASSERT_GT(f.rim, 100) << VolumeLightingName(l);
+    switch (l) {
+      case VolumeLighting::kGradient:  // (b): the old normals face away from the light
+        EXPECT_LT(lit, 0.1);
+        break;
+      case VolumeLighting::kTransformed:  // (c): underside lit, rim dark
+        EXPECT_GE(lit, 0.95);
+        EXPECT_GT(dark, 0.5);
+        break;
+      case VolumeLighting::kBlended:  // (d): both right
+        EXPECT_GE(lit, 0.95);
+        EXPECT_LE(dark, 0.05);
+        break;
+      case VolumeLighting::kNone:
+        break;
+    }
+  }
+  EXPECT_NO_GL_ERROR();
+}
+
 }  // namespace
 }  // namespace render
