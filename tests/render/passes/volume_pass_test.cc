@@ -11,7 +11,9 @@
 #include <cstdio>
 #include <glm/gtc/matrix_transform.hpp>
 #include <random>
+#include <sstream>
 
+#include "core/error.h"
 #include "core/projection.h"
 #include "core/volume_io.h"
 #include "render/cores/slicing.h"
@@ -276,7 +278,6 @@ TEST_F(GlTest, VolumeFilteringErrorOfLlvmpipeIsMeasured) {
   EXPECT_NO_GL_ERROR();
 }
 
-
 // ---- 2. DVR against the double CPU reference ----
 
 struct Agreement {
@@ -290,7 +291,8 @@ Agreement Compare(const core::ImageF& gpu, const Reference& ref) {
   for (int y = 0; y < gpu.height(); ++y)
     for (int x = 0; x < gpu.width(); ++x) {
       if (ref.ambiguous.at(x, y)) continue;
-      if (gpu.at(x, y, 3) == 0 && ref.color.at(x, y, 3) == 0) continue;  // empty in both: not a comparison
+      if (gpu.at(x, y, 3) == 0 && ref.color.at(x, y, 3) == 0)
+        continue;  // empty in both: not a comparison
       for (int c = 0; c < 4; ++c) {
         const double e = std::abs(gpu.at(x, y, c) - ref.color.at(x, y, c)) * 255;
         a.max = std::max(a.max, e);
@@ -317,12 +319,17 @@ TEST_F(GlTest, VolumeDvrAgreesWithTheDoubleReference) {
     s.maps.push_back(PlacedEffect(core::Effect::kPeel, {32, 32, 32}));
     cases.push_back({"neghip peel 16-bit", s});
     s.options.displacement_bits = 32;
-    s.maps.push_back(PlacedEffect(core::Effect::kWave, {32, 8, 8},
-                                  glm::scale(glm::translate(glm::dmat4(1.0), glm::dvec3(0.1, 0.1, 0.0)), glm::dvec3(0.8, 0.8, 0.6))));
+    s.maps.push_back(
+        PlacedEffect(core::Effect::kWave, {32, 8, 8},
+                     glm::scale(glm::translate(glm::dmat4(1.0), glm::dvec3(0.1, 0.1, 0.0)),
+                                glm::dvec3(0.8, 0.8, 0.6))));
     cases.push_back({"neghip peel+wave placed 32-bit", s});
   }
   {
-    Scene s{SmoothRandomVolume({20, 12, 7}, core::ScalarType::kUint16, 4), core::TransferPreset("ramp"), {}, {}};
+    Scene s{SmoothRandomVolume({20, 12, 7}, core::ScalarType::kUint16, 4),
+            core::TransferPreset("ramp"),
+            {},
+            {}};
     s.volume.spacing = {1.0, 1.5, 3.0};  // non-cubic voxels
     s.options.lighting = VolumeLighting::kNone;
     s.options.sampling_distance_voxels = 0.7;
@@ -339,27 +346,29 @@ TEST_F(GlTest, VolumeDvrAgreesWithTheDoubleReference) {
     double coverage = 0;
     for (int y = 0; y < 96; ++y)
       for (int x = 0; x < 96; ++x) coverage += got.color.at(x, y, 3) > 0.02;
-    std::printf("DVR vs double reference (%s): max %.3f/255, mean %.4f/255 over %lld channel values of non-empty pixels, %.0f covered px\n",
-                c.label, a.max, a.mean, static_cast<long long>(a.compared), coverage);
+    std::printf(
+        "DVR vs double reference (%s): max %.3f/255, mean %.4f/255 over %lld channel values of "
+        "non-empty pixels, %.0f covered px\n",
+        c.label, a.max, a.mean, static_cast<long long>(a.compared), coverage);
     EXPECT_GT(coverage, 300) << c.label;
     EXPECT_LE(a.max, 2.0) << c.label;
     EXPECT_LE(a.mean, 0.2) << c.label;
     {
       core::Image8 img(96, 96, 4);
       for (size_t i = 0; i < img.values().size(); ++i)
-        img.values()[i] = static_cast<uint8_t>(std::clamp(got.color.values()[i] * 255.0f, 0.0f, 255.0f));
+        img.values()[i] =
+            static_cast<uint8_t>(std::clamp(got.color.values()[i] * 255.0f, 0.0f, 255.0f));
       test_support::WriteDebugImage(std::string("dvr-") + c.label + ".png", img);
     }
   }
   EXPECT_NO_GL_ERROR();
 }
 
-
 // ---- 3. iso first hits against the double CPU march ----
 
 struct IsoReference {
-  core::Image8 hit;          // 1 where the CPU ray hits
-  core::ImageF camera_z;     // camera z of the hit
+  core::Image8 hit;                 // 1 where the CPU ray hits
+  core::ImageF camera_z;            // camera z of the hit
   std::vector<glm::dvec3> p_prime;  // hit point, volume texture space (row-major pixels)
 };
 
@@ -382,10 +391,12 @@ IsoReference IsoMarch(const Scene& s, const VolumePass& pass, const OrthoCamera&
   const double step = s.options.sampling_distance_voxels * pass.voxel_world();
   IsoReference r{core::Image8(cam.size, cam.size, 1, 0), core::ImageF(cam.size, cam.size, 1, 0.0f),
                  std::vector<glm::dvec3>(static_cast<size_t>(cam.size) * cam.size)};
-  const glm::dvec3 dir = glm::dvec3(box_from_cam * glm::dvec4(0, 0, 1, 0));  // one world (= camera) unit
+  const glm::dvec3 dir =
+      glm::dvec3(box_from_cam * glm::dvec4(0, 0, 1, 0));  // one world (= camera) unit
   for (int row = 0; row < cam.size; ++row)
     for (int col = 0; col < cam.size; ++col) {
-      const glm::dvec3 o = glm::dvec3(box_from_cam * glm::dvec4(PixelInCam(cam, col, row, 0.0), 1.0));
+      const glm::dvec3 o =
+          glm::dvec3(box_from_cam * glm::dvec4(PixelInCam(cam, col, row, 0.0), 1.0));
       double t0 = -1e30, t1 = 1e30;
       for (int k = 0; k < 3; ++k) {
         if (std::abs(dir[k]) < 1e-12) {
@@ -397,7 +408,9 @@ IsoReference IsoMarch(const Scene& s, const VolumePass& pass, const OrthoCamera&
         t1 = std::min(t1, std::max(a, b));
       }
       if (!(t0 < t1)) continue;
-      auto field = [&](double t) { return IsoField(s, placed, proxy.lo + (o + t * dir) * (proxy.hi - proxy.lo)); };
+      auto field = [&](double t) {
+        return IsoField(s, placed, proxy.lo + (o + t * dir) * (proxy.hi - proxy.lo));
+      };
       double t = t0, f = field(t);
       bool hit = f <= 0;
       double ta = t0, tb = t0;
@@ -434,7 +447,8 @@ struct IsoRun {
 };
 
 IsoRun RunIso(GlTest& t, ProgramCache& programs, const Scene& s, const OrthoCamera& cam) {
-  VolumePass pass(programs, s.volume, s.transfer, s.maps, CentredWorldFromVolume(s.volume), s.options);
+  VolumePass pass(programs, s.volume, s.transfer, s.maps, CentredWorldFromVolume(s.volume),
+                  s.options);
   RenderTarget target(FrameTargetOptions(cam.size, cam.size));
   BeginFrame(target);
   pass.Draw(target, cam.view);
@@ -476,17 +490,20 @@ TEST_F(GlTest, VolumeIsoFirstHitsAgreeWithTheDoubleMarch) {
         agree += gpu == cpu;
         if (gpu && cpu) {
           ++hits;
-          const double e = std::abs(run.frame.depth.at(x, y) - run.ref.camera_z.at(x, y)) / run.voxel_world;
+          const double e =
+              std::abs(run.frame.depth.at(x, y) - run.ref.camera_z.at(x, y)) / run.voxel_world;
           dz.push_back(e);
           worst_dz = std::max(worst_dz, e);
         }
       }
     std::sort(dz.begin(), dz.end());
     const double p999 = dz.empty() ? 0 : dz[static_cast<size_t>(0.999 * (dz.size() - 1))];
-    std::printf("iso vs double march (%s): hit/miss agree on %.4f%% of %lld px (%lld hits), depth error max %.2g, "
-                "p99.9 %.2g voxel\n",
-                label.c_str(), 100.0 * agree / total, static_cast<long long>(total), static_cast<long long>(hits),
-                worst_dz, p999);
+    std::printf(
+        "iso vs double march (%s): hit/miss agree on %.4f%% of %lld px (%lld hits), depth error "
+        "max %.2g, "
+        "p99.9 %.2g voxel\n",
+        label.c_str(), 100.0 * agree / total, static_cast<long long>(total),
+        static_cast<long long>(hits), worst_dz, p999);
     EXPECT_GT(hits, 1500) << label;
     EXPECT_GE(static_cast<double>(agree) / total, 0.999) << label;
     EXPECT_LE(p999, 1e-3) << label;
@@ -494,13 +511,13 @@ TEST_F(GlTest, VolumeIsoFirstHitsAgreeWithTheDoubleMarch) {
   EXPECT_NO_GL_ERROR();
 }
 
-
 // ---- 4. normals on an analytic field, away from cuts ----
 
 // World normal of the displaced field at p' by central differences of the
 // whole CPU pipeline (maps as stored, trilinear volume): the truth the
 // precomputed gradient + (I + J_D)^T of eq. 6 approximates.
-glm::dvec3 FieldNormalWorld(const Scene& s, const std::vector<core::PlacedMap>& placed, const glm::dvec3& pp) {
+glm::dvec3 FieldNormalWorld(const Scene& s, const std::vector<core::PlacedMap>& placed,
+                            const glm::dvec3& pp) {
   glm::dvec3 g;
   for (int a = 0; a < 3; ++a) {
     // Half a voxel each side: the scale of the precomputed central
@@ -509,9 +526,12 @@ glm::dvec3 FieldNormalWorld(const Scene& s, const std::vector<core::PlacedMap>& 
     glm::dvec3 lo = pp, hi = pp;
     lo[a] -= h;
     hi[a] += h;
-    g[a] = (Density(s.volume, core::Displace(placed, hi).p) - Density(s.volume, core::Displace(placed, lo).p)) / (2 * h);
+    g[a] = (Density(s.volume, core::Displace(placed, hi).p) -
+            Density(s.volume, core::Displace(placed, lo).p)) /
+           (2 * h);
   }
-  const glm::dmat3 normal_world_from_tex = glm::transpose(glm::inverse(glm::dmat3(CentredWorldFromVolume(s.volume))));
+  const glm::dmat3 normal_world_from_tex =
+      glm::transpose(glm::inverse(glm::dmat3(CentredWorldFromVolume(s.volume))));
   return -glm::normalize(normal_world_from_tex * g);
 }
 
@@ -525,12 +545,14 @@ std::vector<double> NormalErrorsDeg(const Scene& s, const IsoRun& run, int size)
       const glm::dvec3 pp = run.ref.p_prime[static_cast<size_t>(y) * size + x];
       if (core::Displace(placed, pp).alpha < 0.999) continue;  // away from cuts
       const glm::dvec3 truth = FieldNormalWorld(s, placed, pp);
-      const glm::dvec3 got(run.frame.normal.at(x, y, 0), run.frame.normal.at(x, y, 1), run.frame.normal.at(x, y, 2));
+      const glm::dvec3 got(run.frame.normal.at(x, y, 0), run.frame.normal.at(x, y, 1),
+                           run.frame.normal.at(x, y, 2));
       if (!(glm::length(got) > 0.5)) {
         err.push_back(180);
         continue;
       }
-      err.push_back(glm::degrees(std::acos(std::clamp(glm::dot(glm::normalize(got), truth), -1.0, 1.0))));
+      err.push_back(
+          glm::degrees(std::acos(std::clamp(glm::dot(glm::normalize(got), truth), -1.0, 1.0))));
     }
   std::sort(err.begin(), err.end());
   return err;
@@ -565,9 +587,12 @@ TEST_F(GlTest, VolumeIsoNormalsMatchTheDisplacedFieldsGradient) {
     const IsoRun run = RunIso(*this, programs(), c.scene, cam);
     const std::vector<double> err = NormalErrorsDeg(c.scene, run, cam.size);
     ASSERT_GT(err.size(), 800u) << c.label;
-    const double median = err[err.size() / 2], p95 = err[static_cast<size_t>(0.95 * (err.size() - 1))];
-    std::printf("iso normals vs FD gradient of the displaced field (%s): median %.3f deg, p95 %.3f deg over %zu px\n",
-                c.label.c_str(), median, p95, err.size());
+    const double median = err[err.size() / 2],
+                 p95 = err[static_cast<size_t>(0.95 * (err.size() - 1))];
+    std::printf(
+        "iso normals vs FD gradient of the displaced field (%s): median %.3f deg, p95 %.3f deg "
+        "over %zu px\n",
+        c.label.c_str(), median, p95, err.size());
     EXPECT_LE(median, 1.0) << c.label;
     EXPECT_LE(p95, 3.0) << c.label;
   }
@@ -575,13 +600,15 @@ TEST_F(GlTest, VolumeIsoNormalsMatchTheDisplacedFieldsGradient) {
   Scene uncorrected = cases.back().scene;
   uncorrected.options.lighting = VolumeLighting::kGradient;
   const OrthoCamera cam = Ortho(200, 35, 0.45 * uncorrected.volume.dims.x, 96);
-  const std::vector<double> err = NormalErrorsDeg(uncorrected, RunIso(*this, programs(), uncorrected, cam), cam.size);
+  const std::vector<double> err =
+      NormalErrorsDeg(uncorrected, RunIso(*this, programs(), uncorrected, cam), cam.size);
   const double p95 = err[static_cast<size_t>(0.95 * (err.size() - 1))];
-  std::printf("iso normals without eq. 6 (ball + placed peel, precomputed gradient only): p95 %.1f deg\n", p95);
+  std::printf(
+      "iso normals without eq. 6 (ball + placed peel, precomputed gradient only): p95 %.1f deg\n",
+      p95);
   EXPECT_GT(p95, 30.0);
   EXPECT_NO_GL_ERROR();
 }
-
 
 // ---- 5. Fig. 4 as numbers ----
 
@@ -596,7 +623,8 @@ Scene PlateScene(VolumeLighting lighting) {
     for (int y = 0; y < n; ++y)
       for (int x = 0; x < n; ++x) {
         const glm::dvec3 t((x + 0.5) / n, (y + 0.5) / n, (z + 0.5) / n);
-        const double d = std::min({t.x - 0.15, 0.85 - t.x, t.y - 0.15, 0.85 - t.y, t.z - 0.38, 0.5 - t.z});
+        const double d =
+            std::min({t.x - 0.15, 0.85 - t.x, t.y - 0.15, 0.85 - t.y, t.z - 0.38, 0.5 - t.z});
         v.SetValue(x, y, z, std::clamp(0.5 + d * n / 2, 0.0, 1.0));
       }
   Scene s{v, core::TransferPreset("ramp"), {}, {}};
@@ -608,7 +636,8 @@ Scene PlateScene(VolumeLighting lighting) {
   peel.effect = core::Effect::kPeel;
   peel.peel_top = 0.52;
   peel.peel_thickness = 0.2;
-  s.maps.push_back({core::SampleEffect(peel, {48, 48, 48}, /*smooth_alpha_passes=*/2), glm::dmat4(1.0)});
+  s.maps.push_back(
+      {core::SampleEffect(peel, {48, 48, 48}, /*smooth_alpha_passes=*/2), glm::dmat4(1.0)});
   return s;
 }
 
@@ -633,15 +662,16 @@ Fig4Numbers MeasureFig4(GlTest& t, ProgramCache& programs, VolumeLighting lighti
         if (!run.ref.hit.at(x, y) || run.frame.outcome.at(x, y) == 0) continue;
         const glm::dvec3 pp = run.ref.p_prime[static_cast<size_t>(y) * cam.size + x];
         const core::DisplacedSample d = core::Displace(placed, pp);
-        const glm::dvec3 n(run.frame.normal.at(x, y, 0), run.frame.normal.at(x, y, 1), run.frame.normal.at(x, y, 2));
+        const glm::dvec3 n(run.frame.normal.at(x, y, 0), run.frame.normal.at(x, y, 1),
+                           run.frame.normal.at(x, y, 2));
         const bool lit = glm::dot(n, light) > 0;
         const bool moved = glm::length(d.p - pp) > 0.02;
         if (elevation > 45 && moved && d.p.z < 0.44) {
           ++r.underside;
           r.underside_lit += lit;
         }
-        if (elevation < 45 && !moved && std::abs(pp.x - 0.5) < 2 * voxel && pp.z > 0.39 && pp.z < 0.49 && pp.y > 0.2 &&
-            pp.y < 0.8) {
+        if (elevation < 45 && !moved && std::abs(pp.x - 0.5) < 2 * voxel && pp.z > 0.39 &&
+            pp.z < 0.49 && pp.y > 0.2 && pp.y < 0.8) {
           ++r.rim;
           r.rim_dark += !lit;
         }
@@ -651,13 +681,15 @@ Fig4Numbers MeasureFig4(GlTest& t, ProgramCache& programs, VolumeLighting lighti
 }
 
 TEST_F(GlTest, VolumeFig4LightingAblationAsNumbers) {
-  for (VolumeLighting l : {VolumeLighting::kGradient, VolumeLighting::kTransformed, VolumeLighting::kBlended}) {
+  for (VolumeLighting l :
+       {VolumeLighting::kGradient, VolumeLighting::kTransformed, VolumeLighting::kBlended}) {
     const Fig4Numbers f = MeasureFig4(*this, programs(), l);
     const double lit = f.underside ? static_cast<double>(f.underside_lit) / f.underside : 0;
     const double dark = f.rim ? static_cast<double>(f.rim_dark) / f.rim : 0;
-    std::printf("Fig. 4 (%s): peeled underside N.L > 0 on %.1f%% of %lld px; dark rim %.1f%% of %lld px\n",
-                VolumeLightingName(l).data(), 100 * lit, static_cast<long long>(f.underside), 100 * dark,
-                static_cast<long long>(f.rim));
+    std::printf(
+        "Fig. 4 (%s): peeled underside N.L > 0 on %.1f%% of %lld px; dark rim %.1f%% of %lld px\n",
+        VolumeLightingName(l).data(), 100 * lit, static_cast<long long>(f.underside), 100 * dark,
+        static_cast<long long>(f.rim));
     ASSERT_GT(f.underside, 300) << VolumeLightingName(l);
     ASSERT_GT(f.rim, 100) << VolumeLightingName(l);
     switch (l) {
@@ -677,6 +709,125 @@ TEST_F(GlTest, VolumeFig4LightingAblationAsNumbers) {
     }
   }
   EXPECT_NO_GL_ERROR();
+}
+
+// ---- 6. hard cases: finite output over random configurations ----
+
+TEST_F(GlTest, VolumeHardCaseSweepGivesOnlyFinitePixels) {
+  std::mt19937 rng(2024);
+  std::uniform_real_distribution<double> u01(0.0, 1.0);
+  auto uniform = [&](double a, double b) { return a + (b - a) * u01(rng); };
+  auto pick = [&](int n) { return static_cast<int>(rng() % static_cast<unsigned>(n)); };
+  constexpr int kConfigs = 200, kSize = 24;
+  int64_t bad_pixels = 0, drawn_pixels = 0;
+  for (int config = 0; config < kConfigs; ++config) {
+    // A volume, possibly one voxel thick, with non-cubic spacing.
+    glm::ivec3 dims(1 + pick(10), 1 + pick(10), 1 + pick(10));
+    if (pick(4) == 0) dims[pick(3)] = 1;
+    const auto type = static_cast<core::ScalarType>(pick(3));
+    Scene s{SmoothRandomVolume(dims, type, static_cast<uint32_t>(config)), {}, {}, {}};
+    s.volume.spacing = {uniform(0.2, 5), uniform(0.2, 5), uniform(0.2, 5)};
+    const auto presets = core::TransferPresetNames();
+    s.transfer =
+        core::TransferPreset(presets[static_cast<size_t>(pick(static_cast<int>(presets.size())))]);
+    // Maps: procedural effects with random parameters, or raw maps pointing
+    // far out of the volume with masks of exactly 0, 0.5 and 1.
+    const int map_count = pick(kMaxVolumeMaps + 1);
+    for (int m = 0; m < map_count; ++m) {
+      VolumeMapInput in;
+      if (pick(2) == 0) {
+        core::EffectOptions e;
+        e.effect = static_cast<core::Effect>(pick(5));
+        e.peel_angle_deg = uniform(-360, 360);
+        e.peel_thickness = uniform(0.01, 1);
+        e.slices_period = uniform(0.05, 1);
+        e.slices_gap = uniform(0, 0.99) * e.slices_period;
+        e.seam_width = uniform(0, 1);
+        e.pull_sigma = uniform(0.01, 1);
+        e.wave_amplitude = uniform(-1, 1);
+        in.map = core::SampleEffect(e, {1 + pick(8), 1 + pick(8), 1 + pick(8)}, pick(3));
+      } else {
+        in.map.dims = {1 + pick(5), 1 + pick(5), 1 + pick(5)};
+        const float alphas[] = {0.0f, 0.5f, 1.0f, static_cast<float>(u01(rng))};
+        for (int i = 0; i < in.map.dims.x * in.map.dims.y * in.map.dims.z; ++i) {
+          in.map.texels.push_back({static_cast<float>(uniform(-3, 3)),
+                                   static_cast<float>(uniform(-3, 3)),
+                                   static_cast<float>(uniform(-3, 3)), alphas[pick(4)]});
+        }
+      }
+      const glm::dvec3 axis =
+          glm::normalize(glm::dvec3(uniform(-1, 1), uniform(-1, 1), uniform(-1, 1)) + 1e-3);
+      in.placement = glm::scale(
+          glm::rotate(glm::translate(glm::dmat4(1.0),
+                                     glm::dvec3(uniform(-1, 1), uniform(-1, 1), uniform(-1, 1))),
+                      uniform(0, 6.3), axis),
+          glm::dvec3(uniform(0.2, 2), uniform(0.2, 2), uniform(0.2, 2)));
+      s.maps.push_back(std::move(in));
+    }
+    s.options.mode = pick(2) ? VolumeMode::kDvr : VolumeMode::kIso;
+    s.options.iso_value = pick(5) == 0 ? 0.0 : u01(rng);
+    s.options.sampling_distance_voxels = uniform(0.3, 3);
+    s.options.displacement_bits = std::array{8, 16, 32}[static_cast<size_t>(pick(3))];
+    s.options.lighting = static_cast<VolumeLighting>(pick(4));
+    s.options.ray.max_steps = 512;
+    const double radius = 0.5 * glm::length(s.volume.Extent());
+    OrthoCamera cam = Ortho(uniform(0, 360), uniform(-89, 89), 2 * radius, kSize);
+    if (pick(2) == 0) {
+      // Perspective, sometimes from inside the proxy box.
+      const double dist = uniform(0.3, 4) * radius;
+      const glm::vec3 eye =
+          static_cast<float>(dist) *
+          glm::normalize(glm::vec3(uniform(-1, 1), uniform(-1, 1), uniform(-1, 1)) + 1e-3f);
+      cam.view.cam_from_world =
+          core::CamFromWorldLookAt(eye, {0, 0, 0}, glm::vec3(0, 0, 1) + 0.01f * eye);
+      cam.view.clip_from_cam = core::ClipFromCamPerspective(
+          kSize, kSize, kSize / 2.0, kSize / 2.0, kSize, kSize, 0.01 * radius, 20 * radius);
+      cam.view.orthographic = false;
+    }
+    VolumePass pass(programs(), s.volume, s.transfer, s.maps, CentredWorldFromVolume(s.volume),
+                    s.options);
+    RenderTarget target(FloatFrameOptions(kSize));
+    BeginFrame(target);
+    pass.Draw(target, cam.view);
+    const core::ImageF color = target.ReadColorF(kFrameColor);
+    const core::ImageF z = target.ReadChannelsF(kFrameCameraZ, 1);
+    const core::ImageF n = target.ReadChannelsF(kFrameNormal, 3);
+    for (float v : color.values()) bad_pixels += !std::isfinite(v) || v < -1e-6f || v > 1 + 1e-4f;
+    for (float v : z.values()) bad_pixels += !std::isfinite(v);
+    for (float v : n.values()) bad_pixels += !std::isfinite(v) || std::abs(v) > 1.01f;
+    for (int y = 0; y < kSize; ++y)
+      for (int x = 0; x < kSize; ++x) drawn_pixels += color.at(x, y, 3) > 0;
+  }
+  std::printf(
+      "hard-case sweep: %d configurations, %lld pixels drawn, %lld non-finite or out-of-range "
+      "values\n",
+      kConfigs, static_cast<long long>(drawn_pixels), static_cast<long long>(bad_pixels));
+  EXPECT_EQ(bad_pixels, 0);
+  EXPECT_GT(drawn_pixels, 1000);  // the sweep draws something
+  EXPECT_NO_GL_ERROR();
+}
+
+TEST_F(GlTest, VolumePassRefusesBadInput) {
+  const core::Volume v = BallVolume(4, 0.3, 2.0);
+  VolumePassOptions o;
+  o.sampling_distance_voxels = std::nan("");
+  EXPECT_THROW(VolumePass(programs(), v, core::TransferPreset("ramp"), {}, glm::mat4(1.0f), o),
+               core::InputError);
+  VolumeMapInput nan_map;
+  nan_map.map.dims = {1, 1, 1};
+  nan_map.map.texels = {{std::nanf(""), 0, 0, 1}};
+  EXPECT_THROW(
+      VolumePass(programs(), v, core::TransferPreset("ramp"), {nan_map}, glm::mat4(1.0f), {}),
+      core::InputError);
+  core::TransferFunction tf = core::TransferPreset("ramp");
+  tf.points[1].rgba.a = std::nan("");
+  EXPECT_THROW(VolumePass(programs(), v, tf, {}, glm::mat4(1.0f), {}), core::InputError);
+  std::istringstream nan_json(R"({"points": [[0, 0, 0, 0, 0], [1, 1, 1, 1, NaN]]})");
+  EXPECT_THROW(core::ReadTransferFunction(nan_json, "tf.json"), core::InputError);
+  std::istringstream nan_string(R"({"points": [[0, 0, 0, 0, 0], [1, 1, 1, 1, "nan"]]})");
+  EXPECT_THROW(core::ReadTransferFunction(nan_string, "tf.json"), core::InputError);
+  std::istringstream ok(R"({"points": [[0, 0, 0, 0, 0], [0.5, 1, 0, 0, 0.2], [1, 1, 1, 1, 1]]})");
+  EXPECT_EQ(core::ReadTransferFunction(ok, "tf.json").points.size(), 3u);
 }
 
 }  // namespace
