@@ -313,6 +313,23 @@ void VolumePass::DrawDvr(const RenderTarget& target, const ViewSetup& view) {
   stats_ = {};
   stats_.slices = static_cast<int>(stack.slices.size());
   stats_.slice_spacing_world = stack.spacing_world;
+  // Rasterised area of the slices (pixels): the fragments the slices cost.
+  const glm::mat4 clip_from_box = view.clip_from_cam * view.cam_from_world * world_from_proxy();
+  for (const Slice& slice : stack.slices) {
+    std::vector<glm::dvec2> px;
+    for (const glm::vec3& v : slice.p_in_box) {
+      const glm::vec4 c = clip_from_box * glm::vec4(v, 1.0f);
+      px.push_back(
+          {(c.x / c.w * 0.5 + 0.5) * target.width(), (c.y / c.w * 0.5 + 0.5) * target.height()});
+    }
+    double twice_area = 0;
+    for (size_t i = 0; i < px.size(); ++i) {
+      const glm::dvec2& a = px[i];
+      const glm::dvec2& b = px[(i + 1) % px.size()];
+      twice_area += a.x * b.y - b.x * a.y;
+    }
+    stats_.proxy_area_px += 0.5 * std::abs(twice_area);
+  }
 
   ProgramDesc desc{.vertex = "cores/slice.vert.glsl", .fragment = "passes/volume_dvr.frag.glsl"};
   desc.defines = options_.Defines(static_cast<int>(maps_.size()));
