@@ -76,7 +76,7 @@ PeerResult RunVtkPeer(const fs::path& dat, int size, double sample,
   for (const auto& p : tf.points)
     j["points"].push_back({p.s, p.rgba.r, p.rgba.g, p.rgba.b, p.rgba.a});
   core::AtomicWriteStream(tf_path, [&](std::ostream& out) { out << j.dump(); });
-  const fs::path script = fs::path(__FILE__).parent_path() / "vtk_volume_peer.py";
+  const fs::path script = fs::path(IBR_BENCH_SOURCE_DIR) / "vtk_volume_peer.py";
   const std::string cmd =
       fmt::format("xvfb-run -a /usr/bin/python3 '{}' '{}' {} {} '{}' 12 2>&1", script.string(),
                   dat.string(), size, sample, tf_path.string());

@@ -9,6 +9,7 @@
 
 #include "core/check.h"
 #include "core/error.h"
+#include "render/gl/gl_state.h"
 
 namespace render {
 namespace {
@@ -341,20 +342,18 @@ void VolumePass::DrawDvr(const RenderTarget& target, const ViewSetup& view) {
   program.Set("u_opacity_exponent", static_cast<float>(stack.spacing_world / voxel_world_));
 
   // Translucent slices: depth-tested against what is in the frame, no depth
-  // writes, premultiplied back-to-front blending into attachment 0 only.
-  glEnable(GL_DEPTH_TEST);
-  glDepthFunc(GL_LESS);
-  glDepthMask(GL_FALSE);
-  glDisable(GL_CULL_FACE);
-  glEnable(GL_BLEND);
-  glBlendFunc(GL_ONE, GL_ONE_MINUS_SRC_ALPHA);
-  for (GLuint i : {kFrameCameraZ, kFrameNormal, kFrameOutcome})
+  // writes, premultiplied back-to-front blending into the colour attachment
+  // only (camera z and normal masked; the outcome attachment is masked by
+  // BeginFrame).
+  GlState state;
+  state.depth_write = false;
+  state.blend = BlendState{GL_ONE, GL_ONE_MINUS_SRC_ALPHA, GL_ONE, GL_ONE_MINUS_SRC_ALPHA};
+  const ScopedGlState scoped(state);
+  for (GLuint i : {kFrameCameraZ, kFrameNormal})
     glColorMaski(i, GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);
   slices_.DrawAll();
-  for (GLuint i : {kFrameCameraZ, kFrameNormal, kFrameOutcome})
+  for (GLuint i : {kFrameCameraZ, kFrameNormal})
     glColorMaski(i, GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
-  glDisable(GL_BLEND);
-  glDepthMask(GL_TRUE);
 }
 
 void VolumePass::DrawIso(const RenderTarget& target, const ViewSetup& view) {
@@ -379,11 +378,8 @@ void VolumePass::DrawIso(const RenderTarget& target, const ViewSetup& view) {
   program.Set("u_box_from_world_linear", linear);
   program.Set("u_cam_from_box", view.cam_from_world * world_from_box);
   program.Set("u_step_world", static_cast<float>(options_.sampling_distance_voxels * voxel_world_));
-  glEnable(GL_DEPTH_TEST);
-  glDepthFunc(GL_LESS);
-  glDepthMask(GL_TRUE);
-  glDisable(GL_CULL_FACE);
-  glDisable(GL_BLEND);
+  const ScopedGlState scoped(GlState{});  // depth test LESS with writes (gl_FragDepth)
+  BindOutcomeImage(target);               // every ray ORs its outcome, discarded ones too
   glBindVertexArray(box_vao_.id());
   glDrawArrays(GL_TRIANGLES, 0, 36);
   glBindVertexArray(0);

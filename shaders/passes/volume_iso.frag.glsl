@@ -29,7 +29,7 @@ uniform float u_step_world;      // linear-search step, world units
 layout(location = 0) out vec4 o_color;
 layout(location = 1) out float o_camera_z;
 layout(location = 2) out vec4 o_normal;  // world, unit
-layout(location = 3) out uint o_outcome;
+layout(r32ui) uniform coherent uimage2D u_outcome_flags;  // render::BindOutcomeImage
 
 void main() {
   vec3 o = v_p_in_box;
@@ -53,12 +53,12 @@ void main() {
   r.t_max = -t_start;
   r.step = u_step_world;
   RayResult res = RayMarchRun(r);
+  imageAtomicOr(u_outcome_flags, ivec2(gl_FragCoord.xy), 1u << res.outcome);
   if (res.outcome != RAY_OUTCOME_HIT) discard;
   vec4 p_cam = u_cam_from_box * vec4(res.p, 1.0);
   vec4 clip = u_clip_from_cam * p_cam;
   gl_FragDepth = 0.5 * (clip.z / clip.w) + 0.5;
   o_camera_z = p_cam.z;
-  o_outcome = 1u << RAY_OUTCOME_HIT;
   Displaced d = VolumeDisplace((u_tex_from_proxy * vec4(res.p, 1.0)).xyz, true);
   o_normal = vec4(VolumeNormal(d), 0.0);
   o_color = vec4(VolumeShade(vec3(0.92, 0.88, 0.8), d), 1.0);

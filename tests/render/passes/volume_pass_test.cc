@@ -440,6 +440,11 @@ IsoReference IsoMarch(const Scene& s, const VolumePass& pass, const OrthoCamera&
   return r;
 }
 
+// The iso pass ORs every ray's outcome into the frame; a hit sets this bit.
+bool GpuHit(const Frame& frame, int x, int y) {
+  return (frame.outcome.at(x, y) & (1u << static_cast<int>(RayOutcome::kHit))) != 0;
+}
+
 struct IsoRun {
   Frame frame;
   IsoReference ref;
@@ -484,7 +489,7 @@ TEST_F(GlTest, VolumeIsoFirstHitsAgreeWithTheDoubleMarch) {
     std::vector<double> dz;
     for (int y = 0; y < cam.size; ++y)
       for (int x = 0; x < cam.size; ++x) {
-        const bool gpu = run.frame.outcome.at(x, y) != 0;
+        const bool gpu = GpuHit(run.frame, x, y);
         const bool cpu = run.ref.hit.at(x, y) != 0;
         ++total;
         agree += gpu == cpu;
@@ -541,7 +546,7 @@ std::vector<double> NormalErrorsDeg(const Scene& s, const IsoRun& run, int size)
   std::vector<double> err;
   for (int y = 0; y < size; ++y)
     for (int x = 0; x < size; ++x) {
-      if (!run.ref.hit.at(x, y) || run.frame.outcome.at(x, y) == 0) continue;
+      if (!run.ref.hit.at(x, y) || !GpuHit(run.frame, x, y)) continue;
       const glm::dvec3 pp = run.ref.p_prime[static_cast<size_t>(y) * size + x];
       if (core::Displace(placed, pp).alpha < 0.999) continue;  // away from cuts
       const glm::dvec3 truth = FieldNormalWorld(s, placed, pp);
@@ -659,7 +664,7 @@ Fig4Numbers MeasureFig4(GlTest& t, ProgramCache& programs, VolumeLighting lighti
     const IsoRun run = RunIso(t, programs, s, cam);
     for (int y = 0; y < cam.size; ++y)
       for (int x = 0; x < cam.size; ++x) {
-        if (!run.ref.hit.at(x, y) || run.frame.outcome.at(x, y) == 0) continue;
+        if (!run.ref.hit.at(x, y) || !GpuHit(run.frame, x, y)) continue;
         const glm::dvec3 pp = run.ref.p_prime[static_cast<size_t>(y) * cam.size + x];
         const core::DisplacedSample d = core::Displace(placed, pp);
         const glm::dvec3 n(run.frame.normal.at(x, y, 0), run.frame.normal.at(x, y, 1),
