@@ -30,6 +30,10 @@ PACKAGES=(
   # signed distance fields of meshes (core/distance_field_cgal.cc, header-only CGAL);
   # the OpenVDB level-set peer timed beside it by ibr bench deform
   libcgal-dev python3-openvdb
+  # gzip-encoded NRRD volumes (core/volume_io.cc)
+  zlib1g-dev
+  # the VTK volume-rendering peer (bench/vtk_volume_peer.py: vtkGPUVolumeRayCastMapper under xvfb-run)
+  python3-vtk9
 )
 
 missing=()

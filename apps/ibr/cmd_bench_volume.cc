@@ -1,0 +1,36 @@
+// `ibr bench volume --csv FILE [--out DIR]`: the cost of discontinuous
+// displacement of volumes (Correa et al. 2006, Tables 1-2 analogues) with the
+// VTK GPU ray caster in the same run. Flags -> bench::RunVolumeBench.
+#include <fmt/format.h>
+
+#include "apps/ibr/commands.h"
+#include "bench/volume_bench.h"
+#include "render/gl/context.h"
+
+namespace apps {
+namespace {
+
+void AddVolumeBench(CLI::App& app) {
+  static bench::VolumeBenchOptions options;
+  auto* cmd = BenchGroup(app)->add_subcommand(
+      "volume",
+      "Volume DVR with displacement maps: time per volume, sampling, map size, area; VTK peer");
+  cmd->add_option("--csv", options.csv, "the table as CSV")->required();
+  cmd->add_option("--out", options.out, "directory for plots and the peer's transfer functions");
+  cmd->add_option("--shared-data", options.shared_data, "the shared data folder (volumes/)")
+      ->default_val("../shared/data");
+  cmd->add_option("--size", options.size, "image size in pixels")->capture_default_str();
+  cmd->add_flag("--quick", options.quick, "small sweep (128 px) for smoke runs");
+  cmd->add_flag("!--no-peer", options.peer, "skip the VTK peer");
+  cmd->callback([] {
+    auto context = render::HeadlessContext::Create();
+    fmt::print("{} | {}\n", context->info().renderer, context->info().version);
+    bench::RunVolumeBench(options);
+  });
+}
+
+}  // namespace
+
+IBR_REGISTER_COMMAND("bench volume", AddVolumeBench);
+
+}  // namespace apps

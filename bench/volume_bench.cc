@@ -1,0 +1,237 @@
+#include "bench/volume_bench.h"
+
+#include <fmt/format.h>
+#include <spdlog/spdlog.h>
+
+#include <array>
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <memory>
+#include <nlohmann/json.hpp>
+
+#include "bench/report.h"
+#include "bench/volume_render.h"
+#include "core/atomic_file.h"
+#include "core/error.h"
+#include "core/volume_io.h"
+#include "render/gl/fill_rate.h"
+#include "render/gl/frame_timer.h"
+
+namespace bench {
+namespace {
+namespace fs = std::filesystem;
+
+struct Measured {
+  double ms = 0;
+  double area_px = 0;  // rasterised slice area per frame
+  int slices = 0;
+};
+
+Measured TimeVolume(render::ProgramCache& programs, const VolumeScene& scene,
+                    const render::VolumePassOptions& options, int size,
+                    const render::FrameTimerOptions& timer) {
+  render::VolumePass pass(programs, scene.volume, scene.transfer, scene.maps,
+                          scene.world_from_volume, options);
+  const render::ViewSetup view = VolumeOrbitView(30, 20, 3.2 * scene.radius, size, scene.radius);
+  render::RenderTarget target(render::FrameTargetOptions(size, size));
+  Measured m;
+  m.ms = render::TimeFrames(
+             [&] {
+               render::BeginFrame(target);
+               pass.Draw(target, view);
+             },
+             timer)
+             .median_ms;
+  m.area_px = pass.last_stats().proxy_area_px;
+  m.slices = pass.last_stats().slices;
+  return m;
+}
+
+// A 256^3 synthetic volume: nested shells (uint8), the "large" row.
+core::Volume SyntheticVolume(int n) {
+  core::Volume v = core::Volume::Zeros({n, n, n}, core::ScalarType::kUint8);
+  for (int z = 0; z < n; ++z)
+    for (int y = 0; y < n; ++y)
+      for (int x = 0; x < n; ++x) {
+        const double r =
+            glm::length(glm::dvec3(x + 0.5, y + 0.5, z + 0.5) / static_cast<double>(n) - 0.5);
+        v.SetValue(x, y, z, r < 0.45 ? 255 * (0.5 + 0.5 * std::cos(r * 40)) : 0);
+      }
+  return v;
+}
+
+struct PeerResult {
+  bool ok = false;
+  double median_ms = 0, min_ms = 0, first_s = 0;
+  std::string error;
+};
+
+PeerResult RunVtkPeer(const fs::path& dat, int size, double sample,
+                      const core::TransferFunction& tf, const fs::path& work) {
+  PeerResult r;
+  const fs::path tf_path = work / (dat.stem().string() + ".tf.json");
+  nlohmann::json j;
+  j["points"] = nlohmann::json::array();
+  for (const auto& p : tf.points)
+    j["points"].push_back({p.s, p.rgba.r, p.rgba.g, p.rgba.b, p.rgba.a});
+  core::AtomicWriteStream(tf_path, [&](std::ostream& out) { out << j.dump(); });
+  const fs::path script = fs::path(IBR_BENCH_SOURCE_DIR) / "vtk_volume_peer.py";
+  const std::string cmd =
+      fmt::format("xvfb-run -a /usr/bin/python3 '{}' '{}' {} {} '{}' 12 2>&1", script.string(),
+                  dat.string(), size, sample, tf_path.string());
+  std::unique_ptr<FILE, int (*)(FILE*)> pipe(popen(cmd.c_str(), "r"), pclose);
+  if (!pipe) {
+    r.error = "cannot start xvfb-run";
+    return r;
+  }
+  std::string output;
+  std::array<char, 4096> buf{};
+  while (fgets(buf.data(), buf.size(), pipe.get())) output += buf.data();
+  const size_t brace = output.rfind("{\"first_frame_s\"");
+  if (brace == std::string::npos) {
+    r.error = output.substr(0, 300);
+    return r;
+  }
+  try {
+    const auto res = nlohmann::json::parse(output.substr(brace, output.find('\n', brace) - brace));
+    r.median_ms = res["median_ms"].get<double>();
+    r.min_ms = res["min_ms"].get<double>();
+    r.first_s = res["first_frame_s"].get<double>();
+    r.ok = true;
+  } catch (const std::exception& e) {
+    r.error = e.what();
+  }
+  return r;
+}
+
+}  // namespace
+
+void VolumeBenchOptions::Check() const {
+  if (csv.empty()) core::ThrowInputError("ibr bench volume", "--csv FILE is required");
+  if (size < 32 || size > 4096)
+    core::ThrowInputError("ibr bench volume", "--size {} not in [32, 4096]", size);
+}
+
+void RunVolumeBench(const VolumeBenchOptions& o) {
+  o.Check();
+  const int size = o.quick ? 128 : o.size;
+  const render::FrameTimerOptions timer{1, o.quick ? 1 : 3};
+  render::ProgramCache programs;
+  render::FillRateOptions fill_options;
+  fill_options.width = fill_options.height = size;
+  fill_options.linear_filter = true;
+  const render::FillRate fill = render::MeasureFillRate(programs, fill_options);
+  fmt::print("calibrated fill rate (LINEAR, {} px): {:.1f} M fragments/s\n", size,
+             fill.fragments_per_second * 1e-6);
+
+  Table table({"sweep", "volume", "variant", "sampling_voxels", "map_size", "size_px", "slices",
+               "ms_per_frame", "area_Mpx", "fill_fraction", "ratio_to_plain", "vtk_ms",
+               "vtk_min_ms"});
+  auto add = [&](const std::string& sweep, const std::string& volume, const std::string& variant,
+                 double sampling, int map_size, int px, const Measured& m, double plain_ms,
+                 const PeerResult* peer) {
+    const double fraction = m.area_px / (m.ms * 1e-3) / fill.fragments_per_second;
+    table.AddRow({sweep, volume, variant, Num(sampling, 2), std::to_string(map_size),
+                  std::to_string(px), std::to_string(m.slices), Num(m.ms, 1),
+                  Num(m.area_px * 1e-6, 3), Num(fraction, 3),
+                  plain_ms > 0 ? Num(m.ms / plain_ms, 2) : "",
+                  peer && peer->ok ? Num(peer->median_ms, 1) : "",
+                  peer && peer->ok ? Num(peer->min_ms, 1) : ""});
+    fmt::print("{:<10} {:<8} {:<22} {:>6.1f} ms  slices {:>4}  fill {:.3f}\n", sweep, volume,
+               variant, m.ms, m.slices, fraction);
+  };
+  core::EffectOptions peel;
+  peel.effect = core::Effect::kPeel;
+  peel.peel_top = 0.8;
+  peel.peel_thickness = 0.2;
+  render::VolumePassOptions plain;
+  plain.lighting = render::VolumeLighting::kGradient;  // shading on, as the peer
+  render::VolumePassOptions displaced = plain;
+  displaced.lighting = render::VolumeLighting::kBlended;
+
+  struct Entry {
+    std::string name;
+    fs::path dat;  // empty for the synthetic volume
+  };
+  std::vector<Entry> volumes = {{"tooth", o.shared_data / "volumes/tooth_103x94x161_uint8.dat"},
+                                {"neghip", o.shared_data / "volumes/neghip_64x64x64_uint8.dat"},
+                                {"bucky", o.shared_data / "volumes/Bucky_32x32x32_uint8.dat"}};
+  if (!o.quick) volumes.push_back({"synthetic256", {}});
+  fs::path work = o.out.empty() ? fs::temp_directory_path() : o.out;
+  if (!o.out.empty()) fs::create_directories(o.out);
+  for (const Entry& e : volumes) {
+    const core::Volume volume = e.dat.empty() ? SyntheticVolume(256) : core::ReadVolume(e.dat);
+    const core::TransferFunction tf = TransferForVolume(e.dat.empty() ? "bucky" : "", e.dat);
+    const VolumeScene bare =
+        MakeVolumeScene(volume, tf, std::nullopt, 64, glm::dvec3(0.0), glm::dvec3(1.0));
+    const VolumeScene peeled =
+        MakeVolumeScene(volume, tf, peel, 64, glm::dvec3(0.0), glm::dvec3(1.0));
+    spdlog::info("bench volume: {} ({} x {} x {})", e.name, volume.dims.x, volume.dims.y,
+                 volume.dims.z);
+    PeerResult peer;
+    if (o.peer && !e.dat.empty()) {
+      peer = RunVtkPeer(e.dat, size, 1.0, tf, work);
+      if (!peer.ok) spdlog::warn("VTK peer failed on {}: {}", e.name, peer.error);
+    }
+    const Measured p = TimeVolume(programs, bare, plain, size, timer);
+    add("volume", e.name, "plain DVR (shaded)", 1.0, 0, size, p, p.ms, &peer);
+    const Measured d = TimeVolume(programs, peeled, displaced, size, timer);
+    add("volume", e.name, "peel 64^3 (eq. 6+7)", 1.0, 64, size, d, p.ms, nullptr);
+    if (e.name == "tooth") {
+      for (double sampling :
+           o.quick ? std::vector<double>{0.5, 2.0} : std::vector<double>{0.5, 1.0, 2.0, 4.0}) {
+        render::VolumePassOptions s = displaced;
+        s.sampling_distance_voxels = sampling;
+        add("sampling", e.name, "peel 64^3", sampling, 64, size,
+            TimeVolume(programs, peeled, s, size, timer), 0, nullptr);
+      }
+      for (int map_size : o.quick ? std::vector<int>{16, 64} : std::vector<int>{16, 32, 64, 128}) {
+        const VolumeScene m =
+            MakeVolumeScene(volume, tf, peel, map_size, glm::dvec3(0.0), glm::dvec3(1.0));
+        add("map_size", e.name, "peel", 1.0, map_size, size,
+            TimeVolume(programs, m, displaced, size, timer), 0, nullptr);
+      }
+    }
+    if (e.name == "neghip") {
+      // Time against the rasterised proxy area: image sizes.
+      for (int px : o.quick ? std::vector<int>{64, 128} : std::vector<int>{128, 256, 384, 512}) {
+        add("area", e.name, "plain DVR (shaded)", 1.0, 0, px,
+            TimeVolume(programs, bare, plain, px, timer), 0, nullptr);
+      }
+    }
+  }
+  // R^2 of ms against area over the area sweep.
+  std::vector<std::pair<double, double>> xy;
+  for (const auto& row : table.rows()) {
+    if (row[0] == "area")
+      xy.push_back(
+          {std::stod(row[table.Column("area_Mpx")]), std::stod(row[table.Column("ms_per_frame")])});
+  }
+  if (xy.size() >= 2) {
+    double mx = 0, my = 0;
+    for (auto [x, y] : xy) mx += x, my += y;
+    mx /= xy.size(), my /= xy.size();
+    double sxy = 0, sxx = 0, syy = 0;
+    for (auto [x, y] : xy)
+      sxy += (x - mx) * (y - my), sxx += (x - mx) * (x - mx), syy += (y - my) * (y - my);
+    const double r2 = sxx > 0 && syy > 0 ? sxy * sxy / (sxx * syy) : std::nan("");
+    fmt::print(
+        "time vs rasterised proxy area (neghip, {} sizes): {:.3f} ms per M px, R^2 = {:.3f}\n",
+        xy.size(), sxx > 0 ? sxy / sxx : std::nan(""), r2);
+  }
+  fmt::print("{}", table.Format());
+  table.WriteCsv(o.csv);
+  if (!o.out.empty()) {
+    PlotPng(table,
+            {.title = "volume: time vs rasterised slice area",
+             .x_column = "area_Mpx",
+             .y_column = "ms_per_frame",
+             .series_column = "sweep",
+             .x_label = "slice area (M pixels)",
+             .y_label = "ms/frame"},
+            o.out / "volume_time_vs_area.png");
+  }
+}
+
+}  // namespace bench

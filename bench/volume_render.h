@@ -1,0 +1,69 @@
+// The logic behind `ibr volume`: a volume file, one displacement effect
+// (Correa, Silver, Chen 2006) placed in it, rendered by render::VolumePass from
+// an orbit view or a dataset's cameras into PNGs. Also the scene builder the
+// volume benchmark shares.
+#pragma once
+
+#include <filesystem>
+#include <glm/glm.hpp>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "core/transfer_function.h"
+#include "core/volume.h"
+#include "core/volume_displacement.h"
+#include "render/passes/volume_pass.h"
+
+namespace bench {
+
+struct VolumeRenderRequest {
+  std::filesystem::path volume;               // .dat (QVis) or .nrrd/.nhdr
+  std::optional<core::EffectOptions> effect;  // none: plain DVR / iso
+  int map_size = 64;  // texels per axis of the effect's map (Table 2: 32-128)
+  // Where the map's unit cube sits in the volume's texture space: translate
+  // then scale (eq. 10's M).
+  glm::dvec3 placement_offset{0.0};
+  glm::dvec3 placement_scale{1.0};
+  render::VolumePassOptions pass;
+  std::string
+      transfer;    // preset or JSON file; empty: the preset named like the volume, else "ramp"
+  int size = 512;  // pixels (orbit views)
+  double azimuth_deg = 30, elevation_deg = 20;
+  std::filesystem::path cameras;  // a dataset directory: one image per camera (else one orbit view)
+  std::filesystem::path out;      // FILE.png (one view) or DIR (one PNG per camera)
+};
+
+struct VolumeRenderResult {
+  int images = 0;
+  double median_ms = 0;  // per frame, first view, after warm-up
+  int slices = 0;        // DVR slices of the first view
+  glm::dvec3 proxy_lo{0.0}, proxy_hi{1.0};
+};
+
+// Everything the pass needs from a request: parse -> plain CPU data.
+struct VolumeScene {
+  core::Volume volume;
+  core::TransferFunction transfer;
+  std::vector<render::VolumeMapInput> maps;
+  glm::mat4 world_from_volume{1.0f};  // extent-scaled, centred at the origin
+  double radius = 1;                  // of the volume's bounding sphere, world units
+};
+VolumeScene MakeVolumeScene(const core::Volume& volume, const core::TransferFunction& transfer,
+                            const std::optional<core::EffectOptions>& effect, int map_size,
+                            const glm::dvec3& placement_offset, const glm::dvec3& placement_scale);
+// The transfer function `name` (preset or file) or, when empty, the preset
+// whose name starts the volume's file name (tooth, neghip, bucky), else "ramp".
+core::TransferFunction TransferForVolume(const std::string& name,
+                                         const std::filesystem::path& volume_path);
+// A perspective view orbiting the origin at `distance`, z up, focal 1.2 size.
+render::ViewSetup VolumeOrbitView(double azimuth_deg, double elevation_deg, double distance,
+                                  int size, double radius);
+
+// Needs a current GL context. Writes atomically (nothing partial on failure).
+VolumeRenderResult RenderVolume(const VolumeRenderRequest& request);
+
+// Colour over an opaque background (premultiplied frame -> RGBA8 with alpha 255).
+core::Image8 OverBackground(const core::Image8& premultiplied, const glm::vec3& background);
+
+}  // namespace bench

@@ -1,0 +1,413 @@
+#include "core/volume_displacement.h"
+
+#include <algorithm>
+#include <cmath>
+#include <deque>
+#include <numbers>
+
+#include "core/check.h"
+#include "core/error.h"
+
+namespace core {
+namespace {
+
+constexpr double kPi = std::numbers::pi;
+
+bool InUnitCube(const glm::dvec3& u) {
+  return u.x >= 0 && u.x <= 1 && u.y >= 0 && u.y <= 1 && u.z >= 0 && u.z <= 1;
+}
+
+// Rotation by `angle` (radians) in the xz plane about centre c: x-axis
+// towards z-axis for angle > 0.
+glm::dvec3 RotateXZ(const glm::dvec3& p, const glm::dvec3& c, double angle) {
+  const double cs = std::cos(angle), sn = std::sin(angle);
+  const double dx = p.x - c.x, dz = p.z - c.z;
+  return {c.x + cs * dx - sn * dz, p.y, c.z + sn * dx + cs * dz};
+}
+
+bool InPeelSlab(const EffectOptions& o, const glm::dvec3& p) {
+  return p.x > o.peel_hinge_x && p.z >= o.peel_top - o.peel_thickness && p.z <= o.peel_top;
+}
+
+// Seam shift at height z: 0 below seam_z, growing linearly to seam_width / 2
+// per half at z = 1.
+double SeamShift(const EffectOptions& o, double z) {
+  if (z <= o.seam_z) return 0;
+  return 0.5 * o.seam_width * (std::min(z, 1.0) - o.seam_z) / (1 - o.seam_z);
+}
+
+double PullProfile(const EffectOptions& o, double r) {
+  const double s2 = 2 * o.pull_sigma * o.pull_sigma;
+  const double edge = std::exp(-0.25 / s2);
+  return std::max(0.0, (std::exp(-r * r / s2) - edge) / (1 - edge));
+}
+
+void CheckFinite(double v, std::string_view what) {
+  if (!std::isfinite(v)) ThrowInputError("EffectOptions", "{} is {} (must be finite)", what, v);
+}
+
+}  // namespace
+
+float DisplacementMap::MaxAbsDisplacement() const {
+  float m = 0;
+  for (const auto& t : texels) m = std::max({m, std::abs(t.x), std::abs(t.y), std::abs(t.z)});
+  return m;
+}
+
+std::string_view EffectName(Effect effect) {
+  switch (effect) {
+    case Effect::kPeel:
+      return "peel";
+    case Effect::kSlices:
+      return "slices";
+    case Effect::kSeam:
+      return "seam";
+    case Effect::kPull:
+      return "pull";
+    case Effect::kWave:
+      return "wave";
+  }
+  return "";
+}
+
+Effect ParseEffect(std::string_view name) {
+  for (Effect e : {Effect::kPeel, Effect::kSlices, Effect::kSeam, Effect::kPull, Effect::kWave}) {
+    if (EffectName(e) == name) return e;
+  }
+  ThrowInputError("ParseEffect", "unknown effect '{}' (peel, slices, seam, pull, wave)", name);
+}
+
+void EffectOptions::Check() const {
+  CheckFinite(peel_top, "peel top");
+  CheckFinite(peel_thickness, "peel thickness");
+  CheckFinite(peel_hinge_x, "peel hinge x");
+  CheckFinite(peel_angle_deg, "peel angle");
+  CheckFinite(slices_period, "slices period");
+  CheckFinite(slices_gap, "slices gap");
+  CheckFinite(seam_z, "seam z");
+  CheckFinite(seam_width, "seam width");
+  CheckFinite(pull_sigma, "pull sigma");
+  CheckFinite(wave_amplitude, "wave amplitude");
+  CheckFinite(wave_frequency, "wave frequency");
+  if (peel_thickness <= 0 || peel_thickness > 1)
+    ThrowInputError("EffectOptions", "peel thickness {} not in (0, 1]", peel_thickness);
+  if (std::abs(peel_angle_deg) > 360)
+    ThrowInputError("EffectOptions", "peel angle {} not in [-360, 360]", peel_angle_deg);
+  if (slices_period <= 0 || slices_gap < 0 || slices_gap >= slices_period) {
+    ThrowInputError("EffectOptions",
+                    "slices: need period > 0 and 0 <= gap < period (period {}, gap {})",
+                    slices_period, slices_gap);
+  }
+  if (seam_z < 0 || seam_z >= 1)
+    ThrowInputError("EffectOptions", "seam z {} not in [0, 1)", seam_z);
+  if (seam_width < 0 || seam_width > 1)
+    ThrowInputError("EffectOptions", "seam width {} not in [0, 1]", seam_width);
+  if (pull_sigma <= 0) ThrowInputError("EffectOptions", "pull sigma {} must be > 0", pull_sigma);
+  if (std::abs(wave_amplitude) > 1)
+    ThrowInputError("EffectOptions", "wave amplitude {} not in [-1, 1]", wave_amplitude);
+}
+
+glm::dvec4 EvaluateEffect(const EffectOptions& o, const glm::dvec3& u) {
+  switch (o.effect) {
+    case Effect::kPeel: {
+      // Inverse of the rotation: where p' came from.
+      const glm::dvec3 hinge(o.peel_hinge_x, 0, o.peel_top);
+      const glm::dvec3 q = RotateXZ(u, hinge, -o.peel_angle_deg * kPi / 180);
+      if (InPeelSlab(o, q)) return {q - u, 1};
+      // No pre-image: the vacated slab, and everything above the layer's top
+      // beside the flipped layer (the map owns that space, so D can stay
+      // continuous around the flipped layer; filled later).
+      if (InPeelSlab(o, u) || u.z > o.peel_top) return {0, 0, 0, 0};
+      return {0, 0, 0, 1};
+    }
+    case Effect::kSlices: {
+      // The displaced layout per period: a slab of width period - gap, then a
+      // gap. The object's slabs are contiguous: x = k (period - gap) + s;
+      // slab 0 (at x = 0) keeps its place (placement moves the pattern).
+      const double period = o.slices_period, gap = o.slices_gap;
+      auto shift = [&](double x) {
+        const double k = std::floor(x / period);
+        const double s = x - k * period;
+        // Inside a gap D ramps from -k gap to -(k+1) gap: continuous.
+        return -k * gap - std::max(0.0, s - (period - gap));
+      };
+      const double k = std::floor(u.x / period);
+      const double s = u.x - k * period;
+      const bool in_gap = s > period - gap;
+      return {shift(u.x), 0, 0, in_gap ? 0 : 1};
+    }
+    case Effect::kSeam: {
+      const double shift = SeamShift(o, u.z);
+      const double side = u.x >= 0.5 ? 1 : -1;
+      const double from_seam = std::abs(u.x - 0.5);
+      // Each half moved away from the seam by `shift`; the gap between maps
+      // onto the seam plane (continuous pseudo-inverse).
+      if (from_seam >= shift) return {-side * shift, 0, 0, 1};
+      return {-(u.x - 0.5), 0, 0, shift > 0 ? 0 : 1};
+    }
+    case Effect::kPull: {
+      const double r = std::hypot(u.x - 0.5, u.y - 0.5);
+      return {0, 0, -u.z * PullProfile(o, r), 1};
+    }
+    case Effect::kWave:
+      return {0, 0, o.wave_amplitude * std::sin(2 * kPi * o.wave_frequency * u.x), 1};
+  }
+  return {0, 0, 0, 1};
+}
+
+glm::dvec3 ForwardEffect(const EffectOptions& o, const glm::dvec3& p) {
+  switch (o.effect) {
+    case Effect::kPeel:
+      if (InPeelSlab(o, p))
+        return RotateXZ(p, glm::dvec3(o.peel_hinge_x, 0, o.peel_top), o.peel_angle_deg * kPi / 180);
+      return p;
+    case Effect::kSlices: {
+      // Object slab k = floor(x / (period - gap)) moves to start at k period.
+      const double w = o.slices_period - o.slices_gap;
+      const double k = std::floor(p.x / w);
+      return {p.x + k * o.slices_gap, p.y, p.z};
+    }
+    case Effect::kSeam: {
+      const double shift = SeamShift(o, p.z);
+      return {p.x + (p.x >= 0.5 ? shift : -shift), p.y, p.z};
+    }
+    case Effect::kPull:
+    case Effect::kWave:
+      break;  // continuous maps: no closed-form forward map needed here
+  }
+  IBR_CHECK(false);
+  return p;
+}
+
+DisplacementMap SampleEffect(const EffectOptions& options, const glm::ivec3& dims,
+                             int smooth_alpha_passes) {
+  options.Check();
+  IBR_CHECK(dims.x > 0 && dims.y > 0 && dims.z > 0);
+  DisplacementMap map;
+  map.dims = dims;
+  map.texels.resize(static_cast<size_t>(dims.x) * dims.y * dims.z);
+  std::vector<bool> valid(map.texels.size(), true);
+  for (int z = 0; z < dims.z; ++z)
+    for (int y = 0; y < dims.y; ++y)
+      for (int x = 0; x < dims.x; ++x) {
+        const glm::dvec3 u((x + 0.5) / dims.x, (y + 0.5) / dims.y, (z + 0.5) / dims.z);
+        const glm::dvec4 e = EvaluateEffect(options, u);
+        map.at(x, y, z) = glm::vec4(e);
+        // Only the peel lacks an analytic pseudo-inverse.
+        if (options.effect == Effect::kPeel && e.w == 0) valid[map.Index(x, y, z)] = false;
+      }
+  if (options.effect == Effect::kPeel) FillPseudoInverse(map, valid);
+  // Binomial smoothing of alpha along each axis (clamped at the faces).
+  for (int pass = 0; pass < smooth_alpha_passes; ++pass) {
+    for (int axis = 0; axis < 3; ++axis) {
+      std::vector<float> a(map.texels.size());
+      for (int z = 0; z < dims.z; ++z)
+        for (int y = 0; y < dims.y; ++y)
+          for (int x = 0; x < dims.x; ++x) {
+            glm::ivec3 p(x, y, z), lo = p, hi = p;
+            lo[axis] = std::max(p[axis] - 1, 0);
+            hi[axis] = std::min(p[axis] + 1, dims[axis] - 1);
+            a[map.Index(x, y, z)] = 0.25f * map.at(lo.x, lo.y, lo.z).w + 0.5f * map.at(x, y, z).w +
+                                    0.25f * map.at(hi.x, hi.y, hi.z).w;
+          }
+      for (size_t i = 0; i < a.size(); ++i) map.texels[i].w = a[i];
+    }
+  }
+  return map;
+}
+
+void FillPseudoInverse(DisplacementMap& map, const std::vector<bool>& valid, int iterations) {
+  IBR_CHECK_EQ(valid.size(), map.texels.size());
+  const glm::ivec3 n = map.dims;
+  const glm::ivec3 steps[6] = {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}};
+  auto inside = [&](const glm::ivec3& p) {
+    return p.x >= 0 && p.y >= 0 && p.z >= 0 && p.x < n.x && p.y < n.y && p.z < n.z;
+  };
+  // Start: nearest valid value by breadth-first propagation.
+  std::vector<bool> known = valid;
+  std::deque<glm::ivec3> queue;
+  for (int z = 0; z < n.z; ++z)
+    for (int y = 0; y < n.y; ++y)
+      for (int x = 0; x < n.x; ++x)
+        if (known[map.Index(x, y, z)]) queue.push_back({x, y, z});
+  if (queue.empty()) return;  // nothing to extend from: keep what is there
+  while (!queue.empty()) {
+    const glm::ivec3 p = queue.front();
+    queue.pop_front();
+    for (const auto& s : steps) {
+      const glm::ivec3 q = p + s;
+      if (!inside(q) || known[map.Index(q.x, q.y, q.z)]) continue;
+      known[map.Index(q.x, q.y, q.z)] = true;
+      const float w = map.at(q.x, q.y, q.z).w;
+      map.at(q.x, q.y, q.z) = glm::vec4(glm::vec3(map.at(p.x, p.y, p.z)), w);
+      queue.push_back(q);
+    }
+  }
+  // Successive over-relaxation (in-place Gauss-Seidel, factor 1.9) of the
+  // free texels towards the harmonic fill; at the faces only neighbours
+  // inside count (zero normal derivative).
+  constexpr float kOmega = 1.9f;
+  for (int it = 0; it < iterations; ++it) {
+    for (int z = 0; z < n.z; ++z)
+      for (int y = 0; y < n.y; ++y)
+        for (int x = 0; x < n.x; ++x) {
+          const size_t i = map.Index(x, y, z);
+          if (valid[i]) continue;
+          glm::vec3 sum(0);
+          int count = 0;
+          for (const auto& s : steps) {
+            const glm::ivec3 q = glm::ivec3(x, y, z) + s;
+            if (!inside(q)) continue;
+            sum += glm::vec3(map.at(q.x, q.y, q.z));
+            ++count;
+          }
+          const glm::vec3 old = glm::vec3(map.texels[i]);
+          map.texels[i] =
+              glm::vec4(old + kOmega * (sum / static_cast<float>(count) - old), map.texels[i].w);
+        }
+  }
+}
+
+StoredDisplacementMap StoreDisplacementMap(const DisplacementMap& map, int bits) {
+  if (bits != 8 && bits != 16 && bits != 32)
+    ThrowInputError("StoreDisplacementMap", "bits {} (8, 16 or 32)", bits);
+  StoredDisplacementMap s;
+  s.dims = map.dims;
+  s.bits = bits;
+  if (bits == 32) {
+    s.floats.reserve(map.texels.size() * 4);
+    for (const auto& t : map.texels) s.floats.insert(s.floats.end(), {t.x, t.y, t.z, t.w});
+    return s;
+  }
+  const double max_unorm = bits == 8 ? 255.0 : 65535.0;
+  // A map without displacement still needs a non-zero scale.
+  s.scale = std::max(map.MaxAbsDisplacement(), 1e-6f);
+  auto q = [&](double v01) {
+    return static_cast<uint16_t>(std::lround(std::clamp(v01, 0.0, 1.0) * max_unorm));
+  };
+  s.unorm.reserve(map.texels.size() * 4);
+  for (const auto& t : map.texels) {
+    for (int c = 0; c < 3; ++c) s.unorm.push_back(q(0.5 * t[c] / s.scale + 0.5));
+    s.unorm.push_back(q(t.w));
+  }
+  return s;
+}
+
+DisplacementMap DequantizeDisplacementMap(const StoredDisplacementMap& s) {
+  DisplacementMap map;
+  map.dims = s.dims;
+  const size_t n = static_cast<size_t>(s.dims.x) * s.dims.y * s.dims.z;
+  map.texels.resize(n);
+  if (s.bits == 32) {
+    IBR_CHECK_EQ(s.floats.size(), 4 * n);
+    for (size_t i = 0; i < n; ++i)
+      map.texels[i] = {s.floats[4 * i], s.floats[4 * i + 1], s.floats[4 * i + 2],
+                       s.floats[4 * i + 3]};
+    return map;
+  }
+  IBR_CHECK_EQ(s.unorm.size(), 4 * n);
+  const double max_unorm = s.bits == 8 ? 255.0 : 65535.0;
+  for (size_t i = 0; i < n; ++i) {
+    glm::vec4 t;
+    for (int c = 0; c < 3; ++c)
+      t[c] = static_cast<float>((2.0 * s.unorm[4 * i + c] / max_unorm - 1.0) * s.scale);
+    t.w = static_cast<float>(s.unorm[4 * i + 3] / max_unorm);
+    map.texels[i] = t;
+  }
+  return map;
+}
+
+glm::dvec4 SampleMap(const DisplacementMap& map, const glm::dvec3& u) {
+  int i0[3], i1[3];
+  double f[3];
+  for (int a = 0; a < 3; ++a) {
+    const int n = map.dims[a];
+    const double t = std::clamp(u[a] * n - 0.5, 0.0, static_cast<double>(n - 1));
+    const double fl = std::floor(t);
+    i0[a] = static_cast<int>(fl);
+    i1[a] = std::min(i0[a] + 1, n - 1);
+    f[a] = t - fl;
+  }
+  glm::dvec4 r(0.0);
+  for (int c = 0; c < 8; ++c) {
+    const int cx = c & 1, cy = (c >> 1) & 1, cz = (c >> 2) & 1;
+    const double w = (cx ? f[0] : 1 - f[0]) * (cy ? f[1] : 1 - f[1]) * (cz ? f[2] : 1 - f[2]);
+    if (w == 0) continue;
+    r += w * glm::dvec4(map.at(cx ? i1[0] : i0[0], cy ? i1[1] : i0[1], cz ? i1[2] : i0[2]));
+  }
+  return r;
+}
+
+DisplacedSample Displace(const std::vector<PlacedMap>& maps, const glm::dvec3& p_prime,
+                         bool with_jacobian) {
+  DisplacedSample s;
+  s.p = p_prime;
+  // Eq. 9: the last map of the list acts first on p'.
+  for (auto it = maps.rbegin(); it != maps.rend(); ++it) {
+    IBR_CHECK(it->map != nullptr);
+    const glm::dmat4& m = it->placement;
+    const glm::dmat3 a(m);
+    const glm::dmat4 m_inv = glm::inverse(m);
+    const glm::dvec3 u = glm::dvec3(m_inv * glm::dvec4(s.p, 1.0));
+    if (!InUnitCube(u)) continue;  // outside its cube a map is the identity
+    const glm::dvec4 d = SampleMap(*it->map, u);
+    if (with_jacobian) {
+      // J_D in map units by central differences at half a texel.
+      glm::dmat3 jd(0.0);
+      for (int axis = 0; axis < 3; ++axis) {
+        const double h = 0.5 / it->map->dims[axis];
+        glm::dvec3 lo = u, hi = u;
+        lo[axis] -= h;
+        hi[axis] += h;
+        jd[axis] =
+            (glm::dvec3(SampleMap(*it->map, hi)) - glm::dvec3(SampleMap(*it->map, lo))) / (2 * h);
+      }
+      // p = p' + A D(M^-1 p'): d p / d p' = I + A J_D A^-1 (eq. 10).
+      const glm::dmat3 j = glm::dmat3(1.0) + a * jd * glm::inverse(a);
+      s.jacobian = j * s.jacobian;
+    }
+    s.p += a * glm::dvec3(d);
+    s.alpha *= d.w;
+  }
+  return s;
+}
+
+std::vector<glm::mat3> NormalTransforms(const DisplacementMap& map) {
+  std::vector<glm::mat3> b(map.texels.size());
+  const glm::ivec3 n = map.dims;
+  for (int z = 0; z < n.z; ++z)
+    for (int y = 0; y < n.y; ++y)
+      for (int x = 0; x < n.x; ++x) {
+        const glm::ivec3 p(x, y, z);
+        glm::mat3 jd(0.0f);
+        for (int axis = 0; axis < 3; ++axis) {
+          glm::ivec3 lo = p, hi = p;
+          lo[axis] = std::max(p[axis] - 1, 0);
+          hi[axis] = std::min(p[axis] + 1, n[axis] - 1);
+          if (lo[axis] == hi[axis]) continue;
+          const float du = static_cast<float>(hi[axis] - lo[axis]) / static_cast<float>(n[axis]);
+          jd[axis] =
+              (glm::vec3(map.at(hi.x, hi.y, hi.z)) - glm::vec3(map.at(lo.x, lo.y, lo.z))) / du;
+        }
+        // Eq. 6: n' = (I + J_D)^T n.
+        b[map.Index(x, y, z)] = glm::transpose(glm::mat3(1.0f) + jd);
+      }
+  return b;
+}
+
+Box3 ProxyBox(const Box3& object_box, const std::vector<PlacedMap>& maps) {
+  // A displaced p' outside every placed cube has p = p' (in the object box);
+  // inside a cube it may show anything. So the union bounds every visible p'.
+  Box3 box = object_box;
+  for (const auto& pm : maps) {
+    for (int c = 0; c < 8; ++c) {
+      const glm::dvec3 corner(c & 1, (c >> 1) & 1, (c >> 2) & 1);
+      const glm::dvec3 q = glm::dvec3(pm.placement * glm::dvec4(corner, 1.0));
+      box.lo = glm::min(box.lo, q);
+      box.hi = glm::max(box.hi, q);
+    }
+  }
+  return box;
+}
+
+}  // namespace core

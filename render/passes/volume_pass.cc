@@ -1,0 +1,388 @@
+#include "render/passes/volume_pass.h"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+#include <glm/gtc/matrix_transform.hpp>
+#include <glm/gtc/type_ptr.hpp>
+
+#include "core/check.h"
+#include "core/error.h"
+#include "render/gl/gl_state.h"
+
+namespace render {
+namespace {
+
+void LinearClamp(GLuint id) {
+  glTextureParameteri(id, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
+  glTextureParameteri(id, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+  glTextureParameteri(id, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+  glTextureParameteri(id, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+  glTextureParameteri(id, GL_TEXTURE_WRAP_R, GL_CLAMP_TO_EDGE);
+}
+
+// uint8 volumes go up as R16 (v * 257 / 65535 == v / 255 exactly): llvmpipe
+// filters 8-bit textures with 8-bit weights (measured max error 6.2e-3 of the
+// range against a double trilinear filter) but R16/R32F to ~1e-6
+// (tests/render/passes/volume_pass_test.cc), at twice the texture memory.
+Texture UploadVolume(const core::Volume& v) {
+  Texture t;
+  if (v.type == core::ScalarType::kFloat32) {
+    t = Texture::Create3D(GL_R32F, v.dims.x, v.dims.y, v.dims.z);
+    glTextureSubImage3D(t.id(), 0, 0, 0, 0, v.dims.x, v.dims.y, v.dims.z, GL_RED, GL_FLOAT,
+                        v.bytes.data());
+  } else {
+    std::vector<uint16_t> wide;
+    const void* data = v.bytes.data();
+    if (v.type == core::ScalarType::kUint8) {
+      wide.resize(v.bytes.size());
+      for (size_t i = 0; i < wide.size(); ++i) wide[i] = static_cast<uint16_t>(v.bytes[i] * 257);
+      data = wide.data();
+    }
+    t = Texture::Create3D(GL_R16, v.dims.x, v.dims.y, v.dims.z);
+    glPixelStorei(GL_UNPACK_ALIGNMENT, 2);
+    glTextureSubImage3D(t.id(), 0, 0, 0, 0, v.dims.x, v.dims.y, v.dims.z, GL_RED, GL_UNSIGNED_SHORT,
+                        data);
+    glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
+  }
+  LinearClamp(t.id());
+  return t;
+}
+
+Texture UploadGradient(const core::Volume& v) {
+  std::vector<glm::vec4> g(v.voxel_count());
+  for (int z = 0; z < v.dims.z; ++z)
+    for (int y = 0; y < v.dims.y; ++y)
+      for (int x = 0; x < v.dims.x; ++x)
+        g[v.Index(x, y, z)] = glm::vec4(glm::vec3(core::GradientAtVoxel(v, x, y, z)), 0.0f);
+  Texture t = Texture::Create3D(GL_RGBA32F, v.dims.x, v.dims.y, v.dims.z);
+  glTextureSubImage3D(t.id(), 0, 0, 0, 0, v.dims.x, v.dims.y, v.dims.z, GL_RGBA, GL_FLOAT,
+                      g.data());
+  LinearClamp(t.id());
+  return t;
+}
+
+Texture UploadMap(const core::StoredDisplacementMap& s) {
+  const glm::ivec3 d = s.dims;
+  Texture t;
+  if (s.bits == 32) {
+    t = Texture::Create3D(GL_RGBA32F, d.x, d.y, d.z);
+    glTextureSubImage3D(t.id(), 0, 0, 0, 0, d.x, d.y, d.z, GL_RGBA, GL_FLOAT, s.floats.data());
+  } else if (s.bits == 16) {
+    t = Texture::Create3D(GL_RGBA16, d.x, d.y, d.z);
+    glTextureSubImage3D(t.id(), 0, 0, 0, 0, d.x, d.y, d.z, GL_RGBA, GL_UNSIGNED_SHORT,
+                        s.unorm.data());
+  } else {
+    std::vector<uint8_t> bytes(s.unorm.begin(), s.unorm.end());
+    t = Texture::Create3D(GL_RGBA8, d.x, d.y, d.z);
+    glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
+    glTextureSubImage3D(t.id(), 0, 0, 0, 0, d.x, d.y, d.z, GL_RGBA, GL_UNSIGNED_BYTE, bytes.data());
+    glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
+  }
+  LinearClamp(t.id());
+  return t;
+}
+
+Texture UploadTransfer(const core::TransferFunction& tf, int n) {
+  const std::vector<glm::vec4> table = tf.Table(n);
+  Texture t = Texture::Create(GL_TEXTURE_1D);
+  glTextureStorage1D(t.id(), 1, GL_RGBA32F, n);
+  glTextureSubImage1D(t.id(), 0, 0, n, GL_RGBA, GL_FLOAT, table.data());
+  glTextureParameteri(t.id(), GL_TEXTURE_MIN_FILTER, GL_LINEAR);
+  glTextureParameteri(t.id(), GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+  glTextureParameteri(t.id(), GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+  return t;
+}
+
+constexpr int kTransferSize = 256;
+
+}  // namespace
+
+VolumeLighting VolumeLightingFromName(std::string_view name) {
+  for (VolumeLighting l : {VolumeLighting::kNone, VolumeLighting::kGradient,
+                           VolumeLighting::kTransformed, VolumeLighting::kBlended}) {
+    if (VolumeLightingName(l) == name) return l;
+  }
+  core::ThrowInputError("VolumeLightingFromName",
+                        "unknown lighting '{}' (none, gradient, transformed, blended)", name);
+}
+
+std::string_view VolumeLightingName(VolumeLighting lighting) {
+  switch (lighting) {
+    case VolumeLighting::kNone:
+      return "none";
+    case VolumeLighting::kGradient:
+      return "gradient";
+    case VolumeLighting::kTransformed:
+      return "transformed";
+    case VolumeLighting::kBlended:
+      return "blended";
+  }
+  return "";
+}
+
+void VolumePassOptions::Check() const {
+  if (!std::isfinite(iso_value) || iso_value < 0 || iso_value > 1) {
+    core::ThrowInputError("VolumePassOptions", "iso value {} not in [0, 1]", iso_value);
+  }
+  if (!std::isfinite(sampling_distance_voxels) || sampling_distance_voxels < 0.05 ||
+      sampling_distance_voxels > 64) {
+    core::ThrowInputError("VolumePassOptions", "sampling distance {} voxels not in [0.05, 64]",
+                          sampling_distance_voxels);
+  }
+  if (displacement_bits != 8 && displacement_bits != 16 && displacement_bits != 32) {
+    core::ThrowInputError("VolumePassOptions", "displacement bits {} (8, 16 or 32)",
+                          displacement_bits);
+  }
+  if (!std::isfinite(ambient) || ambient < 0 || ambient > 1) {
+    core::ThrowInputError("VolumePassOptions", "ambient {} not in [0, 1]", ambient);
+  }
+  if (!(glm::length(light_dir_world) > 0) || !std::isfinite(glm::length(light_dir_world))) {
+    core::ThrowInputError("VolumePassOptions", "light direction must be finite and non-zero");
+  }
+  ray.Check();
+}
+
+std::vector<std::string> VolumePassOptions::Defines(int map_count) const {
+  std::vector<std::string> d = {fmt::format("VOLUME_MAPS {}", map_count)};
+  if (displacement_bits == 32) d.push_back("VOLUME_MAPS_FLOAT");
+  switch (lighting) {
+    case VolumeLighting::kNone:
+      d.push_back("VOLUME_LIGHT_NONE");
+      break;
+    case VolumeLighting::kGradient:
+      d.push_back("VOLUME_LIGHT_GRADIENT");
+      break;
+    case VolumeLighting::kTransformed:
+      d.push_back("VOLUME_LIGHT_TRANSFORMED");
+      break;
+    case VolumeLighting::kBlended:
+      d.push_back("VOLUME_LIGHT_BLENDED");
+      break;
+  }
+  if (mode == VolumeMode::kIso) {
+    for (const std::string& r : RayCoreDefines(ray)) d.push_back(r);
+  }
+  return d;
+}
+
+VolumePass::VolumePass(ProgramCache& programs, const core::Volume& volume,
+                       const core::TransferFunction& transfer, std::vector<VolumeMapInput> maps,
+                       const glm::mat4& world_from_volume, const VolumePassOptions& options)
+    : programs_(&programs),
+      options_(options),
+      dims_(volume.dims),
+      world_from_volume_(world_from_volume),
+      maps_(std::move(maps)) {
+  options_.Check();
+  transfer.Check("VolumePass");
+  if (volume.bytes.size() != volume.voxel_count() * core::BytesPerScalar(volume.type) ||
+      volume.bytes.empty()) {
+    core::ThrowInputError("VolumePass", "volume data size does not match its dimensions");
+  }
+  if (maps_.size() > static_cast<size_t>(kMaxVolumeMaps)) {
+    core::ThrowInputError("VolumePass", "{} displacement maps, at most {} compose in one pass",
+                          maps_.size(), kMaxVolumeMaps);
+  }
+  for (const auto& m : maps_) {
+    if (std::abs(glm::determinant(glm::dmat3(m.placement))) < 1e-12) {
+      core::ThrowInputError("VolumePass", "a displacement map placement is singular");
+    }
+    for (const auto& t : m.map.texels) {
+      if (!std::isfinite(t.x) || !std::isfinite(t.y) || !std::isfinite(t.z) ||
+          !std::isfinite(t.w)) {
+        core::ThrowInputError("VolumePass", "a displacement map holds NaN or Inf");
+      }
+    }
+  }
+  // World length of one voxel along the smallest-spacing axis.
+  const glm::mat3 lin(world_from_volume_);
+  voxel_world_ = 1e30;
+  for (int a = 0; a < 3; ++a)
+    voxel_world_ = std::min(voxel_world_, static_cast<double>(glm::length(lin[a])) / dims_[a]);
+
+  std::vector<core::PlacedMap> placed;
+  for (const auto& m : maps_) placed.push_back({&m.map, m.placement});
+  proxy_box_ = core::ProxyBox({glm::dvec3(0.0), glm::dvec3(1.0)}, placed);
+
+  volume_texture_ = UploadVolume(volume);
+  gradient_texture_ = UploadGradient(volume);
+  transfer_texture_ = UploadTransfer(transfer, kTransferSize);
+  SetOptions(options_);
+
+  // The unit cube's 12 triangles (iso mode; orientation does not matter, the
+  // shader keeps the exit faces).
+  std::vector<glm::vec3> cube;
+  const int faces[6][4] = {{0, 1, 3, 2}, {4, 6, 7, 5}, {0, 4, 5, 1},
+                           {2, 3, 7, 6}, {0, 2, 6, 4}, {1, 5, 7, 3}};
+  auto corner = [](int c) { return glm::vec3(c & 1, (c >> 1) & 1, (c >> 2) & 1); };
+  for (const auto& f : faces) {
+    for (int k : {0, 1, 2, 0, 2, 3}) cube.push_back(corner(f[k]));
+  }
+  GLuint id = 0;
+  glCreateBuffers(1, &id);
+  box_vertices_ = Buffer(id);
+  glNamedBufferStorage(box_vertices_.id(), static_cast<GLsizeiptr>(cube.size() * sizeof(glm::vec3)),
+                       cube.data(), 0);
+  glCreateVertexArrays(1, &id);
+  box_vao_ = VertexArray(id);
+  glVertexArrayVertexBuffer(box_vao_.id(), 0, box_vertices_.id(), 0, sizeof(glm::vec3));
+  glEnableVertexArrayAttrib(box_vao_.id(), 0);
+  glVertexArrayAttribFormat(box_vao_.id(), 0, 3, GL_FLOAT, GL_FALSE, 0);
+  glVertexArrayAttribBinding(box_vao_.id(), 0, 0);
+}
+
+void VolumePass::SetOptions(const VolumePassOptions& options) {
+  options.Check();
+  const bool restore = stored_.empty() || options.displacement_bits != options_.displacement_bits;
+  options_ = options;
+  if (!restore && map_textures_.size() == maps_.size()) return;
+  stored_.clear();
+  map_textures_.clear();
+  for (const auto& m : maps_) {
+    stored_.push_back(core::StoreDisplacementMap(m.map, options_.displacement_bits));
+    map_textures_.push_back(UploadMap(stored_.back()));
+  }
+}
+
+glm::mat4 VolumePass::world_from_proxy() const {
+  const glm::vec3 lo(proxy_box_.lo), hi(proxy_box_.hi);
+  return world_from_volume_ * glm::scale(glm::translate(glm::mat4(1.0f), lo), hi - lo);
+}
+
+void VolumePass::SetCommonUniforms(const Program& program, const ViewSetup& view) const {
+  const glm::vec3 lo(proxy_box_.lo), hi(proxy_box_.hi);
+  program.Set("u_world_from_box", world_from_proxy());
+  program.Set("u_cam_from_world", view.cam_from_world);
+  program.Set("u_clip_from_cam", view.clip_from_cam);
+  program.Set("u_tex_from_proxy", glm::scale(glm::translate(glm::mat4(1.0f), lo), hi - lo));
+  program.Set("u_normal_world_from_tex",
+              glm::transpose(glm::inverse(glm::mat3(world_from_volume_))));
+  program.Set("u_light_dir_world", glm::normalize(options_.light_dir_world));
+  program.Set("u_ambient", options_.ambient);
+  program.Set("u_volume", 0);
+  program.Set("u_gradient", 1);
+  program.Set("u_transfer", 2);
+  glBindTextureUnit(0, volume_texture_.id());
+  glBindTextureUnit(1, gradient_texture_.id());
+  glBindTextureUnit(2, transfer_texture_.id());
+  for (size_t i = 0; i < maps_.size(); ++i) {
+    const glm::mat4 m(maps_[i].placement);
+    const glm::mat3 a(m);
+    program.Set(fmt::format("u_maps[{}]", i), static_cast<int>(3 + i));
+    program.Set(fmt::format("u_map_from_tex[{}]", i), glm::mat4(glm::inverse(maps_[i].placement)));
+    program.Set(fmt::format("u_tex_from_map[{}]", i), a);
+    program.Set(fmt::format("u_map_from_tex_linear[{}]", i), glm::inverse(a));
+    program.Set(fmt::format("u_map_scale[{}]", i), stored_[i].scale);
+    program.Set(fmt::format("u_map_texel[{}]", i), 1.0f / glm::vec3(maps_[i].map.dims));
+    glBindTextureUnit(static_cast<GLuint>(3 + i), map_textures_[i].id());
+  }
+}
+
+void VolumePass::Draw(const RenderTarget& target, const ViewSetup& view) {
+  if (options_.mode == VolumeMode::kDvr) {
+    DrawDvr(target, view);
+  } else {
+    DrawIso(target, view);
+  }
+}
+
+SlicingOptions VolumePass::DvrSlicing(const ViewSetup& view) const {
+  // Screen slices at the sampling distance: count from the proxy's depth range.
+  const glm::mat4 world_from_box = world_from_proxy();
+  float z_min = 1e30f, z_max = -1e30f;
+  for (int c = 0; c < 8; ++c) {
+    const glm::vec4 p =
+        view.cam_from_world * world_from_box * glm::vec4(c & 1, (c >> 1) & 1, (c >> 2) & 1, 1);
+    z_min = std::min(z_min, p.z);
+    z_max = std::max(z_max, p.z);
+  }
+  const double spacing = options_.sampling_distance_voxels * voxel_world_;
+  SlicingOptions slicing;
+  slicing.family = SliceFamily::kScreen;
+  slicing.order = SliceOrder::kBackToFront;
+  slicing.count = std::clamp(static_cast<int>(std::ceil((z_max - z_min) / spacing)), 1, 1 << 16);
+  return slicing;
+}
+
+void VolumePass::DrawDvr(const RenderTarget& target, const ViewSetup& view) {
+  const SliceStack stack =
+      MakeSlices(SliceBox{world_from_proxy()}, SliceView{view.cam_from_world, view.orthographic},
+                 DvrSlicing(view));
+  slices_.Upload(stack);
+  stats_ = {};
+  stats_.slices = static_cast<int>(stack.slices.size());
+  stats_.slice_spacing_world = stack.spacing_world;
+  // Rasterised area of the slices (pixels): the fragments the slices cost.
+  const glm::mat4 clip_from_box = view.clip_from_cam * view.cam_from_world * world_from_proxy();
+  for (const Slice& slice : stack.slices) {
+    std::vector<glm::dvec2> px;
+    for (const glm::vec3& v : slice.p_in_box) {
+      const glm::vec4 c = clip_from_box * glm::vec4(v, 1.0f);
+      px.push_back(
+          {(c.x / c.w * 0.5 + 0.5) * target.width(), (c.y / c.w * 0.5 + 0.5) * target.height()});
+    }
+    double twice_area = 0;
+    for (size_t i = 0; i < px.size(); ++i) {
+      const glm::dvec2& a = px[i];
+      const glm::dvec2& b = px[(i + 1) % px.size()];
+      twice_area += a.x * b.y - b.x * a.y;
+    }
+    stats_.proxy_area_px += 0.5 * std::abs(twice_area);
+  }
+
+  ProgramDesc desc{.vertex = "cores/slice.vert.glsl", .fragment = "passes/volume_dvr.frag.glsl"};
+  desc.defines = options_.Defines(static_cast<int>(maps_.size()));
+  const Program& program = programs_->Get(desc);
+  target.Bind();
+  program.Use();
+  SetCommonUniforms(program, view);
+  program.Set("u_transfer_size", static_cast<float>(kTransferSize));
+  program.Set("u_opacity_exponent", static_cast<float>(stack.spacing_world / voxel_world_));
+
+  // Translucent slices: depth-tested against what is in the frame, no depth
+  // writes, premultiplied back-to-front blending into the colour attachment
+  // only (camera z and normal masked; the outcome attachment is masked by
+  // BeginFrame).
+  GlState state;
+  state.depth_write = false;
+  state.blend = BlendState{GL_ONE, GL_ONE_MINUS_SRC_ALPHA, GL_ONE, GL_ONE_MINUS_SRC_ALPHA};
+  const ScopedGlState scoped(state);
+  for (GLuint i : {kFrameCameraZ, kFrameNormal})
+    glColorMaski(i, GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);
+  slices_.DrawAll();
+  for (GLuint i : {kFrameCameraZ, kFrameNormal})
+    glColorMaski(i, GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
+}
+
+void VolumePass::DrawIso(const RenderTarget& target, const ViewSetup& view) {
+  const glm::mat4 world_from_box = world_from_proxy();
+  const glm::mat4 box_from_world = glm::inverse(world_from_box);
+  ProgramDesc desc{.vertex = "cores/slice.vert.glsl", .fragment = "passes/volume_iso.frag.glsl"};
+  desc.defines = options_.Defines(static_cast<int>(maps_.size()));
+  const Program& program = programs_->Get(desc);
+  target.Bind();
+  program.Use();
+  SetCommonUniforms(program, view);
+  SetRayCoreUniforms(program, options_.ray);
+  program.Set("u_iso", static_cast<float>(options_.iso_value));
+  program.Set("u_orthographic", view.orthographic ? 1 : 0);
+  const glm::mat4 world_from_cam = glm::inverse(view.cam_from_world);
+  const glm::vec3 eye_world(world_from_cam[3]);
+  const glm::vec3 forward_world = glm::normalize(glm::vec3(world_from_cam[2]));
+  program.Set("u_eye_in_box", glm::vec3(box_from_world * glm::vec4(eye_world, 1.0f)));
+  program.Set("u_view_dir_in_box", glm::vec3(box_from_world * glm::vec4(forward_world, 0.0f)));
+  glm::mat4 linear = box_from_world;
+  linear[3] = glm::vec4(0, 0, 0, 1);
+  program.Set("u_box_from_world_linear", linear);
+  program.Set("u_cam_from_box", view.cam_from_world * world_from_box);
+  program.Set("u_step_world", static_cast<float>(options_.sampling_distance_voxels * voxel_world_));
+  const ScopedGlState scoped(GlState{});  // depth test LESS with writes (gl_FragDepth)
+  BindOutcomeImage(target);               // every ray ORs its outcome, discarded ones too
+  glBindVertexArray(box_vao_.id());
+  glDrawArrays(GL_TRIANGLES, 0, 36);
+  glBindVertexArray(0);
+}
+
+}  // namespace render

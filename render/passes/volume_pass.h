@@ -1,0 +1,149 @@
+// Direct volume rendering with discontinuous displacement maps (Correa,
+// Silver, Chen 2006), and an isosurface mode.
+//
+// DVR (sec. 4.2): the proxy box (the volume's box grown by the placed maps,
+// core::ProxyBox) is cut into screen-space slices by the slicing core
+// (MakeSlices, screen family, back to front); each fragment p' is displaced
+// through every map in one pass (eq. 9, 10), the cut mask discards alpha < 0.5
+// and modulates the rest, the volume is sampled at p = p' + D(p'), classified
+// by the 1D transfer function, opacity corrected for the slice spacing
+// (1 - (1 - a)^(spacing / voxel)) and composited premultiplied
+// (ONE, ONE_MINUS_SRC_ALPHA). The slices are depth-tested (LESS) against the
+// frame's depth buffer and write no depth, so opaque objects drawn before
+// hide what lies behind them.
+//
+// Iso (first hit at an iso value): the proxy box's back faces start one ray
+// per pixel through the shared ray core (shaders/ray_core.glsl supplies the
+// march; this pass supplies RayField = iso - density(displaced p'), > 0
+// empty); hits write colour, camera z, outcome flags and gl_FragDepth.
+//
+// Normals (sec. 4.3; the Fig. 4 ablation as VolumeLighting): the precomputed
+// gradient volume, transformed by (I + J_D)^T (eq. 6, J_D by central
+// differences of the map texture at half a texel, chained over maps), blended
+// towards the cut mask's gradient near cuts (eq. 7, w from the smoothed mask).
+//
+// Frames: volume texture space t in [0,1]^3 (the volume's texture
+// coordinates), world = world_from_volume * t. Maps are placed in t (eq. 10).
+#pragma once
+
+#include <glm/glm.hpp>
+#include <memory>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "core/transfer_function.h"
+#include "core/volume.h"
+#include "core/volume_displacement.h"
+#include "render/cores/ray_core.h"
+#include "render/cores/slice_buffer.h"
+#include "render/cores/slicing.h"
+#include "render/gl/handles.h"
+#include "render/gl/render_target.h"
+#include "render/gl/shader_program.h"
+#include "render/passes/pass.h"
+
+namespace render {
+
+enum class VolumeMode { kDvr, kIso };
+
+// Fig. 4 of the paper: (a) no lighting, (b) the precomputed gradient as is,
+// (c) transformed by (I + J_D)^T (eq. 6), (d) (c) blended with the cut
+// mask's gradient at discontinuities (eq. 7).
+enum class VolumeLighting { kNone, kGradient, kTransformed, kBlended };
+VolumeLighting VolumeLightingFromName(std::string_view name);  // none|gradient|transformed|blended
+std::string_view VolumeLightingName(VolumeLighting lighting);
+
+// Most maps one pass composes (eq. 9); a shader variant per count.
+inline constexpr int kMaxVolumeMaps = 4;
+
+struct VolumePassOptions {
+  VolumeMode mode = VolumeMode::kDvr;
+  // Iso mode: the iso value on the normalised scalar (what the texture
+  // returns, [0, 1]).
+  double iso_value = 0.5;
+  // Slice spacing (DVR) or ray step (iso) in voxels of the smallest spacing
+  // axis; 1 = Table 1's d = 1.0.
+  double sampling_distance_voxels = 1.0;
+  // How the maps are stored on the GPU: 8 or 16 bits (scale and bias, sec. 4
+  // and 8) or 32-bit float.
+  int displacement_bits = 16;
+  VolumeLighting lighting = VolumeLighting::kBlended;
+  // Direction TOWARDS the light, world frame (normalised on use). Default:
+  // from above (+z), as in Fig. 4.
+  glm::vec3 light_dir_world{0.0f, 0.0f, 1.0f};
+  float ambient = 0.3f;  // fraction of the colour lit without the light
+  // Iso mode: linear-search steps beyond the box diagonal / step are capped here.
+  RayCoreOptions ray{.max_steps = 4096, .refine_steps = 10};
+
+  void Check() const;  // InputError on bad values
+  // The shader #defines these options select (one place).
+  std::vector<std::string> Defines(int map_count) const;
+};
+
+// A displacement map and where it sits in volume texture space (eq. 10).
+struct VolumeMapInput {
+  core::DisplacementMap map;
+  glm::dmat4 placement{1.0};  // map unit cube -> volume texture space
+};
+
+struct VolumeDrawStats {
+  int slices = 0;
+  double slice_spacing_world = 0;
+  double proxy_area_px = 0;  // sum of the slices' projected areas, pixels (fill estimate)
+};
+
+class VolumePass : public Pass {
+ public:
+  // Plain CPU data in; uploads the volume (R8/R16/R32F), its gradient
+  // (RGBA16F), the maps and the transfer function. world_from_volume maps
+  // texture space to the world (e.g. scale by the extent, centre at 0).
+  VolumePass(ProgramCache& programs, const core::Volume& volume,
+             const core::TransferFunction& transfer, std::vector<VolumeMapInput> maps,
+             const glm::mat4& world_from_volume, const VolumePassOptions& options);
+
+  std::string_view name() const override { return "volume"; }
+  // The Pass contract: into a frame begun by BeginFrame, depth-tested against
+  // it, leaving BeginFrame's state. DVR writes colour only (premultiplied;
+  // the translucent slices have no single camera z or normal); iso writes all
+  // four attachments.
+  void Draw(const RenderTarget& target, const ViewSetup& view) override;
+
+  const VolumePassOptions& options() const { return options_; }
+  void SetOptions(const VolumePassOptions& options);          // same maps and volume
+  const core::Box3& proxy_box() const { return proxy_box_; }  // volume texture space
+  const VolumeDrawStats& last_stats() const { return stats_; }
+  // World length of one voxel of the smallest-spacing axis.
+  double voxel_world() const { return voxel_world_; }
+  glm::mat4 world_from_proxy() const;
+  // The slicing DVR uses for `view` (screen family, back to front, the count
+  // giving the sampling distance): MakeSlices(world_from_proxy(), ...) with
+  // it reproduces the slices drawn.
+  SlicingOptions DvrSlicing(const ViewSetup& view) const;
+  // Binds the volume's 3D texture (for probes of the filtering in tests).
+  void BindVolumeTexture(GLuint unit) const { glBindTextureUnit(unit, volume_texture_.id()); }
+
+ private:
+  void DrawDvr(const RenderTarget& target, const ViewSetup& view);
+  void DrawIso(const RenderTarget& target, const ViewSetup& view);
+  void SetCommonUniforms(const Program& program, const ViewSetup& view) const;
+
+  ProgramCache* programs_;
+  VolumePassOptions options_;
+  glm::ivec3 dims_{0};
+  glm::mat4 world_from_volume_{1.0f};
+  std::vector<VolumeMapInput> maps_;
+  std::vector<core::StoredDisplacementMap> stored_;
+  core::Box3 proxy_box_;
+  double voxel_world_ = 1;
+  Texture volume_texture_;
+  Texture gradient_texture_;
+  Texture transfer_texture_;
+  std::vector<Texture> map_textures_;
+  SliceBuffer slices_;
+  Buffer box_vertices_;
+  VertexArray box_vao_;
+  VolumeDrawStats stats_;
+};
+
+}  // namespace render

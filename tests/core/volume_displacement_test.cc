@@ -1,0 +1,228 @@
+#include "core/volume_displacement.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <glm/gtc/matrix_transform.hpp>
+#include <random>
+
+#include "core/error.h"
+
+namespace core {
+namespace {
+
+EffectOptions Options(Effect e) {
+  EffectOptions o;
+  o.effect = e;
+  return o;
+}
+
+TEST(VolumeDisplacement, GaussianPullMatchesEq8AtTheCentreAndVanishesOnTheXYFaces) {
+  const EffectOptions o = Options(Effect::kPull);
+  // Sec. 5: "the point (32,32,32) ... (0.5,0.5,0.5) ... contains (0,0,-0.5)".
+  const glm::dvec4 c = EvaluateEffect(o, {0.5, 0.5, 0.5});
+  EXPECT_DOUBLE_EQ(c.x, 0);
+  EXPECT_DOUBLE_EQ(c.y, 0);
+  EXPECT_DOUBLE_EQ(c.z, -0.5);
+  EXPECT_DOUBLE_EQ(c.w, 1);
+  // Scaled by z, zero on the XY boundary of the unit cube.
+  EXPECT_DOUBLE_EQ(EvaluateEffect(o, {0.5, 0.5, 1.0}).z, -1.0);
+  for (double t = 0; t <= 1; t += 0.125) {
+    for (double z : {0.25, 1.0}) {
+      EXPECT_EQ(EvaluateEffect(o, {0, t, z}).z, 0);
+      EXPECT_EQ(EvaluateEffect(o, {1, t, z}).z, 0);
+      EXPECT_EQ(EvaluateEffect(o, {t, 0, z}).z, 0);
+      EXPECT_EQ(EvaluateEffect(o, {t, 1, z}).z, 0);
+    }
+  }
+  // The 64^3 map (the text's size; Table 2 says 32^3) at texture coordinate
+  // 0.5: the trilinear mean of the four texels around the centre line, whose
+  // centres are half a texel off it, so g is slightly below 1 there.
+  const DisplacementMap map = SampleEffect(o, {64, 64, 64});
+  const glm::dvec4 s = SampleMap(map, {0.5, 0.5, 0.5});
+  const double r = std::sqrt(2.0) * 0.5 / 64;
+  const double g = (std::exp(-r * r / (2 * 0.15 * 0.15)) - std::exp(-0.25 / (2 * 0.15 * 0.15))) /
+                   (1 - std::exp(-0.25 / (2 * 0.15 * 0.15)));
+  EXPECT_NEAR(s.z, -0.5 * g, 1e-6);
+  EXPECT_NEAR(s.z, -0.5, 2e-3);
+}
+
+// For maps with a closed-form forward F: p' = F(p) is shown at p, with
+// alpha 1 (every object point has its image, sec. 4.1).
+TEST(VolumeDisplacement, InverseMapsUndoTheForwardMaps) {
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  for (Effect e : {Effect::kPeel, Effect::kSlices, Effect::kSeam}) {
+    const EffectOptions o = Options(e);
+    int checked = 0;
+    for (int i = 0; i < 20000; ++i) {
+      // Object points; the peel's flipped slab must land inside the cube.
+      const glm::dvec3 p(u(rng), u(rng), e == Effect::kPeel ? 0.5 * u(rng) : u(rng));
+      const glm::dvec3 pp = ForwardEffect(o, p);
+      if (pp.x < 0 || pp.x > 1 || pp.z < 0 || pp.z > 1) continue;
+      const glm::dvec4 d = EvaluateEffect(o, pp);
+      ASSERT_EQ(d.w, 1) << EffectName(e) << " p " << p.x << " " << p.y << " " << p.z;
+      ASSERT_NEAR(glm::length(pp + glm::dvec3(d) - p), 0, 1e-12) << EffectName(e);
+      ++checked;
+    }
+    EXPECT_GT(checked, 10000) << EffectName(e);
+  }
+}
+
+// Cuts: space with no pre-image has alpha 0, and D stays continuous there
+// (sec. 4.1: the pseudo-inverse). Continuity as a number: the largest change
+// of D between neighbour texels halves when the grid doubles (a jump would
+// stay the same size at any resolution).
+float WorstNeighbourStep(const DisplacementMap& map, size_t* cut) {
+  float worst = 0;
+  const glm::ivec3 n = map.dims;
+  for (int z = 0; z < n.z; ++z)
+    for (int y = 0; y < n.y; ++y)
+      for (int x = 0; x < n.x; ++x) {
+        *cut += map.at(x, y, z).w == 0;
+        const glm::vec3 d(map.at(x, y, z));
+        if (x + 1 < n.x) worst = std::max(worst, glm::length(glm::vec3(map.at(x + 1, y, z)) - d));
+        if (y + 1 < n.y) worst = std::max(worst, glm::length(glm::vec3(map.at(x, y + 1, z)) - d));
+        if (z + 1 < n.z) worst = std::max(worst, glm::length(glm::vec3(map.at(x, y, z + 1)) - d));
+      }
+  return worst;
+}
+
+TEST(VolumeDisplacement, CutsHaveAlphaZeroAndAContinuousPseudoInverse) {
+  for (Effect e : {Effect::kSlices, Effect::kSeam, Effect::kPeel}) {
+    size_t cut32 = 0, cut64 = 0;
+    const float w32 = WorstNeighbourStep(SampleEffect(Options(e), {32, 8, 32}, 0), &cut32);
+    const float w64 = WorstNeighbourStep(SampleEffect(Options(e), {64, 16, 64}, 0), &cut64);
+    EXPECT_GT(cut64, 1000u) << EffectName(e);
+    EXPECT_LE(w64, 0.6f * w32) << EffectName(e) << ": worst step 32^3 " << w32 << ", 64^3 " << w64;
+    std::printf("%s: worst neighbour step of D at 32: %.4f, at 64: %.4f\n", EffectName(e).data(),
+                w32, w64);
+  }
+}
+
+TEST(VolumeDisplacement, SixteenBitStorageCutsTheBoundaryErrorOver10xAgainst8Bit) {
+  const DisplacementMap map = SampleEffect(Options(Effect::kPeel), {64, 64, 64});
+  double worst[3] = {0, 0, 0};
+  const int bits[3] = {8, 16, 32};
+  std::mt19937 rng(9);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  DisplacementMap stored[3];
+  for (int b = 0; b < 3; ++b)
+    stored[b] = DequantizeDisplacementMap(StoreDisplacementMap(map, bits[b]));
+  int near_cut = 0;
+  for (int i = 0; i < 200000; ++i) {
+    const glm::dvec3 p(u(rng), u(rng), u(rng));
+    const glm::dvec4 exact = SampleMap(map, p);
+    if (std::abs(exact.w - 0.5) > 0.2) continue;  // the boundary of a cut
+    ++near_cut;
+    for (int b = 0; b < 3; ++b) {
+      worst[b] =
+          std::max(worst[b], glm::length(glm::dvec3(SampleMap(stored[b], p)) - glm::dvec3(exact)));
+    }
+  }
+  EXPECT_GT(near_cut, 1000);
+  const double scale = map.MaxAbsDisplacement();
+  // Rounding error of one component: half a step, step = 2 scale / (2^bits - 1).
+  EXPECT_LE(worst[0], std::sqrt(3.0) * scale / 255 * 1.01);
+  EXPECT_LE(worst[1], std::sqrt(3.0) * scale / 65535 * 1.01);
+  EXPECT_LE(worst[2], 1e-6);
+  EXPECT_GE(worst[0] / worst[1], 10.0) << "8-bit " << worst[0] << " 16-bit " << worst[1];
+  RecordProperty("boundary_error_8bit", std::to_string(worst[0]));
+  RecordProperty("boundary_error_16bit", std::to_string(worst[1]));
+  std::printf("boundary position error (map units): 8-bit %.3g, 16-bit %.3g, ratio %.0f\n",
+              worst[0], worst[1], worst[0] / worst[1]);
+}
+
+TEST(VolumeDisplacement, PlacementAndCompositionFollowEq9And10) {
+  EffectOptions wave = Options(Effect::kWave);
+  wave.wave_amplitude = 0.1;
+  const DisplacementMap w = SampleEffect(wave, {32, 8, 8});
+  const DisplacementMap pull = SampleEffect(Options(Effect::kPull), {16, 16, 16});
+  // Eq. 10 with M = translate(0.25) * scale(0.5): p = p' + A D(M^-1 p').
+  const glm::dmat4 m =
+      glm::scale(glm::translate(glm::dmat4(1.0), glm::dvec3(0.25)), glm::dvec3(0.5));
+  const glm::dvec3 pp(0.4, 0.5, 0.6);
+  const DisplacedSample s = Displace({{&w, m}}, pp);
+  const glm::dvec3 u = (pp - 0.25) / 0.5;
+  EXPECT_NEAR(glm::length(s.p - (pp + 0.5 * glm::dvec3(SampleMap(w, u)))), 0, 1e-12);
+  // Outside the placed cube: identity.
+  EXPECT_EQ(Displace({{&w, m}}, {0.1, 0.5, 0.5}).p, glm::dvec3(0.1, 0.5, 0.5));
+  // Eq. 9: the last map acts first; composition does not commute.
+  const DisplacedSample ab = Displace({{&w, glm::dmat4(1.0)}, {&pull, glm::dmat4(1.0)}}, pp);
+  const glm::dvec3 after_pull = pp + glm::dvec3(SampleMap(pull, pp));
+  EXPECT_NEAR(glm::length(ab.p - (after_pull + glm::dvec3(SampleMap(w, after_pull)))), 0, 1e-12);
+  const DisplacedSample ba = Displace({{&pull, glm::dmat4(1.0)}, {&w, glm::dmat4(1.0)}}, pp);
+  EXPECT_GT(glm::length(ab.p - ba.p), 1e-4);
+}
+
+// Affine D fields are reproduced exactly by trilinear filtering between the
+// texel centres, so the chained Jacobian of eq. 9-10 must be exact there.
+DisplacementMap AffineMap(const glm::dmat3& j, const glm::ivec3& dims) {
+  DisplacementMap map;
+  map.dims = dims;
+  map.texels.resize(static_cast<size_t>(dims.x) * dims.y * dims.z);
+  for (int z = 0; z < dims.z; ++z)
+    for (int y = 0; y < dims.y; ++y)
+      for (int x = 0; x < dims.x; ++x) {
+        const glm::dvec3 u((x + 0.5) / dims.x, (y + 0.5) / dims.y, (z + 0.5) / dims.z);
+        map.at(x, y, z) = glm::vec4(glm::vec3(j * (u - 0.5)), 1.0f);
+      }
+  return map;
+}
+
+TEST(VolumeDisplacement, ChainedJacobianIsExactForAffineMaps) {
+  glm::dmat3 j1(0.0), j2(0.0);
+  j1[0][2] = 0.25;  // D1 = (0, 0, 0.25 x): a shear
+  j2[1][0] = -0.5;  // D2 = (-0.5 y, 0, 0)
+  j2[2][2] = 0.125;
+  // float texels: exact only to float rounding.
+  const DisplacementMap m1 = AffineMap(j1, {8, 8, 8}), m2 = AffineMap(j2, {8, 8, 8});
+  const glm::dmat4 place = glm::scale(glm::translate(glm::dmat4(1.0), glm::dvec3(0.1, 0.2, 0.0)),
+                                      glm::dvec3(0.8, 0.5, 1.0));
+  const glm::dmat3 a(place);
+  const glm::dvec3 pp(0.5, 0.45, 0.5);
+  const DisplacedSample s =
+      Displace({{&m1, glm::dmat4(1.0)}, {&m2, place}}, pp, /*with_jacobian=*/true);
+  const glm::dmat3 expect = (glm::dmat3(1.0) + j1) * (glm::dmat3(1.0) + a * j2 * glm::inverse(a));
+  for (int c = 0; c < 3; ++c)
+    for (int r = 0; r < 3; ++r) EXPECT_NEAR(s.jacobian[c][r], expect[c][r], 1e-5) << c << r;
+}
+
+TEST(VolumeDisplacement, NormalTransformsOfAShearAreExact) {
+  // D = (0, 0, 0.3 x): J_D has one entry; B = (I + J_D)^T.
+  DisplacementMap map;
+  map.dims = {8, 4, 4};
+  map.texels.resize(8 * 4 * 4);
+  for (int z = 0; z < 4; ++z)
+    for (int y = 0; y < 4; ++y)
+      for (int x = 0; x < 8; ++x) map.at(x, y, z) = {0, 0, 0.3f * (x + 0.5f) / 8, 1};
+  const auto b = NormalTransforms(map);
+  for (const auto& m : b) {
+    EXPECT_NEAR(m[2][0], 0.3f, 1e-5);  // column z, row x of the transpose
+    EXPECT_NEAR(m[0][2], 0.0f, 1e-6);
+    EXPECT_NEAR(m[0][0], 1.0f, 1e-6);
+  }
+}
+
+TEST(VolumeDisplacement, ProxyBoxHoldsTheObjectAndThePlacedMaps) {
+  const DisplacementMap pull = SampleEffect(Options(Effect::kPull), {4, 4, 4});
+  const glm::dmat4 m = glm::translate(glm::dmat4(1.0), glm::dvec3(0.5, 0, 0));
+  const Box3 box = ProxyBox({glm::dvec3(0), glm::dvec3(1)}, {{&pull, m}});
+  EXPECT_EQ(box.lo, glm::dvec3(0));
+  EXPECT_EQ(box.hi, glm::dvec3(1.5, 1, 1));
+}
+
+TEST(VolumeDisplacement, BadOptionsAreInputErrors) {
+  EffectOptions o;
+  o.peel_angle_deg = std::nan("");
+  EXPECT_THROW(o.Check(), InputError);
+  o = {};
+  o.slices_gap = o.slices_period;
+  EXPECT_THROW(o.Check(), InputError);
+  EXPECT_THROW(ParseEffect("twist"), InputError);
+  EXPECT_EQ(ParseEffect("seam"), Effect::kSeam);
+  EXPECT_THROW(StoreDisplacementMap(SampleEffect(o = {}, {2, 2, 2}), 12), InputError);
+}
+
+}  // namespace
+}  // namespace core
