@@ -1,8 +1,8 @@
 # Thin wrapper over CMake presets. `make demo` and `make test` install any
 # missing Debian packages first (scripts/install-deps.sh, idempotent).
 #   make demo   - Release build, then the main job on the built-in default scene
-#   make test   - Release build, the clang-format check, then the whole ctest suite (non-zero on failure)
-#   make format - clang-format every C++ file in place
+#   make test   - Release build, then the whole ctest suite (non-zero on failure)
+#   make format - clang-format every C++ file in place (make format-check: report differences)
 #   make asan   - ASan + UBSan build of the tests, then run them
 #   make bench  - benchmarks that print figures and write plots under build/bench
 #   make fuzz   - clang + libFuzzer + ASan/UBSan build of every parser's fuzz
@@ -23,7 +23,7 @@ FUZZ_TARGETS := colmap_cameras_text colmap_images_text colmap_points3d_text \
   colmap_cameras_bin colmap_images_bin colmap_points3d_bin \
   dense_map fusion_cfg patch_match_cfg manifest redwood_log middlebury_par
 
-.PHONY: deps configure build demo test asan bench fuzz clean format
+.PHONY: deps configure build demo test asan bench fuzz clean format format-check
 
 deps:
 	@bash scripts/install-deps.sh
@@ -38,7 +38,6 @@ demo: build
 	build/bin/ibr demo --out $(DEMO_OUT)
 
 test: build
-	cmake --build --preset release --target format-check
 	ctest --preset release
 
 asan: deps
@@ -48,6 +47,9 @@ asan: deps
 
 format: configure
 	cmake --build --preset release --target format
+
+format-check: configure
+	cmake --build --preset release --target format-check
 
 fuzz: deps
 	cmake -S . -B build-fuzz -G Ninja -DCMAKE_CXX_COMPILER=clang++ -DCMAKE_C_COMPILER=clang \
