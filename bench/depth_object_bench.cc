@@ -55,26 +55,6 @@ capture::CapturedView Truth(render::ProgramCache& programs, const capture::Scene
   return capture::RenderView(programs, scene, rv, co);
 }
 
-// PSNR (dB) of RGB over pixels both cover; nan if none.
-double Psnr(const core::Image8& got, const core::ImageF& got_depth, const core::Image8& want,
-            const core::ImageF& want_depth) {
-  double se = 0;
-  int64_t n = 0;
-  for (int y = 0; y < got.height(); ++y) {
-    for (int x = 0; x < got.width(); ++x) {
-      if (!(got_depth.at(x, y) > 0 && want_depth.at(x, y) > 0)) continue;
-      for (int c = 0; c < 3; ++c) {
-        const double e = double(got.at(x, y, c)) - double(want.at(x, y, c));
-        se += e * e;
-      }
-      n += 3;
-    }
-  }
-  if (n == 0) return std::nan("");
-  const double mse = se / double(n);
-  return mse > 0 ? 10 * std::log10(255.0 * 255.0 / mse) : 99.0;
-}
-
 std::vector<Object> Objects(bool quick) {
   std::vector<Object> objects;
   objects.push_back({"cup", capture::MakeShapeScene("cup"), false});
@@ -225,28 +205,31 @@ void RunDepthObjectBench(const DepthObjectBenchOptions& options) {
             fragments *= static_cast<double>(params.active.size());
             fraction = fragments / (t.median_ms / 1000.0) / fill.fragments_per_second;
           }
-          std::vector<ViewAccuracy> acc;
+          std::vector<ViewMetrics> acc;
           double psnr = 0;
           for (size_t i = 0; i < views.size(); ++i) {
             const ibr::DepthObjectFrame f =
                 i == 0 ? std::move(frame0) : renderer.RenderImages(views[i], o);
             acc.push_back(CompareDepth(f.depth, truth[i].depth, edge));
             if (object.textured)
-              psnr += Psnr(f.color, f.depth, truth[i].color, truth[i].depth) / double(views.size());
+              psnr += core::Psnr(f.color, truth[i].color,
+                                 core::BothCovered(core::CoverageFromDepth(f.depth),
+                                                   core::CoverageFromDepth(truth[i].depth))) /
+                      double(views.size());
           }
-          const Accuracy a = Pool(acc);
+          const PooledMetrics a = Pool(acc);
           const std::string method = fmt::format("depth-object {}", path.name);
           table.AddRow({object.name, method, std::to_string(slices), std::to_string(size),
                         Num(t.median_ms, 2), Num(fraction, 3),
                         Num((upload_ms + first_ms) / 1000.0, 3), Num(a.iou_mean, 4),
-                        Num(a.iou_min, 4), Num(a.mean_depth_error, 5), Num(a.p95_depth_error, 5),
+                        Num(a.iou_min, 4), Num(a.depth.mean, 5), Num(a.depth.p95, 5),
                         object.textured ? Num(psnr, 2) : "nan"});
           fmt::print(
               stderr,
               "{:7} {:24} {:4} slices {:5} px: {:9.2f} ms/frame ({:.2f} of fill rate), IoU {:.4f}, "
               "p95 depth {:.5f} edges\n",
               object.name, method, slices, size, t.median_ms, fraction, a.iou_mean,
-              a.p95_depth_error);
+              a.depth.p95);
         }
       }
     }
@@ -266,19 +249,19 @@ void RunDepthObjectBench(const DepthObjectBenchOptions& options) {
         o.skip_grid = path.skip_grid;
         o.subtexel_depth = path.subtexel;
         o.texturing = ibr::Texturing::kNone;
-        std::vector<ViewAccuracy> acc;
+        std::vector<ViewMetrics> acc;
         for (size_t i = 0; i < views.size(); ++i) {
           acc.push_back(CompareDepth(renderer.RenderImages(views[i], o).depth, truth[i], edge));
         }
-        const Accuracy a = Pool(acc);
+        const PooledMetrics a = Pool(acc);
         const int slices = ibr::PrepareFrame(renderer.maps(), views[0], o).slice_count;
         accuracy.AddRow({object.name, path.name, std::to_string(slices), std::to_string(n_views),
-                         std::to_string(size), Num(a.iou_min, 4), Num(a.p95_depth_error, 5),
-                         a.iou_min >= 0.985 && a.p95_depth_error <= 0.006 ? "yes" : "no"});
+                         std::to_string(size), Num(a.iou_min, 4), Num(a.depth.p95, 5),
+                         a.iou_min >= 0.985 && a.depth.p95 <= 0.006 ? "yes" : "no"});
         fmt::print(
             stderr,
             "{:7} accuracy check {:11} (auto: {} slices): IoU_min {:.4f}, p95 {:.5f} edges\n",
-            object.name, path.name, slices, a.iou_min, a.p95_depth_error);
+            object.name, path.name, slices, a.iou_min, a.depth.p95);
       }
     }
 
@@ -342,13 +325,13 @@ void RunDepthObjectBench(const DepthObjectBenchOptions& options) {
         for (const MethodRow& r : EvaluatePeer(programs, run, views, truth, draw, edge)) {
           table.AddRow({object.name, r.method, "0", std::to_string(size), Num(r.median_frame_ms, 2),
                         "nan", Num(r.time_to_first_image_s, 3), Num(r.accuracy.iou_mean, 4),
-                        Num(r.accuracy.iou_min, 4), Num(r.accuracy.mean_depth_error, 5),
-                        Num(r.accuracy.p95_depth_error, 5), "nan"});
+                        Num(r.accuracy.iou_min, 4), Num(r.accuracy.depth.mean, 5),
+                        Num(r.accuracy.depth.p95, 5), "nan"});
           fmt::print(
               stderr,
               "{:7} {:24} {:5} px: first image {:.3f} s, IoU {:.4f}, p95 depth {:.5f} edges\n",
               object.name, r.method, size, r.time_to_first_image_s, r.accuracy.iou_mean,
-              r.accuracy.p95_depth_error);
+              r.accuracy.depth.p95);
         }
       } catch (const core::InputError& e) {
         fmt::print("bench depth-object: the Open3D peer did not run: {}\n", e.what());

@@ -29,7 +29,7 @@
 #include <vector>
 
 #include "capture/dataset.h"
-#include "core/depth_metrics.h"
+#include "core/metrics.h"
 #include "core/image.h"
 #include "core/mesh.h"
 #include "ibr/depth_object.h"
@@ -41,11 +41,11 @@ namespace bench {
 
 // ------------------------------------------------------------ metrics ----
 
-// Depth/silhouette metrics shared with ibr/ (core/depth_metrics.h).
-using core::Accuracy;
+// Depth/silhouette metrics shared with ibr/ (core/metrics.h).
 using core::CompareDepth;
 using core::Pool;
-using core::ViewAccuracy;
+using core::PooledMetrics;
+using core::ViewMetrics;
 
 // The largest edge of the bounds: the unit of every depth error.
 double CubeEdge(const capture::Bounds& bounds);
@@ -70,8 +70,8 @@ struct MethodRow {
   double time_to_first_image_s = 0;
   double median_frame_ms = 0;    // the other views' frames
   int64_t triangles = 0;         // peer meshes; 0 for ours
-  Accuracy accuracy;
-  std::vector<ViewAccuracy> per_view;
+  PooledMetrics accuracy;
+  std::vector<ViewMetrics> per_view;
 };
 
 // Our renderer from every view (first view: time to first image).

@@ -1,11 +1,13 @@
 #include "capture/builtin_scenes.h"
 
-#include <cstdlib>
-
 #include <fmt/format.h>
+
+#include <cstdlib>
+#include <sstream>
 
 #include "core/error.h"
 #include "datasets/embedded.h"
+#include "scene/scene.h"
 
 namespace capture {
 
@@ -13,34 +15,42 @@ std::vector<std::string> BuiltinSceneNames() {
   std::vector<std::string> names;
   for (const auto& f : datasets::EmbeddedFiles()) {
     std::string name(f.name);
-    if (name.size() > 5 && name.ends_with(".json")) names.push_back(name.substr(0, name.size() - 5));
+    if (name.size() > 5 && name.ends_with(".json"))
+      names.push_back(name.substr(0, name.size() - 5));
   }
   return names;
 }
 
 BuiltinScene ParseBuiltinScene(const std::string& name, const std::string& json_text) {
+  // A scene file (scene/scene.h) whose first object is a depth object or a
+  // visual hull captured from a shape or a shared mesh.
   const std::string where = fmt::format("ParseBuiltinScene: '{}'", name);
+  scene::ReadOptions read;
+  read.check_files = false;  // shared data may be absent until the object is loaded
+  std::istringstream in(json_text);
+  scene::Scene file;
+  try {
+    file = scene::ReadScene(in, name, read);
+  } catch (const core::InputError& e) {
+    core::ThrowInputError(where, "{}", e.what());
+  }
+  const scene::Object& object = file.objects.front();
+  if ((object.type != scene::ObjectType::kDepthObject &&
+       object.type != scene::ObjectType::kVisualHull) ||
+      !object.images.dataset.empty()) {
+    core::ThrowInputError(where,
+                          "the first object must be a depth object or visual hull with \"images\": "
+                          "{{\"capture\": ...}}");
+  }
   BuiltinScene scene;
   scene.name = name;
-  try {
-    const nlohmann::json j = nlohmann::json::parse(json_text);
-    scene.description = j.value("description", "");
-    const nlohmann::json& object = j.at("object");
-    scene.shape = object.value("shape", "");
-    scene.shared_mesh = object.value("shared_mesh", "");
-    if (j.contains("capture")) {
-      const nlohmann::json& c = j.at("capture");
-      scene.capture.rig = c.value("rig", scene.capture.rig);
-      scene.capture.size = c.value("size", scene.capture.size);
-    }
-    scene.render = j.value("render", nlohmann::json::object());
-  } catch (const nlohmann::json::exception& e) {
-    core::ThrowInputError(where, "bad definition: {}", e.what());
-  }
-  if (scene.shape.empty() == scene.shared_mesh.empty()) {
-    core::ThrowInputError(where, "the object needs exactly one of \"shape\" or \"shared_mesh\"");
-  }
-  if (!scene.render.is_object()) core::ThrowInputError(where, "\"render\" must be an object");
+  scene.description = file.description;
+  scene.shape = object.images.capture_mesh.shape;
+  scene.shared_mesh = object.images.capture_mesh.file.string();
+  scene.capture.rig = object.images.capture_rig;
+  scene.capture.size = object.images.capture_size;
+  scene.render = nlohmann::json::object();
+  for (const auto& [key, setting] : object.settings.values()) scene.render[key] = setting.value;
   try {
     scene.capture.Check();
   } catch (const core::InputError& e) {
@@ -58,13 +68,15 @@ BuiltinScene LoadBuiltinScene(const std::string& name) {
   core::ThrowInputError("LoadBuiltinScene", "no built-in scene '{}' (there are: {})", name, names);
 }
 
-SceneMesh LoadBuiltinSceneMesh(const BuiltinScene& scene, const std::filesystem::path& shared_data) {
+SceneMesh LoadBuiltinSceneMesh(const BuiltinScene& scene,
+                               const std::filesystem::path& shared_data) {
   if (!scene.shape.empty()) return MakeShapeScene(scene.shape);
   const std::filesystem::path path = shared_data / scene.shared_mesh;
   if (!std::filesystem::exists(path)) {
-    core::ThrowFileError("LoadBuiltinSceneMesh", path,
-                         "scene '{}' needs this shared data file (set IBR_SHARED_DATA to the data folder)",
-                         scene.name);
+    core::ThrowFileError(
+        "LoadBuiltinSceneMesh", path,
+        "scene '{}' needs this shared data file (set IBR_SHARED_DATA to the data folder)",
+        scene.name);
   }
   return LoadSceneMesh(path);
 }

@@ -75,6 +75,17 @@ int main(int argc, char** argv) {
     o << "2\na.png 1500 0 300.5 0 1510 240.25 0 0 1 0 1 0 1 0 0 0 0 -1 0.1 0.2 0.6\n"
          "b.png 1500 0 300.5 0 1510 240.25 0 0 1 1 0 0 0 1 0 0 0 1 0 0 0.6\n";
   });
+  Seed(root, "scene", "1", [](std::ostream& o) {
+    o << R"({"version": 1, "cameras": {"orbit": {"count": 2}}, "lights": [{"type": "head"}], "objects": [)"
+         R"({"type": "depth-object", "images": {"capture": {"shape": "cup"}}, "slices": 64},)"
+         R"({"type": "displaced-mesh", "transform": {"translate": [1, 0, 0], "scale": 0.5}, "mesh": {"shape": "torus"},)"
+         R"("height": {"generator": "bumps"}, "method": "ncs"}]})";
+  });
+  Seed(root, "scene", "2", [](std::ostream& o) {
+    o << R"({"version": 1, "cameras": {"list": [{"name": "a", "width": 4, "height": 4, "fx": 1, "fy": 1, "cx": 2,)"
+         R"("cy": 2, "cam_from_world": [[1, 0, 0, 0], [0, 1, 0, 0], [0, 0, 1, 3]]}]},)"
+         R"("objects": [{"type": "mesh", "mesh": {"file": "m.obj"}, "transform": {"matrix": [[1, 0, 0, 0], [0, 1, 0, 0], [0, 0, 1, 0]]}}]})";
+  });
   if (argc > 2) {
     const fs::path shared = argv[2];
     CopyIfExists(shared / "rgbd/redwood5/trajectory.log", root, "redwood_log");

@@ -8,7 +8,7 @@
 #include "ibr/dataset_maps.h"
 #include "ibr/views.h"
 #include "capture/builtin_scenes.h"
-#include "core/depth_metrics.h"
+#include "core/metrics.h"
 #include "render/gl/gl.h"
 
 namespace ibr {
@@ -45,9 +45,9 @@ MeshAccuracy CompareToMesh(render::ProgramCache& programs, const capture::SceneM
   co.size = std::max(view.camera.width, 16);
   const capture::CapturedView truth = capture::RenderView(programs, scene, rv, co);
   MeshAccuracy a;
-  const core::ViewAccuracy accuracy = core::CompareDepth(depth, truth.depth, edge);
+  const core::ViewMetrics accuracy = core::CompareDepth(depth, truth.depth, edge);
   a.iou = accuracy.iou;
-  a.depth_errors.assign(accuracy.errors.begin(), accuracy.errors.end());
+  a.depth_errors.assign(accuracy.depth_errors.begin(), accuracy.depth_errors.end());
   a.truth = core::Image8(truth.color.width(), truth.color.height(), 4, 255);
   for (int y = 0; y < truth.color.height(); ++y) {
     for (int x = 0; x < truth.color.width(); ++x) {
@@ -112,12 +112,9 @@ DepthObjectDemoResult RunDepthObjectDemo(render::ProgramCache& programs, const D
   }
   result.timing = core::Summarize(times);
   result.iou_mean = iou_sum / views.size();
-  if (!depth_errors.empty()) {
-    std::sort(depth_errors.begin(), depth_errors.end());
-    for (double e : depth_errors) result.depth_mean += e;
-    result.depth_mean /= depth_errors.size();
-    result.depth_p95 = depth_errors[depth_errors.size() * 95 / 100];
-  }
+  const core::ErrorStats depth = core::SummarizeErrors(std::move(depth_errors));
+  result.depth_mean = depth.mean;
+  result.depth_p95 = depth.p95;
   return result;
 }
 

@@ -32,7 +32,7 @@ struct DepthObjectDemoResult {
   std::vector<core::Image8> truth;    // the true mesh from the same cameras
   core::TimingStats timing;           // GPU render per frame (glFinish), after one warm-up frame
   double iou_mean = 0, iou_min = 1;   // silhouette vs the true mesh
-  double depth_mean = 0, depth_p95 = 0;  // |depth error| over pixels both cover, in cube-edge units
+  double depth_mean = 0, depth_p95 = 0;  // |depth error| over pixels both cover, in cube-edge units (core/metrics.h: NaN if none)
   double capture_seconds = 0;
 };
 

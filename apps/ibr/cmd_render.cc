@@ -14,6 +14,7 @@
 #include "apps/ibr/commands.h"
 #include "capture/dataset.h"
 #include "core/error.h"
+#include "core/metrics.h"
 #include "core/timing.h"
 #include "ibr/dataset_maps.h"
 #include "ibr/demo_scene.h"
@@ -140,14 +141,11 @@ void RunRender(const RenderCommandOptions& o) {
     fmt::print("render: view {}/{} {} {}x{}: {:.1f} ms, {} object pixels{}\n", i + 1, views.size(), v.name,
                v.view.camera.width, v.view.camera.height, times.back(), covered, accuracy);
   }
-  if (truth && !errors.empty()) {
-    std::sort(errors.begin(), errors.end());
-    double mean = 0;
-    for (double e : errors) mean += e;
-    mean /= errors.size();
+  if (truth) {
+    const core::ErrorStats e = core::SummarizeErrors(std::move(errors));
     fmt::print("render: vs {}: silhouette IoU mean {:.4f} / worst {:.4f}; depth error mean {:.5f} / p95 {:.5f} "
-               "of the mesh's largest extent\n", o.truth_mesh.string(), iou_sum / views.size(), iou_min, mean,
-               errors[errors.size() * 95 / 100]);
+               "of the mesh's largest extent\n", o.truth_mesh.string(), iou_sum / views.size(), iou_min, e.mean,
+               e.p95);
   }
   if (dataset.bounds) writer.SetBounds(*dataset.bounds);
   writer.SetDepthUnits(dataset.depth_units);

@@ -1,6 +1,7 @@
 #include "render/gl/handles.h"
 
 #include <algorithm>
+#include <atomic>
 #include <cstring>
 
 #include "core/check.h"
@@ -20,7 +21,14 @@ Buffer Buffer::CreateWithData(const void* data, GLsizeiptr bytes, GLbitfield fla
   return buffer;
 }
 
+namespace {
+std::atomic<int64_t> g_textures_created{0};
+}  // namespace
+
+int64_t Texture::created_count() { return g_textures_created.load(); }
+
 Texture Texture::Create(GLenum target) {
+  ++g_textures_created;
   GLuint id = 0;
   glCreateTextures(target, 1, &id);
   IBR_CHECK_NE(id, 0u);

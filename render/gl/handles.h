@@ -4,6 +4,7 @@
 // with DSA (glCreate*), so a name is a complete object as soon as it exists.
 #pragma once
 
+#include <cstdint>
 #include <span>
 #include <string>
 #include <string_view>
@@ -47,14 +48,30 @@ class GlHandle {
 };
 
 namespace deleters {
-struct Buffer { static void Delete(GLuint id) { glDeleteBuffers(1, &id); } };
-struct Texture { static void Delete(GLuint id) { glDeleteTextures(1, &id); } };
-struct Renderbuffer { static void Delete(GLuint id) { glDeleteRenderbuffers(1, &id); } };
-struct Framebuffer { static void Delete(GLuint id) { glDeleteFramebuffers(1, &id); } };
-struct VertexArray { static void Delete(GLuint id) { glDeleteVertexArrays(1, &id); } };
-struct Query { static void Delete(GLuint id) { glDeleteQueries(1, &id); } };
-struct Shader { static void Delete(GLuint id) { glDeleteShader(id); } };
-struct Program { static void Delete(GLuint id) { glDeleteProgram(id); } };
+struct Buffer {
+  static void Delete(GLuint id) { glDeleteBuffers(1, &id); }
+};
+struct Texture {
+  static void Delete(GLuint id) { glDeleteTextures(1, &id); }
+};
+struct Renderbuffer {
+  static void Delete(GLuint id) { glDeleteRenderbuffers(1, &id); }
+};
+struct Framebuffer {
+  static void Delete(GLuint id) { glDeleteFramebuffers(1, &id); }
+};
+struct VertexArray {
+  static void Delete(GLuint id) { glDeleteVertexArrays(1, &id); }
+};
+struct Query {
+  static void Delete(GLuint id) { glDeleteQueries(1, &id); }
+};
+struct Shader {
+  static void Delete(GLuint id) { glDeleteShader(id); }
+};
+struct Program {
+  static void Delete(GLuint id) { glDeleteProgram(id); }
+};
 }  // namespace deleters
 
 class Buffer : public GlHandle<deleters::Buffer> {
@@ -69,6 +86,9 @@ class Texture : public GlHandle<deleters::Texture> {
  public:
   Texture() noexcept = default;
   static Texture Create(GLenum target);
+  // Textures created so far by this process (every Create* goes through
+  // Create): tests count what a scene allocates.
+  static int64_t created_count();
   // Immutable 2D/3D storage, one level, with NEAREST filtering and
   // CLAMP_TO_EDGE by default (callers change them as the pass needs).
   static Texture Create2D(GLenum internal_format, int width, int height);

@@ -242,6 +242,9 @@ const Program& ProgramCache::Get(const ProgramDesc& desc) {
   if (it != programs_.end()) return *it->second;
   spdlog::debug("compiling program {}", key);
   auto program = std::make_unique<Program>(BuildProgram(*sources_, desc));
+  for (const std::string* file : {&desc.vertex, &desc.geometry, &desc.fragment, &desc.compute}) {
+    if (!file->empty()) ++compiled_by_file_[*file];
+  }
   return *programs_.emplace(key, std::move(program)).first->second;
 }
 

@@ -75,9 +75,13 @@ class ProgramCache {
       : sources_(&sources) {}
   const Program& Get(const ProgramDesc& desc);
   size_t size() const { return programs_.size(); }
+  // Programs compiled by this cache, per stage file (a program counts once for
+  // each of its stage files): what a scene made the cache build.
+  const std::map<std::string, int>& compiled_by_file() const { return compiled_by_file_; }
 
  private:
   const ShaderSources* sources_;
+  std::map<std::string, int> compiled_by_file_;
   std::unordered_map<std::string, std::unique_ptr<Program>> programs_;
 };
 

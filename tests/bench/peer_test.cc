@@ -28,7 +28,7 @@ class PeerTest : public test_support::GlTest {};
 void PrintRow(const MethodRow& r) {
   std::printf("%-34s %9.3f %9.3f %9.1f %9.1f %8.4f %8.4f %9.5f %9.5f %9lld\n", r.method.c_str(),
               r.time_to_first_image_s, r.build_s, r.first_frame_ms, r.median_frame_ms, r.accuracy.iou_mean,
-              r.accuracy.iou_min, r.accuracy.mean_depth_error, r.accuracy.p95_depth_error,
+              r.accuracy.iou_min, r.accuracy.depth.mean, r.accuracy.depth.p95,
               static_cast<long long>(r.triangles));
 }
 
@@ -49,10 +49,10 @@ TEST(CompareDepth, CountsSilhouettesAndDepthErrors) {
   truth.at(1, 0) = 2.0f;
   depth.at(1, 0) = 2.5f;
   depth.at(2, 0) = 1.0f;
-  const ViewAccuracy a = CompareDepth(depth, truth, 2.0);
+  const ViewMetrics a = CompareDepth(depth, truth, 2.0);
   EXPECT_DOUBLE_EQ(a.iou, 1.0 / 3.0);  // union {0, 1, 2}, intersection {1}
-  EXPECT_EQ(a.both, 1);
-  EXPECT_DOUBLE_EQ(a.mean_depth_error, 0.25);  // 0.5 / edge 2
+  EXPECT_EQ(a.both_pixels, 1);
+  EXPECT_DOUBLE_EQ(a.depth.mean, 0.25);  // 0.5 / edge 2
 }
 
 // Orthographic (cube rig) maps cannot go through Open3D's pinhole
@@ -152,14 +152,14 @@ TEST_F(PeerTest, BunnyOursVsTsdfAndCarvingFromNovelViews) {
     // 0.15 edges): it gets the bounds of a hull.
     const bool hull = r.method.find("carve-silhouette") != std::string::npos;
     EXPECT_GE(r.accuracy.iou_min, hull ? 0.75 : 0.88);
-    EXPECT_LE(r.accuracy.p95_depth_error, hull ? 0.25 : 0.05);
+    EXPECT_LE(r.accuracy.depth.p95, hull ? 0.25 : 0.05);
   }
   // TSDF's surface is within about a voxel of the depth maps it fused
   // (edge / 128 = 0.0078; the 95th percentile adds silhouette-edge pixels
   // where a ray grazes the surface).
   for (const MethodRow& r : rows) {
     if (r.method == "open3d tsdf:128" || r.method == "open3d tsdf:256") {
-      EXPECT_LE(r.accuracy.mean_depth_error, 1.0 / 128) << r.method;
+      EXPECT_LE(r.accuracy.depth.mean, 1.0 / 128) << r.method;
     }
   }
   EXPECT_NO_GL_ERROR();

@@ -33,14 +33,19 @@ TEST(BuiltinScenes, EveryDefinitionIsValidAndItsObjectLoads) {
 }
 
 TEST(BuiltinScenes, BadDefinitionsNameTheScene) {
+  // Scene files (scene/scene.h) that the reader or the built-in rules refuse.
   const char* bad[] = {
       "not json",
-      R"({"capture": {"rig": "cube"}})",                                           // no object
-      R"({"object": {"shape": "cup", "shared_mesh": "meshes/spot.obj"}})",         // both
-      R"({"object": {}})",                                                         // neither
-      R"({"object": {"shape": "cup"}, "capture": {"rig": "hexagon"}})",           // bad rig
-      R"({"object": {"shape": "cup"}, "capture": {"size": 3}})",                  // absurd size
-      R"({"object": {"shape": "cup"}, "render": 7})",                             // render not an object
+      R"({"version": 1, "cameras": {"orbit": {}}})",  // no object
+      R"({"version": 1, "cameras": {"orbit": {}}, "objects": [{"type": "depth-object", "images": )"
+      R"({"capture": {"shape": "cup", "shared_mesh": "meshes/spot.obj"}}}]})",  // both
+      R"({"version": 1, "cameras": {"orbit": {}}, "objects": [{"type": "depth-object", "images": )"
+      R"({"capture": {}}}]})",  // neither
+      R"({"version": 1, "cameras": {"orbit": {}}, "objects": [{"type": "depth-object", "images": )"
+      R"({"capture": {"shape": "cup", "rig": "hexagon"}}}]})",  // bad rig
+      R"({"version": 1, "cameras": {"orbit": {}}, "objects": [{"type": "depth-object", "images": )"
+      R"({"capture": {"shape": "cup", "size": 3}}}]})",  // absurd size
+      R"({"version": 1, "cameras": {"orbit": {}}, "objects": [{"type": "mesh", "mesh": {"shape": "cup"}}]})",  // not image-based
   };
   for (const char* text : bad) {
     try {

@@ -1,0 +1,117 @@
+// core/metrics: every figure checked against an answer computed by hand.
+#include "core/metrics.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <limits>
+
+namespace core {
+namespace {
+
+TEST(Percentile, NearestRankOnHandCountedSets) {
+  std::vector<double> one_to_twenty;
+  for (int i = 20; i >= 1; --i) one_to_twenty.push_back(i);  // unsorted on purpose
+  EXPECT_EQ(Percentile(one_to_twenty, 0.95), 19);            // ceil(0.95 * 20) = 19th smallest
+  EXPECT_EQ(Percentile(one_to_twenty, 0.5), 10);             // ceil(10) = 10th
+  EXPECT_EQ(Percentile(one_to_twenty, 0.0), 1);              // the smallest
+  EXPECT_EQ(Percentile(one_to_twenty, 1.0), 20);             // the largest
+  std::vector<double> hundred;
+  for (int i = 1; i <= 100; ++i) hundred.push_back(i);
+  EXPECT_EQ(Percentile(hundred, 0.95), 95);  // not 96 (the floor(0.95 n) index rule)
+  EXPECT_EQ(Percentile({7.0}, 0.95), 7);
+  EXPECT_EQ(Percentile({3.0, 1.0, 2.0}, 0.95), 3);  // ceil(2.85) = 3rd
+  EXPECT_EQ(Percentile({3.0, 1.0, 2.0}, 0.6), 2);   // ceil(1.8) = 2nd
+  EXPECT_TRUE(std::isnan(Percentile({}, 0.95)));
+}
+
+TEST(SummarizeErrors, MeanP95MaxAndEmptyIsNaN) {
+  const ErrorStats s = SummarizeErrors({0.5, 0.25, 1.0, 0.25});
+  EXPECT_EQ(s.count, 4);
+  EXPECT_DOUBLE_EQ(s.mean, 0.5);  // 2 / 4
+  EXPECT_EQ(s.p95, 1.0);          // ceil(3.8) = 4th smallest
+  EXPECT_EQ(s.max, 1.0);
+  const ErrorStats e = SummarizeErrors({});
+  EXPECT_EQ(e.count, 0);
+  EXPECT_TRUE(std::isnan(e.mean) && std::isnan(e.p95) && std::isnan(e.max));
+}
+
+// 4 x 1 images: rendered covers pixels 0,1,2; truth covers 1,2,3.
+TEST(CompareView, SilhouetteAndDepthErrorsByHand) {
+  ImageF depth(4, 1, 1), truth(4, 1, 1);
+  depth.values() = {1.0f, 2.0f, 3.0f, 0.0f};
+  truth.values() = {0.0f, 2.5f, 2.0f, 4.0f};
+  const ViewMetrics m = CompareDepth(depth, truth, 0.5);
+  EXPECT_EQ(m.rendered_pixels, 3);
+  EXPECT_EQ(m.truth_pixels, 3);
+  EXPECT_EQ(m.both_pixels, 2);
+  EXPECT_EQ(m.wrong_pixels, 2);
+  EXPECT_DOUBLE_EQ(m.iou, 0.5);  // 2 / 4
+  ASSERT_EQ(m.depth_errors.size(), 2u);
+  EXPECT_DOUBLE_EQ(m.depth_errors[0], 1.0);  // |2 - 2.5| / 0.5
+  EXPECT_DOUBLE_EQ(m.depth_errors[1], 2.0);  // |3 - 2| / 0.5
+  EXPECT_DOUBLE_EQ(m.depth.mean, 1.5);
+  EXPECT_EQ(m.depth.p95, 2.0);
+  EXPECT_EQ(m.depth.max, 2.0);
+}
+
+TEST(CompareView, NonFiniteDepthIsEmptyAndBothEmptyAgree) {
+  ImageF depth(2, 1, 1), truth(2, 1, 1, 0.0f);
+  depth.values() = {std::numeric_limits<float>::quiet_NaN(),
+                    std::numeric_limits<float>::infinity()};
+  const ViewMetrics m = CompareDepth(depth, truth);
+  EXPECT_EQ(m.rendered_pixels, 0);
+  EXPECT_EQ(m.iou, 1.0);
+  EXPECT_EQ(m.depth.count, 0);
+  EXPECT_TRUE(std::isnan(m.depth.mean));
+}
+
+TEST(CompareView, AlphaCoverageIsOpaqueOnly) {
+  Image8 rgba(3, 1, 4, 0);
+  rgba.at(0, 0, 3) = 255;
+  rgba.at(1, 0, 3) = 254;
+  rgba.at(2, 0, 3) = 255;
+  const Image8 c = CoverageFromAlpha(rgba);
+  EXPECT_EQ(c.values(), (std::vector<uint8_t>{1, 0, 1}));
+  ImageF z(3, 1, 1, 1.0f);
+  Image8 truth(3, 1, 1, 1);
+  const ViewMetrics m = CompareView(c, z, truth, z);
+  EXPECT_EQ(m.wrong_pixels, 1);
+  EXPECT_NEAR(m.iou, 2.0 / 3.0, 1e-15);
+  EXPECT_EQ(m.depth.max, 0.0);
+}
+
+TEST(Pool, PoolsPixelsNotViewMeans) {
+  ImageF a(2, 1, 1), ta(2, 1, 1), b(1, 1, 1), tb(1, 1, 1);
+  a.values() = {1, 1};
+  ta.values() = {1, 1};  // errors 0, 0; IoU 1
+  b.values() = {4};
+  tb.values() = {1};                           // error 3; IoU 1
+  ImageF c(1, 1, 1, 1.0f), tc(1, 1, 1, 0.0f);  // IoU 0, no errors
+  const PooledMetrics p = Pool({CompareDepth(a, ta), CompareDepth(b, tb), CompareDepth(c, tc)});
+  EXPECT_EQ(p.views, 3);
+  EXPECT_DOUBLE_EQ(p.iou_mean, 2.0 / 3.0);
+  EXPECT_EQ(p.iou_min, 0.0);
+  EXPECT_EQ(p.depth.count, 3);
+  EXPECT_DOUBLE_EQ(p.depth.mean, 1.0);  // (0 + 0 + 3) / 3, not the mean of view means (1.5)
+  EXPECT_EQ(p.depth.p95, 3.0);
+  const PooledMetrics none = Pool({});
+  EXPECT_TRUE(std::isnan(none.iou_mean) && std::isnan(none.iou_min) && std::isnan(none.depth.mean));
+}
+
+TEST(Psnr, HandComputedMseOverTheMask) {
+  Image8 a(2, 1, 3, 100), b(2, 1, 3, 100), mask(2, 1, 1, 1);
+  b.at(0, 0, 0) = 110;  // squared errors: 100, then 5 zeros over 6 samples -> MSE 100/6
+  const double want = 10.0 * std::log10(255.0 * 255.0 / (100.0 / 6.0));
+  EXPECT_NEAR(Psnr(a, b, mask), want, 1e-12);
+  mask.at(0, 0) = 0;  // only the identical pixel left
+  EXPECT_EQ(Psnr(a, b, mask), std::numeric_limits<double>::infinity());
+  mask.at(1, 0) = 0;
+  EXPECT_TRUE(std::isnan(Psnr(a, b, mask)));
+  Image8 c1(1, 1, 1, 1), c2(1, 1, 1, 0);
+  EXPECT_EQ(BothCovered(c1, c2).at(0, 0), 0);
+  EXPECT_EQ(BothCovered(c1, c1).at(0, 0), 1);
+}
+
+}  // namespace
+}  // namespace core
