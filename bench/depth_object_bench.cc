@@ -39,16 +39,8 @@ struct Object {
 // colours compare): camera z and RGBA.
 capture::CapturedView Truth(render::ProgramCache& programs, const capture::SceneMesh& scene,
                             const ibr::ViewCamera& view, const capture::Bounds& bounds) {
-  capture::RigView rv;
-  rv.name = "truth";
+  const capture::RigView rv = ibr::RigViewFor(view, bounds, "truth");
   const ibr::MapCamera& c = view.camera;
-  rv.camera = capture::Camera::Pinhole(c.width, c.height, c.fx, c.fy, c.cx, c.cy);
-  rv.cam_from_world.rotation = glm::dmat3(view.cam_from_world);
-  rv.cam_from_world.translation = glm::dvec3(view.cam_from_world[3]);
-  const double radius = 0.5 * glm::length(bounds.extent());
-  const double d = glm::length(rv.cam_from_world.Centre() - bounds.centre());
-  rv.near = std::max(d - 2 * radius, 1e-3 * d);
-  rv.far = d + 2 * radius;
   capture::CaptureOptions co;
   co.size = std::max(c.width, 16);
   co.shade = false;

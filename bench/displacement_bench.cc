@@ -20,26 +20,6 @@
 namespace bench {
 namespace fs = std::filesystem;
 
-core::TriangleMesh DisplacementBaseMesh(const std::string& name) {
-  if (name == "torus") return core::MakeTorus(1.0f, 0.4f, 25, 25);
-  if (name == "plane") return core::MakePlane(1.0f, 1);
-  if (name == "sphere") return core::MakeSphere(1.0f, 16, 32);
-  core::ThrowInputError("DisplacementBaseMesh", "unknown base '{}' (torus, plane, sphere)", name);
-}
-
-core::ImageF DisplacementHeightMap(core::HeightPattern pattern, int texels, float floor) {
-  if (!(floor >= 0.0f && floor < 1.0f)) {
-    core::ThrowInputError("DisplacementHeightMap", "floor {} outside [0, 1)", floor);
-  }
-  core::HeightMapOptions options;
-  options.pattern = pattern;
-  options.size = texels;
-  options.level = pattern == core::HeightPattern::kConstant ? 0.5f : 1.0f;
-  core::ImageF height = core::MakeHeightMap(options);
-  for (float& v : height.values()) v = floor + (1.0f - floor) * v;
-  return height;
-}
-
 render::ViewSetup OrbitView(const core::TriangleMesh& base, float max_displacement, double elevation_deg,
                             double azimuth_deg, int size_px) {
   if (!(elevation_deg >= -90 && elevation_deg <= 90) || !std::isfinite(azimuth_deg)) {

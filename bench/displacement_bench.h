@@ -13,17 +13,14 @@
 #include "core/heightfield.h"
 #include "core/image.h"
 #include "core/mesh.h"
+#include "ibr/displaced_mesh.h"
 #include "render/passes/mesh_pass.h"
 
 namespace bench {
 
-// "torus" (the paper's 625-polygon donut, R 1, r 0.4), "plane" (2 x 2, one
-// quad, z = 0, normal +z), "sphere" (radius 1, 16 x 32); InputError otherwise.
-core::TriangleMesh DisplacementBaseMesh(const std::string& name);
-
-// Height map in [floor, floor + (1 - floor) * pattern]: floor > 0 gives the
-// surface a solid base everywhere (a height of 0 is masked out, sec. 3.2).
-core::ImageF DisplacementHeightMap(core::HeightPattern pattern, int texels, float floor = 0.0f);
+// The built-in base meshes and generated height maps: ibr/displaced_mesh.h.
+using ibr::DisplacementBaseMesh;
+using ibr::DisplacementHeightMap;
 
 // A perspective camera (40 degree field of view, square `size_px`) orbiting
 // the base's bounds centre: elevation above the z = 0 plane (90 = top view),

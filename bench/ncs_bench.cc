@@ -1,17 +1,18 @@
 #include "bench/ncs_bench.h"
 
+#include <fmt/format.h>
+
 #include <algorithm>
 #include <cmath>
 #include <iterator>
 #include <map>
 #include <set>
 
-#include <fmt/format.h>
-
 #include "core/error.h"
 #include "core/heightfield.h"
 #include "core/image_io.h"
 #include "core/mesh.h"
+#include "core/metrics.h"
 #include "core/projection.h"
 #include "render/gl/gpu_mesh.h"
 #include "render/passes/mesh_pass.h"
@@ -37,7 +38,8 @@ render::ViewSetup MakeView(const std::string& view, int size) {
   render::ViewSetup setup;
   setup.cam_from_world = core::CamFromWorldLookAt(EyeOf(view), {0, 0, 0}, {0, 0, 1});
   const double f = 1.05 * size;
-  setup.clip_from_cam = core::ClipFromCamPerspective(f, f, size / 2.0, size / 2.0, size, size, 0.1, 20.0);
+  setup.clip_from_cam =
+      core::ClipFromCamPerspective(f, f, size / 2.0, size / 2.0, size, size, 0.1, 20.0);
   return setup;
 }
 
@@ -68,7 +70,8 @@ core::Image8 Opaque(const core::Image8& image) {
 std::vector<std::string> NcsBenchViewNames() { return {"oblique", "grazing", "edge"}; }
 
 void NcsBenchOptions::Check() const {
-  if (size < 16 || size > 4096) core::ThrowInputError("NcsBenchOptions", "size {} outside 16..4096", size);
+  if (size < 16 || size > 4096)
+    core::ThrowInputError("NcsBenchOptions", "size {} outside 16..4096", size);
   if (height_map_size < 4 || height_map_size > 1024) {
     core::ThrowInputError("NcsBenchOptions", "height_map_size {} outside 4..1024", height_map_size);
   }
@@ -79,14 +82,16 @@ void NcsBenchOptions::Check() const {
     if (s < 1 || s > 4096) core::ThrowInputError("NcsBenchOptions", "steps {} outside 1..4096", s);
   }
   for (float c : step_enlargements) {
-    if (!(c >= 0.01f && c <= 1000)) core::ThrowInputError("NcsBenchOptions", "c {} outside [0.01, 1000]", c);
+    if (!(c >= 0.01f && c <= 1000))
+      core::ThrowInputError("NcsBenchOptions", "c {} outside [0.01, 1000]", c);
   }
   for (int t : tilings) {
     if (t < 1 || t > 64) core::ThrowInputError("NcsBenchOptions", "tiling {} outside 1..64", t);
   }
   for (const std::string& v : views) EyeOf(v);
   if (max_truth_subdivisions < 1 || max_truth_subdivisions > 256) {
-    core::ThrowInputError("NcsBenchOptions", "max_truth_subdivisions {} outside 1..256", max_truth_subdivisions);
+    core::ThrowInputError("NcsBenchOptions", "max_truth_subdivisions {} outside 1..256",
+                          max_truth_subdivisions);
   }
   timer.Check();
 }
@@ -119,10 +124,11 @@ NcsBenchResult RunNcsBench(render::ProgramCache& programs, const NcsBenchOptions
   render::ReliefSurface surface(programs, torus, height, geometry);
 
   NcsBenchResult result{
-      Table({"method", "view", "tiling", "steps", "c", "ms_per_frame", "min_ms_per_frame", "silhouette_iou", "wrong_silhouette_px",
-             "mean_depth_error", "p95_depth_error", "early_termination_px", "truth_px", "triangles"}),
-      Table({"view", "tiling", "steps", "ncs_ms", "relief_ms", "pom_ms", "tessellated_ms", "ncs_over_relief",
-             "ncs_over_tessellated"}),
+      Table({"method", "view", "tiling", "steps", "c", "ms_per_frame", "min_ms_per_frame",
+             "silhouette_iou", "wrong_silhouette_px", "mean_depth_error", "p95_depth_error",
+             "early_termination_px", "truth_px", "triangles"}),
+      Table({"view", "tiling", "steps", "ncs_ms", "relief_ms", "pom_ms", "tessellated_ms",
+             "ncs_over_relief", "ncs_over_tessellated"}),
       {}};
   const int n = options.size;
   render::RenderTarget relief_target(render::FrameTargetOptions(n, n));
@@ -130,8 +136,9 @@ NcsBenchResult RunNcsBench(render::ProgramCache& programs, const NcsBenchOptions
   std::vector<core::Image8> strip_top, strip_bottom;
   const int strip_tiling = options.tilings.front();
   const std::string strip_view =
-      std::find(options.views.begin(), options.views.end(), "grazing") != options.views.end() ? "grazing"
-                                                                                              : options.views.front();
+      std::find(options.views.begin(), options.views.end(), "grazing") != options.views.end()
+          ? "grazing"
+          : options.views.front();
   for (int tiling : options.tilings) {
     // Ground truth: a vertex per texel along the ring (the finer direction
     // per base quad is the tube: texels per quad = size * tiling / 24).
@@ -155,9 +162,10 @@ NcsBenchResult RunNcsBench(render::ProgramCache& programs, const NcsBenchOptions
       for (int y = 0; y < n; ++y) {
         for (int x = 0; x < n; ++x) truth_px += truth.color.at(x, y, 3) == 255;
       }
-      result.table.AddRow({"tessellated", view_name, std::to_string(tiling), "", "", Num(truth_time.median_ms, 2),
-                           Num(truth_time.min_ms, 2), Num(1.0, 4),
-                           "0", Num(0.0, 5), Num(0.0, 5), "0", std::to_string(truth_px), triangles});
+      result.table.AddRow({"tessellated", view_name, std::to_string(tiling), "", "",
+                           Num(truth_time.median_ms, 2), Num(truth_time.min_ms, 2), Num(1.0, 4),
+                           "0", Num(0.0, 5), Num(0.0, 5), "0", std::to_string(truth_px),
+                           triangles});
       const bool strip_here = tiling == strip_tiling && view_name == strip_view;
       if (strip_here) {
         strip_top.push_back(Opaque(truth.color));
@@ -167,8 +175,8 @@ NcsBenchResult RunNcsBench(render::ProgramCache& programs, const NcsBenchOptions
       // (method, steps) -> fastest frame, for the summary (c = 2.5): on a
       // machine shared with other work the minimum is the least disturbed figure.
       std::map<std::pair<std::string, int>, double> ms_at;
-      for (render::ReliefMethod method :
-           {render::ReliefMethod::kNcs, render::ReliefMethod::kRelief, render::ReliefMethod::kPom}) {
+      for (render::ReliefMethod method : {render::ReliefMethod::kNcs, render::ReliefMethod::kRelief,
+                                          render::ReliefMethod::kPom}) {
         const bool ncs = method == render::ReliefMethod::kNcs;
         const std::vector<float> cs = ncs ? options.step_enlargements : std::vector<float>{1.0f};
         for (int steps : options.steps) {
@@ -184,12 +192,12 @@ NcsBenchResult RunNcsBench(render::ProgramCache& programs, const NcsBenchOptions
             const double ms = time.min_ms;
             render::DrawFrame(relief_target, surface, view);
             const render::Frame frame = render::ReadFrame(relief_target);
-            const render::SilhouetteError e = render::CompareToTruth(frame.color, frame.depth, truth.color, truth.depth);
+            const core::ViewMetrics e = core::CompareFrames(frame.color, frame.depth, truth.color, truth.depth);
             result.table.AddRow({render::ReliefMethodName(method), view_name, std::to_string(tiling),
                                  std::to_string(steps), ncs ? Num(c, 1) : "", Num(time.median_ms, 2), Num(ms, 2),
                                  Num(e.iou, 4),
-                                 std::to_string(e.wrong_pixels), Num(e.mean_depth_error, 5),
-                                 Num(e.p95_depth_error, 5), std::to_string(frame.CountOutcome(render::OutcomeBit(render::RayOutcome::kEarlyTermination))),
+                                 std::to_string(e.wrong_pixels), Num(e.depth.mean, 5),
+                                 Num(e.depth.p95, 5), std::to_string(frame.CountOutcome(render::OutcomeBit(render::RayOutcome::kEarlyTermination))),
                                  std::to_string(e.truth_pixels), std::to_string(torus.triangle_count())});
             const bool summary_c = !ncs || std::abs(c - 2.5f) < 1e-6f ||
                                    (options.step_enlargements.size() == 1 && c == options.step_enlargements[0]);
@@ -205,9 +213,9 @@ NcsBenchResult RunNcsBench(render::ProgramCache& programs, const NcsBenchOptions
       for (int steps : options.steps) {
         const double ncs_ms = ms_at[{"ncs", steps}], relief_ms = ms_at[{"relief", steps}],
                      pom_ms = ms_at[{"pom", steps}];
-        result.summary.AddRow({view_name, std::to_string(tiling), std::to_string(steps), Num(ncs_ms, 2),
-                               Num(relief_ms, 2), Num(pom_ms, 2), Num(truth_ms, 2), Num(ncs_ms / relief_ms, 2),
-                               Num(ncs_ms / truth_ms, 2)});
+        result.summary.AddRow({view_name, std::to_string(tiling), std::to_string(steps),
+                               Num(ncs_ms, 2), Num(relief_ms, 2), Num(pom_ms, 2), Num(truth_ms, 2),
+                               Num(ncs_ms / relief_ms, 2), Num(ncs_ms / truth_ms, 2)});
       }
     }
   }
@@ -229,7 +237,8 @@ void WriteNcsBench(const NcsBenchResult& result, const std::filesystem::path& cs
   // swept, the first tiling): one series per method (and c), one point per
   // step count.
   const Table& t = result.table;
-  const std::string plot_view = result.strip_view, plot_tiling = std::to_string(result.strip_tiling);
+  const std::string plot_view = result.strip_view,
+                    plot_tiling = std::to_string(result.strip_tiling);
   Table plot({"series", "ms_per_frame", "wrong_silhouette_px", "p95_depth_error"});
   for (const auto& r : t.rows()) {
     if (r[t.Column("view")] != plot_view || r[t.Column("tiling")] != plot_tiling) continue;
@@ -257,7 +266,9 @@ void WriteNcsBench(const NcsBenchResult& result, const std::filesystem::path& cs
   std::set<int> step_counts;
   for (const auto& r : result.summary.rows()) step_counts.insert(std::stoi(r[2]));
   const std::string middle_steps =
-      step_counts.empty() ? "" : std::to_string(*std::next(step_counts.begin(), static_cast<long>(step_counts.size() / 2)));
+      step_counts.empty() ? ""
+                          : std::to_string(*std::next(step_counts.begin(),
+                                                      static_cast<long>(step_counts.size() / 2)));
   for (const auto& r : result.summary.rows()) {
     if (r[2] != middle_steps) continue;
     fig6.AddRow({"ncs " + r[0], r[1], r[3]});

@@ -1,14 +1,14 @@
 #include "bench/peer.h"
 
+#include <fmt/format.h>
+#include <sys/wait.h>
+
 #include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstdio>
 #include <fstream>
-
-#include <fmt/format.h>
 #include <nlohmann/json.hpp>
-#include <sys/wait.h>
 
 #include "capture/synthetic.h"
 #include "core/check.h"
@@ -27,7 +27,6 @@ std::string ShellQuote(const std::string& s) {
   return out + "'";
 }
 
-
 }  // namespace
 
 // ------------------------------------------------------------ metrics ----
@@ -37,40 +36,16 @@ double CubeEdge(const capture::Bounds& bounds) {
   return std::max({e.x, e.y, e.z});
 }
 
-render::ViewSetup ViewSetupFor(const ibr::ViewCamera& view, const capture::Bounds& bounds) {
-  const ibr::MapCamera& c = view.camera;
-  // Camera z range of the bounds' corners, widened a little; near stays in
-  // front of the camera.
-  double lo = 1e300, hi = -1e300;
-  for (int i = 0; i < 8; ++i) {
-    const glm::dvec3 corner(i & 1 ? bounds.max.x : bounds.min.x, i & 2 ? bounds.max.y : bounds.min.y,
-                            i & 4 ? bounds.max.z : bounds.min.z);
-    const double z = (view.cam_from_world * glm::dvec4(corner, 1.0)).z;
-    lo = std::min(lo, z);
-    hi = std::max(hi, z);
-  }
-  const double margin = 0.05 * (hi - lo) + 1e-6;
-  render::ViewSetup setup;
-  setup.cam_from_world = glm::mat4(view.cam_from_world);
-  setup.orthographic = c.orthographic;
-  if (c.orthographic) {
-    setup.clip_from_cam = core::ClipFromCamOrthographic(c.fx, c.fy, c.cx, c.cy, c.width, c.height, lo - margin,
-                                                        hi + margin);
-  } else {
-    const double near = std::max(lo - margin, 1e-4 * (hi - lo + 1e-6));
-    setup.clip_from_cam = core::ClipFromCamPerspective(c.fx, c.fy, c.cx, c.cy, c.width, c.height, near,
-                                                       std::max(hi + margin, 2 * near));
-  }
-  return setup;
-}
-
-std::vector<core::ImageF> RenderTruthDepth(render::ProgramCache& programs, const core::TriangleMesh& mesh,
+std::vector<core::ImageF> RenderTruthDepth(render::ProgramCache& programs,
+                                           const core::TriangleMesh& mesh,
                                            const std::vector<ibr::ViewCamera>& views,
                                            const capture::Bounds& bounds) {
   const render::GpuMesh gpu(mesh);
   std::vector<core::ImageF> out;
   for (const ibr::ViewCamera& v : views) {
-    out.push_back(render::RenderMesh(programs, gpu, ViewSetupFor(v, bounds), v.camera.width, v.camera.height).depth);
+    out.push_back(
+        render::RenderMesh(programs, gpu, ViewSetupFor(v, bounds), v.camera.width, v.camera.height)
+            .depth);
   }
   return out;
 }
@@ -78,8 +53,10 @@ std::vector<core::ImageF> RenderTruthDepth(render::ProgramCache& programs, const
 // --------------------------------------------------------------- rows ----
 
 MethodRow EvaluateDepthObject(render::ProgramCache& programs, const ibr::MapSet& maps,
-                              const ibr::DepthObjectOptions& options, const std::vector<ibr::ViewCamera>& views,
-                              const std::vector<core::ImageF>& truth, double cube_edge, const std::string& label) {
+                              const ibr::DepthObjectOptions& options,
+                              const std::vector<ibr::ViewCamera>& views,
+                              const std::vector<core::ImageF>& truth, double cube_edge,
+                              const std::string& label) {
   IBR_CHECK_EQ(views.size(), truth.size());
   IBR_CHECK(!views.empty());
   MethodRow row;
@@ -110,7 +87,8 @@ MethodRow EvaluateDepthObject(render::ProgramCache& programs, const ibr::MapSet&
 void Open3dPeerOptions::Check() const {
   constexpr const char* kWhere = "Open3dPeerOptions";
   if (python.empty()) core::ThrowInputError(kWhere, "python is empty");
-  if (work_dir.empty()) core::ThrowInputError(kWhere, "work_dir is required (meshes and peer.json go there)");
+  if (work_dir.empty())
+    core::ThrowInputError(kWhere, "work_dir is required (meshes and peer.json go there)");
   if (methods.empty()) core::ThrowInputError(kWhere, "no methods");
   for (const std::string& m : methods) {
     const size_t colon = m.find(':');
@@ -123,8 +101,10 @@ void Open3dPeerOptions::Check() const {
         n = 0;
       }
     }
-    if ((name != "tsdf" && name != "carve-depth" && name != "carve-silhouette") || n < 8 || n > 1024) {
-      core::ThrowInputError(kWhere, "method '{}' (tsdf:N, carve-depth:N, carve-silhouette:N, N in 8..1024)", m);
+    if ((name != "tsdf" && name != "carve-depth" && name != "carve-silhouette") || n < 8 ||
+        n > 1024) {
+      core::ThrowInputError(
+          kWhere, "method '{}' (tsdf:N, carve-depth:N, carve-silhouette:N, N in 8..1024)", m);
     }
   }
 }
@@ -142,8 +122,8 @@ Open3dRun RunOpen3dPeer(const std::filesystem::path& dataset, const Open3dPeerOp
   for (const std::string& m : options.methods) methods += (methods.empty() ? "" : ",") + m;
   const std::string command =
       fmt::format("{} {} {} --out {} --methods {} 2>&1", ShellQuote(options.python.string()),
-                  ShellQuote(script.string()), ShellQuote(dataset.string()), ShellQuote(options.work_dir.string()),
-                  ShellQuote(methods));
+                  ShellQuote(script.string()), ShellQuote(dataset.string()),
+                  ShellQuote(options.work_dir.string()), ShellQuote(methods));
   core::Stopwatch watch;
   FILE* pipe = popen(command.c_str(), "r");
   if (!pipe) core::ThrowInputError(kWhere, "cannot run '{}'", command);
@@ -158,9 +138,11 @@ Open3dRun RunOpen3dPeer(const std::filesystem::path& dataset, const Open3dPeerOp
     // Python's (ModuleNotFoundError: No module named 'open3d').
     std::string last = output;
     while (!last.empty() && last.back() == '\n') last.pop_back();
-    last = last.substr(last.find_last_of('\n') == std::string::npos ? 0 : last.find_last_of('\n') + 1);
-    core::ThrowInputError(kWhere, "{} on '{}' failed (exit status {}): {}", script.filename().string(),
-                          dataset.string(), WIFEXITED(status) ? WEXITSTATUS(status) : -1,
+    last =
+        last.substr(last.find_last_of('\n') == std::string::npos ? 0 : last.find_last_of('\n') + 1);
+    core::ThrowInputError(kWhere, "{} on '{}' failed (exit status {}): {}",
+                          script.filename().string(), dataset.string(),
+                          WIFEXITED(status) ? WEXITSTATUS(status) : -1,
                           last.empty() ? std::string("no output") : last);
   }
   std::ifstream in(report);
@@ -194,7 +176,8 @@ Open3dRun RunOpen3dPeer(const std::filesystem::path& dataset, const Open3dPeerOp
 }
 
 std::vector<MethodRow> EvaluatePeer(render::ProgramCache& programs, const Open3dRun& run,
-                                    const std::vector<ibr::ViewCamera>& views, const std::vector<core::ImageF>& truth,
+                                    const std::vector<ibr::ViewCamera>& views,
+                                    const std::vector<core::ImageF>& truth,
                                     const capture::Bounds& bounds, double cube_edge) {
   IBR_CHECK_EQ(views.size(), truth.size());
   IBR_CHECK(!views.empty());
@@ -208,8 +191,9 @@ std::vector<MethodRow> EvaluatePeer(render::ProgramCache& programs, const Open3d
     if (r.mesh.empty()) {
       // Nothing survived: every view is empty.
       for (size_t i = 0; i < views.size(); ++i) {
-        row.per_view.push_back(CompareDepth(core::ImageF(views[i].camera.width, views[i].camera.height, 1, 0.0f),
-                                            truth[i], cube_edge));
+        row.per_view.push_back(
+            CompareDepth(core::ImageF(views[i].camera.width, views[i].camera.height, 1, 0.0f),
+                         truth[i], cube_edge));
       }
     } else {
       const capture::SceneMesh scene = capture::LoadSceneMesh(r.mesh);

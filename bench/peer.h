@@ -29,11 +29,12 @@
 #include <vector>
 
 #include "capture/dataset.h"
-#include "core/metrics.h"
 #include "core/image.h"
 #include "core/mesh.h"
+#include "core/metrics.h"
 #include "ibr/depth_object.h"
 #include "ibr/image_maps.h"
+#include "ibr/views.h"
 #include "render/passes/mesh_pass.h"
 #include "render/gl/shader_program.h"
 
@@ -50,12 +51,12 @@ using core::ViewMetrics;
 // The largest edge of the bounds: the unit of every depth error.
 double CubeEdge(const capture::Bounds& bounds);
 
-// The render setup (near/far around `bounds`, which must enclose what is
-// drawn) for a novel view.
-render::ViewSetup ViewSetupFor(const ibr::ViewCamera& view, const capture::Bounds& bounds);
+// The render setup for a novel view: ibr/views.h.
+using ibr::ViewSetupFor;
 
 // The true mesh (world coordinates) from every view: camera z, 0 = empty.
-std::vector<core::ImageF> RenderTruthDepth(render::ProgramCache& programs, const core::TriangleMesh& mesh,
+std::vector<core::ImageF> RenderTruthDepth(render::ProgramCache& programs,
+                                           const core::TriangleMesh& mesh,
                                            const std::vector<ibr::ViewCamera>& views,
                                            const capture::Bounds& bounds);
 
@@ -63,21 +64,23 @@ std::vector<core::ImageF> RenderTruthDepth(render::ProgramCache& programs, const
 
 // One method's line of the comparison.
 struct MethodRow {
-  std::string method;            // "depth-object screen 256", "open3d tsdf:128", ...
-  double build_s = 0;            // Open3D: integration/carving + extraction; ours: 0
-  double upload_ms = 0;          // maps (ours) or mesh (peer) to the GPU
-  double first_frame_ms = 0;     // first frame incl. readback
+  std::string method;         // "depth-object screen 256", "open3d tsdf:128", ...
+  double build_s = 0;         // Open3D: integration/carving + extraction; ours: 0
+  double upload_ms = 0;       // maps (ours) or mesh (peer) to the GPU
+  double first_frame_ms = 0;  // first frame incl. readback
   double time_to_first_image_s = 0;
-  double median_frame_ms = 0;    // the other views' frames
-  int64_t triangles = 0;         // peer meshes; 0 for ours
+  double median_frame_ms = 0;  // the other views' frames
+  int64_t triangles = 0;       // peer meshes; 0 for ours
   PooledMetrics accuracy;
   std::vector<ViewMetrics> per_view;
 };
 
 // Our renderer from every view (first view: time to first image).
 MethodRow EvaluateDepthObject(render::ProgramCache& programs, const ibr::MapSet& maps,
-                              const ibr::DepthObjectOptions& options, const std::vector<ibr::ViewCamera>& views,
-                              const std::vector<core::ImageF>& truth, double cube_edge, const std::string& label);
+                              const ibr::DepthObjectOptions& options,
+                              const std::vector<ibr::ViewCamera>& views,
+                              const std::vector<core::ImageF>& truth, double cube_edge,
+                              const std::string& label);
 
 // ------------------------------------------------------------ Open3D ----
 
@@ -88,7 +91,8 @@ struct Open3dPeerOptions {
   // "tsdf:N" (voxel = cube edge / N), "carve-depth:N", "carve-silhouette:N"
   // (N^3 voxels); N in 8..1024. Defaults: PEERS.md's settings minus the
   // 256^3 carving (~13 s a run on a quiet machine; ask for it by name).
-  std::vector<std::string> methods = {"tsdf:128", "tsdf:256", "carve-depth:128", "carve-silhouette:128"};
+  std::vector<std::string> methods = {"tsdf:128", "tsdf:256", "carve-depth:128",
+                                      "carve-silhouette:128"};
   std::filesystem::path work_dir;  // required: PLYs and peer.json are written here
   void Check() const;
 };
@@ -96,10 +100,10 @@ struct Open3dPeerOptions {
 struct Open3dResult {
   std::string method;  // "tsdf", "carve-depth", "carve-silhouette"
   int resolution = 0;
-  double voxel_size = 0;    // scene units
+  double voxel_size = 0;  // scene units
   int views_used = 0;
-  double integrate_s = 0;   // integration (TSDF) or carving, wall time
-  double extract_s = 0;     // mesh extraction (TSDF) or occupancy -> box faces
+  double integrate_s = 0;  // integration (TSDF) or carving, wall time
+  double extract_s = 0;    // mesh extraction (TSDF) or occupancy -> box faces
   int64_t triangles = 0;
   std::filesystem::path mesh;  // empty when the result has no triangles
   std::string name() const { return method + ":" + std::to_string(resolution); }
@@ -108,7 +112,8 @@ struct Open3dResult {
 struct Open3dRun {
   std::string version;
   int views = 0, skipped_orthographic = 0;
-  double import_s = 0, read_s = 0, wall_s = 0;  // Python's import of open3d, reading the dataset, the whole run
+  double import_s = 0, read_s = 0,
+         wall_s = 0;  // Python's import of open3d, reading the dataset, the whole run
   std::vector<Open3dResult> results;
 };
 
@@ -120,7 +125,8 @@ Open3dRun RunOpen3dPeer(const std::filesystem::path& dataset, const Open3dPeerOp
 // Every result's mesh drawn from every view and measured against `truth`.
 // `bounds` encloses the meshes (the dataset's bounds, padded) for near/far.
 std::vector<MethodRow> EvaluatePeer(render::ProgramCache& programs, const Open3dRun& run,
-                                    const std::vector<ibr::ViewCamera>& views, const std::vector<core::ImageF>& truth,
+                                    const std::vector<ibr::ViewCamera>& views,
+                                    const std::vector<core::ImageF>& truth,
                                     const capture::Bounds& bounds, double cube_edge);
 
 }  // namespace bench

@@ -7,23 +7,28 @@
 
 #include "core/check.h"
 #include "core/error.h"
+#include "core/metrics.h"
 
 namespace core {
 
 void DisplacementErrorOptions::Check() const {
   if (!(depth_unit > 0) || !std::isfinite(depth_unit)) {
-    core::ThrowInputError("DisplacementErrorOptions", "depth_unit {} must be finite and > 0", depth_unit);
+    core::ThrowInputError("DisplacementErrorOptions", "depth_unit {} must be finite and > 0",
+                          depth_unit);
   }
   if (interior_margin_px < 0 || interior_margin_px > 64) {
-    core::ThrowInputError("DisplacementErrorOptions", "interior margin {} px outside 0..64", interior_margin_px);
+    core::ThrowInputError("DisplacementErrorOptions", "interior margin {} px outside 0..64",
+                          interior_margin_px);
   }
   if (!(see_through_depth > 0)) {
-    core::ThrowInputError("DisplacementErrorOptions", "see_through_depth {} must be > 0", see_through_depth);
+    core::ThrowInputError("DisplacementErrorOptions", "see_through_depth {} must be > 0",
+                          see_through_depth);
   }
 }
 
 DisplacementError CompareToGroundTruth(const core::Image8& color, const core::ImageF& depth,
-                                       const core::Image8& truth_color, const core::ImageF& truth_depth,
+                                       const core::Image8& truth_color,
+                                       const core::ImageF& truth_depth,
                                        const DisplacementErrorOptions& options) {
   options.Check();
   const int w = truth_color.width(), h = truth_color.height();
@@ -33,48 +38,42 @@ DisplacementError CompareToGroundTruth(const core::Image8& color, const core::Im
     core::ThrowInputError("CompareToGroundTruth", "images differ in size or are not RGBA + depth");
   }
   auto covered = [](const core::Image8& c, int x, int y) { return c.at(x, y, 3) == 255; };
+  const core::ViewMetrics m = core::CompareFrames(color, depth, truth_color, truth_depth,
+                                                  static_cast<double>(options.depth_unit));
   DisplacementError e;
-  std::vector<double> errors;
-  const int m = options.interior_margin_px;
+  e.truth_pixels = static_cast<int>(m.truth_pixels);
+  e.rendered_pixels = static_cast<int>(m.rendered_pixels);
+  e.both_pixels = static_cast<int>(m.both_pixels);
+  e.coverage_iou = m.iou;
+  e.mean_depth_error = m.depth.mean;
+  e.p95_depth_error = m.depth.p95;
+  e.max_depth_error = m.depth.max;
+  // See-through (the paper's Figure 4): interior truth pixels left empty or
+  // showing something far behind.
+  const int m_px = options.interior_margin_px;
   for (int y = 0; y < h; ++y) {
     for (int x = 0; x < w; ++x) {
       const bool t = covered(truth_color, x, y), r = covered(color, x, y);
-      e.truth_pixels += t;
-      e.rendered_pixels += r;
-      if (t && r) {
-        ++e.both_pixels;
-        errors.push_back(std::abs(static_cast<double>(depth.at(x, y)) - truth_depth.at(x, y)) / options.depth_unit);
-      }
-      const bool behind = t && r && depth.at(x, y) - truth_depth.at(x, y) > options.see_through_depth * options.depth_unit;
+      const bool behind =
+          t && r &&
+          depth.at(x, y) - truth_depth.at(x, y) > options.see_through_depth * options.depth_unit;
       if ((t && !r) || behind) {
-        bool interior = x >= m && y >= m && x < w - m && y < h - m;
-        for (int dy = -m; interior && dy <= m; ++dy) {
-          for (int dx = -m; interior && dx <= m; ++dx) interior = covered(truth_color, x + dx, y + dy);
+        bool interior = x >= m_px && y >= m_px && x < w - m_px && y < h - m_px;
+        for (int dy = -m_px; interior && dy <= m_px; ++dy) {
+          for (int dx = -m_px; interior && dx <= m_px; ++dx)
+            interior = covered(truth_color, x + dx, y + dy);
         }
         e.see_through_pixels += interior;
       }
     }
   }
-  const int union_pixels = e.truth_pixels + e.rendered_pixels - e.both_pixels;
-  e.coverage_iou = union_pixels == 0 ? 1.0 : static_cast<double>(e.both_pixels) / union_pixels;
-  if (errors.empty()) {
-    e.mean_depth_error = e.p95_depth_error = e.max_depth_error = std::numeric_limits<double>::quiet_NaN();
-    return e;
-  }
-  double sum = 0;
-  for (double v : errors) sum += v;
-  e.mean_depth_error = sum / static_cast<double>(errors.size());
-  // Nearest-rank 95th percentile.
-  const size_t rank = static_cast<size_t>(std::ceil(0.95 * static_cast<double>(errors.size()))) - 1;
-  std::nth_element(errors.begin(), errors.begin() + static_cast<std::ptrdiff_t>(rank), errors.end());
-  e.p95_depth_error = errors[rank];
-  e.max_depth_error = *std::max_element(errors.begin(), errors.end());
   return e;
 }
 
 float HeightTexelWorldSize(const core::TriangleMesh& base, int texels, float tiling) {
   if (texels < 1 || !(tiling > 0) || base.uvs.empty()) {
-    core::ThrowInputError("HeightTexelWorldSize", "need texels >= 1, tiling > 0 and a mesh with uvs");
+    core::ThrowInputError("HeightTexelWorldSize",
+                          "need texels >= 1, tiling > 0 and a mesh with uvs");
   }
   double ratio_sum = 0;
   int edges = 0;
@@ -87,7 +86,8 @@ float HeightTexelWorldSize(const core::TriangleMesh& base, int texels, float til
       ++edges;
     }
   }
-  if (edges == 0) core::ThrowInputError("HeightTexelWorldSize", "every face has a degenerate uv layout");
+  if (edges == 0)
+    core::ThrowInputError("HeightTexelWorldSize", "every face has a degenerate uv layout");
   return static_cast<float>(ratio_sum / edges / (static_cast<double>(texels) * tiling));
 }
 

@@ -27,7 +27,8 @@ struct DisplacementError {
   int rendered_pixels = 0;  // covered in the rendering
   int both_pixels = 0;
   double coverage_iou = 1;  // both / union; 1 when both are empty
-  // |camera z - truth camera z| / depth_unit over pixels covered in both; NaN when there are none.
+  // |camera z - truth camera z| / depth_unit over pixels covered in both
+  // (core/metrics.h: nearest-rank p95; NaN when there are none).
   double mean_depth_error = 0;
   double p95_depth_error = 0;
   double max_depth_error = 0;

@@ -92,6 +92,12 @@ ViewMetrics CompareDepth(const ImageF& depth, const ImageF& truth_depth, double 
                      depth_unit);
 }
 
+ViewMetrics CompareFrames(const Image8& color, const ImageF& depth, const Image8& truth_color,
+                          const ImageF& truth_depth, double depth_unit) {
+  return CompareView(CoverageFromAlpha(color), depth, CoverageFromAlpha(truth_color), truth_depth,
+                     depth_unit);
+}
+
 PooledMetrics Pool(const std::vector<ViewMetrics>& views) {
   PooledMetrics p;
   p.views = static_cast<int>(views.size());

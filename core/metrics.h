@@ -55,6 +55,10 @@ ViewMetrics CompareView(const Image8& coverage, const ImageF& depth, const Image
 // The common case: coverage from the depth images themselves (0 = empty).
 ViewMetrics CompareDepth(const ImageF& depth, const ImageF& truth_depth, double depth_unit = 1.0);
 
+// Frames drawn by the passes: coverage = alpha 255 of the RGBA8 colours.
+ViewMetrics CompareFrames(const Image8& color, const ImageF& depth, const Image8& truth_color,
+                          const ImageF& truth_depth, double depth_unit = 1.0);
+
 // Over several views: IoU mean and worst view, depth errors pooled over every
 // pixel of every view (not a mean of per-view means).
 struct PooledMetrics {

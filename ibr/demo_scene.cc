@@ -2,23 +2,27 @@
 
 #include <algorithm>
 #include <cstdlib>
+#include <sstream>
 
+#include "capture/builtin_scenes.h"
 #include "capture/synthetic.h"
 #include "core/error.h"
-#include "ibr/dataset_maps.h"
-#include "ibr/views.h"
-#include "capture/builtin_scenes.h"
 #include "core/metrics.h"
+#include "core/timing.h"
+#include "datasets/embedded.h"
+#include "ibr/dataset_maps.h"
+#include "ibr/scene_renderer.h"
+#include "ibr/views.h"
 #include "render/gl/gl.h"
+#include "scene/scene.h"
 
 namespace ibr {
 
 void DepthObjectDemoOptions::Check() const {
-  if (capture_size < 16 || capture_size > 8192 || size < 16 || size > 8192) {
-    core::ThrowInputError("DepthObjectDemoOptions", "sizes {} / {} outside 16..8192", capture_size, size);
-  }
-  if (frames < 1 || frames > 1000) core::ThrowInputError("DepthObjectDemoOptions", "frames {} outside 1..1000", frames);
-  render.Check();
+  if (size < 16 || size > 8192)
+    core::ThrowInputError("DepthObjectDemoOptions", "size {} outside 16..8192", size);
+  if (frames < 1 || frames > 1000)
+    core::ThrowInputError("DepthObjectDemoOptions", "frames {} outside 1..1000", frames);
 }
 
 std::filesystem::path SharedDataDir() { return capture::DefaultSharedDataDir(); }
@@ -27,20 +31,8 @@ MeshAccuracy CompareToMesh(render::ProgramCache& programs, const capture::SceneM
                            const ViewCamera& view, const core::ImageF& depth, double edge) {
   glm::vec3 lo, hi;
   scene.mesh.Bounds(lo, hi);
-  const glm::dvec3 centre = 0.5 * (glm::dvec3(lo) + glm::dvec3(hi));
-  const double radius = 0.5 * glm::length(glm::dvec3(hi) - glm::dvec3(lo));
-  capture::RigView rv;
-  rv.name = "truth";
-  rv.camera = view.camera.orthographic
-                  ? capture::Camera::Orthographic(view.camera.width, view.camera.height, view.camera.fx,
-                                                  view.camera.fy, view.camera.cx, view.camera.cy)
-                  : capture::Camera::Pinhole(view.camera.width, view.camera.height, view.camera.fx,
-                                             view.camera.fy, view.camera.cx, view.camera.cy);
-  rv.cam_from_world.rotation = glm::dmat3(view.cam_from_world);
-  rv.cam_from_world.translation = glm::dvec3(view.cam_from_world[3]);
-  const double d = glm::length(rv.cam_from_world.Centre() - centre);
-  rv.near = std::max(d - 2 * radius, 1e-3 * d);
-  rv.far = d + 2 * radius;
+  const capture::RigView rv =
+      RigViewFor(view, capture::Bounds{glm::dvec3(lo), glm::dvec3(hi)}, "truth");
   capture::CaptureOptions co;
   co.size = std::max(view.camera.width, 16);
   const capture::CapturedView truth = capture::RenderView(programs, scene, rv, co);
@@ -58,60 +50,63 @@ MeshAccuracy CompareToMesh(render::ProgramCache& programs, const capture::SceneM
   return a;
 }
 
-DepthObjectDemoResult RunDepthObjectDemo(render::ProgramCache& programs, const DepthObjectDemoOptions& options) {
+DepthObjectDemoResult RunDepthObjectDemo(render::ProgramCache& programs,
+                                         const DepthObjectDemoOptions& options) {
   options.Check();
-  DepthObjectDemoResult result;
-  core::Stopwatch watch;
-  const capture::SceneMesh scene = capture::LoadSceneMesh(options.mesh);
-  glm::vec3 lo, hi;
-  scene.mesh.Bounds(lo, hi);
-  const capture::Bounds bounds{glm::dvec3(lo), glm::dvec3(hi)};
-  capture::CaptureOptions co;
-  co.size = options.capture_size;
-  co.rig = "cube";
-  MapSet maps;
-  const glm::dvec3 ext = bounds.extent();
-  const double edge = std::max({ext.x, ext.y, ext.z});
-  maps.world_from_box = BoxFromBounds(bounds.min - 0.02 * edge, bounds.max + 0.02 * edge);
-  for (const capture::RigView& rv : capture::MakeRig(capture::RigSpec::Parse("cube"), bounds, co)) {
-    const capture::CapturedView cv = capture::RenderView(programs, scene, rv, co);
-    maps.maps.push_back({rv.name, MapCameraFrom(rv.camera, rv.name), Mat4From(rv.cam_from_world), cv.depth,
-                         cv.color, cv.mask});
+  const std::string file = options.scene + ".json";
+  std::string_view text;
+  for (const auto& f : datasets::EmbeddedFiles()) {
+    if (f.name == file) text = f.source;
   }
+  if (text.empty())
+    core::ThrowInputError("RunDepthObjectDemo", "no built-in scene '{}'", options.scene);
+  scene::ReadOptions read;
+  read.shared_data = SharedDataDir();
+  std::istringstream in{std::string(text)};
+  scene::Scene s = scene::ReadScene(in, file, read);
+  const scene::Object& object = s.objects.front();
+  if ((object.type != scene::ObjectType::kDepthObject &&
+       object.type != scene::ObjectType::kVisualHull) ||
+      object.images.capture_mesh.file.empty()) {
+    core::ThrowInputError("RunDepthObjectDemo",
+                          "scene '{}': the first object must be captured from a mesh file",
+                          options.scene);
+  }
+  s.cameras = scene::Cameras{};
+  s.cameras.orbit_count = options.frames;
+  s.cameras.orbit_size = options.size;
+  DepthObjectDemoResult result;
+  result.description = s.description;
+  result.capture_size = object.images.capture_size;
+  core::Stopwatch watch;
+  const LoadedScene loaded = LoadScene(programs, s);
   result.capture_seconds = watch.ElapsedMs() / 1000.0;
+  result.render = loaded.objects.front().depth_object;
+  const capture::SceneMesh truth_mesh = capture::LoadSceneMesh(object.images.capture_mesh.file);
+  glm::vec3 lo, hi;
+  truth_mesh.mesh.Bounds(lo, hi);
+  const glm::vec3 ext = hi - lo;
+  const double edge = std::max({ext.x, ext.y, ext.z});
 
-  DepthObjectRenderer renderer(programs, std::move(maps));
-  OrbitOptions orbit;
-  orbit.count = options.frames;
-  orbit.size = options.size;
-  const std::vector<NamedView> views = OrbitViews(renderer.maps(), orbit);
-  render::RenderTarget output(DepthObjectRenderer::OutputTargetOptions(options.size, options.size));
-  renderer.Render(views[0].view, options.render, output);  // warm-up: shader compilation
-  glFinish();
+  SceneRenderer renderer(programs, loaded);
+  renderer.Render(loaded.views.front().view);  // warm-up: shader compilation
   std::vector<double> times, depth_errors;
   double iou_sum = 0;
-  for (const NamedView& v : views) {
+  for (const NamedView& v : loaded.views) {
     core::Stopwatch frame_watch;
-    renderer.Render(v.view, options.render, output);
-    glFinish();
+    SceneFrame frame = renderer.Render(v.view);
     times.push_back(frame_watch.ElapsedMs());
-    const core::Image8 color = output.ReadColor8(0);
-    const core::ImageF zc = output.ReadColorF(1);
-    core::ImageF depth(zc.width(), zc.height(), 1);
-    for (int y = 0; y < zc.height(); ++y) {
-      for (int x = 0; x < zc.width(); ++x) depth.at(x, y) = zc.at(x, y, 1) > 0.5f ? zc.at(x, y, 0) : 0.0f;
-    }
-    MeshAccuracy acc = CompareToMesh(programs, scene, v.view, depth, edge);
+    MeshAccuracy acc = CompareToMesh(programs, truth_mesh, v.view, frame.depth, edge);
     depth_errors.insert(depth_errors.end(), acc.depth_errors.begin(), acc.depth_errors.end());
     iou_sum += acc.iou;
     result.iou_min = std::min(result.iou_min, acc.iou);
     result.names.push_back(v.name);
-    result.frames.push_back(color);
-    result.depths.push_back(depth);
+    result.frames.push_back(std::move(frame.color));
+    result.depths.push_back(std::move(frame.depth));
     result.truth.push_back(std::move(acc.truth));
   }
   result.timing = core::Summarize(times);
-  result.iou_mean = iou_sum / views.size();
+  result.iou_mean = iou_sum / static_cast<double>(loaded.views.size());
   const core::ErrorStats depth = core::SummarizeErrors(std::move(depth_errors));
   result.depth_mean = depth.mean;
   result.depth_p95 = depth.p95;

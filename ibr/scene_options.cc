@@ -3,31 +3,106 @@
 #include "core/error.h"
 
 namespace ibr {
+namespace {
+
+// Runs `parse` on the setting's string; its InputError is re-thrown naming where.
+template <typename Parse>
+auto Named(const scene::Settings& s, const std::string& key, const std::string& fallback,
+           Parse parse) {
+  const std::string text = s.GetString(key, fallback);
+  try {
+    return parse(text);
+  } catch (const core::InputError& e) {
+    s.Fail(key, e.what());
+  }
+}
+
+// `check` throws InputError naming the option struct; re-thrown naming the first key given.
+template <typename Options>
+void CheckNamed(const Options& o, const scene::Settings& s) {
+  try {
+    o.Check();
+  } catch (const core::InputError& e) {
+    const std::string where =
+        s.values().empty() ? std::string("options") : s.values().begin()->second.where;
+    throw core::InputError(fmt::format("{}: {}", where, e.what()));
+  }
+}
+
+}  // namespace
+
+DepthObjectOptions DepthObjectOptionsFrom(const scene::Settings& s) {
+  DepthObjectOptions o;
+  o.method = Named(s, "method", MethodName(o.method), MethodFromName);
+  o.slicing = Named(s, "slicing", SlicingName(o.slicing), SlicingFromName);
+  o.texturing = Named(s, "texturing", TexturingName(o.texturing), TexturingFromName);
+  // "auto" or a count (a literal 0 is not a spelling of auto).
+  if (const scene::Setting* v = s.Find("slices"); v != nullptr && v->value.is_string()) {
+    o.slices = Named(s, "slices", "auto", SliceCountFromName);
+  } else if (v != nullptr) {
+    const int n = s.GetInt("slices", 0);
+    try {
+      o.slices = SliceCountFromName(std::to_string(n));
+    } catch (const core::InputError& e) {
+      s.Fail("slices", e.what());
+    }
+  }
+  o.robust_k = s.GetInt("robust", o.robust_k);
+  if (o.robust_k < 0) s.Fail("robust", fmt::format("robust k {} must be >= 0", o.robust_k));
+  o.refine_steps = s.GetInt("refine_steps", o.refine_steps);
+  if (o.refine_steps < 0 || o.refine_steps > 64) {
+    s.Fail("refine_steps", fmt::format("{} refine steps outside 0..64", o.refine_steps));
+  }
+  o.outside = Named(s, "outside", "pass", [](const std::string& t) {
+    if (t != "pass" && t != "fail") core::ThrowInputError("outside", "'{}' (pass, fail)", t);
+    return t == "pass" ? OutsidePolicy::kPass : OutsidePolicy::kFail;
+  });
+  o.invalid_depth = Named(s, "invalid_depth", "empty", [](const std::string& t) {
+    if (t != "empty" && t != "no-constraint")
+      core::ThrowInputError("invalid_depth", "'{}' (empty, no-constraint)", t);
+    return t == "empty" ? InvalidDepthPolicy::kEmpty : InvalidDepthPolicy::kNoConstraint;
+  });
+  CheckNamed(o, s);
+  return o;
+}
+
+DisplacedMeshOptions DisplacedMeshOptionsFrom(const scene::Settings& s) {
+  DisplacedMeshOptions o;
+  o.method = Named(s, "method", DisplacementMethodName(o.method), DisplacementMethodFromName);
+  o.max_displacement = static_cast<float>(s.GetDouble("max_displacement", o.max_displacement));
+  if (!(o.max_displacement > 0 && o.max_displacement <= 10)) {
+    s.Fail("max_displacement", fmt::format("{} outside (0, 10]", o.max_displacement));
+  }
+  o.tiling = static_cast<float>(s.GetDouble("tiling", o.tiling));
+  if (!(o.tiling > 0 && o.tiling <= 1024))
+    s.Fail("tiling", fmt::format("{} outside (0, 1024]", o.tiling));
+  o.slices = s.GetInt("slices", o.slices);
+  if (o.slices < 1 || o.slices > 4096)
+    s.Fail("slices", fmt::format("{} outside 1..4096", o.slices));
+  o.steps = s.GetInt("steps", o.steps);
+  if (o.steps < 1 || o.steps > 4096) s.Fail("steps", fmt::format("{} outside 1..4096", o.steps));
+  CheckNamed(o, s);
+  return o;
+}
+
+scene::Settings SettingsFromFlags(const DepthObjectFlags& f) {
+  scene::Settings s;
+  s.Set("method", f.method, "--method");
+  s.Set("slicing", f.slicing, "--slicing");
+  s.Set("slices", f.slices, "--slices");
+  s.Set("robust", f.robust, "--robust");
+  s.Set("texturing", f.texturing, "--texturing");
+  s.Set("outside", f.outside, "--outside");
+  s.Set("invalid_depth", f.invalid_depth, "--invalid-depth");
+  return s;
+}
 
 DepthObjectOptions DepthObjectOptionsFromJson(const nlohmann::json& render,
                                               const std::string& where) {
-  DepthObjectOptions o;
-  try {
-    if (render.contains("method"))
-      o.method = MethodFromName(render.at("method").get<std::string>());
-    if (render.contains("slicing"))
-      o.slicing = SlicingFromName(render.at("slicing").get<std::string>());
-    if (render.contains("texturing"))
-      o.texturing = TexturingFromName(render.at("texturing").get<std::string>());
-    if (render.contains("slices")) {
-      // "auto" or a count >= 1 (a literal 0 is not a spelling of auto).
-      const nlohmann::json& v = render.at("slices");
-      o.slices = v.is_string() ? SliceCountFromName(v.get<std::string>())
-                               : SliceCountFromName(std::to_string(v.get<int>()));
-    }
-    if (render.contains("robust")) o.robust_k = render.at("robust").get<int>();
-  } catch (const nlohmann::json::exception& e) {
-    core::ThrowInputError(where, "bad render options: {}", e.what());
-  } catch (const core::InputError& e) {
-    core::ThrowInputError(where, "{}", e.what());
-  }
-  o.Check();
-  return o;
+  if (!render.is_object()) core::ThrowInputError(where, "render options must be an object");
+  scene::Settings s;
+  for (const auto& [key, value] : render.items()) s.Set(key, value, where + " /" + key);
+  return DepthObjectOptionsFrom(s);
 }
 
 }  // namespace ibr

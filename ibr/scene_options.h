@@ -1,16 +1,41 @@
-// Rendering options from a built-in scene's "render" object
-// (datasets/scenes/*.json): the same names as `ibr render`'s options.
+// The one mapping from option names to options structs, shared by the
+// command line (`ibr render`, `ibr view`: flags -> scene::Settings with
+// where = "--flag") and scene files (scene/scene.h: where = the file and the
+// JSON pointer). Errors name `where`.
 #pragma once
 
 #include <nlohmann/json.hpp>
 #include <string>
 
 #include "ibr/depth_object.h"
+#include "ibr/displaced_mesh.h"
+#include "scene/scene.h"
 
 namespace ibr {
 
-// Keys: method, slicing, slices (a count or "auto"), texturing, robust (all optional; defaults are
-// DepthObjectOptions'). InputError naming `where` and the key on a bad value.
+// Keys: method (depth-object | visual-hull), slicing (orthogonal | screen |
+// ray), slices (a count or "auto"), texturing (vdt | visibility | none), robust (k), outside
+// (pass | fail), invalid_depth (empty | no-constraint), refine_steps. Missing
+// keys keep DepthObjectOptions' defaults.
+DepthObjectOptions DepthObjectOptionsFrom(const scene::Settings& settings);
+
+// Keys: method (DisplacementMethodNames()), max_displacement, tiling, slices, steps.
+DisplacedMeshOptions DisplacedMeshOptionsFrom(const scene::Settings& settings);
+
+// The command line's depth-object flags as settings (where = "--flag").
+struct DepthObjectFlags {
+  std::string method = "depth-object";
+  std::string slicing = "orthogonal";
+  int slices = 128;
+  int robust = 0;
+  std::string texturing = "vdt";
+  std::string outside = "pass";
+  std::string invalid_depth = "empty";
+};
+scene::Settings SettingsFromFlags(const DepthObjectFlags& flags);
+
+// A built-in scene's render options as a JSON object (the keys above); where
+// = `where` + the key.
 DepthObjectOptions DepthObjectOptionsFromJson(const nlohmann::json& render,
                                               const std::string& where);
 

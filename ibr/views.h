@@ -1,11 +1,17 @@
 // Novel cameras for rendering image-based objects: turntable orbits around
-// the object's box, and other datasets' cameras resized to an output size.
+// the object's box, and other datasets' cameras resized to an output size;
+// and the one conversion between the view cameras here (ibr::ViewCamera),
+// capture's rig views (capture::RigView, what capture::RenderView and
+// DatasetWriter take) and render passes' ViewSetup.
 #pragma once
 
 #include <string>
 #include <vector>
 
+#include "capture/dataset.h"
+#include "capture/synthetic.h"
 #include "ibr/image_maps.h"
+#include "render/passes/mesh_pass.h"
 
 namespace ibr {
 
@@ -15,17 +21,31 @@ struct NamedView {
 };
 
 struct OrbitOptions {
-  int count = 24;              // views around the full circle (>= 1)
-  int size = 512;              // pixels, square
-  glm::dvec3 up{0, 1, 0};      // turntable axis (OBJ meshes are y-up; capture's default)
-  double elevation_deg = 20;   // camera height above the box centre's horizontal plane
-  double fov_deg = 40;         // full field of view; the distance frames the box's bounding sphere
+  int count = 24;             // views around the full circle (>= 1)
+  int size = 512;             // pixels, square
+  glm::dvec3 up{0, 1, 0};     // turntable axis (OBJ meshes are y-up; capture's default)
+  double elevation_deg = 20;  // camera height above the box centre's horizontal plane
+  double fov_deg = 40;        // full field of view; the distance frames the box's bounding sphere
   void Check() const;
 };
 
 // `count` pinhole views on a circle around the box centre, looking at it,
 // named "orbit_000", ...
 std::vector<NamedView> OrbitViews(const MapSet& maps, const OrbitOptions& options);
+
+// The same turntable around any box: [0,1]^3 -> world (affine).
+std::vector<NamedView> OrbitViews(const glm::dmat4& world_from_box, const OrbitOptions& options);
+
+// Conversions between camera types (the one place they happen).
+capture::Camera CaptureCamera(const MapCamera& camera);
+capture::Rigid3 RigidFromMat4(const glm::dmat4& cam_from_world);  // inverse of ibr::Mat4From
+ViewCamera ViewCameraFrom(const capture::RigView& view);
+// A rig view with a clip range that holds `bounds` (for capture::RenderView).
+capture::RigView RigViewFor(const ViewCamera& view, const capture::Bounds& bounds,
+                            const std::string& name);
+// Pass inputs for a view: clip range = camera z range of the bounds' corners,
+// widened by 5 %, near kept in front of the camera.
+render::ViewSetup ViewSetupFor(const ViewCamera& view, const capture::Bounds& bounds);
 
 // A camera scaled to `width` pixels wide (height keeps the aspect ratio).
 MapCamera ResizeCamera(const MapCamera& camera, int width);

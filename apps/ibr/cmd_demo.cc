@@ -1,28 +1,22 @@
-// `ibr demo`: the main job on the built-in default scene. It grows with the
-// renderer's capabilities; for now the displaced donut (issue 4), until depth
-// objects exist.
-#include <filesystem>
-
+// `ibr demo`: the main job on the built-in default scene: the displaced donut
+// (issue 4) beside its tessellated truth, and the default scene's depth
+// object (spot-cube, through the scene path) beside the true mesh.
 #include <fmt/format.h>
-#include <glm/gtc/matrix_transform.hpp>
 #include <spdlog/spdlog.h>
 
+#include <filesystem>
+
 #include "apps/ibr/commands.h"
-#include "capture/builtin_scenes.h"
-#include "ibr/scene_options.h"
 #include "bench/displacement_bench.h"
 #include "bench/report.h"
 #include "core/atomic_file.h"
 #include "core/error.h"
 #include "core/image_io.h"
-#include "core/projection.h"
 #include "ibr/demo_scene.h"
+#include "ibr/displaced_mesh.h"
 #include "render/gl/context.h"
-#include "render/gl/frame_timer.h"
 #include "core/displacement_error.h"
-#include "render/passes/displacement_pass.h"
-#include "render/gl/gpu_mesh.h"
-#include "render/passes/mesh_pass.h"
+#include "render/gl/frame_timer.h"
 
 namespace apps {
 namespace {
@@ -30,24 +24,16 @@ namespace {
 // Issue 5: Spot (textured) captured with the cube rig, a turntable of its
 // depth object (Kautz-Seidel 2001, sec. 4) beside the true mesh, written into
 // `dir`/depth_object/; returns the lines to print.
-std::vector<std::string> DepthObjectDemo(render::ProgramCache& programs, const std::filesystem::path& dir,
+std::vector<std::string> DepthObjectDemo(render::ProgramCache& programs,
+                                         const std::filesystem::path& dir,
                                          const std::filesystem::path& final_dir, int size) {
-  // The built-in default scene, datasets/scenes/spot-cube.json: its
-  // "render" picks visibility-aware texturing, since the paper's VDT ghosts
-  // where a map saw the far side.
-  const capture::BuiltinScene scene = capture::LoadBuiltinScene("spot-cube");
-  if (scene.capture.rig != "cube" || scene.shared_mesh.empty()) {
-    core::ThrowInputError("ibr demo", "scene '{}' must be a shared mesh on the cube rig", scene.name);
-  }
+  // The built-in default scene, datasets/scenes/spot-cube.json, rendered
+  // through the scene path; its options pick visibility-aware texturing,
+  // since the paper's VDT ghosts where a map saw the far side.
   ibr::DepthObjectDemoOptions o;
-  o.mesh = capture::DefaultSharedDataDir() / scene.shared_mesh;
-  if (!std::filesystem::exists(o.mesh)) {
-    core::ThrowFileError("ibr demo", o.mesh, "the default scene's mesh is missing (set IBR_SHARED_DATA)");
-  }
-  o.capture_size = scene.capture.size;
+  o.scene = "spot-cube";
   o.size = size;
   o.frames = 6;
-  o.render = ibr::DepthObjectOptionsFromJson(scene.render, "scene '" + scene.name + "'");
   const ibr::DepthObjectDemoResult r = ibr::RunDepthObjectDemo(programs, o);
   std::filesystem::create_directories(dir / "depth_object");
   std::vector<core::Image8> sheet;
@@ -57,18 +43,24 @@ std::vector<std::string> DepthObjectDemo(render::ProgramCache& programs, const s
     sheet.push_back(r.frames[i]);
   }
   sheet.insert(sheet.end(), r.truth.begin(), r.truth.end());
-  core::WriteImage(dir / "depth_object_turntable.png", bench::ContactSheet(sheet, static_cast<int>(r.frames.size())));
-  return {fmt::format("demo: scene {}: Spot {} (6 orthographic {}x{} cube maps captured in {:.2f} s, {} {} "
-                      "slices, {} texturing), {} turntable frames at {}x{} px: {:.1f} ms/frame (median; min {:.1f})",
-                      scene.name, ibr::MethodName(o.render.method), o.capture_size, o.capture_size,
-                      r.capture_seconds, o.render.slices, ibr::SlicingName(o.render.slicing),
-                      ibr::TexturingName(o.render.texturing), r.frames.size(), size, size, r.timing.median_ms,
-                      r.timing.min_ms),
-          fmt::format("demo: Spot depth object vs the true mesh: silhouette IoU mean {:.4f} / worst {:.4f}, depth "
-                      "error mean {:.4f} / p95 {:.4f} cube edges",
-                      r.iou_mean, r.iou_min, r.depth_mean, r.depth_p95),
-          fmt::format("demo: wrote {} (top row: depth object, bottom row: true mesh)",
-                      std::filesystem::absolute(final_dir / "depth_object_turntable.png").string())};
+  core::WriteImage(dir / "depth_object_turntable.png",
+                   bench::ContactSheet(sheet, static_cast<int>(r.frames.size())));
+  return {
+      fmt::format(
+          "demo: scene {}: Spot {} (6 orthographic {}x{} cube maps captured in {:.2f} s, {} {} "
+          "slices, {} texturing), {} turntable frames at {}x{} px: {:.1f} ms/frame (median; min "
+          "{:.1f}; "
+          "draw + readback)",
+          o.scene, ibr::MethodName(r.render.method), r.capture_size, r.capture_size,
+          r.capture_seconds, r.render.slices, ibr::SlicingName(r.render.slicing),
+          ibr::TexturingName(r.render.texturing), r.frames.size(), size, size, r.timing.median_ms,
+          r.timing.min_ms),
+      fmt::format("demo: Spot depth object vs the true mesh: silhouette IoU mean {:.4f} / worst "
+                  "{:.4f}, depth "
+                  "error mean {:.4f} / p95 {:.4f} cube edges",
+                  r.iou_mean, r.iou_min, r.depth_mean, r.depth_p95),
+      fmt::format("demo: wrote {} (top row: depth object, bottom row: true mesh)",
+                  std::filesystem::absolute(final_dir / "depth_object_turntable.png").string())};
 }
 
 struct DemoOptions {
@@ -89,52 +81,56 @@ void RunDemo(const DemoOptions& options) {
   // tessellated ground truth from the same camera.
   constexpr float kMaxDisplacement = 0.15f, kTiling = 2.0f;
   constexpr int kTexels = 256, kSlices = 48;
-  const core::TriangleMesh base = bench::DisplacementBaseMesh("torus");
-  const core::ImageF height = bench::DisplacementHeightMap(core::HeightPattern::kBumps, kTexels, 0.15f);
-  const render::Texture texture = render::UploadDisplacementTexture(render::MakeDisplacementTexels(height));
-  const render::ViewSetup view = bench::OrbitView(base, kMaxDisplacement, 35, -60, options.size);
-
-  render::DisplacementPassOptions pass_options;
-  pass_options.slicing.family = render::SliceFamily::kOrthogonal;
-  pass_options.slicing.count = kSlices;
+  ibr::DisplacedMeshData data;
+  data.base = ibr::DisplacementBaseMesh("torus");
+  data.height = ibr::DisplacementHeightMap(core::HeightPattern::kBumps, kTexels, 0.15f);
+  const render::ViewSetup view =
+      bench::OrbitView(data.base, kMaxDisplacement, 35, -60, options.size);
+  ibr::DisplacedMeshOptions pass_options;
+  pass_options.method = ibr::DisplacementMethod::kSlicesOrthogonal;
+  pass_options.slices = kSlices;
   pass_options.max_displacement = kMaxDisplacement;
   pass_options.tiling = kTiling;
-  render::DisplacementPass pass(programs, base, texture, pass_options);
-  render::RenderTarget target(render::FrameTargetOptions(options.size, options.size));
   const render::FrameTimerOptions timer{1, 3};
-  const core::TimingStats timing = render::TimeFrames([&] { render::DrawFrame(target, pass, view); }, timer);
-  render::DrawFrame(target, pass, view);
-  const render::Frame frame = render::ReadFrame(target);
-
-  const render::GpuMesh truth_mesh(render::MakeDisplacedGroundTruth(base, height, kMaxDisplacement, kTiling));
-  render::MeshPassOptions truth_options;
-  truth_options.texture = &texture;
-  truth_options.shade = false;
-  render::MeshPass truth_pass(programs, truth_mesh, truth_options);
-  const core::TimingStats truth_timing =
-      render::TimeFrames([&] { render::DrawFrame(target, truth_pass, view); }, timer);
-  render::DrawFrame(target, truth_pass, view);
-  const render::Frame truth = render::ReadFrame(target);
+  // The method and the tessellated truth through the one method table.
+  auto draw = [&](const ibr::DisplacedMeshOptions& o, core::TimingStats& timing) {
+    ibr::DisplacedMeshRenderer renderer(programs, data, o);
+    timing = render::TimeFrames([&] { renderer.Draw(view, options.size, options.size); }, timer);
+    renderer.Draw(view, options.size, options.size);
+    return renderer.Read();
+  };
+  core::TimingStats timing, truth_timing;
+  const render::DisplacementFrame frame = draw(pass_options, timing);
+  ibr::DisplacedMeshOptions truth_options = pass_options;
+  truth_options.method = ibr::DisplacementMethod::kTessellated;
+  const render::DisplacementFrame truth = draw(truth_options, truth_timing);
 
   core::DisplacementErrorOptions error_options;
-  error_options.depth_unit = core::HeightTexelWorldSize(base, kTexels, kTiling);
-  const core::DisplacementError error =
-      core::CompareToGroundTruth(frame.color, frame.depth, truth.color, truth.depth, error_options);
+  error_options.depth_unit = core::HeightTexelWorldSize(data.base, kTexels, kTiling);
+  const core::DisplacementError error = core::CompareToGroundTruth(
+      frame.color, frame.depth, truth.color, truth.depth, error_options);
 
   core::StagedDirectory out(options.out);
   core::WriteImage(out.path() / "color.png", frame.color);
   core::WriteImage(out.path() / "depth.exr", frame.depth);
   core::WriteImage(out.path() / "ground_truth.png", truth.color);
   core::WriteImage(out.path() / "ground_truth_depth.exr", truth.depth);
-  core::WriteImage(out.path() / "side_by_side.png", bench::ContactSheet({frame.color, truth.color}, 2));
-  const std::vector<std::string> depth_object_lines = DepthObjectDemo(programs, out.path(), options.out, options.size);
+  core::WriteImage(out.path() / "side_by_side.png",
+                   bench::ContactSheet({frame.color, truth.color}, 2));
+  const std::vector<std::string> depth_object_lines =
+      DepthObjectDemo(programs, out.path(), options.out, options.size);
   out.Commit();
-  fmt::print("demo: displaced donut (625 polygons, {} orthogonal slices per face), {}x{} px, {:.2f} ms/frame "
-             "(median of {}); tessellated ground truth {:.2f} ms/frame\n",
-             kSlices, options.size, options.size, timing.median_ms, timing.samples, truth_timing.median_ms);
-  fmt::print("demo: vs ground truth: coverage IoU {:.4f}, depth error mean {:.3f} / p95 {:.3f} height texels, "
-             "{} see-through pixels\n", error.coverage_iou, error.mean_depth_error, error.p95_depth_error,
-             error.see_through_pixels);
+  fmt::print(
+      "demo: displaced donut (625 polygons, {} orthogonal slices per face), {}x{} px, {:.2f} "
+      "ms/frame "
+      "(median of {}); tessellated ground truth {:.2f} ms/frame\n",
+      kSlices, options.size, options.size, timing.median_ms, timing.samples,
+      truth_timing.median_ms);
+  fmt::print(
+      "demo: vs ground truth: coverage IoU {:.4f}, depth error mean {:.3f} / p95 {:.3f} height "
+      "texels, "
+      "{} see-through pixels\n",
+      error.coverage_iou, error.mean_depth_error, error.p95_depth_error, error.see_through_pixels);
   fmt::print("demo: wrote {}\n", std::filesystem::absolute(options.out / "color.png").string());
   for (const std::string& line : depth_object_lines) fmt::print("{}\n", line);
 }

@@ -1,17 +1,20 @@
+// `ibr render SCENE.json`: every camera of a scene file (scene/scene.h)
+// through ibr::RenderSceneToDataset.
 // `ibr render DATASET`: renders the dataset's depth object or visual hull
 // (Kautz-Seidel 2001, sec. 4-5) from novel cameras (another dataset's, or a
 // turntable orbit). Output DIR is itself a dataset: color/NAME.png,
 // depth/NAME.exr (camera z of the first surface, 0 where empty),
 // mask/NAME.png and dataset.json with the cameras; staged, so a failure
 // leaves nothing behind.
+#include <fmt/format.h>
+#include <spdlog/spdlog.h>
+
 #include <algorithm>
 #include <filesystem>
 #include <optional>
 
-#include <fmt/format.h>
-#include <spdlog/spdlog.h>
-
 #include "apps/ibr/commands.h"
+#include "capture/builtin_scenes.h"
 #include "capture/dataset.h"
 #include "core/error.h"
 #include "core/metrics.h"
@@ -19,39 +22,47 @@
 #include "ibr/dataset_maps.h"
 #include "ibr/demo_scene.h"
 #include "ibr/depth_object.h"
+#include "ibr/scene_options.h"
+#include "ibr/scene_renderer.h"
 #include "ibr/views.h"
 #include "render/gl/context.h"
 #include "render/gl/gl.h"
+#include "scene/scene.h"
 
 namespace apps {
 namespace {
 
 struct RenderCommandOptions {
-  std::filesystem::path dataset;
-  std::string method = "depth-object";
-  std::string slicing = "orthogonal";
-  int slices = 256;
-  int robust = 0;
-  std::string texturing = "vdt";
-  std::string outside = "pass";
-  std::string invalid_depth = "empty";
+  std::filesystem::path dataset;  // or a scene file (*.json)
+  ibr::DepthObjectFlags flags{.slices = 256};
   std::filesystem::path cameras;
   int orbit = 0;
-  int size = 0;  // 0: the cameras' own width (--cameras) or 512 (--orbit)
+  int size = 0;                      // 0: the cameras' own width (--cameras) or 512 (--orbit)
   std::filesystem::path truth_mesh;  // optional: report accuracy against this mesh
   std::filesystem::path out;
 };
 
-capture::Camera ToCaptureCamera(const ibr::MapCamera& c) {
-  return c.orthographic ? capture::Camera::Orthographic(c.width, c.height, c.fx, c.fy, c.cx, c.cy)
-                        : capture::Camera::Pinhole(c.width, c.height, c.fx, c.fy, c.cx, c.cy);
-}
-
-capture::Rigid3 ToRigid(const glm::dmat4& m) {
-  capture::Rigid3 r;
-  r.rotation = glm::dmat3(m);
-  r.translation = glm::dvec3(m[3]);
-  return r;
+void RunRenderScene(const RenderCommandOptions& o) {
+  if (!o.cameras.empty() || o.orbit > 0 || o.size > 0 || !o.truth_mesh.empty()) {
+    core::ThrowInputError(
+        "ibr render",
+        "a scene file names its own cameras and options: give only SCENE.json and --out");
+  }
+  const scene::Scene file = scene::ReadScene(o.dataset, capture::DefaultSharedDataDir());
+  auto context = render::HeadlessContext::Create();
+  render::ProgramCache programs;
+  const ibr::LoadedScene loaded = ibr::LoadScene(programs, file);
+  const ibr::SceneRenderStats stats = ibr::RenderSceneToDataset(
+      programs, loaded, o.out, [](const std::string& line) { fmt::print("render: {}\n", line); });
+  std::string passes;
+  for (const std::string& p : stats.passes) passes += (passes.empty() ? "" : ", ") + p;
+  const core::TimingStats t = core::Summarize(stats.frame_ms);
+  fmt::print(
+      "render: scene {}: {} views, passes [{}]{}, {:.1f} ms per frame (median; draw + readback + "
+      "composite) -> {}\n",
+      o.dataset.string(), stats.frame_ms.size(), passes,
+      loaded.disabled.empty() ? "" : fmt::format(" ({} disabled)", loaded.disabled.size()),
+      t.median_ms, std::filesystem::absolute(o.out).string());
 }
 
 void RunRender(const RenderCommandOptions& o) {
@@ -60,23 +71,10 @@ void RunRender(const RenderCommandOptions& o) {
   if (o.cameras.empty() == (o.orbit <= 0)) {
     core::ThrowInputError(kWhere, "give exactly one of --cameras OTHER_DATASET or --orbit N");
   }
-  if (o.size < 0 || o.size > 16384) core::ThrowInputError(kWhere, "--size {} outside 1..16384", o.size);
-  ibr::DepthObjectOptions options;
-  options.method = ibr::MethodFromName(o.method);
-  options.slicing = ibr::SlicingFromName(o.slicing);
-  options.slices = o.slices;
-  options.robust_k = o.robust;
-  options.texturing = ibr::TexturingFromName(o.texturing);
-  if (o.outside != "pass" && o.outside != "fail") {
-    core::ThrowInputError(kWhere, "--outside '{}' (pass, fail)", o.outside);
-  }
-  options.outside = o.outside == "pass" ? ibr::OutsidePolicy::kPass : ibr::OutsidePolicy::kFail;
-  if (o.invalid_depth != "empty" && o.invalid_depth != "no-constraint") {
-    core::ThrowInputError(kWhere, "--invalid-depth '{}' (empty, no-constraint)", o.invalid_depth);
-  }
-  options.invalid_depth = o.invalid_depth == "empty" ? ibr::InvalidDepthPolicy::kEmpty
-                                                     : ibr::InvalidDepthPolicy::kNoConstraint;
-  options.Check();
+  if (o.size < 0 || o.size > 16384)
+    core::ThrowInputError(kWhere, "--size {} outside 1..16384", o.size);
+  const ibr::DepthObjectOptions options =
+      ibr::DepthObjectOptionsFrom(ibr::SettingsFromFlags(o.flags));
 
   // Parse -> plain CPU data -> GPU -> passes.
   const capture::Dataset dataset = capture::ReadDataset(o.dataset);
@@ -97,8 +95,8 @@ void RunRender(const RenderCommandOptions& o) {
     views = ibr::OrbitViews(maps, orbit);
   }
   spdlog::info("render: {} maps from {}, {} views, {} {} slicing, {} slices{}", maps.maps.size(),
-               o.dataset.string(), views.size(), o.method, o.slicing, o.slices,
-               o.robust > 0 ? fmt::format(", robust k={}", o.robust) : "");
+               o.dataset.string(), views.size(), o.flags.method, o.flags.slicing, o.flags.slices,
+               o.flags.robust > 0 ? fmt::format(", robust k={}", o.flags.robust) : "");
 
   auto context = render::HeadlessContext::Create();
   render::ProgramCache programs;
@@ -118,16 +116,17 @@ void RunRender(const RenderCommandOptions& o) {
   double iou_sum = 0, iou_min = 1;
   for (size_t i = 0; i < views.size(); ++i) {
     const ibr::NamedView& v = views[i];
-    render::RenderTarget target(ibr::DepthObjectRenderer::OutputTargetOptions(v.view.camera.width,
-                                                                             v.view.camera.height));
+    render::RenderTarget target(
+        ibr::DepthObjectRenderer::OutputTargetOptions(v.view.camera.width, v.view.camera.height));
     glFinish();
     core::Stopwatch watch;
     renderer.Render(v.view, options, target);
     glFinish();
     times.push_back(watch.ElapsedMs());
     const ibr::DepthObjectFrame frame = ibr::DepthObjectRenderer::ReadFrame(target);
-    const int cam = writer.AddCamera(ToCaptureCamera(v.view.camera));
-    writer.AddView(v.name, cam, ToRigid(v.view.cam_from_world), frame.color, frame.depth, frame.mask, {});
+    const int cam = writer.AddCamera(ibr::CaptureCamera(v.view.camera));
+    writer.AddView(v.name, cam, ibr::RigidFromMat4(v.view.cam_from_world), frame.color, frame.depth,
+                   frame.mask, {});
     int64_t covered = 0;
     for (uint8_t m : frame.mask.values()) covered += m > 0;
     std::string accuracy;
@@ -138,42 +137,61 @@ void RunRender(const RenderCommandOptions& o) {
       iou_min = std::min(iou_min, a.iou);
       accuracy = fmt::format(", vs mesh IoU {:.4f}", a.iou);
     }
-    fmt::print("render: view {}/{} {} {}x{}: {:.1f} ms, {} object pixels{}\n", i + 1, views.size(), v.name,
-               v.view.camera.width, v.view.camera.height, times.back(), covered, accuracy);
+    fmt::print("render: view {}/{} {} {}x{}: {:.1f} ms, {} object pixels{}\n", i + 1, views.size(),
+               v.name, v.view.camera.width, v.view.camera.height, times.back(), covered, accuracy);
   }
   if (truth) {
     const core::ErrorStats e = core::SummarizeErrors(std::move(errors));
-    fmt::print("render: vs {}: silhouette IoU mean {:.4f} / worst {:.4f}; depth error mean {:.5f} / p95 {:.5f} "
-               "of the mesh's largest extent\n", o.truth_mesh.string(), iou_sum / views.size(), iou_min, e.mean,
-               e.p95);
+    fmt::print(
+        "render: vs {}: silhouette IoU mean {:.4f} / worst {:.4f}; depth error mean {:.5f} / p95 "
+        "{:.5f} "
+        "of the mesh's largest extent\n",
+        o.truth_mesh.string(), iou_sum / views.size(), iou_min, e.mean, e.p95);
   }
   if (dataset.bounds) writer.SetBounds(*dataset.bounds);
   writer.SetDepthUnits(dataset.depth_units);
   writer.Commit();
   const core::TimingStats t = core::Summarize(times);
-  fmt::print("render: {} views, {:.1f} ms per frame (median; min {:.1f}; GPU passes + glFinish, no readback) -> {}\n",
-             views.size(), t.median_ms, t.min_ms, std::filesystem::absolute(o.out).string());
+  fmt::print(
+      "render: {} views, {:.1f} ms per frame (median; min {:.1f}; GPU passes + glFinish, no "
+      "readback) -> {}\n",
+      views.size(), t.median_ms, t.min_ms, std::filesystem::absolute(o.out).string());
 }
 
 void AddRenderCommand(CLI::App& app) {
   static RenderCommandOptions o;
-  auto* cmd = app.add_subcommand(
-      "render", "Render a dataset's depth object or visual hull from novel cameras (Kautz-Seidel 2001, sec. 4-5)");
-  cmd->add_option("DATASET", o.dataset, "input dataset directory")->required();
-  cmd->add_option("--method", o.method, "depth-object | visual-hull")->capture_default_str();
-  cmd->add_option("--slicing", o.slicing, "orthogonal | screen | ray")->capture_default_str();
-  cmd->add_option("--slices", o.slices, "slices through the box per frame")->capture_default_str();
-  cmd->add_option("--robust", o.robust, "keep pixels where at least N-K maps agree")->capture_default_str();
-  cmd->add_option("--texturing", o.texturing, "vdt | visibility | none")->capture_default_str();
-  cmd->add_option("--outside", o.outside, "points outside a map's image: pass | fail")->capture_default_str();
-  cmd->add_option("--invalid-depth", o.invalid_depth, "depth 0 inside the mask: empty | no-constraint")
+  auto* cmd = app.add_subcommand("render",
+                                 "Render a scene file, or a dataset's depth object or visual hull "
+                                 "from novel cameras (Kautz-Seidel 2001, sec. 4-5)");
+  cmd->add_option("DATASET", o.dataset, "input dataset directory, or a scene file SCENE.json")
+      ->required();
+  cmd->add_option("--method", o.flags.method, "depth-object | visual-hull")->capture_default_str();
+  cmd->add_option("--slicing", o.flags.slicing, "orthogonal | screen | ray")->capture_default_str();
+  cmd->add_option("--slices", o.flags.slices, "slices through the box per frame")
+      ->capture_default_str();
+  cmd->add_option("--robust", o.flags.robust, "keep pixels where at least N-K maps agree")
+      ->capture_default_str();
+  cmd->add_option("--texturing", o.flags.texturing, "vdt | visibility | none")
+      ->capture_default_str();
+  cmd->add_option("--outside", o.flags.outside, "points outside a map's image: pass | fail")
+      ->capture_default_str();
+  cmd->add_option("--invalid-depth", o.flags.invalid_depth,
+                  "depth 0 inside the mask: empty | no-constraint")
       ->capture_default_str();
   cmd->add_option("--cameras", o.cameras, "render from this other dataset's cameras");
   cmd->add_option("--orbit", o.orbit, "render N views on a turntable orbit");
-  cmd->add_option("--size", o.size, "output width in pixels (default: the cameras' own, orbit 512)");
-  cmd->add_option("--truth-mesh", o.truth_mesh, "also print silhouette IoU and depth error against this mesh");
+  cmd->add_option("--size", o.size,
+                  "output width in pixels (default: the cameras' own, orbit 512)");
+  cmd->add_option("--truth-mesh", o.truth_mesh,
+                  "also print silhouette IoU and depth error against this mesh");
   cmd->add_option("--out", o.out, "output directory (a dataset of the rendered views)")->required();
-  cmd->callback([] { RunRender(o); });
+  cmd->callback([] {
+    if (o.dataset.extension() == ".json") {
+      RunRenderScene(o);
+    } else {
+      RunRender(o);
+    }
+  });
 }
 
 }  // namespace

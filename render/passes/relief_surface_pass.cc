@@ -82,39 +82,6 @@ core::TriangleMesh MakeReliefShell(const core::TriangleMesh& base, float max_dis
   return shell;
 }
 
-SilhouetteError CompareToTruth(const core::Image8& color, const core::ImageF& depth,
-                               const core::Image8& truth_color, const core::ImageF& truth_depth) {
-  IBR_CHECK(color.width() == truth_color.width() && color.height() == truth_color.height());
-  IBR_CHECK(depth.width() == color.width() && truth_depth.width() == color.width());
-  SilhouetteError e;
-  std::vector<double> errors;
-  int64_t both = 0;
-  for (int y = 0; y < color.height(); ++y) {
-    for (int x = 0; x < color.width(); ++x) {
-      const bool a = color.at(x, y, 3) == 255, b = truth_color.at(x, y, 3) == 255;
-      e.rendered_pixels += a;
-      e.truth_pixels += b;
-      if (a != b) ++e.wrong_pixels;
-      if (a && b) {
-        ++both;
-        errors.push_back(std::abs(static_cast<double>(depth.at(x, y)) - truth_depth.at(x, y)));
-      }
-    }
-  }
-  const int64_t uni = both + e.wrong_pixels;
-  e.iou = uni == 0 ? 1.0 : static_cast<double>(both) / static_cast<double>(uni);
-  if (errors.empty()) {
-    e.mean_depth_error = e.p95_depth_error = e.max_depth_error = std::numeric_limits<double>::quiet_NaN();
-    return e;
-  }
-  double sum = 0;
-  for (double v : errors) sum += v;
-  e.mean_depth_error = sum / static_cast<double>(errors.size());
-  e.max_depth_error = *std::max_element(errors.begin(), errors.end());
-  const size_t rank = std::min(errors.size() - 1, static_cast<size_t>(0.95 * static_cast<double>(errors.size())));
-  std::nth_element(errors.begin(), errors.begin() + static_cast<std::ptrdiff_t>(rank), errors.end());
-  e.p95_depth_error = errors[rank];
-  return e;
 }
 
 namespace {

@@ -128,21 +128,6 @@ class ReliefSurface final : public Pass {
   TangentMaps maps_;
 };
 
-// A rendering against the tessellated ground truth from the same view
-// (coverage = alpha 255 in both).
-struct SilhouetteError {
-  int64_t truth_pixels = 0;     // covered in the ground truth
-  int64_t rendered_pixels = 0;  // covered in the rendering
-  int64_t wrong_pixels = 0;     // covered in exactly one of them (silhouette errors)
-  double iou = 1;               // both / union, 1 when both are empty
-  // |camera z - truth camera z| (scene units) over pixels covered in both; NaN if none.
-  double mean_depth_error = 0;
-  double p95_depth_error = 0;
-  double max_depth_error = 0;
-};
-SilhouetteError CompareToTruth(const core::Image8& color, const core::ImageF& depth,
-                               const core::Image8& truth_color, const core::ImageF& truth_depth);
-
 // The outer shell: base + max_displacement * N at every vertex, same uvs and normals.
 core::TriangleMesh MakeReliefShell(const core::TriangleMesh& base, float max_displacement);
 

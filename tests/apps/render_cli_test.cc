@@ -1,11 +1,12 @@
 // `ibr render` end to end: a cube capture of the analytic sphere, rendered as
 // a depth object / visual hull / ray variant from a turntable and from the
 // capture's own cameras; bad input gives one error line and no output.
+#include <gtest/gtest.h>
+
 #include <filesystem>
+#include <fstream>
 #include <string>
 #include <vector>
-
-#include <gtest/gtest.h>
 
 #include "capture/dataset.h"
 #include "core/image_io.h"
@@ -23,7 +24,8 @@ class RenderCliTest : public ::testing::Test {
     dir_ = test_support::TestOutputDir().parent_path() / "render_cli";
     fs::remove_all(dir_);
     fs::create_directories(dir_);
-    const auto r = test_support::RunCommand(test_support::IbrBinary() + " capture --shape sphere --rig cube --size 64 --out " +
+    const auto r = test_support::RunCommand(test_support::IbrBinary() +
+                                            " capture --shape sphere --rig cube --size 64 --out " +
                                             (dir_ / "sphere").string());
     ASSERT_EQ(r.exit_code, 0) << r.err;
   }
@@ -33,14 +35,15 @@ fs::path RenderCliTest::dir_;
 
 TEST_F(RenderCliTest, RendersEveryMethodAndSlicing) {
   const std::string in = (dir_ / "sphere").string();
-  for (const std::string& args : std::vector<std::string>{"--method depth-object --slicing orthogonal --orbit 3",
-                                 "--method visual-hull --slicing screen --texturing none --orbit 2",
-                                 "--method depth-object --slicing ray --texturing visibility --robust 1 --orbit 2",
-                                 "--method depth-object --slicing screen --cameras " + in}) {
+  for (const std::string& args : std::vector<std::string>{
+           "--method depth-object --slicing orthogonal --orbit 3",
+           "--method visual-hull --slicing screen --texturing none --orbit 2",
+           "--method depth-object --slicing ray --texturing visibility --robust 1 --orbit 2",
+           "--method depth-object --slicing screen --cameras " + in}) {
     const fs::path out = dir_ / "out";
     fs::remove_all(out);
-    const auto r = test_support::RunCommand(test_support::IbrBinary() + " render " + in + " " + args +
-                                            " --slices 64 --size 64 --out " + out.string());
+    const auto r = test_support::RunCommand(test_support::IbrBinary() + " render " + in + " " +
+                                            args + " --slices 64 --size 64 --out " + out.string());
     ASSERT_EQ(r.exit_code, 0) << args << "\n" << r.err;
     EXPECT_NE(r.out.find("render: view 1/"), std::string::npos) << "progress lines";
     const capture::Dataset rendered = capture::ReadDataset(out);
@@ -61,13 +64,72 @@ TEST_F(RenderCliTest, RendersEveryMethodAndSlicing) {
 TEST_F(RenderCliTest, BadInputLeavesNoOutput) {
   const std::string in = (dir_ / "sphere").string();
   const fs::path out = dir_ / "bad";
-  for (const std::string& args : std::vector<std::string>{"--method hull --orbit 2", "--slicing diagonal --orbit 2", "--orbit 2 --slices 0",
-                                 "--cameras " + (dir_ / "missing").string(), ""}) {
-    const auto r = test_support::RunCommand(test_support::IbrBinary() + " render " + in + " " + args +
-                                            " --out " + out.string());
+  for (const std::string& args : std::vector<std::string>{
+           "--method hull --orbit 2", "--slicing diagonal --orbit 2", "--orbit 2 --slices 0",
+           "--cameras " + (dir_ / "missing").string(), ""}) {
+    const auto r = test_support::RunCommand(test_support::IbrBinary() + " render " + in + " " +
+                                            args + " --out " + out.string());
     EXPECT_NE(r.exit_code, 0) << args;
     EXPECT_NE(r.err.find("ibr: error:"), std::string::npos) << args << ": " << r.err;
     EXPECT_FALSE(fs::exists(out)) << args;
+  }
+}
+
+// `ibr render SCENE.json`: a depth object of the captured sphere beside a
+// displaced torus; every camera of the scene becomes a view of the output.
+TEST_F(RenderCliTest, RendersASceneFile) {
+  const fs::path scene = dir_ / "two.json";
+  std::ofstream(scene)
+      << R"({"version": 1, "cameras": {"orbit": {"count": 2, "size": 64}}, "objects": [
+    {"type": "depth-object", "images": {"dataset": "sphere"}, "slicing": "ray", "slices": 64,
+     "transform": {"translate": [-1.5, 0, 0]}},
+    {"type": "displaced-mesh", "mesh": {"shape": "torus"}, "height": {"generator": "bumps", "texels": 32},
+     "method": "slices-orthogonal", "slices": 16, "transform": {"translate": [1.5, 0, 0]}}]})";
+  const fs::path out = dir_ / "scene_out";
+  fs::remove_all(out);
+  const auto r = test_support::RunCommand(test_support::IbrBinary() + " render " + scene.string() +
+                                          " --out " + out.string());
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.out.find("passes [depth-object, displacement:slices-orthogonal]"), std::string::npos)
+      << r.out;
+  const capture::Dataset rendered = capture::ReadDataset(out);
+  ASSERT_EQ(rendered.views.size(), 2u);
+  for (size_t i = 0; i < rendered.views.size(); ++i) {
+    const core::Image8 mask = rendered.LoadMask(i);
+    const core::ImageF depth = rendered.LoadDepth(i);
+    int64_t object = 0;
+    for (size_t p = 0; p < mask.pixel_count(); ++p) {
+      object += mask.data()[p] > 127;
+      EXPECT_EQ(mask.data()[p] > 127, depth.data()[p] > 0) << "depth is 0 exactly where empty";
+    }
+    EXPECT_GT(object, 300) << rendered.views[i].name;
+  }
+}
+
+TEST_F(RenderCliTest, BadSceneNamesFileAndPointerAndLeavesNoOutput) {
+  const fs::path out = dir_ / "bad_scene";
+  struct Case {
+    const char* text;
+    const char* expect;
+  };
+  const Case cases[] = {
+      {R"({"version": 1, "cameras": {"orbit": {}}, "objects": [{"type": "depth-object", "images": {"dataset": "sphere"}, "slices": "many"}]})",
+       "/objects/0/slices"},
+      {R"({"version": 1, "cameras": {"orbit": {}}, "objects": [{"type": "mesh", "mesh": {"file": "gone.obj"}}]})",
+       "/objects/0/mesh/file"},
+      {R"({"version": 1, "cameras": {"orbit": {}}, "objects": [{"type": "volume"}]})",
+       "not built in this version"},
+  };
+  for (const Case& c : cases) {
+    const fs::path scene = dir_ / "bad.json";
+    std::ofstream(scene) << c.text;
+    const auto r = test_support::RunCommand(test_support::IbrBinary() + " render " +
+                                            scene.string() + " --out " + out.string());
+    EXPECT_NE(r.exit_code, 0) << c.text;
+    EXPECT_NE(r.err.find("ibr: error:"), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find(scene.string()), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find(c.expect), std::string::npos) << r.err;
+    EXPECT_FALSE(fs::exists(out)) << c.text;
   }
 }
 

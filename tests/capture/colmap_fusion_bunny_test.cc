@@ -13,17 +13,18 @@
 // closer triangle. Exact rather than sampled, so tiny errors are not hidden by
 // the measuring stick (a rendered-depth comparison would be limited by the
 // rasteriser's own float depth and by the pixel grid along rays).
+#include <gtest/gtest.h>
+
 #include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdlib>
 #include <fstream>
 
-#include <gtest/gtest.h>
-
 #include "capture/colmap_dataset.h"
 #include "capture/synthetic.h"
 #include "core/error.h"
+#include "core/metrics.h"
 #include "tests/support/gl_test.h"
 #include "tests/support/run_command.h"
 
@@ -34,7 +35,8 @@ namespace fs = std::filesystem;
 bool HaveColmap() { return std::system("command -v colmap > /dev/null 2>&1") == 0; }
 
 // Closest point on triangle abc to p (Ericson 2005, sec. 5.1.5).
-glm::dvec3 ClosestOnTriangle(const glm::dvec3& p, const glm::dvec3& a, const glm::dvec3& b, const glm::dvec3& c) {
+glm::dvec3 ClosestOnTriangle(const glm::dvec3& p, const glm::dvec3& a, const glm::dvec3& b,
+                             const glm::dvec3& c) {
   const glm::dvec3 ab = b - a, ac = c - a, ap = p - a;
   const double d1 = glm::dot(ab, ap), d2 = glm::dot(ac, ap);
   if (d1 <= 0 && d2 <= 0) return a;
@@ -49,7 +51,8 @@ glm::dvec3 ClosestOnTriangle(const glm::dvec3& p, const glm::dvec3& a, const glm
   const double vb = d5 * d2 - d1 * d6;
   if (vb <= 0 && d2 >= 0 && d6 <= 0) return a + ac * (d2 / (d2 - d6));
   const double va = d3 * d6 - d5 * d4;
-  if (va <= 0 && (d4 - d3) >= 0 && (d5 - d6) >= 0) return b + (c - b) * ((d4 - d3) / ((d4 - d3) + (d5 - d6)));
+  if (va <= 0 && (d4 - d3) >= 0 && (d5 - d6) >= 0)
+    return b + (c - b) * ((d4 - d3) / ((d4 - d3) + (d5 - d6)));
   const double denom = 1 / (va + vb + vc);
   return a + ab * (vb * denom) + ac * (vc * denom);
 }
@@ -91,10 +94,12 @@ class MeshDistance {
       for (int z = c.z - r; z <= c.z + r; ++z) {
         for (int y = c.y - r; y <= c.y + r; ++y) {
           for (int x = c.x - r; x <= c.x + r; ++x) {
-            if (std::max({std::abs(x - c.x), std::abs(y - c.y), std::abs(z - c.z)}) != r) continue;  // shell only
+            if (std::max({std::abs(x - c.x), std::abs(y - c.y), std::abs(z - c.z)}) != r)
+              continue;  // shell only
             if (x < 0 || y < 0 || z < 0 || x >= n_[0] || y >= n_[1] || z >= n_[2]) continue;
             for (uint32_t t : bins_[Index({x, y, z})]) {
-              const glm::dvec3 a(mesh_.positions[mesh_.indices[3 * t]]), b(mesh_.positions[mesh_.indices[3 * t + 1]]),
+              const glm::dvec3 a(mesh_.positions[mesh_.indices[3 * t]]),
+                  b(mesh_.positions[mesh_.indices[3 * t + 1]]),
                   cc(mesh_.positions[mesh_.indices[3 * t + 2]]);
               best = std::min(best, glm::length(p - ClosestOnTriangle(p, a, b, cc)));
             }
@@ -108,10 +113,13 @@ class MeshDistance {
  private:
   glm::ivec3 Cell(const glm::dvec3& p) const {
     glm::ivec3 c;
-    for (int k = 0; k < 3; ++k) c[k] = std::clamp(static_cast<int>(std::floor((p[k] - lo_[k]) / cell_)), 0, n_[k] - 1);
+    for (int k = 0; k < 3; ++k)
+      c[k] = std::clamp(static_cast<int>(std::floor((p[k] - lo_[k]) / cell_)), 0, n_[k] - 1);
     return c;
   }
-  size_t Index(const glm::ivec3& c) const { return (static_cast<size_t>(c.z) * n_[1] + c.y) * n_[0] + c.x; }
+  size_t Index(const glm::ivec3& c) const {
+    return (static_cast<size_t>(c.z) * n_[1] + c.y) * n_[0] + c.x;
+  }
 
   const core::TriangleMesh& mesh_;
   glm::dvec3 lo_{0.0};
@@ -133,9 +141,11 @@ TEST(MeshDistance, AgreesWithBruteForce) {
     const glm::dvec3 p(4 * next() - 2, 4 * next() - 2, 2 * next() - 1);
     double brute = 1e300;
     for (size_t t = 0; t < mesh.triangle_count(); ++t) {
-      brute = std::min(brute, glm::length(p - ClosestOnTriangle(p, glm::dvec3(mesh.positions[mesh.indices[3 * t]]),
-                                                              glm::dvec3(mesh.positions[mesh.indices[3 * t + 1]]),
-                                                              glm::dvec3(mesh.positions[mesh.indices[3 * t + 2]]))));
+      brute = std::min(
+          brute,
+          glm::length(p - ClosestOnTriangle(p, glm::dvec3(mesh.positions[mesh.indices[3 * t]]),
+                                            glm::dvec3(mesh.positions[mesh.indices[3 * t + 1]]),
+                                            glm::dvec3(mesh.positions[mesh.indices[3 * t + 2]]))));
     }
     ASSERT_DOUBLE_EQ(distance(p), brute) << i;
   }
@@ -170,24 +180,27 @@ struct ErrorStats {
   double mean = 0, median = 0, p95 = 0, max = 0;  // fractions of the scene size
 };
 
-ErrorStats Measure(const MeshDistance& distance, std::vector<glm::dvec3> points, double scene_size) {
+ErrorStats Measure(const MeshDistance& distance, std::vector<glm::dvec3> points,
+                   double scene_size) {
   std::vector<double> e;
   e.reserve(points.size());
   for (const auto& p : points) e.push_back(distance(p) / scene_size);
   ErrorStats s;
   s.count = e.size();
   if (e.empty()) return s;
-  std::sort(e.begin(), e.end());
-  for (double x : e) s.mean += x / e.size();
-  s.median = e[e.size() / 2];
-  s.p95 = e[std::min(e.size() - 1, e.size() * 95 / 100)];
-  s.max = e.back();
+  const core::ErrorStats stats = core::SummarizeErrors(e);
+  s.mean = stats.mean;
+  s.median = core::Percentile(e, 0.5);
+  s.p95 = stats.p95;
+  s.max = stats.max;
   return s;
 }
 
 void Print(const char* what, const ErrorStats& s) {
-  std::printf("%s: %zu points, distance to the mesh / scene size: mean %.2e, median %.2e, p95 %.2e, max %.2e\n", what,
-              s.count, s.mean, s.median, s.p95, s.max);
+  std::printf(
+      "%s: %zu points, distance to the mesh / scene size: mean %.2e, median %.2e, p95 %.2e, max "
+      "%.2e\n",
+      what, s.count, s.mean, s.median, s.p95, s.max);
 }
 
 // Every depth pixel of a dataset, back-projected into the world.
@@ -199,7 +212,8 @@ std::vector<glm::dvec3> BackProject(const Dataset& d) {
     const core::ImageF depth = d.LoadDepth(v);
     for (int row = 0; row < depth.height(); ++row)
       for (int col = 0; col < depth.width(); ++col)
-        if (const float z = depth.at(col, row); z > 0) points.push_back(world_from_cam * cam.UnprojectPixel(col, row, z));
+        if (const float z = depth.at(col, row); z > 0)
+          points.push_back(world_from_cam * cam.UnprojectPixel(col, row, z));
   }
   return points;
 }
@@ -213,7 +227,8 @@ class BunnyFusionTest : public test_support::GlTest {};
 TEST_F(BunnyFusionTest, SphereRigFusesNearTheMeshCubeRigCannotBeExported) {
   if (!HaveColmap()) GTEST_SKIP() << "colmap is not installed";
   const fs::path bunny = test_support::SharedData("meshes/stanford-bunny.obj");
-  if (bunny.empty()) GTEST_SKIP() << "../shared/data/meshes/stanford-bunny.obj is absent (IBR_SHARED_DATA)";
+  if (bunny.empty())
+    GTEST_SKIP() << "../shared/data/meshes/stanford-bunny.obj is absent (IBR_SHARED_DATA)";
   const fs::path root = test_support::TestOutputDir();
   fs::remove_all(root);
   fs::create_directories(root);
@@ -239,9 +254,9 @@ TEST_F(BunnyFusionTest, SphereRigFusesNearTheMeshCubeRigCannotBeExported) {
   ExportColmapWorkspace(sphere, root / "ws");
   const double export_s = Seconds(start);
   start = std::chrono::steady_clock::now();
-  const auto r = test_support::RunCommand("colmap stereo_fusion --workspace_path " + (root / "ws").string() +
-                                          " --output_path " + (root / "ws/fused.ply").string() +
-                                          " --input_type geometric --StereoFusion.num_threads 1");
+  const auto r = test_support::RunCommand(
+      "colmap stereo_fusion --workspace_path " + (root / "ws").string() + " --output_path " +
+      (root / "ws/fused.ply").string() + " --input_type geometric --StereoFusion.num_threads 1");
   ASSERT_EQ(r.exit_code, 0) << r.out << r.err;
   const double fusion_s = Seconds(start);
   const ErrorStats fused = Measure(distance, ReadFusedPly(root / "ws/fused.ply"), scene_size);
@@ -262,15 +277,18 @@ TEST_F(BunnyFusionTest, SphereRigFusesNearTheMeshCubeRigCannotBeExported) {
   }
   EXPECT_FALSE(fs::exists(root / "ws_cube"));
 
-  std::printf("bunny (%zu triangles), scene size %.4g (largest bounding-box side)\n", scene.mesh.triangle_count(),
-              scene_size);
-  std::printf("capture sphere:26 at 512 px: %.2f s; export colmap: %.2f s; colmap stereo_fusion (1 thread): %.2f s\n",
-              capture_sphere_s, export_s, fusion_s);
+  std::printf("bunny (%zu triangles), scene size %.4g (largest bounding-box side)\n",
+              scene.mesh.triangle_count(), scene_size);
+  std::printf(
+      "capture sphere:26 at 512 px: %.2f s; export colmap: %.2f s; colmap stereo_fusion (1 "
+      "thread): %.2f s\n",
+      capture_sphere_s, export_s, fusion_s);
   std::printf("capture cube (6 orthographic views) at 512 px: %.2f s\n", capture_cube_s);
   Print("sphere:26 depth maps back-projected", sphere_depth);
   Print("sphere:26 colmap stereo_fusion", fused);
   Print("cube depth maps back-projected", cube_depth);
-  std::printf("cube: no colmap figures: COLMAP has no orthographic camera model, export refuses the rig\n");
+  std::printf(
+      "cube: no colmap figures: COLMAP has no orthographic camera model, export refuses the rig\n");
 
   // Bounds (measured on this machine, see the printout): the rasterised
   // depth is float camera z of the true triangles, so back-projected pixels

@@ -12,6 +12,7 @@
 
 #include "capture/synthetic.h"
 #include "core/image_io.h"
+#include "core/metrics.h"
 #include "core/timing.h"
 #include "ibr/dataset_maps.h"
 #include "ibr/depth_object.h"
@@ -50,26 +51,15 @@ struct Accuracy {
 };
 
 Accuracy Compare(const core::ImageF& depth, const core::ImageF& truth) {
+  const core::ViewMetrics m = core::CompareDepth(depth, truth);
   Accuracy a;
-  int64_t inter = 0, uni = 0;
-  std::vector<double> err;
-  for (int y = 0; y < depth.height(); ++y) {
-    for (int x = 0; x < depth.width(); ++x) {
-      const bool p = depth.at(x, y) > 0, t = truth.at(x, y) > 0;
-      inter += p && t;
-      uni += p || t;
-      if (p && t) err.push_back(std::abs(depth.at(x, y) - truth.at(x, y)));
-    }
-  }
-  a.iou = uni ? static_cast<double>(inter) / uni : 1.0;
-  a.both = static_cast<int64_t>(err.size());
-  if (!err.empty()) {
-    std::sort(err.begin(), err.end());
-    for (double e : err) a.mean_abs += e;
-    a.mean_abs /= err.size();
-    a.p95 = err[err.size() * 95 / 100];
-    a.median = err[err.size() / 2];
-    a.max_abs = err.back();
+  a.iou = m.iou;
+  a.both = m.both_pixels;
+  if (m.both_pixels > 0) {
+    a.mean_abs = m.depth.mean;
+    a.p95 = m.depth.p95;
+    a.median = core::Percentile(m.depth_errors, 0.5);
+    a.max_abs = m.depth.max;
   }
   return a;
 }

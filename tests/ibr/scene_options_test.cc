@@ -1,11 +1,12 @@
 // The built-in scenes (datasets/scenes/*.json): every definition parses, its
 // capture and render options are valid, its object can be loaded; bad
 // definitions are InputErrors naming the scene.
+#include "ibr/scene_options.h"
+
 #include <gtest/gtest.h>
 
 #include "capture/builtin_scenes.h"
 #include "core/error.h"
-#include "ibr/scene_options.h"
 #include "tests/support/gl_test.h"
 
 namespace ibr {
@@ -27,7 +28,8 @@ TEST(BuiltinScenes, EveryDefinitionIsValidAndItsObjectLoads) {
       EXPECT_GT(mesh.mesh.triangle_count(), 100u) << name;
     }
   }
-  const DepthObjectOptions demo = DepthObjectOptionsFromJson(capture::LoadBuiltinScene("spot-cube").render, "x");
+  const DepthObjectOptions demo =
+      DepthObjectOptionsFromJson(capture::LoadBuiltinScene("spot-cube").render, "x");
   EXPECT_EQ(demo.texturing, Texturing::kVisibility);
   EXPECT_EQ(demo.slices, 256);
 }
@@ -56,9 +58,12 @@ TEST(BuiltinScenes, BadDefinitionsNameTheScene) {
     }
   }
   EXPECT_THROW(capture::LoadBuiltinScene("no-such-scene"), core::InputError);
-  EXPECT_THROW(DepthObjectOptionsFromJson(nlohmann::json::parse(R"({"slicing": "diagonal"})"), "s"), core::InputError);
-  EXPECT_THROW(DepthObjectOptionsFromJson(nlohmann::json::parse(R"({"slices": "many"})"), "s"), core::InputError);
-  EXPECT_THROW(DepthObjectOptionsFromJson(nlohmann::json::parse(R"({"slices": 0})"), "s"), core::InputError);
+  EXPECT_THROW(DepthObjectOptionsFromJson(nlohmann::json::parse(R"({"slicing": "diagonal"})"), "s"),
+               core::InputError);
+  EXPECT_THROW(DepthObjectOptionsFromJson(nlohmann::json::parse(R"({"slices": "many"})"), "s"),
+               core::InputError);
+  EXPECT_THROW(DepthObjectOptionsFromJson(nlohmann::json::parse(R"({"slices": 0})"), "s"),
+               core::InputError);
 }
 
 }  // namespace

@@ -10,6 +10,7 @@
 #include <gtest/gtest.h>
 
 #include "core/heightfield.h"
+#include "core/metrics.h"
 #include "core/projection.h"
 #include "render/gl/gpu_mesh.h"
 #include "render/passes/mesh_pass.h"
@@ -161,12 +162,12 @@ TEST_F(NcsTest, ZeroHeightRendersAsTheBaseMeshAndConstantHeightAsTheOffsetSurfac
     o.steps = 128;
     o.step_enlargement = 10;
     const Frame ncs = surface.Render(view, kSize, kSize, o);
-    const SilhouetteError e = CompareToTruth(ncs.color, ncs.depth, truth.color, truth.depth);
+    const core::ViewMetrics e = core::CompareFrames(ncs.color, ncs.depth, truth.color, truth.depth);
     const int64_t away = WrongAwayFromEdge(ncs.color, truth.color);
     std::printf("level %.1f: truth %lld rendered %lld wrong %lld (away from edge %lld) iou %.5f depth mean %.2e "
                 "p95 %.2e early %lld\n",
                 level, (long long)e.truth_pixels, (long long)e.rendered_pixels, (long long)e.wrong_pixels,
-                (long long)away, e.iou, e.mean_depth_error, e.p95_depth_error, (long long)ncs.CountOutcome(OutcomeBit(RayOutcome::kEarlyTermination)));
+                (long long)away, e.iou, e.depth.mean, e.depth.p95, (long long)ncs.CountOutcome(OutcomeBit(RayOutcome::kEarlyTermination)));
     // Coverage: the tangent frames are those of the base, so near the
     // silhouette the bent ray turns up slightly early (the shell's metric is
     // (1 + w md / r) larger); the error is a band about one pixel wide,
@@ -178,8 +179,8 @@ TEST_F(NcsTest, ZeroHeightRendersAsTheBaseMeshAndConstantHeightAsTheOffsetSurfac
     // Depth: 32 tube segments sag by up to 0.0019 units, the faceted shell
     // and base differ by as much, and grazing pixels amplify it: mean within
     // 8 % and p95 within 20 % of the shell thickness md = 0.08.
-    EXPECT_LT(e.mean_depth_error, 0.08 * md) << "level " << level;
-    EXPECT_LT(e.p95_depth_error, 0.2 * md) << "level " << level;
+    EXPECT_LT(e.depth.mean, 0.08 * md) << "level " << level;
+    EXPECT_LT(e.depth.p95, 0.2 * md) << "level " << level;
     if (HasFailure()) {
       test_support::WriteDebugImage("level_" + std::to_string(level) + "_ncs.png", ncs.color);
       test_support::WriteDebugImage("level_" + std::to_string(level) + "_diff.png",
@@ -247,17 +248,17 @@ TEST_F(NcsTest, TorusGrazingViewNcsSilhouetteBeatsPomAndRelief) {
   ReliefSurface surface(programs(), scene.torus, scene.height, Geometry(scene.md, true, true));
   ReliefSurfaceOptions o;
   o.steps = 64;
-  SilhouetteError errors[3];
+  core::ViewMetrics errors[3];
   core::Image8 diffs[3];
   const ReliefMethod methods[3] = {ReliefMethod::kNcs, ReliefMethod::kRelief, ReliefMethod::kPom};
   for (int m = 0; m < 3; ++m) {
     o.method = methods[m];
     const Frame frame = surface.Render(scene.view, kSize, kSize, o);
-    errors[m] = CompareToTruth(frame.color, frame.depth, truth.color, truth.depth);
+    errors[m] = core::CompareFrames(frame.color, frame.depth, truth.color, truth.depth);
     std::printf("grazing %-6s: wrong silhouette pixels %lld of %lld truth, iou %.4f, depth mean %.4f p95 %.4f, early %lld\n",
                 ReliefMethodName(methods[m]).c_str(), (long long)errors[m].wrong_pixels,
-                (long long)errors[m].truth_pixels, errors[m].iou, errors[m].mean_depth_error,
-                errors[m].p95_depth_error, (long long)frame.CountOutcome(OutcomeBit(RayOutcome::kEarlyTermination)));
+                (long long)errors[m].truth_pixels, errors[m].iou, errors[m].depth.mean,
+                errors[m].depth.p95, (long long)frame.CountOutcome(OutcomeBit(RayOutcome::kEarlyTermination)));
     diffs[m] = DiffImage(frame.color, frame.depth, truth.color, truth.depth, 0.04f);
   }
   // Stated bound: NCS misses or adds at most 4 % of the true silhouette's
@@ -320,17 +321,17 @@ TEST_F(NcsTest, EveryBaseMeshMatchesItsTessellatedTruth) {
     const Frame ncs = surface.Render(view, kSize, kSize, o);
     o.method = ReliefMethod::kRelief;
     const Frame relief = surface.Render(view, kSize, kSize, o);
-    const SilhouetteError e = CompareToTruth(ncs.color, ncs.depth, truth.color, truth.depth);
-    const SilhouetteError r = CompareToTruth(relief.color, relief.depth, truth.color, truth.depth);
+    const core::ViewMetrics e = core::CompareFrames(ncs.color, ncs.depth, truth.color, truth.depth);
+    const core::ViewMetrics r = core::CompareFrames(relief.color, relief.depth, truth.color, truth.depth);
     std::printf("%-8s ncs: iou %.4f wrong %lld mean %.4f p95 %.4f early %lld | relief: iou %.4f wrong %lld p95 %.4f\n",
-                c.name, e.iou, (long long)e.wrong_pixels, e.mean_depth_error, e.p95_depth_error,
-                (long long)ncs.CountOutcome(OutcomeBit(RayOutcome::kEarlyTermination)), r.iou, (long long)r.wrong_pixels, r.p95_depth_error);
+                c.name, e.iou, (long long)e.wrong_pixels, e.depth.mean, e.depth.p95,
+                (long long)ncs.CountOutcome(OutcomeBit(RayOutcome::kEarlyTermination)), r.iou, (long long)r.wrong_pixels, r.depth.p95);
     ExpectSane(ncs, ReliefMethod::kNcs, c.name);
     // Bounds with margin over the measured values (see the printout): the
     // silhouette is right to a few percent of the covered area, depth to a
     // fraction of the displacement md (the surfaces' bumps span all of it).
     EXPECT_GT(e.iou, 0.98) << c.name;
-    EXPECT_LT(e.mean_depth_error, 0.1 * md) << c.name;
+    EXPECT_LT(e.depth.mean, 0.1 * md) << c.name;
     EXPECT_LT(3 * e.wrong_pixels, r.wrong_pixels) << c.name;  // relief draws the whole shell
     if (HasFailure()) {
       test_support::WriteDebugImage(std::string(c.name) + "_ncs.png", ncs.color);

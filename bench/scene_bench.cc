@@ -1,0 +1,174 @@
+#include "bench/scene_bench.h"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <glm/gtc/type_ptr.hpp>
+#include <map>
+#include <memory>
+#include <sstream>
+
+#include "core/error.h"
+#include "core/projection.h"
+#include "core/timing.h"
+#include "ibr/scene_renderer.h"
+#include "render/gl/gl.h"
+#include "scene/scene.h"
+
+namespace bench {
+namespace {
+
+struct Effect {
+  std::string name;
+  std::string object;  // JSON of the object, without "enabled"
+};
+
+std::vector<Effect> Effects(bool quick) {
+  const std::string at = R"("name": "effect", "transform": {"translate": [2.6, 0, 0]})";
+  const std::string displaced =
+      at +
+      R"(, "type": "displaced-mesh", "mesh": {"shape": "torus"},)"
+      R"( "height": {"generator": "bumps", "texels": 128}, "max_displacement": 0.15, "tiling": 2, )";
+  const std::string image =
+      at + R"(, "images": {"capture": {"shape": "cup", "rig": "cube", "size": 128}}, )";
+  std::vector<Effect> effects = {
+      {"displacement slices-orthogonal",
+       displaced + R"("method": "slices-orthogonal", "slices": 32)"},
+      {"depth-object orthogonal",
+       image + R"("type": "depth-object", "slicing": "orthogonal", "slices": 96)"},
+  };
+  if (quick) return effects;
+  effects.push_back(
+      {"displacement slices-screen", displaced + R"("method": "slices-screen", "slices": 32)"});
+  effects.push_back({"displacement ncs", displaced + R"("method": "ncs")"});
+  effects.push_back({"displacement relief", displaced + R"("method": "relief")"});
+  effects.push_back({"displacement pom", displaced + R"("method": "pom")"});
+  effects.push_back({"displacement tessellated", displaced + R"("method": "tessellated")"});
+  effects.push_back(
+      {"depth-object ray", image + R"("type": "depth-object", "slicing": "ray", "slices": 96)"});
+  effects.push_back({"visual-hull screen",
+                     image + R"("type": "visual-hull", "slicing": "screen", "slices": 96)"});
+  return effects;
+}
+
+// One fixed camera for every configuration (so the base object covers the
+// same pixels whether the effect is there or not), looking at both objects.
+std::string Camera(int size) {
+  const glm::mat4 m =
+      core::CamFromWorldLookAt({1.3f, 2.0f, 7.5f}, {1.3f, 0.0f, 0.0f}, {0.0f, 1.0f, 0.0f});
+  std::string rows;
+  for (int r = 0; r < 3; ++r) {
+    rows += fmt::format("{}[{}, {}, {}, {}]", r ? ", " : "", m[0][r], m[1][r], m[2][r], m[3][r]);
+  }
+  const double f = 0.5 * size / std::tan(glm::radians(22.0));
+  return fmt::format(
+      R"({{"list": [{{"name": "bench", "width": {0}, "height": {0}, "fx": {1}, "fy": {1}, "cx": {2}, )"
+      R"("cy": {2}, "cam_from_world": [{3}]}}]}})",
+      size, f, size / 2.0, rows);
+}
+
+// The base scene: a plain mesh sphere, always present.
+scene::Scene Scene(const std::string& camera, const std::string& extra_object) {
+  std::string text =
+      R"({"version": 1, "cameras": )" + camera +
+      R"(, "objects": [{"name": "base", "type": "mesh", "mesh": {"shape": "sphere"}})";
+  if (!extra_object.empty()) text += ", {" + extra_object + "}";
+  text += "]}";
+  std::istringstream in(text);
+  scene::ReadOptions read;
+  read.check_files = false;
+  return scene::ReadScene(in, "bench-scene", read);
+}
+
+// A configuration: its own program cache (what it compiles is counted) and renderer.
+struct Config {
+  std::unique_ptr<render::ProgramCache> programs = std::make_unique<render::ProgramCache>();
+  ibr::LoadedScene loaded;
+  std::unique_ptr<ibr::SceneRenderer> renderer;
+  std::vector<double> ms;
+  int programs_compiled = 0;
+};
+
+void Build(Config& c, const scene::Scene& s) {
+  c.loaded = ibr::LoadScene(*c.programs, s);
+  c.renderer = std::make_unique<ibr::SceneRenderer>(*c.programs, c.loaded);
+  c.renderer->Render(c.loaded.views.front().view);  // warm-up: shader compilation
+  c.programs_compiled = static_cast<int>(c.programs->size());
+}
+
+void Time(Config& c, int frames) {
+  for (int i = 0; i < frames; ++i) {
+    glFinish();
+    core::Stopwatch watch;
+    c.renderer->Render(c.loaded.views.front().view);  // ends with readback: the GPU work is done
+    c.ms.push_back(watch.ElapsedMs());
+  }
+}
+
+}  // namespace
+
+void SceneBenchOptions::Check() const {
+  if (size < 32 || size > 4096)
+    core::ThrowInputError("SceneBenchOptions", "size {} outside 32..4096", size);
+  if (rounds < 1 || rounds > 1000)
+    core::ThrowInputError("SceneBenchOptions", "rounds {} outside 1..1000", rounds);
+  if (frames < 1 || frames > 1000)
+    core::ThrowInputError("SceneBenchOptions", "frames {} outside 1..1000", frames);
+}
+
+SceneBenchResult RunSceneBench(const SceneBenchOptions& options) {
+  options.Check();
+  const int size = options.quick ? std::min(options.size, 128) : options.size;
+  const int rounds = options.quick ? 1 : options.rounds;
+  const std::string camera = Camera(size);
+  SceneBenchResult result{
+      Table({"effect", "on_ms", "disabled_ms", "absent_ms", "on_over_absent",
+             "disabled_over_absent", "programs_on", "programs_disabled", "programs_absent"})};
+  const std::vector<Effect> effects = Effects(options.quick);
+  for (size_t e = 0; e < effects.size(); ++e) {
+    const Effect& effect = effects[e];
+    fmt::print(stderr, "bench scene: {}/{} {}: building\n", e + 1, effects.size(), effect.name);
+    Config absent, disabled, on;
+    Build(absent, Scene(camera, ""));
+    Build(disabled, Scene(camera, effect.object + R"(, "enabled": false)"));
+    Build(on, Scene(camera, effect.object));
+    // Interleaved so that load changes on the machine hit all three alike.
+    for (int r = 0; r < rounds; ++r) {
+      for (Config* c : {&absent, &disabled, &on}) Time(*c, options.frames);
+    }
+    const double a = core::Summarize(absent.ms).median_ms,
+                 d = core::Summarize(disabled.ms).median_ms, o = core::Summarize(on.ms).median_ms;
+    result.table.AddRow({effect.name, Num(o, 2), Num(d, 2), Num(a, 2), Num(o / a, 3), Num(d / a, 3),
+                         std::to_string(on.programs_compiled),
+                         std::to_string(disabled.programs_compiled),
+                         std::to_string(absent.programs_compiled)});
+    fmt::print(stderr, "bench scene: {}: on {:.2f} ms, disabled {:.2f} ms, absent {:.2f} ms\n",
+               effect.name, o, d, a);
+  }
+  return result;
+}
+
+void WriteSceneBench(const SceneBenchResult& result, const std::filesystem::path& csv,
+                     const std::filesystem::path& out_dir) {
+  result.table.WriteCsv(csv);
+  // Ratios per effect (x = effect number, in table order).
+  Table plot({"series", "effect_index", "ratio"});
+  const Table& t = result.table;
+  for (size_t i = 0; i < t.rows().size(); ++i) {
+    plot.AddRow({"on / absent", std::to_string(i + 1), t.rows()[i][t.Column("on_over_absent")]});
+    plot.AddRow({"disabled / absent", std::to_string(i + 1),
+                 t.rows()[i][t.Column("disabled_over_absent")]});
+  }
+  PlotOptions p;
+  p.title = "frame time relative to the scene without the effect (effects numbered as in the CSV)";
+  p.x_column = "effect_index";
+  p.y_column = "ratio";
+  p.series_column = "series";
+  p.x_label = "effect (row of the CSV)";
+  p.y_label = "frame time / absent";
+  p.log_y = true;
+  std::filesystem::create_directories(out_dir);
+  PlotPng(plot, p, out_dir / "scene_bench.png");
+}
+
+}  // namespace bench

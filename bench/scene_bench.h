@@ -1,0 +1,37 @@
+// `ibr bench scene`: what an effect costs a scene when it is on, when it is
+// named but disabled ("enabled": false) and when it is absent, measured in
+// one run (interleaved rounds, medians). A scene renderer builds only the
+// passes its enabled objects name, so disabled and absent should cost the
+// same; the ratios to "absent" are printed, written as CSV and plotted.
+#pragma once
+
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "bench/report.h"
+
+namespace bench {
+
+struct SceneBenchOptions {
+  int size = 384;      // frame width = height, pixels
+  int rounds = 5;      // interleaved rounds (absent, disabled, on per effect per round)
+  int frames = 3;      // timed frames per configuration per round
+  bool quick = false;  // two effects, small frames: a CI smoke run
+  void Check() const;
+};
+
+struct SceneBenchResult {
+  // effect, on_ms, disabled_ms, absent_ms, on_over_absent, disabled_over_absent,
+  // programs_on, programs_disabled, programs_absent (compiled by that scene)
+  Table table;
+};
+
+// Needs a current context. Each configuration compiles into its own program
+// cache (its count is a column).
+SceneBenchResult RunSceneBench(const SceneBenchOptions& options);
+// CSV + ratio plot (scene_bench.png) into `out_dir`.
+void WriteSceneBench(const SceneBenchResult& result, const std::filesystem::path& csv,
+                     const std::filesystem::path& out_dir);
+
+}  // namespace bench

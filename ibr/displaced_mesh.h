@@ -1,0 +1,95 @@
+// A displacement-mapped mesh drawn by one of the methods of `ibr displace`
+// (the one method table: the command, the scene renderer, the demo and the
+// benches use it): slicing with the alpha test (Kautz-Seidel 2001, sec. 3;
+// three slice families), ray marching through the ray core (NCS, Chen-Chang
+// sec. 3.2; relief mapping; POM) and the tessellated ground truth.
+#pragma once
+
+#include <filesystem>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "core/heightfield.h"
+#include "core/image.h"
+#include "core/mesh.h"
+#include "render/passes/displacement_pass.h"
+#include "render/passes/mesh_pass.h"
+#include "render/gl/shader_program.h"
+
+namespace ibr {
+
+enum class DisplacementMethod {
+  kSlicesSurface,
+  kSlicesOrthogonal,
+  kSlicesScreen,
+  kNcs,
+  kRelief,
+  kPom,
+  kTessellated
+};
+// "slices-surface", "slices-orthogonal", "slices-screen", "ncs", "relief", "pom", "tessellated".
+DisplacementMethod DisplacementMethodFromName(
+    const std::string& name);  // InputError listing the names
+std::string DisplacementMethodName(DisplacementMethod method);
+std::vector<std::string> DisplacementMethodNames();
+
+struct DisplacedMeshOptions {
+  DisplacementMethod method = DisplacementMethod::kSlicesOrthogonal;
+  float max_displacement = 0.15f;  // scene units for height 1 (the torus tube radius is 0.4)
+  float tiling = 1.0f;             // height map repeats across uv [0, 1]
+  int slices = 64;                 // slicing methods: slices per face volume
+  int steps = 32;  // ray methods: linear-search steps (render::ReliefSurfaceOptions)
+  void Check() const;
+};
+
+// Plain CPU inputs.
+struct DisplacedMeshData {
+  core::TriangleMesh base;  // normals + uvs, world space
+  core::ImageF height;      // 1 channel, [0, 1] (1 = max_displacement)
+  core::Image8
+      color;  // optional RGBA8 colour texture (any size); empty = colour from the height's slopes
+};
+
+// Built-in base meshes: "torus" (the paper's 625-polygon donut, R 1, r 0.4),
+// "plane" (2 x 2, one quad, z = 0, normal +z), "sphere" (radius 1, 16 x 32).
+core::TriangleMesh DisplacementBaseMesh(const std::string& name);
+std::vector<std::string> DisplacementBaseMeshNames();
+// Height map in [floor, floor + (1 - floor) * pattern]: floor > 0 gives the
+// surface a solid base everywhere (a height of 0 is masked out, sec. 3.2).
+core::ImageF DisplacementHeightMap(core::HeightPattern pattern, int texels, float floor = 0.0f);
+// A user's height map: 8/16-bit PNG (scaled to [0, 1]) or EXR (values must
+// lie in [0, 1]); the first channel. InputError naming the file otherwise.
+core::ImageF ReadHeightMap(const std::filesystem::path& path);
+// A user's mesh (OBJ/PLY through assimp): needs texture coordinates.
+core::TriangleMesh ReadDisplacementBase(const std::filesystem::path& path);
+
+// The displacement texture's texels: RGB = `color` resampled (bilinear) to the
+// height map's size, or the slope colouring of render::MakeDisplacementTexels;
+// A = height.
+core::ImageF DisplacementTexels(const DisplacedMeshData& data);
+
+// Uploads once; draws per view into its own target. Needs a current context.
+class DisplacedMeshRenderer {
+ public:
+  DisplacedMeshRenderer(render::ProgramCache& programs, const DisplacedMeshData& data,
+                        const DisplacedMeshOptions& options);
+  ~DisplacedMeshRenderer();
+  DisplacedMeshRenderer(const DisplacedMeshRenderer&) = delete;
+  DisplacedMeshRenderer& operator=(const DisplacedMeshRenderer&) = delete;
+
+  // Clears the renderer's target (resized to width x height) and draws.
+  void Draw(const render::ViewSetup& view, int width, int height);
+  // The last Draw: colour RGBA8 (alpha 255 where covered) + camera z (0 = empty).
+  render::DisplacementFrame Read() const;
+  // One line about the last Draw (counts).
+  std::string Detail() const;
+  const DisplacedMeshOptions& options() const { return options_; }
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+  DisplacedMeshOptions options_;
+};
+
+}  // namespace ibr

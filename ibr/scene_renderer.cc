@@ -1,0 +1,376 @@
+#include "ibr/scene_renderer.h"
+
+#include <fmt/format.h>
+#include <spdlog/spdlog.h>
+
+#include <algorithm>
+#include <cmath>
+#include <optional>
+
+#include "core/error.h"
+#include "core/image_io.h"
+#include "core/timing.h"
+#include "ibr/dataset_maps.h"
+#include "ibr/scene_options.h"
+#include "render/gl/gl.h"
+#include "render/gl/gpu_mesh.h"
+#include "render/passes/mesh_pass.h"
+
+namespace ibr {
+namespace {
+
+using scene::ObjectType;
+
+capture::Bounds MeshBounds(const core::TriangleMesh& mesh, double grow) {
+  glm::vec3 lo, hi;
+  mesh.Bounds(lo, hi);
+  return {glm::dvec3(lo) - grow, glm::dvec3(hi) + grow};
+}
+
+capture::Bounds Union(const capture::Bounds& a, const capture::Bounds& b) {
+  return {glm::min(a.min, b.min), glm::max(a.max, b.max)};
+}
+
+// The uniform scale of a rigid-times-uniform-scale transform; InputError
+// (naming `where`) for shear or non-uniform scale.
+double UniformScale(const glm::dmat4& m, const std::string& where) {
+  const glm::dmat3 a(m);
+  const double s = std::cbrt(glm::determinant(a));
+  if (!(s > 0))
+    throw core::InputError(fmt::format("{}/transform: not a proper rotation and scale", where));
+  const glm::dmat3 r = a / s;
+  const glm::dmat3 should_be_identity = glm::transpose(r) * r;
+  for (int i = 0; i < 3; ++i) {
+    for (int j = 0; j < 3; ++j) {
+      if (std::abs(should_be_identity[i][j] - (i == j ? 1.0 : 0.0)) > 1e-6) {
+        throw core::InputError(
+            fmt::format("{}/transform: only rotation, translation and uniform scale are "
+                        "supported",
+                        where));
+      }
+    }
+  }
+  return s;
+}
+
+// World-space copy of a mesh (positions by the transform, normals by its rotation).
+core::TriangleMesh Transformed(core::TriangleMesh mesh, const glm::dmat4& world_from_object,
+                               double scale) {
+  const glm::dmat3 rotation = glm::dmat3(world_from_object) / scale;
+  for (glm::vec3& p : mesh.positions)
+    p = glm::vec3(world_from_object * glm::dvec4(glm::dvec3(p), 1.0));
+  for (glm::vec3& n : mesh.normals) n = glm::vec3(glm::normalize(rotation * glm::dvec3(n)));
+  return mesh;
+}
+
+core::TriangleMesh LoadMesh(const scene::MeshSource& source, bool displaced) {
+  try {
+    if (source.shape.empty()) {
+      return displaced ? ReadDisplacementBase(source.file)
+                       : capture::LoadSceneMesh(source.file).mesh;
+    }
+    if (displaced) return DisplacementBaseMesh(source.shape);
+    if (source.shape == "plane") return DisplacementBaseMesh("plane");
+    return capture::MakeShapeScene(source.shape).mesh;
+  } catch (const core::InputError& e) {
+    throw core::InputError(fmt::format("{}: {}", source.where, e.what()));
+  }
+}
+
+// Maps captured from a mesh (synthetic RGB-D capture, capture::MakeRig).
+MapSet CaptureMaps(render::ProgramCache& programs, const capture::SceneMesh& mesh,
+                   const std::string& rig, int size) {
+  glm::vec3 lo, hi;
+  mesh.mesh.Bounds(lo, hi);
+  const capture::Bounds bounds{glm::dvec3(lo), glm::dvec3(hi)};
+  capture::CaptureOptions co;
+  co.size = size;
+  co.rig = rig;
+  co.Check();
+  MapSet maps;
+  const glm::dvec3 ext = bounds.extent();
+  const double edge = std::max({ext.x, ext.y, ext.z});
+  maps.world_from_box = BoxFromBounds(bounds.min - 0.02 * edge, bounds.max + 0.02 * edge);
+  for (const capture::RigView& rv : capture::MakeRig(capture::RigSpec::Parse(rig), bounds, co)) {
+    const capture::CapturedView cv = capture::RenderView(programs, mesh, rv, co);
+    maps.maps.push_back({rv.name, MapCameraFrom(rv.camera, rv.name), Mat4From(rv.cam_from_world),
+                         cv.depth, cv.color, cv.mask});
+  }
+  return maps;
+}
+
+// An RGBA8 colour texture, bilinear, repeating (as capture's textured meshes).
+render::Texture UploadRgba8(const core::Image8& image) {
+  render::Texture t = render::Texture::Create2D(GL_RGBA8, image.width(), image.height());
+  glTextureSubImage2D(t.id(), 0, 0, 0, image.width(), image.height(), GL_RGBA, GL_UNSIGNED_BYTE,
+                      image.data());
+  for (GLenum p : {GL_TEXTURE_MIN_FILTER, GL_TEXTURE_MAG_FILTER})
+    glTextureParameteri(t.id(), p, GL_LINEAR);
+  for (GLenum p : {GL_TEXTURE_WRAP_S, GL_TEXTURE_WRAP_T}) glTextureParameteri(t.id(), p, GL_REPEAT);
+  return t;
+}
+
+capture::Bounds BoxBounds(const glm::dmat4& world_from_box) {
+  capture::Bounds b{glm::dvec3(1e300), glm::dvec3(-1e300)};
+  for (int i = 0; i < 8; ++i) {
+    const glm::dvec3 c(world_from_box * glm::dvec4(i & 1, (i >> 1) & 1, (i >> 2) & 1, 1.0));
+    b.min = glm::min(b.min, c);
+    b.max = glm::max(b.max, c);
+  }
+  return b;
+}
+
+LoadedObject LoadObject(render::ProgramCache& programs, const scene::Object& o) {
+  LoadedObject l;
+  l.name = o.name;
+  l.type = o.type;
+  const double scale = UniformScale(o.world_from_object, o.where);
+  switch (o.type) {
+    case ObjectType::kDepthObject:
+    case ObjectType::kVisualHull: {
+      l.depth_object = DepthObjectOptionsFrom(o.settings);
+      if (std::abs(scale - 1.0) > 1e-6) {
+        throw core::InputError(
+            fmt::format("{}/transform: a depth object or visual hull takes rotation and "
+                        "translation only (its depth maps are in scene units)",
+                        o.where));
+      }
+      l.world_from_object = o.world_from_object;
+      if (!o.images.dataset.empty()) {
+        l.maps = MapsFromDataset(capture::ReadDataset(o.images.dataset));
+      } else {
+        capture::SceneMesh mesh;
+        try {
+          mesh = o.images.capture_mesh.shape.empty()
+                     ? capture::LoadSceneMesh(o.images.capture_mesh.file)
+                     : capture::MakeShapeScene(o.images.capture_mesh.shape);
+        } catch (const core::InputError& e) {
+          throw core::InputError(fmt::format("{}: {}", o.images.capture_mesh.where, e.what()));
+        }
+        try {
+          l.maps = CaptureMaps(programs, mesh, o.images.capture_rig, o.images.capture_size);
+        } catch (const core::InputError& e) {
+          throw core::InputError(fmt::format("{}/images/capture: {}", o.where, e.what()));
+        }
+      }
+      l.bounds = BoxBounds(o.world_from_object * l.maps.world_from_box);
+      break;
+    }
+    case ObjectType::kDisplacedMesh: {
+      l.displacement = DisplacedMeshOptionsFrom(o.settings);
+      l.displacement.max_displacement *= static_cast<float>(scale);
+      l.displaced.base =
+          Transformed(LoadMesh(o.mesh, /*displaced=*/true), o.world_from_object, scale);
+      try {
+        l.displaced.height =
+            o.height.file.empty()
+                ? DisplacementHeightMap(core::HeightPatternFromName(o.height.generator),
+                                        o.height.texels)
+                : ReadHeightMap(o.height.file);
+      } catch (const core::InputError& e) {
+        throw core::InputError(fmt::format("{}: {}", o.height.where, e.what()));
+      }
+      if (!o.texture.empty()) l.displaced.color = core::ReadImage<uint8_t>(o.texture);
+      l.bounds = MeshBounds(l.displaced.base, l.displacement.max_displacement);
+      break;
+    }
+    case ObjectType::kMesh: {
+      l.mesh.mesh = Transformed(LoadMesh(o.mesh, /*displaced=*/false), o.world_from_object, scale);
+      if (!o.texture.empty()) l.mesh.texture = core::ReadImage<uint8_t>(o.texture, 4);
+      l.bounds = MeshBounds(l.mesh.mesh, 0.0);
+      break;
+    }
+    case ObjectType::kVolume:
+    case ObjectType::kDeform:
+      throw core::InputError(fmt::format("{}: object type '{}' is not built in this version",
+                                         o.where, scene::ObjectTypeName(o.type)));
+  }
+  return l;
+}
+
+}  // namespace
+
+LoadedScene LoadScene(render::ProgramCache& programs, const scene::Scene& s) {
+  LoadedScene loaded;
+  loaded.name = s.name;
+  for (const scene::Object& o : s.objects) {
+    if (!o.enabled) {
+      // Named but disabled: its options are still checked, nothing is loaded.
+      if (o.type == ObjectType::kDisplacedMesh) DisplacedMeshOptionsFrom(o.settings);
+      if (o.type == ObjectType::kDepthObject || o.type == ObjectType::kVisualHull)
+        DepthObjectOptionsFrom(o.settings);
+      loaded.disabled.push_back(o.name);
+      continue;
+    }
+    spdlog::info("scene {}: loading {} '{}'", s.name, scene::ObjectTypeName(o.type), o.name);
+    loaded.objects.push_back(LoadObject(programs, o));
+    loaded.bounds = loaded.objects.size() == 1 ? loaded.objects.back().bounds
+                                               : Union(loaded.bounds, loaded.objects.back().bounds);
+  }
+  if (loaded.objects.empty()) {
+    core::ThrowInputError("LoadScene", "'{}': every object is disabled: nothing to render", s.name);
+  }
+  const scene::Cameras& c = s.cameras;
+  switch (c.kind) {
+    case scene::Cameras::Kind::kOrbit: {
+      OrbitOptions orbit;
+      orbit.count = c.orbit_count;
+      orbit.size = c.orbit_size;
+      orbit.elevation_deg = c.orbit_elevation_deg;
+      orbit.fov_deg = c.orbit_fov_deg;
+      orbit.up = c.orbit_up;
+      loaded.views = OrbitViews(BoxFromBounds(loaded.bounds.min, loaded.bounds.max), orbit);
+      break;
+    }
+    case scene::Cameras::Kind::kDataset: {
+      const capture::Dataset other = capture::ReadDataset(c.dataset);
+      const std::vector<ViewCamera> cams = ViewsFromDataset(other);
+      for (size_t i = 0; i < cams.size(); ++i) {
+        NamedView v{other.views[i].name, cams[i]};
+        if (c.dataset_size > 0) v.view.camera = ResizeCamera(v.view.camera, c.dataset_size);
+        loaded.views.push_back(v);
+      }
+      break;
+    }
+    case scene::Cameras::Kind::kList:
+      for (const scene::ExplicitCamera& e : c.list) {
+        NamedView v;
+        v.name = e.name;
+        v.view.camera = e.orthographic
+                            ? MapCamera::Orthographic(e.width, e.height, e.fx, e.fy, e.cx, e.cy)
+                            : MapCamera::Pinhole(e.width, e.height, e.fx, e.fy, e.cx, e.cy);
+        v.view.cam_from_world = e.cam_from_world;
+        loaded.views.push_back(v);
+      }
+      break;
+  }
+  return loaded;
+}
+
+// One enabled object's GPU side.
+struct SceneRenderer::ObjectPass {
+  std::string name;
+  // depth object / visual hull
+  std::optional<DepthObjectRenderer> depth_object;
+  DepthObjectOptions depth_options;
+  glm::dmat4 world_from_object{1.0};
+  // displaced mesh
+  std::optional<DisplacedMeshRenderer> displaced;
+  // mesh
+  std::optional<render::GpuMesh> mesh;
+  std::optional<render::Texture> mesh_texture;
+  std::optional<render::RenderTarget> mesh_target;
+};
+
+SceneRenderer::SceneRenderer(render::ProgramCache& programs, const LoadedScene& scene)
+    : programs_(&programs), bounds_(scene.bounds) {
+  for (const LoadedObject& o : scene.objects) {
+    auto p = std::make_unique<ObjectPass>();
+    switch (o.type) {
+      case ObjectType::kDepthObject:
+      case ObjectType::kVisualHull:
+        p->name = MethodName(o.depth_object.method);
+        p->depth_object.emplace(programs, o.maps);
+        p->depth_options = o.depth_object;
+        p->world_from_object = o.world_from_object;
+        break;
+      case ObjectType::kDisplacedMesh:
+        p->name = "displacement:" + DisplacementMethodName(o.displacement.method);
+        p->displaced.emplace(programs, o.displaced, o.displacement);
+        break;
+      default:
+        p->name = "mesh";
+        p->mesh.emplace(o.mesh.mesh);
+        if (!o.mesh.texture.empty()) p->mesh_texture.emplace(UploadRgba8(o.mesh.texture));
+        break;
+    }
+    passes_.push_back(std::move(p));
+  }
+}
+
+SceneRenderer::~SceneRenderer() = default;
+
+std::vector<std::string> SceneRenderer::PassNames() const {
+  std::vector<std::string> names;
+  for (const auto& p : passes_) names.push_back(p->name);
+  return names;
+}
+
+SceneFrame SceneRenderer::Render(const ViewCamera& view) {
+  const int w = view.camera.width, h = view.camera.height;
+  const render::ViewSetup setup = ViewSetupFor(view, bounds_);
+  SceneFrame out;
+  out.color = core::Image8(w, h, 4, 0);
+  out.depth = core::ImageF(w, h, 1, 0.0f);
+  out.mask = core::Image8(w, h, 1, 0);
+  // Nearest covered surface wins (camera z > 0 = covered).
+  auto composite = [&](const core::Image8& color, const core::ImageF& depth) {
+    for (int y = 0; y < h; ++y) {
+      for (int x = 0; x < w; ++x) {
+        const float z = depth.at(x, y);
+        if (!(z > 0) || !std::isfinite(z)) continue;
+        if (out.mask.at(x, y) && out.depth.at(x, y) <= z) continue;
+        out.depth.at(x, y) = z;
+        out.mask.at(x, y) = 255;
+        for (int c = 0; c < 3; ++c) out.color.at(x, y, c) = color.at(x, y, c);
+        out.color.at(x, y, 3) = 255;
+      }
+    }
+  };
+  for (auto& p : passes_) {
+    if (p->depth_object) {
+      // Rigid transform: the object is drawn in its own frame from the view
+      // carried into it; camera z is unchanged.
+      ViewCamera object_view = view;
+      object_view.cam_from_world = view.cam_from_world * p->world_from_object;
+      const DepthObjectFrame f = p->depth_object->RenderImages(object_view, p->depth_options);
+      composite(f.color, f.depth);
+    } else if (p->displaced) {
+      p->displaced->Draw(setup, w, h);
+      const render::DisplacementFrame f = p->displaced->Read();
+      composite(f.color, f.depth);
+    } else {
+      if (!p->mesh_target || p->mesh_target->width() != w || p->mesh_target->height() != h) {
+        p->mesh_target.emplace(render::MeshTargetOptions(w, h));
+      }
+      render::MeshPassOptions o;
+      if (p->mesh_texture) o.texture = &*p->mesh_texture;
+      render::DrawMesh(*programs_, *p->mesh_target, *p->mesh, setup, o);
+      const render::DisplacementFrame f = render::ReadDisplacementFrame(*p->mesh_target);
+      composite(f.color, f.depth);
+    }
+  }
+  return out;
+}
+
+SceneRenderStats RenderSceneToDataset(render::ProgramCache& programs, const LoadedScene& scene,
+                                      const std::filesystem::path& out,
+                                      const std::function<void(const std::string&)>& progress) {
+  SceneRenderer renderer(programs, scene);
+  SceneRenderStats stats;
+  stats.passes = renderer.PassNames();
+  capture::DatasetWriter writer(out);
+  renderer.Render(scene.views.front().view);  // warm-up: shader compilation
+  for (size_t i = 0; i < scene.views.size(); ++i) {
+    const NamedView& v = scene.views[i];
+    core::Stopwatch watch;
+    const SceneFrame frame = renderer.Render(v.view);
+    stats.frame_ms.push_back(watch.ElapsedMs());
+    int64_t covered = 0;
+    for (uint8_t m : frame.mask.values()) covered += m > 0;
+    stats.object_pixels.push_back(covered);
+    const int cam = writer.AddCamera(CaptureCamera(v.view.camera));
+    writer.AddView(v.name, cam, RigidFromMat4(v.view.cam_from_world), frame.color, frame.depth,
+                   frame.mask, {});
+    if (progress) {
+      progress(fmt::format("view {}/{} {} {}x{}: {:.1f} ms, {} object pixels", i + 1,
+                           scene.views.size(), v.name, v.view.camera.width, v.view.camera.height,
+                           stats.frame_ms.back(), covered));
+    }
+  }
+  writer.SetBounds(scene.bounds);
+  writer.Commit();
+  return stats;
+}
+
+}  // namespace ibr

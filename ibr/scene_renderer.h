@@ -1,0 +1,98 @@
+// Renders a scene file (scene/scene.h): builds passes only for the objects it
+// names and enables (a scene without displacement compiles no displacement
+// program and allocates no displacement texture), draws every object of a
+// view and composites them by camera z (nearest covered surface wins).
+//
+// Stages: LoadScene (files -> plain CPU data: meshes, height maps, map sets;
+// synthetic captures need a context) -> SceneRenderer (GPU upload, passes) ->
+// Render per view.
+#pragma once
+
+#include <filesystem>
+#include <functional>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "capture/dataset.h"
+#include "capture/synthetic.h"
+#include "ibr/depth_object.h"
+#include "ibr/displaced_mesh.h"
+#include "ibr/image_maps.h"
+#include "ibr/views.h"
+#include "render/gl/shader_program.h"
+#include "scene/scene.h"
+
+namespace ibr {
+
+// One enabled object's plain CPU data, in world space.
+struct LoadedObject {
+  std::string name;
+  scene::ObjectType type = scene::ObjectType::kMesh;
+  // depth object / visual hull: maps in the object's frame, and the rigid
+  // world_from_object the view is carried into
+  MapSet maps;
+  glm::dmat4 world_from_object{1.0};
+  DepthObjectOptions depth_object;
+  // displaced mesh: base transformed to the world (max_displacement scaled with it)
+  DisplacedMeshData displaced;
+  DisplacedMeshOptions displacement;
+  // mesh: transformed to the world
+  capture::SceneMesh mesh;
+  capture::Bounds bounds;  // world
+};
+
+struct LoadedScene {
+  std::string name;
+  std::vector<LoadedObject> objects;  // enabled objects only, in scene order
+  std::vector<std::string> disabled;  // names of the objects named but disabled
+  capture::Bounds bounds;             // world bounds of the enabled objects
+  std::vector<NamedView> views;       // the scene's cameras
+};
+
+// Converts every object's settings (errors name the file and JSON pointer),
+// loads its files and, for captured image sources, renders the capture
+// (needs a current context and `programs`). Disabled objects are only checked.
+LoadedScene LoadScene(render::ProgramCache& programs, const scene::Scene& scene);
+
+struct SceneFrame {
+  core::Image8 color;  // RGBA8, alpha 255 where covered, 0 elsewhere
+  core::ImageF depth;  // camera z, 0 where empty
+  core::Image8 mask;   // 255 where covered
+};
+
+class SceneRenderer {
+ public:
+  // Uploads and builds one pass per enabled object.
+  SceneRenderer(render::ProgramCache& programs, const LoadedScene& scene);
+  ~SceneRenderer();
+  SceneRenderer(const SceneRenderer&) = delete;
+  SceneRenderer& operator=(const SceneRenderer&) = delete;
+
+  // Draws every object for `view` (GPU), then reads back and composites.
+  SceneFrame Render(const ViewCamera& view);
+  // The passes built, one per enabled object: "depth-object", "visual-hull",
+  // "displacement:METHOD", "mesh".
+  std::vector<std::string> PassNames() const;
+
+ private:
+  struct ObjectPass;
+  render::ProgramCache* programs_;
+  capture::Bounds bounds_;
+  std::vector<std::unique_ptr<ObjectPass>> passes_;
+};
+
+// Renders every camera of the scene into `out`, a dataset directory
+// (color/NAME.png, depth/NAME.exr camera z with 0 where empty, mask/NAME.png,
+// dataset.json with the cameras), staged so a failure leaves nothing behind.
+// One progress line per view through `progress`.
+struct SceneRenderStats {
+  std::vector<double> frame_ms;        // per view: draw + readback + composite
+  std::vector<int64_t> object_pixels;  // per view: covered pixels
+  std::vector<std::string> passes;     // SceneRenderer::PassNames()
+};
+SceneRenderStats RenderSceneToDataset(render::ProgramCache& programs, const LoadedScene& scene,
+                                      const std::filesystem::path& out,
+                                      const std::function<void(const std::string&)>& progress = {});
+
+}  // namespace ibr
