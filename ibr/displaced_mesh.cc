@@ -114,8 +114,12 @@ core::ImageF ReadHeightMap(const std::filesystem::path& path) {
 
 core::TriangleMesh ReadDisplacementBase(const std::filesystem::path& path) {
   capture::SceneMesh scene = capture::LoadSceneMesh(path);
-  if (scene.mesh.uvs.size() != scene.mesh.positions.size() ||
-      scene.mesh.normals.size() != scene.mesh.positions.size()) {
+  const core::TriangleMesh& m = scene.mesh;
+  // LoadSceneMesh gives (0, 0) where the file has no texture coordinates: a
+  // layout where every vertex has the same uv cannot carry a height map.
+  bool varied = false;
+  for (const glm::vec2& uv : m.uvs) varied = varied || uv != m.uvs.front();
+  if (m.uvs.size() != m.positions.size() || m.normals.size() != m.positions.size() || !varied) {
     core::ThrowFileError("ReadDisplacementBase", path,
                          "a displaced mesh needs texture coordinates on every vertex");
   }
