@@ -13,9 +13,9 @@
 #include "core/heightfield.h"
 #include "core/image.h"
 #include "core/mesh.h"
+#include "render/gl/shader_program.h"
 #include "render/passes/displacement_pass.h"
 #include "render/passes/mesh_pass.h"
-#include "render/gl/shader_program.h"
 
 namespace ibr {
 

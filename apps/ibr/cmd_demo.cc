@@ -10,12 +10,12 @@
 #include "bench/displacement_bench.h"
 #include "bench/report.h"
 #include "core/atomic_file.h"
+#include "core/displacement_error.h"
 #include "core/error.h"
 #include "core/image_io.h"
 #include "ibr/demo_scene.h"
 #include "ibr/displaced_mesh.h"
 #include "render/gl/context.h"
-#include "core/displacement_error.h"
 #include "render/gl/frame_timer.h"
 
 namespace apps {
@@ -107,8 +107,8 @@ void RunDemo(const DemoOptions& options) {
 
   core::DisplacementErrorOptions error_options;
   error_options.depth_unit = core::HeightTexelWorldSize(data.base, kTexels, kTiling);
-  const core::DisplacementError error = core::CompareToGroundTruth(
-      frame.color, frame.depth, truth.color, truth.depth, error_options);
+  const core::DisplacementError error =
+      core::CompareToGroundTruth(frame.color, frame.depth, truth.color, truth.depth, error_options);
 
   core::StagedDirectory out(options.out);
   core::WriteImage(out.path() / "color.png", frame.color);

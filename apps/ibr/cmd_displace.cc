@@ -11,13 +11,13 @@
 
 #include "apps/ibr/commands.h"
 #include "bench/displacement_bench.h"
+#include "core/displacement_error.h"
 #include "core/error.h"
 #include "core/heightfield.h"
 #include "core/image_io.h"
 #include "core/timing.h"
 #include "ibr/displaced_mesh.h"
 #include "render/gl/context.h"
-#include "core/displacement_error.h"
 #include "render/gl/frame_timer.h"
 
 namespace apps {
@@ -109,11 +109,10 @@ void RunDisplace(const DisplaceOptions& o) {
     truth_options.method = ibr::DisplacementMethod::kTessellated;
     const Drawn truth = Draw(programs, data, truth_options, view, o.size);
     core::DisplacementErrorOptions error_options;
-    error_options.depth_unit =
-        core::HeightTexelWorldSize(data.base, data.height.width(), o.tiling);
+    error_options.depth_unit = core::HeightTexelWorldSize(data.base, data.height.width(), o.tiling);
     const core::DisplacementError e =
         core::CompareToGroundTruth(result.frame.color, result.frame.depth, truth.frame.color,
-                                     truth.frame.depth, error_options);
+                                   truth.frame.depth, error_options);
     fmt::print(
         "displace: vs tessellated ({:.2f} ms/frame): coverage IoU {:.4f}, depth error mean {:.3f} "
         "/ p95 {:.3f} "
