@@ -152,15 +152,13 @@ core::ImageF DisplacementTexels(const DisplacedMeshData& data) {
 }
 
 struct DisplacedMeshRenderer::Impl {
-  render::ProgramCache* programs = nullptr;
+  // What the pass draws from (declared before the pass, destroyed after it).
   std::optional<render::Texture> texture;  // RGBA: colour + height (slicing, tessellated)
-  std::optional<render::DisplacementPass> slices;
-  std::optional<render::ReliefSurface> relief;
   std::optional<render::GpuMesh> tessellated;
   size_t tessellated_triangles = 0;
-  std::optional<render::RenderTarget> target;  // slicing, tessellated
-  std::optional<render::ReliefTarget> relief_target;
-  int width = 0, height = 0;
+  std::unique_ptr<render::Pass> pass;
+  render::DisplacementPass* slices = nullptr;  // `pass` when it slices (for its counts)
+  std::optional<render::RenderTarget> target;  // Draw()'s own frame target
 };
 
 DisplacedMeshRenderer::DisplacedMeshRenderer(render::ProgramCache& programs,
@@ -176,7 +174,7 @@ DisplacedMeshRenderer::DisplacedMeshRenderer(render::ProgramCache& programs,
     core::ThrowInputError("DisplacedMeshRenderer",
                           "the height map must be a non-empty 1-channel image");
   }
-  impl_->programs = &programs;
+  Impl& s = *impl_;
   const DisplacementMethod m = options_.method;
   if (m == DisplacementMethod::kNcs || m == DisplacementMethod::kRelief ||
       m == DisplacementMethod::kPom) {
@@ -190,10 +188,16 @@ DisplacedMeshRenderer::DisplacedMeshRenderer(render::ProgramCache& programs,
     geometry.max_displacement = options_.max_displacement;
     render::DetectPeriodicAxes(data.base, geometry.tangent_maps.wrap_u,
                                geometry.tangent_maps.wrap_v);
-    impl_->relief.emplace(programs, data.base, data.height, geometry);
+    render::ReliefSurfaceOptions o;
+    o.method = m == DisplacementMethod::kNcs      ? render::ReliefMethod::kNcs
+               : m == DisplacementMethod::kRelief ? render::ReliefMethod::kRelief
+                                                  : render::ReliefMethod::kPom;
+    o.tiling = options_.tiling;
+    o.steps = options_.steps;
+    s.pass = std::make_unique<render::ReliefSurface>(programs, data.base, data.height, geometry, o);
     return;
   }
-  impl_->texture.emplace(render::UploadDisplacementTexture(DisplacementTexels(data)));
+  s.texture.emplace(render::UploadDisplacementTexture(DisplacementTexels(data)));
   if (IsSlicing(m)) {
     render::DisplacementPassOptions o;
     o.slicing.family =
@@ -203,56 +207,36 @@ DisplacedMeshRenderer::DisplacedMeshRenderer(render::ProgramCache& programs,
     o.slicing.count = options_.slices;
     o.max_displacement = options_.max_displacement;
     o.tiling = options_.tiling;
-    impl_->slices.emplace(programs, data.base, o);
-  } else {
-    const core::TriangleMesh mesh = render::MakeDisplacedGroundTruth(
-        data.base, data.height, options_.max_displacement, options_.tiling);
-    impl_->tessellated_triangles = mesh.triangle_count();
-    impl_->tessellated.emplace(mesh);
+    auto slices = std::make_unique<render::DisplacementPass>(programs, data.base, *s.texture, o);
+    s.slices = slices.get();
+    s.pass = std::move(slices);
+    return;
   }
+  const core::TriangleMesh mesh = render::MakeDisplacedGroundTruth(
+      data.base, data.height, options_.max_displacement, options_.tiling);
+  s.tessellated_triangles = mesh.triangle_count();
+  s.tessellated.emplace(mesh);
+  render::MeshPassOptions o;
+  o.texture = &*s.texture;
+  o.shade = false;  // the texture's colour, as the slicing passes show it
+  s.pass = std::make_unique<render::MeshPass>(programs, *s.tessellated, o);
 }
 
 DisplacedMeshRenderer::~DisplacedMeshRenderer() = default;
 
+render::Pass& DisplacedMeshRenderer::pass() { return *impl_->pass; }
+
 void DisplacedMeshRenderer::Draw(const render::ViewSetup& view, int width, int height) {
   Impl& s = *impl_;
-  if (s.width != width || s.height != height) {
-    s.target.reset();
-    s.relief_target.reset();
-    s.width = width;
-    s.height = height;
+  if (!s.target || s.target->width() != width || s.target->height() != height) {
+    s.target.emplace(render::FrameTargetOptions(width, height));
   }
-  if (s.relief) {
-    if (!s.relief_target) s.relief_target.emplace(width, height);
-    render::ReliefSurfaceOptions o;
-    o.method = options_.method == DisplacementMethod::kNcs      ? render::ReliefMethod::kNcs
-               : options_.method == DisplacementMethod::kRelief ? render::ReliefMethod::kRelief
-                                                                : render::ReliefMethod::kPom;
-    o.tiling = options_.tiling;
-    o.steps = options_.steps;
-    s.relief->Draw(*s.programs, *s.relief_target, view, o);
-    return;
-  }
-  if (s.slices) {
-    if (!s.target) s.target.emplace(render::DisplacementTargetOptions(width, height));
-    s.slices->Draw(*s.target, view, *s.texture);
-    return;
-  }
-  if (!s.target) s.target.emplace(render::MeshTargetOptions(width, height));
-  render::MeshPassOptions o;
-  o.texture = &*s.texture;
-  o.shade = false;  // the texture's colour, as the slicing passes show it
-  render::DrawMesh(*s.programs, *s.target, *s.tessellated, view, o);
+  render::DrawFrame(*s.target, *s.pass, view);
 }
 
-render::DisplacementFrame DisplacedMeshRenderer::Read() const {
-  const Impl& s = *impl_;
-  if (s.relief_target) {
-    render::ReliefFrame f = s.relief_target->Read();
-    return {std::move(f.color), std::move(f.depth)};
-  }
-  IBR_CHECK(s.target.has_value());
-  return render::ReadDisplacementFrame(*s.target);
+render::Frame DisplacedMeshRenderer::Read() const {
+  IBR_CHECK(impl_->target.has_value());
+  return render::ReadFrame(*impl_->target);
 }
 
 std::string DisplacedMeshRenderer::Detail() const {
@@ -261,8 +245,8 @@ std::string DisplacedMeshRenderer::Detail() const {
     const auto& st = s.slices->last_stats();
     return fmt::format("{} volumes, {} slices, {} triangles", st.volumes, st.slices, st.triangles);
   }
-  if (s.relief) return fmt::format("{} steps", options_.steps);
-  return fmt::format("{} triangles", s.tessellated_triangles);
+  if (s.tessellated) return fmt::format("{} triangles", s.tessellated_triangles);
+  return fmt::format("{} steps", options_.steps);
 }
 
 }  // namespace ibr

@@ -16,6 +16,7 @@
 #include "render/gl/shader_program.h"
 #include "render/passes/displacement_pass.h"
 #include "render/passes/mesh_pass.h"
+#include "render/passes/pass.h"
 
 namespace ibr {
 
@@ -69,7 +70,11 @@ core::TriangleMesh ReadDisplacementBase(const std::filesystem::path& path);
 // A = height.
 core::ImageF DisplacementTexels(const DisplacedMeshData& data);
 
-// Uploads once; draws per view into its own target. Needs a current context.
+// A displaced mesh on the GPU: uploads once and holds the method's
+// render::Pass (render::DisplacementPass, render::ReliefSurface or, for the
+// tessellated truth, render::MeshPass), which draws into any frame target
+// begun by render::BeginFrame (a scene draws every object's pass into one).
+// Needs a current context.
 class DisplacedMeshRenderer {
  public:
   DisplacedMeshRenderer(render::ProgramCache& programs, const DisplacedMeshData& data,
@@ -78,11 +83,14 @@ class DisplacedMeshRenderer {
   DisplacedMeshRenderer(const DisplacedMeshRenderer&) = delete;
   DisplacedMeshRenderer& operator=(const DisplacedMeshRenderer&) = delete;
 
-  // Clears the renderer's target (resized to width x height) and draws.
+  // The method's pass (lives as long as the renderer).
+  render::Pass& pass();
+  // One whole frame into the renderer's own frame target (resized to width x
+  // height): render::DrawFrame, what the benches time.
   void Draw(const render::ViewSetup& view, int width, int height);
-  // The last Draw: colour RGBA8 (alpha 255 where covered) + camera z (0 = empty).
-  render::DisplacementFrame Read() const;
-  // One line about the last Draw (counts).
+  // The last Draw read back (render::ReadFrame).
+  render::Frame Read() const;
+  // One line about the last Draw of the pass (counts).
   std::string Detail() const;
   const DisplacedMeshOptions& options() const { return options_; }
 

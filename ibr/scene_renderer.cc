@@ -259,7 +259,9 @@ struct SceneRenderer::ObjectPass {
   // mesh
   std::optional<render::GpuMesh> mesh;
   std::optional<render::Texture> mesh_texture;
-  std::optional<render::RenderTarget> mesh_target;
+  std::optional<render::MeshPass> mesh_pass;
+  // the object's pass (displaced or mesh); null for depth objects
+  render::Pass* pass = nullptr;
 };
 
 SceneRenderer::SceneRenderer(render::ProgramCache& programs, const LoadedScene& scene)
@@ -277,11 +279,18 @@ SceneRenderer::SceneRenderer(render::ProgramCache& programs, const LoadedScene& 
       case ObjectType::kDisplacedMesh:
         p->name = "displacement:" + DisplacementMethodName(o.displacement.method);
         p->displaced.emplace(programs, o.displaced, o.displacement);
+        p->pass = &p->displaced->pass();
         break;
       default:
         p->name = "mesh";
         p->mesh.emplace(o.mesh.mesh);
         if (!o.mesh.texture.empty()) p->mesh_texture.emplace(UploadRgba8(o.mesh.texture));
+        {
+          render::MeshPassOptions mo;
+          if (p->mesh_texture) mo.texture = &*p->mesh_texture;
+          p->mesh_pass.emplace(programs, *p->mesh, mo);
+        }
+        p->pass = &*p->mesh_pass;
         break;
     }
     passes_.push_back(std::move(p));
@@ -299,45 +308,41 @@ std::vector<std::string> SceneRenderer::PassNames() const {
 SceneFrame SceneRenderer::Render(const ViewCamera& view) {
   const int w = view.camera.width, h = view.camera.height;
   const render::ViewSetup setup = ViewSetupFor(view, bounds_);
+  if (!target_ || target_->width() != w || target_->height() != h) {
+    target_.emplace(render::FrameTargetOptions(w, h));
+  }
+  // Every pass into the one frame: the depth test composites them.
+  render::BeginFrame(*target_);
+  for (auto& p : passes_) {
+    if (p->pass) p->pass->Draw(*target_, setup);
+  }
+  render::Frame frame = render::ReadFrame(*target_);
   SceneFrame out;
-  out.color = core::Image8(w, h, 4, 0);
-  out.depth = core::ImageF(w, h, 1, 0.0f);
+  out.color = std::move(frame.color);
+  out.depth = std::move(frame.depth);
   out.mask = core::Image8(w, h, 1, 0);
-  // Nearest covered surface wins (camera z > 0 = covered).
-  auto composite = [&](const core::Image8& color, const core::ImageF& depth) {
+  for (int y = 0; y < h; ++y) {
+    for (int x = 0; x < w; ++x) out.mask.at(x, y) = out.color.at(x, y, 3) == 255 ? 255 : 0;
+  }
+  // Depth objects and visual hulls (not render::Passes yet): their own
+  // target, composited here, nearest covered camera z wins.
+  for (auto& p : passes_) {
+    if (!p->depth_object) continue;
+    // Rigid transform: the object is drawn in its own frame from the view
+    // carried into it; camera z is unchanged.
+    ViewCamera object_view = view;
+    object_view.cam_from_world = view.cam_from_world * p->world_from_object;
+    const DepthObjectFrame f = p->depth_object->RenderImages(object_view, p->depth_options);
     for (int y = 0; y < h; ++y) {
       for (int x = 0; x < w; ++x) {
-        const float z = depth.at(x, y);
+        const float z = f.depth.at(x, y);
         if (!(z > 0) || !std::isfinite(z)) continue;
         if (out.mask.at(x, y) && out.depth.at(x, y) <= z) continue;
         out.depth.at(x, y) = z;
         out.mask.at(x, y) = 255;
-        for (int c = 0; c < 3; ++c) out.color.at(x, y, c) = color.at(x, y, c);
+        for (int c = 0; c < 3; ++c) out.color.at(x, y, c) = f.color.at(x, y, c);
         out.color.at(x, y, 3) = 255;
       }
-    }
-  };
-  for (auto& p : passes_) {
-    if (p->depth_object) {
-      // Rigid transform: the object is drawn in its own frame from the view
-      // carried into it; camera z is unchanged.
-      ViewCamera object_view = view;
-      object_view.cam_from_world = view.cam_from_world * p->world_from_object;
-      const DepthObjectFrame f = p->depth_object->RenderImages(object_view, p->depth_options);
-      composite(f.color, f.depth);
-    } else if (p->displaced) {
-      p->displaced->Draw(setup, w, h);
-      const render::DisplacementFrame f = p->displaced->Read();
-      composite(f.color, f.depth);
-    } else {
-      if (!p->mesh_target || p->mesh_target->width() != w || p->mesh_target->height() != h) {
-        p->mesh_target.emplace(render::MeshTargetOptions(w, h));
-      }
-      render::MeshPassOptions o;
-      if (p->mesh_texture) o.texture = &*p->mesh_texture;
-      render::DrawMesh(*programs_, *p->mesh_target, *p->mesh, setup, o);
-      const render::DisplacementFrame f = render::ReadDisplacementFrame(*p->mesh_target);
-      composite(f.color, f.depth);
     }
   }
   return out;

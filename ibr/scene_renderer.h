@@ -1,7 +1,10 @@
 // Renders a scene file (scene/scene.h): builds passes only for the objects it
 // names and enables (a scene without displacement compiles no displacement
 // program and allocates no displacement texture), draws every object of a
-// view and composites them by camera z (nearest covered surface wins).
+// view into ONE frame target (render/passes/pass.h) and so composites them by
+// the depth buffer. Depth objects and visual hulls are not render::Passes yet:
+// they render into their own target and are composited on the CPU (nearest
+// camera z wins) over the frame.
 //
 // Stages: LoadScene (files -> plain CPU data: meshes, height maps, map sets;
 // synthetic captures need a context) -> SceneRenderer (GPU upload, passes) ->
@@ -11,6 +14,7 @@
 #include <filesystem>
 #include <functional>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -20,6 +24,7 @@
 #include "ibr/displaced_mesh.h"
 #include "ibr/image_maps.h"
 #include "ibr/views.h"
+#include "render/gl/render_target.h"
 #include "render/gl/shader_program.h"
 #include "scene/scene.h"
 
@@ -69,7 +74,8 @@ class SceneRenderer {
   SceneRenderer(const SceneRenderer&) = delete;
   SceneRenderer& operator=(const SceneRenderer&) = delete;
 
-  // Draws every object for `view` (GPU), then reads back and composites.
+  // BeginFrame once, every pass's Draw into the one frame target (depth
+  // test), one readback; then the depth objects composited on the CPU.
   SceneFrame Render(const ViewCamera& view);
   // The passes built, one per enabled object: "depth-object", "visual-hull",
   // "displacement:METHOD", "mesh".
@@ -80,6 +86,7 @@ class SceneRenderer {
   render::ProgramCache* programs_;
   capture::Bounds bounds_;
   std::vector<std::unique_ptr<ObjectPass>> passes_;
+  std::optional<render::RenderTarget> target_;  // the frame target, resized per view
 };
 
 // Renders every camera of the scene into `out`, a dataset directory

@@ -100,10 +100,10 @@ void RunDemo(const DemoOptions& options) {
     return renderer.Read();
   };
   core::TimingStats timing, truth_timing;
-  const render::DisplacementFrame frame = draw(pass_options, timing);
+  const render::Frame frame = draw(pass_options, timing);
   ibr::DisplacedMeshOptions truth_options = pass_options;
   truth_options.method = ibr::DisplacementMethod::kTessellated;
-  const render::DisplacementFrame truth = draw(truth_options, truth_timing);
+  const render::Frame truth = draw(truth_options, truth_timing);
 
   core::DisplacementErrorOptions error_options;
   error_options.depth_unit = core::HeightTexelWorldSize(data.base, kTexels, kTiling);

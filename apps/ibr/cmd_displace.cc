@@ -6,6 +6,7 @@
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>
 
+#include <cstdint>
 #include <filesystem>
 #include <string>
 
@@ -19,6 +20,7 @@
 #include "ibr/displaced_mesh.h"
 #include "render/gl/context.h"
 #include "render/gl/frame_timer.h"
+#include "render/passes/relief_surface_pass.h"
 
 namespace apps {
 namespace {
@@ -51,7 +53,7 @@ struct DisplaceOptions {
 
 // One method drawn and timed; the frame read back.
 struct Drawn {
-  render::DisplacementFrame frame;
+  render::Frame frame;
   core::TimingStats timing;
   std::string detail;
 };
@@ -63,6 +65,10 @@ Drawn Draw(render::ProgramCache& programs, const ibr::DisplacedMeshData& data,
   renderer.Draw(view, size, size);
   d.frame = renderer.Read();
   d.detail = renderer.Detail();
+  if (const int64_t early =
+          d.frame.CountOutcome(render::OutcomeBit(render::RayOutcome::kEarlyTermination))) {
+    d.detail += fmt::format(", {} early-terminated pixels", early);
+  }
   return d;
 }
 

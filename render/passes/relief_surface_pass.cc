@@ -82,8 +82,6 @@ core::TriangleMesh MakeReliefShell(const core::TriangleMesh& base, float max_dis
   return shell;
 }
 
-}
-
 namespace {
 Texture UploadHeight(const core::ImageF& height, bool bilinear) {
   if (height.empty() || height.channels() != 1) {

@@ -105,9 +105,9 @@ TEST_F(DisplacedMeshTest, UsersMeshAndHeightMapMatchTheBuiltIn) {
     o.method = m;
     DisplacedMeshRenderer a(programs(), builtin, o), b(programs(), user, o);
     a.Draw(view, size, size);
-    const render::DisplacementFrame fa = a.Read();
+    const render::Frame fa = a.Read();
     b.Draw(view, size, size);
-    const render::DisplacementFrame fb = b.Read();
+    const render::Frame fb = b.Read();
     const core::ViewMetrics d = core::CompareFrames(fb.color, fb.depth, fa.color, fa.depth);
     EXPECT_GT(d.truth_pixels, 2000) << DisplacementMethodName(m);
     // OBJ text rounds positions to 6 digits and heights to 16 bits: a handful

@@ -101,7 +101,8 @@ TEST_F(SceneRendererTest, DepthObjectSceneCompilesNoDisplacementOrMeshProgram) {
 }
 
 // Two spheres overlapping in the image: the composite is, per pixel, the
-// nearer of the two separate renders (independent truth: each alone).
+// nearer of the two separate renders (independent truth: each alone), in
+// either draw order.
 TEST_F(SceneRendererTest, ObjectsCompositeByCameraZ) {
   const std::string camera =
       R"({"list": [{"name": "v", "width": 80, "height": 60, "fx": 60, "fy": 60, "cx": 40, "cy": 30,)"
@@ -115,6 +116,11 @@ TEST_F(SceneRendererTest, ObjectsCompositeByCameraZ) {
   const Built a = Build(Parse(near + "," + off(far), camera));
   const Built b = Build(Parse(off(near) + "," + far, camera));
   const Built both = Build(Parse(near + "," + far, camera));
+  // One frame target, composited by the depth test: the draw order does not
+  // matter (the far object drawn first must not cover the near one).
+  const Built reversed = Build(Parse(far + "," + near, camera));
+  EXPECT_EQ(reversed.frame.color, both.frame.color);
+  EXPECT_EQ(reversed.frame.depth, both.frame.depth);
   int overlap = 0, checked = 0;
   for (int y = 0; y < 60; ++y) {
     for (int x = 0; x < 80; ++x) {
