@@ -220,8 +220,7 @@ void RunDepthObjectBench(const DepthObjectBenchOptions& options) {
               stderr,
               "{:7} {:24} {:4} slices {:5} px: {:9.2f} ms/frame ({:.2f} of fill rate), IoU {:.4f}, "
               "p95 depth {:.5f} edges\n",
-              object.name, method, slices, size, t.median_ms, fraction, a.iou_mean,
-              a.depth.p95);
+              object.name, method, slices, size, t.median_ms, fraction, a.iou_mean, a.depth.p95);
         }
       }
     }

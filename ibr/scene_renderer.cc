@@ -11,6 +11,7 @@
 #include "core/image_io.h"
 #include "core/timing.h"
 #include "ibr/dataset_maps.h"
+#include "ibr/depth_object_pass.h"
 #include "ibr/scene_options.h"
 #include "render/gl/gl.h"
 #include "render/gl/gpu_mesh.h"
@@ -251,16 +252,17 @@ LoadedScene LoadScene(render::ProgramCache& programs, const scene::Scene& s) {
 struct SceneRenderer::ObjectPass {
   std::string name;
   // depth object / visual hull
-  std::optional<DepthObjectRenderer> depth_object;
-  DepthObjectOptions depth_options;
-  glm::dmat4 world_from_object{1.0};
+  std::optional<DepthObjectPass> depth_object;
+  // The rigid transform the view is carried into the object's frame by
+  // (identity for the other objects, whose geometry is already in the world).
+  glm::mat4 world_from_object{1.0f};
   // displaced mesh
   std::optional<DisplacedMeshRenderer> displaced;
   // mesh
   std::optional<render::GpuMesh> mesh;
   std::optional<render::Texture> mesh_texture;
   std::optional<render::MeshPass> mesh_pass;
-  // the object's pass (displaced or mesh); null for depth objects
+  // the object's pass (one of the above)
   render::Pass* pass = nullptr;
 };
 
@@ -272,9 +274,9 @@ SceneRenderer::SceneRenderer(render::ProgramCache& programs, const LoadedScene& 
       case ObjectType::kDepthObject:
       case ObjectType::kVisualHull:
         p->name = MethodName(o.depth_object.method);
-        p->depth_object.emplace(programs, o.maps);
-        p->depth_options = o.depth_object;
-        p->world_from_object = o.world_from_object;
+        p->depth_object.emplace(programs, o.maps, o.depth_object);
+        p->world_from_object = glm::mat4(o.world_from_object);
+        p->pass = &*p->depth_object;
         break;
       case ObjectType::kDisplacedMesh:
         p->name = "displacement:" + DisplacementMethodName(o.displacement.method);
@@ -314,7 +316,10 @@ SceneFrame SceneRenderer::Render(const ViewCamera& view) {
   // Every pass into the one frame: the depth test composites them.
   render::BeginFrame(*target_);
   for (auto& p : passes_) {
-    if (p->pass) p->pass->Draw(*target_, setup);
+    // A rigid transform leaves camera z (and so the composite) unchanged.
+    render::ViewSetup object_setup = setup;
+    object_setup.cam_from_world = setup.cam_from_world * p->world_from_object;
+    p->pass->Draw(*target_, object_setup);
   }
   render::Frame frame = render::ReadFrame(*target_);
   SceneFrame out;
@@ -323,27 +328,6 @@ SceneFrame SceneRenderer::Render(const ViewCamera& view) {
   out.mask = core::Image8(w, h, 1, 0);
   for (int y = 0; y < h; ++y) {
     for (int x = 0; x < w; ++x) out.mask.at(x, y) = out.color.at(x, y, 3) == 255 ? 255 : 0;
-  }
-  // Depth objects and visual hulls (not render::Passes yet): their own
-  // target, composited here, nearest covered camera z wins.
-  for (auto& p : passes_) {
-    if (!p->depth_object) continue;
-    // Rigid transform: the object is drawn in its own frame from the view
-    // carried into it; camera z is unchanged.
-    ViewCamera object_view = view;
-    object_view.cam_from_world = view.cam_from_world * p->world_from_object;
-    const DepthObjectFrame f = p->depth_object->RenderImages(object_view, p->depth_options);
-    for (int y = 0; y < h; ++y) {
-      for (int x = 0; x < w; ++x) {
-        const float z = f.depth.at(x, y);
-        if (!(z > 0) || !std::isfinite(z)) continue;
-        if (out.mask.at(x, y) && out.depth.at(x, y) <= z) continue;
-        out.depth.at(x, y) = z;
-        out.mask.at(x, y) = 255;
-        for (int c = 0; c < 3; ++c) out.color.at(x, y, c) = f.color.at(x, y, c);
-        out.color.at(x, y, 3) = 255;
-      }
-    }
   }
   return out;
 }

@@ -2,9 +2,8 @@
 // names and enables (a scene without displacement compiles no displacement
 // program and allocates no displacement texture), draws every object of a
 // view into ONE frame target (render/passes/pass.h) and so composites them by
-// the depth buffer. Depth objects and visual hulls are not render::Passes yet:
-// they render into their own target and are composited on the CPU (nearest
-// camera z wins) over the frame.
+// the depth buffer: mesh (render::MeshPass), displaced mesh (the method's pass,
+// ibr/displaced_mesh.h), depth object / visual hull (ibr::DepthObjectPass).
 //
 // Stages: LoadScene (files -> plain CPU data: meshes, height maps, map sets;
 // synthetic captures need a context) -> SceneRenderer (GPU upload, passes) ->
@@ -75,7 +74,7 @@ class SceneRenderer {
   SceneRenderer& operator=(const SceneRenderer&) = delete;
 
   // BeginFrame once, every pass's Draw into the one frame target (depth
-  // test), one readback; then the depth objects composited on the CPU.
+  // test), one readback.
   SceneFrame Render(const ViewCamera& view);
   // The passes built, one per enabled object: "depth-object", "visual-hull",
   // "displacement:METHOD", "mesh".
