@@ -26,7 +26,7 @@ DisplacedMeshOptions DisplacedMeshOptionsFrom(const scene::Settings& settings);
 struct DepthObjectFlags {
   std::string method = "depth-object";
   std::string slicing = "orthogonal";
-  int slices = 128;
+  std::string slices = "auto";  // "auto" (sec. 3.4: one slice per depth texel) or a count
   int robust = 0;
   std::string texturing = "vdt";
   std::string outside = "pass";

@@ -34,7 +34,7 @@ namespace {
 
 struct RenderCommandOptions {
   std::filesystem::path dataset;  // or a scene file (*.json)
-  ibr::DepthObjectFlags flags{.slices = 256};
+  ibr::DepthObjectFlags flags;
   std::filesystem::path cameras;
   int orbit = 0;
   int size = 0;                      // 0: the cameras' own width (--cameras) or 512 (--orbit)
@@ -167,7 +167,8 @@ void AddRenderCommand(CLI::App& app) {
       ->required();
   cmd->add_option("--method", o.flags.method, "depth-object | visual-hull")->capture_default_str();
   cmd->add_option("--slicing", o.flags.slicing, "orthogonal | screen | ray")->capture_default_str();
-  cmd->add_option("--slices", o.flags.slices, "slices through the box per frame")
+  cmd->add_option("--slices", o.flags.slices,
+                  "slices through the box per frame (ray: steps), or auto (one per depth texel)")
       ->capture_default_str();
   cmd->add_option("--robust", o.flags.robust, "keep pixels where at least N-K maps agree")
       ->capture_default_str();
