@@ -1,30 +1,30 @@
 #include "bench/displacement_bench.h"
 
+#include <fmt/format.h>
+
 #include <algorithm>
 #include <cmath>
 #include <map>
 #include <numbers>
 
-#include <fmt/format.h>
-
+#include "core/displacement_error.h"
 #include "core/error.h"
 #include "core/image_io.h"
 #include "core/projection.h"
 #include "render/gl/context.h"
-#include "core/displacement_error.h"
-#include "render/passes/displacement_pass.h"
 #include "render/gl/fill_rate.h"
 #include "render/gl/frame_timer.h"
 #include "render/gl/gpu_mesh.h"
+#include "render/passes/displacement_pass.h"
 
 namespace bench {
 namespace fs = std::filesystem;
 
-render::ViewSetup OrbitView(const core::TriangleMesh& base, float max_displacement, double elevation_deg,
-                            double azimuth_deg, int size_px) {
+render::ViewSetup OrbitView(const core::TriangleMesh& base, float max_displacement,
+                            double elevation_deg, double azimuth_deg, int size_px) {
   if (!(elevation_deg >= -90 && elevation_deg <= 90) || !std::isfinite(azimuth_deg)) {
-    core::ThrowInputError("OrbitView", "elevation {} outside [-90, 90] or azimuth {} not finite", elevation_deg,
-                          azimuth_deg);
+    core::ThrowInputError("OrbitView", "elevation {} outside [-90, 90] or azimuth {} not finite",
+                          elevation_deg, azimuth_deg);
   }
   if (size_px < 1) core::ThrowInputError("OrbitView", "size {} px must be >= 1", size_px);
   glm::vec3 lo, hi;
@@ -33,16 +33,22 @@ render::ViewSetup OrbitView(const core::TriangleMesh& base, float max_displaceme
   const float radius = 0.5f * glm::length(hi - lo) + max_displacement;
   constexpr double kHalfFov = 20.0 * std::numbers::pi / 180.0;
   const double distance = radius / std::sin(kHalfFov);
-  const double el = elevation_deg * std::numbers::pi / 180.0, az = azimuth_deg * std::numbers::pi / 180.0;
-  const glm::vec3 horizontal(static_cast<float>(std::cos(az)), static_cast<float>(std::sin(az)), 0.0f);
-  const glm::vec3 to_eye = static_cast<float>(std::cos(el)) * horizontal + glm::vec3(0, 0, static_cast<float>(std::sin(el)));
+  const double el = elevation_deg * std::numbers::pi / 180.0,
+               az = azimuth_deg * std::numbers::pi / 180.0;
+  const glm::vec3 horizontal(static_cast<float>(std::cos(az)), static_cast<float>(std::sin(az)),
+                             0.0f);
+  const glm::vec3 to_eye = static_cast<float>(std::cos(el)) * horizontal +
+                           glm::vec3(0, 0, static_cast<float>(std::sin(el)));
   // The camera's up: perpendicular to the view, towards +z (away from the eye at a top view).
-  const glm::vec3 up = -static_cast<float>(std::sin(el)) * horizontal + glm::vec3(0, 0, static_cast<float>(std::cos(el)));
+  const glm::vec3 up = -static_cast<float>(std::sin(el)) * horizontal +
+                       glm::vec3(0, 0, static_cast<float>(std::cos(el)));
   render::ViewSetup view;
-  view.cam_from_world = core::CamFromWorldLookAt(centre + static_cast<float>(distance) * to_eye, centre, up);
+  view.cam_from_world =
+      core::CamFromWorldLookAt(centre + static_cast<float>(distance) * to_eye, centre, up);
   const double f = size_px / (2.0 * std::tan(kHalfFov));
-  view.clip_from_cam = core::ClipFromCamPerspective(f, f, size_px / 2.0, size_px / 2.0, size_px, size_px,
-                                                    std::max(0.01, distance - 1.5 * radius), distance + 1.5 * radius);
+  view.clip_from_cam = core::ClipFromCamPerspective(
+      f, f, size_px / 2.0, size_px / 2.0, size_px, size_px, std::max(0.01, distance - 1.5 * radius),
+      distance + 1.5 * radius);
   return view;
 }
 
@@ -73,8 +79,10 @@ DisplacementBenchResult RunDisplacementBench(const DisplacementBenchOptions& opt
   constexpr float kMaxDisplacement = 0.25f, kTiling = 1.0f;
   const core::TriangleMesh base = DisplacementBaseMesh("plane");
   const core::ImageF height = DisplacementHeightMap(core::HeightPattern::kBumps, kTexels, 0.15f);
-  const render::Texture texture = render::UploadDisplacementTexture(render::MakeDisplacementTexels(height));
-  const render::GpuMesh truth_mesh(render::MakeDisplacedGroundTruth(base, height, kMaxDisplacement, kTiling));
+  const render::Texture texture =
+      render::UploadDisplacementTexture(render::MakeDisplacementTexels(height));
+  const render::GpuMesh truth_mesh(
+      render::MakeDisplacedGroundTruth(base, height, kMaxDisplacement, kTiling));
   const float texel = core::HeightTexelWorldSize(base, kTexels, kTiling);
   render::DisplacementPassOptions pass_options;
   pass_options.max_displacement = kMaxDisplacement;
@@ -85,22 +93,22 @@ DisplacementBenchResult RunDisplacementBench(const DisplacementBenchOptions& opt
                                         {"orthogonal", render::SliceFamily::kOrthogonal, false},
                                         {"screen", render::SliceFamily::kScreen, false},
                                         {"screen-full", render::SliceFamily::kScreen, true}};
-  const std::vector<int> counts = options.quick ? std::vector<int>{8, 32, 128}
-                                                : std::vector<int>{8, 16, 32, 64, 128, 256};
-  const std::vector<double> elevations = options.quick ? std::vector<double>{90, 60, 10}
-                                                       : std::vector<double>{90, 60, 30, 10};
+  const std::vector<int> counts =
+      options.quick ? std::vector<int>{8, 32, 128} : std::vector<int>{8, 16, 32, 64, 128, 256};
+  const std::vector<double> elevations =
+      options.quick ? std::vector<double>{90, 60, 10} : std::vector<double>{90, 60, 30, 10};
   const std::vector<int> sizes = options.quick ? std::vector<int>{128} : std::vector<int>{256, 512};
   constexpr double kAzimuth = -60;
-  const render::FrameTimerOptions timer = options.quick ? render::FrameTimerOptions{1, 3}
-                                                        : render::FrameTimerOptions{1, 5};
+  const render::FrameTimerOptions timer =
+      options.quick ? render::FrameTimerOptions{1, 3} : render::FrameTimerOptions{1, 5};
   render::MeshPassOptions truth_options;
   truth_options.texture = &texture;
   truth_options.shade = false;
   render::MeshPass truth_pass(programs, truth_mesh, truth_options);
 
-  Table table({"family", "slices", "elevation_deg", "size_px", "ms_per_frame", "fragments_M", "fill_fraction",
-               "coverage_iou", "mean_depth_error_texels", "p95_depth_error_texels", "see_through_pixels",
-               "truth_ms_per_frame", "time_vs_truth"});
+  Table table({"family", "slices", "elevation_deg", "size_px", "ms_per_frame", "fragments_M",
+               "fill_fraction", "coverage_iou", "mean_depth_error_texels", "p95_depth_error_texels",
+               "see_through_pixels", "truth_ms_per_frame", "time_vs_truth"});
   std::map<std::string, std::vector<core::Image8>> grazing_images;
   core::Image8 grazing_truth;
   const double grazing = elevations.back();
@@ -139,13 +147,15 @@ DisplacementBenchResult RunDisplacementBench(const DisplacementBenchOptions& opt
           const render::Frame frame = render::ReadFrame(target);
           core::DisplacementErrorOptions error_options;
           error_options.depth_unit = texel;
-          const core::DisplacementError error =
-              core::CompareToGroundTruth(frame.color, frame.depth, truth.color, truth.depth, error_options);
-          const double fill_fraction = fragments < 0 ? std::nan("")
-              : fragments / (time.median_ms * 1e-3) / fill.fragments_per_second;
-          table.AddRow({family.label, std::to_string(count), Num(elevation, 0), std::to_string(size),
-                        Num(time.median_ms, 2), Num(fragments * 1e-6, 2), Num(fill_fraction, 3),
-                        Num(error.coverage_iou, 4), Num(error.mean_depth_error, 3), Num(error.p95_depth_error, 3),
+          const core::DisplacementError error = core::CompareToGroundTruth(
+              frame.color, frame.depth, truth.color, truth.depth, error_options);
+          const double fill_fraction =
+              fragments < 0 ? std::nan("")
+                            : fragments / (time.median_ms * 1e-3) / fill.fragments_per_second;
+          table.AddRow({family.label, std::to_string(count), Num(elevation, 0),
+                        std::to_string(size), Num(time.median_ms, 2), Num(fragments * 1e-6, 2),
+                        Num(fill_fraction, 3), Num(error.coverage_iou, 4),
+                        Num(error.mean_depth_error, 3), Num(error.p95_depth_error, 3),
                         std::to_string(error.see_through_pixels), Num(truth_time.median_ms, 2),
                         Num(time.median_ms / truth_time.median_ms, 2)});
           if (elevation == grazing && size == sizes.front() && count == sheet_count) {
@@ -160,14 +170,16 @@ DisplacementBenchResult RunDisplacementBench(const DisplacementBenchOptions& opt
 
   // For each family at elevation 60 (the "60-degree view") and 30 (60 degrees
   // from the normal), largest size: fewest slices with p95 < 1 texel.
-  Table summary({"elevation_deg", "family", "slices_for_p95_under_1_texel", "ms_per_frame", "truth_ms_per_frame",
-                 "time_vs_truth"});
+  Table summary({"elevation_deg", "family", "slices_for_p95_under_1_texel", "ms_per_frame",
+                 "truth_ms_per_frame", "time_vs_truth"});
   const int largest = sizes.back();
   for (double elevation : {60.0, 30.0}) {
     for (const Family& family : families) {
       std::string slices = "none", ms = "-", truth_ms = "-", ratio = "-";
       for (const auto& row : table.rows()) {
-        if (row[0] != family.label || std::stod(row[2]) != elevation || std::stoi(row[3]) != largest) continue;
+        if (row[0] != family.label || std::stod(row[2]) != elevation ||
+            std::stoi(row[3]) != largest)
+          continue;
         const double p95 = std::strtod(row[9].c_str(), nullptr);
         if (std::isfinite(p95) && p95 < 1.0) {
           slices = row[1];
@@ -181,8 +193,9 @@ DisplacementBenchResult RunDisplacementBench(const DisplacementBenchOptions& opt
       summary.AddRow({Num(elevation, 0), family.label, slices, ms, truth_ms, ratio});
     }
   }
-  fmt::print("\nslices needed for p95 depth error < 1 texel ({} px; texel = {:.5f} scene units):\n{}", largest,
-             texel, summary.Format());
+  fmt::print(
+      "\nslices needed for p95 depth error < 1 texel ({} px; texel = {:.5f} scene units):\n{}",
+      largest, texel, summary.Format());
 
   if (!options.out.empty()) {
     fs::create_directories(options.out);
@@ -194,8 +207,9 @@ DisplacementBenchResult RunDisplacementBench(const DisplacementBenchOptions& opt
       }
       if (subset.rows().empty()) continue;
       PlotOptions plot;
-      plot.title = fmt::format("displacement by slicing: p95 depth error vs time, elevation {:.0f} deg, {} px",
-                               elevation, largest);
+      plot.title = fmt::format(
+          "displacement by slicing: p95 depth error vs time, elevation {:.0f} deg, {} px",
+          elevation, largest);
       plot.x_column = "ms_per_frame";
       plot.y_column = "p95_depth_error_texels";
       plot.series_column = "family";
@@ -213,8 +227,11 @@ DisplacementBenchResult RunDisplacementBench(const DisplacementBenchOptions& opt
     }
     const fs::path sheet = options.out / "grazing_contact_sheet.png";
     core::WriteImage(sheet, ContactSheet(sheet_images, static_cast<int>(sheet_images.size())));
-    fmt::print("wrote {} (elevation {:.0f} deg, {} slices; left to right: tessellated ground truth, surface, "
-               "orthogonal, screen, screen-full)\n", sheet.string(), grazing, sheet_count);
+    fmt::print(
+        "wrote {} (elevation {:.0f} deg, {} slices; left to right: tessellated ground truth, "
+        "surface, "
+        "orthogonal, screen, screen-full)\n",
+        sheet.string(), grazing, sheet_count);
   }
   return {std::move(table), std::move(summary)};
 }

@@ -614,7 +614,7 @@ void DepthObjectRenderer::Resolve(const FrameParams& frame, const DepthObjectOpt
                                                                    : "TEXTURING_NONE");
   if (frame.robust) defines.push_back("ROBUST_COUNT");
   // The ray variant's hits are already refined by the ray core; the slice
-  // passes' are refined here by the same refinement (render/ray_core.h).
+  // passes' are refined here by the same refinement (render/cores/ray_core.h).
   const bool refine =
       options.refine_steps > 0 && frame.planes.size() >= 2 && options.slicing != Slicing::kRay;
   render::RayCoreOptions ray;

@@ -116,7 +116,7 @@ struct DepthObjectOptions {
   void Check() const;
 };
 
-// One map's row of the GPU table (std140 layout of shaders/depth_object_core.glsl).
+// One map's row of the GPU table (std140 layout of shaders/passes/depth_object_core.glsl).
 struct MapRecord {
   glm::vec4 m0, m1, m2, m3;  // columns of map_cam_from_view_cam (xyz)
   glm::vec4 proj;            // fx, fy, cx, cy

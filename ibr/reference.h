@@ -1,7 +1,7 @@
 // A CPU reference of the depth-object / visual-hull stencil algorithm
 // (Kautz-Seidel 2001, sec. 4.1, steps 1-2(a)-(f)) that evaluates the same
 // FrameParams, the same texels (MapTables) and the same float operations as
-// shaders/depth_object_core.glsl, so its stencil, colour and depth buffers
+// shaders/passes/depth_object_core.glsl, so its stencil, colour and depth buffers
 // must equal the GPU's bit for bit. The one input it takes from the GPU is
 // rasterisation coverage: which pixels each slice polygon covers
 // (DepthObjectRenderer::SliceCoverage).

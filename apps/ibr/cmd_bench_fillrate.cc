@@ -11,9 +11,11 @@ namespace {
 
 void AddFillRateBench(CLI::App& app) {
   auto* fill = BenchGroup(app)->add_subcommand(
-      "fillrate", "Calibrate fragment throughput: a trivial textured, alpha-tested full-screen pass");
+      "fillrate",
+      "Calibrate fragment throughput: a trivial textured, alpha-tested full-screen pass");
   static render::FillRateOptions options;
-  fill->add_option("--size", options.width, "target width = height in pixels")->capture_default_str();
+  fill->add_option("--size", options.width, "target width = height in pixels")
+      ->capture_default_str();
   fill->add_option("--layers", options.layers_per_frame, "full-screen passes per frame")
       ->capture_default_str();
   fill->add_option("--frames", options.timer.timed_frames, "timed frames (median reported)")

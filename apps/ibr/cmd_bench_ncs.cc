@@ -1,8 +1,8 @@
 // `ibr bench ncs`: NCS / relief / POM vs the tessellated ground truth
 // (bench/ncs_bench.h). Figures are printed and written, never asserted.
-#include <filesystem>
-
 #include <fmt/format.h>
+
+#include <filesystem>
 
 #include "apps/ibr/commands.h"
 #include "bench/ncs_bench.h"
@@ -14,17 +14,21 @@ namespace apps {
 namespace {
 
 void AddNcsBench(CLI::App& app) {
-  auto* cmd = BenchGroup(app)->add_subcommand(
-      "ncs", "NCS (Chen-Chang) vs relief mapping, POM and the tessellated ground truth on a displaced torus");
+  auto* cmd = BenchGroup(app)->add_subcommand("ncs",
+                                              "NCS (Chen-Chang) vs relief mapping, POM and the "
+                                              "tessellated ground truth on a displaced torus");
   static std::string csv, out;
   static bool quick = false;
   static bench::NcsBenchOptions options;
-  cmd->add_option("--csv", csv, "CSV file with one row per method x view x tiling x steps x c")->required();
-  cmd->add_option("--out", out, "folder for plots, summary and the silhouette strip (default: the CSV's folder)");
+  cmd->add_option("--csv", csv, "CSV file with one row per method x view x tiling x steps x c")
+      ->required();
+  cmd->add_option("--out", out,
+                  "folder for plots, summary and the silhouette strip (default: the CSV's folder)");
   cmd->add_flag("--quick", quick, "small CI smoke sweep");
   cmd->add_option("--size", options.size, "frame width = height in pixels")->capture_default_str();
   cmd->add_option("--steps", options.steps, "linear-search step counts")->capture_default_str();
-  cmd->add_option("--c", options.step_enlargements, "NCS step enlargements c")->capture_default_str();
+  cmd->add_option("--c", options.step_enlargements, "NCS step enlargements c")
+      ->capture_default_str();
   cmd->add_option("--tilings", options.tilings, "height map tilings")->capture_default_str();
   cmd->add_option("--views", options.views, "oblique, grazing, edge")->capture_default_str();
   cmd->callback([] {
@@ -32,10 +36,12 @@ void AddNcsBench(CLI::App& app) {
     o.Check();
     const std::filesystem::path csv_path(csv);
     const std::filesystem::path out_dir =
-        out.empty() ? (csv_path.parent_path().empty() ? std::filesystem::path(".") : csv_path.parent_path())
-                    : std::filesystem::path(out);
+        out.empty()
+            ? (csv_path.parent_path().empty() ? std::filesystem::path(".") : csv_path.parent_path())
+            : std::filesystem::path(out);
     // Fail before minutes of measuring, not after.
-    const std::filesystem::path csv_dir = csv_path.parent_path().empty() ? "." : csv_path.parent_path();
+    const std::filesystem::path csv_dir =
+        csv_path.parent_path().empty() ? "." : csv_path.parent_path();
     if (!std::filesystem::is_directory(csv_dir)) {
       core::ThrowInputError("ibr bench ncs", "--csv '{}': no such directory", csv);
     }
@@ -44,10 +50,13 @@ void AddNcsBench(CLI::App& app) {
     fmt::print("{} | {}\n", context->info().renderer, context->info().version);
     const bench::NcsBenchResult result = bench::RunNcsBench(programs, o);
     fmt::print("{}\n", result.table.Format());
-    fmt::print("NCS cost relative to relief mapping and to the tessellated ground truth (c = 2.5, fastest frame):\n{}\n",
-               result.summary.Format());
+    fmt::print(
+        "NCS cost relative to relief mapping and to the tessellated ground truth (c = 2.5, fastest "
+        "frame):\n{}\n",
+        result.summary.Format());
     bench::WriteNcsBench(result, csv_path, out_dir);
-    fmt::print("wrote {} and plots, summary, silhouette strip in {}\n", csv_path.string(), out_dir.string());
+    fmt::print("wrote {} and plots, summary, silhouette strip in {}\n", csv_path.string(),
+               out_dir.string());
   });
 }
 

@@ -1,10 +1,10 @@
 // `ibr capture`: render a mesh or an analytic shape from a rig into a dataset.
+#include <fmt/format.h>
+#include <spdlog/spdlog.h>
+
 #include <chrono>
 #include <filesystem>
 #include <optional>
-
-#include <fmt/format.h>
-#include <spdlog/spdlog.h>
 
 #include "apps/ibr/commands.h"
 #include "capture/builtin_scenes.h"
@@ -37,39 +37,49 @@ void RunCapture(CaptureCommandOptions o, bool rig_given, bool size_given) {
     if (!size_given) o.capture.size = scene.capture.size;
   }
   if (o.mesh.empty() == o.shape.empty()) {
-    core::ThrowInputError("ibr capture", "give exactly one of --mesh PATH, --shape NAME or --scene NAME");
+    core::ThrowInputError("ibr capture",
+                          "give exactly one of --mesh PATH, --shape NAME or --scene NAME");
   }
   if (o.out.empty()) core::ThrowInputError("ibr capture", "--out DIR is required");
-  if (!o.texture.empty() && o.mesh.empty()) core::ThrowInputError("ibr capture", "--texture applies to --mesh only");
+  if (!o.texture.empty() && o.mesh.empty())
+    core::ThrowInputError("ibr capture", "--texture applies to --mesh only");
   o.capture.Check();
   const auto start = std::chrono::steady_clock::now();
-  const capture::SceneMesh scene = o.mesh.empty() ? capture::MakeShapeScene(o.shape) : capture::LoadSceneMesh(o.mesh, o.texture);
+  const capture::SceneMesh scene =
+      o.mesh.empty() ? capture::MakeShapeScene(o.shape) : capture::LoadSceneMesh(o.mesh, o.texture);
   auto context = render::HeadlessContext::Create();
   render::ProgramCache programs;
-  spdlog::info("capture: {} ({} triangles{}), rig {}, {} px", scene.source, scene.mesh.triangle_count(),
-               scene.texture.empty() ? "" : ", textured", o.capture.rig, o.capture.size);
+  spdlog::info("capture: {} ({} triangles{}), rig {}, {} px", scene.source,
+               scene.mesh.triangle_count(), scene.texture.empty() ? "" : ", textured",
+               o.capture.rig, o.capture.size);
   const capture::Dataset dataset = capture::CaptureDataset(
-      programs, scene, o.capture, o.out,
-      [](int i, int n, const std::string& name) { spdlog::info("capture: view {}/{} {}", i, n, name); });
-  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  fmt::print("capture: {} views of {} at {}x{} px in {:.2f} s -> {}\n", dataset.views.size(), scene.source,
-             o.capture.size, o.capture.size, seconds, std::filesystem::absolute(o.out).string());
+      programs, scene, o.capture, o.out, [](int i, int n, const std::string& name) {
+        spdlog::info("capture: view {}/{} {}", i, n, name);
+      });
+  const double seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  fmt::print("capture: {} views of {} at {}x{} px in {:.2f} s -> {}\n", dataset.views.size(),
+             scene.source, o.capture.size, o.capture.size, seconds,
+             std::filesystem::absolute(o.out).string());
 }
 
 void AddCaptureCommand(CLI::App& app) {
   static CaptureCommandOptions o;
-  auto* cmd = app.add_subcommand("capture", "Render a mesh or analytic shape from a camera rig into a dataset");
+  auto* cmd = app.add_subcommand(
+      "capture", "Render a mesh or analytic shape from a camera rig into a dataset");
   cmd->add_option("--mesh", o.mesh, "mesh file (OBJ, PLY, ... through assimp)");
   cmd->add_option("--shape", o.shape, "analytic shape: sphere, torus, box or cup");
   std::string names;
   for (const auto& n : capture::BuiltinSceneNames()) names += (names.empty() ? "" : ", ") + n;
   cmd->add_option("--scene", o.scene, "built-in scene (object, rig, size): " + names);
-  cmd->add_option("--texture", o.texture, "texture image (default: the material's, or <stem>_texture.png)");
+  cmd->add_option("--texture", o.texture,
+                  "texture image (default: the material's, or <stem>_texture.png)");
   cmd->add_option("--rig", o.capture.rig, "cube | ring:N | sphere:N")->capture_default_str();
   cmd->add_option("--size", o.capture.size, "image width = height in pixels")
       ->check(CLI::Range(16, 8192))
       ->capture_default_str();
-  cmd->add_option("--fov", o.capture.fov_deg, "perspective field of view, degrees")->capture_default_str();
+  cmd->add_option("--fov", o.capture.fov_deg, "perspective field of view, degrees")
+      ->capture_default_str();
   cmd->add_option("--background", o.capture.background,
                   "black, or noise: a fixed textured backdrop sphere (gives SfM features)")
       ->check(CLI::IsMember({"black", "noise"}))

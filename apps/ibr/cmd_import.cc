@@ -1,8 +1,8 @@
 // `ibr import colmap|redwood|middlebury SRC --out DIR`: real data to datasets.
-#include <filesystem>
-
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>
+
+#include <filesystem>
 
 #include "apps/ibr/commands.h"
 #include "capture/colmap_dataset.h"
@@ -23,32 +23,50 @@ struct ImportCommandOptions {
 void Progress(int i, int n) { spdlog::info("import: view {}/{}", i, n); }
 
 void Report(const char* kind, const capture::Dataset& d, const std::filesystem::path& out) {
-  fmt::print("import {}: {} views -> {}\n", kind, d.views.size(), std::filesystem::absolute(out).string());
+  fmt::print("import {}: {} views -> {}\n", kind, d.views.size(),
+             std::filesystem::absolute(out).string());
 }
 
 void AddImportCommand(CLI::App& app) {
   static ImportCommandOptions o;
-  auto* cmd = app.add_subcommand("import", "Turn a COLMAP workspace or real RGB-D / multi-view data into a dataset");
+  auto* cmd = app.add_subcommand(
+      "import", "Turn a COLMAP workspace or real RGB-D / multi-view data into a dataset");
   cmd->require_subcommand(1);
   auto common = [](CLI::App* sub) {
     sub->add_option("SRC", o.source, "source folder")->required();
     sub->add_option("--out", o.out, "output dataset directory")->required();
   };
-  auto* colmap = cmd->add_subcommand("colmap", "dense workspace (depth + normals) or sparse model + images");
+  auto* colmap =
+      cmd->add_subcommand("colmap", "dense workspace (depth + normals) or sparse model + images");
   common(colmap);
-  colmap->add_option("--input-type", o.colmap.input_type, "dense maps: geometric or photometric")->capture_default_str();
-  colmap->add_option("--images", o.colmap.images, "sparse import: image folder (default SRC/images)");
-  colmap->callback([] { Report("colmap", capture::ImportColmap(o.source, o.out, o.colmap, Progress), o.out); });
-  auto* redwood = cmd->add_subcommand("redwood", "Redwood RGB-D frames (trajectory.log, camera_primesense.json)");
+  colmap->add_option("--input-type", o.colmap.input_type, "dense maps: geometric or photometric")
+      ->capture_default_str();
+  colmap->add_option("--images", o.colmap.images,
+                     "sparse import: image folder (default SRC/images)");
+  colmap->callback(
+      [] { Report("colmap", capture::ImportColmap(o.source, o.out, o.colmap, Progress), o.out); });
+  auto* redwood = cmd->add_subcommand(
+      "redwood", "Redwood RGB-D frames (trajectory.log, camera_primesense.json)");
   common(redwood);
-  redwood->add_option("--depth-scale", o.redwood.depth_scale, "depth units per metre")->capture_default_str();
-  redwood->callback([] { Report("redwood", capture::ImportRedwood(o.source, o.out, o.redwood, Progress), o.out); });
-  auto* middlebury = cmd->add_subcommand("middlebury", "Middlebury multi-view ring (*_par.txt), masks by threshold");
+  redwood->add_option("--depth-scale", o.redwood.depth_scale, "depth units per metre")
+      ->capture_default_str();
+  redwood->callback([] {
+    Report("redwood", capture::ImportRedwood(o.source, o.out, o.redwood, Progress), o.out);
+  });
+  auto* middlebury = cmd->add_subcommand(
+      "middlebury", "Middlebury multi-view ring (*_par.txt), masks by threshold");
   common(middlebury);
-  middlebury->add_option("--threshold", o.middlebury.threshold, "silhouette threshold, fraction of full scale")->capture_default_str();
-  middlebury->add_option("--dilate", o.middlebury.dilate_iterations, "3x3 dilations")->capture_default_str();
-  middlebury->add_option("--erode", o.middlebury.erode_iterations, "3x3 erosions")->capture_default_str();
-  middlebury->callback([] { Report("middlebury", capture::ImportMiddlebury(o.source, o.out, o.middlebury, Progress), o.out); });
+  middlebury
+      ->add_option("--threshold", o.middlebury.threshold,
+                   "silhouette threshold, fraction of full scale")
+      ->capture_default_str();
+  middlebury->add_option("--dilate", o.middlebury.dilate_iterations, "3x3 dilations")
+      ->capture_default_str();
+  middlebury->add_option("--erode", o.middlebury.erode_iterations, "3x3 erosions")
+      ->capture_default_str();
+  middlebury->callback([] {
+    Report("middlebury", capture::ImportMiddlebury(o.source, o.out, o.middlebury, Progress), o.out);
+  });
 }
 
 }  // namespace

@@ -1,11 +1,11 @@
 // `ibr info`: what this machine's GL gives us. `ibr info DIR`: a readable
 // summary of a dataset (cameras, views, depth, bounds).
+#include <fmt/format.h>
+
 #include <cmath>
 #include <filesystem>
 #include <limits>
 #include <map>
-
-#include <fmt/format.h>
 
 #include "apps/ibr/commands.h"
 #include "capture/dataset.h"
@@ -20,8 +20,8 @@ void PrintGlInfo() {
   auto context = render::HeadlessContext::Create();
   const render::GlInfo& gl = context->info();
   fmt::print("OpenGL    {}.{} ({})\n", gl.major, gl.minor, gl.version);
-  fmt::print("renderer  {}\nvendor    {}\nGLSL      {}\nplatform  EGL {}\n", gl.renderer,
-             gl.vendor, gl.glsl_version, gl.platform);
+  fmt::print("renderer  {}\nvendor    {}\nGLSL      {}\nplatform  EGL {}\n", gl.renderer, gl.vendor,
+             gl.glsl_version, gl.platform);
   fmt::print("shaders   {} embedded files\n", render::ShaderSources::Embedded().Names().size());
 }
 
@@ -34,16 +34,19 @@ void PrintDataset(const std::filesystem::path& dir) {
     with_mask += !v.mask.empty();
     with_normal += !v.normal.empty();
   }
-  fmt::print("views     {} (depth {}, mask {}, normals {})\n", d.views.size(), with_depth, with_mask, with_normal);
+  fmt::print("views     {} (depth {}, mask {}, normals {})\n", d.views.size(), with_depth,
+             with_mask, with_normal);
   std::map<std::string, int> models;
-  for (const auto& [id, c] : d.cameras) models[fmt::format("{} {}x{}", capture::CameraModelName(c.model), c.width, c.height)]++;
+  for (const auto& [id, c] : d.cameras)
+    models[fmt::format("{} {}x{}", capture::CameraModelName(c.model), c.width, c.height)]++;
   fmt::print("cameras   {}:", d.cameras.size());
   for (const auto& [m, n] : models) fmt::print(" {} x {};", n, m);
   fmt::print("\n");
   fmt::print("depth     camera z, units: {}, invalid = 0 or non-finite\n", d.depth_units);
   if (d.bounds) {
-    fmt::print("bounds    min ({:.4g}, {:.4g}, {:.4g})  max ({:.4g}, {:.4g}, {:.4g})\n", d.bounds->min.x, d.bounds->min.y,
-               d.bounds->min.z, d.bounds->max.x, d.bounds->max.y, d.bounds->max.z);
+    fmt::print("bounds    min ({:.4g}, {:.4g}, {:.4g})  max ({:.4g}, {:.4g}, {:.4g})\n",
+               d.bounds->min.x, d.bounds->min.y, d.bounds->min.z, d.bounds->max.x, d.bounds->max.y,
+               d.bounds->max.z);
   } else {
     fmt::print("bounds    unknown\n");
   }
@@ -59,22 +62,25 @@ void PrintDataset(const std::filesystem::path& dir) {
       hi = std::max(hi, z);
       ++valid;
     }
-    fmt::print("view 0    '{}': depth {:.4g}..{:.4g}, {:.1f} % valid\n", d.views[i].name, valid ? lo : 0.0f, hi,
-               100.0 * valid / depth.pixel_count());
+    fmt::print("view 0    '{}': depth {:.4g}..{:.4g}, {:.1f} % valid\n", d.views[i].name,
+               valid ? lo : 0.0f, hi, 100.0 * valid / depth.pixel_count());
     break;
   }
   fmt::print("{:<14} {:<8} {:<28} {}\n", "view", "camera", "centre (world)", "files");
   for (const auto& v : d.views) {
     const glm::dvec3 c = v.cam_from_world.Centre();
-    fmt::print("{:<14} {:<8} ({:8.4f},{:8.4f},{:8.4f})  {}{}{}{}\n", v.name, v.camera_id, c.x, c.y, c.z, "color",
-               v.depth.empty() ? "" : " depth", v.mask.empty() ? "" : " mask", v.normal.empty() ? "" : " normal");
+    fmt::print("{:<14} {:<8} ({:8.4f},{:8.4f},{:8.4f})  {}{}{}{}\n", v.name, v.camera_id, c.x, c.y,
+               c.z, "color", v.depth.empty() ? "" : " depth", v.mask.empty() ? "" : " mask",
+               v.normal.empty() ? "" : " normal");
   }
 }
 
 void AddInfoCommand(CLI::App& app) {
   static std::filesystem::path dir;
-  auto* cmd = app.add_subcommand("info", "Without DIR: the OpenGL context this machine gives (headless EGL); "
-                                         "with DIR: a summary of the dataset there");
+  auto* cmd =
+      app.add_subcommand("info",
+                         "Without DIR: the OpenGL context this machine gives (headless EGL); "
+                         "with DIR: a summary of the dataset there");
   cmd->add_option("DIR", dir, "dataset directory (optional)");
   cmd->callback([] {
     if (dir.empty()) {

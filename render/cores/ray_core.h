@@ -1,6 +1,6 @@
 // The ray core, C++ side: options, the #defines that select the step policy
 // and refinement, the uniforms, and the per-pixel outcome codes shared with
-// shaders/ray_core.glsl (whose header documents the GLSL contract: the
+// shaders/cores/ray_core.glsl (whose header documents the GLSL contract: the
 // includer supplies RayField, optionally RayBend / RayInDomain / RayJacobian,
 // and the hooks RAY_REJECT + RayRejectHit (reject a crossing and march on),
 // RAY_BOTH_CROSSINGS (a hit is a change of side either way) and RAY_SKIP +

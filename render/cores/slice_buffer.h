@@ -1,7 +1,7 @@
 // The GPU side of the slicing core: a SliceStack's polygons as triangle fans
 // in one vertex buffer (attribute 0 = box coordinates), drawable one slice at
 // a time (the depth-object loop draws each slice once per map) or all at once.
-// Vertex shaders include shaders/slicing_core.glsl to place them.
+// Vertex shaders include shaders/cores/slicing_core.glsl to place them.
 #pragma once
 
 #include <vector>

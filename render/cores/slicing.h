@@ -2,7 +2,7 @@
 // -- a displacement volume, a depth-object cube, a volume's bounds -- in three
 // families, ordered for compositing. Written once; every slicing pass
 // (displacement, depth objects, visual hulls, volumes) uses it, on the CPU
-// side here and through shaders/slicing_core.glsl on the GPU side.
+// side here and through shaders/cores/slicing_core.glsl on the GPU side.
 //
 // Box space: the box is [0,1]^3 in its own coordinates, mapped to the world by
 // the affine `world_from_box`. Box coordinates double as 3D texture

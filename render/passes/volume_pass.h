@@ -13,7 +13,7 @@
 // hide what lies behind them.
 //
 // Iso (first hit at an iso value): the proxy box's back faces start one ray
-// per pixel through the shared ray core (shaders/ray_core.glsl supplies the
+// per pixel through the shared ray core (shaders/cores/ray_core.glsl supplies the
 // march; this pass supplies RayField = iso - density(displaced p'), > 0
 // empty); hits write colour, camera z, outcome flags and gl_FragDepth.
 //

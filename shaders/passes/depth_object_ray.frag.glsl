@@ -1,7 +1,7 @@
 #version 450 core
 // The one-pass ray variant of depth objects and visual hulls (issue 5, item
 // 7): each pixel marches its view ray through the box on the shared ray core
-// (shaders/ray_core.glsl: linear search, then bisection), testing all maps
+// (shaders/cores/ray_core.glsl: linear search, then bisection), testing all maps
 // per sample with the same MapLookup / depth codes as the slice passes, and
 // writes the same accumulation layout as they do (colour = sum of w c at the
 // hit, camera z), so the same resolve pass textures it.

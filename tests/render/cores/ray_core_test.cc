@@ -1,4 +1,4 @@
-// The ray core on its own (shaders/ray_core.glsl through render/cores/ray_core.h),
+// The ray core on its own (shaders/cores/ray_core.glsl through render/cores/ray_core.h),
 // against analytic fields: one pixel = one ray along +z through the box
 // [-1.5, 1.5]^3, its lateral offset x set by the pixel column.
 #include "render/cores/ray_core.h"
