@@ -1,7 +1,7 @@
 # Thin wrapper over CMake presets. `make demo` and `make test` install any
 # missing Debian packages first (scripts/install-deps.sh, idempotent).
 #   make demo   - Release build, then the main job on the built-in default scene
-#   make test   - Release build, then the whole ctest suite (non-zero on failure)
+#   make test   - format check, Release build, then the whole ctest suite (non-zero on failure)
 #   make format - clang-format every C++ file in place (make format-check: report differences)
 #   make asan   - ASan + UBSan build of the tests, then run them
 #   make bench  - benchmarks that print figures and write plots under build/bench
@@ -37,7 +37,7 @@ build: configure
 demo: build
 	build/bin/ibr demo --out $(DEMO_OUT)
 
-test: build
+test: format-check build
 	ctest --preset release
 
 asan: deps

@@ -155,8 +155,8 @@ NcsBenchResult RunNcsBench(render::ProgramCache& programs, const NcsBenchOptions
       const render::ViewSetup view = MakeView(view_name, n);
       render::DrawFrame(mesh_target, truth_pass, view);
       const render::Frame truth = render::ReadFrame(mesh_target);
-      const core::TimingStats truth_time =
-          render::TimeFrames([&] { render::DrawFrame(mesh_target, truth_pass, view); }, options.timer);
+      const core::TimingStats truth_time = render::TimeFrames(
+          [&] { render::DrawFrame(mesh_target, truth_pass, view); }, options.timer);
       const double truth_ms = truth_time.min_ms;
       int64_t truth_px = 0;
       for (int y = 0; y < n; ++y) {
@@ -187,20 +187,24 @@ NcsBenchResult RunNcsBench(render::ProgramCache& programs, const NcsBenchOptions
             o.step_enlargement = c;
             o.tiling = static_cast<float>(tiling);
             surface.SetOptions(o);
-            const core::TimingStats time =
-                render::TimeFrames([&] { render::DrawFrame(relief_target, surface, view); }, options.timer);
+            const core::TimingStats time = render::TimeFrames(
+                [&] { render::DrawFrame(relief_target, surface, view); }, options.timer);
             const double ms = time.min_ms;
             render::DrawFrame(relief_target, surface, view);
             const render::Frame frame = render::ReadFrame(relief_target);
-            const core::ViewMetrics e = core::CompareFrames(frame.color, frame.depth, truth.color, truth.depth);
-            result.table.AddRow({render::ReliefMethodName(method), view_name, std::to_string(tiling),
-                                 std::to_string(steps), ncs ? Num(c, 1) : "", Num(time.median_ms, 2), Num(ms, 2),
-                                 Num(e.iou, 4),
-                                 std::to_string(e.wrong_pixels), Num(e.depth.mean, 5),
-                                 Num(e.depth.p95, 5), std::to_string(frame.CountOutcome(render::OutcomeBit(render::RayOutcome::kEarlyTermination))),
-                                 std::to_string(e.truth_pixels), std::to_string(torus.triangle_count())});
-            const bool summary_c = !ncs || std::abs(c - 2.5f) < 1e-6f ||
-                                   (options.step_enlargements.size() == 1 && c == options.step_enlargements[0]);
+            const core::ViewMetrics e =
+                core::CompareFrames(frame.color, frame.depth, truth.color, truth.depth);
+            result.table.AddRow(
+                {render::ReliefMethodName(method), view_name, std::to_string(tiling),
+                 std::to_string(steps), ncs ? Num(c, 1) : "", Num(time.median_ms, 2), Num(ms, 2),
+                 Num(e.iou, 4), std::to_string(e.wrong_pixels), Num(e.depth.mean, 5),
+                 Num(e.depth.p95, 5),
+                 std::to_string(
+                     frame.CountOutcome(render::OutcomeBit(render::RayOutcome::kEarlyTermination))),
+                 std::to_string(e.truth_pixels), std::to_string(torus.triangle_count())});
+            const bool summary_c =
+                !ncs || std::abs(c - 2.5f) < 1e-6f ||
+                (options.step_enlargements.size() == 1 && c == options.step_enlargements[0]);
             if (summary_c) ms_at[{render::ReliefMethodName(method), steps}] = ms;
             // The strip: the middle step count, c = 2.5 (or the only c).
             if (strip_here && steps == options.steps[options.steps.size() / 2] && summary_c) {

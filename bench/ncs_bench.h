@@ -18,9 +18,9 @@
 namespace bench {
 
 struct NcsBenchOptions {
-  int size = 256;             // pixels per side of every frame
-  int height_map_size = 64;   // texels per side; the ground truth has a vertex per texel
-  std::vector<int> steps = {16, 32, 64};            // linear-search steps
+  int size = 256;            // pixels per side of every frame
+  int height_map_size = 64;  // texels per side; the ground truth has a vertex per texel
+  std::vector<int> steps = {16, 32, 64};                       // linear-search steps
   std::vector<float> step_enlargements = {1.0f, 2.5f, 10.0f};  // NCS c
   std::vector<int> tilings = {1, 2, 4, 8, 16};
   std::vector<std::string> views = {"oblique", "grazing", "edge"};  // see NcsBenchViewNames()
@@ -37,7 +37,7 @@ struct NcsBenchOptions {
 std::vector<std::string> NcsBenchViewNames();
 
 struct NcsBenchResult {
-  Table table;           // one row per (method, view, tiling, steps, c)
+  Table table;  // one row per (method, view, tiling, steps, c)
   // NCS cost relative to relief mapping and to the ground truth per view,
   // tiling and step count, from the fastest timed frame (min_ms_per_frame).
   Table summary;

@@ -113,8 +113,10 @@ Open3dRun RunOpen3dPeer(const std::filesystem::path& dataset, const Open3dPeerOp
   constexpr const char* kWhere = "RunOpen3dPeer";
   options.Check();
   const std::filesystem::path script =
-      options.script.empty() ? std::filesystem::path(IBR_BENCH_SOURCE_DIR) / "open3d_peer.py" : options.script;
-  if (!std::filesystem::exists(script)) core::ThrowInputError(kWhere, "'{}': no such script", script.string());
+      options.script.empty() ? std::filesystem::path(IBR_BENCH_SOURCE_DIR) / "open3d_peer.py"
+                             : options.script;
+  if (!std::filesystem::exists(script))
+    core::ThrowInputError(kWhere, "'{}': no such script", script.string());
   std::filesystem::create_directories(options.work_dir);
   const std::filesystem::path report = options.work_dir / "peer.json";
   std::filesystem::remove(report);
@@ -202,8 +204,9 @@ std::vector<MethodRow> EvaluatePeer(render::ProgramCache& programs, const Open3d
       row.upload_ms = watch.ElapsedMs();
       for (size_t i = 0; i < views.size(); ++i) {
         watch.Restart();
-        const render::Frame frame = render::RenderMesh(programs, gpu, ViewSetupFor(views[i], bounds),
-                                                           views[i].camera.width, views[i].camera.height);
+        const render::Frame frame =
+            render::RenderMesh(programs, gpu, ViewSetupFor(views[i], bounds), views[i].camera.width,
+                               views[i].camera.height);
         const double ms = watch.ElapsedMs();
         if (i == 0) {
           row.first_frame_ms = ms;

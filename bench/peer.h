@@ -35,8 +35,8 @@
 #include "ibr/depth_object.h"
 #include "ibr/image_maps.h"
 #include "ibr/views.h"
-#include "render/passes/mesh_pass.h"
 #include "render/gl/shader_program.h"
+#include "render/passes/mesh_pass.h"
 
 namespace bench {
 

@@ -1,5 +1,7 @@
 #include "bench/report.h"
 
+#include <fmt/format.h>
+
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -7,8 +9,6 @@
 #include <fstream>
 #include <map>
 #include <sstream>
-
-#include <fmt/format.h>
 
 #include "core/atomic_file.h"
 #include "core/check.h"
@@ -38,7 +38,8 @@ std::string Table::Format() const {
   }
   std::string out;
   auto line = [&](const std::vector<std::string>& v) {
-    for (size_t c = 0; c < v.size(); ++c) out += fmt::format("{:>{}}{}", v[c], width[c], c + 1 < v.size() ? "  " : "\n");
+    for (size_t c = 0; c < v.size(); ++c)
+      out += fmt::format("{:>{}}{}", v[c], width[c], c + 1 < v.size() ? "  " : "\n");
   };
   line(columns_);
   for (const auto& r : rows_) line(r);
@@ -86,7 +87,8 @@ void PlotPng(const Table& table, const PlotOptions& options, const fs::path& png
   }
   core::AtomicWrite(png, [&](const fs::path& tmp) {
     std::ofstream gp(script);
-    gp << fmt::format("set terminal pngcairo size {},{} noenhanced\n", options.width_px, options.height_px);
+    gp << fmt::format("set terminal pngcairo size {},{} noenhanced\n", options.width_px,
+                      options.height_px);
     gp << "set output '" << tmp.string() << "'\n";
     gp << "set title '" << options.title << "'\n";
     gp << "set xlabel '" << (options.x_label.empty() ? options.x_column : options.x_label) << "'\n";
@@ -116,7 +118,8 @@ void PlotPng(const Table& table, const PlotOptions& options, const fs::path& png
     fs::remove(data, ignored);
     if (status != 0 || !fs::exists(tmp) || fs::file_size(tmp) == 0) {
       std::replace(output.begin(), output.end(), '\n', ' ');
-      core::ThrowFileError("PlotPng", png, "gnuplot failed (is gnuplot-nox installed?): {}", output);
+      core::ThrowFileError("PlotPng", png, "gnuplot failed (is gnuplot-nox installed?): {}",
+                           output);
     }
   });
 }

@@ -5,17 +5,16 @@
 #pragma once
 
 #include <filesystem>
+#include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
-
-#include <nlohmann/json.hpp>
 
 #include "capture/synthetic.h"
 
 namespace capture {
 
 struct BuiltinScene {
-  std::string name;         // file stem, e.g. "spot-cube"
+  std::string name;  // file stem, e.g. "spot-cube"
   std::string description;
   std::string shape;        // analytic shape name (sphere, torus, box, cup), or empty
   std::string shared_mesh;  // path relative to the shared data folder, or empty

@@ -1,9 +1,9 @@
 #include "capture/colmap_dataset.h"
 
+#include <fmt/format.h>
+
 #include <cmath>
 #include <fstream>
-
-#include <fmt/format.h>
 
 #include "core/atomic_file.h"
 #include "core/error.h"
@@ -17,13 +17,15 @@ void ColmapExportOptions::Check() const {
     core::ThrowInputError("ColmapExportOptions", "point_step_px {} outside 1..4096", point_step_px);
   }
   if (!(visibility_tolerance > 0 && visibility_tolerance < 1)) {
-    core::ThrowInputError("ColmapExportOptions", "visibility_tolerance {} outside (0, 1)", visibility_tolerance);
+    core::ThrowInputError("ColmapExportOptions", "visibility_tolerance {} outside (0, 1)",
+                          visibility_tolerance);
   }
 }
 
 void ColmapImportOptions::Check() const {
   if (input_type != "geometric" && input_type != "photometric") {
-    core::ThrowInputError("ColmapImportOptions", "input type '{}' is not geometric or photometric", input_type);
+    core::ThrowInputError("ColmapImportOptions", "input type '{}' is not geometric or photometric",
+                          input_type);
   }
 }
 
@@ -51,8 +53,10 @@ core::ImageF CameraNormals(const Dataset& dataset, size_t i, const core::ImageF&
         const float l = depth.at(col - 1, row), rr = depth.at(col + 1, row);
         const float u = depth.at(col, row - 1), dn = depth.at(col, row + 1);
         if (Valid(l) && Valid(rr) && Valid(u) && Valid(dn)) {
-          const glm::dvec3 dx = cam.UnprojectPixel(col + 1, row, rr) - cam.UnprojectPixel(col - 1, row, l);
-          const glm::dvec3 dy = cam.UnprojectPixel(col, row + 1, dn) - cam.UnprojectPixel(col, row - 1, u);
+          const glm::dvec3 dx =
+              cam.UnprojectPixel(col + 1, row, rr) - cam.UnprojectPixel(col - 1, row, l);
+          const glm::dvec3 dy =
+              cam.UnprojectPixel(col, row + 1, dn) - cam.UnprojectPixel(col, row - 1, u);
           const glm::dvec3 c = glm::cross(dx, dy);
           if (glm::length(c) > 0) n = c;
         }
@@ -68,7 +72,8 @@ core::ImageF CameraNormals(const Dataset& dataset, size_t i, const core::ImageF&
 
 }  // namespace
 
-void ExportColmapWorkspace(const Dataset& dataset, const fs::path& workspace, const ColmapExportOptions& options,
+void ExportColmapWorkspace(const Dataset& dataset, const fs::path& workspace,
+                           const ColmapExportOptions& options,
                            const std::function<void(int, int)>& progress) {
   constexpr const char* kWhere = "ExportColmapWorkspace";
   options.Check();
@@ -77,15 +82,21 @@ void ExportColmapWorkspace(const Dataset& dataset, const fs::path& workspace, co
   for (size_t i = 0; i < dataset.views.size(); ++i) {
     const DatasetView& v = dataset.views[i];
     if (dataset.camera(v).orthographic()) {
-      core::ThrowInputError(kWhere, "view '{}' has an orthographic camera: COLMAP has no orthographic model "
-                            "(capture with a ring:N or sphere:N rig)", v.name);
+      core::ThrowInputError(
+          kWhere,
+          "view '{}' has an orthographic camera: COLMAP has no orthographic model "
+          "(capture with a ring:N or sphere:N rig)",
+          v.name);
     }
-    if (v.depth.empty()) core::ThrowInputError(kWhere, "view '{}' has no depth: a dense workspace needs depth", v.name);
+    if (v.depth.empty())
+      core::ThrowInputError(kWhere, "view '{}' has no depth: a dense workspace needs depth",
+                            v.name);
     views.push_back(i);
   }
   core::StagedDirectory staged(workspace);
   const fs::path ws = staged.path();
-  for (const char* d : {"images", "sparse", "stereo/depth_maps", "stereo/normal_maps", "stereo/consistency_graphs"}) {
+  for (const char* d : {"images", "sparse", "stereo/depth_maps", "stereo/normal_maps",
+                        "stereo/consistency_graphs"}) {
     fs::create_directories(ws / d);
   }
   colmap::SparseModel model;
@@ -101,22 +112,26 @@ void ExportColmapWorkspace(const Dataset& dataset, const fs::path& workspace, co
     colors.push_back(dataset.LoadColor(i));
     depths.push_back(dataset.LoadDepth(i));
     core::ImageF& depth = depths.back();
-    for (float& d : depth.values()) if (!Valid(d)) d = 0;  // COLMAP: <= 0 invalid; no NaN
+    for (float& d : depth.values())
+      if (!Valid(d)) d = 0;  // COLMAP: <= 0 invalid; no NaN
     core::WriteImage(ws / "images" / name, colors.back());
     const core::ImageF normals = CameraNormals(dataset, i, depth);
     for (const char* type : {"geometric", "photometric"}) {
       colmap::WriteDenseMap(ws / "stereo/depth_maps" / fmt::format("{}.{}.bin", name, type), depth);
-      colmap::WriteDenseMap(ws / "stereo/normal_maps" / fmt::format("{}.{}.bin", name, type), normals);
+      colmap::WriteDenseMap(ws / "stereo/normal_maps" / fmt::format("{}.{}.bin", name, type),
+                            normals);
     }
     const uint32_t camera_id = static_cast<uint32_t>(view.camera_id);
     if (!model.cameras.contains(camera_id)) {
       const Camera dense = DenseFromCamera(cam);
-      model.cameras.emplace(camera_id, Camera::Pinhole(cam.width, cam.height, dense.fx(), dense.fy(), dense.cx(), dense.cy()));
+      model.cameras.emplace(camera_id, Camera::Pinhole(cam.width, cam.height, dense.fx(),
+                                                       dense.fy(), dense.cx(), dense.cy()));
     }
     colmap::Image image;
     image.image_id = static_cast<uint32_t>(k + 1);
     image.qvec = view.cam_from_world.Quaternion();
-    image.tvec = {view.cam_from_world.translation.x, view.cam_from_world.translation.y, view.cam_from_world.translation.z};
+    image.tvec = {view.cam_from_world.translation.x, view.cam_from_world.translation.y,
+                  view.cam_from_world.translation.z};
     image.camera_id = camera_id;
     image.name = name;
     model.images.emplace(image.image_id, image);
@@ -144,7 +159,8 @@ void ExportColmapWorkspace(const Dataset& dataset, const fs::path& workspace, co
           const glm::dvec3 q = other.cam_from_world * p;
           if (!(q.z > 0)) continue;
           const glm::dvec2 uv = oc.Project(q);
-          const int c2 = static_cast<int>(std::floor(uv.x)), r2 = static_cast<int>(std::floor(uv.y));
+          const int c2 = static_cast<int>(std::floor(uv.x)),
+                    r2 = static_cast<int>(std::floor(uv.y));
           if (c2 < 0 || r2 < 0 || c2 >= oc.width || r2 >= oc.height) continue;
           const float od = depths[j].at(c2, r2);
           if (!Valid(od) || std::abs(od - q.z) > options.visibility_tolerance * q.z) continue;
@@ -163,11 +179,13 @@ void ExportColmapWorkspace(const Dataset& dataset, const fs::path& workspace, co
     }
   }
   if (model.points3D.empty()) {
-    core::ThrowInputError(kWhere, "no 3D point is seen by two views: colmap stereo_fusion would fuse nothing");
+    core::ThrowInputError(
+        kWhere, "no 3D point is seen by two views: colmap stereo_fusion would fuse nothing");
   }
   model.Check(kWhere);
   colmap::WriteSparseModel(ws / "sparse", model, options.format);
-  core::AtomicWriteStream(ws / "stereo/fusion.cfg", [&](std::ostream& o) { colmap::WriteFusionConfig(o, names); });
+  core::AtomicWriteStream(ws / "stereo/fusion.cfg",
+                          [&](std::ostream& o) { colmap::WriteFusionConfig(o, names); });
   std::vector<colmap::PatchMatchEntry> entries;
   for (const auto& n : names) entries.push_back({n, "__auto__, 20"});
   core::AtomicWriteStream(ws / "stereo/patch-match.cfg",
@@ -181,7 +199,9 @@ fs::path FindSparseDir(const fs::path& source) {
   for (const fs::path& candidate : {source / "sparse" / "0", source / "sparse", source}) {
     if (colmap::IsSparseModelDir(candidate)) return candidate;
   }
-  core::ThrowFileError("ImportColmap", source, "no COLMAP model (cameras.bin/.txt) in sparse/0, sparse/ or the folder itself");
+  core::ThrowFileError(
+      "ImportColmap", source,
+      "no COLMAP model (cameras.bin/.txt) in sparse/0, sparse/ or the folder itself");
 }
 
 Bounds PointBounds(const colmap::SparseModel& model) {
@@ -196,7 +216,8 @@ Bounds PointBounds(const colmap::SparseModel& model) {
 
 }  // namespace
 
-Dataset ImportColmap(const fs::path& source, const fs::path& out, const ColmapImportOptions& options,
+Dataset ImportColmap(const fs::path& source, const fs::path& out,
+                     const ColmapImportOptions& options,
                      const std::function<void(int, int)>& progress) {
   constexpr const char* kWhere = "ImportColmap";
   options.Check();
@@ -204,9 +225,11 @@ Dataset ImportColmap(const fs::path& source, const fs::path& out, const ColmapIm
   const bool dense = fs::is_directory(source / "stereo" / "depth_maps");
   const fs::path sparse_dir = dense ? source / "sparse" : FindSparseDir(source);
   const colmap::SparseModel model = colmap::ReadSparseModel(sparse_dir);
-  if (model.images.empty()) core::ThrowFileError(kWhere, sparse_dir, "model has no registered images");
+  if (model.images.empty())
+    core::ThrowFileError(kWhere, sparse_dir, "model has no registered images");
   const fs::path images_dir = options.images.empty() ? source / "images" : options.images;
-  if (!fs::is_directory(images_dir)) core::ThrowFileError(kWhere, images_dir, "image folder does not exist");
+  if (!fs::is_directory(images_dir))
+    core::ThrowFileError(kWhere, images_dir, "image folder does not exist");
 
   // Image order: fusion.cfg order for dense workspaces when present, else by name.
   std::vector<const colmap::Image*> order;
@@ -221,14 +244,16 @@ Dataset ImportColmap(const fs::path& source, const fs::path& out, const ColmapIm
     const fs::path image_path = images_dir / im.name;
     core::Image8 color = core::ReadImage<uint8_t>(image_path);
     if (color.width() != colmap_cam.width || color.height() != colmap_cam.height) {
-      core::ThrowFileError(kWhere, image_path, "image is {}x{}, its camera {} is {}x{}", color.width(),
-                           color.height(), im.camera_id, colmap_cam.width, colmap_cam.height);
+      core::ThrowFileError(kWhere, image_path, "image is {}x{}, its camera {} is {}x{}",
+                           color.width(), color.height(), im.camera_id, colmap_cam.width,
+                           colmap_cam.height);
     }
     if (color.channels() == 1 || color.channels() == 4) {
       core::Image8 rgb(color.width(), color.height(), 3);
       for (int y = 0; y < color.height(); ++y)
         for (int x = 0; x < color.width(); ++x)
-          for (int c = 0; c < 3; ++c) rgb.at(x, y, c) = color.at(x, y, color.channels() == 1 ? 0 : c);
+          for (int c = 0; c < 3; ++c)
+            rgb.at(x, y, c) = color.at(x, y, color.channels() == 1 ? 0 : c);
       color = std::move(rgb);
     } else if (color.channels() != 3) {
       core::ThrowFileError(kWhere, image_path, "{} channels", color.channels());
@@ -238,15 +263,19 @@ Dataset ImportColmap(const fs::path& source, const fs::path& out, const ColmapIm
     core::Image8 mask;
     if (dense) {
       if (colmap_cam.distorted()) {
-        core::ThrowFileError(kWhere, sparse_dir, "camera {} is {}: a dense workspace has undistorted cameras",
+        core::ThrowFileError(kWhere, sparse_dir,
+                             "camera {} is {}: a dense workspace has undistorted cameras",
                              im.camera_id, CameraModelName(colmap_cam.model));
       }
       camera = CameraFromDense(colmap_cam);
-      const fs::path depth_path = source / "stereo/depth_maps" / fmt::format("{}.{}.bin", im.name, options.input_type);
+      const fs::path depth_path =
+          source / "stereo/depth_maps" / fmt::format("{}.{}.bin", im.name, options.input_type);
       depth = colmap::ReadDenseMap(depth_path);
-      if (depth.channels() != 1 || depth.width() != camera.width || depth.height() != camera.height) {
-        core::ThrowFileError(kWhere, depth_path, "depth map is {}x{}x{}, camera is {}x{}x1", depth.width(),
-                             depth.height(), depth.channels(), camera.width, camera.height);
+      if (depth.channels() != 1 || depth.width() != camera.width ||
+          depth.height() != camera.height) {
+        core::ThrowFileError(kWhere, depth_path, "depth map is {}x{}x{}, camera is {}x{}x1",
+                             depth.width(), depth.height(), depth.channels(), camera.width,
+                             camera.height);
       }
       mask = core::Image8(camera.width, camera.height, 1);
       for (size_t p = 0; p < depth.pixel_count(); ++p) {
@@ -254,12 +283,15 @@ Dataset ImportColmap(const fs::path& source, const fs::path& out, const ColmapIm
         if (!Valid(d)) d = 0;  // COLMAP writes 0 (or negative) for invalid
         mask.data()[p] = d > 0 ? 255 : 0;
       }
-      const fs::path normal_path = source / "stereo/normal_maps" / fmt::format("{}.{}.bin", im.name, options.input_type);
+      const fs::path normal_path =
+          source / "stereo/normal_maps" / fmt::format("{}.{}.bin", im.name, options.input_type);
       if (fs::exists(normal_path)) {
         const core::ImageF n_cam = colmap::ReadDenseMap(normal_path);
-        if (n_cam.channels() != 3 || n_cam.width() != camera.width || n_cam.height() != camera.height) {
-          core::ThrowFileError(kWhere, normal_path, "normal map is {}x{}x{}, camera is {}x{}x3", n_cam.width(),
-                               n_cam.height(), n_cam.channels(), camera.width, camera.height);
+        if (n_cam.channels() != 3 || n_cam.width() != camera.width ||
+            n_cam.height() != camera.height) {
+          core::ThrowFileError(kWhere, normal_path, "normal map is {}x{}x{}, camera is {}x{}x3",
+                               n_cam.width(), n_cam.height(), n_cam.channels(), camera.width,
+                               camera.height);
         }
         normal = core::ImageF(camera.width, camera.height, 3);
         const glm::dmat3 rt = glm::transpose(im.cam_from_world().rotation);
@@ -282,7 +314,8 @@ Dataset ImportColmap(const fs::path& source, const fs::path& out, const ColmapIm
     }
     if (!camera_ids.contains(im.camera_id)) camera_ids[im.camera_id] = writer.AddCamera(camera);
     std::string name = fs::path(im.name).replace_extension().string();
-    for (char& c : name) if (c == '/' || c == '\\') c = '_';
+    for (char& c : name)
+      if (c == '/' || c == '\\') c = '_';
     writer.AddView(name, camera_ids[im.camera_id], im.cam_from_world(), color, depth, mask, normal);
     if (progress) progress(static_cast<int>(k) + 1, static_cast<int>(order.size()));
   }

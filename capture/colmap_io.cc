@@ -1,13 +1,13 @@
 #include "capture/colmap_io.h"
 
+#include <fmt/format.h>
+
 #include <bit>
 #include <charconv>
 #include <cmath>
 #include <cstring>
 #include <set>
 #include <sstream>
-
-#include <fmt/format.h>
 
 #include "core/atomic_file.h"
 #include "core/error.h"
@@ -23,8 +23,10 @@ namespace {
 // ---------------------------------------------------------------- text ----
 
 std::string_view Trim(std::string_view s) {
-  while (!s.empty() && (s.front() == ' ' || s.front() == '\t' || s.front() == '\r')) s.remove_prefix(1);
-  while (!s.empty() && (s.back() == ' ' || s.back() == '\t' || s.back() == '\r' || s.back() == '\n')) {
+  while (!s.empty() && (s.front() == ' ' || s.front() == '\t' || s.front() == '\r'))
+    s.remove_prefix(1);
+  while (!s.empty() &&
+         (s.back() == ' ' || s.back() == '\t' || s.back() == '\r' || s.back() == '\n')) {
     s.remove_suffix(1);
   }
   return s;
@@ -115,9 +117,12 @@ Camera CameraFromModel(int model_id_or_minus1, std::string_view model_name, int6
   return camera;
 }
 
-void CheckPose(const std::array<double, 4>& q, const std::array<double, 3>& t, const std::string& where) {
-  for (double v : q) if (!std::isfinite(v)) core::ThrowInputError(where, "quaternion is not finite");
-  for (double v : t) if (!std::isfinite(v)) core::ThrowInputError(where, "translation is not finite");
+void CheckPose(const std::array<double, 4>& q, const std::array<double, 3>& t,
+               const std::string& where) {
+  for (double v : q)
+    if (!std::isfinite(v)) core::ThrowInputError(where, "quaternion is not finite");
+  for (double v : t)
+    if (!std::isfinite(v)) core::ThrowInputError(where, "translation is not finite");
   const double norm = std::sqrt(q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3]);
   if (norm < 1e-12) core::ThrowInputError(where, "quaternion has zero length");
 }
@@ -141,7 +146,8 @@ class BinaryReader {
   }
   double ReadFinite(const char* what) {
     const double v = Read<double>(what);
-    if (!std::isfinite(v)) core::ThrowInputError(where_, "{} at byte {} is not finite", what, offset_ - 8);
+    if (!std::isfinite(v))
+      core::ThrowInputError(where_, "{} at byte {} is not finite", what, offset_ - 8);
     return v;
   }
   std::string ReadString(const char* what) {
@@ -149,7 +155,8 @@ class BinaryReader {
     char c;
     while (true) {
       in_.read(&c, 1);
-      if (in_.gcount() != 1) core::ThrowInputError(where_, "truncated: file ends inside {} (byte {})", what, offset_);
+      if (in_.gcount() != 1)
+        core::ThrowInputError(where_, "truncated: file ends inside {} (byte {})", what, offset_);
       ++offset_;
       if (c == '\0') break;
       s.push_back(c);
@@ -181,15 +188,18 @@ void Put(std::ostream& out, T value) {
 void SparseModel::Check(const std::string& where) const {
   for (const auto& [id, image] : images) {
     if (!cameras.contains(image.camera_id)) {
-      core::ThrowInputError(where, "image {} ('{}') names unknown camera {}", id, image.name, image.camera_id);
+      core::ThrowInputError(where, "image {} ('{}') names unknown camera {}", id, image.name,
+                            image.camera_id);
     }
   }
   for (const auto& [id, point] : points3D) {
     for (const auto& el : point.track) {
       const auto it = images.find(el.image_id);
-      if (it == images.end()) core::ThrowInputError(where, "point {} track names unknown image {}", id, el.image_id);
+      if (it == images.end())
+        core::ThrowInputError(where, "point {} track names unknown image {}", id, el.image_id);
       if (el.point2D_idx >= it->second.points2D.size()) {
-        core::ThrowInputError(where, "point {} track index {} out of range for image {} ({} points)", id,
+        core::ThrowInputError(where,
+                              "point {} track index {} out of range for image {} ({} points)", id,
                               el.point2D_idx, el.image_id, it->second.points2D.size());
       }
     }
@@ -205,12 +215,14 @@ std::map<uint32_t, Camera> ReadCamerasText(std::istream& in, const std::string& 
   std::string line;
   while (reader.NextContentLine(line)) {
     const auto tokens = Split(line);
-    if (tokens.size() < 4) reader.Fail("expected CAMERA_ID MODEL WIDTH HEIGHT PARAMS..., got {} fields", tokens.size());
+    if (tokens.size() < 4)
+      reader.Fail("expected CAMERA_ID MODEL WIDTH HEIGHT PARAMS..., got {} fields", tokens.size());
     const auto id = reader.Parse<uint32_t>(tokens[0], "CAMERA_ID");
     const auto width = reader.Parse<int64_t>(tokens[2], "WIDTH");
     const auto height = reader.Parse<int64_t>(tokens[3], "HEIGHT");
     std::vector<double> params;
-    for (size_t i = 4; i < tokens.size(); ++i) params.push_back(reader.Parse<double>(tokens[i], "parameter"));
+    for (size_t i = 4; i < tokens.size(); ++i)
+      params.push_back(reader.Parse<double>(tokens[i], "parameter"));
     Camera camera;
     try {
       camera = CameraFromModel(-1, tokens[1], width, height, std::move(params), "camera");
@@ -229,7 +241,9 @@ std::map<uint32_t, Image> ReadImagesText(std::istream& in, const std::string& na
   std::string line;
   while (reader.NextContentLine(line)) {
     const auto tokens = Split(line);
-    if (tokens.size() < 10) reader.Fail("expected IMAGE_ID QW QX QY QZ TX TY TZ CAMERA_ID NAME, got {} fields", tokens.size());
+    if (tokens.size() < 10)
+      reader.Fail("expected IMAGE_ID QW QX QY QZ TX TY TZ CAMERA_ID NAME, got {} fields",
+                  tokens.size());
     Image image;
     image.image_id = reader.Parse<uint32_t>(tokens[0], "IMAGE_ID");
     for (int k = 0; k < 4; ++k) image.qvec[k] = reader.Parse<double>(tokens[1 + k], "quaternion");
@@ -245,7 +259,8 @@ std::map<uint32_t, Image> ReadImagesText(std::istream& in, const std::string& na
     }
     if (!reader.NextLine(line)) reader.Fail("missing POINTS2D line for image {}", image.image_id);
     const auto pts = Split(line);
-    if (pts.size() % 3 != 0) reader.Fail("POINTS2D line has {} fields, not a multiple of 3", pts.size());
+    if (pts.size() % 3 != 0)
+      reader.Fail("POINTS2D line has {} fields, not a multiple of 3", pts.size());
     for (size_t i = 0; i < pts.size(); i += 3) {
       Point2D p;
       p.x = reader.Parse<double>(pts[i], "X");
@@ -269,7 +284,8 @@ std::map<uint64_t, Point3D> ReadPoints3DText(std::istream& in, const std::string
   while (reader.NextContentLine(line)) {
     const auto tokens = Split(line);
     if (tokens.size() < 8 || (tokens.size() - 8) % 2 != 0) {
-      reader.Fail("expected POINT3D_ID X Y Z R G B ERROR (IMAGE_ID POINT2D_IDX)*, got {} fields", tokens.size());
+      reader.Fail("expected POINT3D_ID X Y Z R G B ERROR (IMAGE_ID POINT2D_IDX)*, got {} fields",
+                  tokens.size());
     }
     Point3D p;
     p.point3D_id = reader.Parse<uint64_t>(tokens[0], "POINT3D_ID");
@@ -317,7 +333,10 @@ void WriteImagesText(std::ostream& out, const std::map<uint32_t, Image>& images)
       if (!first) out << ' ';
       first = false;
       out << FormatDouble(p.x) << ' ' << FormatDouble(p.y) << ' ';
-      if (p.point3D_id == kInvalidPoint3DId) out << -1; else out << p.point3D_id;
+      if (p.point3D_id == kInvalidPoint3DId)
+        out << -1;
+      else
+        out << p.point3D_id;
     }
     out << '\n';
   }
@@ -349,14 +368,16 @@ std::map<uint32_t, Camera> ReadCamerasBinary(std::istream& in, const std::string
     const auto width = reader.Read<uint64_t>("width");
     const auto height = reader.Read<uint64_t>("height");
     const auto model = CameraModelFromColmapId(model_id);
-    if (!model) core::ThrowInputError(reader.where(), "camera {}: unknown model id {}", id, model_id);
+    if (!model)
+      core::ThrowInputError(reader.where(), "camera {}: unknown model id {}", id, model_id);
     std::vector<double> params(CameraModelParamCount(*model));
     for (double& p : params) p = reader.Read<double>("camera params");
     const std::string ctx = fmt::format("{}: camera {}", reader.where(), id);
     const int64_t w = width > 65536 ? -1 : static_cast<int64_t>(width);
     const int64_t h = height > 65536 ? -1 : static_cast<int64_t>(height);
     Camera camera = CameraFromModel(model_id, "", w, h, std::move(params), ctx);
-    if (!cameras.emplace(id, std::move(camera)).second) core::ThrowInputError(reader.where(), "duplicate camera id {}", id);
+    if (!cameras.emplace(id, std::move(camera)).second)
+      core::ThrowInputError(reader.where(), "duplicate camera id {}", id);
   }
   reader.ExpectEnd();
   return cameras;
@@ -383,7 +404,8 @@ std::map<uint32_t, Image> ReadImagesBinary(std::istream& in, const std::string& 
       image.points2D.push_back(p);
     }
     const uint32_t id = image.image_id;
-    if (!images.emplace(id, std::move(image)).second) core::ThrowInputError(reader.where(), "duplicate image id {}", id);
+    if (!images.emplace(id, std::move(image)).second)
+      core::ThrowInputError(reader.where(), "duplicate image id {}", id);
   }
   reader.ExpectEnd();
   return images;
@@ -407,7 +429,8 @@ std::map<uint64_t, Point3D> ReadPoints3DBinary(std::istream& in, const std::stri
       p.track.push_back(el);
     }
     const uint64_t id = p.point3D_id;
-    if (!points.emplace(id, std::move(p)).second) core::ThrowInputError(reader.where(), "duplicate point id {}", id);
+    if (!points.emplace(id, std::move(p)).second)
+      core::ThrowInputError(reader.where(), "duplicate point id {}", id);
   }
   reader.ExpectEnd();
   return points;
@@ -474,7 +497,8 @@ SparseModel ReadSparseModel(const fs::path& dir) {
     model.images = ReadFile(dir / "images.txt", ReadImagesText);
     model.points3D = ReadFile(dir / "points3D.txt", ReadPoints3DText);
   } else {
-    core::ThrowFileError("ReadSparseModel", dir, "no cameras.bin or cameras.txt (not a COLMAP model)");
+    core::ThrowFileError("ReadSparseModel", dir,
+                         "no cameras.bin or cameras.txt (not a COLMAP model)");
   }
   model.Check(fmt::format("ReadSparseModel: '{}'", dir.string()));
   return model;
@@ -482,13 +506,19 @@ SparseModel ReadSparseModel(const fs::path& dir) {
 
 void WriteSparseModel(const fs::path& dir, const SparseModel& model, ModelFormat format) {
   if (format == ModelFormat::kText) {
-    core::AtomicWriteStream(dir / "cameras.txt", [&](std::ostream& o) { WriteCamerasText(o, model.cameras); });
-    core::AtomicWriteStream(dir / "images.txt", [&](std::ostream& o) { WriteImagesText(o, model.images); });
-    core::AtomicWriteStream(dir / "points3D.txt", [&](std::ostream& o) { WritePoints3DText(o, model.points3D); });
+    core::AtomicWriteStream(dir / "cameras.txt",
+                            [&](std::ostream& o) { WriteCamerasText(o, model.cameras); });
+    core::AtomicWriteStream(dir / "images.txt",
+                            [&](std::ostream& o) { WriteImagesText(o, model.images); });
+    core::AtomicWriteStream(dir / "points3D.txt",
+                            [&](std::ostream& o) { WritePoints3DText(o, model.points3D); });
   } else {
-    core::AtomicWriteStream(dir / "cameras.bin", [&](std::ostream& o) { WriteCamerasBinary(o, model.cameras); });
-    core::AtomicWriteStream(dir / "images.bin", [&](std::ostream& o) { WriteImagesBinary(o, model.images); });
-    core::AtomicWriteStream(dir / "points3D.bin", [&](std::ostream& o) { WritePoints3DBinary(o, model.points3D); });
+    core::AtomicWriteStream(dir / "cameras.bin",
+                            [&](std::ostream& o) { WriteCamerasBinary(o, model.cameras); });
+    core::AtomicWriteStream(dir / "images.bin",
+                            [&](std::ostream& o) { WriteImagesBinary(o, model.images); });
+    core::AtomicWriteStream(dir / "points3D.bin",
+                            [&](std::ostream& o) { WritePoints3DBinary(o, model.points3D); });
   }
 }
 
@@ -513,8 +543,10 @@ core::ImageF ReadDenseMap(std::istream& in, const std::string& name) {
     dims[k] = std::stoll(digits);
   }
   const int64_t w = dims[0], h = dims[1], channels = dims[2];
-  if (w <= 0 || h <= 0 || w > 65536 || h > 65536) core::ThrowInputError(where, "map size {}x{} not in 1..65536", w, h);
-  if (channels != 1 && channels != 3) core::ThrowInputError(where, "{} channels (expected 1 for depth, 3 for normals)", channels);
+  if (w <= 0 || h <= 0 || w > 65536 || h > 65536)
+    core::ThrowInputError(where, "map size {}x{} not in 1..65536", w, h);
+  if (channels != 1 && channels != 3)
+    core::ThrowInputError(where, "{} channels (expected 1 for depth, 3 for normals)", channels);
   const size_t count = static_cast<size_t>(w * h * channels);
   // Know how many bytes there are before allocating.
   const auto start = in.tellg();
@@ -524,8 +556,8 @@ core::ImageF ReadDenseMap(std::istream& in, const std::string& name) {
     in.seekg(start);
     const auto available = static_cast<uint64_t>(end - start);
     if (available < count * sizeof(float)) {
-      core::ThrowInputError(where, "truncated: {}x{}x{} map needs {} bytes of data, file has {}", w, h,
-                            channels, count * sizeof(float), available);
+      core::ThrowInputError(where, "truncated: {}x{}x{} map needs {} bytes of data, file has {}", w,
+                            h, channels, count * sizeof(float), available);
     }
     if (available > count * sizeof(float)) {
       core::ThrowInputError(where, "{} unexpected trailing bytes after the {}x{}x{} map",
@@ -533,9 +565,11 @@ core::ImageF ReadDenseMap(std::istream& in, const std::string& name) {
     }
   }
   std::vector<float> planar(count);
-  in.read(reinterpret_cast<char*>(planar.data()), static_cast<std::streamsize>(count * sizeof(float)));
+  in.read(reinterpret_cast<char*>(planar.data()),
+          static_cast<std::streamsize>(count * sizeof(float)));
   if (static_cast<size_t>(in.gcount()) != count * sizeof(float)) {
-    core::ThrowInputError(where, "truncated: {}x{}x{} map needs {} bytes of data", w, h, channels, count * sizeof(float));
+    core::ThrowInputError(where, "truncated: {}x{}x{} map needs {} bytes of data", w, h, channels,
+                          count * sizeof(float));
   }
   core::ImageF map(static_cast<int>(w), static_cast<int>(h), static_cast<int>(channels));
   const size_t plane = static_cast<size_t>(w * h);
@@ -545,7 +579,9 @@ core::ImageF ReadDenseMap(std::istream& in, const std::string& name) {
   return map;
 }
 
-core::ImageF ReadDenseMap(const fs::path& path) { return ReadFile(path, [](std::istream& in, const std::string& n) { return ReadDenseMap(in, n); }); }
+core::ImageF ReadDenseMap(const fs::path& path) {
+  return ReadFile(path, [](std::istream& in, const std::string& n) { return ReadDenseMap(in, n); });
+}
 
 void WriteDenseMap(std::ostream& out, const core::ImageF& map) {
   IBR_CHECK(!map.empty());
@@ -556,7 +592,8 @@ void WriteDenseMap(std::ostream& out, const core::ImageF& map) {
   for (size_t c = 0; c < channels; ++c) {
     for (size_t i = 0; i < plane; ++i) planar[c * plane + i] = map.data()[i * channels + c];
   }
-  out.write(reinterpret_cast<const char*>(planar.data()), static_cast<std::streamsize>(planar.size() * sizeof(float)));
+  out.write(reinterpret_cast<const char*>(planar.data()),
+            static_cast<std::streamsize>(planar.size() * sizeof(float)));
 }
 
 void WriteDenseMap(const fs::path& path, const core::ImageF& map) {
@@ -575,8 +612,10 @@ std::vector<std::string> ReadFusionConfig(std::istream& in, const std::string& n
     ++line_number;
     const std::string_view t = Trim(line);
     if (t.empty()) continue;
-    if (t.find('\0') != std::string_view::npos) core::ThrowInputError(where, "line {}: NUL byte in image name", line_number);
-    if (!seen.insert(std::string(t)).second) core::ThrowInputError(where, "line {}: duplicate image '{}'", line_number, t);
+    if (t.find('\0') != std::string_view::npos)
+      core::ThrowInputError(where, "line {}: NUL byte in image name", line_number);
+    if (!seen.insert(std::string(t)).second)
+      core::ThrowInputError(where, "line {}: duplicate image '{}'", line_number, t);
     names.emplace_back(t);
   }
   if (names.empty()) core::ThrowInputError(where, "no image names");
@@ -597,7 +636,8 @@ std::vector<PatchMatchEntry> ReadPatchMatchConfig(std::istream& in, const std::s
     ++line_number;
     const std::string_view t = Trim(line);
     if (t.empty()) continue;
-    if (t.find('\0') != std::string_view::npos) core::ThrowInputError(where, "line {}: NUL byte", line_number);
+    if (t.find('\0') != std::string_view::npos)
+      core::ThrowInputError(where, "line {}: NUL byte", line_number);
     if (!pending) {
       pending = PatchMatchEntry{std::string(t), {}};
     } else {
@@ -606,7 +646,9 @@ std::vector<PatchMatchEntry> ReadPatchMatchConfig(std::istream& in, const std::s
       pending.reset();
     }
   }
-  if (pending) core::ThrowInputError(where, "line {}: image '{}' has no source line", line_number, pending->image_name);
+  if (pending)
+    core::ThrowInputError(where, "line {}: image '{}' has no source line", line_number,
+                          pending->image_name);
   if (entries.empty()) core::ThrowInputError(where, "no entries");
   return entries;
 }

@@ -35,7 +35,9 @@ struct Image {
   std::string name;
   std::vector<Point2D> points2D;
 
-  Rigid3 cam_from_world() const { return Rigid3::FromQuaternion(qvec, {tvec[0], tvec[1], tvec[2]}); }
+  Rigid3 cam_from_world() const {
+    return Rigid3::FromQuaternion(qvec, {tvec[0], tvec[1], tvec[2]});
+  }
   bool operator==(const Image&) const = default;
 };
 
@@ -91,7 +93,8 @@ SparseModel ReadSparseModel(const std::filesystem::path& dir);
 // True if `dir` holds cameras.bin or cameras.txt.
 bool IsSparseModelDir(const std::filesystem::path& dir);
 // Writes the three files atomically each; `dir` must exist.
-void WriteSparseModel(const std::filesystem::path& dir, const SparseModel& model, ModelFormat format);
+void WriteSparseModel(const std::filesystem::path& dir, const SparseModel& model,
+                      ModelFormat format);
 
 // ---- dense maps: "W&H&C&" + W*H*C float32, planar [C][H][W] ----
 // Returns an interleaved core::ImageF (C channels).

@@ -33,7 +33,7 @@ Dataset ImportRedwood(const std::filesystem::path& source, const std::filesystem
 // Masks (Seitz et al. 2006's silhouettes recipe, OpenCV): grey > threshold,
 // then `dilate_iterations` 3x3 dilations and `erode_iterations` erosions.
 struct MiddleburyImportOptions {
-  double threshold = 0.19;   // of full scale on the grey image (the README's value)
+  double threshold = 0.19;  // of full scale on the grey image (the README's value)
   int dilate_iterations = 10;
   int erode_iterations = 7;
   void Check() const;
@@ -43,7 +43,8 @@ Dataset ImportMiddlebury(const std::filesystem::path& source, const std::filesys
                          const std::function<void(int, int)>& progress = {});
 
 // The parsers alone, through streams (names used in messages).
-std::vector<Rigid3> ReadRedwoodLog(std::istream& in, const std::string& name);  // cam_from_world per frame
+std::vector<Rigid3> ReadRedwoodLog(std::istream& in,
+                                   const std::string& name);  // cam_from_world per frame
 struct MiddleburyView {
   std::string image;
   Camera camera;  // PINHOLE in our (+0.5) convention; size set by the importer

@@ -1,18 +1,18 @@
 #include "capture/synthetic.h"
 
-#include <algorithm>
-#include <charconv>
-#include <chrono>
-#include <cmath>
-#include <numbers>
-#include <optional>
-
-#include <assimp/Importer.hpp>
 #include <assimp/material.h>
 #include <assimp/postprocess.h>
 #include <assimp/scene.h>
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>
+
+#include <algorithm>
+#include <assimp/Importer.hpp>
+#include <charconv>
+#include <chrono>
+#include <cmath>
+#include <numbers>
+#include <optional>
 
 #include "core/check.h"
 #include "core/error.h"
@@ -33,8 +33,9 @@ SceneMesh LoadSceneMesh(const fs::path& path, const fs::path& texture_path) {
   if (!fs::is_regular_file(path)) core::ThrowFileError(kWhere, path, "not a regular file");
   Assimp::Importer importer;
   const aiScene* scene = importer.ReadFile(
-      path.string(), aiProcess_Triangulate | aiProcess_JoinIdenticalVertices | aiProcess_GenSmoothNormals |
-                         aiProcess_PreTransformVertices | aiProcess_FlipUVs | aiProcess_SortByPType);
+      path.string(), aiProcess_Triangulate | aiProcess_JoinIdenticalVertices |
+                         aiProcess_GenSmoothNormals | aiProcess_PreTransformVertices |
+                         aiProcess_FlipUVs | aiProcess_SortByPType);
   if (!scene || !scene->mRootNode || scene->mNumMeshes == 0) {
     core::ThrowFileError(kWhere, path, "cannot load mesh: {}", importer.GetErrorString());
   }
@@ -48,7 +49,8 @@ SceneMesh LoadSceneMesh(const fs::path& path, const fs::path& texture_path) {
     all_uvs = all_uvs && mesh->HasTextureCoords(0);
     if (material_texture.empty() && mesh->mMaterialIndex < scene->mNumMaterials) {
       aiString tex;
-      if (scene->mMaterials[mesh->mMaterialIndex]->GetTexture(aiTextureType_DIFFUSE, 0, &tex) == AI_SUCCESS &&
+      if (scene->mMaterials[mesh->mMaterialIndex]->GetTexture(aiTextureType_DIFFUSE, 0, &tex) ==
+              AI_SUCCESS &&
           tex.length > 0 && tex.C_Str()[0] != '*') {
         material_texture = tex.C_Str();
       }
@@ -87,10 +89,13 @@ SceneMesh LoadSceneMesh(const fs::path& path, const fs::path& texture_path) {
   const double largest_side = std::max({extent.x, extent.y, extent.z});
   const double pad = 0.5 * std::max(largest_side, kDatasetLimits.min_extent);
   if (!(largest_side >= kDatasetLimits.min_extent)) {
-    core::ThrowFileError(kWhere, path, "mesh has no extent (all vertices within {:.3g} of each other)", largest_side);
+    core::ThrowFileError(kWhere, path,
+                         "mesh has no extent (all vertices within {:.3g} of each other)",
+                         largest_side);
   }
   // A flat mesh is fine (a plane); only its overall size is checked.
-  CheckBounds({bounds.centre() - pad, bounds.centre() + pad}, fmt::format("{}: '{}'", kWhere, path.string()));
+  CheckBounds({bounds.centre() - pad, bounds.centre() + pad},
+              fmt::format("{}: '{}'", kWhere, path.string()));
 
   fs::path tex = texture_path;
   if (tex.empty() && !material_texture.empty()) tex = path.parent_path() / material_texture;
@@ -100,7 +105,8 @@ SceneMesh LoadSceneMesh(const fs::path& path, const fs::path& texture_path) {
   }
   if (!tex.empty()) {
     if (!all_uvs) {
-      spdlog::warn("{}: '{}' has no UVs; texture '{}' ignored", kWhere, path.string(), tex.string());
+      spdlog::warn("{}: '{}' has no UVs; texture '{}' ignored", kWhere, path.string(),
+                   tex.string());
     } else {
       core::Image8 image = core::ReadImage<uint8_t>(tex);
       // To RGBA.
@@ -131,7 +137,8 @@ SceneMesh MakeShapeScene(std::string_view name) {
   } else if (name == "cup") {
     out.mesh = core::MakeCup(1.0f, 1.2f, 0.12f, 512);
   } else {
-    core::ThrowInputError("MakeShapeScene", "unknown shape '{}' (expected sphere, torus, box or cup)", name);
+    core::ThrowInputError("MakeShapeScene",
+                          "unknown shape '{}' (expected sphere, torus, box or cup)", name);
   }
   return out;
 }
@@ -158,9 +165,12 @@ RigSpec RigSpec::Parse(std::string_view text) {
 
 std::string RigSpec::ToString() const {
   switch (kind) {
-    case Kind::kCube: return "cube";
-    case Kind::kRing: return fmt::format("ring:{}", count);
-    case Kind::kSphere: return fmt::format("sphere:{}", count);
+    case Kind::kCube:
+      return "cube";
+    case Kind::kRing:
+      return fmt::format("ring:{}", count);
+    case Kind::kSphere:
+      return fmt::format("sphere:{}", count);
   }
   return {};
 }
@@ -169,16 +179,20 @@ void CaptureOptions::Check() const {
   constexpr const char* kWhere = "CaptureOptions";
   if (size < 16 || size > 8192) core::ThrowInputError(kWhere, "size {} is outside 16..8192", size);
   RigSpec::Parse(rig);
-  if (!(fov_deg > 1 && fov_deg < 170)) core::ThrowInputError(kWhere, "fov {} is outside 1..170 degrees", fov_deg);
-  if (!(margin >= 0 && margin < 1)) core::ThrowInputError(kWhere, "margin {} is outside [0, 1)", margin);
-  if (!(std::abs(ring_elevation_deg) < 89)) core::ThrowInputError(kWhere, "ring elevation must be within +-89 degrees");
+  if (!(fov_deg > 1 && fov_deg < 170))
+    core::ThrowInputError(kWhere, "fov {} is outside 1..170 degrees", fov_deg);
+  if (!(margin >= 0 && margin < 1))
+    core::ThrowInputError(kWhere, "margin {} is outside [0, 1)", margin);
+  if (!(std::abs(ring_elevation_deg) < 89))
+    core::ThrowInputError(kWhere, "ring elevation must be within +-89 degrees");
   if (!(glm::length(up) > 0)) core::ThrowInputError(kWhere, "up vector is zero");
   if (background != "black" && background != "noise") {
     core::ThrowInputError(kWhere, "background '{}' is not black or noise", background);
   }
 }
 
-std::vector<RigView> MakeRig(const RigSpec& rig, const Bounds& bounds, const CaptureOptions& options) {
+std::vector<RigView> MakeRig(const RigSpec& rig, const Bounds& bounds,
+                             const CaptureOptions& options) {
   options.Check();
   const glm::dvec3 centre = bounds.centre();
   const glm::dvec3 extent = bounds.extent();
@@ -197,7 +211,8 @@ std::vector<RigView> MakeRig(const RigSpec& rig, const Bounds& bounds, const Cap
     // the cube face, so depth is the distance from that face.
     const double half = 0.5 * std::max({extent.x, extent.y, extent.z, 1e-9}) * (1 + options.margin);
     const double scale = size / (2 * half);  // pixels per scene unit
-    const glm::dvec3 axes[6] = {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}};
+    const glm::dvec3 axes[6] = {{1, 0, 0},  {-1, 0, 0}, {0, 1, 0},
+                                {0, -1, 0}, {0, 0, 1},  {0, 0, -1}};
     const char* names[6] = {"cube_px", "cube_nx", "cube_py", "cube_ny", "cube_pz", "cube_nz"};
     for (int f = 0; f < 6; ++f) {
       const glm::dvec3 eye = centre + half * axes[f];
@@ -255,8 +270,8 @@ class GpuScene {
   explicit GpuScene(const SceneMesh& scene) : mesh_(scene.mesh) {
     if (!scene.texture.empty()) {
       texture_ = render::Texture::Create2D(GL_RGBA8, scene.texture.width(), scene.texture.height());
-      glTextureSubImage2D(texture_.id(), 0, 0, 0, scene.texture.width(), scene.texture.height(), GL_RGBA,
-                          GL_UNSIGNED_BYTE, scene.texture.data());
+      glTextureSubImage2D(texture_.id(), 0, 0, 0, scene.texture.width(), scene.texture.height(),
+                          GL_RGBA, GL_UNSIGNED_BYTE, scene.texture.data());
       glTextureParameteri(texture_.id(), GL_TEXTURE_MIN_FILTER, GL_LINEAR);
       glTextureParameteri(texture_.id(), GL_TEXTURE_MAG_FILTER, GL_LINEAR);
       glTextureParameteri(texture_.id(), GL_TEXTURE_WRAP_S, GL_REPEAT);
@@ -307,7 +322,8 @@ core::Image8 NoiseTexture(int width, int height, uint32_t seed) {
         for (int octave = 0; octave < 5; ++octave) {
           const int cells = (width / 64) << octave;  // across the width
           const double scale = static_cast<double>(cells) / width;
-          sum += amplitude * ValueNoise((x + 0.5) * scale, (y + 0.5) * scale, cells, seed * 101u + 17u * c + octave);
+          sum += amplitude * ValueNoise((x + 0.5) * scale, (y + 0.5) * scale, cells,
+                                        seed * 101u + 17u * c + octave);
           weight += amplitude;
           amplitude *= 0.85;
         }
@@ -329,7 +345,8 @@ class Backdrop {
     // backdrop, so its cells are ~5..80 px, blobs at the scales SIFT detects.
     const core::Image8 tex = NoiseTexture(2048, 1024, 0);
     texture_ = render::Texture::Create2D(GL_RGBA8, tex.width(), tex.height());
-    glTextureSubImage2D(texture_.id(), 0, 0, 0, tex.width(), tex.height(), GL_RGBA, GL_UNSIGNED_BYTE, tex.data());
+    glTextureSubImage2D(texture_.id(), 0, 0, 0, tex.width(), tex.height(), GL_RGBA,
+                        GL_UNSIGNED_BYTE, tex.data());
     glTextureParameteri(texture_.id(), GL_TEXTURE_MIN_FILTER, GL_LINEAR);
     glTextureParameteri(texture_.id(), GL_TEXTURE_MAG_FILTER, GL_LINEAR);
     glTextureParameteri(texture_.id(), GL_TEXTURE_WRAP_S, GL_REPEAT);
@@ -350,29 +367,33 @@ struct BackdropPlacement {
   glm::dvec3 up{0, 1, 0};
 };
 
-BackdropPlacement PlaceBackdrop(const Bounds& bounds, const std::vector<RigView>& views, const glm::dvec3& up) {
+BackdropPlacement PlaceBackdrop(const Bounds& bounds, const std::vector<RigView>& views,
+                                const glm::dvec3& up) {
   BackdropPlacement p;
   p.centre = bounds.centre();
   double farthest = 0.5 * glm::length(bounds.extent());
-  for (const RigView& v : views) farthest = std::max(farthest, glm::length(v.cam_from_world.Centre() - p.centre));
+  for (const RigView& v : views)
+    farthest = std::max(farthest, glm::length(v.cam_from_world.Centre() - p.centre));
   p.radius = 2 * std::max(farthest, 1e-6);
   p.up = glm::normalize(up);
   return p;
 }
 
 // The backdrop's colour as seen from `view` (flat, unshaded texture).
-core::Image8 RenderBackdrop(render::ProgramCache& programs, const Backdrop& backdrop, const BackdropPlacement& place,
-                            const RigView& view) {
+core::Image8 RenderBackdrop(render::ProgramCache& programs, const Backdrop& backdrop,
+                            const BackdropPlacement& place, const RigView& view) {
   const Camera& cam = view.camera;
   const double d = glm::length(view.cam_from_world.Centre() - place.centre);
-  const double near = std::max(place.radius - d, 1e-3 * place.radius) * 0.5, far = (place.radius + d) * 1.5;
+  const double near = std::max(place.radius - d, 1e-3 * place.radius) * 0.5,
+               far = (place.radius + d) * 1.5;
   render::ViewSetup setup;
   setup.cam_from_world = view.cam_from_world.ToMat4();
   setup.orthographic = cam.orthographic();
-  setup.clip_from_cam =
-      cam.orthographic()
-          ? core::ClipFromCamOrthographic(cam.fx(), cam.fy(), cam.cx(), cam.cy(), cam.width, cam.height, 0, far)
-          : core::ClipFromCamPerspective(cam.fx(), cam.fy(), cam.cx(), cam.cy(), cam.width, cam.height, near, far);
+  setup.clip_from_cam = cam.orthographic()
+                            ? core::ClipFromCamOrthographic(cam.fx(), cam.fy(), cam.cx(), cam.cy(),
+                                                            cam.width, cam.height, 0, far)
+                            : core::ClipFromCamPerspective(cam.fx(), cam.fy(), cam.cx(), cam.cy(),
+                                                           cam.width, cam.height, near, far);
   // Object frame: the unit sphere's poles (z) along `up`.
   glm::dvec3 a = glm::cross(place.up, glm::dvec3(1, 0, 0));
   if (glm::length(a) < 1e-6) a = glm::cross(place.up, glm::dvec3(0, 1, 0));
@@ -397,16 +418,16 @@ CapturedView Render(render::ProgramCache& programs, const GpuScene& gpu, const R
   setup.cam_from_world = view.cam_from_world.ToMat4();
   setup.orthographic = cam.orthographic();
   setup.clip_from_cam =
-      cam.orthographic()
-          ? core::ClipFromCamOrthographic(cam.fx(), cam.fy(), cam.cx(), cam.cy(), cam.width, cam.height,
-                                          view.near, view.far)
-          : core::ClipFromCamPerspective(cam.fx(), cam.fy(), cam.cx(), cam.cy(), cam.width, cam.height,
-                                         view.near, view.far);
+      cam.orthographic() ? core::ClipFromCamOrthographic(cam.fx(), cam.fy(), cam.cx(), cam.cy(),
+                                                         cam.width, cam.height, view.near, view.far)
+                         : core::ClipFromCamPerspective(cam.fx(), cam.fy(), cam.cx(), cam.cy(),
+                                                        cam.width, cam.height, view.near, view.far);
   render::MeshPassOptions pass;
   pass.base_color = options.base_color;
   pass.texture = gpu.texture();
   pass.shade = options.shade;
-  const render::Frame frame = render::RenderMesh(programs, gpu.mesh(), setup, cam.width, cam.height, pass);
+  const render::Frame frame =
+      render::RenderMesh(programs, gpu.mesh(), setup, cam.width, cam.height, pass);
 
   CapturedView out;
   out.color = core::Image8(cam.width, cam.height, 3);
@@ -422,12 +443,14 @@ CapturedView Render(render::ProgramCache& programs, const GpuScene& gpu, const R
       if (!covered || !(depth > 0)) continue;
       out.mask.at(col, row) = 255;
       out.depth.at(col, row) = depth;
-      glm::dvec3 n(frame.normal.at(col, row, 0), frame.normal.at(col, row, 1), frame.normal.at(col, row, 2));
+      glm::dvec3 n(frame.normal.at(col, row, 0), frame.normal.at(col, row, 1),
+                   frame.normal.at(col, row, 2));
       const double len = glm::length(n);
       if (!(len > 0)) continue;
       n /= len;
       // Face the camera: against the viewing ray.
-      const glm::dvec3 ray = cam.orthographic() ? glm::dvec3(0, 0, 1) : cam.UnprojectPixel(col, row, 1.0);
+      const glm::dvec3 ray =
+          cam.orthographic() ? glm::dvec3(0, 0, 1) : cam.UnprojectPixel(col, row, 1.0);
       if (glm::dot(r * n, ray) > 0) n = -n;
       for (int c = 0; c < 3; ++c) out.normal.at(col, row, c) = static_cast<float>(n[c]);
     }
@@ -462,13 +485,15 @@ CapturedView RenderView(render::ProgramCache& programs, const SceneMesh& scene, 
   CapturedView out = Render(programs, gpu, view, options);
   if (options.background == "noise") {
     const Backdrop backdrop;
-    Composite(out, RenderBackdrop(programs, backdrop, PlaceBackdrop(MeshBounds(scene.mesh), {view}, options.up), view));
+    Composite(out, RenderBackdrop(programs, backdrop,
+                                  PlaceBackdrop(MeshBounds(scene.mesh), {view}, options.up), view));
   }
   return out;
 }
 
-Dataset CaptureDataset(render::ProgramCache& programs, const SceneMesh& scene, const CaptureOptions& options,
-                       const fs::path& out, const std::function<void(int, int, const std::string&)>& progress) {
+Dataset CaptureDataset(render::ProgramCache& programs, const SceneMesh& scene,
+                       const CaptureOptions& options, const fs::path& out,
+                       const std::function<void(int, int, const std::string&)>& progress) {
   options.Check();
   const Bounds bounds = MeshBounds(scene.mesh);
   const std::vector<RigView> views = MakeRig(RigSpec::Parse(options.rig), bounds, options);
@@ -483,8 +508,8 @@ Dataset CaptureDataset(render::ProgramCache& programs, const SceneMesh& scene, c
     CapturedView captured = Render(programs, gpu, view, options);
     if (backdrop) Composite(captured, RenderBackdrop(programs, *backdrop, place, view));
     const int camera_id = writer.AddCamera(view.camera);
-    writer.AddView(view.name, camera_id, view.cam_from_world, captured.color, captured.depth, captured.mask,
-                   captured.normal);
+    writer.AddView(view.name, camera_id, view.cam_from_world, captured.color, captured.depth,
+                   captured.mask, captured.normal);
     if (progress) progress(static_cast<int>(i) + 1, static_cast<int>(views.size()), view.name);
   }
   writer.Commit();

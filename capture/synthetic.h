@@ -31,7 +31,8 @@ struct SceneMesh {
 // where missing, v flipped to the image convention). Textured when the mesh
 // has UVs and a texture is found: `texture` if given, else the material's
 // diffuse texture, else "<stem>_texture.png" beside the mesh (Spot's layout).
-SceneMesh LoadSceneMesh(const std::filesystem::path& path, const std::filesystem::path& texture = {});
+SceneMesh LoadSceneMesh(const std::filesystem::path& path,
+                        const std::filesystem::path& texture = {});
 
 // Analytic shapes: "sphere" (radius 1), "torus" (R 1, r 0.4, around z), "box"
 // (half extents 1, 0.7, 0.5), "cup" (radius 1, height 1.2, wall 0.12, opens
@@ -58,13 +59,13 @@ struct RigSpec {
 };
 
 struct CaptureOptions {
-  int size = 512;               // pixels, square images; 16..8192
-  std::string rig = "cube";     // RigSpec::Parse syntax
-  double fov_deg = 40;          // perspective rigs: field of view, degrees (typical lens)
-  double margin = 0.05;         // padding of the bounding cube / sphere, fraction of its size
+  int size = 512;                  // pixels, square images; 16..8192
+  std::string rig = "cube";        // RigSpec::Parse syntax
+  double fov_deg = 40;             // perspective rigs: field of view, degrees (typical lens)
+  double margin = 0.05;            // padding of the bounding cube / sphere, fraction of its size
   double ring_elevation_deg = 20;  // ring rigs: camera height above the equator, degrees
-  glm::dvec3 up{0, 1, 0};       // world up for ring/sphere rigs (OBJ meshes are y-up)
-  bool shade = true;            // Lambert head light (off: flat albedo)
+  glm::dvec3 up{0, 1, 0};          // world up for ring/sphere rigs (OBJ meshes are y-up)
+  bool shade = true;               // Lambert head light (off: flat albedo)
   glm::vec4 base_color{0.8f, 0.8f, 0.8f, 1.0f};  // untextured meshes
   // Colour behind the object: "black", or "noise": a backdrop sphere around
   // the scene (centred on the bounds, poles along `up`, radius 2x the
@@ -84,7 +85,8 @@ struct RigView {
 };
 
 // The rig's views around `bounds`, in a fixed order.
-std::vector<RigView> MakeRig(const RigSpec& rig, const Bounds& bounds, const CaptureOptions& options);
+std::vector<RigView> MakeRig(const RigSpec& rig, const Bounds& bounds,
+                             const CaptureOptions& options);
 
 struct CapturedView {
   core::Image8 color;   // RGB

@@ -21,19 +21,18 @@ std::string FormatOperands(const A& a, const B& b) {
 
 }  // namespace core::internal
 
-#define IBR_CHECK(cond)                                                  \
-  do {                                                                   \
+#define IBR_CHECK(cond)                                                        \
+  do {                                                                         \
     if (!(cond)) ::core::internal::CheckFailed(__FILE__, __LINE__, #cond, ""); \
   } while (false)
 
-#define IBR_CHECK_OP_(a, b, op)                                                \
-  do {                                                                         \
-    const auto& ibr_check_a_ = (a);                                            \
-    const auto& ibr_check_b_ = (b);                                            \
-    if (!(ibr_check_a_ op ibr_check_b_))                                       \
-      ::core::internal::CheckFailed(                                           \
-          __FILE__, __LINE__, #a " " #op " " #b,                               \
-          ::core::internal::FormatOperands(ibr_check_a_, ibr_check_b_));       \
+#define IBR_CHECK_OP_(a, b, op)                                                                    \
+  do {                                                                                             \
+    const auto& ibr_check_a_ = (a);                                                                \
+    const auto& ibr_check_b_ = (b);                                                                \
+    if (!(ibr_check_a_ op ibr_check_b_))                                                           \
+      ::core::internal::CheckFailed(__FILE__, __LINE__, #a " " #op " " #b,                         \
+                                    ::core::internal::FormatOperands(ibr_check_a_, ibr_check_b_)); \
   } while (false)
 
 #define IBR_CHECK_EQ(a, b) IBR_CHECK_OP_(a, b, ==)

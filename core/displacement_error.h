@@ -40,7 +40,8 @@ struct DisplacementError {
 
 // Coverage is alpha == 255 (both passes write opaque pixels only).
 DisplacementError CompareToGroundTruth(const core::Image8& color, const core::ImageF& depth,
-                                       const core::Image8& truth_color, const core::ImageF& truth_depth,
+                                       const core::Image8& truth_color,
+                                       const core::ImageF& truth_depth,
                                        const DisplacementErrorOptions& options = {});
 
 // Scene units of one height-map texel on the surface: the mean over faces of

@@ -3,11 +3,11 @@
 // wrong; the CLI prints it as one line and exits non-zero.
 #pragma once
 
+#include <fmt/format.h>
+
 #include <filesystem>
 #include <stdexcept>
 #include <string>
-
-#include <fmt/format.h>
 
 namespace core {
 

@@ -39,8 +39,10 @@ float PeriodicValueNoise(const std::vector<float>& lattice, int cells, float x, 
 HeightPattern HeightPatternFromName(const std::string& name) {
   auto it = PatternNames().find(name);
   if (it == PatternNames().end()) {
-    ThrowInputError("HeightPatternFromName", "unknown height pattern '{}' (constant, bumps, noise, "
-                    "bricks, steps, spikes)", name);
+    ThrowInputError("HeightPatternFromName",
+                    "unknown height pattern '{}' (constant, bumps, noise, "
+                    "bricks, steps, spikes)",
+                    name);
   }
   return it->second;
 }
@@ -83,7 +85,9 @@ ImageF MakeHeightMap(const HeightMapOptions& options) {
       const float u = (x + 0.5f) / n, v = (y + 0.5f) / n;
       float h = 0;
       switch (options.pattern) {
-        case HeightPattern::kConstant: h = 1.0f; break;
+        case HeightPattern::kConstant:
+          h = 1.0f;
+          break;
         case HeightPattern::kBumps:
           // 4 x 4 bumps per tile: (1 - cos)/2 profile in both directions.
           h = 0.25f * (1 - std::cos(8 * kPi * u)) * (1 - std::cos(8 * kPi * v));
@@ -159,7 +163,8 @@ float SampleHeightNearest(const ImageF& height, glm::vec2 uv) {
 
 void DisplacedMeshOptions::Check() const {
   if (!std::isfinite(max_displacement) || max_displacement < 0) {
-    ThrowInputError("DisplacedMeshOptions", "max_displacement {} must be finite and >= 0", max_displacement);
+    ThrowInputError("DisplacedMeshOptions", "max_displacement {} must be finite and >= 0",
+                    max_displacement);
   }
   if (!std::isfinite(tiling) || tiling <= 0 || tiling > 1024) {
     ThrowInputError("DisplacedMeshOptions", "tiling {} outside (0, 1024]", tiling);
@@ -184,7 +189,8 @@ TriangleMesh TessellateDisplaced(const TriangleMesh& base, const ImageF& height,
   const size_t per_triangle = static_cast<size_t>(s + 1) * (s + 2) / 2;
   out.positions.reserve(base.triangle_count() * per_triangle);
   for (size_t t = 0; t < base.triangle_count(); ++t) {
-    const uint32_t ia = base.indices[3 * t], ib = base.indices[3 * t + 1], ic = base.indices[3 * t + 2];
+    const uint32_t ia = base.indices[3 * t], ib = base.indices[3 * t + 1],
+                   ic = base.indices[3 * t + 2];
     const uint32_t first = static_cast<uint32_t>(out.positions.size());
     // Vertex (i, j), i + j <= s, at barycentric (1 - (i+j)/s, i/s, j/s).
     auto index = [&](int i, int j) {
@@ -193,14 +199,17 @@ TriangleMesh TessellateDisplaced(const TriangleMesh& base, const ImageF& height,
     };
     for (int j = 0; j <= s; ++j) {
       for (int i = 0; i + j <= s; ++i) {
-        const float b1 = static_cast<float>(i) / s, b2 = static_cast<float>(j) / s, b0 = 1 - b1 - b2;
-        const glm::vec3 p = b0 * base.positions[ia] + b1 * base.positions[ib] + b2 * base.positions[ic];
+        const float b1 = static_cast<float>(i) / s, b2 = static_cast<float>(j) / s,
+                    b0 = 1 - b1 - b2;
+        const glm::vec3 p =
+            b0 * base.positions[ia] + b1 * base.positions[ib] + b2 * base.positions[ic];
         glm::vec3 n = b0 * base.normals[ia] + b1 * base.normals[ib] + b2 * base.normals[ic];
         const float len = glm::length(n);
         n = len > 1e-20f ? n / len : glm::vec3(0);
         const glm::vec2 uv = b0 * base.uvs[ia] + b1 * base.uvs[ib] + b2 * base.uvs[ic];
         const glm::vec2 st = uv * options.tiling;
-        const float hgt = options.bilinear ? SampleHeightBilinear(height, st) : SampleHeightNearest(height, st);
+        const float hgt =
+            options.bilinear ? SampleHeightBilinear(height, st) : SampleHeightNearest(height, st);
         out.positions.push_back(p + hgt * options.max_displacement * n);
         out.uvs.push_back(uv);
       }
@@ -209,7 +218,8 @@ TriangleMesh TessellateDisplaced(const TriangleMesh& base, const ImageF& height,
       for (int i = 0; i + j < s; ++i) {
         out.indices.insert(out.indices.end(), {index(i, j), index(i + 1, j), index(i, j + 1)});
         if (i + j + 1 < s) {
-          out.indices.insert(out.indices.end(), {index(i + 1, j), index(i + 1, j + 1), index(i, j + 1)});
+          out.indices.insert(out.indices.end(),
+                             {index(i + 1, j), index(i + 1, j + 1), index(i, j + 1)});
         }
       }
     }
@@ -220,7 +230,8 @@ TriangleMesh TessellateDisplaced(const TriangleMesh& base, const ImageF& height,
   out.normals.assign(out.positions.size(), glm::vec3(0));
   for (size_t t = 0; t < out.triangle_count(); ++t) {
     const uint32_t a = out.indices[3 * t], b = out.indices[3 * t + 1], c = out.indices[3 * t + 2];
-    const glm::vec3 n = glm::cross(out.positions[b] - out.positions[a], out.positions[c] - out.positions[a]);
+    const glm::vec3 n =
+        glm::cross(out.positions[b] - out.positions[a], out.positions[c] - out.positions[a]);
     out.normals[a] += n;
     out.normals[b] += n;
     out.normals[c] += n;

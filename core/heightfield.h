@@ -5,9 +5,8 @@
 #pragma once
 
 #include <cstdint>
-#include <string>
-
 #include <glm/glm.hpp>
+#include <string>
 
 #include "core/image.h"
 #include "core/mesh.h"
@@ -29,9 +28,9 @@ std::string HeightPatternName(HeightPattern pattern);
 
 struct HeightMapOptions {
   HeightPattern pattern = HeightPattern::kBumps;
-  int size = 256;         // texels per side (square, power of two not required)
-  uint32_t seed = 1;      // noise and spike positions
-  float level = 0.5f;     // kConstant's value; other patterns' maximum height
+  int size = 256;      // texels per side (square, power of two not required)
+  uint32_t seed = 1;   // noise and spike positions
+  float level = 0.5f;  // kConstant's value; other patterns' maximum height
   void Check() const;
 };
 

@@ -17,7 +17,9 @@ class Image {
  public:
   Image() = default;
   Image(int width, int height, int channels, T fill = T{})
-      : width_(width), height_(height), channels_(channels),
+      : width_(width),
+        height_(height),
+        channels_(channels),
         data_(static_cast<size_t>(width) * height * channels, fill) {
     IBR_CHECK_GE(width, 0);
     IBR_CHECK_GE(height, 0);

@@ -18,7 +18,8 @@ void TriangleMesh::Bounds(glm::vec3& lo, glm::vec3& hi) const {
 }
 
 void TriangleMesh::Validate(const std::string& where) const {
-  if (indices.size() % 3 != 0) ThrowInputError(where, "index count {} is not a multiple of 3", indices.size());
+  if (indices.size() % 3 != 0)
+    ThrowInputError(where, "index count {} is not a multiple of 3", indices.size());
   if (!normals.empty() && normals.size() != positions.size()) {
     ThrowInputError(where, "{} normals for {} vertices", normals.size(), positions.size());
   }
@@ -26,15 +27,20 @@ void TriangleMesh::Validate(const std::string& where) const {
     ThrowInputError(where, "{} uvs for {} vertices", uvs.size(), positions.size());
   }
   for (uint32_t i : indices) {
-    if (i >= positions.size()) ThrowInputError(where, "index {} out of range ({} vertices)", i, positions.size());
+    if (i >= positions.size())
+      ThrowInputError(where, "index {} out of range ({} vertices)", i, positions.size());
   }
   auto finite = [](auto v) {
-    for (int k = 0; k < v.length(); ++k) if (!std::isfinite(v[k])) return false;
+    for (int k = 0; k < v.length(); ++k)
+      if (!std::isfinite(v[k])) return false;
     return true;
   };
-  for (const auto& p : positions) if (!finite(p)) ThrowInputError(where, "non-finite vertex position");
-  for (const auto& n : normals) if (!finite(n)) ThrowInputError(where, "non-finite normal");
-  for (const auto& t : uvs) if (!finite(t)) ThrowInputError(where, "non-finite uv");
+  for (const auto& p : positions)
+    if (!finite(p)) ThrowInputError(where, "non-finite vertex position");
+  for (const auto& n : normals)
+    if (!finite(n)) ThrowInputError(where, "non-finite normal");
+  for (const auto& t : uvs)
+    if (!finite(t)) ThrowInputError(where, "non-finite uv");
 }
 
 namespace {
@@ -61,7 +67,8 @@ TriangleMesh MakeSphere(float radius, int rings, int segments) {
     for (int i = 0; i <= segments; ++i) {
       const float u = static_cast<float>(i) / segments;
       const float phi = 2 * kPi * u;
-      const glm::vec3 n(std::cos(theta) * std::cos(phi), std::cos(theta) * std::sin(phi), std::sin(theta));
+      const glm::vec3 n(std::cos(theta) * std::cos(phi), std::cos(theta) * std::sin(phi),
+                        std::sin(theta));
       mesh.positions.push_back(radius * n);
       mesh.normals.push_back(n);
       mesh.uvs.emplace_back(u, v);
@@ -95,9 +102,9 @@ TriangleMesh MakeBox(glm::vec3 h) {
   TriangleMesh mesh;
   // Each face: normal n, in-plane axes (s, t) with s x t = n.
   const glm::vec3 faces[6][3] = {
-      {{1, 0, 0}, {0, 1, 0}, {0, 0, 1}},  {{-1, 0, 0}, {0, 0, 1}, {0, 1, 0}},
-      {{0, 1, 0}, {0, 0, 1}, {1, 0, 0}},  {{0, -1, 0}, {1, 0, 0}, {0, 0, 1}},
-      {{0, 0, 1}, {1, 0, 0}, {0, 1, 0}},  {{0, 0, -1}, {0, 1, 0}, {1, 0, 0}}};
+      {{1, 0, 0}, {0, 1, 0}, {0, 0, 1}}, {{-1, 0, 0}, {0, 0, 1}, {0, 1, 0}},
+      {{0, 1, 0}, {0, 0, 1}, {1, 0, 0}}, {{0, -1, 0}, {1, 0, 0}, {0, 0, 1}},
+      {{0, 0, 1}, {1, 0, 0}, {0, 1, 0}}, {{0, 0, -1}, {0, 1, 0}, {1, 0, 0}}};
   for (const auto& f : faces) {
     const uint32_t base = static_cast<uint32_t>(mesh.positions.size());
     for (int k = 0; k < 4; ++k) {
@@ -134,12 +141,9 @@ namespace core {
 TriangleMesh MakeCup(float radius, float height, float wall, int segments) {
   IBR_CHECK(radius > wall && height > wall && wall > 0 && segments >= 3);
   // Closed profile in (r, z), walked so that (dz, -dr) is the outward normal.
-  const glm::vec2 profile[] = {{0, 0},
-                               {radius, 0},
-                               {radius, height},
-                               {radius - wall, height},
-                               {radius - wall, wall},
-                               {0, wall}};
+  const glm::vec2 profile[] = {
+      {0, 0},   {radius, 0}, {radius, height}, {radius - wall, height}, {radius - wall, wall},
+      {0, wall}};
   TriangleMesh mesh;
   for (int s = 0; s + 1 < 6; ++s) {
     const glm::vec2 p0 = profile[s], p1 = profile[s + 1];
@@ -192,7 +196,8 @@ TriangleMesh MakeCylinder(float radius, float height, int segments, int stacks) 
   return mesh;
 }
 
-TriangleMesh MakeIrregularVase(float radius, float height, int segments, int stacks, uint32_t seed) {
+TriangleMesh MakeIrregularVase(float radius, float height, int segments, int stacks,
+                               uint32_t seed) {
   IBR_CHECK(radius > 0 && height > 0 && segments >= 3 && stacks >= 1);
   constexpr float kTwoPi = 2 * std::numbers::pi_v<float>;
   // The analytic surface f(u, v): radius profile bulging along the height and

@@ -12,13 +12,13 @@ namespace core {
 
 // Pinhole: u = fx X/Z + cx, v = fy Y/Z + cy; Z in [near, far] maps to NDC z
 // in [-1, 1]. Sizes in pixels, near/far in scene units.
-glm::mat4 ClipFromCamPerspective(double fx, double fy, double cx, double cy, int width,
-                                 int height, double near, double far);
+glm::mat4 ClipFromCamPerspective(double fx, double fy, double cx, double cy, int width, int height,
+                                 double near, double far);
 
 // Orthographic: u = sx X + cx, v = sy Y + cy (sx, sy in pixels per scene
 // unit); Z in [near, far] maps to NDC z in [-1, 1].
-glm::mat4 ClipFromCamOrthographic(double sx, double sy, double cx, double cy, int width,
-                                  int height, double near, double far);
+glm::mat4 ClipFromCamOrthographic(double sx, double sy, double cx, double cy, int width, int height,
+                                  double near, double far);
 
 // A camera at `eye` looking at `target`, image "up" along `up` (OpenCV axes:
 // the camera's -y is as close to `up` as possible). Returns cam_from_world.

@@ -13,8 +13,10 @@ TimingStats Summarize(std::vector<double> samples_ms) {
   stats.samples = static_cast<int>(n);
   stats.min_ms = samples_ms.front();
   stats.max_ms = samples_ms.back();
-  stats.median_ms = n % 2 == 1 ? samples_ms[n / 2] : 0.5 * (samples_ms[n / 2 - 1] + samples_ms[n / 2]);
-  stats.mean_ms = std::accumulate(samples_ms.begin(), samples_ms.end(), 0.0) / static_cast<double>(n);
+  stats.median_ms =
+      n % 2 == 1 ? samples_ms[n / 2] : 0.5 * (samples_ms[n / 2 - 1] + samples_ms[n / 2]);
+  stats.mean_ms =
+      std::accumulate(samples_ms.begin(), samples_ms.end(), 0.0) / static_cast<double>(n);
   return stats;
 }
 

@@ -5,5 +5,7 @@
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   return fuzz::FuzzReader(
       data, size, [](std::istream& in) { return capture::colmap::ReadCamerasBinary(in, "fuzz"); },
-      [](std::ostream& out, const auto& value) { capture::colmap::WriteCamerasBinary(out, value); });
+      [](std::ostream& out, const auto& value) {
+        capture::colmap::WriteCamerasBinary(out, value);
+      });
 }

@@ -1,4 +1,5 @@
-// libFuzzer target: COLMAP dense depth/normal map .bin (W&H&C& + planar float32) (see fuzz_reader.h).
+// libFuzzer target: COLMAP dense depth/normal map .bin (W&H&C& + planar float32) (see
+// fuzz_reader.h).
 #include "capture/colmap_io.h"
 #include "fuzz/fuzz_reader.h"
 

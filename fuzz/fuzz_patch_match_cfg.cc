@@ -4,6 +4,9 @@
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   return fuzz::FuzzReader(
-      data, size, [](std::istream& in) { return capture::colmap::ReadPatchMatchConfig(in, "fuzz"); },
-      [](std::ostream& out, const auto& value) { capture::colmap::WritePatchMatchConfig(out, value); });
+      data, size,
+      [](std::istream& in) { return capture::colmap::ReadPatchMatchConfig(in, "fuzz"); },
+      [](std::ostream& out, const auto& value) {
+        capture::colmap::WritePatchMatchConfig(out, value);
+      });
 }

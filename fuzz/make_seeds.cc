@@ -43,28 +43,38 @@ int main(int argc, char** argv) {
     // Small models: libFuzzer mutates small inputs faster.
     const colmap::SparseModel m = capture::test::RandomSparseModel(seed, 2, 3);
     const std::string s = std::to_string(seed);
-    Seed(root, "colmap_cameras_text", s, [&](std::ostream& o) { colmap::WriteCamerasText(o, m.cameras); });
-    Seed(root, "colmap_images_text", s, [&](std::ostream& o) { colmap::WriteImagesText(o, m.images); });
-    Seed(root, "colmap_points3d_text", s, [&](std::ostream& o) { colmap::WritePoints3DText(o, m.points3D); });
-    Seed(root, "colmap_cameras_bin", s, [&](std::ostream& o) { colmap::WriteCamerasBinary(o, m.cameras); });
-    Seed(root, "colmap_images_bin", s, [&](std::ostream& o) { colmap::WriteImagesBinary(o, m.images); });
-    Seed(root, "colmap_points3d_bin", s, [&](std::ostream& o) { colmap::WritePoints3DBinary(o, m.points3D); });
+    Seed(root, "colmap_cameras_text", s,
+         [&](std::ostream& o) { colmap::WriteCamerasText(o, m.cameras); });
+    Seed(root, "colmap_images_text", s,
+         [&](std::ostream& o) { colmap::WriteImagesText(o, m.images); });
+    Seed(root, "colmap_points3d_text", s,
+         [&](std::ostream& o) { colmap::WritePoints3DText(o, m.points3D); });
+    Seed(root, "colmap_cameras_bin", s,
+         [&](std::ostream& o) { colmap::WriteCamerasBinary(o, m.cameras); });
+    Seed(root, "colmap_images_bin", s,
+         [&](std::ostream& o) { colmap::WriteImagesBinary(o, m.images); });
+    Seed(root, "colmap_points3d_bin", s,
+         [&](std::ostream& o) { colmap::WritePoints3DBinary(o, m.points3D); });
   }
   for (int channels : {1, 3}) {
     core::ImageF map(3, 2, channels);
     for (size_t i = 0; i < map.values().size(); ++i) map.data()[i] = 0.25f * static_cast<float>(i);
-    Seed(root, "dense_map", std::to_string(channels), [&](std::ostream& o) { colmap::WriteDenseMap(o, map); });
+    Seed(root, "dense_map", std::to_string(channels),
+         [&](std::ostream& o) { colmap::WriteDenseMap(o, map); });
   }
-  Seed(root, "fusion_cfg", "1", [](std::ostream& o) { colmap::WriteFusionConfig(o, {"a.png", "b/c.png"}); });
+  Seed(root, "fusion_cfg", "1", [](std::ostream& o) {
+    colmap::WriteFusionConfig(o, {"a.png", "b/c.png"});
+  });
   Seed(root, "patch_match_cfg", "1", [](std::ostream& o) {
     colmap::WritePatchMatchConfig(o, {{"a.png", "__auto__, 20"}, {"b.png", "a.png, c.png"}});
   });
   capture::Dataset d;
   d.cameras.emplace(1, capture::Camera::Pinhole(8, 6, 10.5, 10.25, 4, 3));
   d.cameras.emplace(2, capture::Camera::Orthographic(8, 6, 2, 2, 4, 3));
-  d.views.push_back({"a", 1, capture::LookAt({0, -3, 0.5}, {0, 0, 0}, {0, 0, 1}), "color/a.png", "depth/a.exr",
-                     "mask/a.png", "normal/a.exr"});
-  d.views.push_back({"b", 2, capture::LookAt({3, 0, 0}, {0, 0, 0}, {0, 0, 1}), "color/b.png", "", "", ""});
+  d.views.push_back({"a", 1, capture::LookAt({0, -3, 0.5}, {0, 0, 0}, {0, 0, 1}), "color/a.png",
+                     "depth/a.exr", "mask/a.png", "normal/a.exr"});
+  d.views.push_back(
+      {"b", 2, capture::LookAt({3, 0, 0}, {0, 0, 0}, {0, 0, 1}), "color/b.png", "", "", ""});
   d.bounds = capture::Bounds{{-1, -1, -1}, {1, 1, 1}};
   d.depth_units = "m";
   Seed(root, "manifest", "1", [&](std::ostream& o) { capture::WriteManifest(o, d); });

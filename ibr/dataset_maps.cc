@@ -31,7 +31,8 @@ glm::dmat4 Mat4From(const capture::Rigid3& cam_from_world) {
 
 MapSet MapsFromDataset(const capture::Dataset& dataset, double padding) {
   const std::string where = "MapsFromDataset: '" + dataset.root.string() + "'";
-  if (!dataset.bounds) core::ThrowInputError(where, "the dataset has no bounds (dataset.json \"bounds\")");
+  if (!dataset.bounds)
+    core::ThrowInputError(where, "the dataset has no bounds (dataset.json \"bounds\")");
   const capture::Bounds& b = *dataset.bounds;
   const glm::dvec3 ext = b.extent();
   const double pad = padding * std::max({ext.x, ext.y, ext.z});

@@ -21,7 +21,7 @@ namespace ibr {
 struct DepthObjectDemoOptions {
   std::string scene = "spot-cube";  // a built-in scene (datasets/scenes/NAME.json) whose first
                                     // object is a depth object captured from a mesh
-  int size = 512;  // output pixels, square
+  int size = 512;                   // output pixels, square
   int frames = 8;  // turntable frames (the scene's orbit, with this count and size)
   void Check() const;
 };

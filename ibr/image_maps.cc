@@ -13,14 +13,16 @@ void MapCamera::Check(const std::string& where) const {
   }
   if (!(fx > 0) || !(fy > 0) || !std::isfinite(fx) || !std::isfinite(fy) || !std::isfinite(cx) ||
       !std::isfinite(cy)) {
-    core::ThrowInputError(where, "camera scales must be positive and finite (fx {}, fy {}, cx {}, cy {})",
+    core::ThrowInputError(where,
+                          "camera scales must be positive and finite (fx {}, fy {}, cx {}, cy {})",
                           fx, fy, cx, cy);
   }
 }
 
 void MapSet::Check(const std::string& where) const {
   if (maps.empty()) core::ThrowInputError(where, "no maps");
-  if (maps.size() > 64) core::ThrowInputError(where, "{} maps; at most 64 are supported", maps.size());
+  if (maps.size() > 64)
+    core::ThrowInputError(where, "{} maps; at most 64 are supported", maps.size());
   const double det = glm::determinant(glm::dmat3(world_from_box));
   if (!(std::abs(det) > 0) || !std::isfinite(det)) {
     core::ThrowInputError(where, "the bounding box transform is singular");
@@ -42,8 +44,10 @@ void MapSet::Check(const std::string& where) const {
     check_size(m.depth.width(), m.depth.height(), m.depth.empty(), "depth");
     check_size(m.color.width(), m.color.height(), m.color.empty(), "colour");
     check_size(m.mask.width(), m.mask.height(), m.mask.empty(), "mask");
-    if (!m.depth.empty() && m.depth.channels() != 1) core::ThrowInputError(w, "depth must have 1 channel");
-    if (!m.mask.empty() && m.mask.channels() != 1) core::ThrowInputError(w, "mask must have 1 channel");
+    if (!m.depth.empty() && m.depth.channels() != 1)
+      core::ThrowInputError(w, "depth must have 1 channel");
+    if (!m.mask.empty() && m.mask.channels() != 1)
+      core::ThrowInputError(w, "mask must have 1 channel");
     if (!m.color.empty() && m.color.channels() != 3 && m.color.channels() != 4) {
       core::ThrowInputError(w, "colour must have 3 or 4 channels, has {}", m.color.channels());
     }
@@ -74,7 +78,8 @@ std::vector<ImageMap> CubeRigMaps(const glm::dvec3& centre, double half, int siz
     // The image plane is the cube face the camera sits on (depth 0 there), so
     // depth runs 0..2*half across the cube.
     const glm::dvec3 eye = centre - f.axis * half;
-    m.cam_from_world = glm::dmat4(core::CamFromWorldLookAt(glm::vec3(eye), glm::vec3(centre), glm::vec3(f.up)));
+    m.cam_from_world =
+        glm::dmat4(core::CamFromWorldLookAt(glm::vec3(eye), glm::vec3(centre), glm::vec3(f.up)));
     const double s = size / (2.0 * half);
     m.camera = MapCamera::Orthographic(size, size, s, s, size / 2.0, size / 2.0);
     maps.push_back(std::move(m));

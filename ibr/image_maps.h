@@ -4,10 +4,9 @@
 // (ibr/dataset_maps.h) or directly by tests. No GL.
 #pragma once
 
+#include <glm/glm.hpp>
 #include <string>
 #include <vector>
-
-#include <glm/glm.hpp>
 
 #include "core/image.h"
 

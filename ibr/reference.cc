@@ -69,7 +69,8 @@ bool ReferenceMapLookup(const MapRecord& m, glm::vec3 p, glm::vec3& q, glm::ivec
 }
 
 bool ReferenceMapAccepts(const MapTables& t, const MapRecord& m, const ReferenceVariant& variant,
-                         glm::vec3 p, glm::ivec3& texel, bool* tie, const ReferenceDivision* division) {
+                         glm::vec3 p, glm::ivec3& texel, bool* tie,
+                         const ReferenceDivision* division) {
   glm::vec3 q;
   if (!ReferenceMapLookup(m, p, q, texel, division)) return variant.outside_passes;
   const float d = t.depth[t.Index(texel.z, texel.x, texel.y)];
@@ -149,7 +150,8 @@ ReferenceBuffers RenderReference(const FrameParams& f, const MapTables& tables,
           st = static_cast<uint8_t>(st | 0x80);
           if (s == num_slices - 1) ++out.finished_on_last_slice;
         }
-        if (!f.robust && !clear && s == num_slices - 1 && st_before != n) ++out.finished_on_last_slice;
+        if (!f.robust && !clear && s == num_slices - 1 && st_before != n)
+          ++out.finished_on_last_slice;
       }
     }
   }

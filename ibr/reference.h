@@ -8,9 +8,8 @@
 #pragma once
 
 #include <cstdint>
-#include <vector>
-
 #include <glm/glm.hpp>
+#include <vector>
 
 #include "core/image.h"
 #include "ibr/depth_object.h"
@@ -43,16 +42,16 @@ glm::vec3 ReferenceViewPointOnPlane(const FrameParams& frame, glm::vec2 uv, glm:
 bool ReferenceMapLookup(const MapRecord& map, glm::vec3 p, glm::vec3& q, glm::ivec3& texel,
                         const ReferenceDivision* division = nullptr);
 // `tie` is set when the decision was an exact equality q.z == depth.
-bool ReferenceMapAccepts(const MapTables& tables, const MapRecord& map, const ReferenceVariant& variant,
-                         glm::vec3 p, glm::ivec3& texel, bool* tie = nullptr,
-                         const ReferenceDivision* division = nullptr);
+bool ReferenceMapAccepts(const MapTables& tables, const MapRecord& map,
+                         const ReferenceVariant& variant, glm::vec3 p, glm::ivec3& texel,
+                         bool* tie = nullptr, const ReferenceDivision* division = nullptr);
 
 struct ReferenceBuffers {
-  core::Image8 stencil;  // 1 channel, row 0 on top
-  core::ImageF color;    // 4 channels RGBA32F accumulation
-  core::ImageF depth;    // 2 channels (camera z, covered)
-  int64_t fragments = 0;  // map-pass fragments evaluated
-  int64_t ties = 0;       // decisions where camera z == map depth exactly
+  core::Image8 stencil;                // 1 channel, row 0 on top
+  core::ImageF color;                  // 4 channels RGBA32F accumulation
+  core::ImageF depth;                  // 2 channels (camera z, covered)
+  int64_t fragments = 0;               // map-pass fragments evaluated
+  int64_t ties = 0;                    // decisions where camera z == map depth exactly
   int64_t finished_on_last_slice = 0;  // pixels whose count reached N on the last slice
 };
 

@@ -21,9 +21,8 @@
 // degenerate tie) the three get 1/3 each.
 #pragma once
 
-#include <vector>
-
 #include <glm/glm.hpp>
+#include <vector>
 
 namespace ibr {
 

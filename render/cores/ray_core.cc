@@ -1,8 +1,8 @@
 #include "render/cores/ray_core.h"
 
-#include <cmath>
-
 #include <fmt/format.h>
+
+#include <cmath>
 
 #include "core/error.h"
 
@@ -10,10 +10,14 @@ namespace render {
 
 std::string RayOutcomeName(RayOutcome outcome) {
   switch (outcome) {
-    case RayOutcome::kNone: return "none";
-    case RayOutcome::kHit: return "hit";
-    case RayOutcome::kExited: return "exited";
-    case RayOutcome::kEarlyTermination: return "early_termination";
+    case RayOutcome::kNone:
+      return "none";
+    case RayOutcome::kHit:
+      return "hit";
+    case RayOutcome::kExited:
+      return "exited";
+    case RayOutcome::kEarlyTermination:
+      return "early_termination";
   }
   return "unknown";
 }
@@ -22,15 +26,18 @@ RayStepPolicy RayStepPolicyFromName(const std::string& name) {
   if (name == "fixed") return RayStepPolicy::kFixed;
   if (name == "threshold") return RayStepPolicy::kThreshold;
   if (name == "jacobian") return RayStepPolicy::kJacobian;
-  core::ThrowInputError("RayStepPolicyFromName", "unknown step policy '{}' (fixed, threshold, jacobian)",
-                        name);
+  core::ThrowInputError("RayStepPolicyFromName",
+                        "unknown step policy '{}' (fixed, threshold, jacobian)", name);
 }
 
 std::string RayStepPolicyName(RayStepPolicy policy) {
   switch (policy) {
-    case RayStepPolicy::kFixed: return "fixed";
-    case RayStepPolicy::kThreshold: return "threshold";
-    case RayStepPolicy::kJacobian: return "jacobian";
+    case RayStepPolicy::kFixed:
+      return "fixed";
+    case RayStepPolicy::kThreshold:
+      return "threshold";
+    case RayStepPolicy::kJacobian:
+      return "jacobian";
   }
   return "unknown";
 }
@@ -55,15 +62,22 @@ std::vector<std::string> RayCoreDefines(const RayCoreOptions& options) {
   std::vector<std::string> defines = {
       fmt::format("RAY_OUTCOME_HIT {}", static_cast<int>(RayOutcome::kHit)),
       fmt::format("RAY_OUTCOME_EXITED {}", static_cast<int>(RayOutcome::kExited)),
-      fmt::format("RAY_OUTCOME_EARLY_TERMINATION {}", static_cast<int>(RayOutcome::kEarlyTermination)),
+      fmt::format("RAY_OUTCOME_EARLY_TERMINATION {}",
+                  static_cast<int>(RayOutcome::kEarlyTermination)),
   };
   switch (options.step_policy) {
-    case RayStepPolicy::kFixed: defines.push_back("RAY_STEP_FIXED"); break;
-    case RayStepPolicy::kThreshold: defines.push_back("RAY_STEP_THRESHOLD"); break;
-    case RayStepPolicy::kJacobian: defines.push_back("RAY_STEP_JACOBIAN"); break;
+    case RayStepPolicy::kFixed:
+      defines.push_back("RAY_STEP_FIXED");
+      break;
+    case RayStepPolicy::kThreshold:
+      defines.push_back("RAY_STEP_THRESHOLD");
+      break;
+    case RayStepPolicy::kJacobian:
+      defines.push_back("RAY_STEP_JACOBIAN");
+      break;
   }
   defines.push_back(options.refinement == RayRefinement::kBisection ? "RAY_REFINE_BISECTION"
-                                                                     : "RAY_REFINE_SECANT");
+                                                                    : "RAY_REFINE_SECANT");
   return defines;
 }
 

@@ -50,7 +50,8 @@ void SliceBuffer::UploadImpl(const std::vector<const SliceStack*>& stacks, bool 
     capacity_bytes_ = bytes;
   }
   if (!vertices.empty()) {
-    glNamedBufferSubData(vertices_.id(), 0, static_cast<GLsizeiptr>(vertices.size() * sizeof(glm::vec3)),
+    glNamedBufferSubData(vertices_.id(), 0,
+                         static_cast<GLsizeiptr>(vertices.size() * sizeof(glm::vec3)),
                          vertices.data());
   }
   glVertexArrayVertexBuffer(vao_.id(), 0, vertices_.id(), 0, sizeof(glm::vec3));
@@ -61,11 +62,13 @@ void SliceBuffer::UploadImpl(const std::vector<const SliceStack*>& stacks, bool 
   if (!volumes_) volumes_ = Buffer::Create();
   const size_t volume_bytes = std::max<size_t>(1, volume_of_vertex.size()) * sizeof(GLint);
   if (volume_bytes > volume_capacity_bytes_) {
-    glNamedBufferData(volumes_.id(), static_cast<GLsizeiptr>(volume_bytes), nullptr, GL_STREAM_DRAW);
+    glNamedBufferData(volumes_.id(), static_cast<GLsizeiptr>(volume_bytes), nullptr,
+                      GL_STREAM_DRAW);
     volume_capacity_bytes_ = volume_bytes;
   }
   if (!volume_of_vertex.empty()) {
-    glNamedBufferSubData(volumes_.id(), 0, static_cast<GLsizeiptr>(volume_of_vertex.size() * sizeof(GLint)),
+    glNamedBufferSubData(volumes_.id(), 0,
+                         static_cast<GLsizeiptr>(volume_of_vertex.size() * sizeof(GLint)),
                          volume_of_vertex.data());
   }
   glVertexArrayVertexBuffer(vao_.id(), 1, volumes_.id(), 0, sizeof(GLint));

@@ -6,8 +6,8 @@
 
 #include <vector>
 
-#include "render/gl/handles.h"
 #include "render/cores/slicing.h"
+#include "render/gl/handles.h"
 
 namespace render {
 

@@ -12,14 +12,18 @@ SliceFamily SliceFamilyFromName(const std::string& name) {
   if (name == "surface" || name == "surface-aligned") return SliceFamily::kSurfaceAligned;
   if (name == "orthogonal") return SliceFamily::kOrthogonal;
   if (name == "screen") return SliceFamily::kScreen;
-  core::ThrowInputError("SliceFamilyFromName", "unknown slicing family '{}' (surface, orthogonal, screen)", name);
+  core::ThrowInputError("SliceFamilyFromName",
+                        "unknown slicing family '{}' (surface, orthogonal, screen)", name);
 }
 
 std::string SliceFamilyName(SliceFamily family) {
   switch (family) {
-    case SliceFamily::kSurfaceAligned: return "surface";
-    case SliceFamily::kOrthogonal: return "orthogonal";
-    case SliceFamily::kScreen: return "screen";
+    case SliceFamily::kSurfaceAligned:
+      return "surface";
+    case SliceFamily::kOrthogonal:
+      return "orthogonal";
+    case SliceFamily::kScreen:
+      return "screen";
   }
   return "unknown";
 }
@@ -34,8 +38,8 @@ void SlicingOptions::Check() const {
 namespace {
 
 struct ViewFrame {
-  glm::vec3 eye_world{0};        // perspective centre (unused for orthographic)
-  glm::vec3 axis_world{0, 0, 1}; // camera +z in the world
+  glm::vec3 eye_world{0};         // perspective centre (unused for orthographic)
+  glm::vec3 axis_world{0, 0, 1};  // camera +z in the world
 };
 
 ViewFrame FrameOf(const SliceView& view) {
@@ -170,7 +174,8 @@ SliceStack MakeSlices(const SliceBox& box, const SliceView& view, const SlicingO
   const glm::vec3 d_world = ViewDirectionToBox(box, view);
 
   if (options.family != SliceFamily::kScreen) {
-    const int axis = options.family == SliceFamily::kSurfaceAligned ? 2 : ChooseOrthogonalAxis(box, view);
+    const int axis =
+        options.family == SliceFamily::kSurfaceAligned ? 2 : ChooseOrthogonalAxis(box, view);
     stack.axis = axis;
     stack.spacing_in_box = 1.0f / n;
     stack.spacing_world = stack.spacing_in_box / glm::length(BoxAxisGradientWorld(box, axis));
@@ -185,7 +190,8 @@ SliceStack MakeSlices(const SliceBox& box, const SliceView& view, const SlicingO
       if (view.orthographic) return dir_k >= 0 ? c : -c;
       return std::abs(c - eye[axis]);
     };
-    std::stable_sort(planes.begin(), planes.end(), [&](float a, float b) { return key(a) < key(b); });
+    std::stable_sort(planes.begin(), planes.end(),
+                     [&](float a, float b) { return key(a) < key(b); });
     if (options.order == SliceOrder::kBackToFront) std::reverse(planes.begin(), planes.end());
     // The viewer is on the side the view direction comes from.
     const float toward = dir_k >= 0 ? -1.0f : 1.0f;
@@ -254,18 +260,22 @@ SliceStack MakeSlices(const SliceBox& box, const SliceView& view, const SlicingO
 
 int SliceCountForSpacing(float extent_world, float spacing_world) {
   if (!(extent_world > 0) || !(spacing_world > 0) || !std::isfinite(extent_world / spacing_world)) {
-    core::ThrowInputError("SliceCountForSpacing", "extent {} / spacing {} must be positive and finite",
-                          extent_world, spacing_world);
+    core::ThrowInputError("SliceCountForSpacing",
+                          "extent {} / spacing {} must be positive and finite", extent_world,
+                          spacing_world);
   }
   return std::clamp(static_cast<int>(std::ceil(extent_world / spacing_world)), 1, 16384);
 }
 
 int OrthogonalSliceCount(int count_surface_aligned, float edge_length, float max_displacement) {
   if (count_surface_aligned < 1 || !(edge_length > 0) || !(max_displacement > 0)) {
-    core::ThrowInputError("OrthogonalSliceCount", "need count >= 1, edge > 0, displacement > 0 "
-                          "(got {}, {}, {})", count_surface_aligned, edge_length, max_displacement);
+    core::ThrowInputError("OrthogonalSliceCount",
+                          "need count >= 1, edge > 0, displacement > 0 "
+                          "(got {}, {}, {})",
+                          count_surface_aligned, edge_length, max_displacement);
   }
-  const double count = std::ceil(static_cast<double>(count_surface_aligned) * edge_length / max_displacement);
+  const double count =
+      std::ceil(static_cast<double>(count_surface_aligned) * edge_length / max_displacement);
   return static_cast<int>(std::clamp(count, 1.0, 16384.0));
 }
 

@@ -11,17 +11,16 @@
 // h_alpha is simply its interpolated box z (sec. 3.2: the alpha ramp).
 #pragma once
 
+#include <glm/glm.hpp>
 #include <string>
 #include <vector>
-
-#include <glm/glm.hpp>
 
 namespace render {
 
 enum class SliceFamily {
   kSurfaceAligned,  // planes box z = const (direction a: parallel to the base surface)
-  kOrthogonal,      // planes box k = const, k the axis whose world normal is most parallel to the view
-  kScreen,          // planes parallel to the view plane (camera z = const)
+  kOrthogonal,  // planes box k = const, k the axis whose world normal is most parallel to the view
+  kScreen,      // planes parallel to the view plane (camera z = const)
 };
 
 enum class SliceOrder { kFrontToBack, kBackToFront };
@@ -66,11 +65,12 @@ struct Slice {
 
 struct SliceStack {
   SliceFamily family = SliceFamily::kOrthogonal;
-  int axis = 2;                  // box axis for surface-aligned / orthogonal slices, -1 for screen
+  int axis = 2;  // box axis for surface-aligned / orthogonal slices, -1 for screen
   glm::vec3 normal_in_box{0, 0, 1};  // plane normal in box coordinates (not unit for screen slices)
-  float spacing_in_box = 0;      // distance between planes along the axis, box units (orthogonal / surface)
-  float spacing_world = 0;       // distance between neighbouring planes in world units
-  std::vector<Slice> slices;     // in the requested order
+  float spacing_in_box =
+      0;  // distance between planes along the axis, box units (orthogonal / surface)
+  float spacing_world = 0;    // distance between neighbouring planes in world units
+  std::vector<Slice> slices;  // in the requested order
 };
 
 // The orthogonal family's axis: the box axis whose (world-space) plane normal

@@ -1,10 +1,10 @@
 #include "render/gl/context.h"
 
-#include <cstdlib>
-#include <vector>
-
 #include <epoxy/egl.h>
 #include <spdlog/spdlog.h>
+
+#include <cstdlib>
+#include <vector>
 
 #include "core/error.h"
 #include "render/gl/gl.h"
@@ -30,17 +30,28 @@ namespace {
 
 std::string EglErrorName(EGLint error) {
   switch (error) {
-    case EGL_SUCCESS: return "EGL_SUCCESS";
-    case EGL_NOT_INITIALIZED: return "EGL_NOT_INITIALIZED";
-    case EGL_BAD_ACCESS: return "EGL_BAD_ACCESS";
-    case EGL_BAD_ALLOC: return "EGL_BAD_ALLOC";
-    case EGL_BAD_ATTRIBUTE: return "EGL_BAD_ATTRIBUTE";
-    case EGL_BAD_CONFIG: return "EGL_BAD_CONFIG";
-    case EGL_BAD_CONTEXT: return "EGL_BAD_CONTEXT";
-    case EGL_BAD_DISPLAY: return "EGL_BAD_DISPLAY";
-    case EGL_BAD_MATCH: return "EGL_BAD_MATCH";
-    case EGL_BAD_PARAMETER: return "EGL_BAD_PARAMETER";
-    default: return fmt::format("EGL error 0x{:x}", error);
+    case EGL_SUCCESS:
+      return "EGL_SUCCESS";
+    case EGL_NOT_INITIALIZED:
+      return "EGL_NOT_INITIALIZED";
+    case EGL_BAD_ACCESS:
+      return "EGL_BAD_ACCESS";
+    case EGL_BAD_ALLOC:
+      return "EGL_BAD_ALLOC";
+    case EGL_BAD_ATTRIBUTE:
+      return "EGL_BAD_ATTRIBUTE";
+    case EGL_BAD_CONFIG:
+      return "EGL_BAD_CONFIG";
+    case EGL_BAD_CONTEXT:
+      return "EGL_BAD_CONTEXT";
+    case EGL_BAD_DISPLAY:
+      return "EGL_BAD_DISPLAY";
+    case EGL_BAD_MATCH:
+      return "EGL_BAD_MATCH";
+    case EGL_BAD_PARAMETER:
+      return "EGL_BAD_PARAMETER";
+    default:
+      return fmt::format("EGL error 0x{:x}", error);
   }
 }
 
@@ -61,9 +72,12 @@ std::vector<DisplayCandidate> CandidateDisplays(std::vector<std::string>& failur
   std::vector<DisplayCandidate> candidates;
   const bool has_platform_base = HasClientExtension("EGL_EXT_platform_base");
   if (has_platform_base && HasClientExtension("EGL_MESA_platform_surfaceless")) {
-    EGLDisplay d = eglGetPlatformDisplayEXT(EGL_PLATFORM_SURFACELESS_MESA, EGL_DEFAULT_DISPLAY, nullptr);
-    if (d != EGL_NO_DISPLAY) candidates.push_back({"surfaceless", d});
-    else failures.push_back("surfaceless: " + EglErrorName(eglGetError()));
+    EGLDisplay d =
+        eglGetPlatformDisplayEXT(EGL_PLATFORM_SURFACELESS_MESA, EGL_DEFAULT_DISPLAY, nullptr);
+    if (d != EGL_NO_DISPLAY)
+      candidates.push_back({"surfaceless", d});
+    else
+      failures.push_back("surfaceless: " + EglErrorName(eglGetError()));
   } else {
     failures.push_back("surfaceless: not offered");
   }
@@ -83,8 +97,10 @@ std::vector<DisplayCandidate> CandidateDisplays(std::vector<std::string>& failur
     failures.push_back("device: not offered");
   }
   EGLDisplay d = eglGetDisplay(EGL_DEFAULT_DISPLAY);
-  if (d != EGL_NO_DISPLAY) candidates.push_back({"default", d});
-  else failures.push_back("default: " + EglErrorName(eglGetError()));
+  if (d != EGL_NO_DISPLAY)
+    candidates.push_back({"default", d});
+  else
+    failures.push_back("default: " + EglErrorName(eglGetError()));
   return candidates;
 }
 
@@ -101,10 +117,10 @@ EGLContext TryCreateContext(EGLDisplay display, bool debug, std::string& failure
     return EGL_NO_CONTEXT;
   }
   // EGL_SURFACE_TYPE 0: any config; we never make an EGL surface.
-  const EGLint config_attribs[] = {EGL_SURFACE_TYPE, 0,
-                                   EGL_RENDERABLE_TYPE, EGL_OPENGL_BIT,
-                                   EGL_RED_SIZE, 8, EGL_GREEN_SIZE, 8, EGL_BLUE_SIZE, 8,
-                                   EGL_ALPHA_SIZE, 8, EGL_DEPTH_SIZE, 24, EGL_STENCIL_SIZE, 8,
+  const EGLint config_attribs[] = {EGL_SURFACE_TYPE, 0,  EGL_RENDERABLE_TYPE, EGL_OPENGL_BIT,
+                                   EGL_RED_SIZE,     8,  EGL_GREEN_SIZE,      8,
+                                   EGL_BLUE_SIZE,    8,  EGL_ALPHA_SIZE,      8,
+                                   EGL_DEPTH_SIZE,   24, EGL_STENCIL_SIZE,    8,
                                    EGL_NONE};
   EGLConfig config = nullptr;
   EGLint num_configs = 0;
@@ -115,9 +131,10 @@ EGLContext TryCreateContext(EGLDisplay display, bool debug, std::string& failure
   // GL 4.6 gives EGL_BAD_MATCH on Mesa 22 (HEADLESS-GL.md): ask 4.5 first.
   const int versions[][2] = {{4, 5}, {4, 3}, {3, 3}};
   for (const auto& v : versions) {
-    std::vector<EGLint> attribs = {EGL_CONTEXT_MAJOR_VERSION, v[0], EGL_CONTEXT_MINOR_VERSION, v[1],
-                                   EGL_CONTEXT_OPENGL_PROFILE_MASK,
-                                   EGL_CONTEXT_OPENGL_CORE_PROFILE_BIT};
+    std::vector<EGLint> attribs = {
+        EGL_CONTEXT_MAJOR_VERSION,       v[0],
+        EGL_CONTEXT_MINOR_VERSION,       v[1],
+        EGL_CONTEXT_OPENGL_PROFILE_MASK, EGL_CONTEXT_OPENGL_CORE_PROFILE_BIT};
     if (debug) attribs.insert(attribs.end(), {EGL_CONTEXT_OPENGL_DEBUG, EGL_TRUE});
     attribs.push_back(EGL_NONE);
     EGLContext ctx = eglCreateContext(display, config, EGL_NO_CONTEXT, attribs.data());
@@ -140,8 +157,8 @@ std::unique_ptr<HeadlessContext> HeadlessContext::Create(const HeadlessContextOp
       continue;
     }
     if (!eglMakeCurrent(candidate.display, EGL_NO_SURFACE, EGL_NO_SURFACE, ctx)) {
-      failures.push_back(candidate.platform + ": eglMakeCurrent (surfaceless): " +
-                         EglErrorName(eglGetError()));
+      failures.push_back(candidate.platform +
+                         ": eglMakeCurrent (surfaceless): " + EglErrorName(eglGetError()));
       eglDestroyContext(candidate.display, ctx);
       eglTerminate(candidate.display);
       continue;

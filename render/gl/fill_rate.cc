@@ -38,8 +38,8 @@ FillRate MeasureFillRate(ProgramCache& programs, const FillRateOptions& options)
   glTextureParameteri(texture.id(), GL_TEXTURE_WRAP_S, GL_REPEAT);
   glTextureParameteri(texture.id(), GL_TEXTURE_WRAP_T, GL_REPEAT);
 
-  const Program& program = programs.Get({.vertex = "common/fullscreen.vert.glsl",
-                                         .fragment = "common/fill_rate.frag.glsl"});
+  const Program& program = programs.Get(
+      {.vertex = "common/fullscreen.vert.glsl", .fragment = "common/fill_rate.frag.glsl"});
   VertexArray vao = VertexArray::Create();
   target.Bind();
   glDisable(GL_DEPTH_TEST);

@@ -9,10 +9,10 @@
 namespace render {
 
 struct FillRateOptions {
-  int width = 512;          // pixels of the target
-  int height = 512;         // pixels
-  int layers_per_frame = 64;  // full-screen passes per timed frame (overdraw)
-  bool linear_filter = false; // NEAREST models the slicing passes' default lookups
+  int width = 512;             // pixels of the target
+  int height = 512;            // pixels
+  int layers_per_frame = 64;   // full-screen passes per timed frame (overdraw)
+  bool linear_filter = false;  // NEAREST models the slicing passes' default lookups
   FrameTimerOptions timer{2, 5};
 
   void Check() const;

@@ -68,13 +68,15 @@ ScopedGlState::~ScopedGlState() {
   glDepthFunc(static_cast<GLenum>(s.depth_func));
   glDepthMask(s.depth_write);
   SetEnabled(GL_STENCIL_TEST, s.stencil_test);
-  glStencilFunc(static_cast<GLenum>(s.stencil_func), s.stencil_ref, static_cast<GLuint>(s.stencil_value_mask));
+  glStencilFunc(static_cast<GLenum>(s.stencil_func), s.stencil_ref,
+                static_cast<GLuint>(s.stencil_value_mask));
   glStencilOp(static_cast<GLenum>(s.stencil_fail), static_cast<GLenum>(s.stencil_depth_fail),
               static_cast<GLenum>(s.stencil_depth_pass));
   glStencilMask(static_cast<GLuint>(s.stencil_write_mask));
   SetEnabled(GL_BLEND, s.blend);
   glBlendFuncSeparate(static_cast<GLenum>(s.blend_src_rgb), static_cast<GLenum>(s.blend_dst_rgb),
-                      static_cast<GLenum>(s.blend_src_alpha), static_cast<GLenum>(s.blend_dst_alpha));
+                      static_cast<GLenum>(s.blend_src_alpha),
+                      static_cast<GLenum>(s.blend_dst_alpha));
   glBlendEquation(static_cast<GLenum>(s.blend_equation));
   SetEnabled(GL_CULL_FACE, s.cull);
   glCullFace(static_cast<GLenum>(s.cull_face));

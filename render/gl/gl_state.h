@@ -48,8 +48,8 @@ class ScopedGlState {
   struct Saved {
     GLboolean depth_test, depth_write, stencil_test, blend, cull;
     GLint depth_func, cull_face;
-    GLint stencil_func, stencil_ref, stencil_value_mask, stencil_fail, stencil_depth_fail, stencil_depth_pass,
-        stencil_write_mask;
+    GLint stencil_func, stencil_ref, stencil_value_mask, stencil_fail, stencil_depth_fail,
+        stencil_depth_pass, stencil_write_mask;
     GLint blend_src_rgb, blend_dst_rgb, blend_src_alpha, blend_dst_alpha, blend_equation;
   } saved_;
 };

@@ -26,16 +26,19 @@ GpuMesh::GpuMesh(const core::TriangleMesh& mesh) {
   // Zero-size storage is invalid in GL: keep one dummy element for empty meshes.
   const Vertex dummy_vertex{};
   const uint32_t dummy_index = 0;
-  vertices_ = Buffer::CreateWithData(vertices.empty() ? &dummy_vertex : vertices.data(),
-                                     static_cast<GLsizeiptr>(std::max<size_t>(1, vertices.size()) * sizeof(Vertex)));
-  indices_ = Buffer::CreateWithData(mesh.indices.empty() ? &dummy_index : mesh.indices.data(),
-                                    static_cast<GLsizeiptr>(std::max<size_t>(1, mesh.indices.size()) * sizeof(uint32_t)));
+  vertices_ = Buffer::CreateWithData(
+      vertices.empty() ? &dummy_vertex : vertices.data(),
+      static_cast<GLsizeiptr>(std::max<size_t>(1, vertices.size()) * sizeof(Vertex)));
+  indices_ = Buffer::CreateWithData(
+      mesh.indices.empty() ? &dummy_index : mesh.indices.data(),
+      static_cast<GLsizeiptr>(std::max<size_t>(1, mesh.indices.size()) * sizeof(uint32_t)));
   vao_ = VertexArray::Create();
   glVertexArrayVertexBuffer(vao_.id(), 0, vertices_.id(), 0, sizeof(Vertex));
   glVertexArrayElementBuffer(vao_.id(), indices_.id());
   const GLuint locations[] = {kPositionLocation, kNormalLocation, kUvLocation};
   const GLint sizes[] = {3, 3, 2};
-  const GLuint offsets[] = {offsetof(Vertex, position), offsetof(Vertex, normal), offsetof(Vertex, uv)};
+  const GLuint offsets[] = {offsetof(Vertex, position), offsetof(Vertex, normal),
+                            offsetof(Vertex, uv)};
   for (int k = 0; k < 3; ++k) {
     glEnableVertexArrayAttrib(vao_.id(), locations[k]);
     glVertexArrayAttribFormat(vao_.id(), locations[k], sizes[k], GL_FLOAT, GL_FALSE, offsets[k]);

@@ -101,11 +101,13 @@ void Program::CacheUniforms() {
     glGetProgramResourceiv(id(), GL_UNIFORM, static_cast<GLuint>(i), 2, props, 2, nullptr, values);
     if (values[1] < 0) continue;  // a block member: set through its buffer
     name.assign(static_cast<size_t>(std::max(values[0], 1)), '\0');
-    glGetProgramResourceName(id(), GL_UNIFORM, static_cast<GLuint>(i), values[0], nullptr, name.data());
+    glGetProgramResourceName(id(), GL_UNIFORM, static_cast<GLuint>(i), values[0], nullptr,
+                             name.data());
     name.resize(std::strlen(name.c_str()));
     locations_[name] = values[1];
     // "u_x[0]" is also reachable as "u_x".
-    if (name.size() > 3 && name.ends_with("[0]")) locations_[name.substr(0, name.size() - 3)] = values[1];
+    if (name.size() > 3 && name.ends_with("[0]"))
+      locations_[name.substr(0, name.size() - 3)] = values[1];
   }
 }
 
@@ -120,13 +122,25 @@ GLint Program::Uniform(std::string_view name) const {
 }
 
 void Program::Set(std::string_view n, int v) const { glProgramUniform1i(id(), Uniform(n), v); }
-void Program::Set(std::string_view n, unsigned v) const { glProgramUniform1ui(id(), Uniform(n), v); }
+void Program::Set(std::string_view n, unsigned v) const {
+  glProgramUniform1ui(id(), Uniform(n), v);
+}
 void Program::Set(std::string_view n, float v) const { glProgramUniform1f(id(), Uniform(n), v); }
-void Program::Set(std::string_view n, const glm::vec2& v) const { glProgramUniform2fv(id(), Uniform(n), 1, &v[0]); }
-void Program::Set(std::string_view n, const glm::vec3& v) const { glProgramUniform3fv(id(), Uniform(n), 1, &v[0]); }
-void Program::Set(std::string_view n, const glm::vec4& v) const { glProgramUniform4fv(id(), Uniform(n), 1, &v[0]); }
-void Program::Set(std::string_view n, const glm::ivec2& v) const { glProgramUniform2iv(id(), Uniform(n), 1, &v[0]); }
-void Program::Set(std::string_view n, const glm::ivec3& v) const { glProgramUniform3iv(id(), Uniform(n), 1, &v[0]); }
+void Program::Set(std::string_view n, const glm::vec2& v) const {
+  glProgramUniform2fv(id(), Uniform(n), 1, &v[0]);
+}
+void Program::Set(std::string_view n, const glm::vec3& v) const {
+  glProgramUniform3fv(id(), Uniform(n), 1, &v[0]);
+}
+void Program::Set(std::string_view n, const glm::vec4& v) const {
+  glProgramUniform4fv(id(), Uniform(n), 1, &v[0]);
+}
+void Program::Set(std::string_view n, const glm::ivec2& v) const {
+  glProgramUniform2iv(id(), Uniform(n), 1, &v[0]);
+}
+void Program::Set(std::string_view n, const glm::ivec3& v) const {
+  glProgramUniform3iv(id(), Uniform(n), 1, &v[0]);
+}
 void Program::Set(std::string_view n, const glm::mat3& v) const {
   glProgramUniformMatrix3fv(id(), Uniform(n), 1, GL_FALSE, &v[0][0]);
 }
@@ -134,7 +148,8 @@ void Program::Set(std::string_view n, const glm::mat4& v) const {
   glProgramUniformMatrix4fv(id(), Uniform(n), 1, GL_FALSE, &v[0][0]);
 }
 void Program::Set(std::string_view n, std::span<const glm::vec4> v) const {
-  glProgramUniform4fv(id(), Uniform(n), static_cast<GLsizei>(v.size()), v.empty() ? nullptr : &v[0][0]);
+  glProgramUniform4fv(id(), Uniform(n), static_cast<GLsizei>(v.size()),
+                      v.empty() ? nullptr : &v[0][0]);
 }
 void Program::Set(std::string_view n, std::span<const glm::mat4> v) const {
   glProgramUniformMatrix4fv(id(), Uniform(n), static_cast<GLsizei>(v.size()), GL_FALSE,

@@ -5,13 +5,12 @@
 #pragma once
 
 #include <cstdint>
+#include <glm/glm.hpp>
 #include <span>
 #include <string>
 #include <string_view>
 #include <unordered_map>
 #include <utility>
-
-#include <glm/glm.hpp>
 
 #include "render/gl/gl.h"
 

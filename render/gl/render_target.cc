@@ -21,16 +21,19 @@ RenderTarget::RenderTarget(const RenderTargetOptions& options) : options_(option
   options_.Check();
   framebuffer_ = Framebuffer::Create();
   for (size_t i = 0; i < options_.color_formats.size(); ++i) {
-    colors_.push_back(Texture::Create2D(options_.color_formats[i], options_.width, options_.height));
+    colors_.push_back(
+        Texture::Create2D(options_.color_formats[i], options_.width, options_.height));
     glNamedFramebufferTexture(framebuffer_.id(), GL_COLOR_ATTACHMENT0 + static_cast<GLenum>(i),
                               colors_.back().id(), 0);
   }
   if (options_.depth_stencil) {
     depth_stencil_ = Texture::Create2D(GL_DEPTH24_STENCIL8, options_.width, options_.height);
-    glNamedFramebufferTexture(framebuffer_.id(), GL_DEPTH_STENCIL_ATTACHMENT, depth_stencil_.id(), 0);
+    glNamedFramebufferTexture(framebuffer_.id(), GL_DEPTH_STENCIL_ATTACHMENT, depth_stencil_.id(),
+                              0);
   }
   std::vector<GLenum> draw_buffers;
-  for (size_t i = 0; i < colors_.size(); ++i) draw_buffers.push_back(GL_COLOR_ATTACHMENT0 + static_cast<GLenum>(i));
+  for (size_t i = 0; i < colors_.size(); ++i)
+    draw_buffers.push_back(GL_COLOR_ATTACHMENT0 + static_cast<GLenum>(i));
   if (draw_buffers.empty()) {
     glNamedFramebufferDrawBuffer(framebuffer_.id(), GL_NONE);
   } else {
@@ -87,7 +90,8 @@ void ReadPixels(GLuint framebuffer, GLenum read_buffer, GLenum format, GLenum ty
 
 core::Image8 RenderTarget::ReadColor8(int attachment) const {
   core::Image8 image(options_.width, options_.height, 4);
-  ReadPixels(framebuffer_.id(), GL_COLOR_ATTACHMENT0 + attachment, GL_RGBA, GL_UNSIGNED_BYTE, image);
+  ReadPixels(framebuffer_.id(), GL_COLOR_ATTACHMENT0 + attachment, GL_RGBA, GL_UNSIGNED_BYTE,
+             image);
   return image;
 }
 
@@ -112,7 +116,8 @@ core::ImageF RenderTarget::ReadChannelsF(int attachment, int channels) const {
 
 core::Image<uint32_t> RenderTarget::ReadUint32(int attachment) const {
   core::Image<uint32_t> image(options_.width, options_.height, 1);
-  ReadPixels(framebuffer_.id(), GL_COLOR_ATTACHMENT0 + attachment, GL_RED_INTEGER, GL_UNSIGNED_INT, image);
+  ReadPixels(framebuffer_.id(), GL_COLOR_ATTACHMENT0 + attachment, GL_RED_INTEGER, GL_UNSIGNED_INT,
+             image);
   return image;
 }
 

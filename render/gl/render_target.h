@@ -37,14 +37,14 @@ class RenderTarget {
   // Clears colour attachment 0..n to `rgba`, depth to `depth`, stencil to `stencil`.
   void Clear(const float rgba[4], float depth = 1.0f, int stencil = 0) const;
 
-  core::Image8 ReadColor8(int attachment = 0) const;    // 4 channels
-  core::ImageF ReadColorF(int attachment = 0) const;    // 4 channels
+  core::Image8 ReadColor8(int attachment = 0) const;  // 4 channels
+  core::ImageF ReadColorF(int attachment = 0) const;  // 4 channels
   // The first `channels` (1..4) channels of a float attachment (e.g. 1 for an
   // R32F camera-z attachment, 3 for normals).
   core::ImageF ReadChannelsF(int attachment, int channels) const;
   core::Image<uint32_t> ReadUint32(int attachment) const;  // 1 channel of an R32UI attachment
-  core::ImageF ReadDepth() const;                       // window depth in [0, 1]
-  core::Image8 ReadStencil() const;                     // 1 channel
+  core::ImageF ReadDepth() const;                          // window depth in [0, 1]
+  core::Image8 ReadStencil() const;                        // 1 channel
 
  private:
   RenderTargetOptions options_;

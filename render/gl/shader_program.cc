@@ -1,13 +1,13 @@
 #include "render/gl/shader_program.h"
 
-#include <algorithm>
-#include <regex>
-#include <set>
-#include <cstring>
-#include <sstream>
-
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>
+
+#include <algorithm>
+#include <cstring>
+#include <regex>
+#include <set>
+#include <sstream>
 
 #include "core/error.h"
 #include "shaders/embedded.h"
@@ -100,11 +100,11 @@ struct Preprocessor {
         out.text += fmt::format("#line {} {}\n", i + 2, id);
       } else if (lines[i].find("#include") != std::string::npos &&
                  lines[i].find_first_not_of(" \t") == lines[i].find('#')) {
-        core::ThrowFileError("PreprocessShader", file, "line {}: malformed #include (use #include \"name.glsl\")",
-                             i + 1);
+        core::ThrowFileError("PreprocessShader", file,
+                             "line {}: malformed #include (use #include \"name.glsl\")", i + 1);
       } else if (!is_root && std::regex_match(lines[i], version_re)) {
-        core::ThrowFileError("PreprocessShader", file, "line {}: an included chunk must not have #version",
-                             i + 1);
+        core::ThrowFileError("PreprocessShader", file,
+                             "line {}: an included chunk must not have #version", i + 1);
       } else {
         out.text += lines[i] + "\n";
       }
@@ -117,10 +117,11 @@ struct Preprocessor {
 
 void ProgramDesc::Check() const {
   const bool graphics = !vertex.empty() && !fragment.empty();
-  const bool compute_only = !compute.empty() && vertex.empty() && fragment.empty() && geometry.empty();
+  const bool compute_only =
+      !compute.empty() && vertex.empty() && fragment.empty() && geometry.empty();
   if (!graphics && !compute_only) {
-    core::ThrowInputError("ProgramDesc", "need vertex+fragment (optionally geometry) or compute alone ({})",
-                          Key());
+    core::ThrowInputError(
+        "ProgramDesc", "need vertex+fragment (optionally geometry) or compute alone ({})", Key());
   }
   for (const auto& d : defines) {
     const std::string name = d.substr(0, d.find(' '));
@@ -192,7 +193,8 @@ Shader CompileStage(const ShaderSources& sources, GLenum stage, const std::strin
   if (!ok) {
     const std::string log = InfoLog(shader.id(), glGetShaderiv, glGetShaderInfoLog);
     std::string translated = TranslateShaderLog(log, pre.files);
-    while (!translated.empty() && (translated.back() == '\n' || translated.back() == ' ')) translated.pop_back();
+    while (!translated.empty() && (translated.back() == '\n' || translated.back() == ' '))
+      translated.pop_back();
     // One line for the CLI: the first error first, the rest after " | ".
     std::string one_line;
     for (const auto& line : SplitLines(translated)) {

@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <cmath>
-
 #include <glm/gtc/type_ptr.hpp>
 
 #include "core/check.h"
@@ -15,7 +14,8 @@ namespace render {
 
 core::ImageF MakeDisplacementTexels(const core::ImageF& height, float relief) {
   if (height.empty() || height.channels() != 1) {
-    core::ThrowInputError("MakeDisplacementTexels", "height map must be a non-empty 1-channel image");
+    core::ThrowInputError("MakeDisplacementTexels",
+                          "height map must be a non-empty 1-channel image");
   }
   if (!(relief >= 0) || !std::isfinite(relief)) {
     core::ThrowInputError("MakeDisplacementTexels", "relief {} must be finite and >= 0", relief);
@@ -47,15 +47,17 @@ core::ImageF MakeDisplacementTexels(const core::ImageF& height, float relief) {
 
 void DisplacementTextureOptions::Check() const {
   if (internal_format != GL_RGBA8 && internal_format != GL_RGBA32F) {
-    core::ThrowInputError("DisplacementTextureOptions", "internal format 0x{:x} is neither RGBA8 nor RGBA32F",
-                          internal_format);
+    core::ThrowInputError("DisplacementTextureOptions",
+                          "internal format 0x{:x} is neither RGBA8 nor RGBA32F", internal_format);
   }
 }
 
-Texture UploadDisplacementTexture(const core::ImageF& rgba, const DisplacementTextureOptions& options) {
+Texture UploadDisplacementTexture(const core::ImageF& rgba,
+                                  const DisplacementTextureOptions& options) {
   options.Check();
   if (rgba.empty() || rgba.channels() != 4) {
-    core::ThrowInputError("UploadDisplacementTexture", "texels must be a non-empty 4-channel image");
+    core::ThrowInputError("UploadDisplacementTexture",
+                          "texels must be a non-empty 4-channel image");
   }
   // Rows go up in GL texture space, but the lookup is by uv with row 0 at
   // v = 0 both here and in the ground truth's SampleHeight*, so the image is
@@ -65,12 +67,14 @@ Texture UploadDisplacementTexture(const core::ImageF& rgba, const DisplacementTe
   if (options.internal_format == GL_RGBA8) {
     std::vector<uint8_t> bytes(rgba.values().size());
     for (size_t i = 0; i < bytes.size(); ++i) {
-      bytes[i] = static_cast<uint8_t>(std::lround(std::clamp(rgba.values()[i], 0.0f, 1.0f) * 255.0f));
+      bytes[i] =
+          static_cast<uint8_t>(std::lround(std::clamp(rgba.values()[i], 0.0f, 1.0f) * 255.0f));
     }
-    glTextureSubImage2D(texture.id(), 0, 0, 0, rgba.width(), rgba.height(), GL_RGBA, GL_UNSIGNED_BYTE,
-                        bytes.data());
+    glTextureSubImage2D(texture.id(), 0, 0, 0, rgba.width(), rgba.height(), GL_RGBA,
+                        GL_UNSIGNED_BYTE, bytes.data());
   } else {
-    glTextureSubImage2D(texture.id(), 0, 0, 0, rgba.width(), rgba.height(), GL_RGBA, GL_FLOAT, rgba.data());
+    glTextureSubImage2D(texture.id(), 0, 0, 0, rgba.width(), rgba.height(), GL_RGBA, GL_FLOAT,
+                        rgba.data());
   }
   const GLint filter = options.linear_filter ? GL_LINEAR : GL_NEAREST;
   glTextureParameteri(texture.id(), GL_TEXTURE_MIN_FILTER, filter);
@@ -133,7 +137,8 @@ std::vector<DisplacementVolume> DisplacementVolumesFromMesh(const core::Triangle
   while (t < base.triangle_count()) {
     // Pair (a, b, d), (a, d, c) sharing the diagonal a-d (core::MakePlane's
     // quads): one parallelogram volume when d = b + c - a in every attribute.
-    if (t + 1 < base.triangle_count() && ix[3 * t + 3] == ix[3 * t] && ix[3 * t + 4] == ix[3 * t + 2]) {
+    if (t + 1 < base.triangle_count() && ix[3 * t + 3] == ix[3 * t] &&
+        ix[3 * t + 4] == ix[3 * t + 2]) {
       const uint32_t a = ix[3 * t], b = ix[3 * t + 1], d = ix[3 * t + 2], c = ix[3 * t + 5];
       const auto& p = base.positions;
       const auto& n = base.normals;
@@ -155,17 +160,18 @@ std::vector<DisplacementVolume> DisplacementVolumesFromMesh(const core::Triangle
 
 SliceBox DisplacementVolumeBox(const DisplacementVolume& volume, float max_displacement) {
   SliceBox box;
-  box.world_from_box = glm::mat4(glm::vec4(volume.p[1] - volume.p[0], 0.0f),
-                                 glm::vec4(volume.p[2] - volume.p[0], 0.0f),
-                                 glm::vec4(max_displacement * MeanNormal(volume), 0.0f),
-                                 glm::vec4(volume.p[0], 1.0f));
+  box.world_from_box = glm::mat4(
+      glm::vec4(volume.p[1] - volume.p[0], 0.0f), glm::vec4(volume.p[2] - volume.p[0], 0.0f),
+      glm::vec4(max_displacement * MeanNormal(volume), 0.0f), glm::vec4(volume.p[0], 1.0f));
   return box;
 }
 
-glm::vec3 DisplacementVolumePoint(const DisplacementVolume& volume, glm::vec3 p_in_box, float max_displacement) {
-  const glm::vec3 base =
-      volume.p[0] + p_in_box.x * (volume.p[1] - volume.p[0]) + p_in_box.y * (volume.p[2] - volume.p[0]);
-  glm::vec3 n = volume.n[0] + p_in_box.x * (volume.n[1] - volume.n[0]) + p_in_box.y * (volume.n[2] - volume.n[0]);
+glm::vec3 DisplacementVolumePoint(const DisplacementVolume& volume, glm::vec3 p_in_box,
+                                  float max_displacement) {
+  const glm::vec3 base = volume.p[0] + p_in_box.x * (volume.p[1] - volume.p[0]) +
+                         p_in_box.y * (volume.p[2] - volume.p[0]);
+  glm::vec3 n = volume.n[0] + p_in_box.x * (volume.n[1] - volume.n[0]) +
+                p_in_box.y * (volume.n[2] - volume.n[0]);
   const float len = glm::length(n);
   n = len > 1e-12f ? n / len : MeanNormal(volume);
   return base + p_in_box.z * max_displacement * n;
@@ -208,7 +214,8 @@ static_assert(sizeof(GpuVolume) == 9 * 16);
 }  // namespace
 
 DisplacementPass::DisplacementPass(ProgramCache& programs, const core::TriangleMesh& base,
-                                   const Texture& displacement, const DisplacementPassOptions& options)
+                                   const Texture& displacement,
+                                   const DisplacementPassOptions& options)
     : programs_(&programs), displacement_(&displacement), options_(options) {
   options_.Check();
   volumes_ = DisplacementVolumesFromMesh(base);
@@ -224,7 +231,8 @@ DisplacementPass::DisplacementPass(ProgramCache& programs, const core::TriangleM
     gpu[i].uv01 = glm::vec4(v.uv[0], v.uv[1]);
     gpu[i].uv2_triangle = glm::vec4(v.uv[2], v.triangle ? 1.0f : 0.0f, 0.0f);
   }
-  volume_data_ = Buffer::CreateWithData(gpu.data(), static_cast<GLsizeiptr>(gpu.size() * sizeof(GpuVolume)));
+  volume_data_ =
+      Buffer::CreateWithData(gpu.data(), static_cast<GLsizeiptr>(gpu.size() * sizeof(GpuVolume)));
 }
 
 void DisplacementPass::SetSlicing(const SlicingOptions& slicing) {
@@ -245,8 +253,10 @@ void DisplacementPass::Draw(const RenderTarget& target, const ViewSetup& view) {
       // Cut the parallelogram box's slices down to the face (box x + y <= 1);
       // full-size slices keep their extra fill and are masked in the shader.
       auto& slices = stacks_[i].slices;
-      for (Slice& s : slices) s.p_in_box = ClipPolygonToHalfSpace(s.p_in_box, glm::vec3(1, 1, 0), 1.0f);
-      slices.erase(std::remove_if(slices.begin(), slices.end(), [](const Slice& s) { return s.p_in_box.empty(); }),
+      for (Slice& s : slices)
+        s.p_in_box = ClipPolygonToHalfSpace(s.p_in_box, glm::vec3(1, 1, 0), 1.0f);
+      slices.erase(std::remove_if(slices.begin(), slices.end(),
+                                  [](const Slice& s) { return s.p_in_box.empty(); }),
                    slices.end());
     }
     stats_.slices += static_cast<int>(stacks_[i].slices.size());
@@ -286,24 +296,28 @@ void DisplacementPass::Draw(const RenderTarget& target, const ViewSetup& view) {
 
 // ---- the ground truth ----
 
-core::TriangleMesh MakeDisplacedGroundTruth(const core::TriangleMesh& base, const core::ImageF& height,
-                                            float max_displacement, float tiling) {
+core::TriangleMesh MakeDisplacedGroundTruth(const core::TriangleMesh& base,
+                                            const core::ImageF& height, float max_displacement,
+                                            float tiling) {
   base.Validate("MakeDisplacedGroundTruth");
   if (base.uvs.empty() || height.empty()) {
-    core::ThrowInputError("MakeDisplacedGroundTruth", "needs a base mesh with uvs and a non-empty height map");
+    core::ThrowInputError("MakeDisplacedGroundTruth",
+                          "needs a base mesh with uvs and a non-empty height map");
   }
   const float texels = static_cast<float>(std::max(height.width(), height.height()));
   float longest_uv_edge = 0;
   for (size_t t = 0; t < base.triangle_count(); ++t) {
     for (int k = 0; k < 3; ++k) {
-      const glm::vec2 a = base.uvs[base.indices[3 * t + k]], b = base.uvs[base.indices[3 * t + (k + 1) % 3]];
+      const glm::vec2 a = base.uvs[base.indices[3 * t + k]],
+                      b = base.uvs[base.indices[3 * t + (k + 1) % 3]];
       longest_uv_edge = std::max(longest_uv_edge, glm::length(b - a));
     }
   }
   core::DisplacedMeshOptions options;
   options.max_displacement = max_displacement;
   options.tiling = tiling;
-  options.subdivisions = std::clamp(static_cast<int>(std::ceil(longest_uv_edge * tiling * texels)), 1, 512);
+  options.subdivisions =
+      std::clamp(static_cast<int>(std::ceil(longest_uv_edge * tiling * texels)), 1, 512);
   options.bilinear = true;
   core::TriangleMesh mesh = core::TessellateDisplaced(base, height, options);
   for (glm::vec2& uv : mesh.uvs) uv *= tiling;

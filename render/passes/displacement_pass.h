@@ -16,20 +16,19 @@
 // (MakeDisplacedGroundTruth + RenderMesh); normals are 0 (not computed).
 #pragma once
 
+#include <glm/glm.hpp>
 #include <string>
 #include <vector>
 
-#include <glm/glm.hpp>
-
 #include "core/image.h"
 #include "core/mesh.h"
-#include "render/gl/handles.h"
-#include "render/passes/mesh_pass.h"
-#include "render/gl/render_target.h"
-#include "render/passes/pass.h"
-#include "render/gl/shader_program.h"
 #include "render/cores/slice_buffer.h"
 #include "render/cores/slicing.h"
+#include "render/gl/handles.h"
+#include "render/gl/render_target.h"
+#include "render/gl/shader_program.h"
+#include "render/passes/mesh_pass.h"
+#include "render/passes/pass.h"
 
 namespace render {
 
@@ -48,7 +47,8 @@ struct DisplacementTextureOptions {
 };
 
 // Uploads RGBA texels (4-channel float image, values in [0, 1]), REPEAT wrap.
-Texture UploadDisplacementTexture(const core::ImageF& rgba, const DisplacementTextureOptions& options = {});
+Texture UploadDisplacementTexture(const core::ImageF& rgba,
+                                  const DisplacementTextureOptions& options = {});
 
 // ---- per-face displacement volumes ----
 
@@ -105,8 +105,8 @@ class DisplacementPass final : public Pass {
  public:
   // Builds the volumes of `base` and uploads them; needs a current context.
   // `displacement` (UploadDisplacementTexture) must outlive the pass.
-  DisplacementPass(ProgramCache& programs, const core::TriangleMesh& base, const Texture& displacement,
-                   const DisplacementPassOptions& options);
+  DisplacementPass(ProgramCache& programs, const core::TriangleMesh& base,
+                   const Texture& displacement, const DisplacementPassOptions& options);
 
   std::string_view name() const override { return "displacement"; }
   // Slices for this view (CPU), upload, draw into a frame target.
@@ -140,7 +140,8 @@ class DisplacementPass final : public Pass {
 // displaced along interpolated normals by bilinear heights; uvs are
 // multiplied by `tiling`, so render::DrawMesh with the displacement texture
 // (TEXTURED, shade off) shows the same colours as the pass.
-core::TriangleMesh MakeDisplacedGroundTruth(const core::TriangleMesh& base, const core::ImageF& height,
-                                            float max_displacement, float tiling);
+core::TriangleMesh MakeDisplacedGroundTruth(const core::TriangleMesh& base,
+                                            const core::ImageF& height, float max_displacement,
+                                            float tiling);
 
 }  // namespace render

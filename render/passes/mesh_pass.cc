@@ -8,7 +8,8 @@ namespace render {
 
 void MeshPassOptions::Check() const {
   for (int i = 0; i < 4; ++i) {
-    if (!std::isfinite(base_color[i])) core::ThrowInputError("MeshPassOptions", "base colour is not finite");
+    if (!std::isfinite(base_color[i]))
+      core::ThrowInputError("MeshPassOptions", "base colour is not finite");
     for (int j = 0; j < 4; ++j) {
       if (!std::isfinite(world_from_object[i][j])) {
         core::ThrowInputError("MeshPassOptions", "world_from_object is not finite");
@@ -31,8 +32,9 @@ MeshPass::MeshPass(ProgramCache& programs, const GpuMesh& mesh, const MeshPassOp
 }
 
 void MeshPass::Draw(const RenderTarget& target, const ViewSetup& view) {
-  const Program& program = programs_->Get(
-      {.vertex = "passes/mesh.vert.glsl", .fragment = "passes/mesh.frag.glsl", .defines = options_.Defines(view.orthographic)});
+  const Program& program = programs_->Get({.vertex = "passes/mesh.vert.glsl",
+                                           .fragment = "passes/mesh.frag.glsl",
+                                           .defines = options_.Defines(view.orthographic)});
   target.Bind();
   program.Use();
   program.Set("u_cam_from_world", view.cam_from_world);
@@ -43,8 +45,8 @@ void MeshPass::Draw(const RenderTarget& target, const ViewSetup& view) {
   mesh_->Draw();
 }
 
-Frame RenderMesh(ProgramCache& programs, const GpuMesh& mesh, const ViewSetup& view, int width, int height,
-                 const MeshPassOptions& options) {
+Frame RenderMesh(ProgramCache& programs, const GpuMesh& mesh, const ViewSetup& view, int width,
+                 int height, const MeshPassOptions& options) {
   MeshPass pass(programs, mesh, options);
   return RenderFrame(pass, view, width, height);
 }

@@ -4,10 +4,9 @@
 // the opaque objects of a scene.
 #pragma once
 
+#include <glm/glm.hpp>
 #include <string>
 #include <vector>
-
-#include <glm/glm.hpp>
 
 #include "core/image.h"
 #include "render/gl/gpu_mesh.h"

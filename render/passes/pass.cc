@@ -25,12 +25,14 @@ void BeginFrame(const RenderTarget& target) {
 }
 
 void BindOutcomeImage(const RenderTarget& target, GLuint unit) {
-  glBindImageTexture(unit, target.color(kFrameOutcome).id(), 0, GL_FALSE, 0, GL_READ_WRITE, GL_R32UI);
+  glBindImageTexture(unit, target.color(kFrameOutcome).id(), 0, GL_FALSE, 0, GL_READ_WRITE,
+                     GL_R32UI);
 }
 
 Frame ReadFrame(const RenderTarget& target) {
   // Image stores (outcome bits) must land before the readback.
-  glMemoryBarrier(GL_FRAMEBUFFER_BARRIER_BIT | GL_TEXTURE_UPDATE_BARRIER_BIT | GL_PIXEL_BUFFER_BARRIER_BIT);
+  glMemoryBarrier(GL_FRAMEBUFFER_BARRIER_BIT | GL_TEXTURE_UPDATE_BARRIER_BIT |
+                  GL_PIXEL_BUFFER_BARRIER_BIT);
   Frame frame;
   frame.color = target.ReadColor8(kFrameColor);
   frame.depth = target.ReadChannelsF(kFrameCameraZ, 1);

@@ -13,9 +13,8 @@
 #pragma once
 
 #include <cstdint>
-#include <string_view>
-
 #include <glm/glm.hpp>
+#include <string_view>
 
 #include "core/image.h"
 #include "render/gl/render_target.h"
@@ -60,10 +59,10 @@ void BeginFrame(const RenderTarget& target);
 
 // A frame read back to the CPU (rows top first, like core::Image).
 struct Frame {
-  core::Image8 color;               // RGBA8
-  core::ImageF depth;               // 1 channel camera z (scene units), 0 where empty
-  core::ImageF normal;              // 3 channels, world space
-  core::Image<uint32_t> outcome;    // 1 channel of outcome bits
+  core::Image8 color;             // RGBA8
+  core::ImageF depth;             // 1 channel camera z (scene units), 0 where empty
+  core::ImageF normal;            // 3 channels, world space
+  core::Image<uint32_t> outcome;  // 1 channel of outcome bits
   // Coverage = colour alpha 255 (every pass writes alpha 255 where it drew).
   bool Covered(int x, int y) const { return color.at(x, y, 3) == 255; }
   // Pixels whose outcome has any of `bits` set.

@@ -2,10 +2,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <glm/gtc/type_ptr.hpp>
 #include <limits>
 #include <vector>
-
-#include <glm/gtc/type_ptr.hpp>
 
 #include "core/error.h"
 
@@ -20,9 +19,12 @@ ReliefMethod ReliefMethodFromName(const std::string& name) {
 
 std::string ReliefMethodName(ReliefMethod method) {
   switch (method) {
-    case ReliefMethod::kNcs: return "ncs";
-    case ReliefMethod::kRelief: return "relief";
-    case ReliefMethod::kPom: return "pom";
+    case ReliefMethod::kNcs:
+      return "ncs";
+    case ReliefMethod::kRelief:
+      return "relief";
+    case ReliefMethod::kPom:
+      return "pom";
   }
   return "unknown";
 }
@@ -36,13 +38,16 @@ void ReliefGeometryOptions::Check() const {
 }
 
 void ReliefSurfaceOptions::Check() const {
-  if (steps < 1 || steps > 65536) core::ThrowInputError("ReliefSurfaceOptions", "steps {} outside 1..65536", steps);
+  if (steps < 1 || steps > 65536)
+    core::ThrowInputError("ReliefSurfaceOptions", "steps {} outside 1..65536", steps);
   if (!std::isfinite(step_enlargement) || step_enlargement < 0.01f || step_enlargement > 1000) {
-    core::ThrowInputError("ReliefSurfaceOptions", "step enlargement c = {} outside [0.01, 1000]", step_enlargement);
+    core::ThrowInputError("ReliefSurfaceOptions", "step enlargement c = {} outside [0.01, 1000]",
+                          step_enlargement);
   }
   // pom_min_steps above `steps` is used as min(pom_min_steps, steps), so
   // `--steps 1` needs no second option.
-  if (pom_min_steps < 1) core::ThrowInputError("ReliefSurfaceOptions", "pom_min_steps {} < 1", pom_min_steps);
+  if (pom_min_steps < 1)
+    core::ThrowInputError("ReliefSurfaceOptions", "pom_min_steps {} < 1", pom_min_steps);
   if (!std::isfinite(tiling) || tiling <= 0 || tiling > 1024) {
     core::ThrowInputError("ReliefSurfaceOptions", "tiling {} outside (0, 1024]", tiling);
   }
@@ -50,7 +55,8 @@ void ReliefSurfaceOptions::Check() const {
     core::ThrowInputError("ReliefSurfaceOptions", "min_view_cos {} outside (0, 1]", min_view_cos);
   }
   if (step_policy == RayStepPolicy::kJacobian) {
-    core::ThrowInputError("ReliefSurfaceOptions", "the Jacobian step policy needs a warp; use fixed or threshold");
+    core::ThrowInputError("ReliefSurfaceOptions",
+                          "the Jacobian step policy needs a warp; use fixed or threshold");
   }
   RayCore().Check();
 }
@@ -61,7 +67,8 @@ RayCoreOptions ReliefSurfaceOptions::RayCore() const {
   core.refine_steps = refine_steps;
   core.step_policy = step_policy;
   core.threshold = threshold;
-  core.refinement = method == ReliefMethod::kPom ? RayRefinement::kSecant : RayRefinement::kBisection;
+  core.refinement =
+      method == ReliefMethod::kPom ? RayRefinement::kSecant : RayRefinement::kBisection;
   if (step_policy == RayStepPolicy::kThreshold) {
     // Finer steps need more of them to cross the same shell.
     core.max_steps = steps * 4;
@@ -88,12 +95,14 @@ Texture UploadHeight(const core::ImageF& height, bool bilinear) {
     core::ThrowInputError("ReliefSurface", "height map must be a non-empty 1-channel image");
   }
   for (float v : height.values()) {
-    if (!(v >= 0.0f && v <= 1.0f)) core::ThrowInputError("ReliefSurface", "height {} outside [0, 1]", v);
+    if (!(v >= 0.0f && v <= 1.0f))
+      core::ThrowInputError("ReliefSurface", "height {} outside [0, 1]", v);
   }
   Texture tex = Texture::Create2D(GL_R32F, height.width(), height.height());
   // Row y of the image is v = (y + 0.5) / n (core::MakeHeightMap), which is
   // GL's texel row y: upload unflipped.
-  glTextureSubImage2D(tex.id(), 0, 0, 0, height.width(), height.height(), GL_RED, GL_FLOAT, height.data());
+  glTextureSubImage2D(tex.id(), 0, 0, 0, height.width(), height.height(), GL_RED, GL_FLOAT,
+                      height.data());
   const GLint filter = bilinear ? GL_LINEAR : GL_NEAREST;
   glTextureParameteri(tex.id(), GL_TEXTURE_MIN_FILTER, filter);
   glTextureParameteri(tex.id(), GL_TEXTURE_MAG_FILTER, filter);
@@ -117,15 +126,22 @@ std::vector<std::string> ReliefSurfaceOptions::Defines(const ReliefGeometryOptio
                                                        bool orthographic) const {
   std::vector<std::string> defines = RayCoreDefines(RayCore());
   switch (method) {
-    case ReliefMethod::kNcs: defines.push_back("METHOD_NCS"); break;
-    case ReliefMethod::kRelief: defines.push_back("METHOD_RELIEF"); break;
-    case ReliefMethod::kPom: defines.push_back("METHOD_POM"); break;
+    case ReliefMethod::kNcs:
+      defines.push_back("METHOD_NCS");
+      break;
+    case ReliefMethod::kRelief:
+      defines.push_back("METHOD_RELIEF");
+      break;
+    case ReliefMethod::kPom:
+      defines.push_back("METHOD_POM");
+      break;
   }
   if (orthographic) defines.push_back("ORTHOGRAPHIC");
   if (shade) defines.push_back("SHADED");
   if (geometry.tangent_maps.wrap_u) defines.push_back("WRAP_U");
   if (geometry.tangent_maps.wrap_v) defines.push_back("WRAP_V");
-  if (mark_early_termination && method == ReliefMethod::kNcs) defines.push_back("MARK_EARLY_TERMINATION");
+  if (mark_early_termination && method == ReliefMethod::kNcs)
+    defines.push_back("MARK_EARLY_TERMINATION");
   return defines;
 }
 
@@ -134,7 +150,8 @@ void ReliefSurface::SetOptions(const ReliefSurfaceOptions& options) {
   options_ = options;
 }
 
-Frame ReliefSurface::Render(const ViewSetup& view, int width, int height, const ReliefSurfaceOptions& options) {
+Frame ReliefSurface::Render(const ViewSetup& view, int width, int height,
+                            const ReliefSurfaceOptions& options) {
   SetOptions(options);
   return RenderFrame(*this, view, width, height);
 }
@@ -142,15 +159,18 @@ Frame ReliefSurface::Render(const ViewSetup& view, int width, int height, const 
 void ReliefSurface::Draw(const RenderTarget& target, const ViewSetup& view) {
   const ReliefSurfaceOptions& options = options_;
   const RayCoreOptions core = options.RayCore();
-  const Program& program = programs_->Get({.vertex = "passes/relief_surface.vert.glsl",
-                                           .fragment = "passes/relief_surface.frag.glsl",
-                                           .defines = options.Defines(geometry_, view.orthographic)});
+  const Program& program =
+      programs_->Get({.vertex = "passes/relief_surface.vert.glsl",
+                      .fragment = "passes/relief_surface.frag.glsl",
+                      .defines = options.Defines(geometry_, view.orthographic)});
 
   const glm::mat4 cam_from_object = view.cam_from_world * options.world_from_object;
   const glm::mat4 object_from_cam = glm::inverse(cam_from_object);
   const glm::vec3 eye_in_object = glm::vec3(object_from_cam * glm::vec4(0, 0, 0, 1));
-  const glm::vec3 view_dir_in_object = glm::normalize(glm::mat3(object_from_cam) * glm::vec3(0, 0, 1));
-  const glm::mat3 world_normal_from_object = glm::transpose(glm::inverse(glm::mat3(options.world_from_object)));
+  const glm::vec3 view_dir_in_object =
+      glm::normalize(glm::mat3(object_from_cam) * glm::vec3(0, 0, 1));
+  const glm::mat3 world_normal_from_object =
+      glm::transpose(glm::inverse(glm::mat3(options.world_from_object)));
 
   target.Bind();
   program.Use();

@@ -26,20 +26,19 @@
 #pragma once
 
 #include <cstdint>
+#include <glm/glm.hpp>
 #include <optional>
 #include <string>
 #include <vector>
 
-#include <glm/glm.hpp>
-
 #include "core/image.h"
 #include "core/mesh.h"
-#include "render/gl/gpu_mesh.h"
-#include "render/passes/mesh_pass.h"
-#include "render/passes/pass.h"
 #include "render/cores/ray_core.h"
+#include "render/gl/gpu_mesh.h"
 #include "render/gl/render_target.h"
 #include "render/gl/shader_program.h"
+#include "render/passes/mesh_pass.h"
+#include "render/passes/pass.h"
 #include "render/passes/tangent_maps.h"
 
 namespace render {
@@ -51,9 +50,10 @@ std::string ReliefMethodName(ReliefMethod method);
 
 // What is fixed for a displaced object: its shell and maps.
 struct ReliefGeometryOptions {
-  float max_displacement = 0.1f;  // scene units for height 1 (as DisplacedMeshOptions)
+  float max_displacement = 0.1f;   // scene units for height 1 (as DisplacedMeshOptions)
   TangentMapOptions tangent_maps;  // resolution and periodicity of the parameterisation
-  bool height_bilinear = true;     // LINEAR (true) or NEAREST height lookups, as the ground truth's `bilinear`
+  bool height_bilinear =
+      true;  // LINEAR (true) or NEAREST height lookups, as the ground truth's `bilinear`
   void Check() const;
 };
 

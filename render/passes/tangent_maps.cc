@@ -12,7 +12,8 @@
 namespace render {
 
 void TangentMapOptions::Check() const {
-  if (size < 2 || size > 8192) core::ThrowInputError("TangentMapOptions", "size {} outside 2..8192", size);
+  if (size < 2 || size > 8192)
+    core::ThrowInputError("TangentMapOptions", "size {} outside 2..8192", size);
   if (!(max_scale > 0) || !std::isfinite(max_scale)) {
     core::ThrowInputError("TangentMapOptions", "max_scale {} must be finite and > 0", max_scale);
   }
@@ -33,7 +34,7 @@ TangentFrames ComputeTangentFrames(const core::TriangleMesh& mesh, float max_sca
     const glm::dvec2 w1 = glm::dvec2(mesh.uvs[i[1]]) - glm::dvec2(mesh.uvs[i[0]]);
     const glm::dvec2 w2 = glm::dvec2(mesh.uvs[i[2]]) - glm::dvec2(mesh.uvs[i[0]]);
     const double det = w1.x * w2.y - w2.x * w1.y;  // twice the signed UV area
-    if (!(std::abs(det) > 1e-14)) continue;          // zero-area UV triangle: no parameterisation
+    if (!(std::abs(det) > 1e-14)) continue;        // zero-area UV triangle: no parameterisation
     // Solve e = dP/du * du + dP/dv * dv for both edges.
     const glm::dvec3 pu = (e1 * w2.y - e2 * w1.y) / det;
     const glm::dvec3 pv = (e2 * w1.x - e1 * w2.x) / det;
@@ -57,7 +58,8 @@ TangentFrames ComputeTangentFrames(const core::TriangleMesh& mesh, float max_sca
       // Positions to 1e-5 scene units: analytic seams differ by rounding
       // (sin(2 pi) != 0 in float).
       groups[{std::round(p.x * 1e5f), std::round(p.y * 1e5f), std::round(p.z * 1e5f),
-              std::round(f.x * 1e5f), std::round(f.y * 1e5f)}].push_back(k);
+              std::round(f.x * 1e5f), std::round(f.y * 1e5f)}]
+          .push_back(k);
     }
     for (const auto& [key, members] : groups) {
       if (members.size() < 2) continue;
@@ -124,8 +126,8 @@ void DetectPeriodicAxes(const core::TriangleMesh& mesh, bool& wrap_u, bool& wrap
     for (size_t k = 0; k < mesh.uvs.size(); ++k) {
       if (std::abs(mesh.uvs[k][axis]) > 1e-6f) continue;
       const glm::vec3& p = mesh.positions[k];
-      if (!far_side.count({std::lround(p.x * 1e4f), std::lround(p.y * 1e4f), std::lround(p.z * 1e4f),
-                           std::lround(mesh.uvs[k][1 - axis] * 1e5f)})) {
+      if (!far_side.count({std::lround(p.x * 1e4f), std::lround(p.y * 1e4f),
+                           std::lround(p.z * 1e4f), std::lround(mesh.uvs[k][1 - axis] * 1e5f)})) {
         return false;
       }
       ++seam;
@@ -156,9 +158,10 @@ TangentMaps RenderTangentMaps(ProgramCache& programs, const core::TriangleMesh& 
                    frames.s_binormal[k]};
   }
   IBR_CHECK(!vertices.empty() && !mesh.indices.empty());
-  Buffer vbo = Buffer::CreateWithData(vertices.data(), static_cast<GLsizeiptr>(vertices.size() * sizeof(MapVertex)));
-  Buffer ibo = Buffer::CreateWithData(mesh.indices.data(),
-                                      static_cast<GLsizeiptr>(mesh.indices.size() * sizeof(uint32_t)));
+  Buffer vbo = Buffer::CreateWithData(vertices.data(),
+                                      static_cast<GLsizeiptr>(vertices.size() * sizeof(MapVertex)));
+  Buffer ibo = Buffer::CreateWithData(
+      mesh.indices.data(), static_cast<GLsizeiptr>(mesh.indices.size() * sizeof(uint32_t)));
   VertexArray vao = VertexArray::Create();
   glVertexArrayVertexBuffer(vao.id(), 0, vbo.id(), 0, sizeof(MapVertex));
   glVertexArrayElementBuffer(vao.id(), ibo.id());
@@ -183,12 +186,14 @@ TangentMaps RenderTangentMaps(ProgramCache& programs, const core::TriangleMesh& 
   glNamedFramebufferTexture(fbo.id(), GL_COLOR_ATTACHMENT1, maps.tangent_map.id(), 0);
   const GLenum buffers[] = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1};
   glNamedFramebufferDrawBuffers(fbo.id(), 2, buffers);
-  IBR_CHECK_EQ(glCheckNamedFramebufferStatus(fbo.id(), GL_DRAW_FRAMEBUFFER), GLenum(GL_FRAMEBUFFER_COMPLETE));
+  IBR_CHECK_EQ(glCheckNamedFramebufferStatus(fbo.id(), GL_DRAW_FRAMEBUFFER),
+               GLenum(GL_FRAMEBUFFER_COMPLETE));
   const float zero[4] = {0, 0, 0, 0};
   glClearNamedFramebufferfv(fbo.id(), GL_COLOR, 0, zero);
   glClearNamedFramebufferfv(fbo.id(), GL_COLOR, 1, zero);
 
-  const Program& program = programs.Get({.vertex = "passes/tangent_maps.vert.glsl", .fragment = "passes/tangent_maps.frag.glsl"});
+  const Program& program = programs.Get(
+      {.vertex = "passes/tangent_maps.vert.glsl", .fragment = "passes/tangent_maps.frag.glsl"});
   glBindFramebuffer(GL_DRAW_FRAMEBUFFER, fbo.id());
   glViewport(0, 0, options.size, options.size);
   glDisable(GL_DEPTH_TEST);
@@ -204,8 +209,10 @@ TangentMaps RenderTangentMaps(ProgramCache& programs, const core::TriangleMesh& 
   for (const Texture* tex : {&maps.normal_map, &maps.tangent_map}) {
     glTextureParameteri(tex->id(), GL_TEXTURE_MIN_FILTER, GL_LINEAR);
     glTextureParameteri(tex->id(), GL_TEXTURE_MAG_FILTER, GL_LINEAR);
-    glTextureParameteri(tex->id(), GL_TEXTURE_WRAP_S, options.wrap_u ? GL_REPEAT : GL_CLAMP_TO_EDGE);
-    glTextureParameteri(tex->id(), GL_TEXTURE_WRAP_T, options.wrap_v ? GL_REPEAT : GL_CLAMP_TO_EDGE);
+    glTextureParameteri(tex->id(), GL_TEXTURE_WRAP_S,
+                        options.wrap_u ? GL_REPEAT : GL_CLAMP_TO_EDGE);
+    glTextureParameteri(tex->id(), GL_TEXTURE_WRAP_T,
+                        options.wrap_v ? GL_REPEAT : GL_CLAMP_TO_EDGE);
   }
   return maps;
 }

@@ -13,9 +13,8 @@
 // (S_t T.V, S_b B.V, N.V / max_displacement) (Algorithm 2, line 4).
 #pragma once
 
-#include <vector>
-
 #include <glm/glm.hpp>
+#include <vector>
 
 #include "core/mesh.h"
 #include "render/gl/handles.h"
@@ -39,10 +38,11 @@ struct TangentFrames {
 TangentFrames ComputeTangentFrames(const core::TriangleMesh& mesh, float max_scale);
 
 struct TangentMapOptions {
-  int size = 512;             // texels per side of both maps (the paper uses 512)
-  bool wrap_u = false;        // the parameterisation is periodic in u (torus, sphere, cylinder)
-  bool wrap_v = false;        // periodic in v (torus)
-  float max_scale = 1.0e4f;   // clamp for S_t / S_b at degenerate frames, texture units per scene unit
+  int size = 512;       // texels per side of both maps (the paper uses 512)
+  bool wrap_u = false;  // the parameterisation is periodic in u (torus, sphere, cylinder)
+  bool wrap_v = false;  // periodic in v (torus)
+  float max_scale =
+      1.0e4f;  // clamp for S_t / S_b at degenerate frames, texture units per scene unit
   void Check() const;
 };
 

@@ -4,13 +4,13 @@
 // workspace imports back to the same cameras and poses (dense and sparse-only);
 // bad inputs give one `ibr: error:` line naming the file or option, a non-zero
 // exit and no output directory.
+#include <gtest/gtest.h>
+
 #include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <string>
 #include <vector>
-
-#include <gtest/gtest.h>
 
 #include "capture/colmap_io.h"
 #include "capture/dataset.h"
@@ -19,10 +19,9 @@
 
 namespace {
 namespace fs = std::filesystem;
-using test_support::IbrBinary;
 using test_support::CountLines;
+using test_support::IbrBinary;
 using test_support::RunCommand;
-
 
 std::string Quote(const fs::path& p) {
   std::string quoted(1, '\'');  // built piecewise: GCC 12's -Wrestrict misfires on "'" + s
@@ -42,7 +41,8 @@ fs::path Scratch(const std::string& name) {
 TEST(CaptureCli, CubeCaptureOfSphereThenInfoSummarisesSixViews) {
   const fs::path dir = Scratch("cube_info");
   const fs::path ds = dir / "D";
-  const auto r = RunCommand(IbrBinary() + " capture --shape sphere --rig cube --size 64 --out " + Quote(ds));
+  const auto r =
+      RunCommand(IbrBinary() + " capture --shape sphere --rig cube --size 64 --out " + Quote(ds));
   ASSERT_EQ(r.exit_code, 0) << r.out << r.err;
   EXPECT_NE(r.out.find("6 views of shape:sphere at 64x64 px"), std::string::npos) << r.out;
 
@@ -75,16 +75,19 @@ TEST(CaptureCli, CubeCaptureOfSphereThenInfoSummarisesSixViews) {
 
   const auto info = RunCommand(IbrBinary() + " info " + Quote(ds));
   ASSERT_EQ(info.exit_code, 0) << info.err;
-  EXPECT_NE(info.out.find("views     6 (depth 6, mask 6, normals 6)"), std::string::npos) << info.out;
+  EXPECT_NE(info.out.find("views     6 (depth 6, mask 6, normals 6)"), std::string::npos)
+      << info.out;
   EXPECT_NE(info.out.find("6 x ORTHOGRAPHIC 64x64"), std::string::npos) << info.out;
-  EXPECT_NE(info.out.find("bounds    min (-1, -1, -1)  max (1, 1, 1)"), std::string::npos) << info.out;
+  EXPECT_NE(info.out.find("bounds    min (-1, -1, -1)  max (1, 1, 1)"), std::string::npos)
+      << info.out;
   for (const char* face : {"cube_px", "cube_nx", "cube_py", "cube_ny", "cube_pz", "cube_nz"}) {
     EXPECT_NE(info.out.find(face), std::string::npos) << face << "\n" << info.out;
   }
 }
 
 // Poses agree when rotations and translations agree to `tolerance`.
-void ExpectSamePose(const capture::Rigid3& a, const capture::Rigid3& b, double tolerance, const std::string& what) {
+void ExpectSamePose(const capture::Rigid3& a, const capture::Rigid3& b, double tolerance,
+                    const std::string& what) {
   for (int c = 0; c < 3; ++c) {
     for (int r = 0; r < 3; ++r) EXPECT_NEAR(a.rotation[c][r], b.rotation[c][r], tolerance) << what;
     EXPECT_NEAR(a.translation[c], b.translation[c], tolerance) << what;
@@ -93,7 +96,8 @@ void ExpectSamePose(const capture::Rigid3& a, const capture::Rigid3& b, double t
 
 TEST(CaptureCli, ColmapExportThenImportRoundTripsCamerasAndPoses) {
   const fs::path dir = Scratch("colmap_round_trip");
-  const auto cap = RunCommand(IbrBinary() + " capture --shape torus --rig ring:5 --size 96 --out " + Quote(dir / "D"));
+  const auto cap = RunCommand(IbrBinary() + " capture --shape torus --rig ring:5 --size 96 --out " +
+                              Quote(dir / "D"));
   ASSERT_EQ(cap.exit_code, 0) << cap.err;
   const capture::Dataset original = capture::ReadDataset(dir / "D");
   ASSERT_EQ(original.views.size(), 5u);
@@ -101,8 +105,8 @@ TEST(CaptureCli, ColmapExportThenImportRoundTripsCamerasAndPoses) {
   for (const bool text : {false, true}) {
     const std::string tag = text ? "text" : "binary";
     const fs::path ws = dir / ("WS_" + tag);
-    const auto exp = RunCommand(IbrBinary() + " export colmap " + Quote(dir / "D") + " --out " + Quote(ws) +
-                                (text ? " --text" : ""));
+    const auto exp = RunCommand(IbrBinary() + " export colmap " + Quote(dir / "D") + " --out " +
+                                Quote(ws) + (text ? " --text" : ""));
     ASSERT_EQ(exp.exit_code, 0) << exp.err;
     EXPECT_NE(exp.out.find("export colmap: 5 views"), std::string::npos) << exp.out;
     EXPECT_TRUE(fs::exists(ws / "sparse" / (text ? "cameras.txt" : "cameras.bin"))) << tag;
@@ -119,7 +123,8 @@ TEST(CaptureCli, ColmapExportThenImportRoundTripsCamerasAndPoses) {
     EXPECT_FALSE(model.points3D.empty()) << "stereo_fusion needs sparse points with tracks";
 
     // Dense import: same cameras (bit-exact after the +-0.5 shift), same poses.
-    const auto imp = RunCommand(IbrBinary() + " import colmap " + Quote(ws) + " --out " + Quote(dir / ("B_" + tag)));
+    const auto imp = RunCommand(IbrBinary() + " import colmap " + Quote(ws) + " --out " +
+                                Quote(dir / ("B_" + tag)));
     ASSERT_EQ(imp.exit_code, 0) << imp.err;
     EXPECT_NE(imp.out.find("import colmap: 5 views"), std::string::npos) << imp.out;
     const capture::Dataset back = capture::ReadDataset(dir / ("B_" + tag));
@@ -138,7 +143,8 @@ TEST(CaptureCli, ColmapExportThenImportRoundTripsCamerasAndPoses) {
   fs::create_directories(dir / "SP");
   fs::copy(dir / "WS_binary" / "sparse", dir / "SP" / "sparse", fs::copy_options::recursive);
   fs::copy(dir / "WS_binary" / "images", dir / "SP" / "images", fs::copy_options::recursive);
-  const auto sp = RunCommand(IbrBinary() + " import colmap " + Quote(dir / "SP") + " --out " + Quote(dir / "S"));
+  const auto sp = RunCommand(IbrBinary() + " import colmap " + Quote(dir / "SP") + " --out " +
+                             Quote(dir / "S"));
   ASSERT_EQ(sp.exit_code, 0) << sp.err;
   const capture::Dataset sparse = capture::ReadDataset(dir / "S");
   ASSERT_EQ(sparse.views.size(), original.views.size());
@@ -149,7 +155,8 @@ TEST(CaptureCli, ColmapExportThenImportRoundTripsCamerasAndPoses) {
     // the export wrote dense cameras, so these sit half a pixel off ours.
     EXPECT_DOUBLE_EQ(c.cx(), original.camera(original.views[i]).cx() - 0.5);
     EXPECT_DOUBLE_EQ(c.fx(), original.camera(original.views[i]).fx());
-    ExpectSamePose(sparse.views[i].cam_from_world, original.views[i].cam_from_world, 1e-12, "sparse");
+    ExpectSamePose(sparse.views[i].cam_from_world, original.views[i].cam_from_world, 1e-12,
+                   "sparse");
     EXPECT_EQ(sparse.LoadColor(i), original.LoadColor(i));
   }
 }
@@ -166,15 +173,22 @@ TEST(CaptureCli, BadInputsGiveOneErrorLineAndNoOutput) {
   // dataset whose manifest names a missing image, and a valid cube capture
   // (orthographic: COLMAP has no such camera model).
   fs::create_directories(dir / "corrupt");
-  std::ofstream(dir / "corrupt" / "dataset.json") << "{\"format\": \"ibr-dataset\", \"version\": 1, \"cameras\": [";
+  std::ofstream(dir / "corrupt" / "dataset.json")
+      << "{\"format\": \"ibr-dataset\", \"version\": 1, \"cameras\": [";
   fs::create_directories(dir / "badcam");
   std::ofstream(dir / "badcam" / "dataset.json")
       << R"({"format": "ibr-dataset", "version": 1, "depth": {"kind": "camera_z", "units": "m"},
             "cameras": [{"id": 1, "model": "PINHOLE", "width": -640, "height": 480, "params": [500, 500, 320, 240]}],
             "views": []})";
-  ASSERT_EQ(RunCommand(IbrBinary() + " capture --shape box --rig ring:2 --size 32 --out " + Quote(dir / "nofile")).exit_code, 0);
+  ASSERT_EQ(RunCommand(IbrBinary() + " capture --shape box --rig ring:2 --size 32 --out " +
+                       Quote(dir / "nofile"))
+                .exit_code,
+            0);
   fs::remove(dir / "nofile" / "color" / "ring_001.png");
-  ASSERT_EQ(RunCommand(IbrBinary() + " capture --shape box --rig cube --size 32 --out " + Quote(dir / "cube")).exit_code, 0);
+  ASSERT_EQ(RunCommand(IbrBinary() + " capture --shape box --rig cube --size 32 --out " +
+                       Quote(dir / "cube"))
+                .exit_code,
+            0);
   fs::create_directories(dir / "empty");
 
   const std::string missing = (dir / "no-such-dir").string();
@@ -185,48 +199,64 @@ TEST(CaptureCli, BadInputsGiveOneErrorLineAndNoOutput) {
       {"info of an impossible camera", "info " + (dir / "badcam").string(), "badcam/dataset.json"},
       {"info of a missing image", "info " + (dir / "nofile").string(), "ring_001.png"},
       {"export of a missing dir", "export colmap " + missing + " --out OUT", "no-such-dir"},
-      {"export of a corrupt manifest", "export colmap " + (dir / "corrupt").string() + " --out OUT", "corrupt/dataset.json"},
-      {"export of a cube rig", "export colmap " + (dir / "cube").string() + " --out OUT", "orthographic"},
+      {"export of a corrupt manifest", "export colmap " + (dir / "corrupt").string() + " --out OUT",
+       "corrupt/dataset.json"},
+      {"export of a cube rig", "export colmap " + (dir / "cube").string() + " --out OUT",
+       "orthographic"},
       {"import colmap of a missing dir", "import colmap " + missing + " --out OUT", "no-such-dir"},
-      {"import colmap of an empty dir", "import colmap " + (dir / "empty").string() + " --out OUT", "empty"},
-      {"import redwood of a missing dir", "import redwood " + missing + " --out OUT", "no-such-dir"},
-      {"import redwood without intrinsics", "import redwood " + (dir / "empty").string() + " --out OUT", "camera_primesense.json"},
-      {"import middlebury of a missing dir", "import middlebury " + missing + " --out OUT", "no-such-dir"},
-      {"import middlebury without _par.txt", "import middlebury " + (dir / "empty").string() + " --out OUT", "_par.txt"},
-      {"capture of a missing mesh", "capture --mesh " + missing + ".obj --out OUT", "no-such-dir.obj"},
+      {"import colmap of an empty dir", "import colmap " + (dir / "empty").string() + " --out OUT",
+       "empty"},
+      {"import redwood of a missing dir", "import redwood " + missing + " --out OUT",
+       "no-such-dir"},
+      {"import redwood without intrinsics",
+       "import redwood " + (dir / "empty").string() + " --out OUT", "camera_primesense.json"},
+      {"import middlebury of a missing dir", "import middlebury " + missing + " --out OUT",
+       "no-such-dir"},
+      {"import middlebury without _par.txt",
+       "import middlebury " + (dir / "empty").string() + " --out OUT", "_par.txt"},
+      {"capture of a missing mesh", "capture --mesh " + missing + ".obj --out OUT",
+       "no-such-dir.obj"},
       {"capture with a tiny size", "capture --shape sphere --size 3 --out OUT", "--size"},
       {"capture with an absurd size", "capture --shape sphere --size 1000000 --out OUT", "--size"},
-      {"capture with an unknown rig", "capture --shape sphere --rig dodecahedron --size 32 --out OUT", "dodecahedron"},
-      {"capture with an empty ring", "capture --shape sphere --rig ring:0 --size 32 --out OUT", "ring:0"},
+      {"capture with an unknown rig",
+       "capture --shape sphere --rig dodecahedron --size 32 --out OUT", "dodecahedron"},
+      {"capture with an empty ring", "capture --shape sphere --rig ring:0 --size 32 --out OUT",
+       "ring:0"},
       {"capture of an unknown shape", "capture --shape teapot --size 32 --out OUT", "teapot"},
-      {"capture with a bad fov", "capture --shape sphere --rig ring:3 --fov 0 --size 32 --out OUT", "fov"},
+      {"capture with a bad fov", "capture --shape sphere --rig ring:3 --fov 0 --size 32 --out OUT",
+       "fov"},
   };
   for (const BadCase& c : cases) {
     const fs::path out = dir / "never";
     std::string args = c.args;
-    if (const auto at = args.find("OUT"); at != std::string::npos) args.replace(at, 3, out.string());
+    if (const auto at = args.find("OUT"); at != std::string::npos)
+      args.replace(at, 3, out.string());
     const auto r = RunCommand(IbrBinary() + " " + args);
     EXPECT_NE(r.exit_code, 0) << c.name;
     EXPECT_EQ(CountLines(r.err), 1) << c.name << ":\n" << r.err;
     EXPECT_EQ(r.err.rfind("ibr: error: ", 0), 0u) << c.name << ":\n" << r.err;
-    EXPECT_NE(r.err.find(c.expected), std::string::npos) << c.name << ": expected '" << c.expected << "' in\n" << r.err;
+    EXPECT_NE(r.err.find(c.expected), std::string::npos)
+        << c.name << ": expected '" << c.expected << "' in\n"
+        << r.err;
     EXPECT_FALSE(fs::exists(out)) << c.name;
     // Nothing staged beside it either (DatasetWriter's temporary directories).
     for (const auto& e : fs::directory_iterator(dir)) {
-      EXPECT_EQ(e.path().filename().string().find("never"), std::string::npos) << c.name << ": left " << e.path();
+      EXPECT_EQ(e.path().filename().string().find("never"), std::string::npos)
+          << c.name << ": left " << e.path();
     }
   }
 }
 
-
 TEST(CaptureCli, BuiltinSceneCapturesWithItsRig) {
   const fs::path out = test_support::TestOutputDir() / "scene";
-  const auto r = RunCommand(IbrBinary() + " capture --scene torus-ring12 --size 32 --out '" + out.string() + "'");
+  const auto r = RunCommand(IbrBinary() + " capture --scene torus-ring12 --size 32 --out '" +
+                            out.string() + "'");
   ASSERT_EQ(r.exit_code, 0) << r.err;
   const capture::Dataset d = capture::ReadDataset(out);
-  EXPECT_EQ(d.views.size(), 12u);  // the scene's ring:12
+  EXPECT_EQ(d.views.size(), 12u);             // the scene's ring:12
   EXPECT_EQ(d.camera(d.views[0]).width, 32);  // --size wins over the scene's 256
-  const auto bad = RunCommand(IbrBinary() + " capture --scene no-such-scene --out '" + (out.string() + "2") + "'");
+  const auto bad = RunCommand(IbrBinary() + " capture --scene no-such-scene --out '" +
+                              (out.string() + "2") + "'");
   EXPECT_NE(bad.exit_code, 0);
   EXPECT_EQ(CountLines(bad.err), 1) << bad.err;
   EXPECT_NE(bad.err.find("no-such-scene"), std::string::npos) << bad.err;

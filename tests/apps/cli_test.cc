@@ -1,9 +1,9 @@
 // The `ibr` tool as a user runs it: subcommands exist, the demo writes a
 // decodable image, bad options give one clear line, a non-zero exit and no
 // output.
-#include <filesystem>
-
 #include <gtest/gtest.h>
+
+#include <filesystem>
 
 #include "core/image_io.h"
 #include "tests/support/gl_test.h"
@@ -11,10 +11,9 @@
 
 namespace {
 namespace fs = std::filesystem;
-using test_support::IbrBinary;
 using test_support::CountLines;
+using test_support::IbrBinary;
 using test_support::RunCommand;
-
 
 TEST(Cli, HelpListsTheSubcommands) {
   const auto r = RunCommand(IbrBinary() + " --help");

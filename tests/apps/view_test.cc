@@ -1,10 +1,10 @@
 // `ibr view` under a virtual X server (xvfb-run), as a user would run it:
 // the window shows the depth object and the control panel; bad input and a
 // missing display give one clear line.
+#include <gtest/gtest.h>
+
 #include <cstdlib>
 #include <filesystem>
-
-#include <gtest/gtest.h>
 
 #include "core/image_io.h"
 #include "tests/support/gl_test.h"
@@ -12,15 +12,15 @@
 
 namespace {
 namespace fs = std::filesystem;
-using test_support::IbrBinary;
 using test_support::CountLines;
+using test_support::IbrBinary;
 using test_support::RunCommand;
-
 
 class ViewTest : public ::testing::Test {
  protected:
   static void SetUpTestSuite() {
-    dir_ = new fs::path(fs::temp_directory_path() / ("ibr-view-test-" + std::to_string(::getpid())));
+    dir_ =
+        new fs::path(fs::temp_directory_path() / ("ibr-view-test-" + std::to_string(::getpid())));
     fs::remove_all(*dir_);
     fs::create_directories(*dir_);
     const auto r = RunCommand(IbrBinary() + " capture --shape sphere --rig cube --size 64 --out '" +
@@ -36,11 +36,13 @@ class ViewTest : public ::testing::Test {
 fs::path* ViewTest::dir_ = nullptr;
 
 TEST_F(ViewTest, ScreenshotShowsTheObjectAndThePanel) {
-  if (std::system("command -v xvfb-run > /dev/null 2>&1") != 0) GTEST_SKIP() << "xvfb-run is not installed";
+  if (std::system("command -v xvfb-run > /dev/null 2>&1") != 0)
+    GTEST_SKIP() << "xvfb-run is not installed";
   const fs::path shot = test_support::TestOutputDir() / "view.png";
-  const auto r = RunCommand("xvfb-run -a -s '-screen 0 1024x768x24' " + IbrBinary() + " view '" +
-                            (*dir_ / "sphere").string() + "' --window 800x600 --frames 2 --azimuth 10 --screenshot '" +
-                            shot.string() + "'");
+  const auto r =
+      RunCommand("xvfb-run -a -s '-screen 0 1024x768x24' " + IbrBinary() + " view '" +
+                 (*dir_ / "sphere").string() +
+                 "' --window 800x600 --frames 2 --azimuth 10 --screenshot '" + shot.string() + "'");
   ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_NE(r.out.find("view: wrote"), std::string::npos) << r.out;
   const core::Image8 image = core::ReadImage<uint8_t>(shot);
@@ -70,7 +72,8 @@ TEST_F(ViewTest, MissingDatasetIsOneLineAndNoWindow) {
 TEST_F(ViewTest, NoDisplayIsOneClearLine) {
   // ctest removes DISPLAY for this test: GLFW cannot open a window.
   ASSERT_EQ(std::getenv("DISPLAY"), nullptr);
-  const auto r = RunCommand(IbrBinary() + " view '" + (*dir_ / "sphere").string() + "' --screenshot x.png");
+  const auto r =
+      RunCommand(IbrBinary() + " view '" + (*dir_ / "sphere").string() + "' --screenshot x.png");
   EXPECT_NE(r.exit_code, 0);
   EXPECT_EQ(CountLines(r.err), 1) << r.err;
   EXPECT_NE(r.err.find("DISPLAY"), std::string::npos) << r.err;

@@ -1,6 +1,10 @@
 // Smoke test of `ibr bench depth-object --quick`: the table has its columns,
 // every measured value is a finite number in range, the Fig. 12 tables and
 // the plots are written, and the Open3D peer's row is there.
+#include "bench/depth_object_bench.h"
+
+#include <gtest/gtest.h>
+
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -8,9 +12,6 @@
 #include <string>
 #include <vector>
 
-#include <gtest/gtest.h>
-
-#include "bench/depth_object_bench.h"
 #include "tests/support/gl_test.h"
 
 namespace bench {
@@ -45,9 +46,18 @@ TEST(DepthObjectBench, QuickRunWritesFiniteTableAndPlots) {
 
   const auto rows = ReadCsv(o.csv);
   ASSERT_GE(rows.size(), 2u);
-  const std::vector<std::string> columns = {"object", "method", "slices", "size", "ms_per_frame",
-                                            "fill_rate_fraction", "time_to_first_image_s", "iou_mean", "iou_min",
-                                            "mean_depth_error", "p95_depth_error", "psnr_db"};
+  const std::vector<std::string> columns = {"object",
+                                            "method",
+                                            "slices",
+                                            "size",
+                                            "ms_per_frame",
+                                            "fill_rate_fraction",
+                                            "time_to_first_image_s",
+                                            "iou_mean",
+                                            "iou_min",
+                                            "mean_depth_error",
+                                            "p95_depth_error",
+                                            "psnr_db"};
   ASSERT_EQ(rows[0], columns);
   int ours = 0, peer = 0;
   for (size_t r = 1; r < rows.size(); ++r) {
@@ -68,13 +78,16 @@ TEST(DepthObjectBench, QuickRunWritesFiniteTableAndPlots) {
     }
     const double iou = std::stod(rows[r][7]);
     EXPECT_LE(iou, 1.0);
-    EXPECT_GT(iou, 0.5) << rows[r][1] << " " << rows[r][2] << " slices: the cup was not reconstructed";
+    EXPECT_GT(iou, 0.5) << rows[r][1] << " " << rows[r][2]
+                        << " slices: the cup was not reconstructed";
   }
-  // 5 paths (orthogonal, screen, ray, ray-skip, ray-skip-subtexel) x 2 slice counts x 1 size x the cup.
+  // 5 paths (orthogonal, screen, ray, ray-skip, ray-skip-subtexel) x 2 slice counts x 1 size x the
+  // cup.
   EXPECT_EQ(ours, 10);
   EXPECT_EQ(peer, 1) << "the Open3D peer's TSDF row (python3-open3d installed?)";
   const fs::path stem = o.csv.parent_path() / o.csv.stem();
-  EXPECT_GE(ReadCsv(stem.string() + "_fig12_coverage.csv").size(), 5u);  // header + 2 families x 2 sizes
+  EXPECT_GE(ReadCsv(stem.string() + "_fig12_coverage.csv").size(),
+            5u);  // header + 2 families x 2 sizes
   EXPECT_GE(ReadCsv(stem.string() + "_fig12_slices.csv").size(), 5u);
   for (const char* png : {"error_vs_time.png", "iou_vs_time.png", "fig12_time_vs_coverage.png",
                           "fig12_time_vs_slices.png"}) {

@@ -3,11 +3,11 @@
 // is printed by the benchmark, never asserted).
 #include "bench/displacement_bench.h"
 
+#include <gtest/gtest.h>
+
 #include <cmath>
 #include <fstream>
 #include <sstream>
-
-#include <gtest/gtest.h>
 
 #include "tests/support/gl_test.h"
 
@@ -30,10 +30,19 @@ TEST(DisplacementBench, QuickRunWritesAFiniteTable) {
   std::ifstream csv(options.csv);
   std::string line;
   ASSERT_TRUE(std::getline(csv, line));
-  const std::vector<std::string> expected = {"family", "slices", "elevation_deg", "size_px", "ms_per_frame",
-                                             "fragments_M", "fill_fraction", "coverage_iou",
-                                             "mean_depth_error_texels", "p95_depth_error_texels",
-                                             "see_through_pixels", "truth_ms_per_frame", "time_vs_truth"};
+  const std::vector<std::string> expected = {"family",
+                                             "slices",
+                                             "elevation_deg",
+                                             "size_px",
+                                             "ms_per_frame",
+                                             "fragments_M",
+                                             "fill_fraction",
+                                             "coverage_iou",
+                                             "mean_depth_error_texels",
+                                             "p95_depth_error_texels",
+                                             "see_through_pixels",
+                                             "truth_ms_per_frame",
+                                             "time_vs_truth"};
   ASSERT_EQ(Split(line), expected);
   int rows = 0;
   while (std::getline(csv, line)) {

@@ -3,13 +3,13 @@
 // every method and the ground truth appear, and the strip has all methods.
 #include "bench/ncs_bench.h"
 
+#include <gtest/gtest.h>
+
 #include <cmath>
 #include <cstdlib>
 #include <fstream>
 #include <set>
 #include <sstream>
-
-#include <gtest/gtest.h>
 
 #include "tests/support/gl_test.h"
 
@@ -21,9 +21,20 @@ class NcsBenchTest : public test_support::GlTest {};
 TEST_F(NcsBenchTest, QuickSweepWritesFiniteRowsForEveryMethod) {
   const NcsBenchOptions options = NcsBenchOptions::Quick();
   const NcsBenchResult result = RunNcsBench(programs(), options);
-  const std::vector<std::string> expected = {"method", "view", "tiling", "steps", "c", "ms_per_frame",
-                                             "min_ms_per_frame", "silhouette_iou", "wrong_silhouette_px", "mean_depth_error",
-                                             "p95_depth_error", "early_termination_px", "truth_px", "triangles"};
+  const std::vector<std::string> expected = {"method",
+                                             "view",
+                                             "tiling",
+                                             "steps",
+                                             "c",
+                                             "ms_per_frame",
+                                             "min_ms_per_frame",
+                                             "silhouette_iou",
+                                             "wrong_silhouette_px",
+                                             "mean_depth_error",
+                                             "p95_depth_error",
+                                             "early_termination_px",
+                                             "truth_px",
+                                             "triangles"};
   EXPECT_EQ(result.table.columns(), expected);
   // Per view x tiling: the truth + NCS (steps x c) + relief and POM (steps).
   const size_t per = 1 + options.steps.size() * (options.step_enlargements.size() + 2);
@@ -31,8 +42,9 @@ TEST_F(NcsBenchTest, QuickSweepWritesFiniteRowsForEveryMethod) {
   std::set<std::string> methods;
   for (const auto& row : result.table.rows()) {
     methods.insert(row[0]);
-    for (const char* column : {"ms_per_frame", "min_ms_per_frame", "silhouette_iou", "wrong_silhouette_px", "mean_depth_error",
-                               "p95_depth_error", "early_termination_px", "truth_px", "triangles"}) {
+    for (const char* column :
+         {"ms_per_frame", "min_ms_per_frame", "silhouette_iou", "wrong_silhouette_px",
+          "mean_depth_error", "p95_depth_error", "early_termination_px", "truth_px", "triangles"}) {
       const std::string& text = row[result.table.Column(column)];
       char* end = nullptr;
       const double v = std::strtod(text.c_str(), &end);
@@ -44,7 +56,8 @@ TEST_F(NcsBenchTest, QuickSweepWritesFiniteRowsForEveryMethod) {
     EXPECT_GT(iou, 0.5) << row[0];  // every method draws the torus
   }
   EXPECT_EQ(methods, (std::set<std::string>{"ncs", "relief", "pom", "tessellated"}));
-  EXPECT_EQ(result.summary.rows().size(), options.steps.size() * options.views.size() * options.tilings.size());
+  EXPECT_EQ(result.summary.rows().size(),
+            options.steps.size() * options.views.size() * options.tilings.size());
   EXPECT_FALSE(result.strip.empty());
 
   // The CSV round trip: header line equals the columns.
@@ -56,7 +69,8 @@ TEST_F(NcsBenchTest, QuickSweepWritesFiniteRowsForEveryMethod) {
   std::string joined;
   for (size_t i = 0; i < expected.size(); ++i) joined += (i ? "," : "") + expected[i];
   EXPECT_EQ(header, joined);
-  EXPECT_TRUE(std::filesystem::exists(test_support::TestOutputDir() / "ncs_silhouettes_grazing.png"));
+  EXPECT_TRUE(
+      std::filesystem::exists(test_support::TestOutputDir() / "ncs_silhouettes_grazing.png"));
   EXPECT_NO_GL_ERROR();
 }
 

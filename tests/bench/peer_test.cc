@@ -3,15 +3,16 @@
 // rendered by our rasteriser and measured against the true mesh like our
 // renderer's frames. Prints the comparison table for the bunny at 512 px.
 // Needs python3-open3d (scripts/install-deps.sh) and ../shared/data.
+#include "bench/peer.h"
+
+#include <fmt/format.h>
+#include <gtest/gtest.h>
+
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <string>
 
-#include <fmt/format.h>
-#include <gtest/gtest.h>
-
-#include "bench/peer.h"
 #include "capture/synthetic.h"
 #include "core/error.h"
 #include "ibr/dataset_maps.h"
@@ -27,8 +28,8 @@ class PeerTest : public test_support::GlTest {};
 
 void PrintRow(const MethodRow& r) {
   std::printf("%-34s %9.3f %9.3f %9.1f %9.1f %8.4f %8.4f %9.5f %9.5f %9lld\n", r.method.c_str(),
-              r.time_to_first_image_s, r.build_s, r.first_frame_ms, r.median_frame_ms, r.accuracy.iou_mean,
-              r.accuracy.iou_min, r.accuracy.depth.mean, r.accuracy.depth.p95,
+              r.time_to_first_image_s, r.build_s, r.first_frame_ms, r.median_frame_ms,
+              r.accuracy.iou_mean, r.accuracy.iou_min, r.accuracy.depth.mean, r.accuracy.depth.p95,
               static_cast<long long>(r.triangles));
 }
 
@@ -37,7 +38,8 @@ TEST(PeerOptions, CheckRejectsBadSettings) {
   EXPECT_THROW(o.Check(), core::InputError) << "no work_dir";
   o.work_dir = "/tmp/x";
   EXPECT_NO_THROW(o.Check());
-  for (const char* bad : {"tsdf", "tsdf:", "tsdf:4", "tsdf:2048", "marching:128", "carve-depth:abc", ""}) {
+  for (const char* bad :
+       {"tsdf", "tsdf:", "tsdf:4", "tsdf:2048", "marching:128", "carve-depth:abc", ""}) {
     o.methods = {bad};
     EXPECT_THROW(o.Check(), core::InputError) << bad;
   }
@@ -80,7 +82,8 @@ TEST_F(PeerTest, OrthographicDatasetIsRefusedWithTheReason) {
 
 TEST_F(PeerTest, BunnyOursVsTsdfAndCarvingFromNovelViews) {
   const fs::path mesh_path = test_support::SharedData("meshes/stanford-bunny.obj");
-  if (mesh_path.empty()) GTEST_SKIP() << "../shared/data/meshes/stanford-bunny.obj is absent (IBR_SHARED_DATA)";
+  if (mesh_path.empty())
+    GTEST_SKIP() << "../shared/data/meshes/stanford-bunny.obj is absent (IBR_SHARED_DATA)";
   const fs::path out = test_support::TestOutputDir();
   const capture::SceneMesh bunny = capture::LoadSceneMesh(mesh_path);
   // The same object, captured twice at 256 px (PEERS.md's setting): six
@@ -119,23 +122,27 @@ TEST_F(PeerTest, BunnyOursVsTsdfAndCarvingFromNovelViews) {
   o.slices = 256;
   o.texturing = ibr::Texturing::kNone;
   o.slicing = ibr::Slicing::kScreen;
-  rows.push_back(EvaluateDepthObject(programs(), persp_maps, o, views, truth, edge, "ours sphere:6 screen 256"));
+  rows.push_back(EvaluateDepthObject(programs(), persp_maps, o, views, truth, edge,
+                                     "ours sphere:6 screen 256"));
   o.slicing = ibr::Slicing::kOrthogonal;
-  rows.push_back(EvaluateDepthObject(programs(), cube_maps, o, views, truth, edge, "ours cube orthogonal 256"));
+  rows.push_back(EvaluateDepthObject(programs(), cube_maps, o, views, truth, edge,
+                                     "ours cube orthogonal 256"));
 
   Open3dPeerOptions peer;
   peer.work_dir = out / "open3d";
   const Open3dRun run = RunOpen3dPeer(out / "sphere6", peer);
   EXPECT_EQ(run.views, 6);
   EXPECT_EQ(run.skipped_orthographic, 0);
-  std::printf("open3d %s: import %.2f s, reading the dataset %.2f s, whole script %.2f s\n", run.version.c_str(),
-              run.import_s, run.read_s, run.wall_s);
+  std::printf("open3d %s: import %.2f s, reading the dataset %.2f s, whole script %.2f s\n",
+              run.version.c_str(), run.import_s, run.read_s, run.wall_s);
   ASSERT_EQ(run.results.size(), peer.methods.size());
-  for (MethodRow& r : EvaluatePeer(programs(), run, views, truth, draw, edge)) rows.push_back(std::move(r));
+  for (MethodRow& r : EvaluatePeer(programs(), run, views, truth, draw, edge))
+    rows.push_back(std::move(r));
 
-  std::printf("bunny, 6 novel views at 512 px; depth errors in cube-edge units (edge %.4f)\n", edge);
-  std::printf("%-34s %9s %9s %9s %9s %8s %8s %9s %9s %9s\n", "method", "first_s", "build_s", "first_ms",
-              "median_ms", "iou_mean", "iou_min", "mean_err", "p95_err", "triangles");
+  std::printf("bunny, 6 novel views at 512 px; depth errors in cube-edge units (edge %.4f)\n",
+              edge);
+  std::printf("%-34s %9s %9s %9s %9s %8s %8s %9s %9s %9s\n", "method", "first_s", "build_s",
+              "first_ms", "median_ms", "iou_mean", "iou_min", "mean_err", "p95_err", "triangles");
   for (const MethodRow& r : rows) PrintRow(r);
 
   for (const MethodRow& r : rows) {

@@ -2,10 +2,10 @@
 // sheet placement.
 #include "bench/report.h"
 
+#include <gtest/gtest.h>
+
 #include <fstream>
 #include <sstream>
-
-#include <gtest/gtest.h>
 
 #include "core/error.h"
 #include "core/image_io.h"
@@ -37,23 +37,29 @@ TEST(Report, CsvHasHeaderAndRows) {
 
 TEST(Report, GnuplotWritesADecodablePng) {
   const auto path = test_support::TestOutputDir() / "plot.png";
-  PlotPng(SampleTable(), {.title = "error vs time", .x_column = "ms_per_frame", .y_column = "p95_error",
-                          .series_column = "family", .log_y = true},
+  PlotPng(SampleTable(),
+          {.title = "error vs time",
+           .x_column = "ms_per_frame",
+           .y_column = "p95_error",
+           .series_column = "family",
+           .log_y = true},
           path);
   const auto header = core::ReadImageHeader(path);
   EXPECT_EQ(header.width, 900);
   EXPECT_EQ(header.height, 600);
   // Nothing but the PNG is left behind.
   int entries = 0;
-  for ([[maybe_unused]] const auto& e : std::filesystem::directory_iterator(path.parent_path())) ++entries;
+  for ([[maybe_unused]] const auto& e : std::filesystem::directory_iterator(path.parent_path()))
+    ++entries;
   EXPECT_EQ(entries, 1);
 }
 
 TEST(Report, PlotWithoutFinitePointsIsAnInputError) {
   Table t({"x", "y"});
   t.AddRow({"nan", "1"});
-  EXPECT_THROW(PlotPng(t, {.x_column = "x", .y_column = "y"}, test_support::TestOutputDir() / "p.png"),
-               core::InputError);
+  EXPECT_THROW(
+      PlotPng(t, {.x_column = "x", .y_column = "y"}, test_support::TestOutputDir() / "p.png"),
+      core::InputError);
 }
 
 TEST(Report, ContactSheetPlacesImagesOnAGrid) {
@@ -67,11 +73,11 @@ TEST(Report, ContactSheetPlacesImagesOnAGrid) {
   const core::Image8 sheet = ContactSheet({a, b, a}, 2, 2);
   EXPECT_EQ(sheet.width(), 2 + 2 * (10 + 2));
   EXPECT_EQ(sheet.height(), 2 + 2 * (8 + 2));
-  EXPECT_EQ(sheet.at(2, 2, 1), 255);         // a, top-left
-  EXPECT_EQ(sheet.at(14, 2, 1), 0);          // b is red: no green
+  EXPECT_EQ(sheet.at(2, 2, 1), 255);  // a, top-left
+  EXPECT_EQ(sheet.at(14, 2, 1), 0);   // b is red: no green
   EXPECT_EQ(sheet.at(14, 2, 0), 255);
-  EXPECT_EQ(sheet.at(14 + 7, 2, 0), 40);     // right of b, inside its cell: background
-  EXPECT_EQ(sheet.at(0, 0, 0), 40);          // gap
+  EXPECT_EQ(sheet.at(14 + 7, 2, 0), 40);  // right of b, inside its cell: background
+  EXPECT_EQ(sheet.at(0, 0, 0), 40);       // gap
 }
 
 }  // namespace

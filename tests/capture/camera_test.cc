@@ -3,10 +3,10 @@
 // undistortion maps against COLMAP's forward distortion formulas.
 #include "capture/camera.h"
 
+#include <gtest/gtest.h>
+
 #include <cmath>
 #include <random>
-
-#include <gtest/gtest.h>
 
 #include "core/error.h"
 
@@ -15,10 +15,17 @@ namespace {
 
 TEST(CameraModels, ColmapIdsNamesAndParamCountsMatchTheFormatTable) {
   // COLMAP-FORMATS.md, verified against colmap's model_converter.
-  const std::pair<const char*, int> table[] = {
-      {"SIMPLE_PINHOLE", 3}, {"PINHOLE", 4}, {"SIMPLE_RADIAL", 4}, {"RADIAL", 5},
-      {"OPENCV", 8}, {"OPENCV_FISHEYE", 8}, {"FULL_OPENCV", 12}, {"FOV", 5},
-      {"SIMPLE_RADIAL_FISHEYE", 4}, {"RADIAL_FISHEYE", 5}, {"THIN_PRISM_FISHEYE", 12}};
+  const std::pair<const char*, int> table[] = {{"SIMPLE_PINHOLE", 3},
+                                               {"PINHOLE", 4},
+                                               {"SIMPLE_RADIAL", 4},
+                                               {"RADIAL", 5},
+                                               {"OPENCV", 8},
+                                               {"OPENCV_FISHEYE", 8},
+                                               {"FULL_OPENCV", 12},
+                                               {"FOV", 5},
+                                               {"SIMPLE_RADIAL_FISHEYE", 4},
+                                               {"RADIAL_FISHEYE", 5},
+                                               {"THIN_PRISM_FISHEYE", 12}};
   for (int id = 0; id < kNumColmapModels; ++id) {
     const auto model = CameraModelFromColmapId(id);
     ASSERT_TRUE(model);
@@ -116,12 +123,18 @@ TEST(Undistortion, OpenCvMapsAgreeWithColmapDistortionForEveryModel) {
       {CameraModel::kSimpleRadial, w, h, {150, 80, 60, -0.08}},
       {CameraModel::kRadial, w, h, {150, 80.5, 59, -0.1, 0.02}},
       {CameraModel::kOpenCv, w, h, {150, 152, 81, 60, -0.1, 0.01, 0.001, -0.002}},
-      {CameraModel::kFullOpenCv, w, h, {150, 152, 81, 60, -0.1, 0.01, 0.001, -0.002, 0.001, 0.01, 0.002, 0.0005}},
+      {CameraModel::kFullOpenCv,
+       w,
+       h,
+       {150, 152, 81, 60, -0.1, 0.01, 0.001, -0.002, 0.001, 0.01, 0.002, 0.0005}},
       {CameraModel::kOpenCvFisheye, w, h, {150, 152, 81, 60, 0.05, -0.01, 0.002, -0.001}},
       {CameraModel::kSimpleRadialFisheye, w, h, {150, 80, 60, 0.04}},
       {CameraModel::kRadialFisheye, w, h, {150, 80, 60, 0.04, -0.01}},
       {CameraModel::kFov, w, h, {150, 152, 80, 60, 0.9}},
-      {CameraModel::kThinPrismFisheye, w, h, {150, 152, 81, 60, 0.05, -0.01, 0.001, 0.001, 0.002, -0.001, 0.001, -0.001}},
+      {CameraModel::kThinPrismFisheye,
+       w,
+       h,
+       {150, 152, 81, 60, 0.05, -0.01, 0.001, 0.001, 0.002, -0.001, 0.001, -0.001}},
   };
   for (const Camera& cam : cameras) {
     SCOPED_TRACE(std::string(CameraModelName(cam.model)));

@@ -2,11 +2,11 @@
 // reads our text and binary models and writes back the same numbers;
 // stereo_fusion on an exported synthetic sphere workspace fuses points on the
 // true surface; the workspace imports back to the same depth.
+#include <gtest/gtest.h>
+
 #include <cmath>
 #include <cstdlib>
 #include <fstream>
-
-#include <gtest/gtest.h>
 
 #include "capture/colmap_dataset.h"
 #include "capture/synthetic.h"
@@ -39,14 +39,16 @@ TEST(ColmapBinary, ModelConverterReadsOurTextAndBinaryModels) {
   if (!HaveColmap()) GTEST_SKIP() << "colmap is not installed";
   const fs::path root = test_support::TestOutputDir();
   const colmap::SparseModel model = test::RandomSparseModel(42);
-  for (const auto& [in_format, out_type] :
-       {std::pair{colmap::ModelFormat::kText, "BIN"}, std::pair{colmap::ModelFormat::kBinary, "TXT"}}) {
-    const fs::path in = root / (std::string("in_") + out_type), out = root / (std::string("out_") + out_type);
+  for (const auto& [in_format, out_type] : {std::pair{colmap::ModelFormat::kText, "BIN"},
+                                            std::pair{colmap::ModelFormat::kBinary, "TXT"}}) {
+    const fs::path in = root / (std::string("in_") + out_type),
+                   out = root / (std::string("out_") + out_type);
     fs::create_directories(in);
     fs::create_directories(out);
     colmap::WriteSparseModel(in, model, in_format);
-    const auto result = test_support::RunCommand("colmap model_converter --input_path " + in.string() +
-                                                 " --output_path " + out.string() + " --output_type " + out_type);
+    const auto result =
+        test_support::RunCommand("colmap model_converter --input_path " + in.string() +
+                                 " --output_path " + out.string() + " --output_type " + out_type);
     ASSERT_EQ(result.exit_code, 0) << result.out << result.err;
     ExpectSameModel(colmap::ReadSparseModel(out), model);
   }
@@ -94,20 +96,22 @@ TEST_F(ColmapFusionTest, StereoFusionOfExportedBoxLiesOnTheBox) {
   ExportColmapWorkspace(dataset, root / "ws");
   const auto result = test_support::RunCommand(
       "colmap stereo_fusion --workspace_path " + (root / "ws").string() + " --output_path " +
-      (root / "ws/fused.ply").string() + " --input_type geometric --StereoFusion.num_threads 1 --StereoFusion.min_num_pixels 3");
+      (root / "ws/fused.ply").string() +
+      " --input_type geometric --StereoFusion.num_threads 1 --StereoFusion.min_num_pixels 3");
   ASSERT_EQ(result.exit_code, 0) << result.out << result.err;
   const PlyPoints ply = ReadFusedPly(root / "ws/fused.ply");
   ASSERT_GT(ply.xyz.size(), 5000u) << "fusion found too few consistent points";
   double max_err = 0, sum = 0;
   for (const auto& p : ply.xyz) {
     const glm::dvec3 q = glm::abs(p) - glm::dvec3(1.0, 0.7, 0.5);
-    const double e = std::abs(glm::length(glm::max(q, 0.0)) + std::min(std::max({q.x, q.y, q.z}), 0.0));
+    const double e =
+        std::abs(glm::length(glm::max(q, 0.0)) + std::min(std::max({q.x, q.y, q.z}), 0.0));
     max_err = std::max(max_err, e);
     sum += e;
   }
   const double scene_size = 2.0;  // largest box extent
-  std::printf("stereo_fusion: %zu points, mean error %.3g, max error %.3g of the scene size\n", ply.xyz.size(),
-              sum / ply.xyz.size() / scene_size, max_err / scene_size);
+  std::printf("stereo_fusion: %zu points, mean error %.3g, max error %.3g of the scene size\n",
+              ply.xyz.size(), sum / ply.xyz.size() / scene_size, max_err / scene_size);
   // The bar: within 1e-4 of the scene size (measured here: ~3e-7).
   EXPECT_LT(max_err / scene_size, 1e-4);
 
@@ -122,7 +126,8 @@ TEST_F(ColmapFusionTest, StereoFusionOfExportedBoxLiesOnTheBox) {
     EXPECT_EQ(back.LoadDepth(i), dataset.LoadDepth(i));
     const core::ImageF n0 = back.LoadNormal(i), n1 = dataset.LoadNormal(i);
     double max_normal = 0;
-    for (size_t p = 0; p < n0.values().size(); ++p) max_normal = std::max<double>(max_normal, std::abs(n0.values()[p] - n1.values()[p]));
+    for (size_t p = 0; p < n0.values().size(); ++p)
+      max_normal = std::max<double>(max_normal, std::abs(n0.values()[p] - n1.values()[p]));
     EXPECT_LT(max_normal, 1e-5);
   }
 }

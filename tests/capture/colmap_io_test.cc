@@ -3,12 +3,12 @@
 // and seeded random/mutated bytes never crashing a parser.
 #include "capture/colmap_io.h"
 
+#include <gtest/gtest.h>
+
 #include <cstring>
 #include <functional>
 #include <random>
 #include <sstream>
-
-#include <gtest/gtest.h>
 
 #include "core/error.h"
 #include "tests/capture/random_model.h"
@@ -33,7 +33,8 @@ TEST(ColmapText, RoundTripIsBitExactForEveryCameraModel) {
   const SparseModel model = test::RandomSparseModel(1);
   const auto cams = ReadFromString(ReadCamerasText, WriteToString(WriteCamerasText, model.cameras));
   const auto images = ReadFromString(ReadImagesText, WriteToString(WriteImagesText, model.images));
-  const auto points = ReadFromString(ReadPoints3DText, WriteToString(WritePoints3DText, model.points3D));
+  const auto points =
+      ReadFromString(ReadPoints3DText, WriteToString(WritePoints3DText, model.points3D));
   EXPECT_EQ(cams, model.cameras);  // operator== on doubles: bit-exact
   EXPECT_EQ(images, model.images);
   EXPECT_EQ(points, model.points3D);
@@ -43,7 +44,8 @@ TEST(ColmapText, RoundTripIsBitExactForEveryCameraModel) {
 TEST(ColmapText, ParsesColmapsOwnLayout) {
   // As written by colmap model_converter (COLMAP-FORMATS.md), incl. an empty
   // POINTS2D line and a comment.
-  const std::string cameras = "# Camera list\n1 PINHOLE 640 480 500 500 320 240\n2 SIMPLE_RADIAL 64 48 50 32 24 -0.01\n";
+  const std::string cameras =
+      "# Camera list\n1 PINHOLE 640 480 500 500 320 240\n2 SIMPLE_RADIAL 64 48 50 32 24 -0.01\n";
   const std::string images =
       "# Image list\n1 1 0 0 0 0.5 -0.25 3 1 a.png\n10 20 -1 30 40 5\n"
       "2 0.70710678118654757 0 0.70710678118654757 0 0 0 1 2 b.png\n\n";
@@ -104,8 +106,10 @@ TEST(DenseMap, LayoutIsPlanarRowMajorAndRoundTripsExactly) {
   core::ImageF normal(3, 2, 3);
   for (int y = 0; y < 2; ++y)
     for (int x = 0; x < 3; ++x)
-      for (int c = 0; c < 3; ++c) normal.at(x, y, c) = static_cast<float>(100 * c + 10 * y + x) + 0.125f;
-  const std::string bytes = WriteToString([](std::ostream& o, const core::ImageF& m) { WriteDenseMap(o, m); }, normal);
+      for (int c = 0; c < 3; ++c)
+        normal.at(x, y, c) = static_cast<float>(100 * c + 10 * y + x) + 0.125f;
+  const std::string bytes =
+      WriteToString([](std::ostream& o, const core::ImageF& m) { WriteDenseMap(o, m); }, normal);
   const std::string header = "3&2&3&";
   ASSERT_EQ(bytes.substr(0, header.size()), header);
   ASSERT_EQ(bytes.size(), header.size() + 18 * 4);
@@ -119,15 +123,18 @@ TEST(DenseMap, LayoutIsPlanarRowMajorAndRoundTripsExactly) {
       }
     }
   }
-  const auto back = ReadFromString([](std::istream& in, const std::string& n) { return ReadDenseMap(in, n); }, bytes);
+  const auto back = ReadFromString(
+      [](std::istream& in, const std::string& n) { return ReadDenseMap(in, n); }, bytes);
   EXPECT_EQ(back, normal);
 }
 
 TEST(StereoConfigs, RoundTrip) {
   const std::vector<std::string> names = {"a.png", "b c.png", "view_002.png"};
   EXPECT_EQ(ReadFromString(ReadFusionConfig, WriteToString(WriteFusionConfig, names)), names);
-  const std::vector<PatchMatchEntry> entries = {{"a.png", "__auto__, 20"}, {"b.png", "a.png, c.png"}};
-  EXPECT_EQ(ReadFromString(ReadPatchMatchConfig, WriteToString(WritePatchMatchConfig, entries)), entries);
+  const std::vector<PatchMatchEntry> entries = {{"a.png", "__auto__, 20"},
+                                                {"b.png", "a.png, c.png"}};
+  EXPECT_EQ(ReadFromString(ReadPatchMatchConfig, WriteToString(WritePatchMatchConfig, entries)),
+            entries);
 }
 
 // ---- bad input: every case must give InputError naming the file ----
@@ -137,9 +144,15 @@ struct BadCase {
   std::function<void(const std::string& name)> read;
 };
 
-std::string ValidCamerasBin() { return WriteToString(WriteCamerasBinary, test::RandomSparseModel(3).cameras); }
-std::string ValidImagesBin() { return WriteToString(WriteImagesBinary, test::RandomSparseModel(3).images); }
-std::string ValidPointsBin() { return WriteToString(WritePoints3DBinary, test::RandomSparseModel(3).points3D); }
+std::string ValidCamerasBin() {
+  return WriteToString(WriteCamerasBinary, test::RandomSparseModel(3).cameras);
+}
+std::string ValidImagesBin() {
+  return WriteToString(WriteImagesBinary, test::RandomSparseModel(3).images);
+}
+std::string ValidPointsBin() {
+  return WriteToString(WritePoints3DBinary, test::RandomSparseModel(3).points3D);
+}
 
 template <typename Reader>
 std::function<void(const std::string&)> Feed(Reader reader, std::string bytes) {
@@ -167,10 +180,12 @@ std::vector<BadCase> BadCases() {
       {"cameras.txt: unknown model", Feed(ReadCamerasText, "1 PINHOL 640 480 1 1 1 1\n")},
       {"cameras.txt: too few params", Feed(ReadCamerasText, "1 OPENCV 640 480 500 500 320 240\n")},
       {"cameras.txt: NaN param", Feed(ReadCamerasText, "1 PINHOLE 640 480 nan 500 320 240\n")},
-      {"cameras.txt: non-numeric width", Feed(ReadCamerasText, "1 PINHOLE six 480 500 500 320 240\n")},
+      {"cameras.txt: non-numeric width",
+       Feed(ReadCamerasText, "1 PINHOLE six 480 500 500 320 240\n")},
       {"cameras.txt: negative size", Feed(ReadCamerasText, "1 PINHOLE -640 480 500 500 320 240\n")},
       {"cameras.txt: zero focal", Feed(ReadCamerasText, "1 PINHOLE 640 480 0 500 320 240\n")},
-      {"cameras.txt: duplicate id", Feed(ReadCamerasText, "1 PINHOLE 64 48 5 5 3 2\n1 PINHOLE 64 48 5 5 3 2\n")},
+      {"cameras.txt: duplicate id",
+       Feed(ReadCamerasText, "1 PINHOLE 64 48 5 5 3 2\n1 PINHOLE 64 48 5 5 3 2\n")},
       {"cameras.txt: truncated line", Feed(ReadCamerasText, "1 PINHOLE 64\n")},
       {"images.txt: missing points line", Feed(ReadImagesText, "1 1 0 0 0 0 0 0 1 a.png")},
       {"images.txt: points not triples", Feed(ReadImagesText, "1 1 0 0 0 0 0 0 1 a.png\n1 2\n")},
@@ -186,7 +201,8 @@ std::vector<BadCase> BadCases() {
       {"cameras.bin: unknown model id", Feed(ReadCamerasBinary, model_id_99)},
       {"cameras.bin: NaN param", Feed(ReadCamerasBinary, WithDouble(cb, 32, NAN))},
       {"cameras.bin: trailing bytes", Feed(ReadCamerasBinary, cb + "xyz")},
-      {"images.bin: truncated inside name", Feed(ReadImagesBinary, ib.substr(0, 8 + 4 + 56 + 4 + 3))},
+      {"images.bin: truncated inside name",
+       Feed(ReadImagesBinary, ib.substr(0, 8 + 4 + 56 + 4 + 3))},
       {"images.bin: NaN quaternion", Feed(ReadImagesBinary, WithDouble(ib, 12, NAN))},
       {"images.bin: truncated points", Feed(ReadImagesBinary, ib.substr(0, ib.size() - 1))},
       {"points3D.bin: huge count", Feed(ReadPoints3DBinary, huge_count)},
@@ -213,8 +229,10 @@ TEST(ColmapBadInput, EveryCaseThrowsInputErrorNamingTheFile) {
       ADD_FAILURE() << c.what << ": no error";
     } catch (const core::InputError& e) {
       const std::string msg = e.what();
-      EXPECT_NE(msg.find(name), std::string::npos) << c.what << ": message does not name the file: " << msg;
-      EXPECT_NE(msg.find("Read"), std::string::npos) << c.what << ": message does not name the function: " << msg;
+      EXPECT_NE(msg.find(name), std::string::npos)
+          << c.what << ": message does not name the file: " << msg;
+      EXPECT_NE(msg.find("Read"), std::string::npos)
+          << c.what << ": message does not name the function: " << msg;
     }
   }
 }
@@ -246,10 +264,18 @@ void Hammer(Reader reader, const std::string& seed_bytes, uint64_t seed, int ite
       for (int e = 0; e < edits && !bytes.empty(); ++e) {
         const size_t at = rng() % bytes.size();
         switch (rng() % 4) {
-          case 0: bytes[at] = static_cast<char>(rng()); break;
-          case 1: bytes.resize(at); break;
-          case 2: bytes.insert(at, 1, "\0\xff -1&\n#e."[rng() % 11]); break;
-          default: bytes[at] ^= static_cast<char>(1u << (rng() % 8)); break;
+          case 0:
+            bytes[at] = static_cast<char>(rng());
+            break;
+          case 1:
+            bytes.resize(at);
+            break;
+          case 2:
+            bytes.insert(at, 1, "\0\xff -1&\n#e."[rng() % 11]);
+            break;
+          default:
+            bytes[at] ^= static_cast<char>(1u << (rng() % 8));
+            break;
         }
       }
     }
@@ -281,7 +307,8 @@ TEST(ColmapFuzz, BinaryParsersOnlyEverThrowInputError) {
   Hammer(ReadPoints3DBinary, WriteToString(WritePoints3DBinary, model.points3D), 23, 3000);
   core::ImageF map(5, 4, 3, 0.5f);
   Hammer([](std::istream& in, const std::string& n) { return ReadDenseMap(in, n); },
-         WriteToString([](std::ostream& o, const core::ImageF& m) { WriteDenseMap(o, m); }, map), 24, 3000);
+         WriteToString([](std::ostream& o, const core::ImageF& m) { WriteDenseMap(o, m); }, map),
+         24, 3000);
 }
 
 }  // namespace

@@ -4,13 +4,13 @@
 // model imported with our sparse importer registers every view, and after a
 // similarity alignment (Umeyama on camera centres, cv::SVD) the poses match
 // the true ones: rotation < 0.5 degree, centre < 1 % of the camera distance.
+#include <fmt/format.h>
+#include <gtest/gtest.h>
+
 #include <chrono>
 #include <cmath>
 #include <cstdlib>
 #include <numbers>
-
-#include <fmt/format.h>
-#include <gtest/gtest.h>
 #include <opencv2/core.hpp>
 
 #include "capture/colmap_dataset.h"
@@ -112,17 +112,21 @@ TEST_F(ColmapSfmTest, RingOfSpotRegistersEveryViewWithTruePoses) {
 
   const Camera& cam = truth.cameras.begin()->second;
   // Our intrinsics are COLMAP's sparse ones (pixel centres at +0.5).
-  const std::string params = fmt::format("{:.17g},{:.17g},{:.17g},{:.17g}", cam.fx(), cam.fy(), cam.cx(), cam.cy());
+  const std::string params =
+      fmt::format("{:.17g},{:.17g},{:.17g},{:.17g}", cam.fx(), cam.fy(), cam.cx(), cam.cy());
   const std::string db = (root / "database.db").string(), images = (root / "ds" / "color").string();
   fs::create_directories(root / "sparse");
   const std::vector<std::pair<const char*, std::string>> steps = {
-      {"feature_extractor", "colmap feature_extractor --database_path " + db + " --image_path " + images +
+      {"feature_extractor", "colmap feature_extractor --database_path " + db + " --image_path " +
+                                images +
                                 " --ImageReader.single_camera 1 --ImageReader.camera_model PINHOLE"
-                                " --ImageReader.camera_params " + params + " --SiftExtraction.use_gpu 0"},
-      {"exhaustive_matcher", "colmap exhaustive_matcher --database_path " + db + " --SiftMatching.use_gpu 0"},
+                                " --ImageReader.camera_params " +
+                                params + " --SiftExtraction.use_gpu 0"},
+      {"exhaustive_matcher",
+       "colmap exhaustive_matcher --database_path " + db + " --SiftMatching.use_gpu 0"},
       // The intrinsics are known: keep them fixed.
-      {"mapper", "colmap mapper --database_path " + db + " --image_path " + images + " --output_path " +
-                     (root / "sparse").string() +
+      {"mapper", "colmap mapper --database_path " + db + " --image_path " + images +
+                     " --output_path " + (root / "sparse").string() +
                      " --Mapper.ba_refine_focal_length 0 --Mapper.ba_refine_principal_point 0"
                      " --Mapper.ba_refine_extra_params 0"},
   };
@@ -154,20 +158,23 @@ TEST_F(ColmapSfmTest, RingOfSpotRegistersEveryViewWithTruePoses) {
   double max_rot_deg = 0, max_centre = 0, sum_rot = 0, sum_centre = 0;
   for (size_t i = 0; i < sfm.views.size(); ++i) {
     // R_sfm R = R_true when the poses agree (cam_from_world composed with the alignment).
-    const glm::dmat3 diff =
-        sfm.views[i].cam_from_world.rotation * align.rotation * glm::transpose(truth.views[i].cam_from_world.rotation);
+    const glm::dmat3 diff = sfm.views[i].cam_from_world.rotation * align.rotation *
+                            glm::transpose(truth.views[i].cam_from_world.rotation);
     const double rot = AngleDeg(diff);
     const double distance = glm::length(true_centres[i] - object);
-    const double centre = glm::length(align * true_centres[i] - sfm_centres[i]) / align.scale / distance;
+    const double centre =
+        glm::length(align * true_centres[i] - sfm_centres[i]) / align.scale / distance;
     max_rot_deg = std::max(max_rot_deg, rot);
     max_centre = std::max(max_centre, centre);
     sum_rot += rot;
     sum_centre += centre;
   }
   const double n = static_cast<double>(sfm.views.size());
-  std::printf("sfm: %zu/%zu views registered; rotation error mean %.4f max %.4f deg; centre error mean %.2e max %.2e "
-              "of the camera distance\n",
-              sfm.views.size(), truth.views.size(), sum_rot / n, max_rot_deg, sum_centre / n, max_centre);
+  std::printf(
+      "sfm: %zu/%zu views registered; rotation error mean %.4f max %.4f deg; centre error mean "
+      "%.2e max %.2e "
+      "of the camera distance\n",
+      sfm.views.size(), truth.views.size(), sum_rot / n, max_rot_deg, sum_centre / n, max_centre);
   EXPECT_LT(max_rot_deg, 0.5);
   EXPECT_LT(max_centre, 0.01);
 }

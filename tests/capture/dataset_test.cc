@@ -3,11 +3,11 @@
 // output, and bad datasets giving InputError naming the file.
 #include "capture/dataset.h"
 
+#include <gtest/gtest.h>
+
 #include <fstream>
 #include <functional>
 #include <sstream>
-
-#include <gtest/gtest.h>
 
 #include "core/error.h"
 #include "core/image_io.h"
@@ -21,7 +21,8 @@ Dataset SampleManifest() {
   Dataset d;
   d.cameras.emplace(1, Camera::Pinhole(8, 6, 10.125, 10.25, 4.0, 3.0));
   d.cameras.emplace(2, Camera::Orthographic(8, 6, 3.0 / 7.0, 3.0 / 7.0, 4, 3));
-  d.views.push_back({"a", 1, LookAt({0.1, -3, 0.3}, {0, 0, 0}, {0, 0, 1}), "color/a.png", "depth/a.exr", "mask/a.png", ""});
+  d.views.push_back({"a", 1, LookAt({0.1, -3, 0.3}, {0, 0, 0}, {0, 0, 1}), "color/a.png",
+                     "depth/a.exr", "mask/a.png", ""});
   d.views.push_back({"b", 2, LookAt({3, 0.2, 0}, {0, 0, 0}, {0, 0, 1}), "color/b.png", "", "", ""});
   d.bounds = Bounds{{-1, -1, -1}, {1, 1, 1.0 / 3.0}};
   d.depth_units = "m";
@@ -61,7 +62,8 @@ TEST(DatasetFiles, WriterReaderRoundTrip) {
   {
     DatasetWriter writer(dir);
     const int cam = writer.AddCamera(Camera::Pinhole(8, 6, 10, 10, 4, 3));
-    writer.AddView("v0", cam, LookAt({0, 0, -2}, {0, 0, 0}, {0, -1, 0}), color, depth, mask, normal);
+    writer.AddView("v0", cam, LookAt({0, 0, -2}, {0, 0, 0}, {0, -1, 0}), color, depth, mask,
+                   normal);
     writer.AddView("v1", cam, LookAt({2, 0, 0}, {0, 0, 0}, {0, -1, 0}), color, {}, mask, {});
     writer.SetBounds({{-1, -1, -1}, {1, 1, 1}});
     writer.Commit();
@@ -91,7 +93,8 @@ TEST(DatasetFiles, FailedWriteLeavesNothing) {
     EXPECT_THROW(writer.AddView("v1", cam, {}, color, wrong, mask, normal), core::InputError);
   }
   EXPECT_FALSE(fs::exists(dir));
-  for (const auto& e : fs::directory_iterator(dir.parent_path())) ADD_FAILURE() << "left behind: " << e.path();
+  for (const auto& e : fs::directory_iterator(dir.parent_path()))
+    ADD_FAILURE() << "left behind: " << e.path();
 }
 
 // ---- bad datasets ----
@@ -99,7 +102,7 @@ TEST(DatasetFiles, FailedWriteLeavesNothing) {
 struct BadDataset {
   const char* what;
   std::function<void(const fs::path& dir)> spoil;  // applied to a valid dataset
-  std::string expect_in_message;                    // a file name or key
+  std::string expect_in_message;                   // a file name or key
   bool check_pixels = false;
 };
 
@@ -118,22 +121,74 @@ void Replace(std::string& s, const std::string& from, const std::string& to) {
 
 TEST(DatasetBadInput, EveryCaseThrowsInputErrorNamingTheFile) {
   const std::vector<BadDataset> cases = {
-      {"missing manifest", [](const fs::path& d) { fs::remove(d / "dataset.json"); }, "dataset.json"},
-      {"truncated manifest", [](const fs::path& d) { RewriteManifest(d, [](std::string& s) { s.resize(s.size() / 2); }); }, "dataset.json"},
-      {"not json", [](const fs::path& d) { std::ofstream(d / "dataset.json") << "\x01\x02garbage"; }, "dataset.json"},
-      {"wrong format tag", [](const fs::path& d) { RewriteManifest(d, [](std::string& s) { Replace(s, "ibr-dataset", "other"); }); }, "dataset.json"},
-      {"unknown model", [](const fs::path& d) { RewriteManifest(d, [](std::string& s) { Replace(s, "\"PINHOLE\"", "\"PINHOL\""); }); }, "dataset.json"},
-      {"distorted camera", [](const fs::path& d) { RewriteManifest(d, [](std::string& s) { Replace(s, "\"PINHOLE\"", "\"SIMPLE_RADIAL\""); }); }, "dataset.json"},
-      {"unknown camera id", [](const fs::path& d) { RewriteManifest(d, [](std::string& s) { Replace(s, "\"camera\": 1", "\"camera\": 9"); }); }, "dataset.json"},
-      {"NaN-ish param (string)", [](const fs::path& d) { RewriteManifest(d, [](std::string& s) { Replace(s, "\"params\": [", "\"params\": [\"nan\", "); }); }, "dataset.json"},
-      {"non-orthonormal pose", [](const fs::path& d) { RewriteManifest(d, [](std::string& s) { Replace(s, "\"cam_from_world\": [\n        [", "\"cam_from_world\": [\n        [3.0, "); }); }, "dataset.json"},
-      {"path escapes", [](const fs::path& d) { RewriteManifest(d, [](std::string& s) { Replace(s, "\"color/v0.png\"", "\"../v0.png\""); }); }, "dataset.json"},
-      {"missing colour file", [](const fs::path& d) { fs::remove(d / "color/v0.png"); }, "color/v0.png"},
-      {"wrong-size depth", [](const fs::path& d) { core::WriteImage(d / "depth/v0.exr", core::ImageF(5, 5, 1)); }, "depth/v0.exr"},
-      {"corrupt colour png", [](const fs::path& d) { std::ofstream(d / "color/v0.png") << "\x89PNG\r\n\x1a\nbroken"; }, "color/v0.png"},
-      {"negative depth", [](const fs::path& d) { core::WriteImage(d / "depth/v0.exr", core::ImageF(8, 6, 1, -1.0f)); }, "depth/v0.exr", true},
-      {"NaN normal", [](const fs::path& d) { core::WriteImage(d / "normal/v0.exr", core::ImageF(8, 6, 3, NAN)); }, "normal/v0.exr", true},
-      {"depth with 3 channels", [](const fs::path& d) { core::WriteImage(d / "depth/v0.exr", core::ImageF(8, 6, 3)); }, "depth/v0.exr", true},
+      {"missing manifest", [](const fs::path& d) { fs::remove(d / "dataset.json"); },
+       "dataset.json"},
+      {"truncated manifest",
+       [](const fs::path& d) {
+         RewriteManifest(d, [](std::string& s) { s.resize(s.size() / 2); });
+       },
+       "dataset.json"},
+      {"not json",
+       [](const fs::path& d) { std::ofstream(d / "dataset.json") << "\x01\x02garbage"; },
+       "dataset.json"},
+      {"wrong format tag",
+       [](const fs::path& d) {
+         RewriteManifest(d, [](std::string& s) { Replace(s, "ibr-dataset", "other"); });
+       },
+       "dataset.json"},
+      {"unknown model",
+       [](const fs::path& d) {
+         RewriteManifest(d, [](std::string& s) { Replace(s, "\"PINHOLE\"", "\"PINHOL\""); });
+       },
+       "dataset.json"},
+      {"distorted camera",
+       [](const fs::path& d) {
+         RewriteManifest(d, [](std::string& s) { Replace(s, "\"PINHOLE\"", "\"SIMPLE_RADIAL\""); });
+       },
+       "dataset.json"},
+      {"unknown camera id",
+       [](const fs::path& d) {
+         RewriteManifest(d, [](std::string& s) { Replace(s, "\"camera\": 1", "\"camera\": 9"); });
+       },
+       "dataset.json"},
+      {"NaN-ish param (string)",
+       [](const fs::path& d) {
+         RewriteManifest(
+             d, [](std::string& s) { Replace(s, "\"params\": [", "\"params\": [\"nan\", "); });
+       },
+       "dataset.json"},
+      {"non-orthonormal pose",
+       [](const fs::path& d) {
+         RewriteManifest(d, [](std::string& s) {
+           Replace(s, "\"cam_from_world\": [\n        [", "\"cam_from_world\": [\n        [3.0, ");
+         });
+       },
+       "dataset.json"},
+      {"path escapes",
+       [](const fs::path& d) {
+         RewriteManifest(d,
+                         [](std::string& s) { Replace(s, "\"color/v0.png\"", "\"../v0.png\""); });
+       },
+       "dataset.json"},
+      {"missing colour file", [](const fs::path& d) { fs::remove(d / "color/v0.png"); },
+       "color/v0.png"},
+      {"wrong-size depth",
+       [](const fs::path& d) { core::WriteImage(d / "depth/v0.exr", core::ImageF(5, 5, 1)); },
+       "depth/v0.exr"},
+      {"corrupt colour png",
+       [](const fs::path& d) { std::ofstream(d / "color/v0.png") << "\x89PNG\r\n\x1a\nbroken"; },
+       "color/v0.png"},
+      {"negative depth",
+       [](const fs::path& d) {
+         core::WriteImage(d / "depth/v0.exr", core::ImageF(8, 6, 1, -1.0f));
+       },
+       "depth/v0.exr", true},
+      {"NaN normal",
+       [](const fs::path& d) { core::WriteImage(d / "normal/v0.exr", core::ImageF(8, 6, 3, NAN)); },
+       "normal/v0.exr", true},
+      {"depth with 3 channels",
+       [](const fs::path& d) { core::WriteImage(d / "depth/v0.exr", core::ImageF(8, 6, 3)); },
+       "depth/v0.exr", true},
   };
   for (const auto& c : cases) {
     const fs::path dir = test_support::TestOutputDir() / "bad";

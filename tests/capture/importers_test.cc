@@ -6,13 +6,13 @@
 // cameras; and the two text parsers on bad input.
 #include "capture/importers.h"
 
+#include <gtest/gtest.h>
+
 #include <algorithm>
 #include <cmath>
 #include <fstream>
-#include <sstream>
-
-#include <gtest/gtest.h>
 #include <opencv2/imgproc.hpp>
+#include <sstream>
 
 #include "capture/colmap_dataset.h"
 #include "capture/colmap_io.h"
@@ -28,7 +28,8 @@ namespace fs = std::filesystem;
 
 TEST(RedwoodLog, ParsesWorldFromCamAndInvertsIt) {
   // world_from_cam: rotation 90 degrees about z, camera centre at (1, 2, 3).
-  std::stringstream s("0 0 1\n0 -1 0 1\n1 0 0 2\n0 0 1 3\n0 0 0 1\n\n1 1 2\n1 0 0 0\n0 1 0 0\n0 0 1 -5\n0 0 0 1\n");
+  std::stringstream s(
+      "0 0 1\n0 -1 0 1\n1 0 0 2\n0 0 1 3\n0 0 0 1\n\n1 1 2\n1 0 0 0\n0 1 0 0\n0 0 1 -5\n0 0 0 1\n");
   const std::vector<Rigid3> poses = ReadRedwoodLog(s, "mem.log");
   ASSERT_EQ(poses.size(), 2u);
   const glm::dvec3 c = poses[0].Centre();
@@ -51,7 +52,9 @@ TEST(MiddleburyPar, ParsesKRt) {
   EXPECT_EQ(views[0].camera.cx(), 301.0);
   EXPECT_EQ(views[0].camera.cy(), 240.75);
   // Row-major R: r11 r12 r13 = 0 1 0 -> world y is camera x.
-  EXPECT_NEAR(glm::length(views[0].cam_from_world * glm::dvec3(0, 1, 0) - glm::dvec3(1.1, 0.2, 0.6)), 0, 1e-15);
+  EXPECT_NEAR(
+      glm::length(views[0].cam_from_world * glm::dvec3(0, 1, 0) - glm::dvec3(1.1, 0.2, 0.6)), 0,
+      1e-15);
 }
 
 struct BadText {
@@ -95,8 +98,10 @@ TEST(MiddleburyPar, BadInputThrowsNamingTheFile) {
       {"count mismatch", "2\n" + ok, "declares 2 images, has 1"},
       {"short line", "1\na.png 1500 0 300 0 1500 240 0 0 1 1 0 0 0 1 0 0 0 1 0 0\n", "got 20"},
       {"skewed K", "1\na.png 1500 3 300 0 1500 240 0 0 1 1 0 0 0 1 0 0 0 1 0 0 1\n", "K is not"},
-      {"not a rotation", "1\na.png 1500 0 300 0 1500 240 0 0 1 1 0 0 0 1 0 0 0 2 0 0 1\n", "line 2"},
-      {"NaN translation", "1\na.png 1500 0 300 0 1500 240 0 0 1 1 0 0 0 1 0 0 0 1 0 nan 1\n", "nan"},
+      {"not a rotation", "1\na.png 1500 0 300 0 1500 240 0 0 1 1 0 0 0 1 0 0 0 2 0 0 1\n",
+       "line 2"},
+      {"NaN translation", "1\na.png 1500 0 300 0 1500 240 0 0 1 1 0 0 0 1 0 0 0 1 0 nan 1\n",
+       "nan"},
       {"negative focal", "1\na.png -1500 0 300 0 1500 240 0 0 1 1 0 0 0 1 0 0 0 1 0 0 1\n", ""},
   };
   for (const auto& [what, text, expected] : cases) {
@@ -171,7 +176,8 @@ TEST(RedwoodImport, SharedDataDepthPosesAndIntrinsics) {
     ASSERT_EQ(depth.width(), 640);
     size_t valid = 0;
     for (size_t p = 0; p < depth.pixel_count(); ++p) {
-      ASSERT_EQ(depth.data()[p], static_cast<float>(raw.data()[p] / 1000.0)) << stem << " pixel " << p;
+      ASSERT_EQ(depth.data()[p], static_cast<float>(raw.data()[p] / 1000.0))
+          << stem << " pixel " << p;
       ASSERT_EQ(mask.data()[p], raw.data()[p] ? 255 : 0);
       valid += raw.data()[p] > 0;
     }
@@ -254,7 +260,8 @@ class MiddleburyImportTest : public ::testing::TestWithParam<const char*> {};
 TEST_P(MiddleburyImportTest, SharedDataCamerasMasksAndBoundingBox) {
   const std::string ring = GetParam();
   const fs::path src = test_support::SharedData("photos/" + ring);
-  if (src.empty()) GTEST_SKIP() << "../shared/data/photos/" << ring << " is absent (IBR_SHARED_DATA)";
+  if (src.empty())
+    GTEST_SKIP() << "../shared/data/photos/" << ring << " is absent (IBR_SHARED_DATA)";
   const fs::path out = test_support::TestOutputDir() / ring;
   fs::remove_all(out);
   ImportMiddlebury(src, out);
@@ -300,7 +307,8 @@ TEST_P(MiddleburyImportTest, SharedDataCamerasMasksAndBoundingBox) {
     // (dilate 10, erode 7), so the raw threshold silhouette is tested here.
     std::vector<cv::Point2f> corners;
     for (int i = 0; i < 8; ++i) {
-      const glm::dvec3 x((i & 1) ? box[1].x : box[0].x, (i & 2) ? box[1].y : box[0].y, (i & 4) ? box[1].z : box[0].z);
+      const glm::dvec3 x((i & 1) ? box[1].x : box[0].x, (i & 2) ? box[1].y : box[0].y,
+                         (i & 4) ? box[1].z : box[0].z);
       const glm::dvec3 q = pose * x;
       ASSERT_GT(q.z, 0) << p.name;
       const glm::dvec2 uv = cam.Project(q);
@@ -316,12 +324,14 @@ TEST_P(MiddleburyImportTest, SharedDataCamerasMasksAndBoundingBox) {
     cv::Mat lit(480, 640, CV_8U, cv::Scalar(0)), dim(480, 640, CV_8U, cv::Scalar(0));
     for (int row = 0; row < 480; ++row) {
       for (int col = 0; col < 640; ++col) {
-        const double grey = 0.299 * photo.at(col, row, 0) + 0.587 * photo.at(col, row, 1) + 0.114 * photo.at(col, row, 2);
+        const double grey = 0.299 * photo.at(col, row, 0) + 0.587 * photo.at(col, row, 1) +
+                            0.114 * photo.at(col, row, 2);
         if (grey > 0.19 * 255 - 2) dim.at<uint8_t>(row, col) = 255;
         if (grey <= 0.19 * 255 + 2) continue;
         lit.at<uint8_t>(row, col) = 255;
         // Dilating 10 then eroding 7 times can only grow the thresholded set.
-        EXPECT_GT(mask.at(col, row), 127) << p.name << ": a bright pixel outside the mask at " << col << ", " << row;
+        EXPECT_GT(mask.at(col, row), 127)
+            << p.name << ": a bright pixel outside the mask at " << col << ", " << row;
       }
     }
     cv::Mat labels, stats, centroids;
@@ -338,7 +348,8 @@ TEST_P(MiddleburyImportTest, SharedDataCamerasMasksAndBoundingBox) {
     cv::dilate(dim, dim, cv::getStructuringElement(cv::MORPH_RECT, {3, 3}), {-1, -1}, 10);
     size_t beyond = 0;
     for (int row = 0; row < 480; ++row)
-      for (int col = 0; col < 640; ++col) beyond += mask.at(col, row) > 127 && !dim.at<uint8_t>(row, col);
+      for (int col = 0; col < 640; ++col)
+        beyond += mask.at(col, row) > 127 && !dim.at<uint8_t>(row, col);
     EXPECT_EQ(beyond, 0u) << p.name << ": mask pixels beyond the dilated threshold";
     size_t stray = 0;  // object pixels more than 2 px outside the box's projection
     for (int row = 0; row < 480; ++row) {
@@ -355,11 +366,14 @@ TEST_P(MiddleburyImportTest, SharedDataCamerasMasksAndBoundingBox) {
     // component); the object itself stays inside.
     EXPECT_LT(fraction, 0.05) << p.name;
   }
-  std::printf("%s: at most %.2f %% of a view's silhouette pixels lie > 2 px outside the projected bounding box\n",
-              ring.c_str(), 100 * worst_stray);
+  std::printf(
+      "%s: at most %.2f %% of a view's silhouette pixels lie > 2 px outside the projected bounding "
+      "box\n",
+      ring.c_str(), 100 * worst_stray);
 }
 
-INSTANTIATE_TEST_SUITE_P(Rings, MiddleburyImportTest, ::testing::Values("templeSparseRing", "dinoSparseRing"));
+INSTANTIATE_TEST_SUITE_P(Rings, MiddleburyImportTest,
+                         ::testing::Values("templeSparseRing", "dinoSparseRing"));
 
 // --------------------------------------------------- sparse-only COLMAP ----
 
@@ -369,7 +383,8 @@ INSTANTIATE_TEST_SUITE_P(Rings, MiddleburyImportTest, ::testing::Values("templeS
 // an OPENCV camera with k1 = 0 undistorts to the same pinhole and image.
 TEST(ColmapSparseImport, TempleCalibrationAsColmapModel) {
   const fs::path src = test_support::SharedData("photos/templeSparseRing");
-  if (src.empty()) GTEST_SKIP() << "../shared/data/photos/templeSparseRing is absent (IBR_SHARED_DATA)";
+  if (src.empty())
+    GTEST_SKIP() << "../shared/data/photos/templeSparseRing is absent (IBR_SHARED_DATA)";
   const fs::path root = test_support::TestOutputDir();
   fs::remove_all(root / "model");
   fs::create_directories(root / "model" / "sparse" / "0");
@@ -381,7 +396,8 @@ TEST(ColmapSparseImport, TempleCalibrationAsColmapModel) {
     cam.width = 640;
     cam.height = 480;
     if (i % 2) {  // every other camera as OPENCV without distortion
-      cam = Camera{CameraModel::kOpenCv, 640, 480, {cam.fx(), cam.fy(), cam.cx(), cam.cy(), 0, 0, 0, 0}};
+      cam = Camera{
+          CameraModel::kOpenCv, 640, 480, {cam.fx(), cam.fy(), cam.cx(), cam.cy(), 0, 0, 0, 0}};
     }
     model.cameras.emplace(static_cast<uint32_t>(i + 1), cam);
     colmap::Image im;
@@ -411,7 +427,8 @@ TEST(ColmapSparseImport, TempleCalibrationAsColmapModel) {
     EXPECT_EQ(cam.cy(), m.camera.cy());
     const Rigid3& pose = d.views[v].cam_from_world;
     for (int c = 0; c < 3; ++c) {
-      for (int r = 0; r < 3; ++r) EXPECT_NEAR(pose.rotation[c][r], m.cam_from_world.rotation[c][r], 1e-12);
+      for (int r = 0; r < 3; ++r)
+        EXPECT_NEAR(pose.rotation[c][r], m.cam_from_world.rotation[c][r], 1e-12);
       EXPECT_NEAR(pose.translation[c], m.cam_from_world.translation[c], 1e-15);
     }
     EXPECT_EQ(d.LoadColor(v), core::ReadImage<uint8_t>(src / m.image, 3)) << m.image;

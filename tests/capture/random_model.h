@@ -8,7 +8,8 @@
 
 namespace capture::test {
 
-inline colmap::SparseModel RandomSparseModel(uint32_t seed, int num_images = 6, int num_points = 40) {
+inline colmap::SparseModel RandomSparseModel(uint32_t seed, int num_images = 6,
+                                             int num_points = 40) {
   std::mt19937_64 rng(seed);
   std::uniform_real_distribution<double> u(-1, 1);
   colmap::SparseModel model;
@@ -16,9 +17,11 @@ inline colmap::SparseModel RandomSparseModel(uint32_t seed, int num_images = 6, 
     const CameraModel m = *CameraModelFromColmapId(id);
     Camera c{m, 320 + id, 240 + 2 * id, {}};
     const int n = CameraModelParamCount(m);
-    for (int k = 0; k < n; ++k) c.params.push_back(k == 0 ? 300 + 50 * u(rng) : (k < 4 ? 160 + 10 * u(rng) : 0.05 * u(rng)));
-    if (m == CameraModel::kPinhole || m == CameraModel::kOpenCv || m == CameraModel::kOpenCvFisheye ||
-        m == CameraModel::kFullOpenCv || m == CameraModel::kFov || m == CameraModel::kThinPrismFisheye) {
+    for (int k = 0; k < n; ++k)
+      c.params.push_back(k == 0 ? 300 + 50 * u(rng) : (k < 4 ? 160 + 10 * u(rng) : 0.05 * u(rng)));
+    if (m == CameraModel::kPinhole || m == CameraModel::kOpenCv ||
+        m == CameraModel::kOpenCvFisheye || m == CameraModel::kFullOpenCv ||
+        m == CameraModel::kFov || m == CameraModel::kThinPrismFisheye) {
       c.params[1] = 300 + 50 * u(rng);  // fy
     }
     model.cameras.emplace(static_cast<uint32_t>(id + 1), c);
@@ -39,7 +42,8 @@ inline colmap::SparseModel RandomSparseModel(uint32_t seed, int num_images = 6, 
     colmap::Point3D pt;
     pt.point3D_id = static_cast<uint64_t>(p + 1);
     pt.xyz = {u(rng), u(rng), u(rng)};
-    pt.rgb = {static_cast<uint8_t>(rng()), static_cast<uint8_t>(rng()), static_cast<uint8_t>(rng())};
+    pt.rgb = {static_cast<uint8_t>(rng()), static_cast<uint8_t>(rng()),
+              static_cast<uint8_t>(rng())};
     pt.error = 0.5 + 0.5 * u(rng);
     // Two or three observations in distinct images.
     const int len = 2 + static_cast<int>(rng() % 2);
@@ -52,7 +56,8 @@ inline colmap::SparseModel RandomSparseModel(uint32_t seed, int num_images = 6, 
     model.points3D.emplace(pt.point3D_id, pt);
   }
   // Some untriangulated keypoints too.
-  for (auto& [id, im] : model.images) im.points2D.push_back({12.25, 7.5, colmap::kInvalidPoint3DId});
+  for (auto& [id, im] : model.images)
+    im.points2D.push_back({12.25, 7.5, colmap::kInvalidPoint3DId});
   return model;
 }
 

@@ -4,10 +4,10 @@
 // the same points; captures are deterministic; Spot is textured.
 #include "capture/synthetic.h"
 
+#include <gtest/gtest.h>
+
 #include <cmath>
 #include <set>
-
-#include <gtest/gtest.h>
 
 #include "core/error.h"
 #include "tests/support/gl_test.h"
@@ -156,7 +156,8 @@ TEST_F(SyntheticTest, BackProjectedDepthLiesOnEveryAnalyticSurface) {
           max_dist = std::max(max_dist, SurfaceDistance(shape, p));
           ++n;
           // The normal faces the camera and is unit length.
-          const glm::dvec3 nw(cap.normal.at(col, row, 0), cap.normal.at(col, row, 1), cap.normal.at(col, row, 2));
+          const glm::dvec3 nw(cap.normal.at(col, row, 0), cap.normal.at(col, row, 1),
+                              cap.normal.at(col, row, 2));
           EXPECT_NEAR(glm::length(nw), 1.0, 1e-5);
         }
       }
@@ -201,7 +202,8 @@ TEST_F(SyntheticTest, CubeFacesOfASphereAgreeAtSharedPoints) {
           if (!(da > 0)) continue;
           const glm::dvec3 p = world_from_a * views[a].camera.UnprojectPixel(col, row, da);
           // Seen by b only where the surface faces b clearly (no grazing).
-          const glm::dvec3 view_dir_b = glm::transpose(views[b].cam_from_world.rotation) * glm::dvec3(0, 0, 1);
+          const glm::dvec3 view_dir_b =
+              glm::transpose(views[b].cam_from_world.rotation) * glm::dvec3(0, 0, 1);
           if (glm::dot(glm::normalize(p), view_dir_b) > -0.3) continue;
           const glm::dvec3 p_in_b = views[b].cam_from_world * p;
           const auto db = Bilinear(caps[b].depth, views[b].camera.Project(p_in_b));
@@ -250,7 +252,8 @@ TEST_F(SyntheticTest, SpotIsCapturedWithItsTexture) {
   options.shade = false;  // flat albedo: colours come from the texture only
   glm::vec3 lo, hi;
   scene.mesh.Bounds(lo, hi);
-  const auto views = MakeRig(RigSpec::Parse(options.rig), {glm::dvec3(lo), glm::dvec3(hi)}, options);
+  const auto views =
+      MakeRig(RigSpec::Parse(options.rig), {glm::dvec3(lo), glm::dvec3(hi)}, options);
   const CapturedView cap = RenderView(programs(), scene, views[0], options);
   std::set<int> colours;
   int covered = 0;
@@ -258,7 +261,8 @@ TEST_F(SyntheticTest, SpotIsCapturedWithItsTexture) {
     for (int col = 0; col < options.size; ++col) {
       if (cap.mask.at(col, row) != 255) continue;
       ++covered;
-      colours.insert(cap.color.at(col, row, 0) << 16 | cap.color.at(col, row, 1) << 8 | cap.color.at(col, row, 2));
+      colours.insert(cap.color.at(col, row, 0) << 16 | cap.color.at(col, row, 1) << 8 |
+                     cap.color.at(col, row, 2));
     }
   }
   test_support::WriteDebugImage("spot.png", cap.color);
@@ -296,7 +300,9 @@ TEST_F(SyntheticTest, NoiseBackdropIsColourOnlyAndWorldFixed) {
           ASSERT_EQ(a.color.at(col, row, c), 0);
         }
       }
-      if (!a.mask.at(col, row)) colours.insert(b.color.at(col, row, 0) << 16 | b.color.at(col, row, 1) << 8 | b.color.at(col, row, 2));
+      if (!a.mask.at(col, row))
+        colours.insert(b.color.at(col, row, 0) << 16 | b.color.at(col, row, 1) << 8 |
+                       b.color.at(col, row, 2));
     }
   }
   EXPECT_GT(colours.size(), 500u) << "the backdrop should be richly textured";
@@ -313,7 +319,8 @@ TEST_F(SyntheticTest, NoiseBackdropIsColourOnlyAndWorldFixed) {
   const glm::dvec3 eye = v1.cam_from_world.Centre();
   const glm::dvec3 forward = glm::transpose(v1.cam_from_world.rotation) * glm::dvec3(0, 0, 1);
   const glm::dvec3 side = glm::normalize(glm::cross(forward, glm::dvec3(0, 1, 0)));
-  v2.cam_from_world = LookAt(eye, eye + forward + std::tan(6 * 3.14159265358979 / 180) * side, {0, 1, 0});
+  v2.cam_from_world =
+      LookAt(eye, eye + forward + std::tan(6 * 3.14159265358979 / 180) * side, {0, 1, 0});
   const CapturedView c1 = RenderView(programs(), torus, v1, noise);
   const CapturedView c2 = RenderView(programs(), torus, v2, noise);
   const Camera& cam = v1.camera;
@@ -334,8 +341,11 @@ TEST_F(SyntheticTest, NoiseBackdropIsColourOnlyAndWorldFixed) {
       if (object) continue;
       const double fx = x - x0, fy = y - y0;
       auto sample = [&](int c, int offset) {
-        auto at = [&](int px, int py) { return static_cast<double>(c2.color.at(px + offset, py, c)); };
-        return (1 - fy) * ((1 - fx) * at(x0, y0) + fx * at(x0 + 1, y0)) + fy * ((1 - fx) * at(x0, y0 + 1) + fx * at(x0 + 1, y0 + 1));
+        auto at = [&](int px, int py) {
+          return static_cast<double>(c2.color.at(px + offset, py, c));
+        };
+        return (1 - fy) * ((1 - fx) * at(x0, y0) + fx * at(x0 + 1, y0)) +
+               fy * ((1 - fx) * at(x0, y0 + 1) + fx * at(x0 + 1, y0 + 1));
       };
       for (int c = 0; c < 3; ++c) {
         same += std::abs(c1.color.at(col, row, c) - sample(c, 0));
@@ -347,7 +357,8 @@ TEST_F(SyntheticTest, NoiseBackdropIsColourOnlyAndWorldFixed) {
   ASSERT_GT(n, 2000);
   same /= 3.0 * n;
   shifted /= 3.0 * n;
-  std::printf("backdrop: mean |difference| along the same ray %.2f, 2 px off %.2f (of 255)\n", same, shifted);
+  std::printf("backdrop: mean |difference| along the same ray %.2f, 2 px off %.2f (of 255)\n", same,
+              shifted);
   // Resampling a minified texture (no mipmaps) leaves some; a wrong ray much more.
   EXPECT_LT(same, 0.5 * shifted);
 }

@@ -1,7 +1,7 @@
 // Camera projection helpers, analytic meshes and timing statistics.
-#include <cmath>
-
 #include <gtest/gtest.h>
+
+#include <cmath>
 
 #include "core/error.h"
 #include "core/mesh.h"
@@ -73,7 +73,8 @@ TEST(Mesh, AnalyticShapesLieOnTheirSurfaces) {
   for (const TriangleMesh* m : {&sphere, &torus, &box}) {
     for (size_t t = 0; t < m->triangle_count(); ++t) {
       const uint32_t a = m->indices[3 * t], b = m->indices[3 * t + 1], c = m->indices[3 * t + 2];
-      const glm::vec3 n = glm::cross(m->positions[b] - m->positions[a], m->positions[c] - m->positions[a]);
+      const glm::vec3 n =
+          glm::cross(m->positions[b] - m->positions[a], m->positions[c] - m->positions[a]);
       if (glm::length(n) < 1e-6f) continue;  // degenerate (zero-area) pole triangles
       EXPECT_GT(glm::dot(n, m->normals[a] + m->normals[b] + m->normals[c]), 0.0f);
     }

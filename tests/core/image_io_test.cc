@@ -1,10 +1,10 @@
 #include "core/image_io.h"
 
+#include <gtest/gtest.h>
+
 #include <cmath>
 #include <fstream>
 #include <random>
-
-#include <gtest/gtest.h>
 
 #include "core/error.h"
 #include "tests/support/gl_test.h"
@@ -47,8 +47,8 @@ TEST(ImageIo, ExrFloatRoundTripIsBitExact) {
   const auto dir = test_support::TestOutputDir();
   auto image = RandomImage<float>(41, 29, 1, 3);
   image.at(0, 0) = 0.0f;
-  image.at(1, 0) = 1e-30f;       // tiny but representable in float32
-  image.at(2, 0) = 3.4e38f;      // near float max
+  image.at(1, 0) = 1e-30f;   // tiny but representable in float32
+  image.at(2, 0) = 3.4e38f;  // near float max
   image.at(3, 0) = std::nextafter(1.0f, 2.0f);
   WriteImage(dir / "depth.exr", image);
   const auto back = ReadImage<float>(dir / "depth.exr");
@@ -81,9 +81,7 @@ TEST(ImageIo, MissingFileNamesTheFile) {
 
 TEST(ImageIo, CorruptAndTruncatedFilesAreRejected) {
   const auto dir = test_support::TestOutputDir();
-  {
-    std::ofstream(dir / "garbage.png") << "this is not a png at all";
-  }
+  { std::ofstream(dir / "garbage.png") << "this is not a png at all"; }
   EXPECT_THROW(ReadImage<uint8_t>(dir / "garbage.png"), InputError);
   // A real PNG cut in half.
   WriteImage(dir / "full.png", RandomImage<uint8_t>(64, 64, 3, 4));

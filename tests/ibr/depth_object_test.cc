@@ -2,20 +2,21 @@
 // a sphere's depth object matches the sphere from novel views, its visual
 // hull contains it, a view from an input camera reproduces that camera's
 // depth map, the cup's cavity, texturing, and the hard cases.
+#include "ibr/depth_object.h"
+
+#include <fmt/format.h>
+#include <gtest/gtest.h>
+
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <random>
-
-#include <fmt/format.h>
-#include <gtest/gtest.h>
 
 #include "capture/synthetic.h"
 #include "core/image_io.h"
 #include "core/metrics.h"
 #include "core/timing.h"
 #include "ibr/dataset_maps.h"
-#include "ibr/depth_object.h"
 #include "ibr/reference.h"
 #include "tests/ibr/scenes.h"
 #include "tests/support/gl_test.h"
@@ -46,7 +47,8 @@ core::ImageF TrueDepth(const ViewCamera& view, const std::vector<Sphere>& sphere
 
 struct Accuracy {
   double iou = 0;
-  double mean_abs = 0, median = 0, p95 = 0, max_abs = 0;  // depth error over pixels both cover, scene units
+  double mean_abs = 0, median = 0, p95 = 0,
+         max_abs = 0;  // depth error over pixels both cover, scene units
   int64_t both = 0;
 };
 
@@ -89,12 +91,14 @@ TEST_F(DepthObjectTest, SphereDepthObjectMatchesSphereFromNovelViews) {
       // a ray crosses 1/cos apart (up to sqrt(3) spacings for a diagonal view).
       double spacing = frame.stack.spacing_world;
       if (slicing == Slicing::kOrthogonal) {
-        const glm::dvec3 n_world = glm::normalize(glm::dvec3(renderer.maps().world_from_box[frame.stack.axis]));
+        const glm::dvec3 n_world =
+            glm::normalize(glm::dvec3(renderer.maps().world_from_box[frame.stack.axis]));
         spacing /= std::abs(glm::dot(n_world, CameraAxis(view.cam_from_world)));
       }
-      std::printf("sphere %s view %d: IoU %.4f, depth error mean %.5f median %.5f p95 %.5f max %.5f "
-                  "(slice spacing along the view %.5f)\n", SlicingName(slicing).c_str(), v, a.iou, a.mean_abs, a.median,
-                  a.p95, a.max_abs, spacing);
+      std::printf(
+          "sphere %s view %d: IoU %.4f, depth error mean %.5f median %.5f p95 %.5f max %.5f "
+          "(slice spacing along the view %.5f)\n",
+          SlicingName(slicing).c_str(), v, a.iou, a.mean_abs, a.median, a.p95, a.max_abs, spacing);
       EXPECT_GE(a.iou, 0.99) << SlicingName(slicing) << " view " << v;
       // Within one slice spacing: the first slice at or behind the surface is
       // less than one spacing (along the view) behind it; the maps' nearest
@@ -142,8 +146,9 @@ TEST_F(DepthObjectTest, SphereVisualHullContainsSphere) {
           // The hull's first surface is never behind the sphere's (plus a slice).
           if (!border && out.mask.at(x, y) > 0) {
             // Plus one map texel (2/256): the silhouettes are quantised to texels.
-            EXPECT_LE(out.depth.at(x, y),
-                      truth.at(x, y) + 1.01 * frame.stack.spacing_world * std::sqrt(3.0) + 2.0 / 256)
+            EXPECT_LE(
+                out.depth.at(x, y),
+                truth.at(x, y) + 1.01 * frame.stack.spacing_world * std::sqrt(3.0) + 2.0 / 256)
                 << x << "," << y;
           }
         }
@@ -151,7 +156,8 @@ TEST_F(DepthObjectTest, SphereVisualHullContainsSphere) {
       std::printf("hull %s view %d: %d sphere pixels, %d hull pixels, %d missing\n",
                   SlicingName(slicing).c_str(), v, sphere_px, hull, missing);
       EXPECT_EQ(missing, 0);
-      EXPECT_GT(hull, sphere_px);  // the hull of a sphere from 3 axes is the Steinmetz solid, larger
+      EXPECT_GT(hull,
+                sphere_px);  // the hull of a sphere from 3 axes is the Steinmetz solid, larger
       if (v == 0) test_support::WriteDebugImage("hull_" + SlicingName(slicing) + ".png", out.color);
     }
   }
@@ -180,9 +186,10 @@ TEST_F(DepthObjectTest, InputCameraReproducesItsDepthMap) {
       const FrameParams frame = PrepareFrame(renderer.maps(), view, o);
       const DepthObjectFrame out = renderer.RenderImages(view, o);
       const Accuracy a = Compare(out.depth, m.depth);
-      std::printf("input camera %s: IoU %.4f, depth error mean %.5f median %.5f p95 %.5f max %.5f "
-                  "(spacing %.5f)\n", m.name.c_str(), a.iou, a.mean_abs, a.median, a.p95, a.max_abs,
-                  frame.stack.spacing_world);
+      std::printf(
+          "input camera %s: IoU %.4f, depth error mean %.5f median %.5f p95 %.5f max %.5f "
+          "(spacing %.5f)\n",
+          m.name.c_str(), a.iou, a.mean_abs, a.median, a.p95, a.max_abs, frame.stack.spacing_world);
       EXPECT_GE(a.iou, 0.99) << m.name;
       // Screen slices are camera-z planes and the pixel's own texel is the
       // one its map test reads, so that map alone leaves the first slice less
@@ -198,7 +205,8 @@ TEST_F(DepthObjectTest, InputCameraReproducesItsDepthMap) {
           if (!(m.depth.at(x, y) > 0) || out.mask.at(x, y) == 0) continue;
           ++total;
           bool eq = true;
-          for (int c = 0; c < 3; ++c) eq = eq && std::abs(out.color.at(x, y, c) - m.color.at(x, y, c)) <= 1;
+          for (int c = 0; c < 3; ++c)
+            eq = eq && std::abs(out.color.at(x, y, c) - m.color.at(x, y, c)) <= 1;
           same += eq;
         }
       }
@@ -240,10 +248,12 @@ TEST_F(DepthObjectTest, RayVariantMatchesSphereAndSlicing) {
     const Accuracy a_ray = Compare(ray.depth, truth);
     const Accuracy a_slices = Compare(slices.depth, truth);
     const Accuracy between = Compare(ray.depth, slices.depth);
-    std::printf("view %d: ray IoU %.4f depth mean %.5f p95 %.5f (%.0f ms); screen slices IoU %.4f mean %.5f "
-                "p95 %.5f (%.0f ms); ray vs slices IoU %.4f (spacing %.5f)\n", v, a_ray.iou, a_ray.mean_abs,
-                a_ray.p95, ray_ms, a_slices.iou, a_slices.mean_abs, a_slices.p95, slice_ms, between.iou,
-                frame.stack.spacing_world);
+    std::printf(
+        "view %d: ray IoU %.4f depth mean %.5f p95 %.5f (%.0f ms); screen slices IoU %.4f mean "
+        "%.5f "
+        "p95 %.5f (%.0f ms); ray vs slices IoU %.4f (spacing %.5f)\n",
+        v, a_ray.iou, a_ray.mean_abs, a_ray.p95, ray_ms, a_slices.iou, a_slices.mean_abs,
+        a_slices.p95, slice_ms, between.iou, frame.stack.spacing_world);
     EXPECT_GE(a_ray.iou, 0.99);
     EXPECT_LE(a_ray.p95, 2.0 * frame.stack.spacing_world);
     EXPECT_GE(between.iou, 0.99);
@@ -254,7 +264,8 @@ TEST_F(DepthObjectTest, RayVariantMatchesSphereAndSlicing) {
         if (ray.mask.at(x, y) == 0 || slices.mask.at(x, y) == 0) continue;
         ++both;
         int diff = 0;
-        for (int c = 0; c < 3; ++c) diff = std::max(diff, std::abs(ray.color.at(x, y, c) - slices.color.at(x, y, c)));
+        for (int c = 0; c < 3; ++c)
+          diff = std::max(diff, std::abs(ray.color.at(x, y, c) - slices.color.at(x, y, c)));
         close += diff <= 8;
       }
     }
@@ -277,7 +288,8 @@ double MeshVolume(const core::TriangleMesh& mesh) {
 // Volume of the reconstructed object: the fraction of a grid of box points
 // that every active map accepts (the same per-map test as the GPU, through
 // the reference mirror), times the box volume.
-double ReconstructedVolume(const MapSet& set, const MapTables& tables, const DepthObjectOptions& o, int n) {
+double ReconstructedVolume(const MapSet& set, const MapTables& tables, const DepthObjectOptions& o,
+                           int n) {
   ViewCamera world;  // identity pose: view camera space = world space
   world.camera = MapCamera::Pinhole(8, 8, 8, 8, 4, 4);
   DepthObjectOptions oo = o;
@@ -319,8 +331,8 @@ TEST_F(DepthObjectTest, CupCavityIsInTheDepthObjectNotTheHull) {
   set.world_from_box = BoxFromBounds(bounds.min - pad, bounds.max + pad);
   for (const capture::RigView& rv : capture::MakeRig(capture::RigSpec::Parse("cube"), bounds, co)) {
     const capture::CapturedView cv = capture::RenderView(programs(), cup, rv, co);
-    set.maps.push_back({rv.name, MapCameraFrom(rv.camera, rv.name), Mat4From(rv.cam_from_world), cv.depth,
-                        cv.color, cv.mask});
+    set.maps.push_back({rv.name, MapCameraFrom(rv.camera, rv.name), Mat4From(rv.cam_from_world),
+                        cv.depth, cv.color, cv.mask});
   }
   DepthObjectRenderer renderer(programs(), set);
   // From above, looking down into the opening (+z), slightly tilted.
@@ -341,12 +353,16 @@ TEST_F(DepthObjectTest, CupCavityIsInTheDepthObjectNotTheHull) {
   EXPECT_GT(cavity, 0.8) << "the floor is about a cup height (1.2 minus the floor) below the rim";
   // Volumes on a 96^3 grid.
   DepthObjectOptions vo;
-  const double v_object = ReconstructedVolume(renderer.maps(), MakeMapTables(renderer.maps(), Method::kDepthObject), vo, 96);
+  const double v_object = ReconstructedVolume(
+      renderer.maps(), MakeMapTables(renderer.maps(), Method::kDepthObject), vo, 96);
   vo.method = Method::kVisualHull;
-  const double v_hull = ReconstructedVolume(renderer.maps(), MakeMapTables(renderer.maps(), Method::kVisualHull), vo, 96);
+  const double v_hull = ReconstructedVolume(
+      renderer.maps(), MakeMapTables(renderer.maps(), Method::kVisualHull), vo, 96);
   const double v_true = MeshVolume(cup.mesh);
-  std::printf("cup volumes: mesh %.4f, depth object %.4f, visual hull %.4f, difference hull - object %.4f "
-              "(cavity at the centre %.3f deep)\n", v_true, v_object, v_hull, v_hull - v_object, cavity);
+  std::printf(
+      "cup volumes: mesh %.4f, depth object %.4f, visual hull %.4f, difference hull - object %.4f "
+      "(cavity at the centre %.3f deep)\n",
+      v_true, v_object, v_hull, v_hull - v_object, cavity);
   EXPECT_NEAR(v_object, v_true, 0.1 * v_true);
   EXPECT_GT(v_hull - v_object, 0.5 * (v_hull - v_true));
   EXPECT_GT(v_hull, 2.0 * v_true);
@@ -365,7 +381,8 @@ TEST_F(DepthObjectTest, VisibilityTexturingBeatsViewDependentOnPositionColours) 
     o.slicing = Slicing::kScreen;
     o.texturing = t == 0 ? Texturing::kViewDependent : Texturing::kVisibility;
     const DepthObjectFrame out = renderer.RenderImages(view, o);
-    test_support::WriteDebugImage(fmt::format("texturing_{}.png", TexturingName(o.texturing)), out.color);
+    test_support::WriteDebugImage(fmt::format("texturing_{}.png", TexturingName(o.texturing)),
+                                  out.color);
     const FrameParams f = PrepareFrame(renderer.maps(), view, o);
     int64_t n = 0;
     for (int y = 0; y < 200; ++y) {
@@ -384,7 +401,8 @@ TEST_F(DepthObjectTest, VisibilityTexturingBeatsViewDependentOnPositionColours) 
     err[t] /= 3.0 * n;
     (void)f;
   }
-  std::printf("texturing colour error (8-bit levels, mean): vdt %.2f, visibility %.2f\n", err[0], err[1]);
+  std::printf("texturing colour error (8-bit levels, mean): vdt %.2f, visibility %.2f\n", err[0],
+              err[1]);
   EXPECT_LT(err[1], err[0]);
   EXPECT_LT(err[1], 6.0);  // a slice spacing and a texel of position, ~100 levels per unit
   EXPECT_NO_GL_ERROR();
@@ -411,7 +429,8 @@ TEST_F(DepthObjectTest, HardCasesGiveFiniteOutput) {
     o.slices = 64;
     // Camera inside the cube, inside the sphere looking out, and outside the sphere.
     for (glm::dvec3 eye : {glm::dvec3(0.1, 0.2, 0.3), glm::dvec3(0.85, 0.9, 0.2)}) {
-      const DepthObjectFrame f = renderer.RenderImages(testing::PerspectiveView(eye, {0, 0, 0}, {0, 0, 1}, 96, 0.6), o);
+      const DepthObjectFrame f =
+          renderer.RenderImages(testing::PerspectiveView(eye, {0, 0, 0}, {0, 0, 1}, 96, 0.6), o);
       EXPECT_TRUE(finite(f)) << "inside the cube";
       EXPECT_GT(count(f), 0) << "inside the cube, eye " << eye.x;
     }
@@ -458,8 +477,10 @@ TEST_F(DepthObjectTest, HardCasesGiveFiniteOutput) {
   const Accuracy carve = Compare(holes.RenderImages(v, o).depth, TrueDepth(v, sphere));
   o.robust_k = 1;
   const Accuracy robust = Compare(holes.RenderImages(v, o).depth, TrueDepth(v, sphere));
-  std::printf("holes: IoU no-constraint %.4f, empty %.4f, empty + robust k=1 %.4f; p95 depth %.4f %.4f %.4f\n",
-              keep.iou, carve.iou, robust.iou, keep.p95, carve.p95, robust.p95);
+  std::printf(
+      "holes: IoU no-constraint %.4f, empty %.4f, empty + robust k=1 %.4f; p95 depth %.4f %.4f "
+      "%.4f\n",
+      keep.iou, carve.iou, robust.iou, keep.p95, carve.p95, robust.p95);
   EXPECT_GE(keep.iou, 0.98);
   EXPECT_LT(keep.p95, carve.p95) << "tunnels drilled by invalid texels deepen the surface";
   EXPECT_GE(robust.iou, 0.98);

@@ -7,18 +7,18 @@
 //   object: from a novel view finite, non-empty and inside the scene, and
 //   from an input camera its depth agrees with that frame's sensor depth.
 // Needs ../shared/data (IBR_SHARED_DATA); skips with the reason when absent.
+#include <fmt/format.h>
+#include <gtest/gtest.h>
+
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <glm/gtc/matrix_transform.hpp>
 #include <limits>
 #include <ostream>
 #include <string>
 #include <vector>
-
-#include <fmt/format.h>
-#include <glm/gtc/matrix_transform.hpp>
-#include <gtest/gtest.h>
 
 #include "capture/dataset.h"
 #include "capture/importers.h"
@@ -40,7 +40,9 @@ class RealDataTest : public test_support::GlTest {};
 
 struct MaskAgreement {
   int64_t hull = 0, photo = 0, both = 0;
-  double iou() const { return hull + photo - both > 0 ? double(both) / double(hull + photo - both) : 1.0; }
+  double iou() const {
+    return hull + photo - both > 0 ? double(both) / double(hull + photo - both) : 1.0;
+  }
   // Of the hull's pixels, the fraction inside the photo's mask.
   double precision() const { return hull > 0 ? double(both) / double(hull) : 1.0; }
   // Of the photo's mask, the fraction the hull covers.
@@ -59,12 +61,14 @@ core::Image<T> SampleLikeTheView(const core::Image<T>& photo) {
   core::Image<T> out(photo.width() / kDown, photo.height() / kDown, photo.channels());
   for (int y = 0; y < out.height(); ++y)
     for (int x = 0; x < out.width(); ++x)
-      for (int c = 0; c < photo.channels(); ++c) out.at(x, y, c) = photo.at(kDown * x + kDown / 2, kDown * y + kDown / 2, c);
+      for (int c = 0; c < photo.channels(); ++c)
+        out.at(x, y, c) = photo.at(kDown * x + kDown / 2, kDown * y + kDown / 2, c);
   return out;
 }
 
 // Counts inside the pixel rectangle [x0, x1) x [y0, y1) of the view.
-MaskAgreement CompareMasks(const core::Image8& hull, const core::Image8& photo, int x0, int y0, int x1, int y1) {
+MaskAgreement CompareMasks(const core::Image8& hull, const core::Image8& photo, int x0, int y0,
+                           int x1, int y1) {
   MaskAgreement a;
   for (int y = std::max(y0, 0); y < std::min(y1, hull.height()); ++y) {
     for (int x = std::max(x0, 0); x < std::min(x1, hull.width()); ++x) {
@@ -128,7 +132,8 @@ class MiddleburyHullTest : public RealDataTest, public ::testing::WithParamInter
 TEST_P(MiddleburyHullTest, HullReprojectedIntoEachPhotoAgreesWithItsMask) {
   const RingCase ring = GetParam();
   const fs::path src = test_support::SharedData(fmt::format("photos/{}", ring.folder));
-  if (src.empty()) GTEST_SKIP() << "../shared/data/photos/" << ring.folder << " is absent (IBR_SHARED_DATA)";
+  if (src.empty())
+    GTEST_SKIP() << "../shared/data/photos/" << ring.folder << " is absent (IBR_SHARED_DATA)";
   const fs::path out = test_support::TestOutputDir() / ring.folder;
   fs::remove_all(out);
   capture::ImportMiddlebury(src, out / "dataset");  // the README's mask recipe (default options)
@@ -156,7 +161,8 @@ TEST_P(MiddleburyHullTest, HullReprojectedIntoEachPhotoAgreesWithItsMask) {
     const double ms = watch.ElapsedMs();
     const core::Image8 full_mask = dataset.LoadMask(i);
     const core::Image8 photo_mask = SampleLikeTheView(full_mask);
-    const MaskAgreement a = CompareMasks(frame.mask, photo_mask, 0, 0, frame.mask.width(), frame.mask.height());
+    const MaskAgreement a =
+        CompareMasks(frame.mask, photo_mask, 0, 0, frame.mask.width(), frame.mask.height());
     // The same inside the README's tight box projected into the view (plus
     // 3 px): the mask recipe also admits lit clutter at the image borders
     // (parts of the gantry, threshold 0.19), which is no part of the object
@@ -172,16 +178,18 @@ TEST_P(MiddleburyHullTest, HullReprojectedIntoEachPhotoAgreesWithItsMask) {
       lo = glm::min(lo, uv);
       hi = glm::max(hi, uv);
     }
-    const MaskAgreement in_box = CompareMasks(frame.mask, photo_mask, static_cast<int>(lo.x) - 3,
-                                              static_cast<int>(lo.y) - 3, static_cast<int>(hi.x) + 4,
-                                              static_cast<int>(hi.y) + 4);
+    const MaskAgreement in_box =
+        CompareMasks(frame.mask, photo_mask, static_cast<int>(lo.x) - 3, static_cast<int>(lo.y) - 3,
+                     static_cast<int>(hi.x) + 4, static_cast<int>(hi.y) + 4);
     const int64_t outside = HullPixelsOutsideTheMask(frame.mask, full_mask);
     ious.push_back(a.iou());
-    std::printf("%s %s: hull %lld px, mask %lld px, IoU %.4f (precision %.4f, recall %.4f), in the README box "
-                "IoU %.4f; %lld hull px off the mask; %.0f ms\n",
-                ring.folder, dataset.views[i].name.c_str(), static_cast<long long>(a.hull),
-                static_cast<long long>(a.photo), a.iou(), a.precision(), a.recall(), in_box.iou(),
-                static_cast<long long>(outside), ms);
+    std::printf(
+        "%s %s: hull %lld px, mask %lld px, IoU %.4f (precision %.4f, recall %.4f), in the README "
+        "box "
+        "IoU %.4f; %lld hull px off the mask; %.0f ms\n",
+        ring.folder, dataset.views[i].name.c_str(), static_cast<long long>(a.hull),
+        static_cast<long long>(a.photo), a.iou(), a.precision(), a.recall(), in_box.iou(),
+        static_cast<long long>(outside), ms);
     // The hull is the intersection of every camera's silhouette cone, this
     // camera's included, and from this camera a fragment at a pixel centre
     // projects onto that same pixel of its own mask: the hull never leaves
@@ -199,13 +207,16 @@ TEST_P(MiddleburyHullTest, HullReprojectedIntoEachPhotoAgreesWithItsMask) {
     EXPECT_GE(a.iou(), ring.min_iou) << dataset.views[i].name;
     EXPECT_GE(in_box.iou(), ring.min_iou_in_box) << dataset.views[i].name;
     const core::Image8 overlay = Overlay(frame.mask, photo_mask);
-    if (i == 0) test_support::WriteDebugImage(fmt::format("{}_hull_{}.png", ring.folder, dataset.views[i].name), frame.color);
+    if (i == 0)
+      test_support::WriteDebugImage(
+          fmt::format("{}_hull_{}.png", ring.folder, dataset.views[i].name), frame.color);
     sheet.push_back(overlay);
   }
   // All 16 overlays side by side for a look: green both, red hull only, blue mask only.
   core::Image8 montage(views[0].camera.width * 4, views[0].camera.height * 4, 3, 0);
   for (size_t i = 0; i < sheet.size(); ++i) {
-    const int ox = static_cast<int>(i % 4) * views[0].camera.width, oy = static_cast<int>(i / 4) * views[0].camera.height;
+    const int ox = static_cast<int>(i % 4) * views[0].camera.width,
+              oy = static_cast<int>(i / 4) * views[0].camera.height;
     for (int y = 0; y < sheet[i].height(); ++y)
       for (int x = 0; x < sheet[i].width(); ++x)
         for (int c = 0; c < 3; ++c) montage.at(ox + x, oy + y, c) = sheet[i].at(x, y, c);
@@ -214,20 +225,25 @@ TEST_P(MiddleburyHullTest, HullReprojectedIntoEachPhotoAgreesWithItsMask) {
   const auto [lo, hi] = std::minmax_element(ious.begin(), ious.end());
   double mean = 0;
   for (double v : ious) mean += v / ious.size();
-  std::printf("%s: mask IoU over 16 views: min %.4f mean %.4f max %.4f\n", ring.folder, *lo, mean, *hi);
+  std::printf("%s: mask IoU over 16 views: min %.4f mean %.4f max %.4f\n", ring.folder, *lo, mean,
+              *hi);
   EXPECT_NO_GL_ERROR();
 }
 
 INSTANTIATE_TEST_SUITE_P(Rings, MiddleburyHullTest,
-                         ::testing::Values(RingCase{"templeSparseRing", 0.80, 0.90}, RingCase{"dinoSparseRing", 0.97, 0.97}),
-                         [](const auto& param_info) { return std::string(param_info.param.folder); });
+                         ::testing::Values(RingCase{"templeSparseRing", 0.80, 0.90},
+                                           RingCase{"dinoSparseRing", 0.97, 0.97}),
+                         [](const auto& param_info) {
+                           return std::string(param_info.param.folder);
+                         });
 
 // --------------------------------------------------------------- Redwood ----
 
 // The scene's extent: every valid sensor point of every frame, lifted into
 // the world. (ImportRedwood writes no bounds and MapsFromDataset needs them.)
 capture::Bounds PointBounds(const capture::Dataset& d) {
-  capture::Bounds b{glm::dvec3(std::numeric_limits<double>::max()), glm::dvec3(-std::numeric_limits<double>::max())};
+  capture::Bounds b{glm::dvec3(std::numeric_limits<double>::max()),
+                    glm::dvec3(-std::numeric_limits<double>::max())};
   for (size_t v = 0; v < d.views.size(); ++v) {
     const core::ImageF depth = d.LoadDepth(v);
     const capture::Camera& cam = d.camera(d.views[v]);
@@ -254,9 +270,9 @@ TEST_F(RealDataTest, RedwoodRobustDepthObject) {
   capture::Dataset dataset = capture::ReadDataset(out / "dataset");
   ASSERT_EQ(dataset.views.size(), 5u);
   dataset.bounds = PointBounds(dataset);
-  std::printf("redwood: scene bounds (%.3f %.3f %.3f) - (%.3f %.3f %.3f) m\n", dataset.bounds->min.x,
-              dataset.bounds->min.y, dataset.bounds->min.z, dataset.bounds->max.x, dataset.bounds->max.y,
-              dataset.bounds->max.z);
+  std::printf("redwood: scene bounds (%.3f %.3f %.3f) - (%.3f %.3f %.3f) m\n",
+              dataset.bounds->min.x, dataset.bounds->min.y, dataset.bounds->min.z,
+              dataset.bounds->max.x, dataset.bounds->max.y, dataset.bounds->max.z);
   MapSet maps = MapsFromDataset(dataset);
   // The importer's mask is "valid depth"; without it a sensor hole (depth 0)
   // is invalid depth inside the silhouette, which kNoConstraint lets carve
@@ -302,9 +318,12 @@ TEST_F(RealDataTest, RedwoodRobustDepthObject) {
       }
     }
     const double fraction = double(agree) / double(valid);
-    std::printf("redwood input camera %s: %lld valid sensor pixels, %lld rendered, %.4f agree within 2 spacings "
-                "(%.4f m) + 2 %% of depth\n", m.name.c_str(), static_cast<long long>(valid),
-                static_cast<long long>(covered), fraction, spacing);
+    std::printf(
+        "redwood input camera %s: %lld valid sensor pixels, %lld rendered, %.4f agree within 2 "
+        "spacings "
+        "(%.4f m) + 2 %% of depth\n",
+        m.name.c_str(), static_cast<long long>(valid), static_cast<long long>(covered), fraction,
+        spacing);
     // Most of them (measured 0.97-0.99): the rest are the rims of objects
     // (the chair's tubes, curtain folds), where a neighbouring frame's texel
     // sees the background and carves in front, and pixels the other frames
@@ -318,11 +337,13 @@ TEST_F(RealDataTest, RedwoodRobustDepthObject) {
   glm::dvec3 centre(0.0);
   for (const ImageMap& m : renderer.maps().maps) centre += CameraCentre(m.cam_from_world) / 5.0;
   const glm::dmat4& mid = renderer.maps().maps[2].cam_from_world;
-  const glm::dmat3 rot_turn = glm::dmat3(glm::rotate(glm::dmat4(1.0), glm::radians(8.0), glm::dvec3(0, 1, 0)));
+  const glm::dmat3 rot_turn =
+      glm::dmat3(glm::rotate(glm::dmat4(1.0), glm::radians(8.0), glm::dvec3(0, 1, 0)));
   const glm::dmat3 rotation = rot_turn * glm::dmat3(mid);
   glm::dmat4 novel_from_world(rotation);
   novel_from_world[3] = glm::dvec4(-(rotation * centre), 1.0);
-  const ViewCamera novel{ResizeCamera(renderer.maps().maps[2].camera, 640 / kDown), novel_from_world};
+  const ViewCamera novel{ResizeCamera(renderer.maps().maps[2].camera, 640 / kDown),
+                         novel_from_world};
   const FrameParams params = PrepareFrame(renderer.maps(), novel, o);
   const double spacing = params.stack.spacing_world;
   const DepthObjectFrame frame = renderer.RenderImages(novel, o);
@@ -338,10 +359,12 @@ TEST_F(RealDataTest, RedwoodRobustDepthObject) {
     for (int row = 0; row < depth.height(); ++row) {
       for (int col = 0; col < depth.width(); ++col) {
         if (!(depth.at(col, row) > 0)) continue;
-        const glm::dvec3 p_in_world = world_from_cam * cam.UnprojectPixel(col, row, depth.at(col, row));
+        const glm::dvec3 p_in_world =
+            world_from_cam * cam.UnprojectPixel(col, row, depth.at(col, row));
         const glm::dvec3 q = glm::dvec3(novel.cam_from_world * glm::dvec4(p_in_world, 1.0));
         if (q.z <= 0) continue;
-        const double u = novel.camera.fx * q.x / q.z + novel.camera.cx, w = novel.camera.fy * q.y / q.z + novel.camera.cy;
+        const double u = novel.camera.fx * q.x / q.z + novel.camera.cx,
+                     w = novel.camera.fy * q.y / q.z + novel.camera.cy;
         if (!(u >= 0 && w >= 0 && u < novel.camera.width && w < novel.camera.height)) continue;
         scene_lo = std::min(scene_lo, q.z);
         scene_hi = std::max(scene_hi, q.z);
@@ -362,12 +385,14 @@ TEST_F(RealDataTest, RedwoodRobustDepthObject) {
       agree += std::abs(z - s) <= 2.0 * spacing + 0.02 * s;
     }
   }
-  std::printf("redwood novel view: %lld of %zu pixels covered; the sensor points seen from there span z %.3f..%.3f m, "
-              "%lld rendered pixels outside that (+-2 spacings, %.4f m); %lld pixels with splatted points, "
-              "%.4f agree within 2 spacings + 2 %%\n",
-              static_cast<long long>(covered), frame.depth.pixel_count(), scene_lo, scene_hi,
-              static_cast<long long>(out_of_range), spacing, static_cast<long long>(compared),
-              double(agree) / double(std::max<int64_t>(compared, 1)));
+  std::printf(
+      "redwood novel view: %lld of %zu pixels covered; the sensor points seen from there span z "
+      "%.3f..%.3f m, "
+      "%lld rendered pixels outside that (+-2 spacings, %.4f m); %lld pixels with splatted points, "
+      "%.4f agree within 2 spacings + 2 %%\n",
+      static_cast<long long>(covered), frame.depth.pixel_count(), scene_lo, scene_hi,
+      static_cast<long long>(out_of_range), spacing, static_cast<long long>(compared),
+      double(agree) / double(std::max<int64_t>(compared, 1)));
   EXPECT_EQ(non_finite, 0);
   EXPECT_GT(covered, 0);
   // Nearly all rendered depth lies where the sensor saw the scene (measured

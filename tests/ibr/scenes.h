@@ -5,11 +5,10 @@
 
 #include <algorithm>
 #include <cmath>
+#include <glm/glm.hpp>
 #include <optional>
 #include <random>
 #include <vector>
-
-#include <glm/glm.hpp>
 
 #include "core/projection.h"
 #include "ibr/depth_object.h"
@@ -23,11 +22,13 @@ struct Sphere {
 };
 
 // Nearest hit t > 0 of o + t d with a union of spheres (d need not be unit).
-inline std::optional<double> HitSpheres(const std::vector<Sphere>& spheres, glm::dvec3 o, glm::dvec3 d) {
+inline std::optional<double> HitSpheres(const std::vector<Sphere>& spheres, glm::dvec3 o,
+                                        glm::dvec3 d) {
   std::optional<double> best;
   for (const Sphere& s : spheres) {
     const glm::dvec3 oc = o - s.centre;
-    const double a = glm::dot(d, d), b = glm::dot(oc, d), c = glm::dot(oc, oc) - s.radius * s.radius;
+    const double a = glm::dot(d, d), b = glm::dot(oc, d),
+                 c = glm::dot(oc, oc) - s.radius * s.radius;
     const double disc = b * b - a * c;
     if (disc < 0) continue;
     const double r = std::sqrt(disc);
@@ -72,7 +73,8 @@ inline void RenderSpheres(const std::vector<Sphere>& spheres, ImageMap& map) {
       map.mask.at(col, row) = 255;
       const glm::dvec3 p = ow + *t * dw;
       for (int c = 0; c < 3; ++c) {
-        map.color.at(col, row, c) = static_cast<uint8_t>(std::clamp(128.0 + 100.0 * p[c], 0.0, 255.0));
+        map.color.at(col, row, c) =
+            static_cast<uint8_t>(std::clamp(128.0 + 100.0 * p[c], 0.0, 255.0));
       }
     }
   }
@@ -84,7 +86,8 @@ inline ViewCamera PerspectiveView(glm::dvec3 eye, glm::dvec3 target, glm::dvec3 
   ViewCamera v;
   const double f = focal_factor * size;
   v.camera = MapCamera::Pinhole(size, size, f, f, size / 2.0, size / 2.0);
-  v.cam_from_world = glm::dmat4(core::CamFromWorldLookAt(glm::vec3(eye), glm::vec3(target), glm::vec3(up)));
+  v.cam_from_world =
+      glm::dmat4(core::CamFromWorldLookAt(glm::vec3(eye), glm::vec3(target), glm::vec3(up)));
   return v;
 }
 
@@ -93,7 +96,8 @@ inline ViewCamera OrthographicView(glm::dvec3 eye, glm::dvec3 target, glm::dvec3
   ViewCamera v;
   const double s = size / (2.0 * half_width);
   v.camera = MapCamera::Orthographic(size, size, s, s, size / 2.0, size / 2.0);
-  v.cam_from_world = glm::dmat4(core::CamFromWorldLookAt(glm::vec3(eye), glm::vec3(target), glm::vec3(up)));
+  v.cam_from_world =
+      glm::dmat4(core::CamFromWorldLookAt(glm::vec3(eye), glm::vec3(target), glm::vec3(up)));
   return v;
 }
 

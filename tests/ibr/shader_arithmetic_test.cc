@@ -4,11 +4,11 @@
 // division. This test checks exactly those operations on this driver, over
 // random operands of many magnitudes, so a driver that breaks the assumption
 // is named here rather than as a mysterious stencil mismatch.
+#include <gtest/gtest.h>
+
 #include <bit>
 #include <cmath>
 #include <random>
-
-#include <gtest/gtest.h>
 
 #include "render/gl/render_target.h"
 #include "tests/support/gl_test.h"
@@ -80,7 +80,8 @@ TEST_F(ShaderArithmeticTest, PreciseDivisionAndMulAddMatchCpuBitForBit) {
       const int row = kH - 1 - gl_row;
       const float expected[4] = {q, fm, chain, fc};
       for (int c = 0; c < 4; ++c) {
-        if (std::bit_cast<uint32_t>(result.at(col, row, c)) != std::bit_cast<uint32_t>(expected[c])) {
+        if (std::bit_cast<uint32_t>(result.at(col, row, c)) !=
+            std::bit_cast<uint32_t>(expected[c])) {
           ++mismatches[c];
         }
       }

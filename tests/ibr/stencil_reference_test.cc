@@ -4,12 +4,12 @@
 // for seeded random depth maps and views, both slicing families, three
 // resolutions, and the boundary cases (depth exactly on a slice, pixels
 // reaching N on the last slice, ties in the best-axis choice).
+#include <fmt/format.h>
+#include <gtest/gtest.h>
+
 #include <bit>
 #include <cstdio>
 #include <random>
-
-#include <fmt/format.h>
-#include <gtest/gtest.h>
 
 #include "core/image_io.h"
 #include "ibr/depth_object.h"
@@ -55,12 +55,14 @@ class StencilReferenceTest : public test_support::GlTest {
         bool bad = false;
         if (stencil.at(x, y) != ref.stencil.at(x, y)) ++out.mismatches.stencil, bad = true;
         for (int c = 0; c < 4; ++c) {
-          if (std::bit_cast<uint32_t>(color.at(x, y, c)) != std::bit_cast<uint32_t>(ref.color.at(x, y, c))) {
+          if (std::bit_cast<uint32_t>(color.at(x, y, c)) !=
+              std::bit_cast<uint32_t>(ref.color.at(x, y, c))) {
             ++out.mismatches.color, bad = true;
           }
         }
         for (int c = 0; c < 2; ++c) {
-          if (std::bit_cast<uint32_t>(depth.at(x, y, c)) != std::bit_cast<uint32_t>(ref.depth.at(x, y, c))) {
+          if (std::bit_cast<uint32_t>(depth.at(x, y, c)) !=
+              std::bit_cast<uint32_t>(ref.depth.at(x, y, c))) {
             ++out.mismatches.depth, bad = true;
           }
         }
@@ -142,7 +144,8 @@ TEST_F(StencilReferenceTest, RandomMapsAndViewsAgreeBitForBit) {
   const int sizes[3] = {64, 97, 160};  // three resolutions, one odd
   for (int scene = 0; scene < 2; ++scene) {
     const bool ring = scene == 1;
-    DepthObjectRenderer renderer(programs(), ring ? RandomRingMaps(rng, 48) : RandomCubeMaps(rng, 40));
+    DepthObjectRenderer renderer(programs(),
+                                 ring ? RandomRingMaps(rng, 48) : RandomCubeMaps(rng, 40));
     for (int size : sizes) {
       for (Slicing slicing : {Slicing::kOrthogonal, Slicing::kScreen}) {
         for (int variant = 0; variant < 4; ++variant) {
@@ -152,14 +155,16 @@ TEST_F(StencilReferenceTest, RandomMapsAndViewsAgreeBitForBit) {
           o.method = variant == 3 ? Method::kVisualHull : Method::kDepthObject;
           o.robust_k = variant == 2 ? 1 : 0;
           o.outside = variant == 1 ? OutsidePolicy::kFail : OutsidePolicy::kPass;
-          o.invalid_depth = variant == 1 ? InvalidDepthPolicy::kNoConstraint : InvalidDepthPolicy::kEmpty;
+          o.invalid_depth =
+              variant == 1 ? InvalidDepthPolicy::kNoConstraint : InvalidDepthPolicy::kEmpty;
           const ViewCamera view = RandomView(rng, size, variant == 0 && size == 97);
           const std::string name = fmt::format("{}_{}_{}_v{}", ring ? "ring" : "cube", size,
                                                SlicingName(slicing), variant);
           const Outcome out = Compare(renderer, view, o, name);
           EXPECT_EQ(out.mismatches.total(), 0)
-              << name << ": stencil " << out.mismatches.stencil << ", colour " << out.mismatches.color
-              << ", depth " << out.mismatches.depth << " over " << out.mismatches.pixels << " pixels";
+              << name << ": stencil " << out.mismatches.stencil << ", colour "
+              << out.mismatches.color << ", depth " << out.mismatches.depth << " over "
+              << out.mismatches.pixels << " pixels";
           total.stencil += out.mismatches.stencil;
           total.color += out.mismatches.color;
           total.depth += out.mismatches.depth;
@@ -170,15 +175,15 @@ TEST_F(StencilReferenceTest, RandomMapsAndViewsAgreeBitForBit) {
       }
     }
   }
-  std::printf("stencil reference: %d cases, %lld map-pass fragments, %lld object pixels, "
-              "mismatches: stencil %lld, colour %lld, depth %lld\n",
-              cases, static_cast<long long>(fragments), static_cast<long long>(finished),
-              static_cast<long long>(total.stencil), static_cast<long long>(total.color),
-              static_cast<long long>(total.depth));
+  std::printf(
+      "stencil reference: %d cases, %lld map-pass fragments, %lld object pixels, "
+      "mismatches: stencil %lld, colour %lld, depth %lld\n",
+      cases, static_cast<long long>(fragments), static_cast<long long>(finished),
+      static_cast<long long>(total.stencil), static_cast<long long>(total.color),
+      static_cast<long long>(total.depth));
   EXPECT_GT(finished, 1000) << "the random scenes must actually draw objects";
   EXPECT_NO_GL_ERROR();
 }
-
 
 // Boundary cases, constructed so they certainly occur: the view looks exactly
 // along -z (orthographic and perspective), the map facing the same way gets,
@@ -229,12 +234,15 @@ TEST_F(StencilReferenceTest, BoundaryCasesAgreeBitForBit) {
         }
       }
       DepthObjectRenderer renderer(programs(), std::move(set));
-      const Outcome out = Compare(renderer, view, o, fmt::format("last_slice_{}_{}", orthographic, size));
+      const Outcome out =
+          Compare(renderer, view, o, fmt::format("last_slice_{}_{}", orthographic, size));
       EXPECT_EQ(out.mismatches.total(), 0) << "along -z, size " << size;
       EXPECT_GT(out.reference.ties, 100) << "depths exactly on a slice must occur";
-      EXPECT_GT(out.reference.finished_on_last_slice, 100) << "pixels must reach N on the last slice";
+      EXPECT_GT(out.reference.finished_on_last_slice, 100)
+          << "pixels must reach N on the last slice";
       EXPECT_EQ(out.reference.finished_on_last_slice, out.finished_pixels)
-          << "every object pixel finishes on the last slice (orthographic " << orthographic << ", size " << size << ")";
+          << "every object pixel finishes on the last slice (orthographic " << orthographic
+          << ", size " << size << ")";
       ++cases;
     }
   }
@@ -245,21 +253,23 @@ TEST_F(StencilReferenceTest, BoundaryCasesAgreeBitForBit) {
     for (int size : {64, 97, 160}) {
       DepthObjectRenderer renderer(programs(), RandomCubeMaps(rng, 40));
       const ViewCamera view =
-          testing::PerspectiveView(3.0 * glm::normalize(d), {0, 0, 0}, d.z == 0 ? glm::dvec3(0, 0, 1) : glm::dvec3(1, 0, 0), size);
+          testing::PerspectiveView(3.0 * glm::normalize(d), {0, 0, 0},
+                                   d.z == 0 ? glm::dvec3(0, 0, 1) : glm::dvec3(1, 0, 0), size);
       DepthObjectOptions o;
       o.slices = 40;
       const FrameParams frame = PrepareFrame(renderer.maps(), view, o);
       EXPECT_EQ(frame.stack.axis, d.x != 0 ? 0 : 1) << "lowest tied axis";
-      const Outcome out = Compare(renderer, view, o, fmt::format("diag_{}_{}_{}_{}", d.x, d.y, d.z, size));
+      const Outcome out =
+          Compare(renderer, view, o, fmt::format("diag_{}_{}_{}_{}", d.x, d.y, d.z, size));
       EXPECT_EQ(out.mismatches.total(), 0) << "diagonal view, size " << size;
       EXPECT_GT(out.finished_pixels, 50);
       ++cases;
     }
   }
-  std::printf("stencil reference boundary cases: %d, all without mismatches if this test passed\n", cases);
+  std::printf("stencil reference boundary cases: %d, all without mismatches if this test passed\n",
+              cases);
   EXPECT_NO_GL_ERROR();
 }
-
 
 // The property behind the paper's remark (sec. 4.1): a pixel whose stencil
 // reached N stays N, so it keeps the colour and depth of the FRONT-MOST slice
@@ -315,7 +325,9 @@ TEST_F(StencilReferenceTest, FinishedPixelsKeepTheFrontMostSlice) {
           ReferenceMapAccepts(tables, f.maps[a], variant, p, texel);
           if (texel.x < 0) continue;
           for (int c = 0; c < 4; ++c) {
-            const float cc = static_cast<float>(tables.color[tables.Index(texel.z, texel.x, texel.y) * 4 + c]) * f.inv255;
+            const float cc =
+                static_cast<float>(tables.color[tables.Index(texel.z, texel.x, texel.y) * 4 + c]) *
+                f.inv255;
             expected[c] = expected[c] + cc * f.maps[a].extra.x;
           }
         }
@@ -324,7 +336,8 @@ TEST_F(StencilReferenceTest, FinishedPixelsKeepTheFrontMostSlice) {
     }
     EXPECT_EQ(wrong, 0) << SlicingName(slicing);
     EXPECT_GT(finished, 500);
-    EXPECT_GT(later_accepts, finished / 2) << "deeper slices accept these pixels too, and must not win";
+    EXPECT_GT(later_accepts, finished / 2)
+        << "deeper slices accept these pixels too, and must not win";
   }
   EXPECT_NO_GL_ERROR();
 }

@@ -1,12 +1,12 @@
 // View-dependent texturing weights (Kautz-Seidel 2001, sec. 4.2, with the
 // formula of ibr/view_weights.h): at most three non-zero, summing to one,
 // falling with the angle, continuous as the camera moves, 1 at an input view.
-#include <cmath>
-#include <numeric>
+#include "ibr/view_weights.h"
 
 #include <gtest/gtest.h>
 
-#include "ibr/view_weights.h"
+#include <cmath>
+#include <numeric>
 
 namespace ibr {
 namespace {
@@ -43,7 +43,8 @@ TEST(ViewWeightsTest, ContinuousAcrossSwapsOfTheBestThree) {
   double worst = 0;
   for (int i = 1; i <= 7200; ++i) {
     const std::vector<float> w = ViewDependentWeights(dirs, OnCircle(i * 2 * M_PI / 7200));
-    for (size_t k = 0; k < w.size(); ++k) worst = std::max(worst, static_cast<double>(std::abs(w[k] - prev[k])));
+    for (size_t k = 0; k < w.size(); ++k)
+      worst = std::max(worst, static_cast<double>(std::abs(w[k] - prev[k])));
     prev = w;
   }
   EXPECT_LT(worst, 0.02);
@@ -55,7 +56,8 @@ TEST(ViewWeightsTest, InputDirectionGetsAllTheWeight) {
     const std::vector<float> w = ViewDependentWeights(dirs, dirs[i]);
     EXPECT_EQ(w[i], 1.0f);
     // And nearly so just beside it.
-    const std::vector<float> near = ViewDependentWeights(dirs, glm::normalize(dirs[i] + glm::dvec3(1e-3, 2e-3, 0)));
+    const std::vector<float> near =
+        ViewDependentWeights(dirs, glm::normalize(dirs[i] + glm::dvec3(1e-3, 2e-3, 0)));
     EXPECT_GT(near[i], 0.99f);
   }
 }

@@ -3,10 +3,10 @@
 // write actual/diff images into the build tree when a comparison fails.
 #pragma once
 
+#include <gtest/gtest.h>
+
 #include <filesystem>
 #include <string>
-
-#include <gtest/gtest.h>
 
 #include "core/image.h"
 #include "render/gl/context.h"

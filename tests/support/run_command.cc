@@ -1,13 +1,13 @@
 #include "tests/support/run_command.h"
 
+#include <sys/wait.h>
+#include <unistd.h>
+
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
-
-#include <sys/wait.h>
-#include <unistd.h>
 
 namespace test_support {
 
@@ -24,7 +24,8 @@ CommandResult RunCommand(const std::string& command) {
   const auto dir = std::filesystem::temp_directory_path() /
                    ("ibr-cmd-" + std::to_string(::getpid()) + "-" + std::to_string(std::rand()));
   std::filesystem::create_directories(dir);
-  const std::string full = command + " > '" + (dir / "out").string() + "' 2> '" + (dir / "err").string() + "' < /dev/null";
+  const std::string full = command + " > '" + (dir / "out").string() + "' 2> '" +
+                           (dir / "err").string() + "' < /dev/null";
   const int status = std::system(full.c_str());
   CommandResult result;
   result.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;

@@ -79,9 +79,10 @@ class RayCoreHooksTest : public test_support::GlTest {
  protected:
   Hit March(const HookSetup& s) {
     const ShaderSources& embedded = ShaderSources::Embedded();
-    ShaderSources sources({{"cores/ray_core.glsl", *embedded.Find("cores/ray_core.glsl")},
-                           {"common/fullscreen.vert.glsl", *embedded.Find("common/fullscreen.vert.glsl")},
-                           {"hooks.frag.glsl", kFragment}});
+    ShaderSources sources(
+        {{"cores/ray_core.glsl", *embedded.Find("cores/ray_core.glsl")},
+         {"common/fullscreen.vert.glsl", *embedded.Find("common/fullscreen.vert.glsl")},
+         {"hooks.frag.glsl", kFragment}});
     ProgramDesc desc{.vertex = "common/fullscreen.vert.glsl", .fragment = "hooks.frag.glsl"};
     desc.defines = RayCoreDefines(s.core);
     desc.defines.insert(desc.defines.end(), s.defines.begin(), s.defines.end());

@@ -3,11 +3,11 @@
 // [-1.5, 1.5]^3, its lateral offset x set by the pixel column.
 #include "render/cores/ray_core.h"
 
+#include <gtest/gtest.h>
+
 #include <cmath>
 #include <map>
 #include <string>
-
-#include <gtest/gtest.h>
 
 #include "core/error.h"
 #include "render/gl/render_target.h"
@@ -101,7 +101,8 @@ class RayCoreTest : public test_support::GlTest {
     ShaderSources sources({{"cores/ray_core.glsl", *core},
                            {"common/fullscreen.vert.glsl", *vert},
                            {"ray_core_test.frag.glsl", kTestFragment}});
-    ProgramDesc desc{.vertex = "common/fullscreen.vert.glsl", .fragment = "ray_core_test.frag.glsl"};
+    ProgramDesc desc{.vertex = "common/fullscreen.vert.glsl",
+                     .fragment = "ray_core_test.frag.glsl"};
     desc.defines = RayCoreDefines(s.core);
     if (s.warp) desc.defines.push_back("WARP");
     if (s.bent) desc.defines.push_back("BENT");
@@ -127,8 +128,9 @@ class RayCoreTest : public test_support::GlTest {
     const core::ImageF image = target.ReadColorF(0);
     std::vector<RayRow> rows;
     for (int col = 0; col < s.width; ++col) {
-      rows.push_back({static_cast<RayOutcome>(std::lround(image.at(col, 0, 0))), image.at(col, 0, 1),
-                      static_cast<int>(std::lround(image.at(col, 0, 2))), image.at(col, 0, 3)});
+      rows.push_back({static_cast<RayOutcome>(std::lround(image.at(col, 0, 0))),
+                      image.at(col, 0, 1), static_cast<int>(std::lround(image.at(col, 0, 2))),
+                      image.at(col, 0, 3)});
     }
     return rows;
   }

@@ -6,11 +6,11 @@
 // slice-count rules of Kautz-Seidel 2001 sec. 3.4.
 #include "render/cores/slicing.h"
 
-#include <cmath>
-#include <random>
-
-#include <glm/gtc/matrix_transform.hpp>
 #include <gtest/gtest.h>
+
+#include <cmath>
+#include <glm/gtc/matrix_transform.hpp>
+#include <random>
 
 #include "core/error.h"
 #include "core/projection.h"
@@ -22,7 +22,8 @@ namespace {
 SliceBox RandomBox(std::mt19937& rng) {
   std::uniform_real_distribution<float> u(-1, 1), s(0.3f, 2.0f);
   glm::mat4 m = glm::translate(glm::mat4(1.0f), glm::vec3(u(rng), u(rng), u(rng)));
-  m = glm::rotate(m, 3.0f * u(rng), glm::normalize(glm::vec3(u(rng), u(rng), u(rng)) + glm::vec3(0.01f)));
+  m = glm::rotate(m, 3.0f * u(rng),
+                  glm::normalize(glm::vec3(u(rng), u(rng), u(rng)) + glm::vec3(0.01f)));
   m = glm::scale(m, glm::vec3(s(rng), s(rng), s(rng)));
   m[1][0] += 0.3f * u(rng);  // shear
   return {m};
@@ -58,7 +59,8 @@ std::vector<glm::dvec3> ReferenceCrossSection(glm::dvec3 n, double d) {
         const glm::dvec3 p = poly[i], q = poly[(i + 1) % poly.size()];
         const double bound = side == 0 ? 0.0 : 1.0;
         if (inside(p)) out.push_back(p);
-        if (inside(p) != inside(q)) out.push_back(p + (q - p) * ((bound - p[axis]) / (q[axis] - p[axis])));
+        if (inside(p) != inside(q))
+          out.push_back(p + (q - p) * ((bound - p[axis]) / (q[axis] - p[axis])));
       }
       poly = out;
     }
@@ -68,7 +70,8 @@ std::vector<glm::dvec3> ReferenceCrossSection(glm::dvec3 n, double d) {
 
 double Area(const std::vector<glm::dvec3>& poly) {
   glm::dvec3 sum(0);
-  for (size_t i = 1; i + 1 < poly.size(); ++i) sum += glm::cross(poly[i] - poly[0], poly[i + 1] - poly[0]);
+  for (size_t i = 1; i + 1 < poly.size(); ++i)
+    sum += glm::cross(poly[i] - poly[0], poly[i + 1] - poly[0]);
   return 0.5 * glm::length(sum);
 }
 
@@ -99,7 +102,8 @@ TEST(Slicing, ScreenSliceVerticesLieOnTheBoxAndOnTheirPlane) {
         EXPECT_LT(to_face, 1e-5f) << "vertex not on a face of the box";
         EXPECT_NEAR(glm::dot(stack.normal_in_box, p), slice.offset_in_box, 1e-4f);
         // Screen-parallel: every vertex at the same camera z.
-        EXPECT_NEAR((cam_from_box * glm::vec4(p, 1.0f)).z, z0, 1e-4f * std::max(1.0f, std::abs(z0)));
+        EXPECT_NEAR((cam_from_box * glm::vec4(p, 1.0f)).z, z0,
+                    1e-4f * std::max(1.0f, std::abs(z0)));
       }
     }
   }
@@ -116,9 +120,11 @@ TEST(Slicing, ScreenSliceAreaEqualsAnIndependentClipper) {
     options.count = 9;
     const SliceStack stack = MakeSlices(box, view, options);
     for (const Slice& slice : stack.slices) {
-      const auto reference = ReferenceCrossSection(glm::dvec3(stack.normal_in_box), slice.offset_in_box);
+      const auto reference =
+          ReferenceCrossSection(glm::dvec3(stack.normal_in_box), slice.offset_in_box);
       const double want = Area(reference);
-      EXPECT_NEAR(PolygonArea(slice.p_in_box), want, 1e-4 * std::max(1.0, want)) << "trial " << trial;
+      EXPECT_NEAR(PolygonArea(slice.p_in_box), want, 1e-4 * std::max(1.0, want))
+          << "trial " << trial;
     }
   }
   // Random planes straight through ClipPlaneToUnitBox, including misses.
@@ -134,7 +140,8 @@ TEST(Slicing, ScreenSliceAreaEqualsAnIndependentClipper) {
     // Counter-clockwise around +n.
     if (poly.size() >= 3) {
       glm::vec3 twice(0);
-      for (size_t i = 1; i + 1 < poly.size(); ++i) twice += glm::cross(poly[i] - poly[0], poly[i + 1] - poly[0]);
+      for (size_t i = 1; i + 1 < poly.size(); ++i)
+        twice += glm::cross(poly[i] - poly[0], poly[i + 1] - poly[0]);
       EXPECT_GT(glm::dot(twice, n), 0);
     }
   }
@@ -170,14 +177,17 @@ TEST(Slicing, OrthogonalAxisIsTheOneMostParallelToTheView) {
       glm::vec3 dir(0);
       dir[k] = sign;
       const glm::vec3 up = k == 2 ? glm::vec3(0, 1, 0) : glm::vec3(0, 0, 1);
-      const SliceView view{core::CamFromWorldLookAt(glm::vec3(0.5f) - 4.0f * dir, glm::vec3(0.5f), up), false};
+      const SliceView view{
+          core::CamFromWorldLookAt(glm::vec3(0.5f) - 4.0f * dir, glm::vec3(0.5f), up), false};
       EXPECT_EQ(ChooseOrthogonalAxis(unit, view), k);
     }
   }
   // Exact ties go to the lowest axis: (1,1,1) ties all three, (0,1,1) ties y and z.
-  const SliceView diagonal{core::CamFromWorldLookAt({3.5f, 3.5f, 3.5f}, glm::vec3(0.5f), {0, 0, 1}), true};
+  const SliceView diagonal{core::CamFromWorldLookAt({3.5f, 3.5f, 3.5f}, glm::vec3(0.5f), {0, 0, 1}),
+                           true};
   EXPECT_EQ(ChooseOrthogonalAxis(unit, diagonal), 0);
-  const SliceView yz{core::CamFromWorldLookAt({0.5f, -2.5f, -2.5f}, glm::vec3(0.5f), {1, 0, 0}), true};
+  const SliceView yz{core::CamFromWorldLookAt({0.5f, -2.5f, -2.5f}, glm::vec3(0.5f), {1, 0, 0}),
+                     true};
   EXPECT_EQ(ChooseOrthogonalAxis(unit, yz), 1);
   // A box stretched 4x along x: its x planes are as far apart in world but the
   // planes' normals are what counts, so a view 30 degrees off x still picks x.
@@ -192,7 +202,8 @@ TEST(Slicing, OrthogonalAxisIsTheOneMostParallelToTheView) {
 double HitT(const std::vector<glm::vec3>& poly, glm::dvec3 o, glm::dvec3 d) {
   const glm::dvec3 p0(poly[0]);
   glm::dvec3 n(0);
-  for (size_t i = 1; i + 1 < poly.size(); ++i) n += glm::cross(glm::dvec3(poly[i]) - p0, glm::dvec3(poly[i + 1]) - p0);
+  for (size_t i = 1; i + 1 < poly.size(); ++i)
+    n += glm::cross(glm::dvec3(poly[i]) - p0, glm::dvec3(poly[i + 1]) - p0);
   const double denom = glm::dot(n, d);
   if (std::abs(denom) < 1e-12) return -1;
   const double t = glm::dot(n, p0 - o) / denom;
@@ -205,8 +216,8 @@ double HitT(const std::vector<glm::vec3>& poly, glm::dvec3 o, glm::dvec3 d) {
   return t;
 }
 
-void ExpectOrderAlongRays(const SliceBox& box, const SliceView& view, SliceFamily family, SliceOrder order,
-                          std::mt19937& rng) {
+void ExpectOrderAlongRays(const SliceBox& box, const SliceView& view, SliceFamily family,
+                          SliceOrder order, std::mt19937& rng) {
   SlicingOptions options;
   options.family = family;
   options.count = 24;
@@ -221,7 +232,8 @@ void ExpectOrderAlongRays(const SliceBox& box, const SliceView& view, SliceFamil
     const glm::dvec3 target(u(rng), u(rng), u(rng));
     glm::dvec3 origin, dir;
     if (view.orthographic) {
-      dir = glm::dvec3(glm::mat3(box_from_world) * glm::vec3(world_from_cam * glm::vec4(0, 0, 1, 0)));
+      dir =
+          glm::dvec3(glm::mat3(box_from_world) * glm::vec3(world_from_cam * glm::vec4(0, 0, 1, 0)));
       origin = target - 100.0 * dir;
     } else {
       origin = glm::dvec3(box_from_world * (world_from_cam * glm::vec4(0, 0, 0, 1)));
@@ -247,7 +259,8 @@ void ExpectOrderAlongRays(const SliceBox& box, const SliceView& view, SliceFamil
 
 TEST(Slicing, SlicesAreOrderedAlongEveryRay) {
   std::mt19937 rng(11);
-  for (SliceFamily family : {SliceFamily::kSurfaceAligned, SliceFamily::kOrthogonal, SliceFamily::kScreen}) {
+  for (SliceFamily family :
+       {SliceFamily::kSurfaceAligned, SliceFamily::kOrthogonal, SliceFamily::kScreen}) {
     for (SliceOrder order : {SliceOrder::kFrontToBack, SliceOrder::kBackToFront}) {
       for (int trial = 0; trial < 6; ++trial) {
         const SliceBox box = RandomBox(rng);
@@ -264,8 +277,10 @@ TEST(Slicing, EyeInsideTheBoxKeepsEveryRayOrdered) {
   for (SliceFamily family : {SliceFamily::kSurfaceAligned, SliceFamily::kOrthogonal}) {
     // Eye at box (0.3, 0.6, 0.45), looking at random directions.
     const glm::vec3 eye = glm::vec3(box.world_from_box * glm::vec4(0.3f, 0.6f, 0.45f, 1.0f));
-    for (const glm::vec3 look : {glm::vec3(1, 0.2f, 0.1f), glm::vec3(-0.3f, 1, -0.5f), glm::vec3(0.1f, 0.1f, -1)}) {
-      const SliceView view{core::CamFromWorldLookAt(eye, eye + look, glm::vec3(0.3f, 0.2f, 1)), false};
+    for (const glm::vec3 look :
+         {glm::vec3(1, 0.2f, 0.1f), glm::vec3(-0.3f, 1, -0.5f), glm::vec3(0.1f, 0.1f, -1)}) {
+      const SliceView view{core::CamFromWorldLookAt(eye, eye + look, glm::vec3(0.3f, 0.2f, 1)),
+                           false};
       ExpectOrderAlongRays(box, view, family, SliceOrder::kFrontToBack, rng);
     }
   }
@@ -283,9 +298,11 @@ TEST(Slicing, CountRules) {
   // A unit cube face-on in an orthographic view at 100 px per unit: the
   // longest projected corner distance is the face diagonal, 100 sqrt 2 px.
   const SliceBox unit{};
-  const SliceView view{core::CamFromWorldLookAt({0.5f, 0.5f, -5}, {0.5f, 0.5f, 0.5f}, {0, -1, 0}), true};
+  const SliceView view{core::CamFromWorldLookAt({0.5f, 0.5f, -5}, {0.5f, 0.5f, 0.5f}, {0, -1, 0}),
+                       true};
   const glm::mat4 clip = core::ClipFromCamOrthographic(100, 100, 200, 200, 400, 400, 0.1, 20);
-  EXPECT_EQ(ScreenSliceCount(unit, view, clip, 400, 400), static_cast<int>(std::ceil(100 * std::sqrt(2.0))));
+  EXPECT_EQ(ScreenSliceCount(unit, view, clip, 400, 400),
+            static_cast<int>(std::ceil(100 * std::sqrt(2.0))));
 }
 
 TEST(Slicing, SpacingAndPlanePositions) {
@@ -323,7 +340,8 @@ TEST(Slicing, DegenerateViewsGiveFiniteSlices) {
       {core::CamFromWorldLookAt({1, -5, 0.125f}, {1, 1, 0.125f}, {0, 0, 1}), false},
       {core::CamFromWorldLookAt({1, -5, 0.0f}, {1, 1, 0.0f}, {0, 0, 1}), false}};
   for (const SliceView& view : views) {
-    for (SliceFamily family : {SliceFamily::kSurfaceAligned, SliceFamily::kOrthogonal, SliceFamily::kScreen}) {
+    for (SliceFamily family :
+         {SliceFamily::kSurfaceAligned, SliceFamily::kOrthogonal, SliceFamily::kScreen}) {
       for (bool full : {false, true}) {
         SlicingOptions options;
         options.family = family;
@@ -363,7 +381,8 @@ TEST(Slicing, FullSizeScreenSlicesContainTheExactOnes) {
     ASSERT_EQ(exact.slices.size(), 8u);  // no plane grazes a corner for these random boxes
     for (size_t i = 0; i < full.slices.size(); ++i) {
       EXPECT_NEAR(full.slices[i].offset_in_box, exact.slices[i].offset_in_box, 1e-4f);
-      EXPECT_GE(PolygonArea(full.slices[i].p_in_box), PolygonArea(exact.slices[i].p_in_box) * (1 - 1e-4f));
+      EXPECT_GE(PolygonArea(full.slices[i].p_in_box),
+                PolygonArea(exact.slices[i].p_in_box) * (1 - 1e-4f));
       for (const glm::vec3& p : full.slices[i].p_in_box) {
         EXPECT_NEAR(glm::dot(full.normal_in_box, p), full.slices[i].offset_in_box,
                     1e-3f * std::max(1.0f, glm::length(p)));

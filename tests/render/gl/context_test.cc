@@ -1,8 +1,8 @@
 #include "render/gl/context.h"
 
-#include <cstdlib>
-
 #include <gtest/gtest.h>
+
+#include <cstdlib>
 
 #include "render/gl/gl.h"
 #include "tests/support/gl_test.h"

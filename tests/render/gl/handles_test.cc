@@ -1,8 +1,8 @@
 #include "render/gl/handles.h"
 
-#include <type_traits>
-
 #include <gtest/gtest.h>
+
+#include <type_traits>
 
 #include "tests/support/gl_test.h"
 
@@ -10,8 +10,10 @@ namespace render {
 namespace {
 
 static_assert(!std::is_copy_constructible_v<Buffer> && !std::is_copy_assignable_v<Buffer>);
-static_assert(std::is_nothrow_move_constructible_v<Buffer> && std::is_nothrow_move_assignable_v<Buffer>);
-static_assert(std::is_nothrow_move_constructible_v<Texture> && std::is_nothrow_move_assignable_v<Texture>);
+static_assert(std::is_nothrow_move_constructible_v<Buffer> &&
+              std::is_nothrow_move_assignable_v<Buffer>);
+static_assert(std::is_nothrow_move_constructible_v<Texture> &&
+              std::is_nothrow_move_assignable_v<Texture>);
 static_assert(std::is_nothrow_move_constructible_v<Framebuffer>);
 static_assert(std::is_nothrow_move_constructible_v<Renderbuffer>);
 static_assert(std::is_nothrow_move_constructible_v<VertexArray>);

@@ -33,19 +33,24 @@ void main() {
 }
 )"},
       // Line 4 is broken.
-      {"broken.frag.glsl", "#version 330 core\nout vec4 o_color;\nvoid main() {\n  o_color = undefined_thing;\n}\n"},
+      {"broken.frag.glsl",
+       "#version 330 core\nout vec4 o_color;\nvoid main() {\n  o_color = undefined_thing;\n}\n"},
       // Line 3 of the chunk is broken.
-      {"bad_chunk.glsl", "// a chunk\nfloat good() { return 1.0; }\nfloat bad() { return nonsense; }\n"},
+      {"bad_chunk.glsl",
+       "// a chunk\nfloat good() { return 1.0; }\nfloat bad() { return nonsense; }\n"},
       {"uses_bad_chunk.frag.glsl",
-       "#version 330 core\n#include \"bad_chunk.glsl\"\nout vec4 o_color;\nvoid main() { o_color = vec4(good()); }\n"},
+       "#version 330 core\n#include \"bad_chunk.glsl\"\nout vec4 o_color;\nvoid main() { o_color = "
+       "vec4(good()); }\n"},
       // The chunk is fine; line 6 of the root (after the include) is broken.
       {"good_chunk.glsl", "float helper() { return 0.5; }\n"},
       {"other_chunk.glsl", "#include \"good_chunk.glsl\"\nfloat other() { return helper(); }\n"},
       {"error_after_include.frag.glsl",
-       "#version 330 core\n#include \"good_chunk.glsl\"\n#include \"other_chunk.glsl\"\nout vec4 o_color;\n"
+       "#version 330 core\n#include \"good_chunk.glsl\"\n#include \"other_chunk.glsl\"\nout vec4 "
+       "o_color;\n"
        "void main() {\n  o_color = vec4(missing_after);\n}\n"},
       {"twice.frag.glsl",
-       "#version 330 core\n#include \"good_chunk.glsl\"\n#include \"other_chunk.glsl\"\nout vec4 o_color;\n"
+       "#version 330 core\n#include \"good_chunk.glsl\"\n#include \"other_chunk.glsl\"\nout vec4 "
+       "o_color;\n"
        "void main() { o_color = vec4(helper() + other()); }\n"},
       {"missing.frag.glsl", "#version 330 core\n#include \"nope.glsl\"\nvoid main() {}\n"},
       {"cycle_a.glsl", "#include \"cycle_b.glsl\"\n"},
@@ -67,7 +72,8 @@ class ShaderProgramTest : public test_support::GlTest {};
 
 TEST_F(ShaderProgramTest, CompileErrorNamesFileAndLine) {
   const ShaderSources sources = TestSources();
-  const std::string error = BuildError(sources, {.vertex = "full.vert.glsl", .fragment = "broken.frag.glsl"});
+  const std::string error =
+      BuildError(sources, {.vertex = "full.vert.glsl", .fragment = "broken.frag.glsl"});
   EXPECT_NE(error.find("broken.frag.glsl:4"), std::string::npos) << error;
   EXPECT_EQ(error.find('\n'), std::string::npos) << "must be one line: " << error;
 }
@@ -81,8 +87,8 @@ TEST_F(ShaderProgramTest, ErrorInIncludedChunkNamesTheChunk) {
 
 TEST_F(ShaderProgramTest, LineNumbersResumeAfterIncludes) {
   const ShaderSources sources = TestSources();
-  const std::string error =
-      BuildError(sources, {.vertex = "full.vert.glsl", .fragment = "error_after_include.frag.glsl"});
+  const std::string error = BuildError(
+      sources, {.vertex = "full.vert.glsl", .fragment = "error_after_include.frag.glsl"});
   EXPECT_NE(error.find("error_after_include.frag.glsl:6"), std::string::npos) << error;
 }
 
@@ -92,7 +98,8 @@ TEST_F(ShaderProgramTest, DefinesAreAppliedAndIncludesResolvedOnce) {
   EXPECT_EQ(pre.text.rfind("#version 330 core\n#define RED\n#define LEVEL 3\n", 0), 0u) << pre.text;
   ASSERT_EQ(pre.files.size(), 3u);  // root, good_chunk (once), other_chunk
   EXPECT_EQ(pre.files[1], "good_chunk.glsl");
-  EXPECT_NO_THROW(BuildProgram(sources, {.vertex = "full.vert.glsl", .fragment = "twice.frag.glsl"}));
+  EXPECT_NO_THROW(
+      BuildProgram(sources, {.vertex = "full.vert.glsl", .fragment = "twice.frag.glsl"}));
 }
 
 TEST_F(ShaderProgramTest, BadSourcesAreInputErrors) {
@@ -110,7 +117,8 @@ TEST_F(ShaderProgramTest, VariantDefineChangesWhatIsDrawn) {
   RenderTarget target({4, 4, {GL_RGBA8}, false});
   VertexArray vao = VertexArray::Create();
   auto draw = [&](std::vector<std::string> defines) {
-    const Program& p = cache.Get({.vertex = "full.vert.glsl", .fragment = "variant.frag.glsl", .defines = defines});
+    const Program& p = cache.Get(
+        {.vertex = "full.vert.glsl", .fragment = "variant.frag.glsl", .defines = defines});
     target.Bind();
     p.Use();
     glBindVertexArray(vao.id());
@@ -128,9 +136,12 @@ TEST_F(ShaderProgramTest, VariantDefineChangesWhatIsDrawn) {
   EXPECT_EQ(red_level.at(2, 2, 2), 7);
   EXPECT_EQ(cache.size(), 3u);
   // Same defines in another order: the same cached program.
-  const Program* a = &cache.Get({.vertex = "full.vert.glsl", .fragment = "variant.frag.glsl", .defines = {"RED", "LEVEL 7"}});
+  const Program* a = &cache.Get(
+      {.vertex = "full.vert.glsl", .fragment = "variant.frag.glsl", .defines = {"RED", "LEVEL 7"}});
   EXPECT_EQ(cache.size(), 3u);
-  EXPECT_EQ(a, &cache.Get({.vertex = "full.vert.glsl", .fragment = "variant.frag.glsl", .defines = {"LEVEL 7", "RED"}}));
+  EXPECT_EQ(a, &cache.Get({.vertex = "full.vert.glsl",
+                           .fragment = "variant.frag.glsl",
+                           .defines = {"LEVEL 7", "RED"}}));
 }
 
 TEST(ShaderLog, TranslatesMesaAndNvidiaReferences) {

@@ -1,8 +1,8 @@
 // Stencil readback equals a CPU count exactly: plain INCR counting and the
 // Kautz-Seidel ordered rule (pass map i only where stencil == i-1).
-#include <random>
-
 #include <gtest/gtest.h>
+
+#include <random>
 
 #include "render/gl/render_target.h"
 #include "tests/support/gl_test.h"
@@ -26,7 +26,8 @@ void main() {
   gl_Position = vec4(p.x / u_size.x * 2.0 - 1.0, 1.0 - p.y / u_size.y * 2.0, 0.0, 1.0);
 }
 )"},
-      {"rect.frag.glsl", "#version 330 core\nout vec4 o_color;\nvoid main() { o_color = vec4(1.0); }\n"},
+      {"rect.frag.glsl",
+       "#version 330 core\nout vec4 o_color;\nvoid main() { o_color = vec4(1.0); }\n"},
   });
 }
 
@@ -43,7 +44,8 @@ TEST_F(StencilTest, ReadbackEqualsCpuCountForIncrAndOrderedRule) {
   std::vector<Rect> rects;
   for (int i = 0; i < 12; ++i) {
     int xa = rng() % kW, xb = rng() % kW, ya = rng() % kH, yb = rng() % kH;
-    rects.push_back({std::min(xa, xb), std::min(ya, yb), std::max(xa, xb) + 1, std::max(ya, yb) + 1});
+    rects.push_back(
+        {std::min(xa, xb), std::min(ya, yb), std::max(xa, xb) + 1, std::max(ya, yb) + 1});
   }
   auto draw_rect = [&](const Rect& r) {
     glUniform4f(program.Uniform("u_rect"), r.x0, r.y0, r.x1, r.y1);
@@ -59,8 +61,10 @@ TEST_F(StencilTest, ReadbackEqualsCpuCountForIncrAndOrderedRule) {
     glEnable(GL_STENCIL_TEST);
     glStencilOp(GL_KEEP, GL_KEEP, GL_INCR);
     for (size_t i = 0; i < rects.size(); ++i) {
-      if (ordered) glStencilFunc(GL_EQUAL, static_cast<GLint>(i), 0xFF);
-      else glStencilFunc(GL_ALWAYS, 0, 0xFF);
+      if (ordered)
+        glStencilFunc(GL_EQUAL, static_cast<GLint>(i), 0xFF);
+      else
+        glStencilFunc(GL_ALWAYS, 0, 0xFF);
       draw_rect(rects[i]);
     }
     glDisable(GL_STENCIL_TEST);
@@ -72,8 +76,10 @@ TEST_F(StencilTest, ReadbackEqualsCpuCountForIncrAndOrderedRule) {
         int count = 0;
         for (size_t i = 0; i < rects.size(); ++i) {
           if (!rects[i].Contains(col, row)) continue;
-          if (!ordered) ++count;
-          else if (count == static_cast<int>(i)) count = static_cast<int>(i) + 1;
+          if (!ordered)
+            ++count;
+          else if (count == static_cast<int>(i))
+            count = static_cast<int>(i) + 1;
         }
         if (stencil.at(col, row) != count) ++mismatches;
       }

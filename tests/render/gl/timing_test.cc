@@ -1,8 +1,8 @@
 // The frame timer and the fill-rate calibration produce well-formed figures.
 // (Speeds are printed by `ibr bench fillrate`, never asserted.)
-#include <cmath>
-
 #include <gtest/gtest.h>
+
+#include <cmath>
 
 #include "core/error.h"
 #include "render/gl/fill_rate.h"

@@ -4,17 +4,16 @@
 // height) and against the tessellated ground truth (Figure 4 as a number: no
 // see-through pixels for orthogonal and screen-space slicing at a grazing
 // view where surface-aligned slicing has them; the donut).
-#include "render/passes/displacement_pass.h"
+#include <gtest/gtest.h>
 
 #include <cmath>
 #include <numbers>
 
-#include <gtest/gtest.h>
-
+#include "core/displacement_error.h"
 #include "core/heightfield.h"
 #include "core/projection.h"
-#include "core/displacement_error.h"
 #include "render/gl/gpu_mesh.h"
+#include "render/passes/displacement_pass.h"
 #include "tests/support/gl_test.h"
 
 namespace render {
@@ -33,15 +32,20 @@ struct Camera {
 
 // Perspective camera orbiting the origin at `elevation_deg` above z = 0.
 Camera OrbitCamera(double elevation_deg, double azimuth_deg, int size, double distance = 4.0) {
-  const double el = elevation_deg * std::numbers::pi / 180, az = azimuth_deg * std::numbers::pi / 180;
+  const double el = elevation_deg * std::numbers::pi / 180,
+               az = azimuth_deg * std::numbers::pi / 180;
   const glm::vec3 horizontal(static_cast<float>(std::cos(az)), static_cast<float>(std::sin(az)), 0);
-  const glm::vec3 to_eye = static_cast<float>(std::cos(el)) * horizontal + glm::vec3(0, 0, static_cast<float>(std::sin(el)));
-  const glm::vec3 up = -static_cast<float>(std::sin(el)) * horizontal + glm::vec3(0, 0, static_cast<float>(std::cos(el)));
+  const glm::vec3 to_eye = static_cast<float>(std::cos(el)) * horizontal +
+                           glm::vec3(0, 0, static_cast<float>(std::sin(el)));
+  const glm::vec3 up = -static_cast<float>(std::sin(el)) * horizontal +
+                       glm::vec3(0, 0, static_cast<float>(std::cos(el)));
   Camera cam;
   cam.f = 1.3 * size;
   cam.c = size / 2.0;
-  cam.view.cam_from_world = core::CamFromWorldLookAt(static_cast<float>(distance) * to_eye, {0, 0, 0}, up);
-  cam.view.clip_from_cam = core::ClipFromCamPerspective(cam.f, cam.f, cam.c, cam.c, size, size, 0.5, 10.0);
+  cam.view.cam_from_world =
+      core::CamFromWorldLookAt(static_cast<float>(distance) * to_eye, {0, 0, 0}, up);
+  cam.view.clip_from_cam =
+      core::ClipFromCamPerspective(cam.f, cam.f, cam.c, cam.c, size, size, 0.5, 10.0);
   return cam;
 }
 
@@ -55,7 +59,8 @@ Texture ExactTexture(const core::ImageF& height) {
 double PlaneDepth(const Camera& cam, int col, int row, double height) {
   const glm::dvec3 d((col + 0.5 - cam.c) / cam.f, (row + 0.5 - cam.c) / cam.f, 1.0);
   const glm::dvec3 n_cam = glm::dmat3(glm::mat3(cam.view.cam_from_world)) * glm::dvec3(0, 0, 1);
-  const glm::dvec3 p0 = glm::dvec3(cam.view.cam_from_world * glm::vec4(0, 0, static_cast<float>(height), 1));
+  const glm::dvec3 p0 =
+      glm::dvec3(cam.view.cam_from_world * glm::vec4(0, 0, static_cast<float>(height), 1));
   return glm::dot(n_cam, p0) / glm::dot(n_cam, d);
 }
 
@@ -92,13 +97,14 @@ void ExpectFinite(const Frame& frame) {
 class DisplacementTest : public test_support::GlTest {
  protected:
   Frame RenderPlane(const core::ImageF& height, SliceFamily family, int count, const Camera& cam,
-                                int size, const core::TriangleMesh& base = core::MakePlane(1.0f, 1),
-                                bool linear = false) {
+                    int size, const core::TriangleMesh& base = core::MakePlane(1.0f, 1),
+                    bool linear = false) {
     DisplacementPassOptions options;
     options.slicing.family = family;
     options.slicing.count = count;
     options.max_displacement = kMaxDisplacement;
-    const Texture texture = UploadDisplacementTexture(MakeDisplacementTexels(height), {GL_RGBA32F, linear});
+    const Texture texture =
+        UploadDisplacementTexture(MakeDisplacementTexels(height), {GL_RGBA32F, linear});
     DisplacementPass pass(programs(), base, texture, options);
     return RenderFrame(pass, cam.view, size, size);
   }
@@ -111,7 +117,8 @@ TEST_F(DisplacementTest, ConstantHeightIsThePlaneAtTheHighestSliceBelowIt) {
   constexpr int kSize = 128, kSlices = 16;
   const Camera cam = OrbitCamera(60, -60, kSize);
   for (float h : {0.3f, 0.5f, 0.77f, 1.0f}) {
-    const Frame frame = RenderPlane(ConstantHeight(h), SliceFamily::kSurfaceAligned, kSlices, cam, kSize);
+    const Frame frame =
+        RenderPlane(ConstantHeight(h), SliceFamily::kSurfaceAligned, kSlices, cam, kSize);
     ExpectFinite(frame);
     const double k = std::ceil(h * kSlices - 0.5) - 1;
     const double seen = (k + 0.5) / kSlices * kMaxDisplacement;
@@ -133,7 +140,8 @@ TEST_F(DisplacementTest, ConstantHeightIsThePlaneAtTheHighestSliceBelowIt) {
         }
         ++inside;
         const double truth = PlaneDepth(cam, col, row, seen);
-        ASSERT_NEAR(frame.depth.at(col, row), truth, 2e-5 * truth) << "h " << h << " at " << col << "," << row;
+        ASSERT_NEAR(frame.depth.at(col, row), truth, 2e-5 * truth)
+            << "h " << h << " at " << col << "," << row;
       }
     }
     EXPECT_EQ(wrong_coverage, 0) << "h " << h;
@@ -153,7 +161,8 @@ TEST_F(DisplacementTest, ConstantHeightIsWithinOneSliceOfThePlaneForEveryFamily)
   const SliceBox box = DisplacementVolumeBox(volumes[0], kMaxDisplacement);
   for (double elevation : {20.0, 60.0}) {
     const Camera cam = OrbitCamera(elevation, -60, kSize);
-    for (SliceFamily family : {SliceFamily::kSurfaceAligned, SliceFamily::kOrthogonal, SliceFamily::kScreen}) {
+    for (SliceFamily family :
+         {SliceFamily::kSurfaceAligned, SliceFamily::kOrthogonal, SliceFamily::kScreen}) {
       SlicingOptions slicing;
       slicing.family = family;
       slicing.count = kSlices;
@@ -171,14 +180,17 @@ TEST_F(DisplacementTest, ConstantHeightIsWithinOneSliceOfThePlaneForEveryFamily)
       for (int row = 0; row < kSize; ++row) {
         for (int col = 0; col < kSize; ++col) {
           const glm::dvec3 p = PlanePoint(cam, col, row, h * kMaxDisplacement);
-          if (std::max(std::abs(p.x), std::abs(p.y)) > 0.95 || frame.color.at(col, row, 3) != 255) continue;
-          const glm::dvec3 d = glm::normalize(glm::dvec3((col + 0.5 - cam.c) / cam.f, (row + 0.5 - cam.c) / cam.f, 1));
+          if (std::max(std::abs(p.x), std::abs(p.y)) > 0.95 || frame.color.at(col, row, 3) != 255)
+            continue;
+          const glm::dvec3 d = glm::normalize(
+              glm::dvec3((col + 0.5 - cam.c) / cam.f, (row + 0.5 - cam.c) / cam.f, 1));
           const double bound = stack.spacing_world / std::abs(glm::dot(d, m_cam)) * d.z;
           const double truth = PlaneDepth(cam, col, row, h * kMaxDisplacement);
           const double behind = frame.depth.at(col, row) - truth;
           worst = std::max(worst, behind / bound);
           EXPECT_GE(behind, -2e-5 * truth) << SliceFamilyName(family) << " " << col << "," << row;
-          EXPECT_LE(behind, bound + 2e-5 * truth) << SliceFamilyName(family) << " " << col << "," << row;
+          EXPECT_LE(behind, bound + 2e-5 * truth)
+              << SliceFamilyName(family) << " " << col << "," << row;
           ++checked;
         }
       }
@@ -196,8 +208,10 @@ TEST_F(DisplacementTest, HeightExactlyAtASliceHeightTestsBothSidesOfTheStrictIne
   const Camera cam = OrbitCamera(70, -60, kSize);
   // Two slices, at heights 0.25 and 0.75.
   const float at = 0.75f, above = std::nextafter(0.75f, 1.0f);
-  const Frame at_frame = RenderPlane(ConstantHeight(at), SliceFamily::kSurfaceAligned, 2, cam, kSize);
-  const Frame above_frame = RenderPlane(ConstantHeight(above), SliceFamily::kSurfaceAligned, 2, cam, kSize);
+  const Frame at_frame =
+      RenderPlane(ConstantHeight(at), SliceFamily::kSurfaceAligned, 2, cam, kSize);
+  const Frame above_frame =
+      RenderPlane(ConstantHeight(above), SliceFamily::kSurfaceAligned, 2, cam, kSize);
   const int col = kSize / 2, row = kSize / 2;
   ASSERT_EQ(at_frame.color.at(col, row, 3), 255);
   ASSERT_EQ(above_frame.color.at(col, row, 3), 255);
@@ -206,7 +220,8 @@ TEST_F(DisplacementTest, HeightExactlyAtASliceHeightTestsBothSidesOfTheStrictIne
   EXPECT_NEAR(at_frame.depth.at(col, row), low, 1e-5 * low);
   EXPECT_NEAR(above_frame.depth.at(col, row), high, 1e-5 * high);
   // Exactly the lowest slice's height: nothing at all.
-  const Frame none = RenderPlane(ConstantHeight(0.25f), SliceFamily::kSurfaceAligned, 2, cam, kSize);
+  const Frame none =
+      RenderPlane(ConstantHeight(0.25f), SliceFamily::kSurfaceAligned, 2, cam, kSize);
   EXPECT_EQ(Covered(none), 0);
   EXPECT_NO_GL_ERROR();
 }
@@ -214,15 +229,18 @@ TEST_F(DisplacementTest, HeightExactlyAtASliceHeightTestsBothSidesOfTheStrictIne
 TEST_F(DisplacementTest, HeightZeroRendersNothingForEveryFamilyAndBase) {
   constexpr int kSize = 96;
   const Camera cam = OrbitCamera(40, -60, kSize, 6.0);
-  for (const core::TriangleMesh& base : {core::MakePlane(1.0f, 1), core::MakeTorus(1.0f, 0.4f, 25, 25)}) {
-    for (SliceFamily family : {SliceFamily::kSurfaceAligned, SliceFamily::kOrthogonal, SliceFamily::kScreen}) {
+  for (const core::TriangleMesh& base :
+       {core::MakePlane(1.0f, 1), core::MakeTorus(1.0f, 0.4f, 25, 25)}) {
+    for (SliceFamily family :
+         {SliceFamily::kSurfaceAligned, SliceFamily::kOrthogonal, SliceFamily::kScreen}) {
       const Frame frame = RenderPlane(ConstantHeight(0.0f), family, 16, cam, kSize, base, true);
       EXPECT_EQ(Covered(frame), 0) << SliceFamilyName(family);
       ExpectFinite(frame);
     }
   }
   // A positive height on the same setup does draw (the check above can fail).
-  EXPECT_GT(Covered(RenderPlane(ConstantHeight(0.5f), SliceFamily::kOrthogonal, 16, cam, kSize)), 1000);
+  EXPECT_GT(Covered(RenderPlane(ConstantHeight(0.5f), SliceFamily::kOrthogonal, 16, cam, kSize)),
+            1000);
   EXPECT_NO_GL_ERROR();
 }
 
@@ -233,8 +251,8 @@ class GroundTruthTest : public DisplacementTest {
     Frame frame, truth;
   };
   // Bumps on a solid floor (every ground-truth pixel is surface), 128 texels.
-  Result Compare(const core::TriangleMesh& base, SliceFamily family, int count, const Camera& cam, int size,
-                 float tiling) {
+  Result Compare(const core::TriangleMesh& base, SliceFamily family, int count, const Camera& cam,
+                 int size, float tiling) {
     core::HeightMapOptions hm;
     hm.pattern = core::HeightPattern::kBumps;
     hm.size = 128;
@@ -257,7 +275,8 @@ class GroundTruthTest : public DisplacementTest {
     r.truth = {truth.color, truth.depth};
     DisplacementErrorOptions error_options;
     error_options.depth_unit = HeightTexelWorldSize(base, 128, tiling);
-    r.error = CompareToGroundTruth(r.frame.color, r.frame.depth, truth.color, truth.depth, error_options);
+    r.error =
+        CompareToGroundTruth(r.frame.color, r.frame.depth, truth.color, truth.depth, error_options);
     return r;
   }
 };
@@ -293,8 +312,10 @@ TEST_F(GroundTruthTest, TheDonutMatchesItsTessellation) {
   constexpr int kSize = 160;
   const Camera cam = OrbitCamera(35, -60, kSize, 6.0);
   const core::TriangleMesh torus = core::MakeTorus(1.0f, 0.4f, 25, 25);
-  ASSERT_EQ(DisplacementVolumesFromMesh(torus).size(), 1225u);  // 1250 triangles; the inner equator's 25 quads are rectangles
-  for (SliceFamily family : {SliceFamily::kSurfaceAligned, SliceFamily::kOrthogonal, SliceFamily::kScreen}) {
+  ASSERT_EQ(DisplacementVolumesFromMesh(torus).size(),
+            1225u);  // 1250 triangles; the inner equator's 25 quads are rectangles
+  for (SliceFamily family :
+       {SliceFamily::kSurfaceAligned, SliceFamily::kOrthogonal, SliceFamily::kScreen}) {
     const Result r = Compare(torus, family, 32, cam, kSize, 2.0f);
     // Coverage differs only along silhouettes (a few % of the pixels at this size).
     EXPECT_GT(r.error.coverage_iou, 0.95) << SliceFamilyName(family);
@@ -319,7 +340,8 @@ TEST_F(DisplacementTest, HardCasesAreFiniteAndNaNFree) {
   // View exactly along the box's z axis, and exactly in the base plane.
   Camera top = OrbitCamera(90, -90, kSize);
   Camera edge_on = OrbitCamera(0, -90, kSize);
-  for (SliceFamily family : {SliceFamily::kSurfaceAligned, SliceFamily::kOrthogonal, SliceFamily::kScreen}) {
+  for (SliceFamily family :
+       {SliceFamily::kSurfaceAligned, SliceFamily::kOrthogonal, SliceFamily::kScreen}) {
     ExpectFinite(RenderPlane(ConstantHeight(0.5f), family, 16, top, kSize));
     ExpectFinite(RenderPlane(ConstantHeight(0.5f), family, 16, edge_on, kSize));
     // 1 slice (at mid height) and 4096 slices, maximum height 1.0.
@@ -334,18 +356,22 @@ TEST_F(DisplacementTest, HardCasesAreFiniteAndNaNFree) {
   }
   // Edge-on, a constant height is seen only as the top slice's sliver: the
   // orthogonal family turns to vertical slices and shows the side.
-  EXPECT_GT(Covered(RenderPlane(ConstantHeight(0.5f), SliceFamily::kOrthogonal, 16, edge_on, kSize)), 20);
+  EXPECT_GT(
+      Covered(RenderPlane(ConstantHeight(0.5f), SliceFamily::kOrthogonal, 16, edge_on, kSize)), 20);
 
   // Degenerate (zero-area) faces beside a good quad: dropped, same image.
   core::TriangleMesh mixed = plane;
   const uint32_t n = static_cast<uint32_t>(mixed.positions.size());
-  mixed.positions.insert(mixed.positions.end(), {{0.2f, 0.2f, 0}, {0.2f, 0.2f, 0}, {0.5f, 0.5f, 0}, {0.6f, 0.6f, 0}});
+  mixed.positions.insert(mixed.positions.end(),
+                         {{0.2f, 0.2f, 0}, {0.2f, 0.2f, 0}, {0.5f, 0.5f, 0}, {0.6f, 0.6f, 0}});
   mixed.normals.insert(mixed.normals.end(), 4, glm::vec3(0, 0, 1));
   mixed.uvs.insert(mixed.uvs.end(), {{0.1f, 0.1f}, {0.1f, 0.1f}, {0.2f, 0.3f}, {0.3f, 0.3f}});
-  mixed.indices.insert(mixed.indices.end(), {n, n + 1, n + 2, n + 2, n + 3, n + 1, n + 1, n + 1, n + 1});
+  mixed.indices.insert(mixed.indices.end(),
+                       {n, n + 1, n + 2, n + 2, n + 3, n + 1, n + 1, n + 1, n + 1});
   EXPECT_EQ(DisplacementVolumesFromMesh(mixed).size(), 1u);
   const Camera cam = OrbitCamera(50, -60, kSize);
-  for (SliceFamily family : {SliceFamily::kSurfaceAligned, SliceFamily::kOrthogonal, SliceFamily::kScreen}) {
+  for (SliceFamily family :
+       {SliceFamily::kSurfaceAligned, SliceFamily::kOrthogonal, SliceFamily::kScreen}) {
     const Frame a = RenderPlane(ConstantHeight(0.5f), family, 16, cam, kSize, mixed);
     const Frame b = RenderPlane(ConstantHeight(0.5f), family, 16, cam, kSize, plane);
     ExpectFinite(a);
@@ -357,7 +383,9 @@ TEST_F(DisplacementTest, HardCasesAreFiniteAndNaNFree) {
   flat_only.normals.assign(3, glm::vec3(0, 0, 1));
   flat_only.uvs = {{0, 0}, {0.5f, 0}, {1, 0}};
   flat_only.indices = {0, 1, 2};
-  EXPECT_EQ(Covered(RenderPlane(ConstantHeight(0.5f), SliceFamily::kScreen, 16, cam, kSize, flat_only)), 0);
+  EXPECT_EQ(
+      Covered(RenderPlane(ConstantHeight(0.5f), SliceFamily::kScreen, 16, cam, kSize, flat_only)),
+      0);
   EXPECT_NO_GL_ERROR();
 }
 
@@ -385,7 +413,8 @@ TEST_F(DisplacementTest, FullSizeScreenSlicesDrawTheSamePixelsWithMoreFragments)
     const double full_fragments = pass.last_stats().fragments;
     DisplacementErrorOptions e;
     e.depth_unit = kMaxDisplacement / 32;
-    const DisplacementError diff = CompareToGroundTruth(padded.color, padded.depth, exact.color, exact.depth, e);
+    const DisplacementError diff =
+        CompareToGroundTruth(padded.color, padded.depth, exact.color, exact.depth, e);
     // Same planes, different triangulation: the interpolated ramp differs in
     // the last bits, which flips the strict test only where the height equals
     // the ramp (the rims of these small bumps, most of their 2-3k pixels).

@@ -2,10 +2,10 @@
 // silhouette and depth, a tilted plane's perspective depth and normal.
 #include "render/passes/mesh_pass.h"
 
-#include <cmath>
-
-#include <glm/gtc/matrix_transform.hpp>
 #include <gtest/gtest.h>
+
+#include <cmath>
+#include <glm/gtc/matrix_transform.hpp>
 
 #include "core/projection.h"
 #include "tests/support/gl_test.h"
@@ -23,7 +23,7 @@ TEST_F(MeshPassTest, OrthographicSphereMatchesAnalyticDiscAndDepth) {
   view.orthographic = true;
   view.cam_from_world = core::CamFromWorldLookAt({0, 0, 5}, {0, 0, 0}, {0, 1, 0});
   view.clip_from_cam = core::ClipFromCamOrthographic(kScale, kScale, kSize / 2.0, kSize / 2.0,
-                                                      kSize, kSize, 0.5, 10.0);
+                                                     kSize, kSize, 0.5, 10.0);
   const Frame frame = RenderMesh(programs(), sphere, view, kSize, kSize);
   // The mesh is inscribed: its silhouette is inside the true circle by at most
   // 1 - cos(pi / 256) = 7.5e-5 units = 0.008 px. Pixels whose centre lies within
@@ -80,7 +80,8 @@ TEST_F(MeshPassTest, PerspectiveTiltedPlaneDepthAndNormalAreExact) {
     for (int col = 10; col < kW - 10; ++col) {
       if (frame.color.at(col, row, 3) != 255) continue;
       const glm::dvec3 d((col + 0.5 - cx) / f, (row + 0.5 - cy) / f, 1.0);
-      const double truth = glm::dot(glm::dvec3(n_cam), glm::dvec3(p0)) / glm::dot(glm::dvec3(n_cam), d);
+      const double truth =
+          glm::dot(glm::dvec3(n_cam), glm::dvec3(p0)) / glm::dot(glm::dvec3(n_cam), d);
       ASSERT_NEAR(frame.depth.at(col, row), truth, 2e-5 * truth) << col << "," << row;
       for (int c = 0; c < 3; ++c) ASSERT_NEAR(frame.normal.at(col, row, c), n_world[c], 2e-3);
       ++covered;

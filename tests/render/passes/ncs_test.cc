@@ -1,19 +1,18 @@
 // NCS, relief mapping and POM (render/passes/relief_surface_pass.h) against analytic
 // truth and the tessellated ground truth (core::TessellateDisplaced rendered
 // by render::RenderMesh), and the tangent-space maps (Chen-Chang Algorithm 1).
-#include "render/passes/relief_surface_pass.h"
+#include <gtest/gtest.h>
 
 #include <cmath>
 #include <cstdio>
-
 #include <glm/gtc/matrix_transform.hpp>
-#include <gtest/gtest.h>
 
 #include "core/heightfield.h"
 #include "core/metrics.h"
 #include "core/projection.h"
 #include "render/gl/gpu_mesh.h"
 #include "render/passes/mesh_pass.h"
+#include "render/passes/relief_surface_pass.h"
 #include "tests/support/gl_test.h"
 
 namespace render {
@@ -25,7 +24,8 @@ ViewSetup PerspectiveView(glm::vec3 eye, glm::vec3 target = {0, 0, 0}, glm::vec3
                           double focal = 1.3 * kSize) {
   ViewSetup view;
   view.cam_from_world = core::CamFromWorldLookAt(eye, target, up);
-  view.clip_from_cam = core::ClipFromCamPerspective(focal, focal, kSize / 2.0, kSize / 2.0, kSize, kSize, 0.1, 20.0);
+  view.clip_from_cam =
+      core::ClipFromCamPerspective(focal, focal, kSize / 2.0, kSize / 2.0, kSize, kSize, 0.1, 20.0);
   return view;
 }
 
@@ -37,7 +37,8 @@ core::ImageF HeightMap(core::HeightPattern pattern, float level, int size = 64) 
   return core::MakeHeightMap(o);
 }
 
-[[maybe_unused]] ReliefGeometryOptions Geometry(float max_displacement, bool wrap_u, bool wrap_v, int map_size = 256) {
+[[maybe_unused]] ReliefGeometryOptions Geometry(float max_displacement, bool wrap_u, bool wrap_v,
+                                                int map_size = 256) {
   ReliefGeometryOptions g;
   g.max_displacement = max_displacement;
   g.tangent_maps.size = map_size;
@@ -74,8 +75,9 @@ int64_t WrongAwayFromEdge(const core::Image8& color, const core::Image8& truth) 
 
 // Red: covered only in `color`; green: only in `truth`; grey: both, brighter
 // where the depth differs more (full white at `depth_scale` scene units).
-core::Image8 DiffImage(const core::Image8& color, const core::ImageF& depth, const core::Image8& truth,
-                       const core::ImageF& truth_depth, float depth_scale) {
+core::Image8 DiffImage(const core::Image8& color, const core::ImageF& depth,
+                       const core::Image8& truth, const core::ImageF& truth_depth,
+                       float depth_scale) {
   core::Image8 out(color.width(), color.height(), 4, 0);
   for (int y = 0; y < color.height(); ++y) {
     for (int x = 0; x < color.width(); ++x) {
@@ -84,7 +86,8 @@ core::Image8 DiffImage(const core::Image8& color, const core::ImageF& depth, con
       if (a && !b) rgb[0] = 255;
       if (b && !a) rgb[1] = 255;
       if (a && b) {
-        const float e = std::min(1.0f, std::abs(depth.at(x, y) - truth_depth.at(x, y)) / depth_scale);
+        const float e =
+            std::min(1.0f, std::abs(depth.at(x, y) - truth_depth.at(x, y)) / depth_scale);
         rgb[0] = rgb[1] = rgb[2] = static_cast<uint8_t>(40 + 215 * e);
       }
       for (int c = 0; c < 3; ++c) out.at(x, y, c) = rgb[c];
@@ -97,7 +100,7 @@ core::Image8 DiffImage(const core::Image8& color, const core::ImageF& depth, con
 class NcsTest : public test_support::GlTest {
  protected:
   Frame RenderTruth(const core::TriangleMesh& base, const core::ImageF& height, float md,
-                        const ViewSetup& view, float tiling = 1, int subdivisions = 6) {
+                    const ViewSetup& view, float tiling = 1, int subdivisions = 6) {
     core::DisplacedMeshOptions o;
     o.max_displacement = md;
     o.tiling = tiling;
@@ -133,7 +136,8 @@ TEST_F(NcsTest, TangentMapsMatchTheTorusAnalyticFrame) {
     const double phi = 2 * M_PI * torus.uvs[k].x, psi = 2 * M_PI * torus.uvs[k].y;
     const glm::dvec3 t_true(-std::sin(phi), std::cos(phi), 0);
     worst_t = std::max(worst_t, glm::length(glm::dvec3(frames.tangents[k]) - t_true));
-    worst_st = std::max(worst_st, std::abs(frames.s_tangent[k] * 2 * M_PI * (R + r * std::cos(psi)) - 1));
+    worst_st =
+        std::max(worst_st, std::abs(frames.s_tangent[k] * 2 * M_PI * (R + r * std::cos(psi)) - 1));
     worst_sb = std::max(worst_sb, std::abs(frames.s_binormal[k] * 2 * M_PI * r - 1));
     EXPECT_EQ(frames.handedness[k], 1.0f);
   }
@@ -152,7 +156,7 @@ TEST_F(NcsTest, ZeroHeightRendersAsTheBaseMeshAndConstantHeightAsTheOffsetSurfac
   const ViewSetup view = PerspectiveView({0.3f, -3.2f, 1.6f});
   for (float level : {0.0f, 0.5f}) {
     ReliefSurface surface(programs(), torus, HeightMap(core::HeightPattern::kConstant, level),
-                                Geometry(md, true, true));
+                          Geometry(md, true, true));
     const GpuMesh offset(MakeReliefShell(torus, level * md));
     const Frame truth = RenderMesh(programs(), offset, view, kSize, kSize);
     ReliefSurfaceOptions o;
@@ -164,10 +168,13 @@ TEST_F(NcsTest, ZeroHeightRendersAsTheBaseMeshAndConstantHeightAsTheOffsetSurfac
     const Frame ncs = surface.Render(view, kSize, kSize, o);
     const core::ViewMetrics e = core::CompareFrames(ncs.color, ncs.depth, truth.color, truth.depth);
     const int64_t away = WrongAwayFromEdge(ncs.color, truth.color);
-    std::printf("level %.1f: truth %lld rendered %lld wrong %lld (away from edge %lld) iou %.5f depth mean %.2e "
-                "p95 %.2e early %lld\n",
-                level, (long long)e.truth_pixels, (long long)e.rendered_pixels, (long long)e.wrong_pixels,
-                (long long)away, e.iou, e.depth.mean, e.depth.p95, (long long)ncs.CountOutcome(OutcomeBit(RayOutcome::kEarlyTermination)));
+    std::printf(
+        "level %.1f: truth %lld rendered %lld wrong %lld (away from edge %lld) iou %.5f depth mean "
+        "%.2e "
+        "p95 %.2e early %lld\n",
+        level, (long long)e.truth_pixels, (long long)e.rendered_pixels, (long long)e.wrong_pixels,
+        (long long)away, e.iou, e.depth.mean, e.depth.p95,
+        (long long)ncs.CountOutcome(OutcomeBit(RayOutcome::kEarlyTermination)));
     // Coverage: the tangent frames are those of the base, so near the
     // silhouette the bent ray turns up slightly early (the shell's metric is
     // (1 + w md / r) larger); the error is a band about one pixel wide,
@@ -183,8 +190,9 @@ TEST_F(NcsTest, ZeroHeightRendersAsTheBaseMeshAndConstantHeightAsTheOffsetSurfac
     EXPECT_LT(e.depth.p95, 0.2 * md) << "level " << level;
     if (HasFailure()) {
       test_support::WriteDebugImage("level_" + std::to_string(level) + "_ncs.png", ncs.color);
-      test_support::WriteDebugImage("level_" + std::to_string(level) + "_diff.png",
-                                    DiffImage(ncs.color, ncs.depth, truth.color, truth.depth, 0.02f));
+      test_support::WriteDebugImage(
+          "level_" + std::to_string(level) + "_diff.png",
+          DiffImage(ncs.color, ncs.depth, truth.color, truth.depth, 0.02f));
     }
   }
   EXPECT_NO_GL_ERROR();
@@ -195,10 +203,10 @@ TEST_F(NcsTest, OnAPlaneNcsEqualsReliefMapping) {
   // ray is the straight one, step for step (c = 1, same step count).
   const core::TriangleMesh plane = core::MakePlane(1.0f, 8);
   ReliefSurface surface(programs(), plane, HeightMap(core::HeightPattern::kBumps, 1.0f),
-                              // Periodic chart: NCS then never discards a ray for
-                              // leaving through the plane's border, which relief
-                              // mapping cannot do either.
-                              Geometry(0.1f, true, true));
+                        // Periodic chart: NCS then never discards a ray for
+                        // leaving through the plane's border, which relief
+                        // mapping cannot do either.
+                        Geometry(0.1f, true, true));
   const ViewSetup view = PerspectiveView({0.2f, -1.7f, 1.6f}, {0, 0, 0}, {0, 0, 1}, 0.9 * kSize);
   ReliefSurfaceOptions o;
   o.steps = 48;
@@ -222,8 +230,9 @@ TEST_F(NcsTest, OnAPlaneNcsEqualsReliefMapping) {
       if (d > 1e-4) ++differ;
     }
   }
-  std::printf("plane: both %lld, depth differs > 1e-4 at %lld, worst %.2e, coverage differs at %lld\n",
-              (long long)both, (long long)differ, worst, (long long)only_one);
+  std::printf(
+      "plane: both %lld, depth differs > 1e-4 at %lld, worst %.2e, coverage differs at %lld\n",
+      (long long)both, (long long)differ, worst, (long long)only_one);
   EXPECT_GT(both, kSize * kSize / 3);
   // A sample landing within rounding of the surface may flip inside/outside
   // and move the crossing by a step: allow 0.1 % of the pixels.
@@ -255,10 +264,12 @@ TEST_F(NcsTest, TorusGrazingViewNcsSilhouetteBeatsPomAndRelief) {
     o.method = methods[m];
     const Frame frame = surface.Render(scene.view, kSize, kSize, o);
     errors[m] = core::CompareFrames(frame.color, frame.depth, truth.color, truth.depth);
-    std::printf("grazing %-6s: wrong silhouette pixels %lld of %lld truth, iou %.4f, depth mean %.4f p95 %.4f, early %lld\n",
-                ReliefMethodName(methods[m]).c_str(), (long long)errors[m].wrong_pixels,
-                (long long)errors[m].truth_pixels, errors[m].iou, errors[m].depth.mean,
-                errors[m].depth.p95, (long long)frame.CountOutcome(OutcomeBit(RayOutcome::kEarlyTermination)));
+    std::printf(
+        "grazing %-6s: wrong silhouette pixels %lld of %lld truth, iou %.4f, depth mean %.4f p95 "
+        "%.4f, early %lld\n",
+        ReliefMethodName(methods[m]).c_str(), (long long)errors[m].wrong_pixels,
+        (long long)errors[m].truth_pixels, errors[m].iou, errors[m].depth.mean, errors[m].depth.p95,
+        (long long)frame.CountOutcome(OutcomeBit(RayOutcome::kEarlyTermination)));
     diffs[m] = DiffImage(frame.color, frame.depth, truth.color, truth.depth, 0.04f);
   }
   // Stated bound: NCS misses or adds at most 4 % of the true silhouette's
@@ -269,7 +280,8 @@ TEST_F(NcsTest, TorusGrazingViewNcsSilhouetteBeatsPomAndRelief) {
   EXPECT_GT(errors[1].wrong_pixels, 3 * errors[0].wrong_pixels);
   EXPECT_GT(errors[2].wrong_pixels, 3 * errors[0].wrong_pixels);
   if (HasFailure()) {
-    for (int m = 0; m < 3; ++m) test_support::WriteDebugImage(ReliefMethodName(methods[m]) + "_diff.png", diffs[m]);
+    for (int m = 0; m < 3; ++m)
+      test_support::WriteDebugImage(ReliefMethodName(methods[m]) + "_diff.png", diffs[m]);
   }
   EXPECT_NO_GL_ERROR();
 }
@@ -283,7 +295,8 @@ void ExpectSane(const Frame& f, ReliefMethod method, const std::string& what) {
       const uint32_t flags = f.outcome.at(x, y);
       if (flags & ~0x0Eu) ++bad_flags;  // bits 1..3 only
       const bool covered = f.color.at(x, y, 3) == 255;
-      if (covered && !(flags & (1u << static_cast<int>(RayOutcome::kHit))) && method == ReliefMethod::kNcs) {
+      if (covered && !(flags & (1u << static_cast<int>(RayOutcome::kHit))) &&
+          method == ReliefMethod::kNcs) {
         ++covered_without_hit;
       }
     }
@@ -322,10 +335,14 @@ TEST_F(NcsTest, EveryBaseMeshMatchesItsTessellatedTruth) {
     o.method = ReliefMethod::kRelief;
     const Frame relief = surface.Render(view, kSize, kSize, o);
     const core::ViewMetrics e = core::CompareFrames(ncs.color, ncs.depth, truth.color, truth.depth);
-    const core::ViewMetrics r = core::CompareFrames(relief.color, relief.depth, truth.color, truth.depth);
-    std::printf("%-8s ncs: iou %.4f wrong %lld mean %.4f p95 %.4f early %lld | relief: iou %.4f wrong %lld p95 %.4f\n",
-                c.name, e.iou, (long long)e.wrong_pixels, e.depth.mean, e.depth.p95,
-                (long long)ncs.CountOutcome(OutcomeBit(RayOutcome::kEarlyTermination)), r.iou, (long long)r.wrong_pixels, r.depth.p95);
+    const core::ViewMetrics r =
+        core::CompareFrames(relief.color, relief.depth, truth.color, truth.depth);
+    std::printf(
+        "%-8s ncs: iou %.4f wrong %lld mean %.4f p95 %.4f early %lld | relief: iou %.4f wrong %lld "
+        "p95 %.4f\n",
+        c.name, e.iou, (long long)e.wrong_pixels, e.depth.mean, e.depth.p95,
+        (long long)ncs.CountOutcome(OutcomeBit(RayOutcome::kEarlyTermination)), r.iou,
+        (long long)r.wrong_pixels, r.depth.p95);
     ExpectSane(ncs, ReliefMethod::kNcs, c.name);
     // Bounds with margin over the measured values (see the printout): the
     // silhouette is right to a few percent of the covered area, depth to a
@@ -335,8 +352,9 @@ TEST_F(NcsTest, EveryBaseMeshMatchesItsTessellatedTruth) {
     EXPECT_LT(3 * e.wrong_pixels, r.wrong_pixels) << c.name;  // relief draws the whole shell
     if (HasFailure()) {
       test_support::WriteDebugImage(std::string(c.name) + "_ncs.png", ncs.color);
-      test_support::WriteDebugImage(std::string(c.name) + "_diff.png",
-                                    DiffImage(ncs.color, ncs.depth, truth.color, truth.depth, 0.03f));
+      test_support::WriteDebugImage(
+          std::string(c.name) + "_diff.png",
+          DiffImage(ncs.color, ncs.depth, truth.color, truth.depth, 0.03f));
     }
   }
   EXPECT_NO_GL_ERROR();
@@ -354,7 +372,7 @@ TEST_F(NcsTest, HardCasesStayFiniteWithCorrectOutcomes) {
   const ViewSetup pole_view = PerspectiveView({0.4f, -0.6f, 3.2f}, {0, 0, 0}, {0, 1, 0});
   for (float level : {0.0f, 1.0f}) {
     ReliefSurface surface(programs(), sphere, HeightMap(core::HeightPattern::kConstant, level),
-                                Geometry(0.1f, true, false, 128));
+                          Geometry(0.1f, true, false, 128));
     for (ReliefMethod method : {ReliefMethod::kNcs, ReliefMethod::kRelief, ReliefMethod::kPom}) {
       for (float c : {1.0f, 2.5f, 10.0f}) {
         for (int steps : {1, 1024}) {
@@ -363,8 +381,8 @@ TEST_F(NcsTest, HardCasesStayFiniteWithCorrectOutcomes) {
           o.step_enlargement = c;
           o.steps = steps;
           const Frame f = surface.Render(pole_view, 96, 96, o);
-          const std::string what = ReliefMethodName(method) + " level " + std::to_string(level) + " c " +
-                                   std::to_string(c) + " steps " + std::to_string(steps);
+          const std::string what = ReliefMethodName(method) + " level " + std::to_string(level) +
+                                   " c " + std::to_string(c) + " steps " + std::to_string(steps);
           ExpectSane(f, method, what);
           if (level == 1.0f) {
             // Height 1 everywhere: the surface IS the shell; every front ray
@@ -375,7 +393,8 @@ TEST_F(NcsTest, HardCasesStayFiniteWithCorrectOutcomes) {
           // steps 1 with c = 2.5 on a zero height map: the one step goes 2.5 l
           // deep, below the base (a hit) for front rays.
           int64_t covered = 0;
-          for (int y = 0; y < 96; ++y) for (int x = 0; x < 96; ++x) covered += f.color.at(x, y, 3) == 255;
+          for (int y = 0; y < 96; ++y)
+            for (int x = 0; x < 96; ++x) covered += f.color.at(x, y, 3) == 255;
           EXPECT_GT(covered, 96 * 96 / 4) << what;
         }
       }
@@ -385,7 +404,7 @@ TEST_F(NcsTest, HardCasesStayFiniteWithCorrectOutcomes) {
   // across its axis with pixel centres exactly on x = +-radius.
   const core::TriangleMesh cylinder = core::MakeCylinder(0.5f, 2.0f, 64, 4);
   ReliefSurface cyl(programs(), cylinder, HeightMap(core::HeightPattern::kConstant, 0.0f),
-                          Geometry(0.05f, true, false, 128));
+                    Geometry(0.05f, true, false, 128));
   ViewSetup ortho;
   ortho.orthographic = true;
   ortho.cam_from_world = core::CamFromWorldLookAt({0, -5, 0}, {0, 0, 0}, {0, 0, 1});

@@ -5,12 +5,12 @@
 // link, scoped state).
 #include "render/passes/pass.h"
 
+#include <gtest/gtest.h>
+
 #include <algorithm>
 #include <cmath>
 #include <memory>
 #include <vector>
-
-#include <gtest/gtest.h>
 
 #include "core/heightfield.h"
 #include "core/mesh.h"
@@ -31,7 +31,8 @@ class PassTest : public test_support::GlTest {
   static ViewSetup View() {
     ViewSetup view;
     view.cam_from_world = core::CamFromWorldLookAt({0.6f, 1.2f, 3.5f}, {0, 0, 0}, {0, 1, 0});
-    view.clip_from_cam = core::ClipFromCamPerspective(150, 150, kSize / 2.0, kSize / 2.0, kSize, kSize, 0.1, 20);
+    view.clip_from_cam =
+        core::ClipFromCamPerspective(150, 150, kSize / 2.0, kSize / 2.0, kSize, kSize, 0.1, 20);
     return view;
   }
 };
@@ -60,8 +61,10 @@ void ExpectCompositeOfNearest(const Frame& composite, const std::vector<const Fr
       ++covered;
       overlapped += count > 1;
       bool same = composite.depth.at(x, y) == nearest->depth.at(x, y);
-      for (int c = 0; c < 4; ++c) same = same && composite.color.at(x, y, c) == nearest->color.at(x, y, c);
-      for (int c = 0; c < 3; ++c) same = same && composite.normal.at(x, y, c) == nearest->normal.at(x, y, c);
+      for (int c = 0; c < 4; ++c)
+        same = same && composite.color.at(x, y, c) == nearest->color.at(x, y, c);
+      for (int c = 0; c < 3; ++c)
+        same = same && composite.normal.at(x, y, c) == nearest->normal.at(x, y, c);
       bad += !same;
     }
   }
@@ -104,7 +107,7 @@ TEST_F(PassTest, MeshDisplacementAndReliefCompositeByDepthInAnyOrder) {
   disp_options.slicing.count = 16;
   disp_options.max_displacement = 0.15f;
   core::TriangleMesh plane = core::MakePlane(1.2f, 2);  // z = 0, facing the camera (+z)
-  for (glm::vec3& p : plane.positions) p.z -= 0.3f;       // through the sphere, behind the torus
+  for (glm::vec3& p : plane.positions) p.z -= 0.3f;     // through the sphere, behind the torus
   DisplacementPass displacement(programs(), plane, texture, disp_options);
 
   ReliefGeometryOptions geometry;
@@ -154,7 +157,7 @@ TEST_F(PassTest, DrawLeavesTheFrameStateAsItFoundIt) {
 
 TEST_F(PassTest, ScopedGlStateRestoresWhatItFound) {
   const RenderTarget target(FrameTargetOptions(8, 8));  // with a stencil buffer: GL clamps the
-  BeginFrame(target);                                    // queried reference to its bits
+  BeginFrame(target);                                   // queried reference to its bits
   glDepthFunc(GL_LEQUAL);
   glDisable(GL_BLEND);
   glDisable(GL_STENCIL_TEST);
@@ -185,7 +188,8 @@ TEST_F(PassTest, UniformLocationsAreCachedAtLinkAndMatchGl) {
   const Program& program = programs().Get({.vertex = "passes/mesh.vert.glsl",
                                            .fragment = "passes/mesh.frag.glsl",
                                            .defines = {"SHADED"}});
-  for (const char* name : {"u_cam_from_world", "u_clip_from_cam", "u_world_from_object", "u_base_color"}) {
+  for (const char* name :
+       {"u_cam_from_world", "u_clip_from_cam", "u_world_from_object", "u_base_color"}) {
     EXPECT_EQ(program.Uniform(name), glGetUniformLocation(program.id(), name)) << name;
     EXPECT_GE(program.Uniform(name), 0) << name;
   }
