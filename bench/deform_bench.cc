@@ -5,11 +5,16 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <glm/gtc/matrix_transform.hpp>
+#include <optional>
 
+#include "capture/dataset.h"
 #include "capture/synthetic.h"
 #include "core/error.h"
 #include "core/image_io.h"
 #include "core/projection.h"
+#include "ibr/dataset_maps.h"
+#include "ibr/views.h"
 #include "render/gl/frame_timer.h"
 
 namespace bench {
@@ -44,8 +49,45 @@ void DeformRunOptions::Check() const {
       core::ThrowInputError("ibr deform", "--placement values must be finite");
     }
   }
-  if (out.extension() != ".png")
-    core::ThrowInputError("ibr deform", "--out {} must be a .png file", out.string());
+  if (out.empty()) core::ThrowInputError("ibr deform", "--out FILE.png|DIR is required");
+  if (!cameras.empty() && !WritesDataset()) {
+    core::ThrowInputError("ibr deform",
+                          "--cameras {} renders several views: --out must be a folder",
+                          cameras.string());
+  }
+}
+
+void DeformOutcomes::Add(const DeformOutcomes& o) {
+  const double samples = mean_samples * rays + o.mean_samples * o.rays;
+  mesh_pixels += o.mesh_pixels;
+  hit_pixels += o.hit_pixels;
+  cut_face_pixels += o.cut_face_pixels;
+  exited_pixels += o.exited_pixels;
+  early_pixels += o.early_pixels;
+  rays += o.rays;
+  mean_samples = rays > 0 ? samples / static_cast<double>(rays) : 0.0;
+}
+
+DeformOutcomes CountDeformOutcomes(const render::Frame& frame) {
+  DeformOutcomes r;
+  double samples = 0;
+  auto has = [](uint32_t bits, render::RayOutcome o) {
+    return (bits & (1u << static_cast<int>(o))) != 0;
+  };
+  for (const uint32_t bits : frame.outcome.values()) {
+    r.mesh_pixels += (bits & render::kDeformMeshBit) != 0;
+    r.hit_pixels += has(bits, render::RayOutcome::kHit);
+    r.cut_face_pixels += (bits & render::kDeformCutFaceBit) != 0;
+    r.exited_pixels += has(bits, render::RayOutcome::kExited);
+    r.early_pixels += has(bits, render::RayOutcome::kEarlyTermination);
+    const uint32_t n = bits >> render::kDeformSamplesShift;
+    if (n > 0) {
+      samples += n;
+      ++r.rays;
+    }
+  }
+  r.mean_samples = r.rays > 0 ? samples / static_cast<double>(r.rays) : 0.0;
+  return r;
 }
 
 core::Placement DeformPlacement(const DeformRunOptions& options, const core::Box3d& mesh_bounds) {
@@ -70,10 +112,19 @@ void Normalise(core::TriangleMesh& mesh) {
 
 DeformRunReport RunDeform(render::ProgramCache& programs, const DeformRunOptions& options) {
   options.Check();
+  // Every input is read and checked before anything is built or written.
+  std::optional<capture::Dataset> cameras;
+  if (!options.cameras.empty()) cameras = capture::ReadDataset(options.cameras);
   capture::SceneMesh scene = capture::LoadSceneMesh(options.mesh);
   core::TriangleMesh& mesh = scene.mesh;
-  Normalise(mesh);
+  // world (the mesh file's frame) = centre + longest * normalised.
   glm::vec3 lo, hi;
+  mesh.Bounds(lo, hi);
+  const glm::dvec3 centre = 0.5 * (glm::dvec3(lo) + glm::dvec3(hi));
+  const double longest = std::max({hi.x - lo.x, hi.y - lo.y, hi.z - lo.z});
+  Normalise(mesh);
+  const glm::dmat4 world_from_norm =
+      glm::scale(glm::translate(glm::dmat4(1.0), centre), glm::dvec3(longest));
   mesh.Bounds(lo, hi);
   const core::Placement placement = DeformPlacement(options, {glm::dvec3(lo), glm::dvec3(hi)});
 
@@ -98,58 +149,87 @@ DeformRunReport RunDeform(render::ProgramCache& programs, const DeformRunOptions
   report.sdf_seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   report.sdf_size = sdf.size;
+  report.distance_queries = sdf.distance_queries;
   const core::DeformationTexture texture =
       core::SampleDeformation(options.deformation, options.deformation_resolution);
-
   render::DeformPass pass(programs, {&mesh, &sdf, &texture, placement}, options.pass);
-  const double az = glm::radians(options.azimuth_deg), el = glm::radians(options.elevation_deg);
-  const float distance_to_centre = 2.6f;
-  const glm::vec3 eye = distance_to_centre * glm::vec3(std::cos(el) * std::sin(az), std::sin(el),
-                                                       std::cos(el) * std::cos(az));
-  render::ViewSetup view;
-  view.cam_from_world = core::CamFromWorldLookAt(eye, {0, 0, 0}, {0, 1, 0});
-  const double focal =
-      0.5 * options.size / std::tan(glm::radians(17.0));  // 34 degree field of view
-  view.clip_from_cam = core::ClipFromCamPerspective(
-      focal, focal, options.size / 2.0, options.size / 2.0, options.size, options.size, 0.05, 10.0);
-  render::RenderTarget target(render::FrameTargetOptions(options.size, options.size));
-  render::FrameTimerOptions timer;
-  timer.warmup_frames = 1;
-  timer.timed_frames = 3;
-  report.frame_ms = render::TimeFrames(
-                        [&] {
-                          render::BeginFrame(target);
-                          pass.Draw(target, view);
-                        },
-                        timer)
-                        .median_ms;
-  render::BeginFrame(target);
-  pass.Draw(target, view);
-  const render::Frame frame = render::ReadFrame(target);
 
-  double samples = 0;
-  int64_t rays = 0;
-  for (int y = 0; y < options.size; ++y)
-    for (int x = 0; x < options.size; ++x) {
-      const uint32_t bits = frame.outcome.at(x, y);
-      if (bits & render::kDeformMeshBit) ++report.mesh_pixels;
-      if (bits & (1u << static_cast<int>(render::RayOutcome::kHit))) ++report.hit_pixels;
-      if (bits & render::kDeformCutFaceBit) ++report.cut_face_pixels;
-      if (bits & (1u << static_cast<int>(render::RayOutcome::kExited))) ++report.exited_pixels;
-      if (bits & (1u << static_cast<int>(render::RayOutcome::kEarlyTermination)))
-        ++report.early_pixels;
-      const uint32_t n = bits >> render::kDeformSamplesShift;
-      if (n > 0) {
-        samples += n;
-        ++rays;
-      }
+  // The views, in world units (rigid cam_from_world): the dataset's, or one
+  // orbit view (azimuth about +y, 34 degree field of view, 2.6 longest sides
+  // from the centre).
+  std::vector<ibr::NamedView> views;
+  if (cameras) {
+    const std::vector<ibr::ViewCamera> cams = ibr::ViewsFromDataset(*cameras);
+    for (size_t i = 0; i < cams.size(); ++i) views.push_back({cameras->views[i].name, cams[i]});
+  } else {
+    const double az = glm::radians(options.azimuth_deg), el = glm::radians(options.elevation_deg);
+    const glm::dvec3 eye_norm =
+        2.6 * glm::dvec3(std::cos(el) * std::sin(az), std::sin(el), std::cos(el) * std::cos(az));
+    const double focal = 0.5 * options.size / std::tan(glm::radians(17.0));
+    ibr::ViewCamera view;
+    view.camera = ibr::MapCamera::Pinhole(options.size, options.size, focal, focal,
+                                          options.size / 2.0, options.size / 2.0);
+    view.cam_from_world = glm::dmat4(core::CamFromWorldLookAt(
+        glm::vec3(centre + longest * eye_norm), glm::vec3(centre), {0, 1, 0}));
+    views.push_back({"deform", view});
+  }
+  // Clip range: the mesh and the deformation box (grown by the displacement), in world units.
+  const core::Box3d norm_bounds{glm::min(glm::dvec3(lo), box.lo) - report.max_displacement,
+                                glm::max(glm::dvec3(hi), box.hi) + report.max_displacement};
+  capture::Bounds world_bounds;
+  world_bounds.min = glm::dvec3(world_from_norm * glm::dvec4(norm_bounds.lo, 1.0));
+  world_bounds.max = glm::dvec3(world_from_norm * glm::dvec4(norm_bounds.hi, 1.0));
+
+  std::optional<capture::DatasetWriter> writer;
+  if (options.WritesDataset()) writer.emplace(options.out);
+  render::Frame first;
+  for (size_t v = 0; v < views.size(); ++v) {
+    const ibr::ViewCamera& camera = views[v].view;
+    render::ViewSetup view = ibr::ViewSetupFor(camera, world_bounds);
+    // The pass works in normalised units: cam_from_norm is a similarity, so
+    // camera z (and the depth written) stays in world units.
+    view.cam_from_world = glm::mat4(camera.cam_from_world * world_from_norm);
+    render::RenderTarget target(
+        render::FrameTargetOptions(camera.camera.width, camera.camera.height));
+    if (v == 0) {
+      render::FrameTimerOptions timer;
+      timer.warmup_frames = 1;
+      timer.timed_frames = 3;
+      report.frame_ms = render::TimeFrames(
+                            [&] {
+                              render::BeginFrame(target);
+                              pass.Draw(target, view);
+                            },
+                            timer)
+                            .median_ms;
     }
-  report.mean_samples = rays > 0 ? samples / static_cast<double>(rays) : 0.0;
-
-  std::filesystem::path depth_path = options.out;
-  depth_path.replace_extension(".depth.exr");
-  core::WriteImage(depth_path, frame.depth);
-  core::WriteImage(options.out, frame.color);
+    render::BeginFrame(target);
+    pass.Draw(target, view);
+    render::Frame frame = render::ReadFrame(target);
+    report.views.push_back({views[v].name, CountDeformOutcomes(frame)});
+    report.total.Add(report.views.back().outcomes);
+    std::fprintf(stderr, "deform: view %zu/%zu %s rendered\n", v + 1, views.size(),
+                 views[v].name.c_str());
+    if (writer) {
+      core::Image8 mask(frame.color.width(), frame.color.height(), 1, 0);
+      for (int y = 0; y < mask.height(); ++y)
+        for (int x = 0; x < mask.width(); ++x) mask.at(x, y) = frame.Covered(x, y) ? 255 : 0;
+      const int cam = writer->AddCamera(ibr::CaptureCamera(camera.camera));
+      writer->AddView(views[v].name, cam, ibr::RigidFromMat4(camera.cam_from_world), frame.color,
+                      frame.depth, mask, frame.normal);
+    } else {
+      first = std::move(frame);
+    }
+  }
+  if (writer) {
+    writer->SetBounds(world_bounds);
+    writer->Commit();
+  } else {
+    std::filesystem::path depth_path = options.out;
+    depth_path.replace_extension(".depth.exr");
+    core::WriteImage(depth_path, first.depth);
+    core::WriteImage(options.out, first.color);
+  }
   return report;
 }
 

@@ -14,6 +14,7 @@
 #include "core/distance_field.h"
 #include "render/gl/shader_program.h"
 #include "render/passes/deform_pass.h"
+#include "render/passes/pass.h"
 
 namespace bench {
 
@@ -32,21 +33,43 @@ struct DeformRunOptions {
   int size = 512;                   // image width = height, pixels
   double azimuth_deg = 30.0;        // camera orbit about +y (OBJ up)
   double elevation_deg = 20.0;
-  std::filesystem::path out;  // colour PNG; camera z as <stem>.depth.exr beside it
+  // A dataset whose cameras to render from instead of the orbit view (its
+  // world frame is the mesh file's, as `ibr capture` writes it).
+  std::filesystem::path cameras;
+  // FILE.png: one colour PNG, camera z as <stem>.depth.exr beside it (one
+  // view only); otherwise a dataset folder as `ibr render` writes (colour,
+  // camera z, mask, normals; dataset.json), staged.
+  std::filesystem::path out;
   void Check() const;
+  bool WritesDataset() const { return out.extension() != ".png"; }
+};
+
+// Per-pixel outcome counts of one frame (render/passes/deform_pass.h bits).
+struct DeformOutcomes {
+  int64_t mesh_pixels = 0, hit_pixels = 0, cut_face_pixels = 0, exited_pixels = 0, early_pixels = 0;
+  int64_t rays = 0;           // pixels where a ray was cast
+  double mean_samples = 0.0;  // field samples per cast ray
+  void Add(const DeformOutcomes& other);
+};
+DeformOutcomes CountDeformOutcomes(const render::Frame& frame);
+
+struct DeformViewReport {
+  std::string name;
+  DeformOutcomes outcomes;
 };
 
 struct DeformRunReport {
   double sdf_seconds = 0.0;
   glm::ivec3 sdf_size{0};
+  int64_t distance_queries = 0;
   double max_displacement = 0.0;  // normalised units
-  int64_t mesh_pixels = 0, hit_pixels = 0, cut_face_pixels = 0, exited_pixels = 0, early_pixels = 0;
-  double mean_samples = 0.0;  // per cast ray
-  double frame_ms = 0.0;      // median frame time after warm-up
+  std::vector<DeformViewReport> views;
+  DeformOutcomes total;   // over every view
+  double frame_ms = 0.0;  // median frame time of the first view after warm-up
 };
 
 // Loads, normalises, builds the distance field and the deformation texture,
-// renders and writes the outputs (staged: nothing partial on error).
+// renders every view and writes the outputs (staged: nothing partial on error).
 DeformRunReport RunDeform(render::ProgramCache& programs, const DeformRunOptions& options);
 
 // The deformation box of a run (normalised units) and its placement.

@@ -32,6 +32,21 @@ double KnifeWidth(const Deformation& d, double z) {
   return d.amount * std::clamp((z - (1.0 - depth)) / depth, 0.0, 1.0);
 }
 
+// Peel (Correa 2007 Fig. 1b, 4): the flap x >= 0.5, 1 - 2T <= z <= 1 - T
+// turns by `angle` about the hinge line x = 0.5, z = 1 - T (lifting +x up).
+constexpr double kPeelHinge = 0.5;
+double PeelTop(const Deformation& d) { return 1.0 - d.width; }
+// Signed distance-like alpha of the flap's slab (> 0 inside, box units).
+double PeelSlab(const Deformation& d, const glm::dvec3& u) {
+  const double top = PeelTop(d);
+  return std::min({u.x - kPeelHinge, u.z - (top - d.width), top - u.z});
+}
+// Rotation of (x, z) about the hinge by a (positive a lifts +x towards +z).
+glm::dvec3 PeelRotate(const Deformation& d, const glm::dvec3& u, double a) {
+  const glm::dvec2 v = Rotate(glm::dvec2(u.x - kPeelHinge, u.z - PeelTop(d)), a);
+  return {kPeelHinge + v.x, u.y, PeelTop(d) + v.y};
+}
+
 }  // namespace
 
 DeformationKind DeformationKindFromName(const std::string& name) {
@@ -39,8 +54,9 @@ DeformationKind DeformationKindFromName(const std::string& name) {
   if (name == "bend") return DeformationKind::kBend;
   if (name == "pull") return DeformationKind::kPull;
   if (name == "knife") return DeformationKind::kKnife;
-  ThrowInputError("DeformationKindFromName", "unknown deformation '{}' (twist, bend, pull, knife)",
-                  name);
+  if (name == "peel") return DeformationKind::kPeel;
+  ThrowInputError("DeformationKindFromName",
+                  "unknown deformation '{}' (twist, bend, pull, knife, peel)", name);
 }
 
 std::string DeformationKindName(DeformationKind kind) {
@@ -53,6 +69,8 @@ std::string DeformationKindName(DeformationKind kind) {
       return "pull";
     case DeformationKind::kKnife:
       return "knife";
+    case DeformationKind::kPeel:
+      return "peel";
   }
   return "unknown";
 }
@@ -110,6 +128,13 @@ void Deformation::Check() const {
                         width);
       }
       break;
+    case DeformationKind::kPeel:
+      if (amount < 0 || amount > M_PI || !(width > 0) || width > 0.5) {
+        ThrowInputError("Deformation",
+                        "peel: angle {} must be in [0, pi] and thickness {} in (0, 0.5]", amount,
+                        width);
+      }
+      break;
   }
 }
 
@@ -153,6 +178,16 @@ glm::dvec4 Deformation::Evaluate(const glm::dvec3& u) const {
       double alpha = half > 0 ? half - std::abs(u.x - 0.5) : -1.0;
       return {dx, 0.0, 0.0, alpha};
     }
+    case DeformationKind::kPeel: {
+      // Inverse: where the turned flap came from (the flap wins where it
+      // overlaps the slab it left); the vacated slab is cut (A > 0, its
+      // faces the cut faces; A is 1-Lipschitz in box units). D jumps at the
+      // flap's faces: the peel is a cut, the flap's own faces are crossings.
+      if (amount <= 0) return {0, 0, 0, -1};
+      const glm::dvec3 q = PeelRotate(*this, u, -amount);
+      if (PeelSlab(*this, q) >= 0) return {q - u, -1.0};
+      return {0.0, 0.0, 0.0, std::max(PeelSlab(*this, u), -1.0)};
+    }
   }
   return {0, 0, 0, -1};
 }
@@ -177,6 +212,8 @@ glm::dvec3 Deformation::Forward(const glm::dvec3& u) const {
       double side = u.x > 0.5 ? 1.0 : u.x < 0.5 ? -1.0 : 0.0;
       return {u.x + side * half, u.y, u.z};
     }
+    case DeformationKind::kPeel:
+      return PeelSlab(*this, u) >= 0 ? PeelRotate(*this, u, amount) : u;
     case DeformationKind::kPull:
       break;
   }

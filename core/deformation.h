@@ -12,6 +12,10 @@
 //   bend   the bottom face (z = 0)
 //   pull   the bottom face (z = 0); the sides up to exp(-1/(8 w^2)) of the amplitude
 //   knife  the bottom face (z = 0); the cut opens from the top face
+//   peel   the bottom face (z = 0) for T < 0.5; the flap is a layer across
+//          the whole box in y that turns about the hinge x = 0.5 (like the
+//          knife, the region is placed with its y faces beyond the object)
+//          and is clipped where it leaves the box through the top or x = 0
 #pragma once
 
 #include <glm/glm.hpp>
@@ -22,7 +26,7 @@
 
 namespace core {
 
-enum class DeformationKind { kTwist, kBend, kPull, kKnife };
+enum class DeformationKind { kTwist, kBend, kPull, kKnife, kPeel };
 DeformationKind DeformationKindFromName(const std::string& name);  // InputError if unknown
 std::string DeformationKindName(DeformationKind kind);
 
@@ -31,11 +35,14 @@ struct Deformation {
   // twist: angle (radians) at the top face around the box's z axis;
   // bend: total bend angle (radians) over z in [0, 1], bending towards +x (Barr 1984);
   // pull: amplitude (box units) of the Gaussian pull along +z (Fig. 3: 0.5);
-  // knife: opening width (box units) of the cut at the top face.
+  // knife: opening width (box units) of the cut at the top face;
+  // peel: angle (radians, [0, pi]) the flap is turned back by (pi: flat, face down).
   double amount = 1.0;
   // twist: radius (box units) inside which the twist is rigid; it falls to 0 at 0.5;
   // pull: Gaussian width sigma (box units; Fig. 3 analogue: 0.03);
   // knife: depth of the cut from the top face (box units);
+  // peel: thickness T of the flap (box units, (0, 0.5]): the layer
+  //   1 - 2T <= z <= 1 - T, x >= 0.5, turns about the line x = 0.5, z = 1 - T;
   // bend: unused.
   double width = 0.3;
 
@@ -45,7 +52,7 @@ struct Deformation {
   bool HasForward() const { return kind != DeformationKind::kPull; }
   // The forward map T(u) (T^-1(T(u)) = u): twist, bend and knife only.
   glm::dvec3 Forward(const glm::dvec3& u) const;
-  bool HasCut() const { return kind == DeformationKind::kKnife; }
+  bool HasCut() const { return kind == DeformationKind::kKnife || kind == DeformationKind::kPeel; }
 };
 
 // How a cut alpha is rendered (sec. 5): no cut, hollow thin shell (hits in

@@ -4,6 +4,7 @@
 #include <atomic>
 #include <cmath>
 #include <cstdio>
+#include <limits>
 #include <map>
 #include <numeric>
 #include <thread>
@@ -117,6 +118,32 @@ double DistanceField::Sample(const glm::dvec3& p) const {
   return lerp(y0, y1, f.z);
 }
 
+namespace {
+
+// Exact signed distances along one row of nodes (i0..i1 inclusive at y = j,
+// z = k), the closest point of each node the hint of the next. The sign of a
+// node carries over from its neighbour unless the segment between them can
+// cross the surface: a crossing point s gives d_a <= |a - s| and
+// d_b <= |b - s|, so it needs d_a + d_b <= spacing; only then is the
+// (costlier) inside test run.
+void ExactRow(const MeshDistance& distance, DistanceField& field, int i0, int i1, int j, int k) {
+  glm::dvec3 hint(0.0);
+  double previous = 0.0;
+  for (int i = i0; i <= i1; ++i) {
+    const glm::dvec3 p = field.origin + field.spacing * glm::dvec3(i, j, k);
+    if (i == i0) distance.ClosestPoint(p, &hint, nullptr);
+    const double d = i > i0 ? distance.UnsignedDistance(p, &hint) : glm::length(hint - p);
+    const bool inside = (i > i0 && std::abs(previous) + d > field.spacing * (1 + 1e-9))
+                            ? previous < 0
+                            : distance.Inside(p);
+    previous = inside ? -d : d;
+    field.values[(static_cast<size_t>(k) * field.size.y + j) * field.size.x + i] =
+        static_cast<float>(previous);
+  }
+}
+
+}  // namespace
+
 DistanceField BuildDistanceField(const MeshDistance& distance, const Box3d& box,
                                  const DistanceFieldOptions& options) {
   options.Check();
@@ -138,41 +165,116 @@ DistanceField BuildDistanceField(const MeshDistance& distance, const Box3d& box,
   field.origin = box.lo - 0.5 * (covered - extent);
   field.values.assign(static_cast<size_t>(field.size.x) * field.size.y * field.size.z, 0.0f);
 
+  // Blocks of kBlock^3 voxels; block b spans nodes b * kBlock .. min((b + 1)
+  // kBlock, n - 1) per axis (neighbours share their face nodes); the blocks
+  // are also the unit of work of the threads.
+  constexpr int kBlock = 4;
+  const bool banded = options.exact_band_voxels > 0;
+  const glm::ivec3 blocks = (field.size - 2) / kBlock + 1;
+  field.exact_band =
+      banded ? options.exact_band_voxels * field.spacing : std::numeric_limits<double>::infinity();
+  auto node = [&](int i, int j, int k) -> float& {
+    return field.values[(static_cast<size_t>(k) * field.size.y + j) * field.size.x + i];
+  };
+  auto span = [&](int b, int axis) {
+    return glm::ivec2(b * kBlock, std::min((b + 1) * kBlock, field.size[axis] - 1));
+  };
+
   int threads =
       options.threads > 0 ? options.threads : static_cast<int>(std::thread::hardware_concurrency());
-  threads = std::clamp(threads, 1, field.size.z);
-  std::atomic<int> next_slice{0}, done_slices{0};
-  auto worker = [&] {
-    for (int k = next_slice++; k < field.size.z; k = next_slice++) {
-      for (int j = 0; j < field.size.y; ++j) {
-        double previous = 0.0;
-        for (int i = 0; i < field.size.x; ++i) {
-          glm::dvec3 p = field.origin + field.spacing * glm::dvec3(i, j, k);
-          double d = distance.UnsignedDistance(p);
-          // The segment between two neighbouring samples crosses the surface
-          // only if their distances sum to at most the spacing (a crossing
-          // point s gives d_a <= |a - s| and d_b <= |b - s|). Otherwise the
-          // sign carries over and the (costlier) inside test is skipped.
-          bool inside = (i > 0 && std::abs(previous) + d > field.spacing * (1 + 1e-9))
-                            ? previous < 0
-                            : distance.Inside(p);
-          previous = inside ? -d : d;
-          field.values[(static_cast<size_t>(k) * field.size.y + j) * field.size.x + i] =
-              static_cast<float>(previous);
-        }
+  threads = std::max(threads, 1);
+  auto parallel = [&](int count, const auto& work) {
+    std::atomic<int> next{0};
+    auto worker = [&] {
+      for (int n = next++; n < count; n = next++) work(n);
+    };
+    std::vector<std::thread> pool;
+    for (int t = 1; t < std::min(threads, count); ++t) pool.emplace_back(worker);
+    worker();
+    for (std::thread& t : pool) t.join();
+  };
+
+  // 1. Exact signed distances at the block corners (corner c of an axis is
+  // node c * kBlock, the last one node n - 1), in their own array.
+  const glm::ivec3 corner_count = blocks + 1;
+  std::vector<float> corners;
+  auto corner_node = [&](int c, int axis) { return std::min(c * kBlock, field.size[axis] - 1); };
+  std::atomic<int64_t> queries{0};
+  if (banded) {
+    corners.resize(static_cast<size_t>(corner_count.x) * corner_count.y * corner_count.z);
+    parallel(corner_count.y * corner_count.z, [&](int row) {
+      const int cy = row % corner_count.y, cz = row / corner_count.y;
+      for (int cx = 0; cx < corner_count.x; ++cx) {
+        const glm::dvec3 p =
+            field.origin +
+            field.spacing * glm::dvec3(corner_node(cx, 0), corner_node(cy, 1), corner_node(cz, 2));
+        corners[(static_cast<size_t>(cz) * corner_count.y + cy) * corner_count.x + cx] =
+            static_cast<float>(distance.SignedDistance(p));
       }
-      int done = ++done_slices;
-      if (options.progress &&
-          (done % std::max(1, field.size.z / 10) == 0 || done == field.size.z)) {
-        std::fprintf(stderr, "distance field %dx%dx%d: %d/%d slices\n", field.size.x, field.size.y,
-                     field.size.z, done, field.size.z);
+      queries += corner_count.x;
+    });
+  }
+
+  // 2. Per block: far from the surface, i.e. every corner farther than the
+  // band plus half the block's diagonal. Every node x lies within half a
+  // diagonal of some corner c, so |d(x)| >= |d(c)| - |x - c| > band, and no
+  // surface separates x from c; neighbouring corners (one block side apart,
+  // less than the sum of their distances) share their sign, so the block
+  // holds no crossing. Its nodes take the corners' trilinear interpolation:
+  // the common sign, magnitude > band, within a diagonal of the truth (each
+  // corner's distance is). Other blocks take exact rows. A block writes the
+  // nodes it owns: its span without the upper faces, except at the grid's end.
+  const double half_diagonal = 0.5 * std::sqrt(3.0) * kBlock * field.spacing;
+  std::atomic<int> done_slabs{0};
+  parallel(blocks.z, [&](int bz) {
+    const glm::ivec2 sz = span(bz, 2);
+    for (int by = 0; by < blocks.y; ++by) {
+      const glm::ivec2 sy = span(by, 1);
+      for (int bx = 0; bx < blocks.x; ++bx) {
+        const glm::ivec2 sx = span(bx, 0);
+        const int x1 = sx.y == field.size.x - 1 ? sx.y : sx.y - 1;
+        const int y1 = sy.y == field.size.y - 1 ? sy.y : sy.y - 1;
+        const int z1 = sz.y == field.size.z - 1 ? sz.y : sz.y - 1;
+        double c[2][2][2];
+        double nearest = 1e300;
+        if (banded) {
+          for (int dz = 0; dz < 2; ++dz)
+            for (int dy = 0; dy < 2; ++dy)
+              for (int dx = 0; dx < 2; ++dx) {
+                c[dz][dy][dx] = corners[(static_cast<size_t>(bz + dz) * corner_count.y + by + dy) *
+                                            corner_count.x +
+                                        bx + dx];
+                nearest = std::min(nearest, std::abs(c[dz][dy][dx]));
+              }
+        }
+        if (banded && nearest > field.exact_band + half_diagonal) {
+          for (int k = sz.x; k <= z1; ++k)
+            for (int j = sy.x; j <= y1; ++j)
+              for (int i = sx.x; i <= x1; ++i) {
+                const double fx = double(i - sx.x) / (sx.y - sx.x);
+                const double fy = double(j - sy.x) / (sy.y - sy.x);
+                const double fz = double(k - sz.x) / (sz.y - sz.x);
+                auto lerp = [](double a, double b, double t) { return a + (b - a) * t; };
+                const double y0 =
+                    lerp(lerp(c[0][0][0], c[0][0][1], fx), lerp(c[0][1][0], c[0][1][1], fx), fy);
+                const double y1v =
+                    lerp(lerp(c[1][0][0], c[1][0][1], fx), lerp(c[1][1][0], c[1][1][1], fx), fy);
+                node(i, j, k) = static_cast<float>(lerp(y0, y1v, fz));
+              }
+          continue;
+        }
+        for (int k = sz.x; k <= z1; ++k)
+          for (int j = sy.x; j <= y1; ++j) ExactRow(distance, field, sx.x, x1, j, k);
+        queries += static_cast<int64_t>(x1 - sx.x + 1) * (y1 - sy.x + 1) * (z1 - sz.x + 1);
       }
     }
-  };
-  std::vector<std::thread> pool;
-  for (int t = 1; t < threads; ++t) pool.emplace_back(worker);
-  worker();
-  for (std::thread& t : pool) t.join();
+    const int done = ++done_slabs;
+    if (options.progress && (done % std::max(1, blocks.z / 10) == 0 || done == blocks.z)) {
+      std::fprintf(stderr, "distance field %dx%dx%d: %d/%d slabs\n", field.size.x, field.size.y,
+                   field.size.z, done, blocks.z);
+    }
+  });
+  field.distance_queries = queries;
   return field;
 }
 

@@ -11,6 +11,7 @@
 #pragma once
 
 #include <cstddef>
+#include <cstdint>
 #include <glm/glm.hpp>
 #include <memory>
 #include <string>
@@ -62,6 +63,10 @@ class MeshDistance {
   MeshDistance& operator=(const MeshDistance&) = delete;
 
   double UnsignedDistance(const glm::dvec3& p) const;
+  // The same with a hint: `*closest` holds a surface point near p's closest
+  // point (a neighbouring node's), which bounds the tree search from the
+  // start (CGAL's closest_point(query, hint)); on return, p's closest point.
+  double UnsignedDistance(const glm::dvec3& p, glm::dvec3* closest) const;
   // Closest surface point to p and the unit normal of its triangle (outward).
   void ClosestPoint(const glm::dvec3& p, glm::dvec3* closest, glm::dvec3* normal) const;
   // True when p is strictly inside the solid (on the surface counts as outside).
@@ -91,6 +96,15 @@ struct DistanceFieldOptions {
   int threads = 0;
   // Print progress on stderr (per finished slab fraction).
   bool progress = false;
+  // Nodes within this many voxels of the surface get the exact distance;
+  // farther nodes get the exact sign and a magnitude > the band (trilinear
+  // interpolation of exact distances at the corners of their 4^3-voxel block,
+  // error below the block diagonal). The deform shader needs the exact value
+  // only near the surface: the fixed and Jacobian steps read the sign, the
+  // threshold policy |f| < T (T <= the band), the normals differences half a
+  // voxel from the zero set. Default 4 voxels (0.04 of the unit object at 128:
+  // the paper's threshold); <= 0 = exact everywhere (as slow as 1 query per node).
+  double exact_band_voxels = 4.0;
 
   void Check() const;
 };
@@ -104,6 +118,10 @@ struct DistanceField {
   glm::dvec3 origin{0.0};
   double spacing = 0.0;       // world units between samples
   std::vector<float> values;  // signed distance (> 0 outside), x fastest, then y, then z
+  // Values with |value| <= exact_band are exact (infinity: all are); beyond
+  // it the sign is exact and |value| > exact_band (DistanceFieldOptions).
+  double exact_band = 0.0;
+  int64_t distance_queries = 0;  // exact closest-point queries the build made
 
   float At(int i, int j, int k) const {
     return values[(static_cast<size_t>(k) * size.y + j) * size.x + i];

@@ -28,7 +28,8 @@ struct DeformFlags {
   int resolution = 128;
   int size = 512;
   double azimuth = 30, elevation = 20;
-  std::string out = "deform.png";
+  std::string cameras;
+  std::string out;
 };
 
 std::vector<double> ParseNumbers(const std::string& text, const char* flag) {
@@ -61,6 +62,9 @@ void Defaults(core::Deformation& d) {
       break;
     case core::DeformationKind::kKnife:
       d.amount = 0.15, d.width = 0.6;
+      break;
+    case core::DeformationKind::kPeel:
+      d.amount = 2.4, d.width = 0.15;
       break;
   }
 }
@@ -114,19 +118,28 @@ void RunDeformCommand(const DeformFlags& f) {
   o.size = f.size;
   o.azimuth_deg = f.azimuth;
   o.elevation_deg = f.elevation;
+  o.cameras = f.cameras;
   o.out = f.out;
   o.Check();  // before any GL or mesh work
   auto context = render::HeadlessContext::Create();
   render::ProgramCache programs;
   const bench::DeformRunReport r = bench::RunDeform(programs, o);
-  fmt::print("deform: distance field {}x{}x{} in {:.2f} s, max displacement {:.4f}\n", r.sdf_size.x,
-             r.sdf_size.y, r.sdf_size.z, r.sdf_seconds, r.max_displacement);
   fmt::print(
-      "deform: pixels mesh {} ray-hit {} cut-face {} exited {} early-termination {}; {:.1f} "
-      "samples per ray\n",
-      r.mesh_pixels, r.hit_pixels, r.cut_face_pixels, r.exited_pixels, r.early_pixels,
-      r.mean_samples);
-  fmt::print("deform: {:.1f} ms per frame; wrote {}\n", r.frame_ms, f.out);
+      "deform: distance field {}x{}x{} in {:.2f} s ({} exact distance queries), max displacement "
+      "{:.4f}\n",
+      r.sdf_size.x, r.sdf_size.y, r.sdf_size.z, r.sdf_seconds, r.distance_queries,
+      r.max_displacement);
+  auto print = [](const std::string& what, const bench::DeformOutcomes& c) {
+    fmt::print(
+        "deform: {}: pixels mesh {} ray-hit {} cut-face {} exited {} early-termination {}; {} "
+        "rays, "
+        "{:.1f} samples per ray\n",
+        what, c.mesh_pixels, c.hit_pixels, c.cut_face_pixels, c.exited_pixels, c.early_pixels,
+        c.rays, c.mean_samples);
+  };
+  for (const bench::DeformViewReport& v : r.views) print("view " + v.name, v.outcomes);
+  if (r.views.size() > 1) print(fmt::format("all {} views", r.views.size()), r.total);
+  fmt::print("deform: {:.1f} ms per frame (first view); wrote {}\n", r.frame_ms, f.out);
 }
 
 void AddDeformCommand(CLI::App& app) {
@@ -136,13 +149,14 @@ void AddDeformCommand(CLI::App& app) {
   cmd->add_option("mesh", f.mesh, "mesh file (OBJ/PLY/...), normalised to the unit cube")
       ->required();
   cmd->add_flag("--cap-holes", f.cap_holes, "fill the boundary loops of an open mesh");
-  cmd->add_option("--deformation", f.deformations, "twist|bend|pull|knife (repeat to sum)")
+  cmd->add_option("--deformation", f.deformations, "twist|bend|pull|knife|peel (repeat to sum)")
       ->delimiter(',');
   cmd->add_option("--amount", f.amounts,
-                  "per deformation: twist/bend angle (rad), pull amplitude, knife opening")
+                  "per deformation: twist/bend/peel angle (rad), pull amplitude, knife opening")
       ->delimiter(',');
   cmd->add_option("--width", f.widths,
-                  "per deformation: twist rigid radius, pull sigma, knife depth (box units)")
+                  "per deformation: twist rigid radius, pull sigma, knife depth, peel thickness "
+                  "(box units)")
       ->delimiter(',');
   cmd->add_option("--cut", f.cut, "none|hollow|solid|thick:T")->capture_default_str();
   cmd->add_option("--region", f.region,
@@ -160,8 +174,12 @@ void AddDeformCommand(CLI::App& app) {
   cmd->add_option("--size", f.size, "image width = height in pixels")->capture_default_str();
   cmd->add_option("--azimuth", f.azimuth, "degrees about +y")->capture_default_str();
   cmd->add_option("--elevation", f.elevation, "degrees above the horizon")->capture_default_str();
-  cmd->add_option("--out", f.out, "colour PNG; camera-z EXR beside it (.depth.exr)")
-      ->capture_default_str();
+  cmd->add_option("--cameras", f.cameras,
+                  "render from this dataset's cameras (world = the mesh file's frame)");
+  cmd->add_option("--out", f.out,
+                  "FILE.png (colour; camera-z EXR beside it) or DIR (a dataset folder as ibr "
+                  "render writes)")
+      ->required();
   cmd->callback([] { RunDeformCommand(f); });
 }
 

@@ -100,6 +100,47 @@ TEST(Deformation, KnifeAlphaMarksTheGap) {
   EXPECT_NEAR(in.x, out.x, 1e-8);
 }
 
+TEST(Deformation, PeelTurnsTheFlapAndCutsTheSlabItLeft) {
+  // Flap: x >= 0.5, 0.6 <= z <= 0.8 (T = 0.2), hinge x = 0.5, z = 0.8.
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> u01(0.0, 1.0);
+  for (double angle : {0.4, M_PI / 2, 2.5, M_PI}) {
+    Deformation peel = Make(DeformationKind::kPeel, angle, 0.2);
+    double worst = 0.0;
+    int tested = 0;
+    for (int n = 0; n < 2000; ++n) {
+      // A point of the flap, turned; inside the box it maps back to itself.
+      glm::dvec3 u(0.5 + 0.5 * u01(rng), u01(rng), 0.6 + 0.2 * u01(rng));
+      glm::dvec3 p = peel.Forward(u);
+      if (glm::any(glm::lessThan(p, glm::dvec3(0.0))) ||
+          glm::any(glm::greaterThan(p, glm::dvec3(1.0)))) {
+        continue;
+      }
+      glm::dvec4 e = peel.Evaluate(p);
+      worst = std::max(worst, glm::length(p + glm::dvec3(e) - u));
+      EXPECT_LT(e.w, 0.0);  // the flap is material
+      ++tested;
+    }
+    EXPECT_GT(tested, 200) << angle;
+    EXPECT_LT(worst, 1e-12) << angle;
+    EXPECT_LT(MaxOnFace(peel, 2, 0.0), 1e-15) << angle;
+  }
+  // Turned flat (pi): the flap lies on top of the hinge's other side, the
+  // slab it left is cut, with A the distance to the slab's faces.
+  Deformation peel = Make(DeformationKind::kPeel, M_PI, 0.2);
+  EXPECT_NEAR(peel.Evaluate({0.8, 0.5, 0.7}).w, 0.1, 1e-12);
+  EXPECT_NEAR(peel.Evaluate({0.52, 0.5, 0.7}).w, 0.02, 1e-12);
+  EXPECT_LT(peel.Evaluate({0.3, 0.5, 0.7}).w, 0.0);  // beside the slab: untouched
+  EXPECT_LT(peel.Evaluate({0.8, 0.5, 0.5}).w, 0.0);  // below it
+  glm::dvec4 flap = peel.Evaluate({0.3, 0.5, 0.9});  // the turned flap, mirrored about the hinge
+  EXPECT_NEAR(flap.x, 0.4, 1e-12);
+  EXPECT_NEAR(flap.z, -0.2, 1e-12);
+  EXPECT_TRUE(peel.HasCut());
+  EXPECT_THROW(Make(DeformationKind::kPeel, 4.0, 0.2), InputError);
+  EXPECT_THROW(Make(DeformationKind::kPeel, 1.0, 0.6), InputError);
+  EXPECT_EQ(DeformationKindFromName("peel"), DeformationKind::kPeel);
+}
+
 TEST(Deformation, SumAddsDisplacementsAndTakesTheLargestAlpha) {
   DeformationSum sum{
       {Make(DeformationKind::kTwist, 1.0, 0.3), Make(DeformationKind::kKnife, 0.2, 0.5)}};

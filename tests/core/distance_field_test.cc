@@ -58,7 +58,12 @@ double BruteSignedDistance(const TriangleMesh& mesh, const glm::dvec3& p) {
   return winding > 0.5 ? -best : best;
 }
 
-void ExpectMatchesBruteForce(const TriangleMesh& mesh, const char* name, int resolution) {
+// Inside the exact band the field equals the brute-force distance (float
+// rounding); beyond it the sign is exact and the value, an interpolation of
+// exact block corners, lies beyond the band and within a block diagonal of
+// the truth. band_voxels <= 0: every node exact.
+void ExpectMatchesBruteForce(const TriangleMesh& mesh, const char* name, int resolution,
+                             double band_voxels = 4.0) {
   glm::vec3 lo, hi;
   mesh.Bounds(lo, hi);
   Box3d box{glm::dvec3(lo) - 0.2,
@@ -66,25 +71,42 @@ void ExpectMatchesBruteForce(const TriangleMesh& mesh, const char* name, int res
   DistanceFieldOptions options;
   options.resolution = resolution;
   options.threads = 2;
+  options.exact_band_voxels = band_voxels;
   DistanceField field = BuildDistanceField(mesh, box, options, name);
   ASSERT_EQ(field.values.size(), static_cast<size_t>(field.size.x) * field.size.y * field.size.z);
-  double max_diff = 0.0;
-  int sign_errors = 0;
+  const double diagonal = std::sqrt(3.0) * 4 * field.spacing;
+  double max_diff = 0.0, max_far_diff = 0.0;
+  int sign_errors = 0, band_errors = 0, far_nodes = 0;
   for (int k = 0; k < field.size.z; ++k)
     for (int j = 0; j < field.size.y; ++j)
       for (int i = 0; i < field.size.x; ++i) {
         glm::dvec3 p = field.origin + field.spacing * glm::dvec3(i, j, k);
         double truth = BruteSignedDistance(mesh, p);
         double got = field.At(i, j, k);
-        max_diff = std::max(max_diff, std::abs(truth - got));
+        if (std::abs(truth) <= field.exact_band) {
+          max_diff = std::max(max_diff, std::abs(truth - got));
+        } else {
+          ++far_nodes;
+          max_far_diff = std::max(max_far_diff, std::abs(truth - got));
+          band_errors += !(std::abs(got) > field.exact_band);
+        }
         // Points within float rounding of the surface may take either sign.
         if (std::abs(truth) > 1e-6 && (truth < 0) != (got < 0)) ++sign_errors;
       }
-  std::printf("%s: %dx%dx%d samples, %zu triangles, max |sdf - brute force| = %.3g\n", name,
-              field.size.x, field.size.y, field.size.z, mesh.triangle_count(), max_diff);
+  std::printf(
+      "%s: %dx%dx%d samples, %zu triangles, band %.3g voxels: max |sdf - brute force| = %.3g in "
+      "the band; %d nodes beyond it, max difference %.3g (block diagonal %.3g); %lld distance "
+      "queries\n",
+      name, field.size.x, field.size.y, field.size.z, mesh.triangle_count(), band_voxels, max_diff,
+      far_nodes, max_far_diff, diagonal, static_cast<long long>(field.distance_queries));
   EXPECT_EQ(sign_errors, 0) << name;
+  EXPECT_EQ(band_errors, 0) << name;
   // Float storage: relative rounding of distances up to ~1.5 units.
   EXPECT_LT(max_diff, 1e-6) << name;
+  EXPECT_LE(max_far_diff, diagonal) << name;
+  if (band_voxels <= 0) {
+    EXPECT_EQ(far_nodes, 0) << name;
+  }
 }
 
 TEST(DistanceField, SphereMatchesBruteForce) {
@@ -98,6 +120,49 @@ TEST(DistanceField, TorusMatchesBruteForce) {
 TEST(DistanceField, CupMatchesBruteForce) {
   // Concave: the inside test must not be fooled by the cavity.
   ExpectMatchesBruteForce(MakeCup(0.7f, 0.9f, 0.15f, 12), "cup", 24);
+}
+
+TEST(DistanceField, FarBlocksKeepTheSignAndStayBeyondTheBand) {
+  // A small sphere in a large box: most 4^3 blocks are far from the surface
+  // and interpolated from their corners (checked against brute force by
+  // ExpectMatchesBruteForce: sign exact, |value| > band, error < diagonal).
+  TriangleMesh sphere = MakeSphere(0.25f, 8, 12);
+  Box3d box{{-1.2, -1.1, -1.0}, {1.3, 1.2, 1.1}};
+  DistanceFieldOptions options;
+  options.resolution = 48;
+  options.threads = 2;
+  DistanceField field = BuildDistanceField(sphere, box, options, "small sphere");
+  const int64_t nodes = static_cast<int64_t>(field.values.size());
+  std::printf("small sphere: %lld of %lld nodes queried exactly\n",
+              static_cast<long long>(field.distance_queries), static_cast<long long>(nodes));
+  EXPECT_LT(field.distance_queries, nodes / 3);
+  double worst_far = 0.0;
+  int sign_errors = 0, band_errors = 0, band_mismatch = 0;
+  for (int k = 0; k < field.size.z; ++k)
+    for (int j = 0; j < field.size.y; ++j)
+      for (int i = 0; i < field.size.x; ++i) {
+        glm::dvec3 p = field.origin + field.spacing * glm::dvec3(i, j, k);
+        double truth = BruteSignedDistance(sphere, p), got = field.At(i, j, k);
+        sign_errors += (truth < 0) != (got < 0);
+        if (std::abs(truth) <= field.exact_band) {
+          band_mismatch += std::abs(truth - got) > 1e-6;
+        } else {
+          band_errors += !(std::abs(got) > field.exact_band);
+          worst_far = std::max(worst_far, std::abs(truth - got));
+        }
+      }
+  std::printf("small sphere: beyond the band max |field - brute force| = %.4g (diagonal %.4g)\n",
+              worst_far, std::sqrt(3.0) * 4 * field.spacing);
+  EXPECT_EQ(sign_errors, 0);
+  EXPECT_EQ(band_errors, 0);
+  EXPECT_EQ(band_mismatch, 0);
+  EXPECT_GT(worst_far, 1e-4);  // the far nodes really were interpolated
+  EXPECT_LE(worst_far, std::sqrt(3.0) * 4 * field.spacing);
+}
+
+TEST(DistanceField, ExactEverywhereWithoutABand) {
+  ExpectMatchesBruteForce(MakeTorus(0.6f, 0.25f, 12, 8), "torus (no band)", 24, 0.0);
+  ExpectMatchesBruteForce(MakeCup(0.7f, 0.9f, 0.15f, 12), "cup (band 1 voxel)", 37, 1.0);
 }
 
 TEST(DistanceField, BoxWithSplitVerticesIsClosed) {

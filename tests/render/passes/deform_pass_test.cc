@@ -272,15 +272,25 @@ TEST_F(DeformPassTest, ForwardTruthForTwistAndBend) {
                                   truth.color);
     int both = 0, differ = 0;
     std::vector<double> errors;
+    // Grey where both cover, red: ray cast only, blue: forward mesh only.
+    core::Image8 diff(kSize, kSize, 4, 0);
     for (int y = 0; y < kSize; ++y)
       for (int x = 0; x < kSize; ++x) {
         bool a = frame.Covered(x, y), b = truth.color.at(x, y, 3) == 255;
         differ += a != b;
+        if (a || b) {
+          diff.at(x, y, 0) = a ? (b ? 128 : 255) : 0;
+          diff.at(x, y, 1) = a && b ? 128 : 0;
+          diff.at(x, y, 2) = b ? (a ? 128 : 255) : 0;
+          diff.at(x, y, 3) = 255;
+        }
         if (a && b) {
           ++both;
           errors.push_back(std::abs(double(frame.depth.at(x, y)) - truth.depth.at(x, y)));
         }
       }
+    test_support::WriteDebugImage("forward_" + core::DeformationKindName(d.kind) + "_diff.png",
+                                  diff);
     std::sort(errors.begin(), errors.end());
     double iou = double(both) / (both + differ);
     double p95 = errors[static_cast<size_t>(0.95 * (errors.size() - 1))];
@@ -360,20 +370,21 @@ TEST_F(DeformPassTest, HardCaseSweepIsFiniteAndConsistent) {
   std::mt19937 rng(2007);
   std::uniform_real_distribution<double> u01(0.0, 1.0);
   auto uniform = [&](double lo, double hi) { return lo + (hi - lo) * u01(rng); };
-  const core::DeformationKind kinds[] = {core::DeformationKind::kTwist,
-                                         core::DeformationKind::kBend, core::DeformationKind::kPull,
-                                         core::DeformationKind::kKnife};
+  const core::DeformationKind kinds[] = {
+      core::DeformationKind::kTwist, core::DeformationKind::kBend, core::DeformationKind::kPull,
+      core::DeformationKind::kKnife, core::DeformationKind::kPeel};
   const CutMode cuts[] = {CutMode::kNone, CutMode::kHollow, CutMode::kSolid, CutMode::kThick};
   const RayStepPolicy policies[] = {RayStepPolicy::kFixed, RayStepPolicy::kThreshold,
                                     RayStepPolicy::kJacobian};
   constexpr int kConfigs = 208, kPixels = 24;
   int rendered = 0, refused = 0, bad_pixels = 0, inconsistent = 0, covered = 0;
+  int failed_by[4] = {0, 0, 0, 0};
   for (int c = 0; c < kConfigs; ++c) {
     Scene scene;
     scene.mesh = mesh;
     int terms = 1 + (u01(rng) < 0.3);
     for (int t = 0; t < terms; ++t) {
-      core::DeformationKind kind = kinds[rng() % 4];
+      core::DeformationKind kind = kinds[rng() % 5];
       core::Deformation d = Make(kind, 0, 0);
       switch (kind) {
         case core::DeformationKind::kTwist:
@@ -387,6 +398,9 @@ TEST_F(DeformPassTest, HardCaseSweepIsFiniteAndConsistent) {
           break;
         case core::DeformationKind::kKnife:
           d.amount = uniform(0.01, 0.5), d.width = uniform(0.05, 1);
+          break;
+        case core::DeformationKind::kPeel:
+          d.amount = uniform(0, M_PI), d.width = uniform(0.02, 0.5);
           break;
       }
       scene.deformation.terms.push_back(d);
@@ -450,9 +464,18 @@ TEST_F(DeformPassTest, HardCaseSweepIsFiniteAndConsistent) {
         int ray_outcomes = std::popcount(bits & ray_bits);
         // Several rays may reach one pixel (outcomes OR, pass.h), so a pixel
         // may carry more than one ray outcome; samples are counted iff a ray ran.
-        bool ok = frame.Covered(x, y) == (hit || mesh_px) && (!(bits & kDeformCutFaceBit) || hit) &&
-                  (frame.Covered(x, y) ? z >= 0 : z == 0) &&
-                  ((bits >> kDeformSamplesShift) > 0) == (ray_outcomes >= 1);
+        const bool checks[4] = {frame.Covered(x, y) == (hit || mesh_px),
+                                (!(bits & kDeformCutFaceBit) || hit),
+                                (frame.Covered(x, y) ? z >= 0 : z == 0),
+                                ((bits >> kDeformSamplesShift) > 0) == (ray_outcomes >= 1)};
+        bool ok = true;
+        for (int k = 0; k < 4; ++k) {
+          ok &= checks[k];
+          if (!checks[k] && failed_by[k]++ < 3) {
+            std::printf("config %d pixel (%d, %d): check %d fails: bits %#x covered %d z %g\n", c,
+                        x, y, k, bits, frame.Covered(x, y), z);
+          }
+        }
         inconsistent += !ok;
         covered += frame.Covered(x, y);
       }
