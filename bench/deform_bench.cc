@@ -2,11 +2,16 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <fstream>
 #include <glm/gtc/matrix_transform.hpp>
+#include <map>
+#include <memory>
 #include <optional>
+#include <sstream>
 
 #include "capture/dataset.h"
 #include "capture/synthetic.h"
@@ -231,6 +236,264 @@ DeformRunReport RunDeform(render::ProgramCache& programs, const DeformRunOptions
     core::WriteImage(options.out, first.color);
   }
   return report;
+}
+
+}  // namespace bench
+
+namespace bench {
+
+LineFit FitLine(const std::vector<double>& x, const std::vector<double>& y) {
+  LineFit fit;
+  const size_t n = std::min(x.size(), y.size());
+  if (n < 2) return fit;
+  double mx = 0, my = 0;
+  for (size_t i = 0; i < n; ++i) mx += x[i] / n, my += y[i] / n;
+  double sxx = 0, sxy = 0, syy = 0;
+  for (size_t i = 0; i < n; ++i) {
+    sxx += (x[i] - mx) * (x[i] - mx);
+    sxy += (x[i] - mx) * (y[i] - my);
+    syy += (y[i] - my) * (y[i] - my);
+  }
+  if (!(sxx > 0)) return fit;
+  fit.slope = sxy / sxx;
+  fit.intercept = my - fit.slope * mx;
+  fit.r2 = syy > 0 ? sxy * sxy / (sxx * syy) : 1.0;
+  return fit;
+}
+
+void DeformBenchOptions::Check() const {
+  if (csv.empty()) core::ThrowInputError("ibr bench deform", "--csv FILE is required");
+  if (out.empty()) core::ThrowInputError("ibr bench deform", "--out DIR is required");
+  if (size < 16 || size > 4096)
+    core::ThrowInputError("ibr bench deform", "--size {} outside 16..4096", size);
+}
+
+namespace {
+
+struct BenchMesh {
+  std::string name, file;
+  bool cap_holes;
+};
+
+// The OpenVDB peer: one Python run per mesh over every resolution; returns
+// (seconds, active voxels) per resolution, in order.
+std::vector<std::pair<double, double>> RunOpenVdbPeer(const std::filesystem::path& obj,
+                                                      const core::Box3d& box,
+                                                      const std::vector<int>& resolutions,
+                                                      double half_width_voxels) {
+  const std::filesystem::path script =
+      std::filesystem::path(IBR_BENCH_SOURCE_DIR) / "openvdb_peer.py";
+  std::string cmd = fmt::format(
+      "/usr/bin/python3 '{}' '{}' {} {} {} {} {}", script.string(), obj.string(), box.lo.x,
+      box.lo.y, box.lo.z, std::max({box.size().x, box.size().y, box.size().z}), half_width_voxels);
+  for (int r : resolutions) cmd += fmt::format(" {}", r);
+  cmd += " 2>&1";
+  std::unique_ptr<FILE, int (*)(FILE*)> pipe(popen(cmd.c_str(), "r"), pclose);
+  if (!pipe) core::ThrowInputError("ibr bench deform", "cannot run {}", cmd);
+  std::string text;
+  char buffer[512];
+  while (std::fgets(buffer, sizeof buffer, pipe.get())) text += buffer;
+  std::vector<std::pair<double, double>> times;
+  std::istringstream lines(text);
+  std::string line;
+  while (std::getline(lines, line)) {
+    int res = 0;
+    double seconds = 0, active = 0;
+    if (std::sscanf(line.c_str(), "res %d seconds %lf active %lf", &res, &seconds, &active) == 3)
+      times.emplace_back(seconds, active);
+  }
+  if (times.size() != resolutions.size()) {
+    core::ThrowInputError("ibr bench deform", "OpenVDB peer failed: {}", text);
+  }
+  return times;
+}
+
+void WriteObj(const core::TriangleMesh& mesh, const std::filesystem::path& path) {
+  std::ofstream out(path);
+  for (const glm::vec3& p : mesh.positions) out << "v " << p.x << ' ' << p.y << ' ' << p.z << '\n';
+  for (size_t t = 0; t < mesh.triangle_count(); ++t) {
+    out << "f " << mesh.indices[3 * t] + 1 << ' ' << mesh.indices[3 * t + 1] + 1 << ' '
+        << mesh.indices[3 * t + 2] + 1 << '\n';
+  }
+  if (!out) core::ThrowInputError("ibr bench deform", "cannot write {}", path.string());
+}
+
+}  // namespace
+
+DeformBenchResult RunDeformBench(render::ProgramCache& programs,
+                                 const DeformBenchOptions& options) {
+  options.Check();
+  const int size = options.quick ? 128 : options.size;
+  // (GCC 12 warns falsely about string temporaries in braced lists under ?:.)
+  std::vector<BenchMesh> meshes;
+  meshes.push_back({"spot", "spot.obj", false});
+  if (!options.quick) {
+    meshes.push_back({"fandisk", "fandisk.obj", false});
+    meshes.push_back({"cow", "cow.obj", false});
+  }
+  meshes.push_back({"bunny-capped", "stanford-bunny.obj", true});
+  std::vector<double> scales = {0.4, 0.55, 0.7, 0.85, 1.0};
+  std::vector<int> resolutions = {64, 128, 256};
+  if (options.quick) {
+    scales = {0.5, 1.0};
+    resolutions = {32, 64};
+  }
+  const int render_resolution = options.quick ? 64 : 128;
+  std::filesystem::create_directories(options.out);
+
+  DeformBenchResult result{
+      Table({"mesh", "triangles", "mode", "series", "region_scale", "area_fraction", "ms",
+             "samples_per_ray"}),
+      Table({"mesh", "mode", "weighted_ms", "over_continuous", "slope_ms", "intercept_ms", "r2"}),
+      Table({"mesh", "resolution", "builder", "series", "seconds", "queries_or_active"})};
+  // Fitted ms at one common area per mode (the spread across meshes).
+  std::map<std::string, std::vector<double>> at_common_area;
+  const double kCommonArea = 0.2;
+
+  for (const BenchMesh& m : meshes) {
+    capture::SceneMesh scene = capture::LoadSceneMesh(options.shared_data / "meshes" / m.file);
+    core::TriangleMesh& mesh = scene.mesh;
+    Normalise(mesh);
+    glm::vec3 lo, hi;
+    mesh.Bounds(lo, hi);
+    const core::Box3d region = core::Box3d{glm::dvec3(lo), glm::dvec3(hi)}.Grown(0.05);
+    core::MeshDistance distance(mesh, m.cap_holes, m.file);
+    std::fprintf(stderr, "bench deform: %s, %zu triangles\n", m.name.c_str(),
+                 mesh.triangle_count());
+
+    // Distance-field build times, ours and the peer's, over the full region.
+    const core::Box3d full = core::Placement::FromRegion(region).ObjectBounds();
+    std::vector<std::pair<double, double>> peer;
+    if (options.peer) {
+      const std::filesystem::path obj = options.out / (m.name + "_closed.obj");
+      WriteObj(distance.closed_mesh(), obj);
+      peer = RunOpenVdbPeer(obj, full, resolutions, 4.0);
+    }
+    for (size_t r = 0; r < resolutions.size(); ++r) {
+      core::DistanceFieldOptions sdf_options;
+      sdf_options.resolution = resolutions[r];
+      const auto start = std::chrono::steady_clock::now();
+      const core::DistanceField field = core::BuildDistanceField(distance, full, sdf_options);
+      const double seconds =
+          std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+      result.sdf.AddRow({m.name, std::to_string(resolutions[r]), "ours", m.name + " ours",
+                         Num(seconds, 4), std::to_string(field.distance_queries)});
+      if (options.peer) {
+        result.sdf.AddRow({m.name, std::to_string(resolutions[r]), "openvdb", m.name + " openvdb",
+                           Num(peer[r].first, 4), Num(peer[r].second, 0)});
+      }
+      fmt::print(stderr, "bench deform: {} distance field {}: {:.3f} s ours{}\n", m.name,
+                 resolutions[r], seconds,
+                 options.peer ? fmt::format(", {:.3f} s OpenVDB", peer[r].first) : std::string());
+    }
+
+    // One field for every region scale: the largest box grown by the largest
+    // displacement (the knife's and the twist's, at scale 1).
+    struct Mode {
+      std::string name;
+      core::Deformation deformation;
+      core::CutMode cut;
+      bool skip;
+    };
+    core::Deformation twist, knife;
+    twist.kind = core::DeformationKind::kTwist, twist.amount = 2.0, twist.width = 0.35;
+    knife.kind = core::DeformationKind::kKnife, knife.amount = 0.15, knife.width = 0.6;
+    const std::vector<Mode> modes = {{"continuous", twist, core::CutMode::kNone, false},
+                                     {"cut", knife, core::CutMode::kSolid, false},
+                                     {"cut_skip", knife, core::CutMode::kSolid, true}};
+    double grow = 0.0;
+    for (const Mode& mode : modes) {
+      grow = std::max(grow, core::MaxObjectDisplacement({{mode.deformation}},
+                                                        core::Placement::FromRegion(region), 32));
+    }
+    core::DistanceFieldOptions sdf_options;
+    sdf_options.resolution = render_resolution;
+    const core::DistanceField sdf = core::BuildDistanceField(
+        distance, full.Grown(grow + 2.0 * glm::length(full.size()) / render_resolution),
+        sdf_options);
+
+    render::ViewSetup view;
+    const double az = glm::radians(30.0), el = glm::radians(20.0);
+    const glm::vec3 eye =
+        2.6f * glm::vec3(std::cos(el) * std::sin(az), std::sin(el), std::cos(el) * std::cos(az));
+    view.cam_from_world = core::CamFromWorldLookAt(eye, {0, 0, 0}, {0, 1, 0});
+    const double focal = 0.5 * size / std::tan(glm::radians(17.0));
+    view.clip_from_cam =
+        core::ClipFromCamPerspective(focal, focal, size / 2.0, size / 2.0, size, size, 0.05, 10.0);
+    render::RenderTarget target(render::FrameTargetOptions(size, size));
+    double continuous_weighted = 0.0;
+    for (const Mode& mode : modes) {
+      const core::DeformationSum sum{{mode.deformation}};
+      const core::DeformationTexture texture = core::SampleDeformation(sum, 64);
+      render::DeformPassOptions pass_options;
+      pass_options.cut = mode.cut;
+      pass_options.skip_empty = mode.skip;
+      std::vector<double> areas, times;
+      for (double scale : scales) {
+        const core::Placement placement =
+            core::Placement::FromRegion(region, glm::dvec3(0.0), scale);
+        render::DeformPass pass(programs, {&mesh, &sdf, &texture, placement}, pass_options);
+        render::FrameTimerOptions timer;
+        timer.warmup_frames = 1;
+        timer.timed_frames = options.quick ? 1 : 5;
+        const double ms = render::TimeFrames(
+                              [&] {
+                                render::BeginFrame(target);
+                                pass.Draw(target, view);
+                              },
+                              timer)
+                              .median_ms;
+        const DeformOutcomes o = CountDeformOutcomes(render::ReadFrame(target));
+        const double area = static_cast<double>(o.rays) / (double(size) * size);
+        areas.push_back(area);
+        times.push_back(ms);
+        result.frames.AddRow({m.name, std::to_string(mesh.triangle_count()), mode.name,
+                              m.name + " " + mode.name, Num(scale, 2), Num(area, 4), Num(ms, 2),
+                              Num(o.mean_samples, 1)});
+        std::fprintf(stderr, "bench deform: %s %s scale %.2f: area %.3f, %.1f ms\n", m.name.c_str(),
+                     mode.name.c_str(), scale, area, ms);
+      }
+      double weighted = 0.0, weight = 0.0;
+      for (size_t k = 0; k < areas.size(); ++k) weighted += areas[k] * times[k], weight += areas[k];
+      weighted = weight > 0 ? weighted / weight : 0.0;
+      if (mode.name == "continuous") continuous_weighted = weighted;
+      const LineFit fit = FitLine(areas, times);
+      at_common_area[mode.name].push_back(fit.slope * kCommonArea + fit.intercept);
+      result.summary.AddRow({m.name, mode.name, Num(weighted, 2),
+                             Num(continuous_weighted > 0 ? weighted / continuous_weighted : 0.0, 3),
+                             Num(fit.slope, 2), Num(fit.intercept, 2), Num(fit.r2, 4)});
+    }
+  }
+  for (const auto& [mode, values] : at_common_area) {
+    const auto [lo, hi] = std::minmax_element(values.begin(), values.end());
+    result.summary.AddRow({"across meshes at area " + Num(kCommonArea, 2), mode, "", "", "", "",
+                           "max/min " + Num(*lo > 0 ? *hi / *lo : 0.0, 3)});
+  }
+  return result;
+}
+
+void WriteDeformBench(const DeformBenchResult& result, const DeformBenchOptions& options) {
+  std::filesystem::create_directories(options.out);
+  result.frames.WriteCsv(options.csv);
+  result.summary.WriteCsv(options.out / "deform_summary.csv");
+  result.sdf.WriteCsv(options.out / "deform_sdf.csv");
+  PlotOptions frames;
+  frames.title = "Deformation and cut shaders: ms per frame against the deformed screen area";
+  frames.x_column = "area_fraction";
+  frames.y_column = "ms";
+  frames.series_column = "series";
+  frames.x_label = "relative screen area of the deformation box";
+  frames.y_label = "ms per frame";
+  PlotPng(result.frames, frames, options.out / "deform_ms_vs_area.png");
+  PlotOptions sdf;
+  sdf.title = "Distance-field build time (ours: exact in a 4-voxel band; OpenVDB level set)";
+  sdf.x_column = "resolution";
+  sdf.y_column = "seconds";
+  sdf.series_column = "series";
+  sdf.x_label = "samples along the longest axis";
+  sdf.y_label = "seconds";
+  sdf.log_y = true;
+  PlotPng(result.sdf, sdf, options.out / "deform_sdf_build.png");
 }
 
 }  // namespace bench

@@ -10,6 +10,7 @@
 #include <string>
 #include <vector>
 
+#include "bench/report.h"
 #include "core/deformation.h"
 #include "core/distance_field.h"
 #include "render/gl/shader_program.h"
@@ -74,5 +75,50 @@ DeformRunReport RunDeform(render::ProgramCache& programs, const DeformRunOptions
 
 // The deformation box of a run (normalised units) and its placement.
 core::Placement DeformPlacement(const DeformRunOptions& options, const core::Box3d& mesh_bounds);
+
+}  // namespace bench
+
+namespace bench {
+
+// `ibr bench deform`: the cost of deformation and cut shaders (Correa,
+// Silver, Chen 2007, sec. 6.2, Table 1 and Fig. 7 analogues) on Spot,
+// fandisk, the cow and the capped Stanford bunny (normalised, one orbit view):
+//  - per mesh and mode (continuous = twist; cut = solid knife without
+//    empty-space skipping; cut_skip = the same with skipping) and region
+//    scale: ms per frame (median) against the deformed region's relative
+//    screen area a (pixels where a ray was cast / all pixels);
+//  - the paper's weighted average sum(a t) / sum(a) per mesh and mode, the
+//    ratios cut / continuous and cut_skip / continuous, a least-squares line
+//    of ms against a with its R^2, and the spread across meshes of the
+//    fitted ms at one area;
+//  - the distance-field build time per resolution (ours: exact within the
+//    band, bench/openvdb_peer.py: OpenVDB's createLevelSetFromPolygons with
+//    the same voxel size and half width, timed in Python) and their ratio.
+struct DeformBenchOptions {
+  std::filesystem::path shared_data = "../shared/data";  // meshes/*.obj
+  std::filesystem::path csv;                             // the frame table
+  std::filesystem::path out;                             // plots, the other tables, the peer's mesh
+  int size = 512;                                        // image width = height, pixels
+  bool quick = false;  // 128 px, two meshes, two region scales, SDF 32/64
+  bool peer = true;    // time OpenVDB beside our distance field
+  void Check() const;
+};
+
+struct DeformBenchResult {
+  Table frames;   // mesh, triangles, mode, region_scale, area_fraction, ms, samples_per_ray
+  Table summary;  // mesh, mode, weighted_ms, over_continuous, slope_ms, intercept_ms, r2
+  Table sdf;      // mesh, resolution, builder, seconds, queries_or_active
+};
+
+DeformBenchResult RunDeformBench(render::ProgramCache& programs, const DeformBenchOptions& options);
+// The tables as CSV (frames at options.csv, the others beside it in out)
+// and the gnuplot PNGs in out.
+void WriteDeformBench(const DeformBenchResult& result, const DeformBenchOptions& options);
+
+// Least-squares line y = slope x + intercept and its coefficient of determination.
+struct LineFit {
+  double slope = 0.0, intercept = 0.0, r2 = 0.0;
+};
+LineFit FitLine(const std::vector<double>& x, const std::vector<double>& y);
 
 }  // namespace bench

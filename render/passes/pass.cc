@@ -13,6 +13,9 @@ RenderTargetOptions FrameTargetOptions(int width, int height) {
 
 void BeginFrame(const RenderTarget& target) {
   target.Bind();
+  // The previous frame left the outcome attachment masked, and clears obey
+  // colour masks: unmask it first, or a reused target keeps its old bits.
+  glColorMaski(kFrameOutcome, GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
   const float background[4] = {0, 0, 0, 0};
   target.Clear(background);
   glEnable(GL_DEPTH_TEST);

@@ -88,6 +88,20 @@ TEST_F(PassTest, FrameTargetHasTheContractsAttachments) {
   EXPECT_NO_GL_ERROR();
 }
 
+TEST_F(PassTest, BeginFrameClearsTheOutcomeOfAReusedTarget) {
+  // BeginFrame masks the outcome attachment; the next BeginFrame on the same
+  // target must still clear it (benchmarks reuse one target per frame).
+  const RenderTarget target(FrameTargetOptions(16, 8));
+  BeginFrame(target);
+  const uint32_t stale = 7;
+  glClearTexImage(target.color(kFrameOutcome).id(), 0, GL_RED_INTEGER, GL_UNSIGNED_INT, &stale);
+  EXPECT_EQ(ReadFrame(target).outcome.at(3, 2), stale);
+  BeginFrame(target);
+  const Frame cleared = ReadFrame(target);
+  for (uint32_t v : cleared.outcome.values()) EXPECT_EQ(v, 0u);
+  EXPECT_NO_GL_ERROR();
+}
+
 TEST_F(PassTest, MeshDisplacementAndReliefCompositeByDepthInAnyOrder) {
   const ViewSetup view = View();
   // A sphere, a displaced plane cutting through it and a relief (NCS) torus

@@ -1,0 +1,42 @@
+// `ibr bench deform --csv FILE --out DIR`: the cost of deformation and cut
+// shaders (Correa, Silver, Chen 2007, Table 1 and Fig. 7 analogues) with
+// OpenVDB's level-set builder timed beside our distance field. Flags ->
+// bench::RunDeformBench -> print.
+#include <fmt/format.h>
+
+#include "apps/ibr/commands.h"
+#include "bench/deform_bench.h"
+#include "render/gl/context.h"
+
+namespace apps {
+namespace {
+
+void AddDeformBench(CLI::App& app) {
+  static bench::DeformBenchOptions options;
+  auto* cmd = BenchGroup(app)->add_subcommand(
+      "deform",
+      "Deformation/cut shaders: ms vs deformed screen area, Table 1 ratios; SDF build vs OpenVDB");
+  cmd->add_option("--csv", options.csv, "the per-frame table as CSV")->required();
+  cmd->add_option("--out", options.out, "directory for plots and the summary tables")->required();
+  cmd->add_option("--shared-data", options.shared_data, "the shared data folder (meshes/)")
+      ->default_val("../shared/data");
+  cmd->add_option("--size", options.size, "image size in pixels")->capture_default_str();
+  cmd->add_flag("--quick", options.quick, "small sweep (128 px, two meshes) for smoke runs");
+  cmd->add_flag("!--no-peer", options.peer, "skip the OpenVDB peer");
+  cmd->callback([] {
+    options.Check();
+    auto context = render::HeadlessContext::Create();
+    fmt::print("{} | {}\n", context->info().renderer, context->info().version);
+    render::ProgramCache programs;
+    const bench::DeformBenchResult result = bench::RunDeformBench(programs, options);
+    fmt::print("{}\n{}\n{}", result.frames.Format(), result.summary.Format(), result.sdf.Format());
+    bench::WriteDeformBench(result, options);
+    fmt::print("wrote {} and plots in {}\n", options.csv.string(), options.out.string());
+  });
+}
+
+}  // namespace
+
+IBR_REGISTER_COMMAND("bench deform", AddDeformBench);
+
+}  // namespace apps
