@@ -125,20 +125,25 @@ namespace {
 // node carries over from its neighbour unless the segment between them can
 // cross the surface: a crossing point s gives d_a <= |a - s| and
 // d_b <= |b - s|, so it needs d_a + d_b <= spacing; only then is the
-// (costlier) inside test run.
-void ExactRow(const MeshDistance& distance, DistanceField& field, int i0, int i1, int j, int k) {
+// (costlier) inside test run. `previous_bound` > 0: node i0 - 1 is already
+// written, its true distance at least that (its own |value| when exact, the
+// band when interpolated), and its sign exact. (1e-6: the stored float
+// distance is rounded.)
+void ExactRow(const MeshDistance& distance, DistanceField& field, int i0, int i1, int j, int k,
+              double previous_bound) {
+  const size_t row = (static_cast<size_t>(k) * field.size.y + j) * field.size.x;
   glm::dvec3 hint(0.0);
-  double previous = 0.0;
+  double bound = previous_bound;
+  bool previous_inside = previous_bound > 0 && field.values[row + i0 - 1] < 0;
   for (int i = i0; i <= i1; ++i) {
     const glm::dvec3 p = field.origin + field.spacing * glm::dvec3(i, j, k);
     if (i == i0) distance.ClosestPoint(p, &hint, nullptr);
     const double d = i > i0 ? distance.UnsignedDistance(p, &hint) : glm::length(hint - p);
-    const bool inside = (i > i0 && std::abs(previous) + d > field.spacing * (1 + 1e-9))
-                            ? previous < 0
-                            : distance.Inside(p);
-    previous = inside ? -d : d;
-    field.values[(static_cast<size_t>(k) * field.size.y + j) * field.size.x + i] =
-        static_cast<float>(previous);
+    const bool inside = (bound > 0 && bound + d > field.spacing * (1 + 1e-6)) ? previous_inside
+                                                                              : distance.Inside(p);
+    field.values[row + i] = static_cast<float>(inside ? -d : d);
+    bound = d;
+    previous_inside = inside;
   }
 }
 
@@ -230,6 +235,7 @@ DistanceField BuildDistanceField(const MeshDistance& distance, const Box3d& box,
     const glm::ivec2 sz = span(bz, 2);
     for (int by = 0; by < blocks.y; ++by) {
       const glm::ivec2 sy = span(by, 1);
+      bool previous_far = false;  // block bx - 1 of this block row was interpolated
       for (int bx = 0; bx < blocks.x; ++bx) {
         const glm::ivec2 sx = span(bx, 0);
         const int x1 = sx.y == field.size.x - 1 ? sx.y : sx.y - 1;
@@ -247,7 +253,10 @@ DistanceField BuildDistanceField(const MeshDistance& distance, const Box3d& box,
                 nearest = std::min(nearest, std::abs(c[dz][dy][dx]));
               }
         }
-        if (banded && nearest > field.exact_band + half_diagonal) {
+        // What ExactRow may assume of the node before this block's rows.
+        const double previous_bound = bx == 0 ? 0.0 : previous_far ? field.exact_band : -1.0;
+        previous_far = banded && nearest > field.exact_band + half_diagonal;
+        if (previous_far) {
           for (int k = sz.x; k <= z1; ++k)
             for (int j = sy.x; j <= y1; ++j)
               for (int i = sx.x; i <= x1; ++i) {
@@ -264,7 +273,15 @@ DistanceField BuildDistanceField(const MeshDistance& distance, const Box3d& box,
           continue;
         }
         for (int k = sz.x; k <= z1; ++k)
-          for (int j = sy.x; j <= y1; ++j) ExactRow(distance, field, sx.x, x1, j, k);
+          for (int j = sy.x; j <= y1; ++j) {
+            const double bound =
+                previous_bound < 0
+                    ? std::abs(double(
+                          field.values[(static_cast<size_t>(k) * field.size.y + j) * field.size.x +
+                                       sx.x - 1]))
+                    : previous_bound;
+            ExactRow(distance, field, sx.x, x1, j, k, bound);
+          }
         queries += static_cast<int64_t>(x1 - sx.x + 1) * (y1 - sy.x + 1) * (z1 - sz.x + 1);
       }
     }
