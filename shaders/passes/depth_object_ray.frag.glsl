@@ -68,12 +68,8 @@ void main() {
 #ifdef EMPTY_SPACE_SKIPPING
   g_ray_dir_in_grid = d_box * float(u_skip_resolution);
 #endif
-  RayMarch r;
-  r.origin = o + span.x * d;
-  r.dir = d;
-  r.t_max = span.y - span.x;
-  r.step = u_ray_step;
-  RayResult res = RayMarchRun(r);
+  // From the box entry to its exit (RayMarch: origin, dir, t_max, step).
+  RayResult res = RayMarchRun(RayMarch(o + span.x * d, d, span.y - span.x, u_ray_step));
   if (res.outcome != RAY_OUTCOME_HIT) return;
   vec3 p = res.p;
   // View-dependent colour at the hit (sec. 4.2 weights), as the map loop blends it.
