@@ -145,6 +145,7 @@ class Evaluator {
   glm::dmat4 box_from_cam_{1.0};
   std::vector<Plane> planes_;
   std::vector<MapSetup> active_maps_;
+  std::vector<MapSetup> every_map_;  // by map index (the ray path's colour)
   double near_band_ = 0;  // camera z below which the GPU's near plane may clip (perspective)
   glm::dvec3 view_dir_{0.0};
 };
@@ -475,8 +476,7 @@ void Evaluator::RayColour(const glm::dvec3& p, const glm::dvec3& p_error,
                           IndependentPixel& px) const {
   for (size_t i = 0; i < maps_.maps.size(); ++i) {
     if (!(frame_.weights[i] > 0)) continue;
-    const MapSetup s{&maps_.maps[i],
-                     maps_.maps[i].cam_from_world * glm::inverse(view_.cam_from_world)};
+    const MapSetup& s = every_map_[i];
     const Projection pr = Project(s, p, p_error);
     glm::dvec4 lo(INFINITY), hi(-INFINITY);
     auto add = [&](const glm::dvec4& c) {
@@ -521,6 +521,8 @@ IndependentFrame Evaluator::Run() {
   }
   ChooseActive(view_dir_);
   ComputeWeights(view_dir_);
+  for (const ImageMap& m : maps_.maps)
+    every_map_.push_back({&m, m.cam_from_world * world_from_cam});
   frame_.pixels.assign(static_cast<size_t>(vc.width) * vc.height, {});
   if (options_.slicing == Slicing::kRay) {
     RunRay();
