@@ -981,6 +981,8 @@ SurfaceCase RandomSurfaceCase(std::mt19937& rng, int index) {
   // the earlier 60 that was the cause of NCS's "hit not drawn" pixels (4
   // cases of 1000, grazing rays bent far along the shell).
   const double reach = c.scale * (glm::length(c.eye) + 2.0 + 200.0 * c.max_displacement);
+  // The near plane as before the far one grew (it clips views from inside the shell).
+  const double near = 1e-4 * c.scale * (glm::length(c.eye) + 2.0 + 60.0 * c.max_displacement);
   if (c.orthographic) {
     const double s = std::min(c.width, c.height) / (2.0 * c.scale * (1.5 + u(rng)));
     c.view.clip_from_cam = core::ClipFromCamOrthographic(s, s, c.width / 2.0, c.height / 2.0,
@@ -988,7 +990,7 @@ SurfaceCase RandomSurfaceCase(std::mt19937& rng, int index) {
   } else {
     const double f = std::min(c.width, c.height) * (0.6 + u(rng));
     c.view.clip_from_cam = core::ClipFromCamPerspective(f, f, c.width / 2.0, c.height / 2.0,
-                                                        c.width, c.height, 1e-4 * reach, reach);
+                                                        c.width, c.height, near, reach);
   }
   return c;
 }
