@@ -60,7 +60,11 @@ void main() {
   vec3 d_box = mat3(u_box_from_cam) * d;
   vec2 span = RayBoxInterval(o_box, d_box, vec3(0.0), vec3(1.0));
 #ifndef VIEW_ORTHOGRAPHIC
-  span.x = max(span.x, 0.0);  // only in front of the eye
+  // Only in front of the eye. With the eye inside the box the march starts
+  // half a step in front of it, where the first screen slice lies: a ray
+  // starting inside the object would otherwise hit at the eye, camera z 0,
+  // which the frame reads as empty (found by ibr verify --hard).
+  if (span.x <= 0.0) span.x = 0.5 * u_ray_step;
 #endif
   o_color = vec4(0.0);
   o_depth = vec2(0.0);
