@@ -121,7 +121,7 @@ double DistanceField::Sample(const glm::dvec3& p) const {
 namespace {
 
 // Exact signed distances along one row of nodes (i0..i1 inclusive at y = j,
-// z = k), the closest point of each node the hint of the next. The sign of a
+// z = k). The sign of a
 // node carries over from its neighbour unless the segment between them can
 // cross the surface: a crossing point s gives d_a <= |a - s| and
 // d_b <= |b - s|, so it needs d_a + d_b <= spacing; only then is the
@@ -132,13 +132,11 @@ namespace {
 void ExactRow(const MeshDistance& distance, DistanceField& field, int i0, int i1, int j, int k,
               double previous_bound) {
   const size_t row = (static_cast<size_t>(k) * field.size.y + j) * field.size.x;
-  glm::dvec3 hint(0.0);
   double bound = previous_bound;
   bool previous_inside = previous_bound > 0 && field.values[row + i0 - 1] < 0;
   for (int i = i0; i <= i1; ++i) {
     const glm::dvec3 p = field.origin + field.spacing * glm::dvec3(i, j, k);
-    if (i == i0) distance.ClosestPoint(p, &hint, nullptr);
-    const double d = i > i0 ? distance.UnsignedDistance(p, &hint) : glm::length(hint - p);
+    const double d = distance.UnsignedDistance(p);
     const bool inside = (bound > 0 && bound + d > field.spacing * (1 + 1e-6)) ? previous_inside
                                                                               : distance.Inside(p);
     field.values[row + i] = static_cast<float>(inside ? -d : d);

@@ -63,10 +63,6 @@ class MeshDistance {
   MeshDistance& operator=(const MeshDistance&) = delete;
 
   double UnsignedDistance(const glm::dvec3& p) const;
-  // The same with a hint: `*closest` holds a surface point near p's closest
-  // point (a neighbouring node's), which bounds the tree search from the
-  // start (CGAL's closest_point(query, hint)); on return, p's closest point.
-  double UnsignedDistance(const glm::dvec3& p, glm::dvec3* closest) const;
   // Closest surface point to p and the unit normal of its triangle (outward).
   void ClosestPoint(const glm::dvec3& p, glm::dvec3* closest, glm::dvec3* normal) const;
   // True when p is strictly inside the solid (on the surface counts as outside).

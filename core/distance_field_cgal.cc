@@ -116,12 +116,6 @@ double MeshDistance::UnsignedDistance(const glm::dvec3& p) const {
   return std::sqrt(impl_->tree->squared_distance(ToCgal(p)));
 }
 
-double MeshDistance::UnsignedDistance(const glm::dvec3& p, glm::dvec3* closest) const {
-  const Point c = impl_->tree->closest_point(ToCgal(p), ToCgal(*closest));
-  *closest = FromCgal(c);
-  return glm::length(*closest - p);
-}
-
 void MeshDistance::ClosestPoint(const glm::dvec3& p, glm::dvec3* closest,
                                 glm::dvec3* normal) const {
   auto [point, face] = impl_->tree->closest_point_and_primitive(ToCgal(p));

@@ -122,6 +122,12 @@ TEST(DistanceField, CupMatchesBruteForce) {
   ExpectMatchesBruteForce(MakeCup(0.7f, 0.9f, 0.15f, 12), "cup", 24);
 }
 
+TEST(DistanceField, BoxMatchesBruteForce) {
+  // Grid nodes on the faces' planes and sharp edges (the twisted-box test's mesh).
+  ExpectMatchesBruteForce(MakeBox(glm::vec3(0.3f, 0.3f, 0.4f)), "box", 40);
+  ExpectMatchesBruteForce(MakeBox(glm::vec3(0.3f, 0.3f, 0.4f)), "box (no band)", 40, 0.0);
+}
+
 TEST(DistanceField, FarBlocksKeepTheSignAndStayBeyondTheBand) {
   // A small sphere in a large box: most 4^3 blocks are far from the surface
   // and interpolated from their corners (checked against brute force by
