@@ -28,7 +28,7 @@ struct Measured {
   int slices = 0;
 };
 
-Measured TimeVolume(render::ProgramCache& programs, const VolumeScene& scene,
+Measured TimeVolume(render::ProgramCache& programs, const ibr::VolumeObjectData& scene,
                     const render::VolumePassOptions& options, int size,
                     const render::FrameTimerOptions& timer) {
   render::VolumePass pass(programs, scene.volume, scene.transfer, scene.maps,
@@ -170,11 +170,11 @@ void RunVolumeBench(const VolumeBenchOptions& o) {
   std::vector<std::string> summary;  // one line per volume: the ratios
   for (const Entry& e : volumes) {
     const core::Volume volume = e.dat.empty() ? SyntheticVolume(256) : core::ReadVolume(e.dat);
-    const core::TransferFunction tf = TransferForVolume(e.dat.empty() ? "bucky" : "", e.dat);
-    const VolumeScene bare =
-        MakeVolumeScene(volume, tf, std::nullopt, 64, glm::dvec3(0.0), glm::dvec3(1.0));
-    const VolumeScene peeled =
-        MakeVolumeScene(volume, tf, peel, 64, glm::dvec3(0.0), glm::dvec3(1.0));
+    const core::TransferFunction tf = ibr::TransferForVolume(e.dat.empty() ? "bucky" : "", e.dat);
+    const ibr::VolumeObjectData bare =
+        ibr::MakeVolumeObject(volume, tf, std::nullopt, 64, glm::dvec3(0.0), glm::dvec3(1.0));
+    const ibr::VolumeObjectData peeled =
+        ibr::MakeVolumeObject(volume, tf, peel, 64, glm::dvec3(0.0), glm::dvec3(1.0));
     spdlog::info("bench volume: {} ({} x {} x {})", e.name, volume.dims.x, volume.dims.y,
                  volume.dims.z);
     PeerResult peer;
@@ -233,8 +233,8 @@ void RunVolumeBench(const VolumeBenchOptions& o) {
             TimeVolume(programs, peeled, s, size, timer), 0, nullptr);
       }
       for (int map_size : o.quick ? std::vector<int>{16, 64} : std::vector<int>{16, 32, 64, 128}) {
-        const VolumeScene m =
-            MakeVolumeScene(volume, tf, peel, map_size, glm::dvec3(0.0), glm::dvec3(1.0));
+        const ibr::VolumeObjectData m =
+            ibr::MakeVolumeObject(volume, tf, peel, map_size, glm::dvec3(0.0), glm::dvec3(1.0));
         add("map_size", e.name, "peel", 1.0, map_size, size,
             TimeVolume(programs, m, displaced, size, timer), 0, nullptr);
       }
