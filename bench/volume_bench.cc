@@ -202,7 +202,8 @@ void RunVolumeBench(const VolumeBenchOptions& o) {
         peer.ok ? fmt::format("{:7.1f} ms", peer.median_ms) : "  n/a",
         peer.ok ? fmt::format("{:5.2f}x", p.ms / peer.median_ms) : "n/a"));
     if (e.name == "tooth") {
-      // Where the time goes (same volume, view and slices): the per-draw
+      // Where the time goes (same volume, view and slices; names without
+      // commas, the CSV is not quoted): the per-draw
       // overhead, the shading, the map lookup alone, eq. 6 without / with
       // eq. 7, and J_D per sample instead of per texel.
       struct Profile {
@@ -215,13 +216,12 @@ void RunVolumeBench(const VolumeBenchOptions& o) {
       using L = render::VolumeLighting;
       using J = render::VolumeJacobian;
       for (const Profile& pr : std::vector<Profile>{
-               {"plain, unshaded", false, L::kNone, J::kPrecomputed, false},
-               {"plain, one draw per slice", false, L::kGradient, J::kPrecomputed, true},
-               {"peel, unshaded", true, L::kNone, J::kPrecomputed, false},
-               {"peel, gradient only", true, L::kGradient, J::kPrecomputed, false},
-               {"peel, eq. 6", true, L::kTransformed, J::kPrecomputed, false},
-               {"peel, eq. 6+7, J_D differences", true, L::kBlended, J::kFiniteDifferences,
-                false}}) {
+               {"plain unshaded", false, L::kNone, J::kPrecomputed, false},
+               {"plain one draw per slice", false, L::kGradient, J::kPrecomputed, true},
+               {"peel unshaded", true, L::kNone, J::kPrecomputed, false},
+               {"peel gradient only", true, L::kGradient, J::kPrecomputed, false},
+               {"peel eq. 6", true, L::kTransformed, J::kPrecomputed, false},
+               {"peel eq. 6+7 J_D differences", true, L::kBlended, J::kFiniteDifferences, false}}) {
         render::VolumePassOptions po = plain;
         po.lighting = pr.lighting;
         po.jacobian = pr.jacobian;
