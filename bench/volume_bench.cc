@@ -28,7 +28,7 @@ struct Measured {
   int slices = 0;
 };
 
-Measured TimeVolume(render::ProgramCache& programs, const VolumeScene& scene,
+Measured TimeVolume(render::ProgramCache& programs, const ibr::VolumeObjectData& scene,
                     const render::VolumePassOptions& options, int size,
                     const render::FrameTimerOptions& timer) {
   render::VolumePass pass(programs, scene.volume, scene.transfer, scene.maps,
@@ -45,6 +45,13 @@ Measured TimeVolume(render::ProgramCache& programs, const VolumeScene& scene,
              .median_ms;
   m.area_px = pass.last_stats().proxy_area_px;
   m.slices = pass.last_stats().slices;
+  for (const core::Box3& b : pass.active_boxes()) {
+    const glm::dvec3 e = glm::max(b.hi - b.lo, glm::dvec3(0.0));
+    spdlog::info(
+        "bench volume: a map's active box [{:.2f} {:.2f} {:.2f}]-[{:.2f} {:.2f} {:.2f}], "
+        "{:.0f}% of its cube",
+        b.lo.x, b.lo.y, b.lo.z, b.hi.x, b.hi.y, b.hi.z, 100 * e.x * e.y * e.z);
+  }
   return m;
 }
 
@@ -160,25 +167,68 @@ void RunVolumeBench(const VolumeBenchOptions& o) {
   if (!o.quick) volumes.push_back({"synthetic256", {}});
   fs::path work = o.out.empty() ? fs::temp_directory_path() : o.out;
   if (!o.out.empty()) fs::create_directories(o.out);
+  std::vector<std::string> summary;  // one line per volume: the ratios
   for (const Entry& e : volumes) {
     const core::Volume volume = e.dat.empty() ? SyntheticVolume(256) : core::ReadVolume(e.dat);
-    const core::TransferFunction tf = TransferForVolume(e.dat.empty() ? "bucky" : "", e.dat);
-    const VolumeScene bare =
-        MakeVolumeScene(volume, tf, std::nullopt, 64, glm::dvec3(0.0), glm::dvec3(1.0));
-    const VolumeScene peeled =
-        MakeVolumeScene(volume, tf, peel, 64, glm::dvec3(0.0), glm::dvec3(1.0));
+    const core::TransferFunction tf = ibr::TransferForVolume(e.dat.empty() ? "bucky" : "", e.dat);
+    const ibr::VolumeObjectData bare =
+        ibr::MakeVolumeObject(volume, tf, std::nullopt, 64, glm::dvec3(0.0), glm::dvec3(1.0));
+    const ibr::VolumeObjectData peeled =
+        ibr::MakeVolumeObject(volume, tf, peel, 64, glm::dvec3(0.0), glm::dvec3(1.0));
     spdlog::info("bench volume: {} ({} x {} x {})", e.name, volume.dims.x, volume.dims.y,
                  volume.dims.z);
     PeerResult peer;
-    if (o.peer && !e.dat.empty()) {
-      peer = RunVtkPeer(e.dat, size, 1.0, tf, work);
+    if (o.peer) {
+      // The synthetic volume goes to the peer as a QVis pair in the work folder.
+      fs::path dat = e.dat;
+      if (dat.empty()) {
+        dat = work / (e.name + ".dat");
+        core::WriteQVis(dat, volume);
+      }
+      peer = RunVtkPeer(dat, size, 1.0, tf, work);
+      if (e.dat.empty()) {
+        fs::remove(dat);
+        fs::remove(fs::path(dat).replace_extension(".raw"));
+      }
       if (!peer.ok) spdlog::warn("VTK peer failed on {}: {}", e.name, peer.error);
     }
     const Measured p = TimeVolume(programs, bare, plain, size, timer);
     add("volume", e.name, "plain DVR (shaded)", 1.0, 0, size, p, p.ms, &peer);
     const Measured d = TimeVolume(programs, peeled, displaced, size, timer);
     add("volume", e.name, "peel 64^3 (eq. 6+7)", 1.0, 64, size, d, p.ms, nullptr);
+    summary.push_back(fmt::format(
+        "{:<13} plain {:7.1f} ms  peel {:7.1f} ms  peel/plain {:5.2f}x  VTK {}  plain/VTK {}",
+        e.name, p.ms, d.ms, d.ms / p.ms,
+        peer.ok ? fmt::format("{:7.1f} ms", peer.median_ms) : "  n/a",
+        peer.ok ? fmt::format("{:5.2f}x", p.ms / peer.median_ms) : "n/a"));
     if (e.name == "tooth") {
+      // Where the time goes (same volume, view and slices; names without
+      // commas, the CSV is not quoted): the per-draw
+      // overhead, the shading, the map lookup alone, eq. 6 without / with
+      // eq. 7, and J_D per sample instead of per texel.
+      struct Profile {
+        const char* variant;
+        bool displaced;
+        render::VolumeLighting lighting;
+        render::VolumeJacobian jacobian;
+        bool per_slice;
+      };
+      using L = render::VolumeLighting;
+      using J = render::VolumeJacobian;
+      for (const Profile& pr : std::vector<Profile>{
+               {"plain unshaded", false, L::kNone, J::kPrecomputed, false},
+               {"plain one draw per slice", false, L::kGradient, J::kPrecomputed, true},
+               {"peel unshaded", true, L::kNone, J::kPrecomputed, false},
+               {"peel gradient only", true, L::kGradient, J::kPrecomputed, false},
+               {"peel eq. 6", true, L::kTransformed, J::kPrecomputed, false},
+               {"peel eq. 6+7 J_D differences", true, L::kBlended, J::kFiniteDifferences, false}}) {
+        render::VolumePassOptions po = plain;
+        po.lighting = pr.lighting;
+        po.jacobian = pr.jacobian;
+        po.draw_per_slice = pr.per_slice;
+        add("profile", e.name, pr.variant, 1.0, pr.displaced ? 64 : 0, size,
+            TimeVolume(programs, pr.displaced ? peeled : bare, po, size, timer), p.ms, nullptr);
+      }
       for (double sampling :
            o.quick ? std::vector<double>{0.5, 2.0} : std::vector<double>{0.5, 1.0, 2.0, 4.0}) {
         render::VolumePassOptions s = displaced;
@@ -187,8 +237,8 @@ void RunVolumeBench(const VolumeBenchOptions& o) {
             TimeVolume(programs, peeled, s, size, timer), 0, nullptr);
       }
       for (int map_size : o.quick ? std::vector<int>{16, 64} : std::vector<int>{16, 32, 64, 128}) {
-        const VolumeScene m =
-            MakeVolumeScene(volume, tf, peel, map_size, glm::dvec3(0.0), glm::dvec3(1.0));
+        const ibr::VolumeObjectData m =
+            ibr::MakeVolumeObject(volume, tf, peel, map_size, glm::dvec3(0.0), glm::dvec3(1.0));
         add("map_size", e.name, "peel", 1.0, map_size, size,
             TimeVolume(programs, m, displaced, size, timer), 0, nullptr);
       }
@@ -221,16 +271,48 @@ void RunVolumeBench(const VolumeBenchOptions& o) {
         xy.size(), sxx > 0 ? sxy / sxx : std::nan(""), r2);
   }
   fmt::print("{}", table.Format());
+  fmt::print("ratios at {} px, sampling distance 1 voxel (same run):\n", size);
+  for (const std::string& line : summary) fmt::print("  {}\n", line);
   table.WriteCsv(o.csv);
   if (!o.out.empty()) {
-    PlotPng(table,
-            {.title = "volume: time vs rasterised slice area",
+    auto subset = [&](const std::string& sweep) {
+      Table t(table.columns());
+      for (const auto& row : table.rows())
+        if (row[0] == sweep) t.AddRow(row);
+      return t;
+    };
+    // Plain DVR: neghip at four image sizes and each volume at full size.
+    Table plain_rows(table.columns());
+    for (const auto& row : table.rows())
+      if (row[0] == "area" || (row[0] == "volume" && row[2].rfind("plain", 0) == 0))
+        plain_rows.AddRow(row);
+    PlotPng(plain_rows,
+            {.title = "volume: plain DVR time vs rasterised slice area",
              .x_column = "area_Mpx",
              .y_column = "ms_per_frame",
-             .series_column = "sweep",
+             .series_column = "volume",
              .x_label = "slice area (M pixels)",
              .y_label = "ms/frame"},
             o.out / "volume_time_vs_area.png");
+    // The tooth's sweeps (Table 1-2 analogues), each on its own axis.
+    PlotPng(subset("sampling"),
+            {.title = "volume: peeled tooth, time vs sampling distance",
+             .x_column = "sampling_voxels",
+             .y_column = "ms_per_frame",
+             .series_column = "variant",
+             .x_label = "sampling distance (voxels)",
+             .y_label = "ms/frame",
+             .log_x = true},
+            o.out / "volume_time_vs_sampling.png");
+    PlotPng(subset("map_size"),
+            {.title = "volume: peeled tooth, time vs displacement map size",
+             .x_column = "map_size",
+             .y_column = "ms_per_frame",
+             .series_column = "variant",
+             .x_label = "map texels per axis",
+             .y_label = "ms/frame",
+             .log_x = true},
+            o.out / "volume_time_vs_map_size.png");
   }
 }
 

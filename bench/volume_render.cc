@@ -16,51 +16,6 @@
 
 namespace bench {
 
-core::TransferFunction TransferForVolume(const std::string& name,
-                                         const std::filesystem::path& volume_path) {
-  if (!name.empty()) return core::TransferFromPresetOrFile(name);
-  std::string stem = volume_path.filename().string();
-  std::transform(stem.begin(), stem.end(), stem.begin(),
-                 [](unsigned char c) { return std::tolower(c); });
-  for (const char* preset : {"tooth", "neghip", "bucky"}) {
-    if (stem.rfind(preset, 0) == 0) return core::TransferPreset(preset);
-  }
-  return core::TransferPreset("ramp");
-}
-
-VolumeScene MakeVolumeScene(const core::Volume& volume, const core::TransferFunction& transfer,
-                            const std::optional<core::EffectOptions>& effect, int map_size,
-                            const glm::dvec3& placement_offset, const glm::dvec3& placement_scale) {
-  VolumeScene s;
-  s.volume = volume;
-  s.transfer = transfer;
-  const glm::vec3 extent(volume.Extent());
-  s.world_from_volume = glm::scale(glm::translate(glm::mat4(1.0f), -0.5f * extent), extent);
-  s.radius = 0.5 * glm::length(volume.Extent());
-  if (effect) {
-    if (map_size < 1 || map_size > 512)
-      core::ThrowInputError("ibr volume", "--map-size {} not in [1, 512]", map_size);
-    for (int a = 0; a < 3; ++a) {
-      if (!std::isfinite(placement_offset[a]) || !std::isfinite(placement_scale[a]) ||
-          !(placement_scale[a] > 0)) {
-        core::ThrowInputError("ibr volume",
-                              "--placement: offsets must be finite and scales finite and > 0");
-      }
-    }
-    // Thin maps where the effect does not vary along an axis (Table 2: the
-    // peel and slicing maps are 128 x 128 x 1... here at least 4 texels).
-    glm::ivec3 dims(map_size);
-    if (effect->effect == core::Effect::kSlices || effect->effect == core::Effect::kWave)
-      dims.y = std::min(map_size, 4);
-    if (effect->effect == core::Effect::kPeel || effect->effect == core::Effect::kSeam)
-      dims.y = std::min(map_size, 4);
-    s.maps.push_back(
-        {core::SampleEffect(*effect, dims, 2),
-         glm::scale(glm::translate(glm::dmat4(1.0), placement_offset), placement_scale)});
-  }
-  return s;
-}
-
 render::ViewSetup VolumeOrbitView(double azimuth_deg, double elevation_deg, double distance,
                                   int size, double radius) {
   const double el = glm::radians(elevation_deg), az = glm::radians(azimuth_deg);
@@ -94,9 +49,9 @@ core::Image8 OverBackground(const core::Image8& premultiplied, const glm::vec3& 
 
 VolumeRenderResult RenderVolume(const VolumeRenderRequest& r) {
   const core::Volume volume = core::ReadVolume(r.volume);
-  const VolumeScene scene =
-      MakeVolumeScene(volume, TransferForVolume(r.transfer, r.volume), r.effect, r.map_size,
-                      r.placement_offset, r.placement_scale);
+  const ibr::VolumeObjectData scene =
+      ibr::MakeVolumeObject(volume, ibr::TransferForVolume(r.transfer, r.volume), r.effect,
+                            r.map_size, r.placement_offset, r.placement_scale);
   if (r.size < 16 || r.size > 4096)
     core::ThrowInputError("ibr volume", "--size {} not in [16, 4096]", r.size);
   struct Shot {

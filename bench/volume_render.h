@@ -13,6 +13,7 @@
 #include "core/transfer_function.h"
 #include "core/volume.h"
 #include "core/volume_displacement.h"
+#include "ibr/volume_object.h"
 #include "render/passes/volume_pass.h"
 
 namespace bench {
@@ -41,21 +42,6 @@ struct VolumeRenderResult {
   glm::dvec3 proxy_lo{0.0}, proxy_hi{1.0};
 };
 
-// Everything the pass needs from a request: parse -> plain CPU data.
-struct VolumeScene {
-  core::Volume volume;
-  core::TransferFunction transfer;
-  std::vector<render::VolumeMapInput> maps;
-  glm::mat4 world_from_volume{1.0f};  // extent-scaled, centred at the origin
-  double radius = 1;                  // of the volume's bounding sphere, world units
-};
-VolumeScene MakeVolumeScene(const core::Volume& volume, const core::TransferFunction& transfer,
-                            const std::optional<core::EffectOptions>& effect, int map_size,
-                            const glm::dvec3& placement_offset, const glm::dvec3& placement_scale);
-// The transfer function `name` (preset or file) or, when empty, the preset
-// whose name starts the volume's file name (tooth, neghip, bucky), else "ramp".
-core::TransferFunction TransferForVolume(const std::string& name,
-                                         const std::filesystem::path& volume_path);
 // A perspective view orbiting the origin at `distance`, z up, focal 1.2 size.
 render::ViewSetup VolumeOrbitView(double azimuth_deg, double elevation_deg, double distance,
                                   int size, double radius);

@@ -349,7 +349,10 @@ DisplacedSample Displace(const std::vector<PlacedMap>& maps, const glm::dvec3& p
     const glm::dmat3 a(m);
     const glm::dmat4 m_inv = glm::inverse(m);
     const glm::dvec3 u = glm::dvec3(m_inv * glm::dvec4(s.p, 1.0));
-    if (!InUnitCube(u)) continue;  // outside its cube a map is the identity
+    // Outside its cube (or its active part) a map is the identity.
+    if (!InUnitCube(u) || glm::any(glm::lessThan(u, it->active.lo)) ||
+        glm::any(glm::greaterThan(u, it->active.hi)))
+      continue;
     const glm::dvec4 d = SampleMap(*it->map, u);
     if (with_jacobian) {
       // J_D in map units by central differences at half a texel.
@@ -372,26 +375,35 @@ DisplacedSample Displace(const std::vector<PlacedMap>& maps, const glm::dvec3& p
   return s;
 }
 
-std::vector<glm::mat3> NormalTransforms(const DisplacementMap& map) {
-  std::vector<glm::mat3> b(map.texels.size());
+MapDerivatives ComputeMapDerivatives(const DisplacementMap& map) {
+  MapDerivatives out;
+  out.jacobian.assign(map.texels.size(), glm::mat3(0.0f));
+  out.alpha_gradient.assign(map.texels.size(), glm::vec3(0.0f));
   const glm::ivec3 n = map.dims;
   for (int z = 0; z < n.z; ++z)
     for (int y = 0; y < n.y; ++y)
       for (int x = 0; x < n.x; ++x) {
         const glm::ivec3 p(x, y, z);
-        glm::mat3 jd(0.0f);
+        const size_t i = map.Index(x, y, z);
         for (int axis = 0; axis < 3; ++axis) {
           glm::ivec3 lo = p, hi = p;
           lo[axis] = std::max(p[axis] - 1, 0);
           hi[axis] = std::min(p[axis] + 1, n[axis] - 1);
           if (lo[axis] == hi[axis]) continue;
           const float du = static_cast<float>(hi[axis] - lo[axis]) / static_cast<float>(n[axis]);
-          jd[axis] =
-              (glm::vec3(map.at(hi.x, hi.y, hi.z)) - glm::vec3(map.at(lo.x, lo.y, lo.z))) / du;
+          const glm::vec4 d = (map.at(hi.x, hi.y, hi.z) - map.at(lo.x, lo.y, lo.z)) / du;
+          out.jacobian[i][axis] = glm::vec3(d);
+          out.alpha_gradient[i][axis] = d.w;
         }
-        // Eq. 6: n' = (I + J_D)^T n.
-        b[map.Index(x, y, z)] = glm::transpose(glm::mat3(1.0f) + jd);
       }
+  return out;
+}
+
+std::vector<glm::mat3> NormalTransforms(const DisplacementMap& map) {
+  const MapDerivatives d = ComputeMapDerivatives(map);
+  std::vector<glm::mat3> b(map.texels.size());
+  // Eq. 6: n' = (I + J_D)^T n.
+  for (size_t i = 0; i < b.size(); ++i) b[i] = glm::transpose(glm::mat3(1.0f) + d.jacobian[i]);
   return b;
 }
 
@@ -408,6 +420,35 @@ Box3 ProxyBox(const Box3& object_box, const std::vector<PlacedMap>& maps) {
     }
   }
   return box;
+}
+
+Box3 ActiveBox(const StoredDisplacementMap& s) {
+  const glm::ivec3 n = s.dims;
+  glm::ivec3 lo = n, hi(-1);
+  const double max_unorm = s.bits == 8 ? 255.0 : 65535.0;
+  const auto zero_code = static_cast<uint16_t>(std::lround(0.5 * max_unorm));
+  const auto one_code = static_cast<uint16_t>(max_unorm);
+  for (int z = 0; z < n.z; ++z)
+    for (int y = 0; y < n.y; ++y)
+      for (int x = 0; x < n.x; ++x) {
+        const size_t i = 4 * ((static_cast<size_t>(z) * n.y + y) * n.x + x);
+        bool identity = true;
+        for (int c = 0; c < 4; ++c) {
+          if (s.bits == 32) {
+            identity = identity && s.floats[i + c] == (c == 3 ? 1.0f : 0.0f);
+          } else {
+            identity = identity && s.unorm[i + c] == (c == 3 ? one_code : zero_code);
+          }
+        }
+        if (identity) continue;
+        lo = glm::min(lo, glm::ivec3(x, y, z));
+        hi = glm::max(hi, glm::ivec3(x, y, z));
+      }
+  if (hi.x < 0) return {glm::dvec3(1.0), glm::dvec3(0.0)};
+  const glm::dvec3 texel = 1.0 / glm::dvec3(n);
+  // Texel i spans [i, i + 1] / n; two more texels each side.
+  return {glm::max(glm::dvec3(lo - 2) * texel, glm::dvec3(0.0)),
+          glm::min(glm::dvec3(hi + 3) * texel, glm::dvec3(1.0))};
 }
 
 }  // namespace core

@@ -107,15 +107,24 @@ struct StoredDisplacementMap {
   std::vector<float> floats;    // 4 per texel, for 32 bits
 };
 StoredDisplacementMap StoreDisplacementMap(const DisplacementMap& map, int bits);
+
 DisplacementMap DequantizeDisplacementMap(const StoredDisplacementMap& stored);
 
 // ---- evaluation (the CPU reference of the pass's shader) ----
 // GL_LINEAR / CLAMP_TO_EDGE trilinear sample of a map at map-space u.
 glm::dvec4 SampleMap(const DisplacementMap& map, const glm::dvec3& u);
 
+// An axis-aligned box (lo..hi; empty when lo > hi on an axis).
+struct Box3 {
+  glm::dvec3 lo{0.0}, hi{1.0};
+};
+
 struct PlacedMap {
   const DisplacementMap* map = nullptr;
   glm::dmat4 placement{1.0};  // M: map space -> volume texture space (eq. 10)
+  // Map space where the map is read; the identity elsewhere. The unit cube,
+  // or ActiveBox of the stored map to mirror the volume pass exactly.
+  Box3 active;
 };
 struct DisplacedSample {
   glm::dvec3 p{0.0};         // object (volume texture) point to sample
@@ -128,8 +137,19 @@ struct DisplacedSample {
 DisplacedSample Displace(const std::vector<PlacedMap>& maps, const glm::dvec3& p_prime,
                          bool with_jacobian = false);
 
-// Precomputed normal transforms (sec. 4.3.1): B = (I + J_D)^T per texel by
-// central differences of the texels (one-sided at the faces), map units.
+// Per-texel derivatives of a map (sec. 4.3.1, "precomputed per voxel"):
+// J_D = dD/du (column k = dD/du_k) and the mask's gradient dalpha/du, by
+// central differences of the texels (one-sided at the faces), map units. The
+// volume pass uploads them as three textures so a sample's normal costs three
+// filtered fetches per map instead of six.
+struct MapDerivatives {
+  std::vector<glm::mat3> jacobian;        // J_D per texel
+  std::vector<glm::vec3> alpha_gradient;  // grad alpha per texel
+};
+MapDerivatives ComputeMapDerivatives(const DisplacementMap& map);
+
+// Precomputed normal transforms (sec. 4.3.1): B = (I + J_D)^T per texel from
+// ComputeMapDerivatives.
 std::vector<glm::mat3> NormalTransforms(const DisplacementMap& map);
 
 // The axis-aligned box (volume texture space) holding every p' whose p lies
@@ -137,9 +157,15 @@ std::vector<glm::mat3> NormalTransforms(const DisplacementMap& map);
 // object grown by the displacements"), found by pushing the object box's
 // points through each map's forward extent: object box  U  placed map cubes.
 // Always contains object_box.
-struct Box3 {
-  glm::dvec3 lo{0.0}, hi{1.0};
-};
 Box3 ProxyBox(const Box3& object_box, const std::vector<PlacedMap>& maps);
+
+// The part of a stored map's unit cube where it is not the identity: the
+// texels whose stored (D, alpha) differ from the stored (0, 0, 0, 1), grown
+// by two texels (one for the trilinear footprint, one for the central
+// differences of ComputeMapDerivatives) and clipped to [0, 1]^3. Outside it
+// the map (and its derivatives) read as the identity up to the storage's
+// rounding of 0 (16 bits: 1.5e-5 scale), so the volume pass skips the fetch
+// there. A map that is the identity everywhere gives an empty box (lo > hi).
+Box3 ActiveBox(const StoredDisplacementMap& stored);
 
 }  // namespace core

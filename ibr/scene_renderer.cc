@@ -121,6 +121,13 @@ capture::Bounds BoxBounds(const glm::dmat4& world_from_box) {
   return b;
 }
 
+// A volume object (ibr/volume_object.h): its data and the world box its
+// proxy covers.
+void LoadVolumeInto(const scene::Object& o, LoadedObject& l) {
+  l.volume = std::make_shared<LoadedVolume>(LoadVolumeObject(o));
+  l.bounds = BoxBounds(WorldFromProxy(l.volume->data));
+}
+
 LoadedObject LoadObject(render::ProgramCache& programs, const scene::Object& o) {
   LoadedObject l;
   l.name = o.name;
@@ -182,6 +189,8 @@ LoadedObject LoadObject(render::ProgramCache& programs, const scene::Object& o) 
       break;
     }
     case ObjectType::kVolume:
+      LoadVolumeInto(o, l);
+      break;
     case ObjectType::kDeform:
       throw core::InputError(fmt::format("{}: object type '{}' is not built in this version",
                                          o.where, scene::ObjectTypeName(o.type)));
@@ -200,6 +209,7 @@ LoadedScene LoadScene(render::ProgramCache& programs, const scene::Scene& s) {
       if (o.type == ObjectType::kDisplacedMesh) DisplacedMeshOptionsFrom(o.settings);
       if (o.type == ObjectType::kDepthObject || o.type == ObjectType::kVisualHull)
         DepthObjectOptionsFrom(o.settings);
+      if (o.type == ObjectType::kVolume) VolumeObjectOptionsFrom(o.settings);
       loaded.disabled.push_back(o.name);
       continue;
     }
@@ -262,8 +272,13 @@ struct SceneRenderer::ObjectPass {
   std::optional<render::GpuMesh> mesh;
   std::optional<render::Texture> mesh_texture;
   std::optional<render::MeshPass> mesh_pass;
+  // volume
+  std::optional<render::VolumePass> volume;
   // the object's pass (one of the above)
   render::Pass* pass = nullptr;
+  // Translucent passes (volume DVR) are drawn after every opaque one, so
+  // their slices blend over what the depth test lets through.
+  bool translucent = false;
 };
 
 SceneRenderer::SceneRenderer(render::ProgramCache& programs, const LoadedScene& scene)
@@ -283,6 +298,15 @@ SceneRenderer::SceneRenderer(render::ProgramCache& programs, const LoadedScene& 
         p->displaced.emplace(programs, o.displaced, o.displacement);
         p->pass = &p->displaced->pass();
         break;
+      case ObjectType::kVolume: {
+        const LoadedVolume& v = *o.volume;
+        p->volume.emplace(programs, v.data.volume, v.data.transfer, v.data.maps,
+                          v.data.world_from_volume, v.options.pass);
+        p->name = v.options.pass.mode == render::VolumeMode::kDvr ? "volume:dvr" : "volume:iso";
+        p->translucent = v.options.pass.mode == render::VolumeMode::kDvr;
+        p->pass = &*p->volume;
+        break;
+      }
       default:
         p->name = "mesh";
         p->mesh.emplace(o.mesh.mesh);
@@ -315,11 +339,14 @@ SceneFrame SceneRenderer::Render(const ViewCamera& view) {
   }
   // Every pass into the one frame: the depth test composites them.
   render::BeginFrame(*target_);
-  for (auto& p : passes_) {
-    // A rigid transform leaves camera z (and so the composite) unchanged.
-    render::ViewSetup object_setup = setup;
-    object_setup.cam_from_world = setup.cam_from_world * p->world_from_object;
-    p->pass->Draw(*target_, object_setup);
+  for (bool translucent : {false, true}) {
+    for (auto& p : passes_) {
+      if (p->translucent != translucent) continue;
+      // A rigid transform leaves camera z (and so the composite) unchanged.
+      render::ViewSetup object_setup = setup;
+      object_setup.cam_from_world = setup.cam_from_world * p->world_from_object;
+      p->pass->Draw(*target_, object_setup);
+    }
   }
   render::Frame frame = render::ReadFrame(*target_);
   SceneFrame out;

@@ -3,7 +3,9 @@
 // program and allocates no displacement texture), draws every object of a
 // view into ONE frame target (render/passes/pass.h) and so composites them by
 // the depth buffer: mesh (render::MeshPass), displaced mesh (the method's pass,
-// ibr/displaced_mesh.h), depth object / visual hull (ibr::DepthObjectPass).
+// ibr/displaced_mesh.h), depth object / visual hull (ibr::DepthObjectPass),
+// volume (render::VolumePass; DVR volumes after the opaque objects, their
+// slices depth-tested against them).
 //
 // Stages: LoadScene (files -> plain CPU data: meshes, height maps, map sets;
 // synthetic captures need a context) -> SceneRenderer (GPU upload, passes) ->
@@ -23,6 +25,7 @@
 #include "ibr/displaced_mesh.h"
 #include "ibr/image_maps.h"
 #include "ibr/views.h"
+#include "ibr/volume_object.h"
 #include "render/gl/render_target.h"
 #include "render/gl/shader_program.h"
 #include "scene/scene.h"
@@ -43,6 +46,8 @@ struct LoadedObject {
   DisplacedMeshOptions displacement;
   // mesh: transformed to the world
   capture::SceneMesh mesh;
+  // volume: the data and options (ibr/volume_object.h), shared (large)
+  std::shared_ptr<const LoadedVolume> volume;
   capture::Bounds bounds;  // world
 };
 
@@ -77,7 +82,7 @@ class SceneRenderer {
   // test), one readback.
   SceneFrame Render(const ViewCamera& view);
   // The passes built, one per enabled object: "depth-object", "visual-hull",
-  // "displacement:METHOD", "mesh".
+  // "displacement:METHOD", "mesh", "volume:dvr", "volume:iso".
   std::vector<std::string> PassNames() const;
 
  private:

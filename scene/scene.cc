@@ -2,12 +2,14 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <cmath>
 #include <fstream>
 #include <glm/gtc/matrix_transform.hpp>
 #include <set>
 
 #include "core/error.h"
+#include "core/transfer_function.h"
 
 namespace scene {
 namespace fs = std::filesystem;
@@ -317,7 +319,12 @@ class Reader {
     } else if (type == "mesh") {
       o.type = ObjectType::kMesh;
       structural = {"mesh", "texture"};
-    } else if (type == "volume" || type == "deform") {
+    } else if (type == "volume") {
+      o.type = ObjectType::kVolume;
+      structural = {"volume", "transfer"};
+      effect_keys = {"effect",   "map_size", "mode", "spacing", "displacement_bits",
+                     "lighting", "jacobian"};
+    } else if (type == "deform") {
       Fail(p / "type",
            fmt::format("object type '{}' is reserved: not built in this version", type));
     } else {
@@ -335,8 +342,10 @@ class Reader {
     if (j.contains("enabled")) o.enabled = Bool(j["enabled"], p / "enabled");
     if (j.contains("transform")) o.world_from_object = Transform(j["transform"], p / "transform");
     for (const std::string& k : structural) {
-      if (k != "texture" && !j.contains(k)) Fail(p, fmt::format("missing \"{}\"", k));
+      if (k != "texture" && k != "transfer" && !j.contains(k))
+        Fail(p, fmt::format("missing \"{}\"", k));
     }
+    if (j.contains("volume")) o.volume = File(j["volume"], p / "volume");
     if (j.contains("images")) {
       const auto q = p / "images";
       const json& im = j["images"];
@@ -387,6 +396,14 @@ class Reader {
     }
     if (o.type == ObjectType::kDepthObject || o.type == ObjectType::kVisualHull) {
       o.settings.Set("method", type, Where(p / "type"));
+    }
+    if (o.type == ObjectType::kVolume && j.contains("transfer")) {
+      // A preset name (core::TransferPresetNames), else a JSON file.
+      const std::string t = String(j["transfer"], p / "transfer");
+      const std::vector<std::string> presets = core::TransferPresetNames();
+      const bool preset = std::find(presets.begin(), presets.end(), t) != presets.end();
+      o.settings.Set("transfer", preset ? t : File(j["transfer"], p / "transfer").string(),
+                     Where(p / "transfer"));
     }
     return o;
   }

@@ -32,8 +32,17 @@
 //      |
 //                   tessellated), max_displacement, tiling, slices, steps},
 //     {"type"*: "mesh", "mesh"*: as above, "texture": FILE}      a plain rasterised mesh
-//     {"type"*: "volume" | "deform"}    reserved for the volume and cut/deformation
-//                                       passes: refused, "not built in this version"
+//     {"type"*: "volume",                                 Correa, Silver, Chen 2006
+//      "volume"*: "QVis .dat or NRRD .nrrd/.nhdr",
+//      "transfer": preset (tooth, neghip, bucky, ramp, empty) or JSON file (default: the preset
+//                  named like the volume file, else ramp),
+//      effect keys: effect (none | peel | slices | seam | pull | wave), map_size, mode (dvr |
+//                   iso:VALUE), spacing (voxels), displacement_bits (8 | 16 | 32), lighting
+//                   (none | gradient | transformed | blended), jacobian (precomputed |
+//                   differences)}; the object frame is the volume's box scaled to its extent
+//      and centred at the origin; DVR volumes are drawn after the opaque objects
+//     {"type"*: "deform"}               reserved for the cut/deformation pass: refused,
+//                                       "not built in this version"
 //     common keys: "name" (default "object_N"), "enabled" (default true; false = named but
 //       not drawn: its passes, programs and textures are not built), "transform":
 //       {"translate": [x, y, z], "rotate_deg": [x, y, z] (about x, then y, then z),
@@ -117,6 +126,7 @@ struct Object {
   MeshSource mesh;                // displaced mesh / mesh
   HeightSource height;            // displaced mesh
   std::filesystem::path texture;  // optional colour texture (displaced mesh / mesh)
+  std::filesystem::path volume;   // volume: QVis .dat or NRRD file (resolved)
   Settings settings;              // the effect's options (see the schema)
   std::string where;              // "ReadScene: 'FILE' /objects/N"
 };

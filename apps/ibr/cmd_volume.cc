@@ -32,21 +32,7 @@ void RunVolume(VolumeCommandOptions& o) {
     o.params.Check();
     r.effect = o.params;
   }
-  if (o.mode == "dvr") {
-    r.pass.mode = render::VolumeMode::kDvr;
-  } else if (o.mode.rfind("iso:", 0) == 0) {
-    r.pass.mode = render::VolumeMode::kIso;
-    try {
-      size_t used = 0;
-      r.pass.iso_value = std::stod(o.mode.substr(4), &used);
-      if (used != o.mode.size() - 4) throw std::invalid_argument("trailing");
-    } catch (const std::exception&) {
-      core::ThrowInputError(kWhere, "--mode '{}': expected dvr or iso:VALUE (VALUE in [0, 1])",
-                            o.mode);
-    }
-  } else {
-    core::ThrowInputError(kWhere, "--mode '{}': expected dvr or iso:VALUE", o.mode);
-  }
+  ibr::ApplyVolumeMode(o.mode, r.pass, std::string(kWhere) + " --mode");
   r.pass.lighting = render::VolumeLightingFromName(o.lighting);
   if (!o.placement.empty()) {
     if (o.placement.size() != 6)

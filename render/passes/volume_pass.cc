@@ -95,6 +95,24 @@ Texture UploadTransfer(const core::TransferFunction& tf, int n) {
   return t;
 }
 
+// J_D's columns and grad alpha of the map as the GPU sees it (dequantised),
+// three RGBA16F textures: rgb = dD/du_k, a = dalpha/du_k.
+std::vector<Texture> UploadMapDerivatives(const core::StoredDisplacementMap& s) {
+  const core::MapDerivatives d = core::ComputeMapDerivatives(core::DequantizeDisplacementMap(s));
+  std::vector<Texture> out;
+  std::vector<glm::vec4> column(d.jacobian.size());
+  for (int k = 0; k < 3; ++k) {
+    for (size_t i = 0; i < column.size(); ++i)
+      column[i] = glm::vec4(d.jacobian[i][k], d.alpha_gradient[i][k]);
+    Texture t = Texture::Create3D(GL_RGBA16F, s.dims.x, s.dims.y, s.dims.z);
+    glTextureSubImage3D(t.id(), 0, 0, 0, 0, s.dims.x, s.dims.y, s.dims.z, GL_RGBA, GL_FLOAT,
+                        column.data());
+    LinearClamp(t.id());
+    out.push_back(std::move(t));
+  }
+  return out;
+}
+
 constexpr int kTransferSize = 256;
 
 }  // namespace
@@ -120,6 +138,18 @@ std::string_view VolumeLightingName(VolumeLighting lighting) {
       return "blended";
   }
   return "";
+}
+
+VolumeJacobian VolumeJacobianFromName(std::string_view name) {
+  for (VolumeJacobian j : {VolumeJacobian::kPrecomputed, VolumeJacobian::kFiniteDifferences}) {
+    if (VolumeJacobianName(j) == name) return j;
+  }
+  core::ThrowInputError("VolumeJacobianFromName",
+                        "unknown Jacobian '{}' (precomputed, differences)", name);
+}
+
+std::string_view VolumeJacobianName(VolumeJacobian jacobian) {
+  return jacobian == VolumeJacobian::kPrecomputed ? "precomputed" : "differences";
 }
 
 void VolumePassOptions::Check() const {
@@ -161,6 +191,7 @@ std::vector<std::string> VolumePassOptions::Defines(int map_count) const {
       d.push_back("VOLUME_LIGHT_BLENDED");
       break;
   }
+  if (jacobian == VolumeJacobian::kPrecomputed) d.push_back("VOLUME_JACOBIAN_PRECOMPUTED");
   if (mode == VolumeMode::kIso) {
     for (const std::string& r : RayCoreDefines(ray)) d.push_back(r);
   }
@@ -203,7 +234,7 @@ VolumePass::VolumePass(ProgramCache& programs, const core::Volume& volume,
     voxel_world_ = std::min(voxel_world_, static_cast<double>(glm::length(lin[a])) / dims_[a]);
 
   std::vector<core::PlacedMap> placed;
-  for (const auto& m : maps_) placed.push_back({&m.map, m.placement});
+  for (const auto& m : maps_) placed.push_back({&m.map, m.placement, {}});
   proxy_box_ = core::ProxyBox({glm::dvec3(0.0), glm::dvec3(1.0)}, placed);
 
   volume_texture_ = UploadVolume(volume);
@@ -235,14 +266,27 @@ VolumePass::VolumePass(ProgramCache& programs, const core::Volume& volume,
 
 void VolumePass::SetOptions(const VolumePassOptions& options) {
   options.Check();
-  const bool restore = stored_.empty() || options.displacement_bits != options_.displacement_bits;
+  const bool restore =
+      stored_.size() != maps_.size() || options.displacement_bits != options_.displacement_bits;
   options_ = options;
-  if (!restore && map_textures_.size() == maps_.size()) return;
-  stored_.clear();
-  map_textures_.clear();
-  for (const auto& m : maps_) {
-    stored_.push_back(core::StoreDisplacementMap(m.map, options_.displacement_bits));
-    map_textures_.push_back(UploadMap(stored_.back()));
+  if (restore) {
+    stored_.clear();
+    active_.clear();
+    map_textures_.clear();
+    derivative_textures_.clear();
+    for (const auto& m : maps_) {
+      stored_.push_back(core::StoreDisplacementMap(m.map, options_.displacement_bits));
+      active_.push_back(core::ActiveBox(stored_.back()));
+      map_textures_.push_back(UploadMap(stored_.back()));
+    }
+  }
+  // The derivative textures only when this Jacobian asks for them.
+  if (options_.jacobian == VolumeJacobian::kPrecomputed &&
+      derivative_textures_.size() != 3 * maps_.size()) {
+    derivative_textures_.clear();
+    for (const auto& s : stored_) {
+      for (Texture& t : UploadMapDerivatives(s)) derivative_textures_.push_back(std::move(t));
+    }
   }
 }
 
@@ -276,7 +320,16 @@ void VolumePass::SetCommonUniforms(const Program& program, const ViewSetup& view
     program.Set(fmt::format("u_map_from_tex_linear[{}]", i), glm::inverse(a));
     program.Set(fmt::format("u_map_scale[{}]", i), stored_[i].scale);
     program.Set(fmt::format("u_map_texel[{}]", i), 1.0f / glm::vec3(maps_[i].map.dims));
+    program.Set(fmt::format("u_map_active_lo[{}]", i), glm::vec3(active_[i].lo));
+    program.Set(fmt::format("u_map_active_hi[{}]", i), glm::vec3(active_[i].hi));
     glBindTextureUnit(static_cast<GLuint>(3 + i), map_textures_[i].id());
+    if (options_.jacobian == VolumeJacobian::kPrecomputed) {
+      for (size_t k = 0; k < 3; ++k) {
+        const auto unit = static_cast<int>(3 + kMaxVolumeMaps + 3 * i + k);
+        program.Set(fmt::format("u_map_derivatives[{}]", 3 * i + k), unit);
+        glBindTextureUnit(static_cast<GLuint>(unit), derivative_textures_[3 * i + k].id());
+      }
+    }
   }
 }
 
@@ -351,7 +404,14 @@ void VolumePass::DrawDvr(const RenderTarget& target, const ViewSetup& view) {
   const ScopedGlState scoped(state);
   for (GLuint i : {kFrameCameraZ, kFrameNormal})
     glColorMaski(i, GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);
-  slices_.DrawAll();
+  // One draw for the whole stack: GL blends a draw's primitives in the
+  // order they are given, so back to front holds; per-slice draws cost
+  // llvmpipe a fixed setup each (ibr bench volume, profile rows).
+  if (options_.draw_per_slice) {
+    slices_.DrawAll();
+  } else {
+    slices_.DrawAllBatched();
+  }
   for (GLuint i : {kFrameCameraZ, kFrameNormal})
     glColorMaski(i, GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
 }

@@ -54,6 +54,14 @@ enum class VolumeLighting { kNone, kGradient, kTransformed, kBlended };
 VolumeLighting VolumeLightingFromName(std::string_view name);  // none|gradient|transformed|blended
 std::string_view VolumeLightingName(VolumeLighting lighting);
 
+// How J_D (eq. 6) and the mask's gradient (eq. 7) are found per sample:
+// precomputed per map texel (sec. 4.3.1; three RGBA16F textures a map, three
+// filtered fetches a sample) or central differences of the map at half a
+// texel (six fetches a sample, no extra memory).
+enum class VolumeJacobian { kPrecomputed, kFiniteDifferences };
+VolumeJacobian VolumeJacobianFromName(std::string_view name);  // precomputed|differences
+std::string_view VolumeJacobianName(VolumeJacobian jacobian);
+
 // Most maps one pass composes (eq. 9); a shader variant per count.
 inline constexpr int kMaxVolumeMaps = 4;
 
@@ -69,6 +77,12 @@ struct VolumePassOptions {
   // and 8) or 32-bit float.
   int displacement_bits = 16;
   VolumeLighting lighting = VolumeLighting::kBlended;
+  // Precomputed by default: the cheaper per sample (ibr bench volume).
+  VolumeJacobian jacobian = VolumeJacobian::kPrecomputed;
+  // DVR: one draw call per slice instead of one for the whole stack (the
+  // same pixels, GL keeps primitive order for blending). For the bench's
+  // profile of the per-draw overhead only.
+  bool draw_per_slice = false;
   // Direction TOWARDS the light, world frame (normalised on use). Default:
   // from above (+z), as in Fig. 4.
   glm::vec3 light_dir_world{0.0f, 0.0f, 1.0f};
@@ -113,6 +127,8 @@ class VolumePass : public Pass {
   void SetOptions(const VolumePassOptions& options);          // same maps and volume
   const core::Box3& proxy_box() const { return proxy_box_; }  // volume texture space
   const VolumeDrawStats& last_stats() const { return stats_; }
+  // core::ActiveBox of each map (map space): where its fetch is not skipped.
+  const std::vector<core::Box3>& active_boxes() const { return active_; }
   // World length of one voxel of the smallest-spacing axis.
   double voxel_world() const { return voxel_world_; }
   glm::mat4 world_from_proxy() const;
@@ -134,12 +150,15 @@ class VolumePass : public Pass {
   glm::mat4 world_from_volume_{1.0f};
   std::vector<VolumeMapInput> maps_;
   std::vector<core::StoredDisplacementMap> stored_;
+  std::vector<core::Box3> active_;  // core::ActiveBox of each stored map
   core::Box3 proxy_box_;
   double voxel_world_ = 1;
   Texture volume_texture_;
   Texture gradient_texture_;
   Texture transfer_texture_;
   std::vector<Texture> map_textures_;
+  // Per map: J_D columns + grad alpha (VolumeJacobian::kPrecomputed), 3 each.
+  std::vector<Texture> derivative_textures_;
   SliceBuffer slices_;
   Buffer box_vertices_;
   VertexArray box_vao_;

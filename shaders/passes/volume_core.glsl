@@ -4,8 +4,15 @@
 //
 // Defines (VolumePassOptions::Defines): VOLUME_MAPS n (0..4);
 // VOLUME_MAPS_FLOAT (RGBA32F maps) else UNORM maps with scale and bias;
-// exactly one of VOLUME_LIGHT_NONE / _GRADIENT / _TRANSFORMED / _BLENDED.
+// exactly one of VOLUME_LIGHT_NONE / _GRADIENT / _TRANSFORMED / _BLENDED;
+// VOLUME_JACOBIAN_PRECOMPUTED (J_D and grad alpha from per-texel textures,
+// 3 fetches a map) else central differences of the map (6 fetches a map).
 // Frames: p' and p in volume texture space [0,1]^3; a map's own unit cube u.
+//
+// Cost order (sec. 4.2): VolumeDisplace gives p and the mask only; the
+// Jacobian (VolumeNormalFrame) is evaluated after the mask and the transfer
+// function have kept the sample, so cut or transparent samples never pay for
+// the normal.
 
 uniform sampler3D u_volume;    // normalised scalar, LINEAR, CLAMP_TO_EDGE
 uniform sampler3D u_gradient;  // rgb: gradient of the scalar per unit texture coordinate
@@ -21,6 +28,14 @@ uniform mat3 u_tex_from_map[VOLUME_MAPS];    // A, the linear part of M
 uniform mat3 u_map_from_tex_linear[VOLUME_MAPS];  // A^-1
 uniform float u_map_scale[VOLUME_MAPS];      // UNORM maps: D = (2 t - 1) scale
 uniform vec3 u_map_texel[VOLUME_MAPS];       // 1 / dims of each map
+// core::ActiveBox (map space): outside it a map is the identity, unread.
+uniform vec3 u_map_active_lo[VOLUME_MAPS];
+uniform vec3 u_map_active_hi[VOLUME_MAPS];
+#ifdef VOLUME_JACOBIAN_PRECOMPUTED
+// Per map, three RGBA16F textures: rgb = column k of J_D (dD/du_k), a =
+// dalpha/du_k (core::ComputeMapDerivatives), map units. Index 3 i + k.
+uniform sampler3D u_map_derivatives[3 * VOLUME_MAPS];
+#endif
 #endif
 
 // (D in map units, alpha) of map i at u.
@@ -38,50 +53,85 @@ vec4 MapFetch(int i, vec3 u) {
 struct Displaced {
   vec3 p;          // where to sample the volume
   float alpha;     // product of the masks (eq. 9)
-  mat3 jac;        // d p / d p' (I + J_D chained; identity without normals)
-  float cut_alpha; // the smallest single mask met (for eq. 7)
-  vec3 cut_grad;   // its gradient in p' space
+#if VOLUME_MAPS > 0
+  vec3 u[VOLUME_MAPS];      // where each map was read (map space)
+  float mask[VOLUME_MAPS];  // each map's mask there; -1 where the map was skipped
+#endif
 };
 
 bool InUnitCube(vec3 u) { return all(greaterThanEqual(u, vec3(0.0))) && all(lessThanEqual(u, vec3(1.0))); }
 
 // p = G_0(G_1(... G_{n-1}(p'))) with G_i(v) = v + A_i D_i(M_i^-1 v): the last
-// map acts first (eq. 9); outside its cube a map is the identity.
-Displaced VolumeDisplace(vec3 p_prime, bool with_normals) {
+// map acts first (eq. 9); outside its cube, and outside the part of it that
+// moves anything (core::ActiveBox), a map is the identity.
+Displaced VolumeDisplace(vec3 p_prime) {
   Displaced d;
   d.p = p_prime;
   d.alpha = 1.0;
-  d.jac = mat3(1.0);
-  d.cut_alpha = 1.0;
-  d.cut_grad = vec3(0.0);
 #if VOLUME_MAPS > 0
   for (int i = VOLUME_MAPS - 1; i >= 0; --i) {
     vec3 u = (u_map_from_tex[i] * vec4(d.p, 1.0)).xyz;
-    if (!InUnitCube(u)) continue;
+    d.u[i] = u;
+    d.mask[i] = -1.0;
+    if (any(lessThan(u, u_map_active_lo[i])) || any(greaterThan(u, u_map_active_hi[i]))) continue;
     vec4 m = MapFetch(i, u);
-    if (with_normals) {
-      // J_D and the mask's gradient by central differences at half a texel.
-      mat3 jd;
-      vec3 ga;
-      for (int k = 0; k < 3; ++k) {
-        vec3 e = vec3(0.0);
-        e[k] = 0.5 * u_map_texel[i][k];
-        vec4 hi = MapFetch(i, u + e), lo = MapFetch(i, u - e);
-        jd[k] = (hi.xyz - lo.xyz) / (2.0 * e[k]);
-        ga[k] = (hi.w - lo.w) / (2.0 * e[k]);
-      }
-      if (m.w < d.cut_alpha) {
-        d.cut_alpha = m.w;
-        // d alpha / d p' = J_before^T A^-T grad_u alpha.
-        d.cut_grad = transpose(d.jac) * (transpose(u_map_from_tex_linear[i]) * ga);
-      }
-      d.jac = (mat3(1.0) + u_tex_from_map[i] * jd * u_map_from_tex_linear[i]) * d.jac;
-    }
+    d.mask[i] = m.w;
     d.p += u_tex_from_map[i] * m.xyz;
     d.alpha *= m.w;
   }
 #endif
   return d;
+}
+
+// What the normal needs from the maps (sec. 4.3).
+struct NormalFrame {
+  mat3 jac;         // d p / d p' (I + A J_D A^-1 chained over maps)
+  float cut_alpha;  // the smallest single mask met (for eq. 7)
+  vec3 cut_grad;    // its gradient in p' space
+};
+
+// J_D (columns) and grad alpha of map i at u, map units.
+#if VOLUME_MAPS > 0
+void MapDerivatives(int i, vec3 u, out mat3 jd, out vec3 ga) {
+#ifdef VOLUME_JACOBIAN_PRECOMPUTED
+  for (int k = 0; k < 3; ++k) {
+    vec4 t = texture(u_map_derivatives[3 * i + k], u);
+    jd[k] = t.xyz;
+    ga[k] = t.w;
+  }
+#else
+  // Central differences of the filtered map at half a texel.
+  for (int k = 0; k < 3; ++k) {
+    vec3 e = vec3(0.0);
+    e[k] = 0.5 * u_map_texel[i][k];
+    vec4 hi = MapFetch(i, u + e), lo = MapFetch(i, u - e);
+    jd[k] = (hi.xyz - lo.xyz) / (2.0 * e[k]);
+    ga[k] = (hi.w - lo.w) / (2.0 * e[k]);
+  }
+#endif
+}
+#endif
+
+NormalFrame VolumeNormalFrame(Displaced d) {
+  NormalFrame f;
+  f.jac = mat3(1.0);
+  f.cut_alpha = 1.0;
+  f.cut_grad = vec3(0.0);
+#if VOLUME_MAPS > 0
+  for (int i = VOLUME_MAPS - 1; i >= 0; --i) {
+    if (d.mask[i] < 0.0) continue;
+    mat3 jd;
+    vec3 ga;
+    MapDerivatives(i, d.u[i], jd, ga);
+    if (d.mask[i] < f.cut_alpha) {
+      f.cut_alpha = d.mask[i];
+      // d alpha / d p' = J_before^T A^-T grad_u alpha.
+      f.cut_grad = transpose(f.jac) * (transpose(u_map_from_tex_linear[i]) * ga);
+    }
+    f.jac = (mat3(1.0) + u_tex_from_map[i] * jd * u_map_from_tex_linear[i]) * f.jac;
+  }
+#endif
+  return f;
 }
 
 // The normalised scalar at p; 0 outside the volume's box.
@@ -100,13 +150,14 @@ vec3 SafeNormalize(vec3 v) {
 vec3 VolumeNormal(Displaced d) {
   vec3 g = InUnitCube(d.p) ? texture(u_gradient, d.p).xyz : vec3(0.0);
 #if defined(VOLUME_LIGHT_TRANSFORMED) || defined(VOLUME_LIGHT_BLENDED)
-  g = transpose(d.jac) * g;  // eq. 6: n' = (I + J_D)^T n
+  NormalFrame f = VolumeNormalFrame(d);
+  g = transpose(f.jac) * g;  // eq. 6: n' = (I + J_D)^T n
 #endif
 #if defined(VOLUME_LIGHT_BLENDED)
   // Eq. 7: w (I + J_D)^T n + (1 - w) grad alpha, w = 0 on the cut's 0.5
   // contour of the smoothed mask, 1 where the mask is 1.
-  float w = clamp(2.0 * (d.cut_alpha - 0.5), 0.0, 1.0);
-  g = w * SafeNormalize(u_normal_world_from_tex * g) + (1.0 - w) * SafeNormalize(u_normal_world_from_tex * d.cut_grad);
+  float w = clamp(2.0 * (f.cut_alpha - 0.5), 0.0, 1.0);
+  g = w * SafeNormalize(u_normal_world_from_tex * g) + (1.0 - w) * SafeNormalize(u_normal_world_from_tex * f.cut_grad);
   return -SafeNormalize(g);
 #else
   // Gradients point into denser material: the outward normal is against it.
@@ -114,11 +165,16 @@ vec3 VolumeNormal(Displaced d) {
 #endif
 }
 
+// Diffuse + ambient with the outward normal n (world, unit or zero).
+vec3 VolumeShadeWithNormal(vec3 rgb, vec3 n) {
+  float diffuse = max(dot(n, u_light_dir_world), 0.0);
+  return rgb * (u_ambient + (1.0 - u_ambient) * diffuse);
+}
+
 vec3 VolumeShade(vec3 rgb, Displaced d) {
 #if defined(VOLUME_LIGHT_NONE)
   return rgb;
 #else
-  float diffuse = max(dot(VolumeNormal(d), u_light_dir_world), 0.0);
-  return rgb * (u_ambient + (1.0 - u_ambient) * diffuse);
+  return VolumeShadeWithNormal(rgb, VolumeNormal(d));
 #endif
 }

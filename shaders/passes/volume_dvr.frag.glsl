@@ -14,16 +14,12 @@ layout(location = 0) out vec4 o_color;  // premultiplied
 
 void main() {
   vec3 p_prime = (u_tex_from_proxy * vec4(v_p_in_box, 1.0)).xyz;
-#if defined(VOLUME_LIGHT_NONE) || defined(VOLUME_LIGHT_GRADIENT)
-  Displaced d = VolumeDisplace(p_prime, false);
-#else
-  Displaced d = VolumeDisplace(p_prime, true);
-#endif
+  Displaced d = VolumeDisplace(p_prime);
   if (d.alpha < 0.5) discard;  // sec. 4.2: the cut is transparent
   float s = VolumeDensity(d.p);
   vec4 tf = texture(u_transfer, (s * (u_transfer_size - 1.0) + 0.5) / u_transfer_size);
   // Opacity correction for the slice spacing.
   float a = (1.0 - pow(max(1.0 - tf.a, 0.0), u_opacity_exponent)) * d.alpha;
-  if (!(a > 0.0)) discard;
+  if (!(a > 0.0)) discard;  // before the normal: empty samples cost no Jacobian
   o_color = vec4(VolumeShade(tf.rgb, d) * a, a);
 }

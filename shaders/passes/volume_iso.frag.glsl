@@ -9,7 +9,7 @@ uniform float u_iso;  // normalised scalar
 
 // Ray-core contract: > 0 empty, <= 0 solid. Cut space (mask < 0.5) is empty.
 float RayField(vec3 p_in_box) {
-  Displaced d = VolumeDisplace((u_tex_from_proxy * vec4(p_in_box, 1.0)).xyz, false);
+  Displaced d = VolumeDisplace((u_tex_from_proxy * vec4(p_in_box, 1.0)).xyz);
   if (d.alpha < 0.5) return 1.0;
   return u_iso - VolumeDensity(d.p);
 }
@@ -59,7 +59,12 @@ void main() {
   vec4 clip = u_clip_from_cam * p_cam;
   gl_FragDepth = 0.5 * (clip.z / clip.w) + 0.5;
   o_camera_z = p_cam.z;
-  Displaced d = VolumeDisplace((u_tex_from_proxy * vec4(res.p, 1.0)).xyz, true);
-  o_normal = vec4(VolumeNormal(d), 0.0);
-  o_color = vec4(VolumeShade(vec3(0.92, 0.88, 0.8), d), 1.0);
+  Displaced d = VolumeDisplace((u_tex_from_proxy * vec4(res.p, 1.0)).xyz);
+  vec3 n = VolumeNormal(d);
+  o_normal = vec4(n, 0.0);
+#if defined(VOLUME_LIGHT_NONE)
+  o_color = vec4(0.92, 0.88, 0.8, 1.0);
+#else
+  o_color = vec4(VolumeShadeWithNormal(vec3(0.92, 0.88, 0.8), n), 1.0);
+#endif
 }

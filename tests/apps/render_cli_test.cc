@@ -117,8 +117,8 @@ TEST_F(RenderCliTest, BadSceneNamesFileAndPointerAndLeavesNoOutput) {
        "/objects/0/slices"},
       {R"({"version": 1, "cameras": {"orbit": {}}, "objects": [{"type": "mesh", "mesh": {"file": "gone.obj"}}]})",
        "/objects/0/mesh/file"},
-      {R"({"version": 1, "cameras": {"orbit": {}}, "objects": [{"type": "volume"}]})",
-       "not built in this version"},
+      {R"({"version": 1, "cameras": {"orbit": {}}, "objects": [{"type": "volume", "volume": "gone.dat"}]})",
+       "/objects/0/volume"},
   };
   for (const Case& c : cases) {
     const fs::path scene = dir_ / "bad.json";

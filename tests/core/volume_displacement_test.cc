@@ -204,6 +204,69 @@ TEST(VolumeDisplacement, NormalTransformsOfAShearAreExact) {
   }
 }
 
+TEST(VolumeDisplacement, MapDerivativesOfLinearFieldsAreExactAtEveryTexel) {
+  // D = (0.2 y, -0.1 z, 0.3 x), alpha = 0.5 + 0.25 z: linear, so central and
+  // one-sided differences are both exact, faces included.
+  DisplacementMap map;
+  map.dims = {6, 5, 4};
+  map.texels.resize(6 * 5 * 4);
+  for (int z = 0; z < 4; ++z)
+    for (int y = 0; y < 5; ++y)
+      for (int x = 0; x < 6; ++x) {
+        const glm::vec3 u((x + 0.5f) / 6, (y + 0.5f) / 5, (z + 0.5f) / 4);
+        map.at(x, y, z) = {0.2f * u.y, -0.1f * u.z, 0.3f * u.x, 0.5f + 0.25f * u.z};
+      }
+  const MapDerivatives d = ComputeMapDerivatives(map);
+  ASSERT_EQ(d.jacobian.size(), map.texels.size());
+  glm::mat3 expect(0.0f);
+  expect[1][0] = 0.2f;   // dDx/dy
+  expect[2][1] = -0.1f;  // dDy/dz
+  expect[0][2] = 0.3f;   // dDz/dx
+  for (size_t i = 0; i < d.jacobian.size(); ++i) {
+    for (int c = 0; c < 3; ++c)
+      for (int r = 0; r < 3; ++r) ASSERT_NEAR(d.jacobian[i][c][r], expect[c][r], 1e-5) << i;
+    ASSERT_NEAR(d.alpha_gradient[i].x, 0.0f, 1e-5);
+    ASSERT_NEAR(d.alpha_gradient[i].y, 0.0f, 1e-5);
+    ASSERT_NEAR(d.alpha_gradient[i].z, 0.25f, 1e-5);
+  }
+}
+
+TEST(VolumeDisplacement, ActiveBoxHoldsEveryTexelThatMovesAnything) {
+  DisplacementMap map;
+  map.dims = {10, 8, 16};
+  map.texels.assign(10 * 8 * 16, glm::vec4(0, 0, 0, 1));
+  for (int bits : {8, 16, 32}) {
+    const Box3 none = ActiveBox(StoreDisplacementMap(map, bits));
+    EXPECT_GT(none.lo.x, none.hi.x) << bits;  // the identity everywhere: empty
+  }
+  map.at(4, 3, 7) = {0.0f, 0.0f, 0.2f, 1.0f};  // one texel moves
+  map.at(5, 3, 7) = {0.0f, 0.0f, 0.0f, 0.3f};  // one is cut
+  for (int bits : {8, 16, 32}) {
+    const Box3 b = ActiveBox(StoreDisplacementMap(map, bits));
+    // Texels 4..5, 3, 7 grown by two texels each side.
+    EXPECT_NEAR(b.lo.x, 2.0 / 10, 1e-12) << bits;
+    EXPECT_NEAR(b.hi.x, 8.0 / 10, 1e-12) << bits;
+    EXPECT_NEAR(b.lo.y, 1.0 / 8, 1e-12) << bits;
+    EXPECT_NEAR(b.hi.y, 6.0 / 8, 1e-12) << bits;
+    EXPECT_NEAR(b.lo.z, 5.0 / 16, 1e-12) << bits;
+    EXPECT_NEAR(b.hi.z, 10.0 / 16, 1e-12) << bits;
+  }
+  map.at(0, 0, 0) = {0.1f, 0.0f, 0.0f, 1.0f};  // clipped to the cube
+  const Box3 c = ActiveBox(StoreDisplacementMap(map, 16));
+  EXPECT_EQ(c.lo, glm::dvec3(0.0));
+  // Every texel outside the box reads as the identity after storage.
+  const DisplacementMap back = DequantizeDisplacementMap(StoreDisplacementMap(map, 16));
+  for (int z = 0; z < 16; ++z)
+    for (int y = 0; y < 8; ++y)
+      for (int x = 0; x < 10; ++x) {
+        const glm::dvec3 u((x + 0.5) / 10, (y + 0.5) / 8, (z + 0.5) / 16);
+        if (glm::all(glm::greaterThanEqual(u, c.lo)) && glm::all(glm::lessThanEqual(u, c.hi)))
+          continue;
+        EXPECT_LT(glm::length(glm::vec3(back.at(x, y, z))), 1e-4f);
+        EXPECT_EQ(back.at(x, y, z).w, 1.0f);
+      }
+}
+
 TEST(VolumeDisplacement, ProxyBoxHoldsTheObjectAndThePlacedMaps) {
   const DisplacementMap pull = SampleEffect(Options(Effect::kPull), {4, 4, 4});
   const glm::dmat4 m = glm::translate(glm::dmat4(1.0), glm::dvec3(0.5, 0, 0));

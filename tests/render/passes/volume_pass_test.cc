@@ -134,7 +134,11 @@ std::vector<core::DisplacementMap> StoredMaps(const Scene& s) {
 std::vector<core::PlacedMap> Placed(const Scene& s,
                                     const std::vector<core::DisplacementMap>& stored) {
   std::vector<core::PlacedMap> placed;
-  for (size_t i = 0; i < stored.size(); ++i) placed.push_back({&stored[i], s.maps[i].placement});
+  // Read where the pass reads them (core::ActiveBox of the stored map).
+  for (size_t i = 0; i < stored.size(); ++i)
+    placed.push_back(
+        {&stored[i], s.maps[i].placement,
+         core::ActiveBox(core::StoreDisplacementMap(s.maps[i].map, s.options.displacement_bits))});
   return placed;
 }
 
@@ -587,6 +591,13 @@ TEST_F(GlTest, VolumeIsoNormalsMatchTheDisplacedFieldsGradient) {
   p.maps.push_back({core::SampleEffect(peel, {48, 48, 48}),
                     glm::translate(glm::dmat4(1.0), glm::dvec3(0.0, 0.0, 0.1))});
   cases.push_back({"ball + placed peel", p});
+  // The same two with J_D by central differences per sample.
+  for (size_t i : {size_t{1}, size_t{2}}) {
+    Case fd = cases[i];
+    fd.label += " (J_D differences)";
+    fd.scene.options.jacobian = VolumeJacobian::kFiniteDifferences;
+    cases.push_back(fd);
+  }
   for (const Case& c : cases) {
     const OrthoCamera cam = Ortho(200, 35, 0.45 * c.scene.volume.dims.x, 96);
     const IsoRun run = RunIso(*this, programs(), c.scene, cam);
@@ -602,7 +613,7 @@ TEST_F(GlTest, VolumeIsoNormalsMatchTheDisplacedFieldsGradient) {
     EXPECT_LE(p95, 3.0) << c.label;
   }
   // The test can fail: the flipped part keeps its old normals without eq. 6.
-  Scene uncorrected = cases.back().scene;
+  Scene uncorrected = cases[2].scene;
   uncorrected.options.lighting = VolumeLighting::kGradient;
   const OrthoCamera cam = Ortho(200, 35, 0.45 * uncorrected.volume.dims.x, 96);
   const std::vector<double> err =
@@ -621,7 +632,7 @@ TEST_F(GlTest, VolumeIsoNormalsMatchTheDisplacedFieldsGradient) {
 // 2-voxel ramps at its faces), its right half peeled 160 degrees over its
 // left half: the flipped plate's underside now faces the light above, and the
 // cut leaves a rim facing +x at x = 0.5.
-Scene PlateScene(VolumeLighting lighting) {
+Scene PlateScene(VolumeLighting lighting, VolumeJacobian jacobian) {
   const int n = 48;
   core::Volume v = core::Volume::Zeros({n, n, n}, core::ScalarType::kFloat32);
   for (int z = 0; z < n; ++z)
@@ -635,6 +646,7 @@ Scene PlateScene(VolumeLighting lighting) {
   Scene s{v, core::TransferPreset("ramp"), {}, {}};
   s.options.mode = VolumeMode::kIso;
   s.options.lighting = lighting;
+  s.options.jacobian = jacobian;
   s.options.displacement_bits = 32;
   s.options.light_dir_world = glm::normalize(glm::vec3(0.3f, 0.0f, 1.0f));
   core::EffectOptions peel;
@@ -651,8 +663,9 @@ struct Fig4Numbers {
   int64_t rim = 0, rim_dark = 0;             // cut face at x = 0.5: N.L <= 0
 };
 
-Fig4Numbers MeasureFig4(GlTest& t, ProgramCache& programs, VolumeLighting lighting) {
-  const Scene s = PlateScene(lighting);
+Fig4Numbers MeasureFig4(GlTest& t, ProgramCache& programs, VolumeLighting lighting,
+                        VolumeJacobian jacobian) {
+  const Scene s = PlateScene(lighting, jacobian);
   const auto stored = StoredMaps(s);
   const auto placed = Placed(s, stored);
   const glm::dvec3 light(s.options.light_dir_world);
@@ -686,15 +699,22 @@ Fig4Numbers MeasureFig4(GlTest& t, ProgramCache& programs, VolumeLighting lighti
 }
 
 TEST_F(GlTest, VolumeFig4LightingAblationAsNumbers) {
-  for (VolumeLighting l :
-       {VolumeLighting::kGradient, VolumeLighting::kTransformed, VolumeLighting::kBlended}) {
-    const Fig4Numbers f = MeasureFig4(*this, programs(), l);
+  // Both ways of finding J_D and grad alpha (per sample or per texel) must
+  // give the paper's figure.
+  for (const auto& [l, j] :
+       {std::pair{VolumeLighting::kGradient, VolumeJacobian::kPrecomputed},
+        std::pair{VolumeLighting::kTransformed, VolumeJacobian::kPrecomputed},
+        std::pair{VolumeLighting::kBlended, VolumeJacobian::kPrecomputed},
+        std::pair{VolumeLighting::kTransformed, VolumeJacobian::kFiniteDifferences},
+        std::pair{VolumeLighting::kBlended, VolumeJacobian::kFiniteDifferences}}) {
+    const Fig4Numbers f = MeasureFig4(*this, programs(), l, j);
     const double lit = f.underside ? static_cast<double>(f.underside_lit) / f.underside : 0;
     const double dark = f.rim ? static_cast<double>(f.rim_dark) / f.rim : 0;
     std::printf(
-        "Fig. 4 (%s): peeled underside N.L > 0 on %.1f%% of %lld px; dark rim %.1f%% of %lld px\n",
-        VolumeLightingName(l).data(), 100 * lit, static_cast<long long>(f.underside), 100 * dark,
-        static_cast<long long>(f.rim));
+        "Fig. 4 (%s, J_D %s): peeled underside N.L > 0 on %.1f%% of %lld px; dark rim %.1f%% of "
+        "%lld px\n",
+        VolumeLightingName(l).data(), VolumeJacobianName(j).data(), 100 * lit,
+        static_cast<long long>(f.underside), 100 * dark, static_cast<long long>(f.rim));
     ASSERT_GT(f.underside, 300) << VolumeLightingName(l);
     ASSERT_GT(f.rim, 100) << VolumeLightingName(l);
     switch (l) {

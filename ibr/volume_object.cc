@@ -1,0 +1,148 @@
+#include "ibr/volume_object.h"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cctype>
+#include <cmath>
+#include <glm/gtc/matrix_transform.hpp>
+
+#include "core/error.h"
+#include "core/volume_io.h"
+
+namespace ibr {
+
+core::TransferFunction TransferForVolume(const std::string& name,
+                                         const std::filesystem::path& volume_path) {
+  if (!name.empty()) return core::TransferFromPresetOrFile(name);
+  std::string stem = volume_path.filename().string();
+  std::transform(stem.begin(), stem.end(), stem.begin(),
+                 [](unsigned char c) { return std::tolower(c); });
+  for (const char* preset : {"tooth", "neghip", "bucky"}) {
+    if (stem.rfind(preset, 0) == 0) return core::TransferPreset(preset);
+  }
+  return core::TransferPreset("ramp");
+}
+
+VolumeObjectData MakeVolumeObject(const core::Volume& volume,
+                                  const core::TransferFunction& transfer,
+                                  const std::optional<core::EffectOptions>& effect, int map_size,
+                                  const glm::dvec3& placement_offset,
+                                  const glm::dvec3& placement_scale, const std::string& where) {
+  VolumeObjectData s;
+  s.volume = volume;
+  s.transfer = transfer;
+  const glm::vec3 extent(volume.Extent());
+  s.world_from_volume = glm::scale(glm::translate(glm::mat4(1.0f), -0.5f * extent), extent);
+  s.radius = 0.5 * glm::length(volume.Extent());
+  if (effect) {
+    if (map_size < 1 || map_size > 512)
+      core::ThrowInputError(where, "map size {} not in [1, 512]", map_size);
+    for (int a = 0; a < 3; ++a) {
+      if (!std::isfinite(placement_offset[a]) || !std::isfinite(placement_scale[a]) ||
+          !(placement_scale[a] > 0)) {
+        core::ThrowInputError(where, "placement: offsets must be finite and scales finite and > 0");
+      }
+    }
+    // Thin maps where the effect does not vary along an axis (Table 2: the
+    // peel and slicing maps are 128 x 128 x 1... here at least 4 texels).
+    glm::ivec3 dims(map_size);
+    if (effect->effect == core::Effect::kSlices || effect->effect == core::Effect::kWave ||
+        effect->effect == core::Effect::kPeel || effect->effect == core::Effect::kSeam)
+      dims.y = std::min(map_size, 4);
+    s.maps.push_back(
+        {core::SampleEffect(*effect, dims, 2),
+         glm::scale(glm::translate(glm::dmat4(1.0), placement_offset), placement_scale)});
+  }
+  return s;
+}
+
+void ApplyVolumeMode(const std::string& mode, render::VolumePassOptions& options,
+                     const std::string& where) {
+  if (mode == "dvr") {
+    options.mode = render::VolumeMode::kDvr;
+    return;
+  }
+  if (mode.rfind("iso:", 0) == 0) {
+    try {
+      size_t used = 0;
+      const double v = std::stod(mode.substr(4), &used);
+      if (used == mode.size() - 4 && std::isfinite(v) && v >= 0 && v <= 1) {
+        options.mode = render::VolumeMode::kIso;
+        options.iso_value = v;
+        return;
+      }
+    } catch (const std::exception&) {
+    }
+  }
+  core::ThrowInputError(where, "'{}': expected dvr or iso:VALUE (VALUE in [0, 1])", mode);
+}
+
+VolumeObjectOptions VolumeObjectOptionsFrom(const scene::Settings& s) {
+  VolumeObjectOptions o;
+  const std::string effect = s.GetString("effect", "none");
+  if (effect != "none") {
+    core::EffectOptions e;
+    try {
+      e.effect = core::ParseEffect(effect);
+    } catch (const core::InputError& error) {
+      s.Fail("effect", error.what());
+    }
+    o.effect = e;
+  }
+  o.map_size = s.GetInt("map_size", o.map_size);
+  if (o.map_size < 1 || o.map_size > 512)
+    s.Fail("map_size", fmt::format("{} outside 1..512", o.map_size));
+  const auto fail_as = [&](const std::string& key, auto&& apply) {
+    try {
+      apply();
+    } catch (const core::InputError& error) {
+      s.Fail(key, error.what());
+    }
+  };
+  const std::string mode = s.GetString("mode", "dvr");
+  fail_as("mode", [&] { ApplyVolumeMode(mode, o.pass, "mode"); });
+  o.pass.sampling_distance_voxels = s.GetDouble("spacing", o.pass.sampling_distance_voxels);
+  o.pass.displacement_bits = s.GetInt("displacement_bits", o.pass.displacement_bits);
+  const std::string lighting =
+      s.GetString("lighting", std::string(render::VolumeLightingName(o.pass.lighting)));
+  fail_as("lighting", [&] { o.pass.lighting = render::VolumeLightingFromName(lighting); });
+  const std::string jacobian =
+      s.GetString("jacobian", std::string(render::VolumeJacobianName(o.pass.jacobian)));
+  fail_as("jacobian", [&] { o.pass.jacobian = render::VolumeJacobianFromName(jacobian); });
+  // The remaining checks name the first key they could come from.
+  fail_as(s.Has("spacing") ? "spacing" : "displacement_bits", [&] { o.pass.Check(); });
+  return o;
+}
+
+LoadedVolume LoadVolumeObject(const scene::Object& o) {
+  LoadedVolume l;
+  l.options = VolumeObjectOptionsFrom(o.settings);
+  core::Volume volume;
+  try {
+    volume = core::ReadVolume(o.volume);
+  } catch (const core::InputError& e) {
+    throw core::InputError(fmt::format("{}/volume: {}", o.where, e.what()));
+  }
+  core::TransferFunction transfer;
+  const scene::Setting* t = o.settings.Find("transfer");
+  try {
+    transfer = TransferForVolume(t ? t->value.get<std::string>() : "", o.volume);
+  } catch (const core::InputError& e) {
+    throw core::InputError(fmt::format("{}: {}", t ? t->where : o.where, e.what()));
+  }
+  l.data = MakeVolumeObject(volume, transfer, l.options.effect, l.options.map_size, glm::dvec3(0.0),
+                            glm::dvec3(1.0), o.where);
+  l.data.world_from_volume = glm::mat4(o.world_from_object) * l.data.world_from_volume;
+  return l;
+}
+
+glm::dmat4 WorldFromProxy(const VolumeObjectData& data) {
+  std::vector<core::PlacedMap> placed;
+  for (const auto& m : data.maps) placed.push_back({&m.map, m.placement, {}});
+  const core::Box3 box = core::ProxyBox({glm::dvec3(0.0), glm::dvec3(1.0)}, placed);
+  return glm::dmat4(data.world_from_volume) *
+         glm::scale(glm::translate(glm::dmat4(1.0), box.lo), box.hi - box.lo);
+}
+
+}  // namespace ibr

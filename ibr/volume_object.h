@@ -1,0 +1,73 @@
+// A volume with one discontinuous displacement effect (Correa, Silver, Chen
+// 2006) as plain CPU data, shared by `ibr volume`, the volume bench and
+// volume objects in scene files (ibr/scene_renderer.h): parse -> this data ->
+// render::VolumePass.
+#pragma once
+
+#include <filesystem>
+#include <glm/glm.hpp>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "core/transfer_function.h"
+#include "core/volume.h"
+#include "core/volume_displacement.h"
+#include "render/passes/volume_pass.h"
+#include "scene/scene.h"
+
+namespace ibr {
+
+// Everything a render::VolumePass needs.
+struct VolumeObjectData {
+  core::Volume volume;
+  core::TransferFunction transfer;
+  std::vector<render::VolumeMapInput> maps;
+  // Volume texture space -> world: extent-scaled, centred at the origin (the
+  // object frame of a scene's volume object, before its transform).
+  glm::mat4 world_from_volume{1.0f};
+  double radius = 1;  // of the volume's bounding sphere, world units
+};
+
+// The effect sampled on a map_size grid (thin along axes it does not vary
+// on), placed by translate-then-scale into the volume's texture space
+// (eq. 10's M). InputError naming `where` on a bad size or placement.
+VolumeObjectData MakeVolumeObject(const core::Volume& volume,
+                                  const core::TransferFunction& transfer,
+                                  const std::optional<core::EffectOptions>& effect, int map_size,
+                                  const glm::dvec3& placement_offset,
+                                  const glm::dvec3& placement_scale,
+                                  const std::string& where = "ibr volume");
+
+// The transfer function `name` (preset or file) or, when empty, the preset
+// whose name starts the volume's file name (tooth, neghip, bucky), else "ramp".
+core::TransferFunction TransferForVolume(const std::string& name,
+                                         const std::filesystem::path& volume_path);
+
+// "dvr" or "iso:VALUE" into options.mode / iso_value; InputError naming `where`.
+void ApplyVolumeMode(const std::string& mode, render::VolumePassOptions& options,
+                     const std::string& where);
+
+// A scene's volume object settings (scene/scene.h: effect, map_size, mode,
+// spacing, displacement_bits, lighting, jacobian), errors naming the file and
+// JSON pointer of the value.
+struct VolumeObjectOptions {
+  std::optional<core::EffectOptions> effect;  // none: plain DVR / iso
+  int map_size = 64;                          // texels per axis of the effect's map
+  render::VolumePassOptions pass;
+};
+VolumeObjectOptions VolumeObjectOptionsFrom(const scene::Settings& settings);
+
+// A scene's volume object: reads the volume and the transfer function, samples
+// the effect; world_from_volume = the object's transform * the centred box.
+// Errors name the file and JSON pointer.
+struct LoadedVolume {
+  VolumeObjectData data;
+  VolumeObjectOptions options;
+};
+LoadedVolume LoadVolumeObject(const scene::Object& object);
+// The proxy box (core::ProxyBox, grown by the maps) in the world: what the
+// object can cover, for the scene's bounds.
+glm::dmat4 WorldFromProxy(const VolumeObjectData& data);
+
+}  // namespace ibr
