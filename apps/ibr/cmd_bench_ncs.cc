@@ -8,6 +8,7 @@
 #include "bench/ncs_bench.h"
 #include "core/error.h"
 #include "render/gl/context.h"
+#include "render/passes/pass.h"
 
 namespace apps {
 
@@ -33,6 +34,8 @@ void AddNcsBench(CLI::App& app) {
   cmd->add_option("--views", options.views, "oblique, grazing, edge")->capture_default_str();
   cmd->callback([] {
     bench::NcsBenchOptions o = quick ? bench::NcsBenchOptions::Quick() : options;
+    auto context = render::HeadlessContext::Create();
+    render::CheckFrameSize("ibr bench ncs", "--size", o.size, o.size);
     o.Check();
     const std::filesystem::path csv_path(csv);
     const std::filesystem::path out_dir =
@@ -45,7 +48,6 @@ void AddNcsBench(CLI::App& app) {
     if (!std::filesystem::is_directory(csv_dir)) {
       core::ThrowInputError("ibr bench ncs", "--csv '{}': no such directory", csv);
     }
-    auto context = render::HeadlessContext::Create();
     render::ProgramCache programs;
     fmt::print("{} | {}\n", context->info().renderer, context->info().version);
     const bench::NcsBenchResult result = bench::RunNcsBench(programs, o);

@@ -9,6 +9,7 @@
 #include "bench/scene_bench.h"
 #include "core/error.h"
 #include "render/gl/context.h"
+#include "render/passes/pass.h"
 
 namespace apps {
 namespace {
@@ -25,12 +26,13 @@ void AddSceneBench(CLI::App& app) {
   cmd->add_option("--rounds", options.rounds, "interleaved rounds")->capture_default_str();
   cmd->add_flag("--quick", options.quick, "two effects, small frames (CI smoke run)");
   cmd->callback([] {
+    auto context = render::HeadlessContext::Create();
+    render::CheckFrameSize("ibr bench scene", "--size", options.size, options.size);
     options.Check();
     const std::filesystem::path csv_dir = csv.parent_path().empty() ? "." : csv.parent_path();
     if (!std::filesystem::is_directory(csv_dir)) {
       core::ThrowInputError("ibr bench scene", "--csv '{}': no such directory", csv.string());
     }
-    auto context = render::HeadlessContext::Create();
     fmt::print("{} | {}\n", context->info().renderer, context->info().version);
     const bench::SceneBenchResult result = bench::RunSceneBench(options);
     fmt::print("{}\n", result.table.Format());

@@ -27,6 +27,7 @@
 #include "ibr/views.h"
 #include "render/gl/context.h"
 #include "render/gl/gl.h"
+#include "render/passes/pass.h"
 #include "scene/scene.h"
 
 namespace apps {
@@ -71,14 +72,13 @@ void RunRender(const RenderCommandOptions& o) {
   if (o.cameras.empty() == (o.orbit <= 0)) {
     core::ThrowInputError(kWhere, "give exactly one of --cameras OTHER_DATASET or --orbit N");
   }
-  if (o.size < 0 || o.size > 16384)
-    core::ThrowInputError(kWhere, "--size {} outside 1..16384", o.size);
+  if (o.size < 0) core::ThrowInputError(kWhere, "--size {} is negative", o.size);
   const ibr::DepthObjectOptions options =
       ibr::DepthObjectOptionsFrom(ibr::SettingsFromFlags(o.flags));
 
-  // Parse -> plain CPU data -> GPU -> passes.
-  const capture::Dataset dataset = capture::ReadDataset(o.dataset);
-  ibr::MapSet maps = ibr::MapsFromDataset(dataset);
+  // Parse -> plain CPU data -> GPU -> passes. The manifests first (no image
+  // is opened before the map count and every frame size are checked).
+  const capture::Dataset dataset = ibr::ReadMapDataset(o.dataset);
   std::vector<ibr::NamedView> views;
   if (!o.cameras.empty()) {
     const capture::Dataset other = capture::ReadDataset(o.cameras);
@@ -88,17 +88,25 @@ void RunRender(const RenderCommandOptions& o) {
       if (o.size > 0) v.view.camera = ibr::ResizeCamera(v.view.camera, o.size);
       views.push_back(v);
     }
-  } else {
-    ibr::OrbitOptions orbit;
-    orbit.count = o.orbit;
-    orbit.size = o.size > 0 ? o.size : 512;
-    views = ibr::OrbitViews(maps, orbit);
   }
+  ibr::OrbitOptions orbit;
+  orbit.count = o.orbit;
+  orbit.size = o.size > 0 ? o.size : 512;
+  auto context = render::HeadlessContext::Create();
+  if (o.cameras.empty()) render::CheckFrameSize(kWhere, "--size", orbit.size, orbit.size);
+  for (const ibr::NamedView& v : views) {
+    render::CheckFrameSize(
+        kWhere,
+        o.size > 0 ? std::string("--size")
+                   : fmt::format("--cameras '{}': view '{}'", o.cameras.string(), v.name),
+        v.view.camera.width, v.view.camera.height);
+  }
+  ibr::MapSet maps = ibr::MapsFromDataset(dataset);
+  if (o.cameras.empty()) views = ibr::OrbitViews(maps, orbit);
   spdlog::info("render: {} maps from {}, {} views, {} {} slicing, {} slices{}", maps.maps.size(),
                o.dataset.string(), views.size(), o.flags.method, o.flags.slicing, o.flags.slices,
                o.flags.robust > 0 ? fmt::format(", robust k={}", o.flags.robust) : "");
 
-  auto context = render::HeadlessContext::Create();
   render::ProgramCache programs;
   ibr::DepthObjectRenderer renderer(programs, std::move(maps));
   capture::DatasetWriter writer(o.out);
@@ -125,8 +133,8 @@ void RunRender(const RenderCommandOptions& o) {
     times.push_back(watch.ElapsedMs());
     const ibr::DepthObjectFrame frame = ibr::DepthObjectRenderer::ReadFrame(target);
     const int cam = writer.AddCamera(ibr::CaptureCamera(v.view.camera));
-    writer.AddView(v.name, cam, ibr::RigidFromMat4(v.view.cam_from_world), frame.color, frame.depth,
-                   frame.mask, {});
+    writer.AddView(v.name, cam, ibr::RigidFromMat4(v.view.cam_from_world), frame.color,
+                   ibr::DatasetDepth(frame.depth), frame.mask, {});
     int64_t covered = 0;
     for (uint8_t m : frame.mask.values()) covered += m > 0;
     std::string accuracy;
