@@ -720,7 +720,7 @@ std::vector<Case> Corpus() {
   add("demo_size_huge", fixed("demo --size 20000 --out OUT"),
       "--size: a 20000x20000 frame is larger than");
   add("deform_size_over_budget",
-      fixed("deform --mesh /nonexistent-ibr.obj --size 9000 --out /tmp/ibr-never.png"),
+      fixed("deform /nonexistent-ibr.obj --size 9000 --out /tmp/ibr-never.png"),
       "--size: a 9000x9000 frame needs 1853.9 MiB");
   add("volume_size_huge", fixed("volume /nonexistent-ibr.nrrd --size 20000 --out OUT"),
       "--size: a 20000x20000 frame is larger than");
