@@ -155,8 +155,8 @@ TEST(MiddleburyBounds, ParsesTheFirstBoxAndRefusesNonNumbers) {
   EXPECT_EQ(box->max, glm::dvec3(0.5, 1, 2));
   EXPECT_FALSE(read("no box here (1 2) (3 4 5)").has_value());
   EXPECT_FALSE(read("").has_value());
-  for (const std::string& bad : {"(e e e) (1 2 3)", "(- 0 0) (1 1 1)", "(1e999 0 0) (1e999 1 1)",
-                                 "(1 1 1) (0 0 0)", "(0 0 0) (1e300 1 1)"}) {
+  for (const char* bad : {"(e e e) (1 2 3)", "(- 0 0) (1 1 1)", "(1e999 0 0) (1e999 1 1)",
+                          "(1 1 1) (0 0 0)", "(0 0 0) (1e300 1 1)"}) {
     try {
       read(bad);
       ADD_FAILURE() << "accepted " << bad;
@@ -180,7 +180,7 @@ TEST(RedwoodIntrinsics, ReadsOpen3DIntrinsicsAndRefusesNonIntegerSizes) {
   EXPECT_EQ(c.fy(), 520);
   EXPECT_EQ(c.cx(), 320);  // Open3D's integer pixel centres + 0.5
   EXPECT_EQ(c.cy(), 240);
-  for (const std::string& bad :
+  for (const char* bad :
        {R"({"width": 64.5, "height": 480, "intrinsic_matrix": [525, 0, 0, 0, 525, 0, 32, 240, 1]})",
         R"({"width": 1e10, "height": 480, "intrinsic_matrix": [525, 0, 0, 0, 525, 0, 32, 240, 1]})",
         R"({"width": 64, "height": 48, "intrinsic_matrix": [1, 2, 3]})",
