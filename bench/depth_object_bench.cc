@@ -7,6 +7,7 @@
 #include <cmath>
 #include <cstdio>
 #include <string>
+#include <tuple>
 #include <vector>
 
 #include "bench/peer.h"
@@ -345,31 +346,37 @@ void RunDepthObjectBench(const DepthObjectBenchOptions& options) {
              options.csv.string());
   if (!options.out.empty()) {
     fs::create_directories(options.out);
-    PlotOptions p;
-    p.series_column = "method";
-    p.x_column = "ms_per_frame";
-    p.log_x = true;
-    p.x_label = "ms per frame (median)";
-    p.title = "p95 depth error vs time per frame (all objects, slices, sizes)";
-    p.y_column = "p95_depth_error";
-    p.y_label = "p95 depth error (cube edges)";
-    PlotPng(table, p, options.out / "error_vs_time.png");
-    p.title = "silhouette IoU vs time per frame";
-    p.y_column = "iou_mean";
-    p.y_label = "silhouette IoU (mean over views)";
-    PlotPng(table, p, options.out / "iou_vs_time.png");
-    PlotOptions c;
-    c.title = "Fig. 12 analogue: time vs covered pixels, 128 slices (bunny)";
-    c.x_column = "covered_pixels";
-    c.y_column = "ms_per_frame";
-    c.series_column = "family";
-    c.x_label = "object pixels";
-    c.y_label = "ms per frame";
-    PlotPng(fig_coverage, c, options.out / "fig12_time_vs_coverage.png");
-    c.title = "Fig. 12 analogue: time vs slice count (bunny)";
-    c.x_column = "slices";
-    c.x_label = "slices";
-    PlotPng(fig_slices, c, options.out / "fig12_time_vs_slices.png");
+    // Error against time, one line per method (log time axis).
+    for (const auto& [title, y, y_label, png] :
+         {std::tuple{"p95 depth error vs time per frame (all objects, slices, sizes)",
+                     "p95_depth_error", "p95 depth error (cube edges)", "error_vs_time.png"},
+          std::tuple{"silhouette IoU vs time per frame", "iou_mean",
+                     "silhouette IoU (mean over views)", "iou_vs_time.png"}}) {
+      PlotPng(table,
+              {.title = title,
+               .x_column = "ms_per_frame",
+               .y_column = y,
+               .series_column = "method",
+               .x_label = "ms per frame (median)",
+               .y_label = y_label,
+               .log_x = true},
+              options.out / png);
+    }
+    // Fig. 12 analogues: time against covered pixels and against slices.
+    for (const auto& [fig, title, x, x_label, png] :
+         {std::tuple{&fig_coverage, "Fig. 12 analogue: time vs covered pixels, 128 slices (bunny)",
+                     "covered_pixels", "object pixels", "fig12_time_vs_coverage.png"},
+          std::tuple{&fig_slices, "Fig. 12 analogue: time vs slice count (bunny)", "slices",
+                     "slices", "fig12_time_vs_slices.png"}}) {
+      PlotPng(*fig,
+              {.title = title,
+               .x_column = x,
+               .y_column = "ms_per_frame",
+               .series_column = "family",
+               .x_label = x_label,
+               .y_label = "ms per frame"},
+              options.out / png);
+    }
     fmt::print("wrote plots to {}\n", options.out.string());
   }
 }

@@ -206,19 +206,19 @@ DisplacementBenchResult RunDisplacementBench(const DisplacementBenchOptions& opt
         if (std::stod(row[2]) == elevation && row[3] == largest_size) subset.AddRow(row);
       }
       if (subset.rows().empty()) continue;
-      PlotOptions plot;
-      plot.title = fmt::format(
-          "displacement by slicing: p95 depth error vs time, elevation {:.0f} deg, {} px",
-          elevation, largest);
-      plot.x_column = "ms_per_frame";
-      plot.y_column = "p95_depth_error_texels";
-      plot.series_column = "family";
-      plot.x_label = "ms per frame (median)";
-      plot.y_label = "p95 depth error (height texels)";
-      plot.log_x = true;
-      plot.log_y = true;
       const fs::path png = options.out / fmt::format("error_vs_time_elev{:.0f}.png", elevation);
-      PlotPng(subset, plot, png);
+      PlotPng(subset,
+              {.title = fmt::format(
+                   "displacement by slicing: p95 depth error vs time, elevation {:.0f} deg, {} px",
+                   elevation, largest),
+               .x_column = "ms_per_frame",
+               .y_column = "p95_depth_error_texels",
+               .series_column = "family",
+               .x_label = "ms per frame (median)",
+               .y_label = "p95 depth error (height texels)",
+               .log_x = true,
+               .log_y = true},
+              png);
       fmt::print("wrote {}\n", png.string());
     }
     std::vector<core::Image8> sheet_images = {grazing_truth};

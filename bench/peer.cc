@@ -52,6 +52,32 @@ std::vector<core::ImageF> RenderTruthDepth(render::ProgramCache& programs,
 
 // --------------------------------------------------------------- rows ----
 
+namespace {
+
+// Renders every view (render_depth(i) returns view i's camera-z image), timed
+// one by one: the first frame apart (time to first image), the median of the
+// others; each view's depth compared with its truth.
+template <typename RenderDepth>
+void TimeViews(MethodRow& row, const std::vector<core::ImageF>& truth, double cube_edge,
+               RenderDepth render_depth) {
+  std::vector<double> frames;
+  core::Stopwatch watch;
+  for (size_t i = 0; i < truth.size(); ++i) {
+    watch.Restart();
+    const core::ImageF depth = render_depth(i);
+    const double ms = watch.ElapsedMs();
+    if (i == 0) {
+      row.first_frame_ms = ms;
+    } else {
+      frames.push_back(ms);
+    }
+    row.per_view.push_back(CompareDepth(depth, truth[i], cube_edge));
+  }
+  row.median_frame_ms = frames.empty() ? row.first_frame_ms : core::Summarize(frames).median_ms;
+}
+
+}  // namespace
+
 MethodRow EvaluateDepthObject(render::ProgramCache& programs, const ibr::MapSet& maps,
                               const ibr::DepthObjectOptions& options,
                               const std::vector<ibr::ViewCamera>& views,
@@ -64,20 +90,9 @@ MethodRow EvaluateDepthObject(render::ProgramCache& programs, const ibr::MapSet&
   core::Stopwatch watch;
   ibr::DepthObjectRenderer renderer(programs, maps);
   row.upload_ms = watch.ElapsedMs();
-  std::vector<double> frames;
-  for (size_t i = 0; i < views.size(); ++i) {
-    watch.Restart();
-    const ibr::DepthObjectFrame frame = renderer.RenderImages(views[i], options);
-    const double ms = watch.ElapsedMs();
-    if (i == 0) {
-      row.first_frame_ms = ms;
-    } else {
-      frames.push_back(ms);
-    }
-    row.per_view.push_back(CompareDepth(frame.depth, truth[i], cube_edge));
-  }
+  TimeViews(row, truth, cube_edge,
+            [&](size_t i) { return renderer.RenderImages(views[i], options).depth; });
   row.time_to_first_image_s = (row.upload_ms + row.first_frame_ms) / 1000.0;
-  row.median_frame_ms = frames.empty() ? row.first_frame_ms : core::Summarize(frames).median_ms;
   row.accuracy = Pool(row.per_view);
   return row;
 }
@@ -189,7 +204,6 @@ std::vector<MethodRow> EvaluatePeer(render::ProgramCache& programs, const Open3d
     row.method = "open3d " + r.name();
     row.build_s = r.integrate_s + r.extract_s;
     row.triangles = r.triangles;
-    std::vector<double> frames;
     if (r.mesh.empty()) {
       // Nothing survived: every view is empty.
       for (size_t i = 0; i < views.size(); ++i) {
@@ -202,22 +216,13 @@ std::vector<MethodRow> EvaluatePeer(render::ProgramCache& programs, const Open3d
       core::Stopwatch watch;
       const render::GpuMesh gpu(scene.mesh);
       row.upload_ms = watch.ElapsedMs();
-      for (size_t i = 0; i < views.size(); ++i) {
-        watch.Restart();
-        const render::Frame frame =
-            render::RenderMesh(programs, gpu, ViewSetupFor(views[i], bounds), views[i].camera.width,
-                               views[i].camera.height);
-        const double ms = watch.ElapsedMs();
-        if (i == 0) {
-          row.first_frame_ms = ms;
-        } else {
-          frames.push_back(ms);
-        }
-        row.per_view.push_back(CompareDepth(frame.depth, truth[i], cube_edge));
-      }
+      TimeViews(row, truth, cube_edge, [&](size_t i) {
+        return render::RenderMesh(programs, gpu, ViewSetupFor(views[i], bounds),
+                                  views[i].camera.width, views[i].camera.height)
+            .depth;
+      });
     }
     row.time_to_first_image_s = row.build_s + (row.upload_ms + row.first_frame_ms) / 1000.0;
-    row.median_frame_ms = frames.empty() ? row.first_frame_ms : core::Summarize(frames).median_ms;
     row.accuracy = Pool(row.per_view);
     rows.push_back(std::move(row));
   }

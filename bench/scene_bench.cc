@@ -160,16 +160,17 @@ void WriteSceneBench(const SceneBenchResult& result, const std::filesystem::path
     plot.AddRow({"disabled / absent", std::to_string(i + 1),
                  t.rows()[i][t.Column("disabled_over_absent")]});
   }
-  PlotOptions p;
-  p.title = "frame time relative to the scene without the effect (effects numbered as in the CSV)";
-  p.x_column = "effect_index";
-  p.y_column = "ratio";
-  p.series_column = "series";
-  p.x_label = "effect (row of the CSV)";
-  p.y_label = "frame time / absent";
-  p.log_y = true;
   std::filesystem::create_directories(out_dir);
-  PlotPng(plot, p, out_dir / "scene_bench.png");
+  PlotPng(plot,
+          {.title =
+               "frame time relative to the scene without the effect (effects numbered as in the CSV)",
+           .x_column = "effect_index",
+           .y_column = "ratio",
+           .series_column = "series",
+           .x_label = "effect (row of the CSV)",
+           .y_label = "frame time / absent",
+           .log_y = true},
+          out_dir / "scene_bench.png");
 }
 
 }  // namespace bench

@@ -266,35 +266,38 @@ core::Image8 Dataset::LoadColor(size_t i) const {
   return rgb;
 }
 
+namespace {
+
+// A view's optional image `file` (view.depth, view.mask, view.normal) with
+// `channels` channels, the camera's size; `what` names it in errors.
+template <typename T>
+core::Image<T> LoadViewImage(const Dataset& dataset, size_t i, std::string DatasetView::*file,
+                             int channels, const char* where, const char* what) {
+  const DatasetView& view = dataset.views.at(i);
+  if ((view.*file).empty()) core::ThrowInputError(where, "view '{}' has no {}", view.name, what);
+  const fs::path path = dataset.root / (view.*file);
+  core::Image<T> image = core::ReadImage<T>(path, channels);
+  CheckSize(image, dataset.camera(view), path, where);
+  return image;
+}
+
+}  // namespace
+
 core::ImageF Dataset::LoadDepth(size_t i) const {
-  const DatasetView& view = views.at(i);
-  if (view.depth.empty())
-    core::ThrowInputError("Dataset::LoadDepth", "view '{}' has no depth", view.name);
-  const fs::path path = root / view.depth;
-  core::ImageF depth = core::ReadImage<float>(path, 1);
-  CheckSize(depth, camera(view), path, "Dataset::LoadDepth");
-  CheckDepthValues(depth, fmt::format("Dataset::LoadDepth: '{}'", path.string()));
+  constexpr const char* kWhere = "Dataset::LoadDepth";
+  core::ImageF depth = LoadViewImage<float>(*this, i, &DatasetView::depth, 1, kWhere, "depth");
+  CheckDepthValues(depth, fmt::format("{}: '{}'", kWhere, (root / views[i].depth).string()));
   return depth;
 }
 
 core::Image8 Dataset::LoadMask(size_t i) const {
-  const DatasetView& view = views.at(i);
-  if (view.mask.empty())
-    core::ThrowInputError("Dataset::LoadMask", "view '{}' has no mask", view.name);
-  const fs::path path = root / view.mask;
-  core::Image8 mask = core::ReadImage<uint8_t>(path, 1);
-  CheckSize(mask, camera(view), path, "Dataset::LoadMask");
-  return mask;
+  return LoadViewImage<uint8_t>(*this, i, &DatasetView::mask, 1, "Dataset::LoadMask", "mask");
 }
 
 core::ImageF Dataset::LoadNormal(size_t i) const {
-  const DatasetView& view = views.at(i);
-  if (view.normal.empty())
-    core::ThrowInputError("Dataset::LoadNormal", "view '{}' has no normals", view.name);
-  const fs::path path = root / view.normal;
-  core::ImageF normal = core::ReadImage<float>(path, 3);
-  CheckSize(normal, camera(view), path, "Dataset::LoadNormal");
-  CheckNormalValues(normal, fmt::format("Dataset::LoadNormal: '{}'", path.string()));
+  constexpr const char* kWhere = "Dataset::LoadNormal";
+  core::ImageF normal = LoadViewImage<float>(*this, i, &DatasetView::normal, 3, kWhere, "normals");
+  CheckNormalValues(normal, fmt::format("{}: '{}'", kWhere, (root / views[i].normal).string()));
   return normal;
 }
 

@@ -327,10 +327,6 @@ render::Texture CreateArray(GLenum format, int w, int h, int layers) {
   return t;
 }
 
-void SetMat4(const render::Program& p, const char* name, const glm::mat4& m) {
-  glUniformMatrix4fv(p.Uniform(name), 1, GL_FALSE, glm::value_ptr(m));
-}
-
 }  // namespace
 
 DepthObjectRenderer::DepthObjectRenderer(render::ProgramCache& programs, MapSet maps)
@@ -448,32 +444,34 @@ void DepthObjectRenderer::UploadFrame(const FrameParams& frame) {
 void DepthObjectRenderer::SetCommonUniforms(const render::Program& p, const FrameParams& frame,
                                             bool slices) const {
   p.Use();
-  glUniform1i(p.Uniform("u_depth_maps"), 0);
-  glUniform1i(p.Uniform("u_color_maps"), 2);
-  glUniform1i(p.Uniform("u_map_count"), static_cast<int>(frame.maps.size()));
-  glUniform4fv(p.Uniform("u_view_ray"), 1, glm::value_ptr(frame.view_ray));
-  glUniform1f(p.Uniform("u_view_height"), frame.view_height);
-  glUniform1f(p.Uniform("u_inv255"), frame.inv255);
+  p.Set("u_depth_maps", 0);
+  p.Set("u_color_maps", 2);
+  p.Set("u_map_count", static_cast<int>(frame.maps.size()));
+  p.Set("u_view_ray", frame.view_ray);
+  p.Set("u_view_height", frame.view_height);
+  p.Set("u_inv255", frame.inv255);
   if (slices) {
-    SetMat4(p, "u_world_from_box", frame.world_from_box);
-    SetMat4(p, "u_cam_from_world", frame.cam_from_world);
-    SetMat4(p, "u_clip_from_cam", frame.clip_from_cam);
+    p.Set("u_world_from_box", glm::mat4(frame.world_from_box));
+    p.Set("u_cam_from_world", glm::mat4(frame.cam_from_world));
+    p.Set("u_clip_from_cam", glm::mat4(frame.clip_from_cam));
   }
+}
+
+void DepthObjectRenderer::BindFrame(const FrameParams& frame, const DepthObjectOptions& options,
+                                    const render::RenderTarget& accum) {
+  IBR_CHECK_EQ(accum.width(), frame.width);
+  IBR_CHECK_EQ(accum.height(), frame.height);
+  UploadFrame(frame);
+  BindMaps(Tables(options.method));
 }
 
 void DepthObjectRenderer::DrawSlices(const FrameParams& frame, const DepthObjectOptions& options,
                                      const render::RenderTarget& accum) {
-  IBR_CHECK_EQ(accum.width(), frame.width);
-  IBR_CHECK_EQ(accum.height(), frame.height);
-  const GpuTables& tables = Tables(options.method);
-  UploadFrame(frame);
-  BindMaps(tables);
+  BindFrame(frame, options, accum);
   const render::Program& pass = programs_->Get({.vertex = "cores/slice.vert.glsl",
                                                 .fragment = "passes/depth_object.frag.glsl",
                                                 .defines = Defines(frame, options)});
   SetCommonUniforms(pass, frame, true);
-  const GLint loc_plane = pass.Uniform("u_slice_plane");
-  const GLint loc_clear = pass.Uniform("u_clear_pass");
 
   // Step 1: clear the frame buffer, no depth test.
   accum.Bind();
@@ -494,8 +492,8 @@ void DepthObjectRenderer::DrawSlices(const FrameParams& frame, const DepthObject
   const int required = frame.required;
   for (int s = 0; s < slice_buffer_.size(); ++s) {
     // Step 2(a): every base polygon (map) in turn, accumulating colour.
-    glUniform4fv(loc_plane, 1, glm::value_ptr(frame.planes[s]));
-    glUniform1i(loc_clear, 0);
+    pass.Set("u_slice_plane", frame.planes[s]);
+    pass.Set("u_clear_pass", 0);
     glBlendFunci(0, GL_ONE, GL_ONE);
     glStencilOp(GL_KEEP, GL_KEEP, GL_INCR);
     for (int j = 0; j < n; ++j) {
@@ -515,7 +513,7 @@ void DepthObjectRenderer::DrawSlices(const FrameParams& frame, const DepthObject
       slice_buffer_.DrawSlice(s);  // (a)ii, with the alpha test (discard)
     }
     // Steps (c)-(f): clear colour and stencil where the count falls short.
-    glUniform1i(loc_clear, 1);
+    pass.Set("u_clear_pass", 1);
     glBlendFunci(0, GL_ZERO, GL_ZERO);
     if (!frame.robust) {
       glStencilMask(0xFF);
@@ -563,11 +561,7 @@ void DepthObjectRenderer::DrawFullScreenPass(bool depth_test) const {
 
 void DepthObjectRenderer::DrawRay(const FrameParams& frame, const DepthObjectOptions& options,
                                   const render::RenderTarget& accum) {
-  IBR_CHECK_EQ(accum.width(), frame.width);
-  IBR_CHECK_EQ(accum.height(), frame.height);
-  const GpuTables& tables = Tables(options.method);
-  UploadFrame(frame);
-  BindMaps(tables);
+  BindFrame(frame, options, accum);
   render::RayCoreOptions ray;
   ray.max_steps = frame.slice_count + 2;  // the box's depth range in slice spacings, plus the ends
   ray.refine_steps = options.refine_steps;
@@ -583,15 +577,14 @@ void DepthObjectRenderer::DrawRay(const FrameParams& frame, const DepthObjectOpt
   SetCommonUniforms(program, frame, false);
   render::SetRayCoreUniforms(program, ray);
   const glm::mat4 box_from_cam = glm::inverse(frame.cam_from_world * frame.world_from_box);
-  SetMat4(program, "u_box_from_cam", box_from_cam);
-  glUniform1i(program.Uniform("u_required"), frame.required);
-  glUniform1f(program.Uniform("u_ray_step"), frame.stack.spacing_world);
-  if (options.subtexel_depth)
-    glUniform1f(program.Uniform("u_subtexel_edge"), options.subtexel_edge);
+  program.Set("u_box_from_cam", glm::mat4(box_from_cam));
+  program.Set("u_required", frame.required);
+  program.Set("u_ray_step", frame.stack.spacing_world);
+  if (options.subtexel_depth) program.Set("u_subtexel_edge", options.subtexel_edge);
   if (skip) {
     glBindTextureUnit(5, skip->grid.id());
-    glUniform1i(program.Uniform("u_skip_grid"), 5);
-    glUniform1i(program.Uniform("u_skip_resolution"), skip->resolution);
+    program.Set("u_skip_grid", 5);
+    program.Set("u_skip_resolution", skip->resolution);
   }
   accum.Bind();
   DrawFullScreenPass();
@@ -605,9 +598,7 @@ void DepthObjectRenderer::DrawResolve(const FrameParams& frame, const DepthObjec
 void DepthObjectRenderer::Resolve(const FrameParams& frame, const DepthObjectOptions& options,
                                   const render::RenderTarget& accum,
                                   const glm::mat4* frame_clip_from_cam) {
-  const GpuTables& tables = Tables(options.method);
-  UploadFrame(frame);
-  BindMaps(tables);
+  BindFrame(frame, options, accum);
   std::vector<std::string> defines = Defines(frame, options);
   defines.push_back(options.texturing == Texturing::kViewDependent ? "TEXTURING_VDT"
                     : options.texturing == Texturing::kVisibility  ? "TEXTURING_VISIBILITY"
@@ -628,21 +619,21 @@ void DepthObjectRenderer::Resolve(const FrameParams& frame, const DepthObjectOpt
   SetCommonUniforms(resolve, frame, false);
   glBindTextureUnit(3, accum.color(0).id());
   glBindTextureUnit(4, accum.color(1).id());
-  glUniform1i(resolve.Uniform("u_accum_color"), 3);
-  glUniform1i(resolve.Uniform("u_accum_depth"), 4);
-  glUniform4fv(resolve.Uniform("u_background"), 1, glm::value_ptr(options.background));
-  glUniform1f(resolve.Uniform("u_visibility_tolerance"), frame.visibility_tolerance);
+  resolve.Set("u_accum_color", 3);
+  resolve.Set("u_accum_depth", 4);
+  resolve.Set("u_background", options.background);
+  resolve.Set("u_visibility_tolerance", frame.visibility_tolerance);
   render::SetRayCoreUniforms(resolve, ray);
-  glUniform1i(resolve.Uniform("u_refine"), refine ? 1 : 0);
+  resolve.Set("u_refine", refine ? 1 : 0);
   if (refine) {
-    glUniform4fv(resolve.Uniform("u_plane0"), 1, glm::value_ptr(frame.planes[0]));
+    resolve.Set("u_plane0", frame.planes[0]);
     // Box-axis planes are 1/n apart in box units; screen planes spacing_world
     // apart in camera z (their normals are those units' gradients).
-    glUniform1f(resolve.Uniform("u_plane_step"),
+    resolve.Set("u_plane_step",
                 frame.stack.axis >= 0 ? frame.stack.spacing_in_box : frame.stack.spacing_world);
   }
-  glUniform1i(resolve.Uniform("u_required"), frame.required);
-  if (frame_clip_from_cam) SetMat4(resolve, "u_clip_from_cam", *frame_clip_from_cam);
+  resolve.Set("u_required", frame.required);
+  if (frame_clip_from_cam) resolve.Set("u_clip_from_cam", glm::mat4(*frame_clip_from_cam));
   DrawFullScreenPass(frame_clip_from_cam != nullptr);
 }
 
@@ -734,7 +725,7 @@ std::vector<core::Image8> DepthObjectRenderer::SliceCoverage(const FrameParams& 
                                              .fragment = "passes/depth_object.frag.glsl",
                                              .defines = Defines(frame, o)});
   SetCommonUniforms(p, frame, true);
-  glUniform1i(p.Uniform("u_clear_pass"), 1);
+  p.Set("u_clear_pass", 1);
   slice_buffer_.Upload(frame.stack);
   std::vector<core::Image8> coverage;
   const float zero[4] = {0, 0, 0, 0};

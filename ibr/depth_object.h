@@ -241,6 +241,10 @@ class DepthObjectRenderer {
                                    const DepthObjectOptions& options) const;
   void BindMaps(const GpuTables& tables) const;
   void UploadFrame(const FrameParams& frame);
+  // Checks that `accum` is the frame's size, uploads the frame's map records
+  // and binds the method's map tables: the start of every map pass.
+  void BindFrame(const FrameParams& frame, const DepthObjectOptions& options,
+                 const render::RenderTarget& accum);
   void SetCommonUniforms(const render::Program& program, const FrameParams& frame,
                          bool slices) const;
   const render::RenderTarget& Accum(int width, int height);

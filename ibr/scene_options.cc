@@ -5,6 +5,13 @@
 namespace ibr {
 namespace {
 
+// A parser's message without its leading "Function: " (the caller names where).
+std::string WithoutWhere(const core::InputError& e) {
+  const std::string what = e.what();
+  const size_t colon = what.find(": ");
+  return colon == std::string::npos ? what : what.substr(colon + 2);
+}
+
 // Runs `parse` on the setting's string; its InputError is re-thrown naming where.
 template <typename Parse>
 auto Named(const scene::Settings& s, const std::string& key, const std::string& fallback,
@@ -13,7 +20,7 @@ auto Named(const scene::Settings& s, const std::string& key, const std::string& 
   try {
     return parse(text);
   } catch (const core::InputError& e) {
-    s.Fail(key, e.what());
+    s.Fail(key, WithoutWhere(e));
   }
 }
 
@@ -44,7 +51,7 @@ DepthObjectOptions DepthObjectOptionsFrom(const scene::Settings& s) {
     try {
       o.slices = SliceCountFromName(std::to_string(n));
     } catch (const core::InputError& e) {
-      s.Fail("slices", e.what());
+      s.Fail("slices", WithoutWhere(e));
     }
   }
   o.robust_k = s.GetInt("robust", o.robust_k);
@@ -54,12 +61,13 @@ DepthObjectOptions DepthObjectOptionsFrom(const scene::Settings& s) {
     s.Fail("refine_steps", fmt::format("{} refine steps outside 0..64", o.refine_steps));
   }
   o.outside = Named(s, "outside", "pass", [](const std::string& t) {
-    if (t != "pass" && t != "fail") core::ThrowInputError("outside", "'{}' (pass, fail)", t);
+    if (t != "pass" && t != "fail")
+      core::ThrowInputError("outside", "unknown policy '{}' (pass, fail)", t);
     return t == "pass" ? OutsidePolicy::kPass : OutsidePolicy::kFail;
   });
   o.invalid_depth = Named(s, "invalid_depth", "empty", [](const std::string& t) {
     if (t != "empty" && t != "no-constraint")
-      core::ThrowInputError("invalid_depth", "'{}' (empty, no-constraint)", t);
+      core::ThrowInputError("invalid_depth", "unknown policy '{}' (empty, no-constraint)", t);
     return t == "empty" ? InvalidDepthPolicy::kEmpty : InvalidDepthPolicy::kNoConstraint;
   });
   CheckNamed(o, s);

@@ -1,6 +1,7 @@
 #include "ibr/verify.h"
 
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 
 #include <algorithm>
 #include <bit>
@@ -31,9 +32,14 @@ namespace ibr {
 void VerifyOptions::Check() const {
   if (cases < 1 || cases > 10'000'000)
     core::ThrowInputError("ibr verify", "--cases {} outside 1..10000000", cases);
-  if (method != "depth-object" && method != "hull" && method != "all") {
-    core::ThrowInputError("ibr verify", "--method '{}' (depth-object, hull, all)", method);
+  if (method != "depth-object" && method != "hull" && method != "all" &&
+      !(hard &&
+        (method == "displacement" || method == "ncs" || method == "relief" || method == "pom"))) {
+    core::ThrowInputError("ibr verify", "--method '{}' (depth-object, hull, all{})", method,
+                          hard ? ", displacement, ncs, relief, pom" : "");
   }
+  if (first_case < 0 || first_case > 10'000'000)
+    core::ThrowInputError("ibr verify", "--first-case {} outside 0..10000000", first_case);
   if (inject_fault < 0 || inject_fault > 2)
     core::ThrowInputError("ibr verify", "unknown fault {}", inject_fault);
 }
@@ -513,10 +519,8 @@ void Add(VerifyCaseResult& total, const VerifyCaseResult& r) {
   total.kinds.color += r.kinds.color;
   total.ties += r.ties;
   total.finished_on_last_slice += r.finished_on_last_slice;
-  total.independent_agree += r.independent_agree;
-  total.independent_band += r.independent_band;
-  total.independent_band_disagree += r.independent_band_disagree;
-  total.independent_real += r.independent_real;
+  total.independent.Add(r.independent);
+  total.ray.Add(r.ray);
 }
 
 VerifyCaseResult VerifyCase(render::ProgramCache& programs, const Case& c,
@@ -584,14 +588,31 @@ VerifyCaseResult VerifyCase(render::ProgramCache& programs, const Case& c,
     io.subpixel_bits = subpixel_bits;
     io.tie_axis = frame.stack.axis;
     const IndependentFrame ind = RenderIndependent(renderer.maps(), c.view, c.options, io);
-    const IndependentComparison ic = CompareWithIndependent(ind, stencil, depth);
-    r.independent_agree = ic.agree;
-    r.independent_band = ic.band;
-    r.independent_band_disagree = ic.band_disagree;
-    r.independent_real = ic.real_errors;
-    independent_diff = ic.diff;
+    const IndependentComparison ic = CompareWithIndependent(ind, stencil, color, depth);
+    r.independent = ic;
+    independent_diff = std::move(r.independent.diff);
+    r.independent.diff = {};
+    // The ray path on the same case (empty-space skipping on every other case).
+    DepthObjectOptions ray_options = c.options;
+    ray_options.slicing = Slicing::kRay;
+    ray_options.skip_grid = index % 2 == 0 ? 64 : 0;
+    const FrameParams ray_frame = PrepareFrame(renderer.maps(), c.view, ray_options);
+    render::RenderTarget ray_accum(
+        DepthObjectRenderer::AccumTargetOptions(ray_frame.width, ray_frame.height));
+    renderer.DrawRay(ray_frame, ray_options, ray_accum);
+    const IndependentFrame ray_ref = RenderIndependent(renderer.maps(), c.view, ray_options, io);
+    const IndependentComparison rc =
+        CompareWithIndependent(ray_ref, {}, ray_accum.ReadColorF(0), ray_accum.ReadColorF(1));
+    r.ray = rc;
+    r.ray.diff = {};
+    if (rc.real_errors > 0 && !options.out.empty()) {
+      std::filesystem::create_directories(options.out);
+      const std::string name = fmt::format("case_{:05d}_ray_diff.png", index);
+      core::WriteImage(options.out / name, rc.diff);
+      r.diff_image = (options.out / name).string();
+    }
   }
-  if (!options.out.empty() && (r.real_errors > 0 || r.independent_real > 0)) {
+  if (!options.out.empty() && (r.real_errors > 0 || r.independent.real_errors > 0)) {
     // RGB diff: red = real error (mirror), yellow = permitted, magenta =
     // undecided, blue = independent disagreement outside the band, grey = in it.
     core::Image8 diff(frame.width, frame.height, 3, 0);
@@ -630,14 +651,16 @@ VerifyReport RunVerify(render::ProgramCache& programs, const VerifyOptions& opti
   glGetIntegerv(GL_SUBPIXEL_BITS, &subpixel_bits);
   const auto start = std::chrono::steady_clock::now();
   std::mt19937 rng(options.seed);
-  for (int i = 0; i < options.cases; ++i) {
+  for (int i = 0; i < options.first_case; ++i) rng();  // the cases before the first
+  for (int i = options.first_case; i < options.first_case + options.cases; ++i) {
     // One generator per case, seeded from the run's: case i is the same
-    // whatever ran before it.
+    // whatever ran before it (--first-case i --cases 1 reruns it alone).
     std::mt19937 case_rng(rng());
     const Case c = RandomCase(case_rng, options.method);
     const VerifyCaseResult r = VerifyCase(programs, c, options, subpixel_bits, i);
     Add(report.total, r);
-    report.failing_cases += r.real_errors > 0 || r.independent_real > 0;
+    report.failing_cases +=
+        r.real_errors > 0 || r.independent.real_errors > 0 || r.ray.real_errors > 0;
     report.boundary_cases[0] += c.boundary == Boundary::kDepthOnSlice && r.ties > 0;
     report.boundary_cases[1] += r.finished_on_last_slice > 0;
     report.boundary_cases[2] += c.boundary == Boundary::kAxisTie;
@@ -705,10 +728,15 @@ struct Tally {
   HardTechniqueResult result;
   std::map<std::string, std::pair<int, int>> kinds;  // cases, failing cases
   std::string current;                               // the kind of the case being checked
+  int index = 0;                                     // the case's index (--first-case)
+  std::vector<int> failing;                          // indices of failing cases (first 20)
+  std::vector<std::string> failing_descriptions;     // ... with what they drew
+  std::string description;                           // the current case's configuration
   std::map<std::string, int64_t> reasons;            // inconsistent pixels by rule broken
   int64_t bad = 0;                                   // in the current case
   void Start(const std::string& kind) {
     current = kind;
+    description.clear();
     ++kinds[kind].first;
     bad = 0;
   }
@@ -726,6 +754,11 @@ struct Tally {
     ++result.cases;
     result.failing_cases += bad > 0;
     kinds[current].second += bad > 0;
+    if (bad > 0 && failing.size() < 20) {
+      failing.push_back(index);
+      failing_descriptions.push_back(fmt::format("case {}: {} ({} pixels)", index,
+                                                 description.empty() ? current : description, bad));
+    }
   }
   void Finish() {
     for (const auto& [k, n] : kinds) {
@@ -733,6 +766,10 @@ struct Tally {
     }
     for (const auto& [k, n] : reasons)
       result.kinds.push_back(fmt::format("inconsistent: {}: {} pixels", k, n));
+    for (const std::string& d : failing_descriptions) result.kinds.push_back(d);
+    if (!failing.empty())
+      result.kinds.push_back(fmt::format(
+          "failing cases (rerun one with --first-case I --cases 1): {}", fmt::join(failing, " ")));
   }
 };
 
@@ -803,6 +840,9 @@ void HardObjectCase(render::ProgramCache& programs, std::mt19937& rng, Method me
   const int w = std::uniform_int_distribution<int>(32, 64)(rng);
   ResizeView(c.view, w, u(rng) < 0.7 ? w : std::uniform_int_distribution<int>(32, 64)(rng));
   tally.Start(kind);
+  tally.description = fmt::format("{} {}, {} {} x{}, k {}, refine {}, view {}", kind, c.description,
+                                  SlicingName(o.slicing), TexturingName(o.texturing), o.slices,
+                                  o.robust_k, o.refine_steps, ortho ? "ortho" : "persp");
   DepthObjectRenderer renderer(programs, c.maps);
   const DepthObjectFrame frame = renderer.RenderImages(c.view, o);
   // Camera-z range of the box (orthographic views: the whole range is valid).
@@ -933,9 +973,16 @@ SurfaceCase RandomSurfaceCase(std::mt19937& rng, int index) {
   const glm::dmat4 cam_from_world = LookAt(eye_w, target_w);
   c.view.cam_from_world = glm::mat4(cam_from_world);
   c.view.orthographic = c.orthographic;
-  // Beyond every displaced point and every point relief / POM may stop at
-  // (they march up to 1 / min_view_cos = 50 shell thicknesses, never carving).
-  const double reach = c.scale * (glm::length(c.eye) + 2.0 + 60.0 * c.max_displacement);
+  // Beyond every displaced point and every point a march may stop at:
+  // relief / POM march up to l = md / min_view_cos = 50 shell thicknesses,
+  // NCS up to c l (Algorithm 2: num_step steps of c l / num_step, c =
+  // step_enlargement <= 3.5 here), 175. A hit beyond the far plane is
+  // clipped (window depth 1 fails LESS), flagged and rightly not drawn: with
+  // the earlier 60 that was the cause of NCS's "hit not drawn" pixels (4
+  // cases of 1000, grazing rays bent far along the shell).
+  const double reach = c.scale * (glm::length(c.eye) + 2.0 + 200.0 * c.max_displacement);
+  // The near plane as before the far one grew (it clips views from inside the shell).
+  const double near = 1e-4 * c.scale * (glm::length(c.eye) + 2.0 + 60.0 * c.max_displacement);
   if (c.orthographic) {
     const double s = std::min(c.width, c.height) / (2.0 * c.scale * (1.5 + u(rng)));
     c.view.clip_from_cam = core::ClipFromCamOrthographic(s, s, c.width / 2.0, c.height / 2.0,
@@ -943,7 +990,7 @@ SurfaceCase RandomSurfaceCase(std::mt19937& rng, int index) {
   } else {
     const double f = std::min(c.width, c.height) * (0.6 + u(rng));
     c.view.clip_from_cam = core::ClipFromCamPerspective(f, f, c.width / 2.0, c.height / 2.0,
-                                                        c.width, c.height, 1e-4 * reach, reach);
+                                                        c.width, c.height, near, reach);
   }
   return c;
 }
@@ -1065,24 +1112,30 @@ bool HardReport::ok() const {
   return true;
 }
 
-HardReport RunHardSweeps(render::ProgramCache& programs, const VerifyOptions& options,
+HardReport RunHardSweeps(render::ProgramCache& programs, VerifyOptions options,
                          const std::function<void(const std::string&)>& progress) {
+  options.hard = true;
   options.Check();
   HardReport report;
   const auto start = std::chrono::steady_clock::now();
-  std::vector<std::string> techniques;
-  if (options.method != "hull") techniques.push_back("depth-object");
-  if (options.method != "depth-object") techniques.push_back("hull");
-  if (options.method == "all") {
-    for (const char* t : {"displacement", "ncs", "relief", "pom"}) techniques.push_back(t);
-  }
+  // Each technique's generator comes from the seed and its place in the full
+  // list, so `--method ncs` draws the same cases as `--method all`.
+  const std::vector<std::string> all = {"depth-object", "hull",   "displacement",
+                                        "ncs",          "relief", "pom"};
   std::mt19937 seeds(options.seed);
-  for (const std::string& name : techniques) {
+  std::vector<uint32_t> technique_seeds;
+  for (size_t i = 0; i < all.size(); ++i) technique_seeds.push_back(seeds());
+  for (size_t ti = 0; ti < all.size(); ++ti) {
+    const std::string& name = all[ti];
+    if (options.method != "all" && options.method != name) continue;
+    const auto technique_start = std::chrono::steady_clock::now();
     Tally tally;
     tally.result.technique = name;
-    std::mt19937 rng(seeds());
-    for (int i = 0; i < options.cases; ++i) {
+    std::mt19937 rng(technique_seeds[ti]);
+    for (int i = 0; i < options.first_case; ++i) rng();  // the cases before the first
+    for (int i = options.first_case; i < options.first_case + options.cases; ++i) {
       std::mt19937 case_rng(rng());
+      tally.index = i;
       if (name == "depth-object" || name == "hull") {
         HardObjectCase(programs, case_rng,
                        name == "hull" ? Method::kVisualHull : Method::kDepthObject, i, tally);
@@ -1091,13 +1144,15 @@ HardReport RunHardSweeps(render::ProgramCache& programs, const VerifyOptions& op
       } else {
         HardReliefCase(programs, case_rng, render::ReliefMethodFromName(name), i, tally);
       }
-      if (progress && ((i + 1) % 100 == 0 || i + 1 == options.cases)) {
-        progress(fmt::format("hard {}: {}/{} cases, {} NaN/Inf, {} inconsistent pixels", name,
-                             i + 1, options.cases, tally.result.nonfinite,
-                             tally.result.inconsistent));
+      const int done = i + 1 - options.first_case;
+      if (progress && (done % 100 == 0 || done == options.cases)) {
+        progress(fmt::format("hard {}: {}/{} cases, {} NaN/Inf, {} inconsistent pixels", name, done,
+                             options.cases, tally.result.nonfinite, tally.result.inconsistent));
       }
     }
     tally.Finish();
+    tally.result.seconds =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - technique_start).count();
     report.techniques.push_back(tally.result);
   }
   report.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();

@@ -18,7 +18,10 @@
 //  - real error: no admissible choice of quotients reproduces the GPU.
 // With `independent`, the double-precision reference
 // (ibr/independent_reference.h) is compared as well (agreement outside its
-// tolerance band; disagreements outside it are real errors).
+// tolerance band; disagreements outside it are real errors): the slice
+// frame's stencil, front slice, depth and accumulated colour (its own
+// view-dependent weights), and the same case drawn by the one-pass ray path
+// (DrawRay) against the reference's march (coverage, hit depth, colour).
 //
 // Hard-case sweeps (RunHardSweeps): random degenerate configurations per
 // technique (depth objects, hulls, slicing displacement, NCS / relief / POM)
@@ -32,15 +35,22 @@
 #include <string>
 #include <vector>
 
+#include "ibr/independent_reference.h"
 #include "render/gl/shader_program.h"
 
 namespace ibr {
 
 struct VerifyOptions {
-  int cases = 100;             // random configurations (hard: per technique)
-  uint32_t seed = 1;           // deterministic: the same seed gives the same cases
-  std::string method = "all";  // "depth-object", "hull" or "all"
-  bool independent = false;    // also compare with the independent reference
+  int cases = 100;    // random configurations (hard: per technique)
+  uint32_t seed = 1;  // deterministic: the same seed gives the same cases
+  // Index of the first case run: case i of a seed is the same whatever ran
+  // before it, so --first-case i --cases 1 reruns a failing case alone.
+  int first_case = 0;
+  // "depth-object", "hull" or "all"; hard sweeps also take one technique:
+  // "displacement", "ncs", "relief", "pom".
+  std::string method = "all";
+  bool hard = false;         // RunHardSweeps sets it (widens `method`)
+  bool independent = false;  // also compare with the independent reference
   // Where diff images of failing cases go (created; empty = none written).
   std::filesystem::path out;
   // Test-only hooks: 1 = the bit-exact mirror evaluates slice s at slice
@@ -70,9 +80,12 @@ struct VerifyCaseResult {
   MismatchKinds kinds;
   int64_t ties = 0;  // decisions with camera z == map depth exactly (mirror)
   int64_t finished_on_last_slice = 0;
-  // Independent reference (when asked).
-  int64_t independent_agree = 0, independent_band = 0, independent_band_disagree = 0,
-          independent_real = 0;
+  // Independent reference (when asked): the slice path (stencil, front
+  // slice, depth, colour) and the ray path (DrawRay with the case's options
+  // and Slicing::kRay: coverage, hit depth, colour), which the bit-exact
+  // mirror does not cover.
+  // Counts only (the diff images are left empty).
+  IndependentComparison independent, ray;
   std::string diff_image;  // written for a failing case (empty if none)
 };
 
@@ -83,7 +96,10 @@ struct VerifyReport {
   VerifyCaseResult total;             // sums (index, description unused)
   int failing_cases = 0;              // cases with real errors
   int boundary_cases[3] = {0, 0, 0};  // depth on a slice, N on the last slice, axis tie
-  bool ok() const { return total.real_errors == 0 && total.independent_real == 0; }
+  bool ok() const {
+    return total.real_errors == 0 && total.independent.real_errors == 0 &&
+           total.ray.real_errors == 0;
+  }
 };
 
 // Needs a current context. `on_case` is called after every case (progress).
@@ -99,6 +115,7 @@ struct HardTechniqueResult {
   int64_t nonfinite = 0;     // NaN/Inf in any output channel
   int64_t inconsistent = 0;  // outcome flags / coverage / depth disagreeing
   int failing_cases = 0;
+  double seconds = 0;              // wall clock of this technique's sweep
   std::vector<std::string> kinds;  // the degenerate kinds the sweep drew, with counts
 };
 struct HardReport {
@@ -106,7 +123,7 @@ struct HardReport {
   std::vector<HardTechniqueResult> techniques;
   bool ok() const;
 };
-HardReport RunHardSweeps(render::ProgramCache& programs, const VerifyOptions& options,
+HardReport RunHardSweeps(render::ProgramCache& programs, VerifyOptions options,
                          const std::function<void(const std::string&)>& progress = {});
 
 }  // namespace ibr

@@ -13,10 +13,7 @@ void AddDepthObjectBench(CLI::App& app) {
       BenchGroup(app)->add_subcommand("depth-object",
                                       "Slicing family x slices x size x object vs the true mesh, "
                                       "the Open3D peer (TSDF, carving), Fig. 12 analogues");
-  cmd->add_option("--csv", options.csv, "CSV file for the table (Fig. 12 tables beside it)")
-      ->required();
-  cmd->add_option("--out", options.out, "directory for the PNG plots");
-  cmd->add_flag("--quick", options.quick, "small sweep (CI smoke run, ~30 s)");
+  AddBenchOutputs(cmd, options.csv, options.out, options.quick);
   cmd->add_option("--objects", options.objects,
                   "only these objects (cup, bunny, cow, spot, teapot)");
   cmd->add_option("--sizes", options.sizes, "only these output sizes (pixels)");

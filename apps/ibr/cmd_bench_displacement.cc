@@ -11,10 +11,7 @@ void AddDisplacementBench(CLI::App& app) {
   auto* cmd = BenchGroup(app)->add_subcommand(
       "displacement",
       "Slicing family x slice count x elevation x resolution vs the tessellated ground truth");
-  cmd->add_option("--csv", options.csv, "CSV file for the table")->required();
-  cmd->add_option("--out", options.out,
-                  "directory for the error-vs-time plots and the grazing contact sheet");
-  cmd->add_flag("--quick", options.quick, "small sweep (CI smoke run)");
+  AddBenchOutputs(cmd, options.csv, options.out, options.quick);
   cmd->callback([] { bench::RunDisplacementBench(options); });
 }
 

@@ -18,14 +18,10 @@ void AddNcsBench(CLI::App& app) {
   auto* cmd = BenchGroup(app)->add_subcommand("ncs",
                                               "NCS (Chen-Chang) vs relief mapping, POM and the "
                                               "tessellated ground truth on a displaced torus");
-  static std::string csv, out;
+  static std::filesystem::path csv, out;
   static bool quick = false;
   static bench::NcsBenchOptions options;
-  cmd->add_option("--csv", csv, "CSV file with one row per method x view x tiling x steps x c")
-      ->required();
-  cmd->add_option("--out", out,
-                  "folder for plots, summary and the silhouette strip (default: the CSV's folder)");
-  cmd->add_flag("--quick", quick, "small CI smoke sweep");
+  AddBenchOutputs(cmd, csv, out, quick);
   cmd->add_option("--size", options.size, "frame width = height in pixels")->capture_default_str();
   cmd->add_option("--steps", options.steps, "linear-search step counts")->capture_default_str();
   cmd->add_option("--c", options.step_enlargements, "NCS step enlargements c")
@@ -37,17 +33,8 @@ void AddNcsBench(CLI::App& app) {
     auto context = render::HeadlessContext::Create();
     render::CheckFrameSize("ibr bench ncs", "--size", o.size, o.size);
     o.Check();
-    const std::filesystem::path csv_path(csv);
-    const std::filesystem::path out_dir =
-        out.empty()
-            ? (csv_path.parent_path().empty() ? std::filesystem::path(".") : csv_path.parent_path())
-            : std::filesystem::path(out);
-    // Fail before minutes of measuring, not after.
-    const std::filesystem::path csv_dir =
-        csv_path.parent_path().empty() ? "." : csv_path.parent_path();
-    if (!std::filesystem::is_directory(csv_dir)) {
-      core::ThrowInputError("ibr bench ncs", "--csv '{}': no such directory", csv);
-    }
+    const std::filesystem::path& csv_path = csv;
+    const std::filesystem::path out_dir = CheckBenchOutputs("ibr bench ncs", csv, out);
     render::ProgramCache programs;
     fmt::print("{} | {}\n", context->info().renderer, context->info().version);
     const bench::NcsBenchResult result = bench::RunNcsBench(programs, o);

@@ -20,25 +20,19 @@ void AddSceneBench(CLI::App& app) {
       "Cost of each effect in a scene: on, named but disabled, and absent (ratios to absent)");
   static std::filesystem::path csv, out;
   static bench::SceneBenchOptions options;
-  cmd->add_option("--csv", csv, "CSV file, one row per effect")->required();
-  cmd->add_option("--out", out, "folder for the ratio plot (default: the CSV's folder)");
+  AddBenchOutputs(cmd, csv, out, options.quick);
   cmd->add_option("--size", options.size, "frame width = height in pixels")->capture_default_str();
   cmd->add_option("--rounds", options.rounds, "interleaved rounds")->capture_default_str();
-  cmd->add_flag("--quick", options.quick, "two effects, small frames (CI smoke run)");
   cmd->callback([] {
     auto context = render::HeadlessContext::Create();
     render::CheckFrameSize("ibr bench scene", "--size", options.size, options.size);
     options.Check();
-    const std::filesystem::path csv_dir = csv.parent_path().empty() ? "." : csv.parent_path();
-    if (!std::filesystem::is_directory(csv_dir)) {
-      core::ThrowInputError("ibr bench scene", "--csv '{}': no such directory", csv.string());
-    }
+    const std::filesystem::path out_dir = CheckBenchOutputs("ibr bench scene", csv, out);
     fmt::print("{} | {}\n", context->info().renderer, context->info().version);
     const bench::SceneBenchResult result = bench::RunSceneBench(options);
     fmt::print("{}\n", result.table.Format());
-    bench::WriteSceneBench(result, csv, out.empty() ? csv_dir : out);
-    fmt::print("wrote {} and scene_bench.png in {}\n", csv.string(),
-               (out.empty() ? csv_dir : out).string());
+    bench::WriteSceneBench(result, csv, out_dir);
+    fmt::print("wrote {} and scene_bench.png in {}\n", csv.string(), out_dir.string());
   });
 }
 

@@ -24,25 +24,17 @@ namespace apps {
 namespace {
 
 struct ViewCommandOptions {
+  ViewCommandOptions() { flags.slicing = "ray"; }  // the fastest path (empty-space skipping)
   std::filesystem::path dataset;
-  std::string method = "depth-object";
-  std::string slicing = "ray";  // the fastest path (empty-space skipping)
-  std::string slices = "auto";  // sec. 3.4: one slice (ray: step) per depth texel
-  std::string texturing = "vdt";
-  int robust = 0;
+  ibr::DepthObjectFlags flags;
   std::string window = "960x720";
   viewer::ViewerOptions viewer;
 };
 
 class DatasetScene : public viewer::Scene {
  public:
-  DatasetScene(const ViewCommandOptions& o, ibr::MapSet maps, std::string name)
-      : name_(std::move(name)), renderer_(programs_, std::move(maps)) {
-    options_.method = ibr::MethodFromName(o.method);
-    options_.slicing = ibr::SlicingFromName(o.slicing);
-    options_.texturing = ibr::TexturingFromName(o.texturing);
-    options_.slices = ibr::SliceCountFromName(o.slices);
-    options_.robust_k = o.robust;
+  DatasetScene(const ibr::DepthObjectOptions& options, ibr::MapSet maps, std::string name)
+      : name_(std::move(name)), renderer_(programs_, std::move(maps)), options_(options) {
     options_.background = {0.12f, 0.12f, 0.14f, 1.0f};
     options_.Check();
     const glm::dmat4& m = renderer_.maps().world_from_box;
@@ -111,19 +103,15 @@ void RunView(ViewCommandOptions& o) {
   o.viewer.height = h;
   o.viewer.Check();
   // Validate everything before a window opens.
-  ibr::DepthObjectOptions check;
-  check.method = ibr::MethodFromName(o.method);
-  check.slicing = ibr::SlicingFromName(o.slicing);
-  check.texturing = ibr::TexturingFromName(o.texturing);
-  check.slices = ibr::SliceCountFromName(o.slices);
-  check.robust_k = o.robust;
-  check.Check();
+  const ibr::DepthObjectOptions options =
+      ibr::DepthObjectOptionsFrom(ibr::SettingsFromFlags(o.flags));
   const capture::Dataset dataset = capture::ReadDataset(o.dataset);
   ibr::MapSet maps = ibr::MapsFromDataset(dataset);
   const std::string name = o.dataset.filename().empty()
                                ? o.dataset.parent_path().filename().string()
                                : o.dataset.filename().string();
-  viewer::Run([&] { return std::make_unique<DatasetScene>(o, std::move(maps), name); }, o.viewer);
+  viewer::Run([&] { return std::make_unique<DatasetScene>(options, std::move(maps), name); },
+              o.viewer);
 }
 
 void AddViewCommand(CLI::App& app) {
@@ -131,14 +119,7 @@ void AddViewCommand(CLI::App& app) {
   auto* cmd = app.add_subcommand(
       "view", "Interactive viewer (GLFW + Dear ImGui) of a dataset's depth object or visual hull");
   cmd->add_option("DATASET", o.dataset, "dataset directory (dataset.json)")->required();
-  cmd->add_option("--method", o.method, "depth-object | visual-hull")->capture_default_str();
-  cmd->add_option("--slicing", o.slicing, "orthogonal | screen | ray")->capture_default_str();
-  cmd->add_option("--slices", o.slices,
-                  "slices per frame (ray: linear-search steps), or auto (one per depth texel)")
-      ->capture_default_str();
-  cmd->add_option("--texturing", o.texturing, "vdt | visibility | none")->capture_default_str();
-  cmd->add_option("--robust", o.robust, "keep pixels where at least N-K maps agree")
-      ->capture_default_str();
+  AddDepthObjectFlags(cmd, o.flags);
   cmd->add_option("--window", o.window, "window size WIDTHxHEIGHT in pixels")
       ->capture_default_str();
   cmd->add_option("--azimuth", o.viewer.azimuth_degrees, "initial orbit azimuth, degrees")

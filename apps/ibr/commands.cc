@@ -45,6 +45,37 @@ void AddRegisteredCommands(CLI::App& app) {
   for (const auto& [name, add] : Registry()) add(app);
 }
 
+void AddDepthObjectFlags(CLI::App* cmd, ibr::DepthObjectFlags& f) {
+  cmd->add_option("--method", f.method, "depth-object | visual-hull")->capture_default_str();
+  cmd->add_option("--slicing", f.slicing, "orthogonal | screen | ray")->capture_default_str();
+  cmd->add_option("--slices", f.slices,
+                  "slices through the box per frame (ray: steps), or auto (one per depth texel)")
+      ->capture_default_str();
+  cmd->add_option("--robust", f.robust, "keep pixels where at least N-K maps agree")
+      ->capture_default_str();
+  cmd->add_option("--texturing", f.texturing, "vdt | visibility | none")->capture_default_str();
+  cmd->add_option("--outside", f.outside, "points outside a map's image: pass | fail")
+      ->capture_default_str();
+  cmd->add_option("--invalid-depth", f.invalid_depth,
+                  "depth 0 inside the mask: empty | no-constraint")
+      ->capture_default_str();
+}
+
+void AddBenchOutputs(CLI::App* cmd, std::filesystem::path& csv, std::filesystem::path& out,
+                     bool& quick) {
+  cmd->add_option("--csv", csv, "CSV file for the table")->required();
+  cmd->add_option("--out", out, "directory for the plots");
+  cmd->add_flag("--quick", quick, "small sweep (the smoke test's)");
+}
+
+std::filesystem::path CheckBenchOutputs(const std::string& where, const std::filesystem::path& csv,
+                                        const std::filesystem::path& out) {
+  const std::filesystem::path csv_dir = csv.parent_path().empty() ? "." : csv.parent_path();
+  if (!std::filesystem::is_directory(csv_dir))
+    core::ThrowInputError(where, "--csv '{}': no such directory", csv.string());
+  return out.empty() ? csv_dir : out;
+}
+
 CLI::App* BenchGroup(CLI::App& app) {
   for (CLI::App* sub : app.get_subcommands([](CLI::App*) { return true; })) {
     if (sub->get_name() == "bench") return sub;

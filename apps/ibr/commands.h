@@ -7,7 +7,10 @@
 #pragma once
 
 #include <CLI/CLI.hpp>
+#include <filesystem>
 #include <string>
+
+#include "ibr/scene_options.h"
 
 namespace apps {
 
@@ -23,6 +26,22 @@ void AddRegisteredCommands(CLI::App& app);
 // The `ibr bench` group, created on first use: benchmarks add themselves as
 // its subcommands (`ibr bench fillrate`, `ibr bench displacement`, ...).
 CLI::App* BenchGroup(CLI::App& app);
+
+// The depth-object flags (--method, --slicing, --slices, --robust, --texturing,
+// --outside, --invalid-depth) bound to `flags`, with their defaults shown;
+// shared by `ibr render` and `ibr view`, mapped to options by
+// ibr::DepthObjectOptionsFrom(ibr::SettingsFromFlags(flags)).
+void AddDepthObjectFlags(CLI::App* cmd, ibr::DepthObjectFlags& flags);
+
+// A bench's outputs: --csv FILE (required), --out DIR (plots) and --quick (the
+// small sweep of the smoke test).
+void AddBenchOutputs(CLI::App* cmd, std::filesystem::path& csv, std::filesystem::path& out,
+                     bool& quick);
+
+// Checks, before minutes of measuring, that --csv's folder exists; returns
+// --out, or the CSV's folder when --out is empty.
+std::filesystem::path CheckBenchOutputs(const std::string& where, const std::filesystem::path& csv,
+                                        const std::filesystem::path& out);
 
 // Throws core::InputError "unknown subcommand 'X' of 'ibr import' (valid:
 // colmap, middlebury, redwood)" when argv names a subcommand that does not

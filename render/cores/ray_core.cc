@@ -83,10 +83,10 @@ std::vector<std::string> RayCoreDefines(const RayCoreOptions& options) {
 
 void SetRayCoreUniforms(const Program& program, const RayCoreOptions& options) {
   options.Check();
-  glUniform1i(program.Uniform("u_ray_max_steps"), options.max_steps);
-  glUniform1i(program.Uniform("u_ray_refine_steps"), options.refine_steps);
-  glUniform1f(program.Uniform("u_ray_threshold"), options.threshold);
-  glUniform1f(program.Uniform("u_ray_fine_step_scale"), options.fine_step_scale);
+  program.Set("u_ray_max_steps", options.max_steps);
+  program.Set("u_ray_refine_steps", options.refine_steps);
+  program.Set("u_ray_threshold", options.threshold);
+  program.Set("u_ray_fine_step_scale", options.fine_step_scale);
 }
 
 }  // namespace render

@@ -267,10 +267,7 @@ void DisplacementPass::Draw(const RenderTarget& target, const ViewSetup& view) {
   const Program& program = programs_->Get({.vertex = "passes/displacement.vert.glsl",
                                            .fragment = "passes/displacement.frag.glsl",
                                            .defines = options_.Defines()});
-  target.Bind();
-  program.Use();
-  program.Set("u_cam_from_world", view.cam_from_world);
-  program.Set("u_clip_from_cam", view.clip_from_cam);
+  UseProgram(target, program, view);
   program.Set("u_max_displacement", options_.max_displacement);
   program.Set("u_tiling", options_.tiling);
   program.Set("u_displacement", 0);

@@ -35,10 +35,7 @@ void MeshPass::Draw(const RenderTarget& target, const ViewSetup& view) {
   const Program& program = programs_->Get({.vertex = "passes/mesh.vert.glsl",
                                            .fragment = "passes/mesh.frag.glsl",
                                            .defines = options_.Defines(view.orthographic)});
-  target.Bind();
-  program.Use();
-  program.Set("u_cam_from_world", view.cam_from_world);
-  program.Set("u_clip_from_cam", view.clip_from_cam);
+  UseProgram(target, program, view);
   program.Set("u_world_from_object", options_.world_from_object);
   program.Set("u_base_color", options_.base_color);
   if (options_.texture) glBindTextureUnit(0, options_.texture->id());

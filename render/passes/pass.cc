@@ -46,6 +46,13 @@ void CheckFrameSize(std::string_view where, std::string_view flag, int width, in
   CheckFrameSize(where, flag, width, height, QueryGlSizeLimits());
 }
 
+void UseProgram(const RenderTarget& target, const Program& program, const ViewSetup& view) {
+  target.Bind();
+  program.Use();
+  program.Set("u_cam_from_world", view.cam_from_world);
+  program.Set("u_clip_from_cam", view.clip_from_cam);
+}
+
 void BeginFrame(const RenderTarget& target) {
   target.Bind();
   const float background[4] = {0, 0, 0, 0};

@@ -17,6 +17,7 @@
 #include <string_view>
 
 #include "core/image.h"
+#include "render/gl/handles.h"
 #include "render/gl/render_target.h"
 
 namespace render {
@@ -76,6 +77,11 @@ void CheckFrameSize(std::string_view where, std::string_view flag, int width, in
 // blending or face culling, the outcome draw buffer masked (the state every
 // pass may assume on entry and must leave).
 void BeginFrame(const RenderTarget& target);
+
+// The start of a pass's draw: binds `target`, makes `program` current and sets
+// its view uniforms u_cam_from_world and u_clip_from_cam (either may be
+// absent from the program).
+void UseProgram(const RenderTarget& target, const Program& program, const ViewSetup& view);
 
 // A frame read back to the CPU (rows top first, like core::Image).
 struct Frame {

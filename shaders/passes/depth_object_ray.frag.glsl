@@ -60,7 +60,11 @@ void main() {
   vec3 d_box = mat3(u_box_from_cam) * d;
   vec2 span = RayBoxInterval(o_box, d_box, vec3(0.0), vec3(1.0));
 #ifndef VIEW_ORTHOGRAPHIC
-  span.x = max(span.x, 0.0);  // only in front of the eye
+  // Only in front of the eye. With the eye inside the box the march starts
+  // half a step in front of it, where the first screen slice lies: a ray
+  // starting inside the object would otherwise hit at the eye, camera z 0,
+  // which the frame reads as empty (found by ibr verify --hard).
+  if (span.x <= 0.0) span.x = 0.5 * u_ray_step;
 #endif
   o_color = vec4(0.0);
   o_depth = vec2(0.0);
@@ -68,12 +72,8 @@ void main() {
 #ifdef EMPTY_SPACE_SKIPPING
   g_ray_dir_in_grid = d_box * float(u_skip_resolution);
 #endif
-  RayMarch r;
-  r.origin = o + span.x * d;
-  r.dir = d;
-  r.t_max = span.y - span.x;
-  r.step = u_ray_step;
-  RayResult res = RayMarchRun(r);
+  // From the box entry to its exit (RayMarch: origin, dir, t_max, step).
+  RayResult res = RayMarchRun(RayMarch(o + span.x * d, d, span.y - span.x, u_ray_step));
   if (res.outcome != RAY_OUTCOME_HIT) return;
   vec3 p = res.p;
   // View-dependent colour at the hit (sec. 4.2 weights), as the map loop blends it.

@@ -1,9 +1,7 @@
 #version 450 core
 // Mesh rasterisation (render/passes/mesh_pass.h). Camera convention: x right, y down,
 // z forward; v_cam_z is the depth we write out (camera z, scene units).
-layout(location = 0) in vec3 a_position;
-layout(location = 1) in vec3 a_normal;
-layout(location = 2) in vec2 a_uv;
+#include "common/mesh_attributes.glsl"
 
 uniform mat4 u_world_from_object;
 uniform mat4 u_cam_from_world;

@@ -1,9 +1,7 @@
 #version 450 core
 // The outer shell of a displaced surface (render/passes/relief_surface_pass.h):
 // base + max_displacement * N, rasterised; the fragment shader marches inward.
-layout(location = 0) in vec3 a_position;
-layout(location = 1) in vec3 a_normal;
-layout(location = 2) in vec2 a_uv;
+#include "common/mesh_attributes.glsl"
 
 uniform mat4 u_cam_from_object;
 uniform mat4 u_clip_from_cam;

@@ -1,8 +1,7 @@
 #version 450 core
 // Chen-Chang Algorithm 1, line 4: each base triangle t is drawn as t' with
 // vertices (u, v, 0), i.e. in UV space, so the maps are indexed by uv.
-layout(location = 2) in vec2 a_uv;  // drawn in uv space: uv is the position
-layout(location = 1) in vec3 a_normal;
+#include "common/mesh_attributes.glsl"  // a_uv: drawn in uv space, uv is the position
 layout(location = 3) in vec4 a_tangent;     // xyz = T, w = handedness * S_tangent
 layout(location = 4) in float a_s_binormal;
 

@@ -10,6 +10,7 @@
 
 #include <cstdio>
 #include <cstdlib>
+#include <vector>
 
 #include "core/error.h"
 #include "tests/support/gl_test.h"
@@ -32,18 +33,58 @@ TEST_F(VerifyTest, ShortRunIsCleanAgainstBothReferences) {
       r.cases, r.seconds, static_cast<long long>(r.total.pixels),
       static_cast<long long>(r.total.mismatched), static_cast<long long>(r.total.permitted),
       static_cast<long long>(r.total.real_errors),
-      static_cast<long long>(r.total.independent_agree),
-      static_cast<long long>(r.total.independent_band),
-      static_cast<long long>(r.total.independent_band_disagree),
-      static_cast<long long>(r.total.independent_real));
+      static_cast<long long>(r.total.independent.agree),
+      static_cast<long long>(r.total.independent.band),
+      static_cast<long long>(r.total.independent.band_disagree),
+      static_cast<long long>(r.total.independent.real_errors));
   EXPECT_EQ(r.cases, 24);
   EXPECT_TRUE(r.ok());
   EXPECT_EQ(r.total.real_errors, 0);
-  EXPECT_EQ(r.total.independent_real, 0);
+  EXPECT_EQ(r.total.independent.real_errors, 0);
   EXPECT_GT(r.total.pixels, 24 * 24 * 24);
-  EXPECT_GT(r.total.independent_agree, r.total.pixels * 9 / 10);
+  EXPECT_GT(r.total.independent.agree, r.total.pixels * 9 / 10);
   EXPECT_GT(r.boundary_cases[0] + r.boundary_cases[1] + r.boundary_cases[2], 0)
       << "boundary cases must occur";
+  // Colour of the slice path and the ray path, against the same reference.
+  std::printf(
+      "  slice colour compared on %lld pixels (%lld outside); ray path: %lld pixels, %lld object, "
+      "%lld agree, band %lld (%lld disagree), alternatives %lld (%lld taken), %lld real, colour "
+      "on %lld (%lld outside)\n",
+      static_cast<long long>(r.total.independent.color_checked),
+      static_cast<long long>(r.total.independent.color_errors),
+      static_cast<long long>(r.total.ray.pixels), static_cast<long long>(r.total.ray.covered),
+      static_cast<long long>(r.total.ray.agree), static_cast<long long>(r.total.ray.band),
+      static_cast<long long>(r.total.ray.band_disagree),
+      static_cast<long long>(r.total.ray.alternative_pixels),
+      static_cast<long long>(r.total.ray.alternative_taken),
+      static_cast<long long>(r.total.ray.real_errors),
+      static_cast<long long>(r.total.ray.color_checked),
+      static_cast<long long>(r.total.ray.color_errors));
+  EXPECT_GT(r.total.independent.color_checked, 1000);
+  EXPECT_EQ(r.total.independent.color_errors, 0);
+  EXPECT_EQ(r.total.ray.pixels, r.total.pixels);
+  EXPECT_GT(r.total.ray.covered, 1000);
+  EXPECT_EQ(r.total.ray.real_errors, 0);
+  EXPECT_GT(r.total.ray.color_checked, 1000);
+  EXPECT_NO_GL_ERROR();
+}
+
+// Case i of a seed is the same alone (--first-case i --cases 1) as in a run.
+TEST_F(VerifyTest, FirstCaseRerunsOneCaseAlone) {
+  VerifyOptions o;
+  o.cases = 4;
+  o.seed = 5;
+  std::vector<VerifyCaseResult> run;
+  RunVerify(programs(), o, [&](const VerifyCaseResult& r) { run.push_back(r); });
+  ASSERT_EQ(run.size(), 4u);
+  o.first_case = 3;
+  o.cases = 1;
+  std::vector<VerifyCaseResult> alone;
+  RunVerify(programs(), o, [&](const VerifyCaseResult& r) { alone.push_back(r); });
+  ASSERT_EQ(alone.size(), 1u);
+  EXPECT_EQ(alone[0].index, 3);
+  EXPECT_EQ(alone[0].description, run[3].description);
+  EXPECT_EQ(alone[0].pixels, run[3].pixels);
   EXPECT_NO_GL_ERROR();
 }
 
@@ -79,6 +120,12 @@ TEST_F(VerifyTest, BadOptionsAreRejected) {
   o.cases = 1;
   o.method = "cubes";
   EXPECT_THROW(o.Check(), core::InputError);
+  o.method = "ncs";  // a technique of the hard sweeps only
+  EXPECT_THROW(o.Check(), core::InputError);
+  o.hard = true;
+  EXPECT_NO_THROW(o.Check());
+  o.first_case = -1;
+  EXPECT_THROW(o.Check(), core::InputError);
 }
 
 // A few hard cases of every technique (the full sweep: label `hard`).
@@ -106,14 +153,19 @@ TEST_F(VerifyTest, HardSweepFull) {
   const HardReport r = RunHardSweeps(
       programs(), o, [](const std::string& line) { std::fprintf(stderr, "%s\n", line.c_str()); });
   for (const HardTechniqueResult& t : r.techniques) {
-    std::printf("%-13s %d cases, %lld pixels, %lld covered, %lld NaN/Inf, %lld inconsistent\n",
-                t.technique.c_str(), t.cases, static_cast<long long>(t.pixels),
-                static_cast<long long>(t.covered), static_cast<long long>(t.nonfinite),
-                static_cast<long long>(t.inconsistent));
+    std::printf(
+        "%-13s %d cases, %lld pixels, %lld covered, %lld NaN/Inf, %lld inconsistent, %.1f s\n",
+        t.technique.c_str(), t.cases, static_cast<long long>(t.pixels),
+        static_cast<long long>(t.covered), static_cast<long long>(t.nonfinite),
+        static_cast<long long>(t.inconsistent), t.seconds);
     for (const std::string& k : t.kinds) std::printf("    %s\n", k.c_str());
     EXPECT_EQ(t.nonfinite, 0) << t.technique;
     EXPECT_EQ(t.inconsistent, 0) << t.technique;
+    EXPECT_GE(t.cases, 1000) << t.technique;
+    EXPECT_GT(t.covered, 0) << t.technique;
   }
+  EXPECT_EQ(r.techniques.size(), 6u);
+  std::printf("hard sweeps: %.1f s\n", r.seconds);
   EXPECT_NO_GL_ERROR();
 }
 

@@ -1,0 +1,114 @@
+#include "ibr/dataset_render.h"
+
+#include <fmt/format.h>
+#include <spdlog/spdlog.h>
+
+#include <algorithm>
+
+#include "capture/dataset.h"
+#include "capture/synthetic.h"
+#include "core/error.h"
+#include "core/timing.h"
+#include "ibr/dataset_maps.h"
+#include "ibr/demo_scene.h"
+#include "ibr/views.h"
+#include "render/gl/gl.h"
+#include "render/passes/pass.h"
+
+namespace ibr {
+
+void DatasetRenderJob::Check() const {
+  constexpr const char* kWhere = "ibr render";
+  if (cameras.empty() == (orbit <= 0))
+    core::ThrowInputError(kWhere, "give exactly one of --cameras OTHER_DATASET or --orbit N");
+  // The upper bound: render::CheckFrameSize (GL limits, frame budget) per view.
+  if (size < 0) core::ThrowInputError(kWhere, "--size {} is negative", size);
+  options.Check();
+}
+
+DatasetRenderStats RenderDatasetToDataset(render::ProgramCache& programs,
+                                          const DatasetRenderJob& job,
+                                          const std::filesystem::path& out,
+                                          const std::function<void(const std::string&)>& progress) {
+  job.Check();
+  // Parse -> plain CPU data -> GPU -> passes. The manifests first: no image
+  // is opened before the map count and every frame size are checked.
+  const capture::Dataset dataset = ReadMapDataset(job.dataset);
+  std::vector<NamedView> views;
+  OrbitOptions orbit;
+  orbit.count = job.orbit;
+  orbit.size = job.size > 0 ? job.size : 512;
+  if (!job.cameras.empty()) {
+    const capture::Dataset other = capture::ReadDataset(job.cameras);
+    const std::vector<ViewCamera> cams = ViewsFromDataset(other);
+    for (size_t i = 0; i < cams.size(); ++i) {
+      NamedView v{other.views[i].name, cams[i]};
+      if (job.size > 0) v.view.camera = ResizeCamera(v.view.camera, job.size);
+      render::CheckFrameSize(
+          "ibr render",
+          job.size > 0 ? std::string("--size")
+                       : fmt::format("--cameras '{}': view '{}'", job.cameras.string(), v.name),
+          v.view.camera.width, v.view.camera.height);
+      views.push_back(v);
+    }
+  } else {
+    render::CheckFrameSize("ibr render", "--size", orbit.size, orbit.size);
+  }
+  MapSet maps = MapsFromDataset(dataset);
+  if (job.cameras.empty()) views = OrbitViews(maps, orbit);
+  DatasetRenderStats stats;
+  stats.maps = maps.maps.size();
+  spdlog::info("render: {} maps from {}, {} views, {} {} slicing, {} slices{}", stats.maps,
+               job.dataset.string(), views.size(), MethodName(job.options.method),
+               SlicingName(job.options.slicing), SliceCountName(job.options.slices),
+               job.options.robust_k > 0 ? fmt::format(", robust k={}", job.options.robust_k) : "");
+
+  DepthObjectRenderer renderer(programs, std::move(maps));
+  capture::DatasetWriter writer(out);
+  std::optional<capture::SceneMesh> truth;
+  double edge = 1;
+  if (!job.truth_mesh.empty()) {
+    truth = capture::LoadSceneMesh(job.truth_mesh);
+    glm::vec3 lo, hi;
+    truth->mesh.Bounds(lo, hi);
+    edge = std::max({hi.x - lo.x, hi.y - lo.y, hi.z - lo.z});
+  }
+  // Warm-up (shader compilation) so the first view's time is a frame time.
+  renderer.RenderImages(views[0].view, job.options);
+  std::vector<double> errors;
+  for (size_t i = 0; i < views.size(); ++i) {
+    const NamedView& v = views[i];
+    render::RenderTarget target(
+        DepthObjectRenderer::OutputTargetOptions(v.view.camera.width, v.view.camera.height));
+    glFinish();
+    core::Stopwatch watch;
+    renderer.Render(v.view, job.options, target);
+    glFinish();
+    stats.frame_ms.push_back(watch.ElapsedMs());
+    const DepthObjectFrame frame = DepthObjectRenderer::ReadFrame(target);
+    const int cam = writer.AddCamera(CaptureCamera(v.view.camera));
+    writer.AddView(v.name, cam, RigidFromMat4(v.view.cam_from_world), frame.color,
+                   DatasetDepth(frame.depth), frame.mask, {});
+    int64_t covered = 0;
+    for (uint8_t m : frame.mask.values()) covered += m > 0;
+    std::string accuracy;
+    if (truth) {
+      const MeshAccuracy a = CompareToMesh(programs, *truth, v.view, frame.depth, edge);
+      errors.insert(errors.end(), a.depth_errors.begin(), a.depth_errors.end());
+      stats.iou.push_back(a.iou);
+      accuracy = fmt::format(", vs mesh IoU {:.4f}", a.iou);
+    }
+    if (progress) {
+      progress(fmt::format("view {}/{} {} {}x{}: {:.1f} ms, {} object pixels{}", i + 1,
+                           views.size(), v.name, v.view.camera.width, v.view.camera.height,
+                           stats.frame_ms.back(), covered, accuracy));
+    }
+  }
+  if (truth) stats.depth_error = core::SummarizeErrors(std::move(errors));
+  if (dataset.bounds) writer.SetBounds(*dataset.bounds);
+  writer.SetDepthUnits(dataset.depth_units);
+  writer.Commit();
+  return stats;
+}
+
+}  // namespace ibr
