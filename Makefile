@@ -3,11 +3,14 @@
 #   make demo   - Release build, then the main job on the built-in default scene
 #   make test   - format check, Release build, then the whole ctest suite (non-zero on failure)
 #   make format - clang-format every C++ file in place (make format-check: report differences)
-#   make asan   - ASan + UBSan build of the tests, then run them
+#   make asan   - ASan + UBSan build of the tests (build-asan/), then the whole suite
+#                 (every label but hard, as make test; test timeouts x5)
 #   make bench  - benchmarks that print figures and write plots under build/bench
 #   make fuzz   - clang + libFuzzer + ASan/UBSan build of every parser's fuzz
 #                 target (build-fuzz/), each run FUZZ_RUNS times (default 10^6)
-#                 from the seed corpus; runs per parser in build-fuzz/fuzz-runs.txt.
+#                 from the seed corpus; runs per parser in build-fuzz/fuzz-runs.txt
+#                 (one line per parser, replaced when it runs again; FUZZ_TARGETS=...
+#                 runs a subset).
 #                 Not part of CI (about half an hour on 2 cores).
 # CI=true (as in .ci/run) adds -Werror.
 
@@ -19,9 +22,11 @@ DEMO_OUT ?= build/demo
 
 FUZZ_RUNS ?= 1000000
 SHARED_DATA ?= $(abspath ../shared/data)
+# Every parser in the tree (capture/, core/, scene/): one libFuzzer target each.
 FUZZ_TARGETS := colmap_cameras_text colmap_images_text colmap_points3d_text \
   colmap_cameras_bin colmap_images_bin colmap_points3d_bin \
-  dense_map fusion_cfg patch_match_cfg manifest redwood_log middlebury_par
+  dense_map fusion_cfg patch_match_cfg manifest redwood_log middlebury_par \
+  redwood_intrinsics middlebury_bounds scene qvis nrrd transfer_function
 
 .PHONY: deps configure build demo test asan bench fuzz clean format format-check
 
@@ -56,13 +61,15 @@ fuzz: deps
 	  -DCMAKE_BUILD_TYPE=RelWithDebInfo -DIBR_FUZZ=ON -DIBR_BUILD_TESTS=OFF -DIBR_BUILD_VIEWER=OFF
 	cmake --build build-fuzz --target fuzz_all
 	build-fuzz/bin/fuzz_make_seeds build-fuzz/fuzz/corpus $(SHARED_DATA)
-	@: > build-fuzz/fuzz-runs.txt
+	build-fuzz/bin/fuzz_make_volume_seeds build-fuzz/fuzz/corpus
+	@touch build-fuzz/fuzz-runs.txt
 	@set -e; for t in $(FUZZ_TARGETS); do \
 	  echo "fuzz: $$t, $(FUZZ_RUNS) runs"; \
 	  build-fuzz/bin/fuzz_$$t -runs=$(FUZZ_RUNS) -seed=1 -max_len=4096 -rss_limit_mb=2048 -print_final_stats=1 \
 	    build-fuzz/fuzz/corpus/$$t > build-fuzz/fuzz-$$t.log 2>&1 || { tail -40 build-fuzz/fuzz-$$t.log; exit 1; }; \
 	  runs=$$(sed -n 's/^stat::number_of_executed_units: *//p' build-fuzz/fuzz-$$t.log); \
 	  secs=$$(sed -n 's/^stat::average_exec_per_sec: *//p' build-fuzz/fuzz-$$t.log); \
+	  sed -i "/^$$t /d" build-fuzz/fuzz-runs.txt; \
 	  echo "$$t $$runs runs ($$secs/s)" | tee -a build-fuzz/fuzz-runs.txt; \
 	done
 

@@ -27,8 +27,9 @@ namespace bench {
 void DeformRunOptions::Check() const {
   deformation.Check();
   pass.Check();
-  if (size < 16 || size > 4096)
-    core::ThrowInputError("ibr deform", "--size {} outside 16..4096", size);
+  // The frame budget and the GL limits: render::CheckFrameSize (ibr deform).
+  if (size < 16 || size > 16384)
+    core::ThrowInputError("ibr deform", "--size {} outside 16..16384", size);
   if (sdf_resolution < 8 || sdf_resolution > 512) {
     core::ThrowInputError("ibr deform", "--resolution {} outside 8..512", sdf_resolution);
   }

@@ -22,6 +22,7 @@
 #include "render/gl/context.h"
 #include "render/gl/fill_rate.h"
 #include "render/gl/frame_timer.h"
+#include "render/passes/pass.h"
 
 namespace bench {
 namespace {
@@ -98,6 +99,8 @@ void RunDepthObjectBench(const DepthObjectBenchOptions& options) {
   auto context = render::HeadlessContext::Create();
   render::ProgramCache programs;
   fmt::print("{} | {}\n", context->info().renderer, context->info().version);
+  for (int size : options.sizes)
+    render::CheckFrameSize("ibr bench depth-object", "--sizes", size, size);
 
   // Fill-rate calibration in this run (trivial alpha-tested full-screen layers).
   render::FillRateOptions fo;

@@ -70,8 +70,9 @@ core::Image8 Opaque(const core::Image8& image) {
 std::vector<std::string> NcsBenchViewNames() { return {"oblique", "grazing", "edge"}; }
 
 void NcsBenchOptions::Check() const {
-  if (size < 16 || size > 4096)
-    core::ThrowInputError("NcsBenchOptions", "size {} outside 16..4096", size);
+  // The frame budget and the GL limits: render::CheckFrameSize (ibr bench ncs).
+  if (size < 16 || size > 16384)
+    core::ThrowInputError("NcsBenchOptions", "size {} outside 16..16384", size);
   if (height_map_size < 4 || height_map_size > 1024) {
     core::ThrowInputError("NcsBenchOptions", "height_map_size {} outside 4..1024", height_map_size);
   }

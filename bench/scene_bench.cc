@@ -108,8 +108,9 @@ void Time(Config& c, int frames) {
 }  // namespace
 
 void SceneBenchOptions::Check() const {
-  if (size < 32 || size > 4096)
-    core::ThrowInputError("SceneBenchOptions", "size {} outside 32..4096", size);
+  // The frame budget and the GL limits: render::CheckFrameSize (ibr bench scene).
+  if (size < 32 || size > 16384)
+    core::ThrowInputError("SceneBenchOptions", "size {} outside 32..16384", size);
   if (rounds < 1 || rounds > 1000)
     core::ThrowInputError("SceneBenchOptions", "rounds {} outside 1..1000", rounds);
   if (frames < 1 || frames > 1000)

@@ -13,6 +13,7 @@
 #include "core/projection.h"
 #include "core/volume_io.h"
 #include "render/gl/frame_timer.h"
+#include "render/passes/pass.h"
 
 namespace bench {
 
@@ -52,8 +53,9 @@ VolumeRenderResult RenderVolume(const VolumeRenderRequest& r) {
   const ibr::VolumeObjectData scene =
       ibr::MakeVolumeObject(volume, ibr::TransferForVolume(r.transfer, r.volume), r.effect,
                             r.map_size, r.placement_offset, r.placement_scale);
-  if (r.size < 16 || r.size > 4096)
-    core::ThrowInputError("ibr volume", "--size {} not in [16, 4096]", r.size);
+  // The frame budget and the GL limits: render::CheckFrameSize (ibr volume).
+  if (r.size < 16 || r.size > 16384)
+    core::ThrowInputError("ibr volume", "--size {} not in [16, 16384]", r.size);
   struct Shot {
     std::string name;
     render::ViewSetup view;
@@ -81,6 +83,11 @@ VolumeRenderResult RenderVolume(const VolumeRenderRequest& r) {
                              : core::ClipFromCamPerspective(cam.fx(), cam.fy(), cam.cx(), cam.cy(),
                                                             cam.width, cam.height, near, far);
       shots.push_back({v.name, view, cam.width, cam.height});
+    }
+    for (const Shot& shot : shots) {
+      render::CheckFrameSize(
+          "ibr volume", fmt::format("--cameras '{}': view '{}'", r.cameras.string(), shot.name),
+          shot.width, shot.height);
     }
     if (shots.empty()) core::ThrowFileError("ibr volume", r.cameras, "the dataset has no views");
   }

@@ -7,6 +7,7 @@
 #include <cmath>
 #include <cstdint>
 #include <fstream>
+#include <iterator>
 #include <nlohmann/json.hpp>
 #include <set>
 
@@ -21,6 +22,63 @@ namespace {
 
 constexpr const char* kFormat = "ibr-dataset";
 constexpr int kVersion = 1;
+
+// Counts the elements of the top-level "views" array without building the
+// document, and stops as soon as there are more than `limit`: a 100,000-view
+// manifest is refused after lexing its first views, not after a DOM of all.
+class ViewCounter : public json::json_sax_t {
+ public:
+  explicit ViewCounter(size_t limit) : limit_(limit) {}
+  size_t views() const { return views_; }
+  bool over() const { return views_ > limit_; }
+
+  bool null() override { return Value(); }
+  bool boolean(bool) override { return Value(); }
+  bool number_integer(number_integer_t) override { return Value(); }
+  bool number_unsigned(number_unsigned_t) override { return Value(); }
+  bool number_float(number_float_t, const string_t&) override { return Value(); }
+  bool string(string_t&) override { return Value(); }
+  bool binary(binary_t&) override { return Value(); }
+  bool start_object(std::size_t) override { return Open(); }
+  bool end_object() override { return Close(); }
+  bool start_array(std::size_t) override {
+    if (!Open()) return false;
+    if (depth_ == 2 && key_ == "views") in_views_ = true;
+    return true;
+  }
+  bool end_array() override {
+    if (depth_ == 2) in_views_ = false;
+    return Close();
+  }
+  bool key(string_t& k) override {
+    if (depth_ == 1) key_ = k;
+    return true;
+  }
+  bool parse_error(std::size_t, const std::string&, const nlohmann::detail::exception&) override {
+    return false;  // the full parse reports it
+  }
+
+ private:
+  // An element of "views" starts at depth 3 (objects, arrays) or is a scalar at depth 2.
+  bool Count() {
+    ++views_;
+    return views_ <= limit_;
+  }
+  bool Value() { return in_views_ && depth_ == 2 ? Count() : true; }
+  bool Open() {
+    ++depth_;
+    return in_views_ && depth_ == 3 ? Count() : true;
+  }
+  bool Close() {
+    --depth_;
+    return true;
+  }
+  size_t limit_;
+  size_t views_ = 0;
+  int depth_ = 0;
+  bool in_views_ = false;
+  std::string key_;
+};
 
 // A relative path that stays inside the dataset directory.
 bool SafeRelativePath(const std::string& p) {
@@ -243,11 +301,24 @@ core::ImageF Dataset::LoadNormal(size_t i) const {
   return normal;
 }
 
-Dataset ReadManifest(std::istream& in, const std::string& name) {
+Dataset ReadManifest(std::istream& in, const std::string& name, const DatasetUse& use) {
   const std::string where = fmt::format("ReadManifest: '{}'", name);
+  const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  // The view count first, before a view is parsed (and before the document is
+  // built): the limit of this use, else the dataset limit.
+  const size_t max_views = std::min(use.max_views, kDatasetLimits.max_views);
+  const std::string why = use.purpose.empty() || max_views == kDatasetLimits.max_views
+                              ? ""
+                              : fmt::format(" {}", use.purpose);
+  ViewCounter counter(max_views);
+  json::sax_parse(text, &counter);
+  if (counter.over()) {
+    core::ThrowInputError(where, "more than {} views; at most {}{} are supported", max_views,
+                          max_views, why);
+  }
   json j;
   try {
-    j = json::parse(in);
+    j = json::parse(text);
   } catch (const json::exception& e) {
     core::ThrowInputError(where, "not valid JSON ({})", e.what());
   }
@@ -353,12 +424,12 @@ void WriteManifest(std::ostream& out, const Dataset& dataset) {
   out << j.dump(2) << "\n";
 }
 
-Dataset ReadDataset(const fs::path& dir, bool check_pixels) {
+Dataset ReadDataset(const fs::path& dir, bool check_pixels, const DatasetUse& use) {
   const fs::path manifest = dir / "dataset.json";
   if (!fs::is_directory(dir)) core::ThrowFileError("ReadDataset", dir, "not a directory");
   std::ifstream in(manifest, std::ios::binary);
   if (!in) core::ThrowFileError("ReadDataset", manifest, "cannot open (missing dataset.json?)");
-  Dataset dataset = ReadManifest(in, manifest.string());
+  Dataset dataset = ReadManifest(in, manifest.string(), use);
   dataset.root = dir;
   for (size_t i = 0; i < dataset.views.size(); ++i) {
     const DatasetView& view = dataset.views[i];

@@ -98,14 +98,23 @@ struct Dataset {
   }
 };
 
+// What the reader will use a dataset for, when that limits it more than
+// kDatasetLimits: checked on the manifest, before a view is parsed or any
+// image is opened.
+struct DatasetUse {
+  size_t max_views = kDatasetLimits.max_views;
+  std::string purpose;  // named in the error ("maps of one depth object"); empty = none
+};
+
 // The manifest alone, through streams (`name` is used in messages).
-Dataset ReadManifest(std::istream& in, const std::string& name);
+Dataset ReadManifest(std::istream& in, const std::string& name, const DatasetUse& use = {});
 void WriteManifest(std::ostream& out, const Dataset& dataset);
 
 // Reads DIR/dataset.json, checks it, and checks that every referenced file
 // exists and has the camera's size (headers only). `check_pixels` also loads
 // every image and validates values.
-Dataset ReadDataset(const std::filesystem::path& dir, bool check_pixels = false);
+Dataset ReadDataset(const std::filesystem::path& dir, bool check_pixels = false,
+                    const DatasetUse& use = {});
 
 // Writes a dataset into a staged directory: images view by view, manifest on
 // Commit(); nothing is left at `dir` if Commit() is not reached.

@@ -7,7 +7,7 @@
 #include <nlohmann/json.hpp>
 #include <opencv2/core.hpp>
 #include <opencv2/imgproc.hpp>
-#include <regex>
+#include <optional>
 #include <sstream>
 
 #include "core/error.h"
@@ -98,6 +98,74 @@ std::vector<Rigid3> ReadRedwoodLog(std::istream& in, const std::string& name) {
   return poses;
 }
 
+Camera ReadRedwoodIntrinsics(std::istream& in, const std::string& name) {
+  const std::string where = fmt::format("ReadRedwoodIntrinsics: '{}'", name);
+  int width = 0, height = 0;
+  std::vector<double> k;
+  try {
+    const nlohmann::json j = nlohmann::json::parse(in);
+    for (const char* key : {"width", "height"}) {
+      if (!j.at(key).is_number_integer() || j.at(key).get<int64_t>() < 1 ||
+          j.at(key).get<int64_t>() > 1 << 20) {
+        core::ThrowInputError(where, "\"{}\" must be an integer image size, not {}", key,
+                              j.at(key).dump());
+      }
+    }
+    width = j.at("width").get<int>();
+    height = j.at("height").get<int>();
+    k = j.at("intrinsic_matrix").get<std::vector<double>>();
+  } catch (const nlohmann::json::exception& e) {
+    core::ThrowInputError(where, "bad intrinsics JSON: {}", e.what());
+  }
+  if (k.size() != 9)
+    core::ThrowInputError(where, "intrinsic_matrix has {} numbers, expected 9", k.size());
+  // Column-major 3x3: fx = k[0], fy = k[4], cx = k[6], cy = k[7]; Open3D's
+  // integer pixel centres -> +0.5 in ours.
+  const Camera camera = Camera::Pinhole(width, height, k[0], k[4], k[6] + 0.5, k[7] + 0.5);
+  camera.Check(where);
+  return camera;
+}
+
+std::optional<Bounds> ReadMiddleburyBounds(std::istream& in, const std::string& name) {
+  const std::string where = fmt::format("ReadMiddleburyBounds: '{}'", name);
+  const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  // "(x y z)" at `at`: the three tokens between the parentheses, or nothing
+  // (a scan, not std::regex, whose recursion grows with the input).
+  auto triple = [&](size_t at, size_t& end) -> std::optional<std::vector<std::string>> {
+    if (at >= text.size() || text[at] != '(') return std::nullopt;
+    end = text.find(')', at);
+    if (end == std::string::npos) return std::nullopt;
+    std::istringstream s(text.substr(at + 1, end - at - 1));
+    std::vector<std::string> tokens;
+    for (std::string t; s >> t;) tokens.push_back(t);
+    if (tokens.size() != 3) return std::nullopt;
+    for (const std::string& t : tokens) {
+      if (t.find_first_not_of("-0123456789.eE+") != std::string::npos) return std::nullopt;
+    }
+    return tokens;
+  };
+  for (size_t at = text.find('('); at != std::string::npos; at = text.find('(', at + 1)) {
+    size_t end = 0, end2 = 0;
+    const auto lo = triple(at, end);
+    if (!lo) continue;
+    const size_t next = text.find_first_not_of(" \t\r\n", end + 1);
+    const auto hi = next == std::string::npos ? std::nullopt : triple(next, end2);
+    if (!hi) continue;
+    double v[6];
+    for (int i = 0; i < 6; ++i) {
+      // The tokens may still be "-", "e" or "1e999": each must be one finite number.
+      const std::string& t = i < 3 ? (*lo)[i] : (*hi)[i - 3];
+      const std::vector<double> one = ParseNumbers(t, where, 1);
+      if (one.size() != 1) core::ThrowInputError(where, "bounding box number '{}'", t);
+      v[i] = one[0];
+    }
+    const Bounds bounds{{v[0], v[1], v[2]}, {v[3], v[4], v[5]}};
+    CheckBounds(bounds, where);
+    return bounds;
+  }
+  return std::nullopt;
+}
+
 Dataset ImportRedwood(const fs::path& source, const fs::path& out,
                       const RedwoodImportOptions& options,
                       const std::function<void(int, int)>& progress) {
@@ -106,24 +174,8 @@ Dataset ImportRedwood(const fs::path& source, const fs::path& out,
   if (!fs::is_directory(source)) core::ThrowFileError(kWhere, source, "not a directory");
   const fs::path intrinsics_path = source / "camera_primesense.json";
   auto in = Open(intrinsics_path, kWhere);
-  nlohmann::json j;
-  int width = 0, height = 0;
-  std::vector<double> k;
-  try {
-    j = nlohmann::json::parse(in);
-    width = j.at("width").get<int>();
-    height = j.at("height").get<int>();
-    k = j.at("intrinsic_matrix").get<std::vector<double>>();
-  } catch (const nlohmann::json::exception& e) {
-    core::ThrowFileError(kWhere, intrinsics_path, "bad intrinsics JSON: {}", e.what());
-  }
-  if (k.size() != 9)
-    core::ThrowFileError(kWhere, intrinsics_path, "intrinsic_matrix has {} numbers, expected 9",
-                         k.size());
-  // Column-major 3x3: fx = k[0], fy = k[4], cx = k[6], cy = k[7]; Open3D's
-  // integer pixel centres -> +0.5 in ours.
-  const Camera camera = Camera::Pinhole(width, height, k[0], k[4], k[6] + 0.5, k[7] + 0.5);
-  camera.Check(fmt::format("{}: '{}'", kWhere, intrinsics_path.string()));
+  const Camera camera = ReadRedwoodIntrinsics(in, intrinsics_path.string());
+  const int width = camera.width, height = camera.height;
   auto log = Open(source / "trajectory.log", kWhere);
   const std::vector<Rigid3> poses = ReadRedwoodLog(log, (source / "trajectory.log").string());
 
@@ -252,15 +304,8 @@ Dataset ImportMiddlebury(const fs::path& source, const fs::path& out,
   DatasetWriter writer(out);
   // README.txt: "(x y z)\n(x y z)" after "bounding box".
   if (std::ifstream readme(source / "README.txt"); readme) {
-    const std::string text((std::istreambuf_iterator<char>(readme)),
-                           std::istreambuf_iterator<char>());
-    const std::regex box(
-        R"(\(\s*([-0-9.eE+]+)\s+([-0-9.eE+]+)\s+([-0-9.eE+]+)\s*\)\s*\(\s*([-0-9.eE+]+)\s+([-0-9.eE+]+)\s+([-0-9.eE+]+)\s*\))");
-    std::smatch m;
-    if (std::regex_search(text, m, box)) {
-      writer.SetBounds({{std::stod(m[1]), std::stod(m[2]), std::stod(m[3])},
-                        {std::stod(m[4]), std::stod(m[5]), std::stod(m[6])}});
-    }
+    if (const auto box = ReadMiddleburyBounds(readme, (source / "README.txt").string()))
+      writer.SetBounds(*box);
   }
   const cv::Mat kernel = cv::getStructuringElement(cv::MORPH_RECT, {3, 3});
   for (size_t i = 0; i < views.size(); ++i) {

@@ -4,6 +4,7 @@
 
 #include <filesystem>
 #include <functional>
+#include <optional>
 
 #include "capture/dataset.h"
 
@@ -51,5 +52,12 @@ struct MiddleburyView {
   Rigid3 cam_from_world;
 };
 std::vector<MiddleburyView> ReadMiddleburyPar(std::istream& in, const std::string& name);
+// Redwood's camera_primesense.json: {"width", "height", "intrinsic_matrix"
+// (9 numbers, column-major K)}; the camera is checked (sizes, focal lengths).
+Camera ReadRedwoodIntrinsics(std::istream& in, const std::string& name);
+// The bounding box of a Middlebury README.txt: the first "(x y z) (x y z)"
+// pair; nullopt when the text holds none. Numbers must be finite and the box
+// pass capture::CheckBounds.
+std::optional<Bounds> ReadMiddleburyBounds(std::istream& in, const std::string& name);
 
 }  // namespace capture

@@ -96,8 +96,18 @@ int main(int argc, char** argv) {
          R"("cy": 2, "cam_from_world": [[1, 0, 0, 0], [0, 1, 0, 0], [0, 0, 1, 3]]}]},)"
          R"("objects": [{"type": "mesh", "mesh": {"file": "m.obj"}, "transform": {"matrix": [[1, 0, 0, 0], [0, 1, 0, 0], [0, 0, 1, 0]]}}]})";
   });
+  Seed(root, "redwood_intrinsics", "1", [](std::ostream& o) {
+    o << R"({"width": 640, "height": 480, "intrinsic_matrix": [525, 0, 0, 0, 525, 0, 319.5, 239.5, 1]})";
+  });
+  Seed(root, "middlebury_bounds", "1", [](std::ostream& o) {
+    o << "The bounding box of the object is\n(-0.023121 -0.038009 -0.091940)\n"
+         "(0.078626 0.121636 -0.017395)\n";
+  });
   if (argc > 2) {
     const fs::path shared = argv[2];
+    CopyIfExists(shared / "rgbd/redwood5/camera_primesense.json", root, "redwood_intrinsics");
+    CopyIfExists(shared / "photos/templeSparseRing/README.txt", root, "middlebury_bounds");
+    CopyIfExists(shared / "photos/dinoSparseRing/README.txt", root, "middlebury_bounds");
     CopyIfExists(shared / "rgbd/redwood5/trajectory.log", root, "redwood_log");
     CopyIfExists(shared / "rgbd/redwood5/odometry.log", root, "redwood_log");
     CopyIfExists(shared / "photos/templeSparseRing/templeSR_par.txt", root, "middlebury_par");

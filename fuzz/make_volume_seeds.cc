@@ -1,8 +1,9 @@
 // Writes the seed corpora of the volume readers' fuzz targets: small valid
 // QVis pairs (header, NUL, raw; see fuzz_qvis.cc) and NRRD files (raw and
-// gzip, little and big endian, every voxel type), made by our own writers.
+// gzip, little and big endian, every voxel type), made by our own writers,
+// and transfer-function JSON files.
 //   make_volume_seeds OUT_DIR
-// Writes OUT_DIR/qvis/<seed> and OUT_DIR/nrrd/<seed>.
+// Writes OUT_DIR/qvis/<seed>, OUT_DIR/nrrd/<seed> and OUT_DIR/transfer_function/<seed>.
 #include <filesystem>
 #include <fstream>
 #include <iostream>
@@ -41,6 +42,13 @@ int main(int argc, char** argv) {
   big << "NRRD0005\n# comment\ntype: unsigned short\ndimension: 3\nsizes: 2 1 1\n"
          "space directions: (0,0.5,0) (3,4,0) (0,0,2)\nendian: big\nencoding: raw\nkey:=value\n\n";
   big.write("\x01\x02\x00\xff", 4);
+  fs::create_directories(root / "transfer_function");
+  const char* transfer[] = {
+      R"({"points": [[0, 0, 0, 0, 0], [1, 1, 1, 1, 1]]})",
+      R"({"points": [[0.2, 1, 0.5, 0, 0.1], [0.5, 0, 1, 0, 0.5], [0.9, 1, 1, 1, 0.9]]})",
+      R"({"points": [[0.5, 0.1, 0.2, 0.3, 0.4]]})", R"({"points": [[0, "nan", 0, 0, 0]]})"};
+  for (int i = 0; i < 4; ++i)
+    std::ofstream(root / "transfer_function" / std::to_string(i), std::ios::binary) << transfer[i];
   std::cout << "make_volume_seeds: corpora in " << root.string() << "\n";
   return 0;
 }

@@ -29,6 +29,11 @@ glm::dmat4 Mat4From(const capture::Rigid3& cam_from_world) {
   return m;
 }
 
+capture::Dataset ReadMapDataset(const std::filesystem::path& dir) {
+  return capture::ReadDataset(
+      dir, false, {kMaxMaps, "maps of one depth object or visual hull (ibr::kMaxMaps)"});
+}
+
 MapSet MapsFromDataset(const capture::Dataset& dataset, double padding) {
   const std::string where = "MapsFromDataset: '" + dataset.root.string() + "'";
   if (!dataset.bounds)

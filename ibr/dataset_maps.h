@@ -1,6 +1,7 @@
 // From capture/ datasets to the plain inputs of the ibr passes.
 #pragma once
 
+#include <filesystem>
 #include <vector>
 
 #include "capture/camera.h"
@@ -13,6 +14,11 @@ namespace ibr {
 // (undistort first: capture::UndistortImage).
 MapCamera MapCameraFrom(const capture::Camera& camera, const std::string& where);
 glm::dmat4 Mat4From(const capture::Rigid3& cam_from_world);
+
+// Reads DIR as the maps of one depth object or visual hull: capture::ReadDataset
+// with at most kMaxMaps views, counted on the manifest before a view is parsed
+// or any image opened; the error names DIR/dataset.json.
+capture::Dataset ReadMapDataset(const std::filesystem::path& dir);
 
 // Loads every view's depth (if any), colour and mask (if any). The box is the
 // dataset's bounds padded by `padding` of their largest extent on every side

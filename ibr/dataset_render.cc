@@ -13,6 +13,7 @@
 #include "ibr/demo_scene.h"
 #include "ibr/views.h"
 #include "render/gl/gl.h"
+#include "render/passes/pass.h"
 
 namespace ibr {
 
@@ -20,7 +21,8 @@ void DatasetRenderJob::Check() const {
   constexpr const char* kWhere = "ibr render";
   if (cameras.empty() == (orbit <= 0))
     core::ThrowInputError(kWhere, "give exactly one of --cameras OTHER_DATASET or --orbit N");
-  if (size < 0 || size > 16384) core::ThrowInputError(kWhere, "--size {} outside 1..16384", size);
+  // The upper bound: render::CheckFrameSize (GL limits, frame budget) per view.
+  if (size < 0) core::ThrowInputError(kWhere, "--size {} is negative", size);
   options.Check();
 }
 
@@ -29,24 +31,31 @@ DatasetRenderStats RenderDatasetToDataset(render::ProgramCache& programs,
                                           const std::filesystem::path& out,
                                           const std::function<void(const std::string&)>& progress) {
   job.Check();
-  // Parse -> plain CPU data -> GPU -> passes.
-  const capture::Dataset dataset = capture::ReadDataset(job.dataset);
-  MapSet maps = MapsFromDataset(dataset);
+  // Parse -> plain CPU data -> GPU -> passes. The manifests first: no image
+  // is opened before the map count and every frame size are checked.
+  const capture::Dataset dataset = ReadMapDataset(job.dataset);
   std::vector<NamedView> views;
+  OrbitOptions orbit;
+  orbit.count = job.orbit;
+  orbit.size = job.size > 0 ? job.size : 512;
   if (!job.cameras.empty()) {
     const capture::Dataset other = capture::ReadDataset(job.cameras);
     const std::vector<ViewCamera> cams = ViewsFromDataset(other);
     for (size_t i = 0; i < cams.size(); ++i) {
       NamedView v{other.views[i].name, cams[i]};
       if (job.size > 0) v.view.camera = ResizeCamera(v.view.camera, job.size);
+      render::CheckFrameSize(
+          "ibr render",
+          job.size > 0 ? std::string("--size")
+                       : fmt::format("--cameras '{}': view '{}'", job.cameras.string(), v.name),
+          v.view.camera.width, v.view.camera.height);
       views.push_back(v);
     }
   } else {
-    OrbitOptions orbit;
-    orbit.count = job.orbit;
-    orbit.size = job.size > 0 ? job.size : 512;
-    views = OrbitViews(maps, orbit);
+    render::CheckFrameSize("ibr render", "--size", orbit.size, orbit.size);
   }
+  MapSet maps = MapsFromDataset(dataset);
+  if (job.cameras.empty()) views = OrbitViews(maps, orbit);
   DatasetRenderStats stats;
   stats.maps = maps.maps.size();
   spdlog::info("render: {} maps from {}, {} views, {} {} slicing, {} slices{}", stats.maps,
@@ -78,8 +87,8 @@ DatasetRenderStats RenderDatasetToDataset(render::ProgramCache& programs,
     stats.frame_ms.push_back(watch.ElapsedMs());
     const DepthObjectFrame frame = DepthObjectRenderer::ReadFrame(target);
     const int cam = writer.AddCamera(CaptureCamera(v.view.camera));
-    writer.AddView(v.name, cam, RigidFromMat4(v.view.cam_from_world), frame.color, frame.depth,
-                   frame.mask, {});
+    writer.AddView(v.name, cam, RigidFromMat4(v.view.cam_from_world), frame.color,
+                   DatasetDepth(frame.depth), frame.mask, {});
     int64_t covered = 0;
     for (uint8_t m : frame.mask.values()) covered += m > 0;
     std::string accuracy;

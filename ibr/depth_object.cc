@@ -333,13 +333,13 @@ DepthObjectRenderer::DepthObjectRenderer(render::ProgramCache& programs, MapSet 
     : programs_(&programs), maps_(std::move(maps)) {
   maps_.Check("DepthObjectRenderer");
   map_ubo_ = render::Buffer::Create();
-  glNamedBufferData(map_ubo_.id(), sizeof(MapRecord) * 64, nullptr, GL_DYNAMIC_DRAW);
+  glNamedBufferData(map_ubo_.id(), sizeof(MapRecord) * kMaxMaps, nullptr, GL_DYNAMIC_DRAW);
   GLint align = 16;
   glGetIntegerv(GL_UNIFORM_BUFFER_OFFSET_ALIGNMENT, &align);
   align = std::max(align, 1);
   current_stride_ = static_cast<GLint>((sizeof(MapRecord) + align - 1) / align * align);
   current_ubo_ = render::Buffer::Create();
-  glNamedBufferData(current_ubo_.id(), static_cast<GLsizeiptr>(current_stride_) * 64, nullptr,
+  glNamedBufferData(current_ubo_.id(), static_cast<GLsizeiptr>(current_stride_) * kMaxMaps, nullptr,
                     GL_DYNAMIC_DRAW);
   empty_vao_ = render::VertexArray::Create();
 }
@@ -415,7 +415,7 @@ const render::RenderTarget& DepthObjectRenderer::Accum(int width, int height) {
 
 std::vector<std::string> DepthObjectRenderer::Defines(const FrameParams& frame,
                                                       const DepthObjectOptions& options) const {
-  std::vector<std::string> d;
+  std::vector<std::string> d = {fmt::format("MAX_MAPS {}", kMaxMaps)};
   if (options.method == Method::kVisualHull) d.push_back("VISUAL_HULL");
   if (options.outside == OutsidePolicy::kPass) d.push_back("OUTSIDE_PASSES");
   if (options.invalid_depth == InvalidDepthPolicy::kNoConstraint)
@@ -431,7 +431,7 @@ void DepthObjectRenderer::BindMaps(const GpuTables& t) const {
 }
 
 void DepthObjectRenderer::UploadFrame(const FrameParams& frame) {
-  IBR_CHECK_LE(frame.maps.size(), 64u);
+  IBR_CHECK_LE(frame.maps.size(), static_cast<size_t>(kMaxMaps));
   glNamedBufferSubData(map_ubo_.id(), 0, sizeof(MapRecord) * frame.maps.size(), frame.maps.data());
   std::vector<uint8_t> strided(static_cast<size_t>(current_stride_) * frame.maps.size(), 0);
   for (size_t i = 0; i < frame.maps.size(); ++i) {

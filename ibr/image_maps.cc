@@ -21,8 +21,8 @@ void MapCamera::Check(const std::string& where) const {
 
 void MapSet::Check(const std::string& where) const {
   if (maps.empty()) core::ThrowInputError(where, "no maps");
-  if (maps.size() > 64)
-    core::ThrowInputError(where, "{} maps; at most 64 are supported", maps.size());
+  if (maps.size() > static_cast<size_t>(kMaxMaps))
+    core::ThrowInputError(where, "{} maps; at most {} are supported", maps.size(), kMaxMaps);
   const double det = glm::determinant(glm::dmat3(world_from_box));
   if (!(std::abs(det) > 0) || !std::isfinite(det)) {
     core::ThrowInputError(where, "the bounding box transform is singular");

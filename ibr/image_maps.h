@@ -50,6 +50,12 @@ struct ViewCamera {
   glm::dmat4 cam_from_world{1.0};  // rigid, OpenCV axes
 };
 
+// The most maps one depth object or visual hull takes per frame: the size of
+// the passes' map table (a uniform block; the shaders' MAX_MAPS is defined
+// from it). Checked on the manifest (ibr::ReadMapDataset) before any image is
+// loaded, and by MapSet::Check.
+inline constexpr int kMaxMaps = 64;
+
 struct MapSet {
   std::vector<ImageMap> maps;
   // The object's bounding box: [0,1]^3 -> world, affine (the paper's cube;

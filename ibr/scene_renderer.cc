@@ -16,6 +16,7 @@
 #include "render/gl/gl.h"
 #include "render/gl/gpu_mesh.h"
 #include "render/passes/mesh_pass.h"
+#include "render/passes/pass.h"
 
 namespace ibr {
 namespace {
@@ -145,7 +146,7 @@ LoadedObject LoadObject(render::ProgramCache& programs, const scene::Object& o) 
       }
       l.world_from_object = o.world_from_object;
       if (!o.images.dataset.empty()) {
-        l.maps = MapsFromDataset(capture::ReadDataset(o.images.dataset));
+        l.maps = MapsFromDataset(ReadMapDataset(o.images.dataset));
       } else {
         capture::SceneMesh mesh;
         try {
@@ -254,6 +255,11 @@ LoadedScene LoadScene(render::ProgramCache& programs, const scene::Scene& s) {
         loaded.views.push_back(v);
       }
       break;
+  }
+  // Every frame size the scene asks for, before any frame target exists.
+  for (const NamedView& v : loaded.views) {
+    render::CheckFrameSize("LoadScene", fmt::format("'{}' /cameras: view '{}'", s.name, v.name),
+                           v.view.camera.width, v.view.camera.height);
   }
   return loaded;
 }
@@ -376,8 +382,8 @@ SceneRenderStats RenderSceneToDataset(render::ProgramCache& programs, const Load
     for (uint8_t m : frame.mask.values()) covered += m > 0;
     stats.object_pixels.push_back(covered);
     const int cam = writer.AddCamera(CaptureCamera(v.view.camera));
-    writer.AddView(v.name, cam, RigidFromMat4(v.view.cam_from_world), frame.color, frame.depth,
-                   frame.mask, {});
+    writer.AddView(v.name, cam, RigidFromMat4(v.view.cam_from_world), frame.color,
+                   DatasetDepth(frame.depth), frame.mask, {});
     if (progress) {
       progress(fmt::format("view {}/{} {} {}x{}: {:.1f} ms, {} object pixels", i + 1,
                            scene.views.size(), v.name, v.view.camera.width, v.view.camera.height,

@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <climits>
 #include <cmath>
 
 #include "core/error.h"
@@ -118,11 +119,20 @@ render::ViewSetup ViewSetupFor(const ViewCamera& view, const capture::Bounds& bo
   return setup;
 }
 
+core::ImageF DatasetDepth(const core::ImageF& camera_z) {
+  core::ImageF depth = camera_z;
+  for (float& z : depth.values()) {
+    if (z < 0) z = 0;
+  }
+  return depth;
+}
+
 MapCamera ResizeCamera(const MapCamera& camera, int width) {
   const double s = static_cast<double>(width) / camera.width;
   MapCamera c = camera;
   c.width = width;
-  c.height = std::max(1, static_cast<int>(std::lround(camera.height * s)));
+  // Clamped so that an absurd width gives an absurd (checked) size, not an overflow.
+  c.height = static_cast<int>(std::clamp(std::lround(camera.height * s), 1L, long{INT_MAX}));
   const double sy = static_cast<double>(c.height) / camera.height;
   c.fx *= s;
   c.cx *= s;

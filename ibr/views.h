@@ -47,6 +47,15 @@ capture::RigView RigViewFor(const ViewCamera& view, const capture::Bounds& bound
 // widened by 5 %, near kept in front of the camera.
 render::ViewSetup ViewSetupFor(const ViewCamera& view, const capture::Bounds& bounds);
 
+// A rendered camera-z image (0 = empty) as a dataset's depth: an
+// orthographic view also shows what lies behind its image plane (camera
+// z < 0, inside its clip range; e.g. a cube rig's camera placed inside
+// another dataset's box), which a dataset cannot hold (depth is 0 = invalid,
+// or positive). Those pixels get invalid depth (0), keeping their colour and
+// mask; every other value is copied. The one place rendered frames become
+// dataset depth (ibr render, scene files).
+core::ImageF DatasetDepth(const core::ImageF& camera_z);
+
 // A camera scaled to `width` pixels wide (height keeps the aspect ratio).
 MapCamera ResizeCamera(const MapCamera& camera, int width);
 

@@ -4,6 +4,7 @@
 #include "apps/ibr/commands.h"
 #include "render/gl/context.h"
 #include "render/gl/fill_rate.h"
+#include "render/passes/pass.h"
 
 namespace apps {
 
@@ -23,6 +24,7 @@ void AddFillRateBench(CLI::App& app) {
   fill->callback([] {
     options.height = options.width;
     auto context = render::HeadlessContext::Create();
+    render::CheckFrameSize("ibr bench fillrate", "--size", options.width, options.height);
     render::ProgramCache programs;
     fmt::print("{} | {}\n", context->info().renderer, context->info().version);
     for (bool linear : {false, true}) {

@@ -8,6 +8,7 @@
 #include "bench/ncs_bench.h"
 #include "core/error.h"
 #include "render/gl/context.h"
+#include "render/passes/pass.h"
 
 namespace apps {
 
@@ -29,10 +30,11 @@ void AddNcsBench(CLI::App& app) {
   cmd->add_option("--views", options.views, "oblique, grazing, edge")->capture_default_str();
   cmd->callback([] {
     bench::NcsBenchOptions o = quick ? bench::NcsBenchOptions::Quick() : options;
+    auto context = render::HeadlessContext::Create();
+    render::CheckFrameSize("ibr bench ncs", "--size", o.size, o.size);
     o.Check();
     const std::filesystem::path& csv_path = csv;
     const std::filesystem::path out_dir = CheckBenchOutputs("ibr bench ncs", csv, out);
-    auto context = render::HeadlessContext::Create();
     render::ProgramCache programs;
     fmt::print("{} | {}\n", context->info().renderer, context->info().version);
     const bench::NcsBenchResult result = bench::RunNcsBench(programs, o);

@@ -9,6 +9,7 @@
 #include "bench/scene_bench.h"
 #include "core/error.h"
 #include "render/gl/context.h"
+#include "render/passes/pass.h"
 
 namespace apps {
 namespace {
@@ -23,9 +24,10 @@ void AddSceneBench(CLI::App& app) {
   cmd->add_option("--size", options.size, "frame width = height in pixels")->capture_default_str();
   cmd->add_option("--rounds", options.rounds, "interleaved rounds")->capture_default_str();
   cmd->callback([] {
+    auto context = render::HeadlessContext::Create();
+    render::CheckFrameSize("ibr bench scene", "--size", options.size, options.size);
     options.Check();
     const std::filesystem::path out_dir = CheckBenchOutputs("ibr bench scene", csv, out);
-    auto context = render::HeadlessContext::Create();
     fmt::print("{} | {}\n", context->info().renderer, context->info().version);
     const bench::SceneBenchResult result = bench::RunSceneBench(options);
     fmt::print("{}\n", result.table.Format());

@@ -6,6 +6,7 @@
 #include "apps/ibr/commands.h"
 #include "bench/volume_bench.h"
 #include "render/gl/context.h"
+#include "render/passes/pass.h"
 
 namespace apps {
 namespace {
@@ -24,6 +25,7 @@ void AddVolumeBench(CLI::App& app) {
   cmd->add_flag("!--no-peer", options.peer, "skip the VTK peer");
   cmd->callback([] {
     auto context = render::HeadlessContext::Create();
+    render::CheckFrameSize("ibr bench volume", "--size", options.size, options.size);
     fmt::print("{} | {}\n", context->info().renderer, context->info().version);
     bench::RunVolumeBench(options);
   });

@@ -11,6 +11,7 @@
 #include "capture/synthetic.h"
 #include "core/error.h"
 #include "render/gl/context.h"
+#include "render/passes/pass.h"
 
 namespace apps {
 namespace {
@@ -43,11 +44,12 @@ void RunCapture(CaptureCommandOptions o, bool rig_given, bool size_given) {
   if (o.out.empty()) core::ThrowInputError("ibr capture", "--out DIR is required");
   if (!o.texture.empty() && o.mesh.empty())
     core::ThrowInputError("ibr capture", "--texture applies to --mesh only");
+  auto context = render::HeadlessContext::Create();
+  render::CheckFrameSize("ibr capture", "--size", o.capture.size, o.capture.size);
   o.capture.Check();
   const auto start = std::chrono::steady_clock::now();
   const capture::SceneMesh scene =
       o.mesh.empty() ? capture::MakeShapeScene(o.shape) : capture::LoadSceneMesh(o.mesh, o.texture);
-  auto context = render::HeadlessContext::Create();
   render::ProgramCache programs;
   spdlog::info("capture: {} ({} triangles{}), rig {}, {} px", scene.source,
                scene.mesh.triangle_count(), scene.texture.empty() ? "" : ", textured",
@@ -76,7 +78,6 @@ void AddCaptureCommand(CLI::App& app) {
                   "texture image (default: the material's, or <stem>_texture.png)");
   cmd->add_option("--rig", o.capture.rig, "cube | ring:N | sphere:N")->capture_default_str();
   cmd->add_option("--size", o.capture.size, "image width = height in pixels")
-      ->check(CLI::Range(16, 8192))
       ->capture_default_str();
   cmd->add_option("--fov", o.capture.fov_deg, "perspective field of view, degrees")
       ->capture_default_str();

@@ -10,6 +10,7 @@
 #include "bench/deform_bench.h"
 #include "core/error.h"
 #include "render/gl/context.h"
+#include "render/passes/pass.h"
 
 namespace apps {
 namespace {
@@ -120,8 +121,9 @@ void RunDeformCommand(const DeformFlags& f) {
   o.elevation_deg = f.elevation;
   o.cameras = f.cameras;
   o.out = f.out;
-  o.Check();  // before any GL or mesh work
   auto context = render::HeadlessContext::Create();
+  render::CheckFrameSize("ibr deform", "--size", o.size, o.size);
+  o.Check();  // before any mesh work
   render::ProgramCache programs;
   const bench::DeformRunReport r = bench::RunDeform(programs, o);
   fmt::print(

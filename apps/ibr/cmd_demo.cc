@@ -17,6 +17,7 @@
 #include "ibr/displaced_mesh.h"
 #include "render/gl/context.h"
 #include "render/gl/frame_timer.h"
+#include "render/passes/pass.h"
 
 namespace apps {
 namespace {
@@ -69,10 +70,9 @@ struct DemoOptions {
 };
 
 void RunDemo(const DemoOptions& options) {
-  if (options.size < 16 || options.size > 8192) {
-    core::ThrowInputError("ibr demo", "--size {} is outside 16..8192", options.size);
-  }
+  if (options.size < 16) core::ThrowInputError("ibr demo", "--size {} is below 16", options.size);
   auto context = render::HeadlessContext::Create();
+  render::CheckFrameSize("ibr demo", "--size", options.size, options.size);
   spdlog::info("GL: {} | {}", context->info().version, context->info().renderer);
   render::ProgramCache programs;
 

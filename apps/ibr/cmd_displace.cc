@@ -20,6 +20,7 @@
 #include "ibr/displaced_mesh.h"
 #include "render/gl/context.h"
 #include "render/gl/frame_timer.h"
+#include "render/passes/pass.h"
 #include "render/passes/relief_surface_pass.h"
 
 namespace apps {
@@ -74,8 +75,7 @@ Drawn Draw(render::ProgramCache& programs, const ibr::DisplacedMeshData& data,
 
 void RunDisplace(const DisplaceOptions& o) {
   constexpr const char* kWhere = "ibr displace";
-  if (o.size < 16 || o.size > 8192)
-    core::ThrowInputError(kWhere, "--size {} outside 16..8192", o.size);
+  if (o.size < 16) core::ThrowInputError(kWhere, "--size {} is below 16", o.size);
   if (o.texels < 4 || o.texels > 4096)
     core::ThrowInputError(kWhere, "--texels {} outside 4..4096", o.texels);
   if (o.out.extension() != ".png")
@@ -89,6 +89,8 @@ void RunDisplace(const DisplaceOptions& o) {
   options.tiling = o.tiling;
   options.slices = o.slices;
   options.Check();
+  auto context = render::HeadlessContext::Create();
+  render::CheckFrameSize(kWhere, "--size", o.size, o.size);
 
   // Parse -> plain CPU data -> GPU -> passes.
   ibr::DisplacedMeshData data;
@@ -101,7 +103,6 @@ void RunDisplace(const DisplaceOptions& o) {
   const std::string base = o.mesh.empty() ? o.base : o.mesh.filename().string();
   const std::string height = o.height_map.empty() ? o.height : o.height_map.filename().string();
 
-  auto context = render::HeadlessContext::Create();
   spdlog::info("GL: {} | {}", context->info().version, context->info().renderer);
   render::ProgramCache programs;
   const render::ViewSetup view =

@@ -11,6 +11,7 @@
 #include "bench/volume_render.h"
 #include "core/error.h"
 #include "render/gl/context.h"
+#include "render/passes/pass.h"
 
 namespace apps {
 namespace {
@@ -42,6 +43,8 @@ void RunVolume(VolumeCommandOptions& o) {
   }
   r.pass.Check();
   auto context = render::HeadlessContext::Create();
+  // --size is the orbit view's; --cameras views are checked view by view.
+  render::CheckFrameSize(kWhere, "--size", r.size, r.size);
   spdlog::info("GL: {} | {}", context->info().version, context->info().renderer);
   const bench::VolumeRenderResult result = bench::RenderVolume(r);
   fmt::print(

@@ -8,7 +8,7 @@
 namespace render {
 
 void FillRateOptions::Check() const {
-  if (width < 1 || height < 1 || width > 8192 || height > 8192 || layers_per_frame < 1 ||
+  if (width < 1 || height < 1 || width > 16384 || height > 16384 || layers_per_frame < 1 ||
       layers_per_frame > 4096) {
     core::ThrowInputError("FillRateOptions", "{}x{} x {} layers is out of range", width, height,
                           layers_per_frame);

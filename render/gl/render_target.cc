@@ -17,6 +17,56 @@ void RenderTargetOptions::Check() const {
   }
 }
 
+int64_t TargetBytesPerPixel(const RenderTargetOptions& options) {
+  int64_t bytes = options.depth_stencil ? 4 : 0;
+  for (GLenum format : options.color_formats) {
+    switch (format) {
+      case GL_R8:
+        bytes += 1;
+        break;
+      case GL_RGBA8:
+      case GL_R32F:
+      case GL_R32UI:
+      case GL_RG16F:
+        bytes += 4;
+        break;
+      case GL_RG32F:
+      case GL_RG32UI:
+      case GL_RGBA16F:
+        bytes += 8;
+        break;
+      case GL_RGBA32F:
+      case GL_RGBA32UI:
+        bytes += 16;
+        break;
+      default:
+        core::ThrowInputError("TargetBytesPerPixel", "unknown colour format 0x{:x}", format);
+    }
+  }
+  return bytes;
+}
+
+int GlSizeLimits::MaxWidth() const {
+  return std::min({max_renderbuffer_size, max_texture_size, max_viewport_width});
+}
+
+int GlSizeLimits::MaxHeight() const {
+  return std::min({max_renderbuffer_size, max_texture_size, max_viewport_height});
+}
+
+GlSizeLimits QueryGlSizeLimits() {
+  GlSizeLimits limits;
+  GLint viewport[2] = {0, 0};
+  glGetIntegerv(GL_MAX_RENDERBUFFER_SIZE, &limits.max_renderbuffer_size);
+  glGetIntegerv(GL_MAX_TEXTURE_SIZE, &limits.max_texture_size);
+  glGetIntegerv(GL_MAX_VIEWPORT_DIMS, viewport);
+  limits.max_viewport_width = viewport[0];
+  limits.max_viewport_height = viewport[1];
+  IBR_CHECK_GT(limits.MaxWidth(), 0);
+  IBR_CHECK_GT(limits.MaxHeight(), 0);
+  return limits;
+}
+
 RenderTarget::RenderTarget(const RenderTargetOptions& options) : options_(options) {
   options_.Check();
   framebuffer_ = Framebuffer::Create();

@@ -53,6 +53,23 @@ class RenderTarget {
   Texture depth_stencil_;
 };
 
+// GPU memory of one pixel of a target made with `options`: the sum of its
+// colour formats' sizes plus 4 bytes for DEPTH24_STENCIL8 (an estimate: the
+// driver may pad). InputError for a format this table does not know.
+int64_t TargetBytesPerPixel(const RenderTargetOptions& options);
+
+// The current GL implementation's size limits for a render target (a context
+// must be current): every side of a target must be within all of them.
+struct GlSizeLimits {
+  int max_renderbuffer_size = 0;  // GL_MAX_RENDERBUFFER_SIZE, pixels
+  int max_texture_size = 0;       // GL_MAX_TEXTURE_SIZE, pixels
+  int max_viewport_width = 0;     // GL_MAX_VIEWPORT_DIMS[0], pixels
+  int max_viewport_height = 0;    // GL_MAX_VIEWPORT_DIMS[1], pixels
+  int MaxWidth() const;           // the least of the width limits
+  int MaxHeight() const;          // the least of the height limits
+};
+GlSizeLimits QueryGlSizeLimits();
+
 // Binds the default framebuffer 0 (the window in the viewer).
 void BindDefaultFramebuffer(int width, int height);
 

@@ -1,5 +1,7 @@
 #include "render/passes/pass.h"
 
+#include "core/error.h"
+
 namespace render {
 
 RenderTargetOptions FrameTargetOptions(int width, int height) {
@@ -9,6 +11,39 @@ RenderTargetOptions FrameTargetOptions(int width, int height) {
   options.color_formats = {GL_RGBA8, GL_R32F, GL_RGBA16F, GL_R32UI};
   options.depth_stencil = true;
   return options;
+}
+
+int64_t FrameBytesPerPixel() { return TargetBytesPerPixel(FrameTargetOptions(1, 1)); }
+
+void CheckFrameSize(std::string_view where, std::string_view flag, int width, int height,
+                    const GlSizeLimits& limits) {
+  if (width < 1 || height < 1) {
+    core::ThrowInputError(where, "{}: a {}x{} frame is empty (at least 1x1)", flag, width, height);
+  }
+  if (width > limits.MaxWidth() || height > limits.MaxHeight()) {
+    core::ThrowInputError(where,
+                          "{}: a {}x{} frame is larger than this GL implementation's largest, "
+                          "{}x{} (GL_MAX_RENDERBUFFER_SIZE {}, GL_MAX_TEXTURE_SIZE {}, "
+                          "GL_MAX_VIEWPORT_DIMS {}x{})",
+                          flag, width, height, limits.MaxWidth(), limits.MaxHeight(),
+                          limits.max_renderbuffer_size, limits.max_texture_size,
+                          limits.max_viewport_width, limits.max_viewport_height);
+  }
+  // Pixels first (at most 2^62), so the product with bytes per pixel cannot overflow.
+  const int64_t pixels = int64_t{width} * height;
+  if (pixels > kFrameMemoryBudgetBytes / FrameBytesPerPixel()) {
+    const double bytes = static_cast<double>(pixels) * static_cast<double>(FrameBytesPerPixel());
+    constexpr double kMiB = 1024.0 * 1024.0;
+    core::ThrowInputError(where,
+                          "{}: a {}x{} frame needs {:.1f} MiB ({} bytes per pixel), over the "
+                          "frame budget of {:.0f} MiB",
+                          flag, width, height, bytes / kMiB, FrameBytesPerPixel(),
+                          kFrameMemoryBudgetBytes / kMiB);
+  }
+}
+
+void CheckFrameSize(std::string_view where, std::string_view flag, int width, int height) {
+  CheckFrameSize(where, flag, width, height, QueryGlSizeLimits());
 }
 
 void UseProgram(const RenderTarget& target, const Program& program, const ViewSetup& view) {

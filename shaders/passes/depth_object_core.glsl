@@ -20,7 +20,7 @@
 //   ROBUST_COUNT             ObjectField counts accepting maps (robust intersection)
 //   SUBTEXEL_DEPTH           depth interpolated inside the silhouette (ray path only;
 //                            the slice passes stay bit-exact with nearest texels)
-//   MAX_MAPS                 size of the map table (default 64)
+//   MAX_MAPS                 size of the map table (ibr::kMaxMaps; the renderer defines it)
 
 #ifndef MAX_MAPS
 #define MAX_MAPS 64

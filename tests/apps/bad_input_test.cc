@@ -397,7 +397,8 @@ std::vector<Case> Corpus() {
            j["views"].push_back(v);
          }
        },
-       "5000 views; at most 4096"},
+       "views; at most"},  // info: more than 4096; render (maps): more than 64
+
       {"format_wrong", [](json& j) { j["format"] = "other"; }, "\"format\" is not"},
       {"version_2", [](json& j) { j["version"] = 2; }, "unsupported version 2"},
       {"views_not_array", [](json& j) { j["views"] = 3; }, "\"views\" is not an array"},
@@ -419,6 +420,25 @@ std::vector<Case> Corpus() {
           return "render " + make_dataset(dir) + " --orbit 1 --size 16 --out " + Quote(out);
         },
         e.expect);
+  }
+  // The map limit (ibr::kMaxMaps) on the manifest: its images do not exist, so
+  // any other error would mean one was looked for first.
+  for (const int views : {65, 100000}) {
+    add(
+        fmt::format("render_{}_views_as_maps", views),
+        [views](const fs::path& dir, const fs::path& out) {
+          DatasetWith(dir / "D", [views](json& j) {
+            json v = j["views"][0];
+            j["views"] = json::array();
+            for (int i = 0; i < views; ++i) {
+              v["name"] = fmt::format("v{}", i);
+              v["color"] = fmt::format("color/none{}.png", i);
+              j["views"].push_back(v);
+            }
+          });
+          return "render " + Quote(dir / "D") + " --orbit 1 --size 16 --out " + Quote(out);
+        },
+        "dataset.json': more than 64 views; at most 64 maps of one depth object or visual hull");
   }
   // Export takes perspective datasets: a few of the edits through it too.
   for (const Edit& e : {edits[0], edits[5], edits[21], edits[25]}) {
@@ -554,7 +574,13 @@ std::vector<Case> Corpus() {
            {"robust_negative", "--orbit 1 --robust -1", "robust"},
            {"orbit_zero", "--orbit 0", "give exactly one of --cameras"},
            {"orbit_and_cameras", "--orbit 2 --cameras " + cube, "give exactly one of --cameras"},
-           {"size_huge", "--orbit 1 --size 100000", "--size 100000"},
+           {"size_huge", "--orbit 1 --size 100000",
+            "--size: a 100000x100000 frame is larger than this GL implementation's largest"},
+           {"size_over_budget", "--orbit 1 --size 9000",
+            "--size: a 9000x9000 frame needs 1853.9 MiB (24 bytes per pixel), over the frame "
+            "budget of 1536 MiB"},
+           {"cameras_size_huge", "--cameras RING --size 20000",
+            "--size: a 20000x20000 frame is larger than"},
            {"size_negative", "--orbit 1 --size -3", "--size -3"},
            {"cameras_missing", "--cameras /nonexistent-ibr", "not a directory"},
            {"truth_mesh_missing", "--orbit 1 --size 16 --truth-mesh /nonexistent-ibr.obj",
@@ -576,9 +602,14 @@ std::vector<Case> Corpus() {
   // -- capture options and meshes
   for (const auto& [name, args, expect, code] :
        std::vector<std::tuple<std::string, std::string, std::string, int>>{
-           {"size_zero", "--shape sphere --size 0", "--size", kCli},
+           {"size_zero", "--shape sphere --size 0", "--size: a 0x0 frame is empty", 1},
            {"size_64_5", "--shape sphere --size 64.5", "--size", kCli},
-           {"size_huge", "--shape sphere --size 100000", "--size", kCli},
+           {"size_huge", "--shape sphere --size 100000",
+            "--size: a 100000x100000 frame is larger than this GL implementation's largest", 1},
+           {"size_over_budget", "--shape sphere --size 8200",
+            "--size: a 8200x8200 frame needs 1539.0 MiB (24 bytes per pixel), over the frame "
+            "budget of 1536 MiB",
+            1},
            {"rig_bogus", "--shape sphere --rig bogus", "bogus", 1},
            {"rig_ring_zero", "--shape sphere --rig ring:0", "ring:0", 1},
            {"rig_sphere_huge", "--shape sphere --rig sphere:100000", "sphere:100000", 1},
@@ -684,6 +715,26 @@ std::vector<Case> Corpus() {
   add("displace_height_bogus", fixed("displace --height waves --out /tmp/ibr-never.png"), "waves");
   add("displace_tiling_zero", fixed("displace --tiling 0 --out /tmp/ibr-never.png"), "tiling");
   add("demo_size_tiny", fixed("demo --size 3 --out OUT"), "--size");
+  // --size of every other command through the one frame-size check.
+  add("displace_size_over_budget", fixed("displace --size 9000 --out /tmp/ibr-never.png"),
+      "--size: a 9000x9000 frame needs 1853.9 MiB");
+  add("demo_size_huge", fixed("demo --size 20000 --out OUT"),
+      "--size: a 20000x20000 frame is larger than");
+  add("deform_size_over_budget",
+      fixed("deform /nonexistent-ibr.obj --size 9000 --out /tmp/ibr-never.png"),
+      "--size: a 9000x9000 frame needs 1853.9 MiB");
+  add("volume_size_huge", fixed("volume /nonexistent-ibr.nrrd --size 20000 --out OUT"),
+      "--size: a 20000x20000 frame is larger than");
+  add("bench_fillrate_size_over_budget", fixed("bench fillrate --size 9000"),
+      "--size: a 9000x9000 frame needs 1853.9 MiB");
+  add("bench_ncs_size_huge", fixed("bench ncs --csv OUT --size 20000"),
+      "--size: a 20000x20000 frame is larger than");
+  add("bench_scene_size_over_budget", fixed("bench scene --csv OUT --size 9000"),
+      "--size: a 9000x9000 frame needs 1853.9 MiB");
+  add("bench_volume_size_huge", fixed("bench volume --csv OUT --size 20000"),
+      "--size: a 20000x20000 frame is larger than");
+  add("bench_depth_object_sizes_huge", fixed("bench depth-object --csv OUT --sizes 128 20000"),
+      "--sizes: a 20000x20000 frame is larger than");
   add("bench_displacement_no_csv", fixed("bench displacement --out OUT"), "--csv", kCli);
   add("bench_fillrate_bogus_flag", fixed("bench fillrate --bogus"), "--bogus", kCli);
   return cases;

@@ -61,6 +61,46 @@ TEST_F(RenderCliTest, RendersEveryMethodAndSlicing) {
   }
 }
 
+// Issue 13: a perspective dataset rendered from a cube rig's (orthographic)
+// cameras: the torus's ring from the cube of the (smaller) sphere, whose
+// cameras sit inside the torus's box. An orthographic view also sees what lies
+// behind its image plane (camera z < 0) within its clip range: a valid
+// request, written with invalid depth (0) at those pixels ("DatasetWriter::
+// AddView: negative depth" before).
+TEST_F(RenderCliTest, RendersAPerspectiveDatasetFromACubeRigsCameras) {
+  const fs::path ring = dir_ / "torus_ring";
+  fs::remove_all(ring);
+  const auto c = test_support::RunCommand(test_support::IbrBinary() +
+                                          " capture --shape torus --rig ring:4 --size 32 --out " +
+                                          ring.string());
+  ASSERT_EQ(c.exit_code, 0) << c.err;
+  const fs::path out = dir_ / "torus_from_sphere_cube";
+  fs::remove_all(out);
+  const auto r = test_support::RunCommand(test_support::IbrBinary() + " render " + ring.string() +
+                                          " --cameras " + (dir_ / "sphere").string() +
+                                          " --size 32 --out " + out.string());
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const capture::Dataset rendered = capture::ReadDataset(out, /*check_pixels=*/true);
+  ASSERT_EQ(rendered.views.size(), 6u);
+  int64_t object = 0, positive = 0, behind = 0;
+  for (size_t i = 0; i < rendered.views.size(); ++i) {
+    const core::Image8 mask = rendered.LoadMask(i);
+    const core::ImageF depth = rendered.LoadDepth(i);
+    for (size_t p = 0; p < mask.pixel_count(); ++p) {
+      EXPECT_GE(depth.data()[p], 0.0f);
+      if (mask.data()[p] <= 127) {
+        EXPECT_EQ(depth.data()[p], 0.0f) << "depth is 0 where empty";
+        continue;
+      }
+      ++object;
+      positive += depth.data()[p] > 0;
+      behind += depth.data()[p] == 0;
+    }
+  }
+  EXPECT_GT(behind, 0) << "no pixel lay behind a cube camera: the case is not exercised";
+  EXPECT_GT(positive, object / 2) << "most of the torus is in front of the cameras";
+}
+
 TEST_F(RenderCliTest, BadInputLeavesNoOutput) {
   const std::string in = (dir_ / "sphere").string();
   const fs::path out = dir_ / "bad";

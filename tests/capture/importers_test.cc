@@ -12,6 +12,7 @@
 #include <cmath>
 #include <fstream>
 #include <opencv2/imgproc.hpp>
+#include <optional>
 #include <sstream>
 
 #include "capture/colmap_dataset.h"
@@ -137,6 +138,55 @@ std::vector<glm::dmat4> ReadWorldFromCams(const fs::path& path) {
     out.push_back(m);
   }
   return out;
+}
+
+// The README's "(x y z) (x y z)" box; tokens the old regex admitted ("e",
+// "-", "1e999") threw std::invalid_argument / out_of_range past the CLI's
+// InputError handler: now each is an InputError naming the file.
+TEST(MiddleburyBounds, ParsesTheFirstBoxAndRefusesNonNumbers) {
+  auto read = [](const std::string& text) {
+    std::istringstream in(text);
+    return ReadMiddleburyBounds(in, "README.txt");
+  };
+  const std::optional<Bounds> box =
+      read("bounding box (some words) is\n(-0.5 -1 0.25)\n  (0.5 1e0 +2)\n(9 9 9) (10 10 10)");
+  ASSERT_TRUE(box.has_value());
+  EXPECT_EQ(box->min, glm::dvec3(-0.5, -1, 0.25));
+  EXPECT_EQ(box->max, glm::dvec3(0.5, 1, 2));
+  EXPECT_FALSE(read("no box here (1 2) (3 4 5)").has_value());
+  EXPECT_FALSE(read("").has_value());
+  for (const char* bad : {"(e e e) (1 2 3)", "(- 0 0) (1 1 1)", "(1e999 0 0) (1e999 1 1)",
+                          "(1 1 1) (0 0 0)", "(0 0 0) (1e300 1 1)"}) {
+    try {
+      read(bad);
+      ADD_FAILURE() << "accepted " << bad;
+    } catch (const core::InputError& e) {
+      EXPECT_NE(std::string(e.what()).find("ReadMiddleburyBounds: 'README.txt'"), std::string::npos)
+          << e.what();
+    }
+  }
+}
+
+TEST(RedwoodIntrinsics, ReadsOpen3DIntrinsicsAndRefusesNonIntegerSizes) {
+  auto read = [](const std::string& text) {
+    std::istringstream in(text);
+    return ReadRedwoodIntrinsics(in, "camera.json");
+  };
+  const Camera c = read(
+      R"({"width": 640, "height": 480, "intrinsic_matrix": [525, 0, 0, 0, 520, 0, 319.5, 239.5, 1]})");
+  EXPECT_EQ(c.width, 640);
+  EXPECT_EQ(c.height, 480);
+  EXPECT_EQ(c.fx(), 525);
+  EXPECT_EQ(c.fy(), 520);
+  EXPECT_EQ(c.cx(), 320);  // Open3D's integer pixel centres + 0.5
+  EXPECT_EQ(c.cy(), 240);
+  for (const char* bad :
+       {R"({"width": 64.5, "height": 480, "intrinsic_matrix": [525, 0, 0, 0, 525, 0, 32, 240, 1]})",
+        R"({"width": 1e10, "height": 480, "intrinsic_matrix": [525, 0, 0, 0, 525, 0, 32, 240, 1]})",
+        R"({"width": 64, "height": 48, "intrinsic_matrix": [1, 2, 3]})",
+        R"({"width": 64, "height": 48})", "not json"}) {
+    EXPECT_THROW(read(bad), core::InputError) << bad;
+  }
 }
 
 TEST(RedwoodImport, SharedDataDepthPosesAndIntrinsics) {

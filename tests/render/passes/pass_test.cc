@@ -9,9 +9,12 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <memory>
+#include <string>
 #include <vector>
 
+#include "core/error.h"
 #include "core/heightfield.h"
 #include "core/mesh.h"
 #include "core/projection.h"
@@ -214,6 +217,73 @@ TEST_F(PassTest, UniformLocationsAreCachedAtLinkAndMatchGl) {
   glGetUniformfv(program.id(), program.Uniform("u_base_color"), &read[0]);
   EXPECT_EQ(read, colour);
   program.Set("u_not_there", 1.0f);  // a uniform the variant lacks is ignored, not an error
+  EXPECT_NO_GL_ERROR();
+}
+
+// ---- The frame size check (README "Limits") ---------------------------------
+
+// The error line CheckFrameSize throws, or "" when the size is accepted.
+std::string FrameSizeError(int width, int height, const GlSizeLimits& limits) {
+  try {
+    CheckFrameSize("ibr test", "--size", width, height, limits);
+  } catch (const core::InputError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+TEST(FrameSize, BytesPerPixelIsTheSumOfTheFrameAttachments) {
+  // RGBA8 4 + R32F 4 + RGBA16F 8 + R32UI 4 + D24S8 4.
+  EXPECT_EQ(FrameBytesPerPixel(), 24);
+  RenderTargetOptions colour_only;
+  colour_only.color_formats = {GL_RGBA8};
+  colour_only.depth_stencil = false;
+  EXPECT_EQ(TargetBytesPerPixel(colour_only), 4);
+}
+
+TEST(FrameSize, MemoryBudgetAdmitsExactly8192Squared) {
+  // Limits far above the budget, so only the memory estimate decides.
+  const GlSizeLimits big{1 << 20, 1 << 20, 1 << 20, 1 << 20};
+  EXPECT_EQ(FrameSizeError(8192, 8192, big), "");   // 2^26 px x 24 B = 1536 MiB, the budget
+  EXPECT_EQ(FrameSizeError(16384, 4096, big), "");  // the same pixel count, another shape
+  EXPECT_EQ(FrameSizeError(8193, 8192, big),
+            "ibr test: --size: a 8193x8192 frame needs 1536.2 MiB (24 bytes per pixel), over the "
+            "frame budget of 1536 MiB");
+  EXPECT_EQ(FrameSizeError(12000, 12000, big),
+            "ibr test: --size: a 12000x12000 frame needs 3295.9 MiB (24 bytes per pixel), over the "
+            "frame budget of 1536 MiB");
+  // No overflow at the largest ints.
+  EXPECT_NE(FrameSizeError(INT32_MAX, INT32_MAX, {INT32_MAX, INT32_MAX, INT32_MAX, INT32_MAX}), "");
+}
+
+TEST(FrameSize, EverySideWithinTheLeastGlLimit) {
+  // The least limit decides, per axis: here the viewport's height.
+  const GlSizeLimits gl{4096, 8192, 8192, 2048};
+  EXPECT_EQ(FrameSizeError(4096, 2048, gl), "");
+  EXPECT_EQ(FrameSizeError(4097, 16, gl),
+            "ibr test: --size: a 4097x16 frame is larger than this GL implementation's largest, "
+            "4096x2048 (GL_MAX_RENDERBUFFER_SIZE 4096, GL_MAX_TEXTURE_SIZE 8192, "
+            "GL_MAX_VIEWPORT_DIMS 8192x2048)");
+  EXPECT_NE(FrameSizeError(16, 2049, gl).find("a 16x2049 frame is larger"), std::string::npos);
+  EXPECT_EQ(FrameSizeError(0, 16, gl), "ibr test: --size: a 0x16 frame is empty (at least 1x1)");
+  EXPECT_NE(FrameSizeError(16, -5, gl), "");
+}
+
+TEST_F(PassTest, GlSizeLimitsAreThisImplementationsAndAdmitTheDefaultFrame) {
+  const GlSizeLimits gl = QueryGlSizeLimits();
+  GLint renderbuffer = 0, texture = 0, viewport[2] = {0, 0};
+  glGetIntegerv(GL_MAX_RENDERBUFFER_SIZE, &renderbuffer);
+  glGetIntegerv(GL_MAX_TEXTURE_SIZE, &texture);
+  glGetIntegerv(GL_MAX_VIEWPORT_DIMS, viewport);
+  EXPECT_EQ(gl.max_renderbuffer_size, renderbuffer);
+  EXPECT_EQ(gl.max_texture_size, texture);
+  EXPECT_EQ(gl.max_viewport_width, viewport[0]);
+  EXPECT_EQ(gl.max_viewport_height, viewport[1]);
+  // The GL 4.5 minimum maxima are 16384 (renderbuffer, texture, viewport).
+  EXPECT_GE(gl.MaxWidth(), 16384);
+  EXPECT_GE(gl.MaxHeight(), 16384);
+  CheckFrameSize("ibr test", "--size", 512, 512);
+  EXPECT_THROW(CheckFrameSize("ibr test", "--size", gl.MaxWidth() + 1, 1), core::InputError);
   EXPECT_NO_GL_ERROR();
 }
 

@@ -1,0 +1,84 @@
+// The map limit (ibr::kMaxMaps) and the view limit are checked on the
+// manifest, before a view is parsed or any image is opened: every manifest
+// here names images that do not exist, so an error about anything but the
+// count means an image was looked for first.
+#include "ibr/dataset_maps.h"
+
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <functional>
+#include <string>
+
+#include "core/error.h"
+#include "tests/support/gl_test.h"
+
+namespace ibr {
+namespace {
+namespace fs = std::filesystem;
+
+// DIR/dataset.json with `views` orthographic views, each naming colour, depth
+// and mask files that do not exist.
+fs::path ManifestWithViews(const std::string& name, int views) {
+  const fs::path dir = test_support::TestOutputDir() / name;
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  std::ofstream out(dir / "dataset.json");
+  out << R"({"format": "ibr-dataset", "version": 1,
+  "bounds": {"min": [-1, -1, -1], "max": [1, 1, 1]},
+  "cameras": [{"id": 1, "model": "ORTHOGRAPHIC", "width": 32, "height": 32,
+               "params": [16, 16, 16, 16]}],
+  "views": [)";
+  for (int i = 0; i < views; ++i) {
+    out << (i ? ",\n" : "\n") << R"({"name": "v)" << i
+        << R"(", "camera": 1, "cam_from_world": [[1,0,0,0],[0,1,0,0],[0,0,1,3]], "color": "color/v)"
+        << i << R"(.png", "depth": "depth/v)" << i << R"(.exr", "mask": "mask/v)" << i
+        << R"(.png"})";
+  }
+  out << "]}\n";
+  return dir;
+}
+
+std::string ErrorOf(const std::function<void()>& f) {
+  try {
+    f();
+  } catch (const core::InputError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+TEST(MapDataset, HundredThousandViewsAreRefusedOnTheManifest) {
+  const fs::path dir = ManifestWithViews("views_100000", 100000);
+  const std::string manifest = (dir / "dataset.json").string();
+  EXPECT_EQ(ErrorOf([&] { ReadMapDataset(dir); }),
+            "ReadManifest: '" + manifest +
+                "': more than 64 views; at most 64 maps of one depth object or visual hull "
+                "(ibr::kMaxMaps) are supported");
+  // Any dataset: the dataset limit, also before a view is parsed.
+  EXPECT_EQ(ErrorOf([&] { capture::ReadDataset(dir); }),
+            "ReadManifest: '" + manifest + "': more than 4096 views; at most 4096 are supported");
+  EXPECT_FALSE(fs::exists(dir / "color"));
+}
+
+TEST(MapDataset, OneMapOverTheLimitIsRefusedBeforeAnyImage) {
+  const fs::path dir = ManifestWithViews("views_65", kMaxMaps + 1);
+  EXPECT_NE(ErrorOf([&] {
+              ReadMapDataset(dir);
+            }).find("more than 64 views; at most 64 maps of one depth object or visual hull"),
+            std::string::npos);
+  // The limit itself passes the count, and the reader then looks for the
+  // images (which is how the two tests above know none was opened).
+  const fs::path ok = ManifestWithViews("views_64", kMaxMaps);
+  const std::string error = ErrorOf([&] { ReadMapDataset(ok); });
+  EXPECT_NE(error.find("file does not exist"), std::string::npos) << error;
+  EXPECT_NE(error.find("color/v0.png"), std::string::npos) << error;
+  // A dataset of 65 views is fine as cameras (not maps): it too gets as far as
+  // the images.
+  EXPECT_NE(ErrorOf([&] { capture::ReadDataset(dir); }).find("file does not exist"),
+            std::string::npos);
+}
+
+}  // namespace
+}  // namespace ibr
