@@ -280,16 +280,17 @@ void WriteNcsBench(const NcsBenchResult& result, const std::filesystem::path& cs
     fig6.AddRow({"relief " + r[0], r[1], r[4]});
     fig6.AddRow({"tessellated " + r[0], r[1], r[6]});
   }
-  PlotPng(fig6,
-          {.title = fmt::format("Cost vs tiling (Chen-Chang Fig. 6), {} steps, c = 2.5", middle_steps),
-           .x_column = "tiling",
-           .y_column = "ms_per_frame",
-           .series_column = "series",
-           .x_label = "height map tiling",
-           .y_label = "ms per frame",
-           .log_x = true,
-           .log_y = true},
-          out_dir / "ncs_time_vs_tiling.png");
+  PlotPng(
+      fig6,
+      {.title = fmt::format("Cost vs tiling (Chen-Chang Fig. 6), {} steps, c = 2.5", middle_steps),
+       .x_column = "tiling",
+       .y_column = "ms_per_frame",
+       .series_column = "series",
+       .x_label = "height map tiling",
+       .y_label = "ms per frame",
+       .log_x = true,
+       .log_y = true},
+      out_dir / "ncs_time_vs_tiling.png");
 }
 
 }  // namespace bench

@@ -161,16 +161,17 @@ void WriteSceneBench(const SceneBenchResult& result, const std::filesystem::path
                  t.rows()[i][t.Column("disabled_over_absent")]});
   }
   std::filesystem::create_directories(out_dir);
-  PlotPng(plot,
-          {.title =
-               "frame time relative to the scene without the effect (effects numbered as in the CSV)",
-           .x_column = "effect_index",
-           .y_column = "ratio",
-           .series_column = "series",
-           .x_label = "effect (row of the CSV)",
-           .y_label = "frame time / absent",
-           .log_y = true},
-          out_dir / "scene_bench.png");
+  PlotPng(
+      plot,
+      {.title =
+           "frame time relative to the scene without the effect (effects numbered as in the CSV)",
+       .x_column = "effect_index",
+       .y_column = "ratio",
+       .series_column = "series",
+       .x_label = "effect (row of the CSV)",
+       .y_label = "frame time / absent",
+       .log_y = true},
+      out_dir / "scene_bench.png");
 }
 
 }  // namespace bench
