@@ -133,8 +133,11 @@ std::optional<Bounds> ReadMiddleburyBounds(std::istream& in, const std::string& 
   // (a scan, not std::regex, whose recursion grows with the input).
   auto triple = [&](size_t at, size_t& end) -> std::optional<std::vector<std::string>> {
     if (at >= text.size() || text[at] != '(') return std::nullopt;
-    end = text.find(')', at);
-    if (end == std::string::npos) return std::nullopt;
+    // The next parenthesis of either kind: a '(' first means no triple here
+    // (its tokens could not pass the check below), and stopping there keeps
+    // the scan linear on inputs of many '(' and one late ')'.
+    end = text.find_first_of("()", at + 1);
+    if (end == std::string::npos || text[end] != ')') return std::nullopt;
     std::istringstream s(text.substr(at + 1, end - at - 1));
     std::vector<std::string> tokens;
     for (std::string t; s >> t;) tokens.push_back(t);

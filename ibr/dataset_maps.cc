@@ -67,4 +67,15 @@ std::vector<ViewCamera> ViewsFromDataset(const capture::Dataset& dataset) {
   return views;
 }
 
+std::vector<NamedView> NamedViewsFromDataset(const capture::Dataset& dataset, int width) {
+  const std::vector<ViewCamera> cams = ViewsFromDataset(dataset);
+  std::vector<NamedView> views;
+  for (size_t i = 0; i < cams.size(); ++i) {
+    NamedView v{dataset.views[i].name, cams[i]};
+    if (width > 0) v.view.camera = ResizeCamera(v.view.camera, width);
+    views.push_back(std::move(v));
+  }
+  return views;
+}
+
 }  // namespace ibr

@@ -7,6 +7,7 @@
 #include "capture/camera.h"
 #include "capture/dataset.h"
 #include "ibr/image_maps.h"
+#include "ibr/views.h"
 
 namespace ibr {
 
@@ -27,5 +28,8 @@ MapSet MapsFromDataset(const capture::Dataset& dataset, double padding = 0.02);
 
 // The views of a dataset as novel cameras (its images are not loaded).
 std::vector<ViewCamera> ViewsFromDataset(const capture::Dataset& dataset);
+// The same, named after the dataset's views and, with width > 0, resized to
+// that width (ResizeCamera); width 0 keeps each camera's own size.
+std::vector<NamedView> NamedViewsFromDataset(const capture::Dataset& dataset, int width = 0);
 
 }  // namespace ibr

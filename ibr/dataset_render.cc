@@ -39,17 +39,14 @@ DatasetRenderStats RenderDatasetToDataset(render::ProgramCache& programs,
   orbit.count = job.orbit;
   orbit.size = job.size > 0 ? job.size : 512;
   if (!job.cameras.empty()) {
-    const capture::Dataset other = capture::ReadDataset(job.cameras);
-    const std::vector<ViewCamera> cams = ViewsFromDataset(other);
-    for (size_t i = 0; i < cams.size(); ++i) {
-      NamedView v{other.views[i].name, cams[i]};
-      if (job.size > 0) v.view.camera = ResizeCamera(v.view.camera, job.size);
+    views = NamedViewsFromDataset(capture::ReadDataset(job.cameras), job.size);
+    const render::GlSizeLimits limits = render::QueryGlSizeLimits();
+    for (const NamedView& v : views) {
       render::CheckFrameSize(
           "ibr render",
           job.size > 0 ? std::string("--size")
                        : fmt::format("--cameras '{}': view '{}'", job.cameras.string(), v.name),
-          v.view.camera.width, v.view.camera.height);
-      views.push_back(v);
+          v.view.camera.width, v.view.camera.height, limits);
     }
   } else {
     render::CheckFrameSize("ibr render", "--size", orbit.size, orbit.size);

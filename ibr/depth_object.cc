@@ -415,7 +415,8 @@ const render::RenderTarget& DepthObjectRenderer::Accum(int width, int height) {
 
 std::vector<std::string> DepthObjectRenderer::Defines(const FrameParams& frame,
                                                       const DepthObjectOptions& options) const {
-  std::vector<std::string> d = {fmt::format("MAX_MAPS {}", kMaxMaps)};
+  static const std::string kMaxMapsDefine = fmt::format("MAX_MAPS {}", kMaxMaps);
+  std::vector<std::string> d = {kMaxMapsDefine};
   if (options.method == Method::kVisualHull) d.push_back("VISUAL_HULL");
   if (options.outside == OutsidePolicy::kPass) d.push_back("OUTSIDE_PASSES");
   if (options.invalid_depth == InvalidDepthPolicy::kNoConstraint)
@@ -433,12 +434,12 @@ void DepthObjectRenderer::BindMaps(const GpuTables& t) const {
 void DepthObjectRenderer::UploadFrame(const FrameParams& frame) {
   IBR_CHECK_LE(frame.maps.size(), static_cast<size_t>(kMaxMaps));
   glNamedBufferSubData(map_ubo_.id(), 0, sizeof(MapRecord) * frame.maps.size(), frame.maps.data());
-  std::vector<uint8_t> strided(static_cast<size_t>(current_stride_) * frame.maps.size(), 0);
+  strided_.assign(static_cast<size_t>(current_stride_) * frame.maps.size(), 0);
   for (size_t i = 0; i < frame.maps.size(); ++i) {
-    std::memcpy(strided.data() + i * current_stride_, &frame.maps[i], sizeof(MapRecord));
+    std::memcpy(strided_.data() + i * current_stride_, &frame.maps[i], sizeof(MapRecord));
   }
-  glNamedBufferSubData(current_ubo_.id(), 0, static_cast<GLsizeiptr>(strided.size()),
-                       strided.data());
+  glNamedBufferSubData(current_ubo_.id(), 0, static_cast<GLsizeiptr>(strided_.size()),
+                       strided_.data());
 }
 
 void DepthObjectRenderer::SetCommonUniforms(const render::Program& p, const FrameParams& frame,
@@ -472,6 +473,8 @@ void DepthObjectRenderer::DrawSlices(const FrameParams& frame, const DepthObject
                                                 .fragment = "passes/depth_object.frag.glsl",
                                                 .defines = Defines(frame, options)});
   SetCommonUniforms(pass, frame, true);
+  const GLint u_slice_plane = pass.Uniform("u_slice_plane");
+  const GLint u_clear_pass = pass.Uniform("u_clear_pass");
 
   // Step 1: clear the frame buffer, no depth test.
   accum.Bind();
@@ -492,8 +495,8 @@ void DepthObjectRenderer::DrawSlices(const FrameParams& frame, const DepthObject
   const int required = frame.required;
   for (int s = 0; s < slice_buffer_.size(); ++s) {
     // Step 2(a): every base polygon (map) in turn, accumulating colour.
-    pass.Set("u_slice_plane", frame.planes[s]);
-    pass.Set("u_clear_pass", 0);
+    pass.Set(u_slice_plane, frame.planes[s]);
+    pass.Set(u_clear_pass, 0);
     glBlendFunci(0, GL_ONE, GL_ONE);
     glStencilOp(GL_KEEP, GL_KEEP, GL_INCR);
     for (int j = 0; j < n; ++j) {
@@ -513,7 +516,7 @@ void DepthObjectRenderer::DrawSlices(const FrameParams& frame, const DepthObject
       slice_buffer_.DrawSlice(s);  // (a)ii, with the alpha test (discard)
     }
     // Steps (c)-(f): clear colour and stencil where the count falls short.
-    pass.Set("u_clear_pass", 1);
+    pass.Set(u_clear_pass, 1);
     glBlendFunci(0, GL_ZERO, GL_ZERO);
     if (!frame.robust) {
       glStencilMask(0xFF);
@@ -598,7 +601,11 @@ void DepthObjectRenderer::DrawResolve(const FrameParams& frame, const DepthObjec
 void DepthObjectRenderer::Resolve(const FrameParams& frame, const DepthObjectOptions& options,
                                   const render::RenderTarget& accum,
                                   const glm::mat4* frame_clip_from_cam) {
-  BindFrame(frame, options, accum);
+  // After DrawSlices / DrawRay of this frame: their BindFrame uploaded its map
+  // records, so only the tables are bound again.
+  IBR_CHECK_EQ(accum.width(), frame.width);
+  IBR_CHECK_EQ(accum.height(), frame.height);
+  BindMaps(Tables(options.method));
   std::vector<std::string> defines = Defines(frame, options);
   defines.push_back(options.texturing == Texturing::kViewDependent ? "TEXTURING_VDT"
                     : options.texturing == Texturing::kVisibility  ? "TEXTURING_VISIBILITY"

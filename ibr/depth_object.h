@@ -224,7 +224,8 @@ class DepthObjectRenderer {
   // The ray variant (Slicing::kRay) into `accum`, same layout as DrawSlices.
   void DrawRay(const FrameParams& frame, const DepthObjectOptions& options,
                const render::RenderTarget& accum);
-  // Texturing + background from `accum` into the bound framebuffer.
+  // Texturing + background from `accum` into the bound framebuffer; after
+  // DrawSlices or DrawRay of the same frame (they upload its map records).
   void DrawResolve(const FrameParams& frame, const DepthObjectOptions& options,
                    const render::RenderTarget& accum);
   // Which pixels each slice polygon covers on this GPU (1 per covered pixel,
@@ -261,6 +262,7 @@ class DepthObjectRenderer {
   render::Buffer map_ubo_;      // the whole table (resolve pass)
   render::Buffer current_ubo_;  // one record per map at an aligned stride (map passes)
   GLint current_stride_ = 0;
+  std::vector<uint8_t> strided_;  // UploadFrame's staging, kept between frames
   render::SliceBuffer slice_buffer_;
   std::unique_ptr<render::RenderTarget> accum_;
   render::VertexArray empty_vao_;

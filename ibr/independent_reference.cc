@@ -419,7 +419,8 @@ Tri Evaluator::MapDecision(const MapSetup& s, const glm::dvec3& p, const glm::dv
         continue;
       }
       const int col = pr.cols[i], row = pr.rows[j];
-      const glm::dvec4 c = TexelColour(m, col, row);
+      // The colour only where a caller collects it (the front slice's colour).
+      const glm::dvec4 c = lo != nullptr ? TexelColour(m, col, row) : none;
       const double d = TexelCode(m, options_.method, col, row);
       if (d < 0) {
         add(Tri::kNo, c);

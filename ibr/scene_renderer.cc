@@ -235,13 +235,7 @@ LoadedScene LoadScene(render::ProgramCache& programs, const scene::Scene& s) {
       break;
     }
     case scene::Cameras::Kind::kDataset: {
-      const capture::Dataset other = capture::ReadDataset(c.dataset);
-      const std::vector<ViewCamera> cams = ViewsFromDataset(other);
-      for (size_t i = 0; i < cams.size(); ++i) {
-        NamedView v{other.views[i].name, cams[i]};
-        if (c.dataset_size > 0) v.view.camera = ResizeCamera(v.view.camera, c.dataset_size);
-        loaded.views.push_back(v);
-      }
+      loaded.views = NamedViewsFromDataset(capture::ReadDataset(c.dataset), c.dataset_size);
       break;
     }
     case scene::Cameras::Kind::kList:

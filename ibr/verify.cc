@@ -609,7 +609,7 @@ VerifyCaseResult VerifyCase(render::ProgramCache& programs, const Case& c,
       std::filesystem::create_directories(options.out);
       const std::string name = fmt::format("case_{:05d}_ray_diff.png", index);
       core::WriteImage(options.out / name, rc.diff);
-      r.diff_image = (options.out / name).string();
+      r.diff_images.push_back((options.out / name).string());
     }
   }
   if (!options.out.empty() && (r.real_errors > 0 || r.independent.real_errors > 0)) {
@@ -634,7 +634,7 @@ VerifyCaseResult VerifyCase(render::ProgramCache& programs, const Case& c,
     core::WriteImage(options.out / (stem + "_diff.png"), diff);
     core::WriteImage(options.out / (stem + "_gpu_stencil.png"), stencil);
     core::WriteImage(options.out / (stem + "_cpu_stencil.png"), ref.stencil);
-    r.diff_image = (options.out / (stem + "_diff.png")).string();
+    r.diff_images.push_back((options.out / (stem + "_diff.png")).string());
   }
   return r;
 }

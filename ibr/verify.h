@@ -86,7 +86,7 @@ struct VerifyCaseResult {
   // mirror does not cover.
   // Counts only (the diff images are left empty).
   IndependentComparison independent, ray;
-  std::string diff_image;  // written for a failing case (empty if none)
+  std::vector<std::string> diff_images;  // written for a failing case (slices and/or ray)
 };
 
 struct VerifyReport {

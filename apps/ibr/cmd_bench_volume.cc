@@ -16,14 +16,13 @@ void AddVolumeBench(CLI::App& app) {
   auto* cmd = BenchGroup(app)->add_subcommand(
       "volume",
       "Volume DVR with displacement maps: time per volume, sampling, map size, area; VTK peer");
-  cmd->add_option("--csv", options.csv, "the table as CSV")->required();
-  cmd->add_option("--out", options.out, "directory for plots and the peer's transfer functions");
+  AddBenchOutputs(cmd, options.csv, options.out, options.quick);
   cmd->add_option("--shared-data", options.shared_data, "the shared data folder (volumes/)")
       ->default_val("../shared/data");
   cmd->add_option("--size", options.size, "image size in pixels")->capture_default_str();
-  cmd->add_flag("--quick", options.quick, "small sweep (128 px) for smoke runs");
   cmd->add_flag("!--no-peer", options.peer, "skip the VTK peer");
   cmd->callback([] {
+    CheckBenchOutputs("ibr bench volume", options.csv, options.out);
     auto context = render::HeadlessContext::Create();
     render::CheckFrameSize("ibr bench volume", "--size", options.size, options.size);
     fmt::print("{} | {}\n", context->info().renderer, context->info().version);

@@ -44,10 +44,9 @@ void RunCapture(CaptureCommandOptions o, bool rig_given, bool size_given) {
   if (o.out.empty()) core::ThrowInputError("ibr capture", "--out DIR is required");
   if (!o.texture.empty() && o.mesh.empty())
     core::ThrowInputError("ibr capture", "--texture applies to --mesh only");
-  if (o.capture.size > 0 && o.capture.size < 16)  // 0 and below: CheckFrameSize's message
-    core::ThrowInputError("ibr capture", "--size {} is below 16", o.capture.size);
   auto context = render::HeadlessContext::Create();
-  render::CheckFrameSize("ibr capture", "--size", o.capture.size, o.capture.size);
+  render::CheckFrameSize("ibr capture", "--size", o.capture.size, o.capture.size,
+                         /*min_side=*/16);
   o.capture.Check();
   const auto start = std::chrono::steady_clock::now();
   const capture::SceneMesh scene =

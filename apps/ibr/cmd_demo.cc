@@ -70,9 +70,8 @@ struct DemoOptions {
 };
 
 void RunDemo(const DemoOptions& options) {
-  if (options.size < 16) core::ThrowInputError("ibr demo", "--size {} is below 16", options.size);
   auto context = render::HeadlessContext::Create();
-  render::CheckFrameSize("ibr demo", "--size", options.size, options.size);
+  render::CheckFrameSize("ibr demo", "--size", options.size, options.size, /*min_side=*/16);
   spdlog::info("GL: {} | {}", context->info().version, context->info().renderer);
   render::ProgramCache programs;
 

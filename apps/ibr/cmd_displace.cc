@@ -75,7 +75,6 @@ Drawn Draw(render::ProgramCache& programs, const ibr::DisplacedMeshData& data,
 
 void RunDisplace(const DisplaceOptions& o) {
   constexpr const char* kWhere = "ibr displace";
-  if (o.size < 16) core::ThrowInputError(kWhere, "--size {} is below 16", o.size);
   if (o.texels < 4 || o.texels > 4096)
     core::ThrowInputError(kWhere, "--texels {} outside 4..4096", o.texels);
   if (o.out.extension() != ".png")
@@ -90,7 +89,7 @@ void RunDisplace(const DisplaceOptions& o) {
   options.slices = o.slices;
   options.Check();
   auto context = render::HeadlessContext::Create();
-  render::CheckFrameSize(kWhere, "--size", o.size, o.size);
+  render::CheckFrameSize(kWhere, "--size", o.size, o.size, /*min_side=*/16);
 
   // Parse -> plain CPU data -> GPU -> passes.
   ibr::DisplacedMeshData data;

@@ -25,7 +25,7 @@ void PrintCase(const ibr::VerifyCaseResult& r, bool independent) {
                         r.independent.real_errors, r.ray.agree, r.ray.band, r.ray.band_disagree,
                         r.ray.real_errors)
           : "");
-  if (!r.diff_image.empty()) fmt::print("            diff: {}\n", r.diff_image);
+  for (const std::string& diff : r.diff_images) fmt::print("            diff: {}\n", diff);
 }
 
 void RunVerifyCommand(const ibr::VerifyOptions& o, bool hard) {

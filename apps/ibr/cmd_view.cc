@@ -105,7 +105,8 @@ void RunView(ViewCommandOptions& o) {
   // Validate everything before a window opens.
   const ibr::DepthObjectOptions options =
       ibr::DepthObjectOptionsFrom(ibr::SettingsFromFlags(o.flags));
-  const capture::Dataset dataset = capture::ReadDataset(o.dataset);
+  // The map limit is checked on the manifest, before any image is read.
+  const capture::Dataset dataset = ibr::ReadMapDataset(o.dataset);
   ibr::MapSet maps = ibr::MapsFromDataset(dataset);
   const std::string name = o.dataset.filename().empty()
                                ? o.dataset.parent_path().filename().string()

@@ -49,10 +49,11 @@ FillRate MeasureFillRate(ProgramCache& programs, const FillRateOptions& options)
   glBindVertexArray(vao.id());
   glBindTextureUnit(0, texture.id());
   const float clear[4] = {0, 0, 0, 0};
+  const GLint u_layer = program.Uniform("u_layer");
   auto frame = [&] {
     target.Clear(clear);
     for (int layer = 0; layer < options.layers_per_frame; ++layer) {
-      program.Set("u_layer", static_cast<float>(layer));
+      program.Set(u_layer, static_cast<float>(layer));
       glDrawArrays(GL_TRIANGLES, 0, 3);
     }
   };

@@ -161,6 +161,13 @@ class Program : public GlHandle<deleters::Program> {
   void Set(std::string_view name, const glm::mat4& value) const;
   void Set(std::string_view name, std::span<const glm::vec4> values) const;
   void Set(std::string_view name, std::span<const glm::mat4> values) const;
+  // The same by a location from Uniform(), for loops that set one uniform many
+  // times a frame (the slice loop): no name lookup per call.
+  void Set(GLint location, int value) const { glProgramUniform1i(id(), location, value); }
+  void Set(GLint location, float value) const { glProgramUniform1f(id(), location, value); }
+  void Set(GLint location, const glm::vec4& value) const {
+    glProgramUniform4fv(id(), location, 1, &value[0]);
+  }
 
  private:
   // name -> location; mutable because array elements are memoised lazily.

@@ -16,9 +16,13 @@ RenderTargetOptions FrameTargetOptions(int width, int height) {
 int64_t FrameBytesPerPixel() { return TargetBytesPerPixel(FrameTargetOptions(1, 1)); }
 
 void CheckFrameSize(std::string_view where, std::string_view flag, int width, int height,
-                    const GlSizeLimits& limits) {
+                    const GlSizeLimits& limits, int min_side) {
   if (width < 1 || height < 1) {
     core::ThrowInputError(where, "{}: a {}x{} frame is empty (at least 1x1)", flag, width, height);
+  }
+  if (width < min_side || height < min_side) {
+    core::ThrowInputError(where, "{}: a {}x{} frame is below the minimum {}x{}", flag, width,
+                          height, min_side, min_side);
   }
   if (width > limits.MaxWidth() || height > limits.MaxHeight()) {
     core::ThrowInputError(where,
@@ -42,8 +46,9 @@ void CheckFrameSize(std::string_view where, std::string_view flag, int width, in
   }
 }
 
-void CheckFrameSize(std::string_view where, std::string_view flag, int width, int height) {
-  CheckFrameSize(where, flag, width, height, QueryGlSizeLimits());
+void CheckFrameSize(std::string_view where, std::string_view flag, int width, int height,
+                    int min_side) {
+  CheckFrameSize(where, flag, width, height, QueryGlSizeLimits(), min_side);
 }
 
 void UseProgram(const RenderTarget& target, const Program& program, const ViewSetup& view) {

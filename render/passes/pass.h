@@ -68,9 +68,11 @@ int64_t FrameBytesPerPixel();
 // GL_MAX_VIEWPORT_DIMS) and the estimate within kFrameMemoryBudgetBytes.
 // Throws core::InputError("where: flag: ...") naming the requested size and
 // the limit it breaks. The second form queries the current context's limits.
+// `min_side`: the command's smallest useful side (below it: "below the minimum").
 void CheckFrameSize(std::string_view where, std::string_view flag, int width, int height,
-                    const GlSizeLimits& limits);
-void CheckFrameSize(std::string_view where, std::string_view flag, int width, int height);
+                    const GlSizeLimits& limits, int min_side = 1);
+void CheckFrameSize(std::string_view where, std::string_view flag, int width, int height,
+                    int min_side = 1);
 
 // Binds `target` and clears it for a new frame: colour, camera z, normal and
 // outcome to 0, depth to 1, stencil to 0; depth test LESS on, no stencil,

@@ -23,7 +23,7 @@
 //   MAX_MAPS                 size of the map table (ibr::kMaxMaps; the renderer defines it)
 
 #ifndef MAX_MAPS
-#define MAX_MAPS 64
+#error "MAX_MAPS missing: the renderer defines it from ibr::kMaxMaps"
 #endif
 
 struct MapRecord {
