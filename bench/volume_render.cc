@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cctype>
 #include <glm/gtc/matrix_transform.hpp>
+#include <utility>
 
 #include "capture/dataset.h"
 #include "core/atomic_file.h"
@@ -49,10 +50,10 @@ core::Image8 OverBackground(const core::Image8& premultiplied, const glm::vec3& 
 }
 
 VolumeRenderResult RenderVolume(const VolumeRenderRequest& r) {
-  const core::Volume volume = core::ReadVolume(r.volume);
+  core::Volume volume = core::ReadVolume(r.volume);
   const ibr::VolumeObjectData scene =
-      ibr::MakeVolumeObject(volume, ibr::TransferForVolume(r.transfer, r.volume), r.effect,
-                            r.map_size, r.placement_offset, r.placement_scale);
+      ibr::MakeVolumeObject(std::move(volume), ibr::TransferForVolume(r.transfer, r.volume),
+                            r.effect, r.map_size, r.placement_offset, r.placement_scale);
   // The frame budget and the GL limits: render::CheckFrameSize (ibr volume).
   if (r.size < 16 || r.size > 16384)
     core::ThrowInputError("ibr volume", "--size {} not in [16, 16384]", r.size);

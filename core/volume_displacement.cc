@@ -399,14 +399,6 @@ MapDerivatives ComputeMapDerivatives(const DisplacementMap& map) {
   return out;
 }
 
-std::vector<glm::mat3> NormalTransforms(const DisplacementMap& map) {
-  const MapDerivatives d = ComputeMapDerivatives(map);
-  std::vector<glm::mat3> b(map.texels.size());
-  // Eq. 6: n' = (I + J_D)^T n.
-  for (size_t i = 0; i < b.size(); ++i) b[i] = glm::transpose(glm::mat3(1.0f) + d.jacobian[i]);
-  return b;
-}
-
 Box3 ProxyBox(const Box3& object_box, const std::vector<PlacedMap>& maps) {
   // A displaced p' outside every placed cube has p = p' (in the object box);
   // inside a cube it may show anything. So the union bounds every visible p'.

@@ -148,10 +148,6 @@ struct MapDerivatives {
 };
 MapDerivatives ComputeMapDerivatives(const DisplacementMap& map);
 
-// Precomputed normal transforms (sec. 4.3.1): B = (I + J_D)^T per texel from
-// ComputeMapDerivatives.
-std::vector<glm::mat3> NormalTransforms(const DisplacementMap& map);
-
 // The axis-aligned box (volume texture space) holding every p' whose p lies
 // in `object_box`: the proxy geometry of sec. 4.2 ("the bounding box of the
 // object grown by the displacements"), found by pushing the object box's

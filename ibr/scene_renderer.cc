@@ -276,9 +276,6 @@ struct SceneRenderer::ObjectPass {
   std::optional<render::VolumePass> volume;
   // the object's pass (one of the above)
   render::Pass* pass = nullptr;
-  // Translucent passes (volume DVR) are drawn after every opaque one, so
-  // their slices blend over what the depth test lets through.
-  bool translucent = false;
 };
 
 SceneRenderer::SceneRenderer(render::ProgramCache& programs, const LoadedScene& scene)
@@ -303,7 +300,6 @@ SceneRenderer::SceneRenderer(render::ProgramCache& programs, const LoadedScene& 
         p->volume.emplace(programs, v.data.volume, v.data.transfer, v.data.maps,
                           v.data.world_from_volume, v.options.pass);
         p->name = v.options.pass.mode == render::VolumeMode::kDvr ? "volume:dvr" : "volume:iso";
-        p->translucent = v.options.pass.mode == render::VolumeMode::kDvr;
         p->pass = &*p->volume;
         break;
       }
@@ -339,9 +335,11 @@ SceneFrame SceneRenderer::Render(const ViewCamera& view) {
   }
   // Every pass into the one frame: the depth test composites them.
   render::BeginFrame(*target_);
+  // Translucent passes (render::Pass::translucent, volume DVR) after every
+  // opaque one, so they blend over what the depth test lets through.
   for (bool translucent : {false, true}) {
     for (auto& p : passes_) {
-      if (p->translucent != translucent) continue;
+      if (p->pass->translucent() != translucent) continue;
       // A rigid transform leaves camera z (and so the composite) unchanged.
       render::ViewSetup object_setup = setup;
       object_setup.cam_from_world = setup.cam_from_world * p->world_from_object;

@@ -6,6 +6,7 @@
 #include <cctype>
 #include <cmath>
 #include <glm/gtc/matrix_transform.hpp>
+#include <utility>
 
 #include "core/error.h"
 #include "core/volume_io.h"
@@ -24,17 +25,16 @@ core::TransferFunction TransferForVolume(const std::string& name,
   return core::TransferPreset("ramp");
 }
 
-VolumeObjectData MakeVolumeObject(const core::Volume& volume,
-                                  const core::TransferFunction& transfer,
+VolumeObjectData MakeVolumeObject(core::Volume volume, const core::TransferFunction& transfer,
                                   const std::optional<core::EffectOptions>& effect, int map_size,
                                   const glm::dvec3& placement_offset,
                                   const glm::dvec3& placement_scale, const std::string& where) {
   VolumeObjectData s;
-  s.volume = volume;
+  s.volume = std::move(volume);
   s.transfer = transfer;
-  const glm::vec3 extent(volume.Extent());
+  const glm::vec3 extent(s.volume.Extent());
   s.world_from_volume = glm::scale(glm::translate(glm::mat4(1.0f), -0.5f * extent), extent);
-  s.radius = 0.5 * glm::length(volume.Extent());
+  s.radius = 0.5 * glm::length(s.volume.Extent());
   if (effect) {
     if (map_size < 1 || map_size > 512)
       core::ThrowInputError(where, "map size {} not in [1, 512]", map_size);
@@ -131,18 +131,16 @@ LoadedVolume LoadVolumeObject(const scene::Object& o) {
   } catch (const core::InputError& e) {
     throw core::InputError(fmt::format("{}: {}", t ? t->where : o.where, e.what()));
   }
-  l.data = MakeVolumeObject(volume, transfer, l.options.effect, l.options.map_size, glm::dvec3(0.0),
-                            glm::dvec3(1.0), o.where);
+  l.data = MakeVolumeObject(std::move(volume), transfer, l.options.effect, l.options.map_size,
+                            glm::dvec3(0.0), glm::dvec3(1.0), o.where);
   l.data.world_from_volume = glm::mat4(o.world_from_object) * l.data.world_from_volume;
   return l;
 }
 
 glm::dmat4 WorldFromProxy(const VolumeObjectData& data) {
-  std::vector<core::PlacedMap> placed;
-  for (const auto& m : data.maps) placed.push_back({&m.map, m.placement, {}});
-  const core::Box3 box = core::ProxyBox({glm::dvec3(0.0), glm::dvec3(1.0)}, placed);
+  // The box and frame render::VolumePass draws (VolumePass::world_from_proxy).
   return glm::dmat4(data.world_from_volume) *
-         glm::scale(glm::translate(glm::dmat4(1.0), box.lo), box.hi - box.lo);
+         glm::dmat4(render::TexFromProxy(render::VolumeProxyBox(data.maps)));
 }
 
 }  // namespace ibr

@@ -32,8 +32,8 @@ struct VolumeObjectData {
 // The effect sampled on a map_size grid (thin along axes it does not vary
 // on), placed by translate-then-scale into the volume's texture space
 // (eq. 10's M). InputError naming `where` on a bad size or placement.
-VolumeObjectData MakeVolumeObject(const core::Volume& volume,
-                                  const core::TransferFunction& transfer,
+// The volume is taken by value: callers that are done with theirs move it in.
+VolumeObjectData MakeVolumeObject(core::Volume volume, const core::TransferFunction& transfer,
                                   const std::optional<core::EffectOptions>& effect, int map_size,
                                   const glm::dvec3& placement_offset,
                                   const glm::dvec3& placement_scale,

@@ -61,6 +61,23 @@ Texture Texture::Create3D(GLenum internal_format, int width, int height, int dep
   return texture;
 }
 
+Texture Texture::Create3DWithData(GLenum internal_format, const glm::ivec3& dims, GLenum format,
+                                  GLenum type, const void* data) {
+  Texture texture = Create3D(internal_format, dims.x, dims.y, dims.z);
+  GLint alignment = 4;
+  glGetIntegerv(GL_UNPACK_ALIGNMENT, &alignment);
+  glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
+  glTextureSubImage3D(texture.id(), 0, 0, 0, 0, dims.x, dims.y, dims.z, format, type, data);
+  glPixelStorei(GL_UNPACK_ALIGNMENT, alignment);
+  return texture;
+}
+
+Texture& Texture::SetLinearFilter() {
+  glTextureParameteri(id(), GL_TEXTURE_MIN_FILTER, GL_LINEAR);
+  glTextureParameteri(id(), GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+  return *this;
+}
+
 Renderbuffer Renderbuffer::Create(GLenum internal_format, int width, int height) {
   GLuint id = 0;
   glCreateRenderbuffers(1, &id);

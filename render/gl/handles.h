@@ -92,6 +92,14 @@ class Texture : public GlHandle<deleters::Texture> {
   // CLAMP_TO_EDGE by default (callers change them as the pass needs).
   static Texture Create2D(GLenum internal_format, int width, int height);
   static Texture Create3D(GLenum internal_format, int width, int height, int depth);
+  // Create3D plus one upload of the whole level from `data`: tightly packed
+  // texels in `format` and `type` (as glTextureSubImage3D takes them; the
+  // unpack alignment is 1 for the upload and restored after).
+  static Texture Create3DWithData(GLenum internal_format, const glm::ivec3& dims, GLenum format,
+                                  GLenum type, const void* data);
+  // LINEAR minification and magnification (Create2D/Create3D default to
+  // NEAREST); the wrap modes are left as they are.
+  Texture& SetLinearFilter();
   GLenum target() const noexcept { return target_; }
   Texture(Texture&& other) noexcept = default;
   Texture& operator=(Texture&& other) noexcept = default;

@@ -108,6 +108,10 @@ class Pass {
   // A short stable name ("mesh", "displacement", "relief", "depth-object", ...).
   virtual std::string_view name() const = 0;
   virtual void Draw(const RenderTarget& target, const ViewSetup& view) = 0;
+  // True for a pass that blends over what is already in the frame (volume
+  // DVR) instead of writing depth: a scene draws these after every opaque
+  // pass, so they blend over what the depth test lets through.
+  virtual bool translucent() const { return false; }
 };
 
 // BeginFrame + pass.Draw: one whole frame of one pass into `target` (what a

@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <glm/gtc/matrix_transform.hpp>
 #include <glm/gtc/type_ptr.hpp>
@@ -14,14 +15,6 @@
 namespace render {
 namespace {
 
-void LinearClamp(GLuint id) {
-  glTextureParameteri(id, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
-  glTextureParameteri(id, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
-  glTextureParameteri(id, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
-  glTextureParameteri(id, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
-  glTextureParameteri(id, GL_TEXTURE_WRAP_R, GL_CLAMP_TO_EDGE);
-}
-
 // uint8 volumes go up as R16 (v * 257 / 65535 == v / 255 exactly): llvmpipe
 // filters 8-bit textures with 8-bit weights (measured max error 6.2e-3 of the
 // range against a double trilinear filter) but R16/R32F to ~1e-6
@@ -29,9 +22,7 @@ void LinearClamp(GLuint id) {
 Texture UploadVolume(const core::Volume& v) {
   Texture t;
   if (v.type == core::ScalarType::kFloat32) {
-    t = Texture::Create3D(GL_R32F, v.dims.x, v.dims.y, v.dims.z);
-    glTextureSubImage3D(t.id(), 0, 0, 0, 0, v.dims.x, v.dims.y, v.dims.z, GL_RED, GL_FLOAT,
-                        v.bytes.data());
+    t = Texture::Create3DWithData(GL_R32F, v.dims, GL_RED, GL_FLOAT, v.bytes.data());
   } else {
     std::vector<uint16_t> wide;
     const void* data = v.bytes.data();
@@ -40,13 +31,9 @@ Texture UploadVolume(const core::Volume& v) {
       for (size_t i = 0; i < wide.size(); ++i) wide[i] = static_cast<uint16_t>(v.bytes[i] * 257);
       data = wide.data();
     }
-    t = Texture::Create3D(GL_R16, v.dims.x, v.dims.y, v.dims.z);
-    glPixelStorei(GL_UNPACK_ALIGNMENT, 2);
-    glTextureSubImage3D(t.id(), 0, 0, 0, 0, v.dims.x, v.dims.y, v.dims.z, GL_RED, GL_UNSIGNED_SHORT,
-                        data);
-    glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
+    t = Texture::Create3DWithData(GL_R16, v.dims, GL_RED, GL_UNSIGNED_SHORT, data);
   }
-  LinearClamp(t.id());
+  t.SetLinearFilter();
   return t;
 }
 
@@ -56,31 +43,22 @@ Texture UploadGradient(const core::Volume& v) {
     for (int y = 0; y < v.dims.y; ++y)
       for (int x = 0; x < v.dims.x; ++x)
         g[v.Index(x, y, z)] = glm::vec4(glm::vec3(core::GradientAtVoxel(v, x, y, z)), 0.0f);
-  Texture t = Texture::Create3D(GL_RGBA32F, v.dims.x, v.dims.y, v.dims.z);
-  glTextureSubImage3D(t.id(), 0, 0, 0, 0, v.dims.x, v.dims.y, v.dims.z, GL_RGBA, GL_FLOAT,
-                      g.data());
-  LinearClamp(t.id());
+  Texture t = Texture::Create3DWithData(GL_RGBA32F, v.dims, GL_RGBA, GL_FLOAT, g.data());
+  t.SetLinearFilter();
   return t;
 }
 
 Texture UploadMap(const core::StoredDisplacementMap& s) {
-  const glm::ivec3 d = s.dims;
   Texture t;
   if (s.bits == 32) {
-    t = Texture::Create3D(GL_RGBA32F, d.x, d.y, d.z);
-    glTextureSubImage3D(t.id(), 0, 0, 0, 0, d.x, d.y, d.z, GL_RGBA, GL_FLOAT, s.floats.data());
+    t = Texture::Create3DWithData(GL_RGBA32F, s.dims, GL_RGBA, GL_FLOAT, s.floats.data());
   } else if (s.bits == 16) {
-    t = Texture::Create3D(GL_RGBA16, d.x, d.y, d.z);
-    glTextureSubImage3D(t.id(), 0, 0, 0, 0, d.x, d.y, d.z, GL_RGBA, GL_UNSIGNED_SHORT,
-                        s.unorm.data());
+    t = Texture::Create3DWithData(GL_RGBA16, s.dims, GL_RGBA, GL_UNSIGNED_SHORT, s.unorm.data());
   } else {
-    std::vector<uint8_t> bytes(s.unorm.begin(), s.unorm.end());
-    t = Texture::Create3D(GL_RGBA8, d.x, d.y, d.z);
-    glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
-    glTextureSubImage3D(t.id(), 0, 0, 0, 0, d.x, d.y, d.z, GL_RGBA, GL_UNSIGNED_BYTE, bytes.data());
-    glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
+    const std::vector<uint8_t> bytes(s.unorm.begin(), s.unorm.end());
+    t = Texture::Create3DWithData(GL_RGBA8, s.dims, GL_RGBA, GL_UNSIGNED_BYTE, bytes.data());
   }
-  LinearClamp(t.id());
+  t.SetLinearFilter();
   return t;
 }
 
@@ -89,8 +67,7 @@ Texture UploadTransfer(const core::TransferFunction& tf, int n) {
   Texture t = Texture::Create(GL_TEXTURE_1D);
   glTextureStorage1D(t.id(), 1, GL_RGBA32F, n);
   glTextureSubImage1D(t.id(), 0, 0, n, GL_RGBA, GL_FLOAT, table.data());
-  glTextureParameteri(t.id(), GL_TEXTURE_MIN_FILTER, GL_LINEAR);
-  glTextureParameteri(t.id(), GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+  t.SetLinearFilter();
   glTextureParameteri(t.id(), GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
   return t;
 }
@@ -104,14 +81,45 @@ std::vector<Texture> UploadMapDerivatives(const core::StoredDisplacementMap& s) 
   for (int k = 0; k < 3; ++k) {
     for (size_t i = 0; i < column.size(); ++i)
       column[i] = glm::vec4(d.jacobian[i][k], d.alpha_gradient[i][k]);
-    Texture t = Texture::Create3D(GL_RGBA16F, s.dims.x, s.dims.y, s.dims.z);
-    glTextureSubImage3D(t.id(), 0, 0, 0, 0, s.dims.x, s.dims.y, s.dims.z, GL_RGBA, GL_FLOAT,
-                        column.data());
-    LinearClamp(t.id());
+    Texture t = Texture::Create3DWithData(GL_RGBA16F, s.dims, GL_RGBA, GL_FLOAT, column.data());
+    t.SetLinearFilter();
     out.push_back(std::move(t));
   }
   return out;
 }
+
+// Uniform names of map i, formatted once for every draw (not ~11 fmt::format
+// calls a map per draw).
+struct MapUniformNames {
+  std::string map, map_from_tex, tex_from_map, map_from_tex_linear, scale, texel, active_lo,
+      active_hi;
+  std::array<std::string, 3> derivatives;  // u_map_derivatives[3 i + k]
+};
+
+const std::array<MapUniformNames, kMaxVolumeMaps>& MapUniforms() {
+  static const std::array<MapUniformNames, kMaxVolumeMaps> names = [] {
+    std::array<MapUniformNames, kMaxVolumeMaps> n;
+    for (size_t i = 0; i < n.size(); ++i) {
+      n[i].map = fmt::format("u_maps[{}]", i);
+      n[i].map_from_tex = fmt::format("u_map_from_tex[{}]", i);
+      n[i].tex_from_map = fmt::format("u_tex_from_map[{}]", i);
+      n[i].map_from_tex_linear = fmt::format("u_map_from_tex_linear[{}]", i);
+      n[i].scale = fmt::format("u_map_scale[{}]", i);
+      n[i].texel = fmt::format("u_map_texel[{}]", i);
+      n[i].active_lo = fmt::format("u_map_active_lo[{}]", i);
+      n[i].active_hi = fmt::format("u_map_active_hi[{}]", i);
+      for (size_t k = 0; k < 3; ++k)
+        n[i].derivatives[k] = fmt::format("u_map_derivatives[{}]", 3 * i + k);
+    }
+    return n;
+  }();
+  return names;
+}
+
+// Texture units: 0 volume, 1 gradient, 2 transfer function, 3 + i map i,
+// 3 + kMaxVolumeMaps + 3 i + k derivative k of map i.
+constexpr int kFirstMapUnit = 3;
+constexpr int kFirstDerivativeUnit = kFirstMapUnit + kMaxVolumeMaps;
 
 constexpr int kTransferSize = 256;
 
@@ -191,11 +199,22 @@ std::vector<std::string> VolumePassOptions::Defines(int map_count) const {
       d.push_back("VOLUME_LIGHT_BLENDED");
       break;
   }
-  if (jacobian == VolumeJacobian::kPrecomputed) d.push_back("VOLUME_JACOBIAN_PRECOMPUTED");
+  if (UsesJacobianTextures()) d.push_back("VOLUME_JACOBIAN_PRECOMPUTED");
   if (mode == VolumeMode::kIso) {
     for (const std::string& r : RayCoreDefines(ray)) d.push_back(r);
   }
   return d;
+}
+
+core::Box3 VolumeProxyBox(const std::vector<VolumeMapInput>& maps) {
+  std::vector<core::PlacedMap> placed;
+  for (const auto& m : maps) placed.push_back({&m.map, m.placement, {}});
+  return core::ProxyBox({glm::dvec3(0.0), glm::dvec3(1.0)}, placed);
+}
+
+glm::mat4 TexFromProxy(const core::Box3& proxy_box) {
+  const glm::vec3 lo(proxy_box.lo), hi(proxy_box.hi);
+  return glm::scale(glm::translate(glm::mat4(1.0f), lo), hi - lo);
 }
 
 VolumePass::VolumePass(ProgramCache& programs, const core::Volume& volume,
@@ -233,9 +252,8 @@ VolumePass::VolumePass(ProgramCache& programs, const core::Volume& volume,
   for (int a = 0; a < 3; ++a)
     voxel_world_ = std::min(voxel_world_, static_cast<double>(glm::length(lin[a])) / dims_[a]);
 
-  std::vector<core::PlacedMap> placed;
-  for (const auto& m : maps_) placed.push_back({&m.map, m.placement, {}});
-  proxy_box_ = core::ProxyBox({glm::dvec3(0.0), glm::dvec3(1.0)}, placed);
+  proxy_box_ = VolumeProxyBox(maps_);
+  glGetIntegerv(GL_MAX_TEXTURE_IMAGE_UNITS, &max_texture_units_);
 
   volume_texture_ = UploadVolume(volume);
   gradient_texture_ = UploadGradient(volume);
@@ -264,8 +282,25 @@ VolumePass::VolumePass(ProgramCache& programs, const core::Volume& volume,
   glVertexArrayAttribBinding(box_vao_.id(), 0, 0);
 }
 
+int VolumePass::TextureUnitsNeeded(const VolumePassOptions& options) const {
+  const int maps = static_cast<int>(maps_.size());
+  if (maps == 0) return kFirstMapUnit;
+  if (options.UsesJacobianTextures()) return kFirstDerivativeUnit + 3 * maps;
+  return kFirstMapUnit + maps;
+}
+
 void VolumePass::SetOptions(const VolumePassOptions& options) {
   options.Check();
+  // A portability guard: the units are laid out for kMaxVolumeMaps maps, and
+  // four maps with per-texel Jacobians reach unit 18.
+  if (TextureUnitsNeeded(options) > max_texture_units_) {
+    core::ThrowInputError("VolumePass",
+                          "{} displacement maps with lighting '{}' and Jacobian '{}' need {} "
+                          "texture units, GL_MAX_TEXTURE_IMAGE_UNITS is {}",
+                          maps_.size(), VolumeLightingName(options.lighting),
+                          VolumeJacobianName(options.jacobian), TextureUnitsNeeded(options),
+                          max_texture_units_);
+  }
   const bool restore =
       stored_.size() != maps_.size() || options.displacement_bits != options_.displacement_bits;
   options_ = options;
@@ -280,9 +315,9 @@ void VolumePass::SetOptions(const VolumePassOptions& options) {
       map_textures_.push_back(UploadMap(stored_.back()));
     }
   }
-  // The derivative textures only when this Jacobian asks for them.
-  if (options_.jacobian == VolumeJacobian::kPrecomputed &&
-      derivative_textures_.size() != 3 * maps_.size()) {
+  // The derivative textures only when these options read them, built the
+  // first time they do (and again after the maps were re-stored).
+  if (options_.UsesJacobianTextures() && derivative_textures_.size() != 3 * maps_.size()) {
     derivative_textures_.clear();
     for (const auto& s : stored_) {
       for (Texture& t : UploadMapDerivatives(s)) derivative_textures_.push_back(std::move(t));
@@ -291,16 +326,14 @@ void VolumePass::SetOptions(const VolumePassOptions& options) {
 }
 
 glm::mat4 VolumePass::world_from_proxy() const {
-  const glm::vec3 lo(proxy_box_.lo), hi(proxy_box_.hi);
-  return world_from_volume_ * glm::scale(glm::translate(glm::mat4(1.0f), lo), hi - lo);
+  return world_from_volume_ * TexFromProxy(proxy_box_);
 }
 
 void VolumePass::SetCommonUniforms(const Program& program, const ViewSetup& view) const {
-  const glm::vec3 lo(proxy_box_.lo), hi(proxy_box_.hi);
   program.Set("u_world_from_box", world_from_proxy());
   program.Set("u_cam_from_world", view.cam_from_world);
   program.Set("u_clip_from_cam", view.clip_from_cam);
-  program.Set("u_tex_from_proxy", glm::scale(glm::translate(glm::mat4(1.0f), lo), hi - lo));
+  program.Set("u_tex_from_proxy", TexFromProxy(proxy_box_));
   program.Set("u_normal_world_from_tex",
               glm::transpose(glm::inverse(glm::mat3(world_from_volume_))));
   program.Set("u_light_dir_world", glm::normalize(options_.light_dir_world));
@@ -312,22 +345,24 @@ void VolumePass::SetCommonUniforms(const Program& program, const ViewSetup& view
   glBindTextureUnit(1, gradient_texture_.id());
   glBindTextureUnit(2, transfer_texture_.id());
   for (size_t i = 0; i < maps_.size(); ++i) {
-    const glm::mat4 m(maps_[i].placement);
-    const glm::mat3 a(m);
-    program.Set(fmt::format("u_maps[{}]", i), static_cast<int>(3 + i));
-    program.Set(fmt::format("u_map_from_tex[{}]", i), glm::mat4(glm::inverse(maps_[i].placement)));
-    program.Set(fmt::format("u_tex_from_map[{}]", i), a);
-    program.Set(fmt::format("u_map_from_tex_linear[{}]", i), glm::inverse(a));
-    program.Set(fmt::format("u_map_scale[{}]", i), stored_[i].scale);
-    program.Set(fmt::format("u_map_texel[{}]", i), 1.0f / glm::vec3(maps_[i].map.dims));
-    program.Set(fmt::format("u_map_active_lo[{}]", i), glm::vec3(active_[i].lo));
-    program.Set(fmt::format("u_map_active_hi[{}]", i), glm::vec3(active_[i].hi));
-    glBindTextureUnit(static_cast<GLuint>(3 + i), map_textures_[i].id());
-    if (options_.jacobian == VolumeJacobian::kPrecomputed) {
+    const MapUniformNames& names = MapUniforms()[i];
+    const glm::mat3 a(glm::mat4(maps_[i].placement));
+    const int unit = kFirstMapUnit + static_cast<int>(i);
+    program.Set(names.map, unit);
+    program.Set(names.map_from_tex, glm::mat4(glm::inverse(maps_[i].placement)));
+    program.Set(names.tex_from_map, a);
+    program.Set(names.map_from_tex_linear, glm::inverse(a));
+    program.Set(names.scale, stored_[i].scale);
+    program.Set(names.texel, 1.0f / glm::vec3(maps_[i].map.dims));
+    program.Set(names.active_lo, glm::vec3(active_[i].lo));
+    program.Set(names.active_hi, glm::vec3(active_[i].hi));
+    glBindTextureUnit(static_cast<GLuint>(unit), map_textures_[i].id());
+    if (options_.UsesJacobianTextures()) {
       for (size_t k = 0; k < 3; ++k) {
-        const auto unit = static_cast<int>(3 + kMaxVolumeMaps + 3 * i + k);
-        program.Set(fmt::format("u_map_derivatives[{}]", 3 * i + k), unit);
-        glBindTextureUnit(static_cast<GLuint>(unit), derivative_textures_[3 * i + k].id());
+        const auto derivative_unit = static_cast<int>(kFirstDerivativeUnit + 3 * i + k);
+        program.Set(names.derivatives[k], derivative_unit);
+        glBindTextureUnit(static_cast<GLuint>(derivative_unit),
+                          derivative_textures_[3 * i + k].id());
       }
     }
   }

@@ -91,6 +91,13 @@ struct VolumePassOptions {
   RayCoreOptions ray{.max_steps = 4096, .refine_steps = 10};
 
   void Check() const;  // InputError on bad values
+  // The per-texel J_D / grad alpha textures (VolumeJacobian::kPrecomputed) are
+  // read only by the lightings that transform normals (eq. 6, 7): no lighting
+  // or the plain gradient never builds, defines or binds them.
+  bool UsesJacobianTextures() const {
+    return jacobian == VolumeJacobian::kPrecomputed &&
+           (lighting == VolumeLighting::kTransformed || lighting == VolumeLighting::kBlended);
+  }
   // The shader #defines these options select (one place).
   std::vector<std::string> Defines(int map_count) const;
 };
@@ -100,6 +107,14 @@ struct VolumeMapInput {
   core::DisplacementMap map;
   glm::dmat4 placement{1.0};  // map unit cube -> volume texture space
 };
+
+// The proxy geometry of sec. 4.2 for these maps: core::ProxyBox of the
+// volume's unit box, volume texture space.
+core::Box3 VolumeProxyBox(const std::vector<VolumeMapInput>& maps);
+// The proxy box's unit cube -> volume texture space (translate to lo, scale by
+// hi - lo; single precision, as the shaders get it). world_from_volume times
+// this is VolumePass::world_from_proxy().
+glm::mat4 TexFromProxy(const core::Box3& proxy_box);
 
 struct VolumeDrawStats {
   int slices = 0;
@@ -112,6 +127,9 @@ class VolumePass : public Pass {
   // Plain CPU data in; uploads the volume (R8/R16/R32F), its gradient
   // (RGBA16F), the maps and the transfer function. world_from_volume maps
   // texture space to the world (e.g. scale by the extent, centre at 0).
+  // core::InputError when the options need more texture units than the
+  // context's GL_MAX_TEXTURE_IMAGE_UNITS (GL 4.5 guarantees 16; four maps
+  // with precomputed Jacobians use units up to 18).
   VolumePass(ProgramCache& programs, const core::Volume& volume,
              const core::TransferFunction& transfer, std::vector<VolumeMapInput> maps,
              const glm::mat4& world_from_volume, const VolumePassOptions& options);
@@ -122,9 +140,14 @@ class VolumePass : public Pass {
   // the translucent slices have no single camera z or normal); iso writes all
   // four attachments.
   void Draw(const RenderTarget& target, const ViewSetup& view) override;
+  // DVR blends translucent slices over what is drawn before it.
+  bool translucent() const override { return options_.mode == VolumeMode::kDvr; }
 
   const VolumePassOptions& options() const { return options_; }
-  void SetOptions(const VolumePassOptions& options);          // same maps and volume
+  // Same maps and volume; builds the derivative textures the first time the
+  // options use them (UsesJacobianTextures). InputError as the constructor's
+  // for options needing more texture units than GL_MAX_TEXTURE_IMAGE_UNITS.
+  void SetOptions(const VolumePassOptions& options);
   const core::Box3& proxy_box() const { return proxy_box_; }  // volume texture space
   const VolumeDrawStats& last_stats() const { return stats_; }
   // core::ActiveBox of each map (map space): where its fetch is not skipped.
@@ -144,7 +167,11 @@ class VolumePass : public Pass {
   void DrawIso(const RenderTarget& target, const ViewSetup& view);
   void SetCommonUniforms(const Program& program, const ViewSetup& view) const;
 
+  // Highest texture unit SetCommonUniforms binds for options_, plus one.
+  int TextureUnitsNeeded(const VolumePassOptions& options) const;
+
   ProgramCache* programs_;
+  int max_texture_units_ = 0;  // GL_MAX_TEXTURE_IMAGE_UNITS of the context
   VolumePassOptions options_;
   glm::ivec3 dims_{0};
   glm::mat4 world_from_volume_{1.0f};
@@ -157,7 +184,8 @@ class VolumePass : public Pass {
   Texture gradient_texture_;
   Texture transfer_texture_;
   std::vector<Texture> map_textures_;
-  // Per map: J_D columns + grad alpha (VolumeJacobian::kPrecomputed), 3 each.
+  // Per map: J_D columns + grad alpha, 3 each; built when first
+  // UsesJacobianTextures(), empty before.
   std::vector<Texture> derivative_textures_;
   SliceBuffer slices_;
   Buffer box_vertices_;

@@ -165,16 +165,21 @@ vec3 VolumeNormal(Displaced d) {
 #endif
 }
 
-// Diffuse + ambient with the outward normal n (world, unit or zero).
+// Diffuse + ambient with the outward normal n (world, unit or zero); the
+// colour as is without lighting (Fig. 4 (a)).
 vec3 VolumeShadeWithNormal(vec3 rgb, vec3 n) {
-  float diffuse = max(dot(n, u_light_dir_world), 0.0);
-  return rgb * (u_ambient + (1.0 - u_ambient) * diffuse);
-}
-
-vec3 VolumeShade(vec3 rgb, Displaced d) {
 #if defined(VOLUME_LIGHT_NONE)
   return rgb;
 #else
-  return VolumeShadeWithNormal(rgb, VolumeNormal(d));
+  float diffuse = max(dot(n, u_light_dir_world), 0.0);
+  return rgb * (u_ambient + (1.0 - u_ambient) * diffuse);
 #endif
+}
+
+vec3 VolumeShade(vec3 rgb, Displaced d) {
+  vec3 n = vec3(0.0);
+#if !defined(VOLUME_LIGHT_NONE)
+  n = VolumeNormal(d);  // no lighting needs no normal: not evaluated
+#endif
+  return VolumeShadeWithNormal(rgb, n);
 }

@@ -62,9 +62,5 @@ void main() {
   Displaced d = VolumeDisplace((u_tex_from_proxy * vec4(res.p, 1.0)).xyz);
   vec3 n = VolumeNormal(d);
   o_normal = vec4(n, 0.0);
-#if defined(VOLUME_LIGHT_NONE)
-  o_color = vec4(0.92, 0.88, 0.8, 1.0);
-#else
   o_color = vec4(VolumeShadeWithNormal(vec3(0.92, 0.88, 0.8), n), 1.0);
-#endif
 }

@@ -736,6 +736,49 @@ TEST_F(GlTest, VolumeFig4LightingAblationAsNumbers) {
   EXPECT_NO_GL_ERROR();
 }
 
+// Precomputed J_D with no lighting or the plain gradient reads no derivative
+// textures: none are built, defined or bound. Switching the lighting to one
+// that reads them builds them once, and the pass then draws what a pass built
+// with that lighting draws.
+TEST_F(GlTest, VolumeJacobianTexturesOnlyWhereTheLightingReadsThem) {
+  const Scene gradient = PlateScene(VolumeLighting::kGradient, VolumeJacobian::kPrecomputed);
+  const Scene blended = PlateScene(VolumeLighting::kBlended, VolumeJacobian::kPrecomputed);
+  const auto defines_precomputed = [](const VolumePassOptions& o) {
+    const std::vector<std::string> d = o.Defines(1);
+    return std::find(d.begin(), d.end(), "VOLUME_JACOBIAN_PRECOMPUTED") != d.end();
+  };
+  EXPECT_FALSE(gradient.options.UsesJacobianTextures());
+  EXPECT_FALSE(defines_precomputed(gradient.options));
+  EXPECT_TRUE(blended.options.UsesJacobianTextures());
+  EXPECT_TRUE(defines_precomputed(blended.options));
+  const auto make = [&](const Scene& s) {
+    return std::make_unique<VolumePass>(programs(), s.volume, s.transfer, s.maps,
+                                        CentredWorldFromVolume(s.volume), s.options);
+  };
+  int64_t before = Texture::created_count();
+  const auto built_blended = make(blended);
+  const int64_t blended_textures = Texture::created_count() - before;
+  before = Texture::created_count();
+  const auto pass = make(gradient);
+  const int64_t gradient_textures = Texture::created_count() - before;
+  EXPECT_EQ(blended_textures - gradient_textures, 3) << "three derivative textures a map";
+
+  const OrthoCamera cam = Ortho(-90, 70, 0.45 * gradient.volume.dims.x, 64);
+  RenderFrame(*pass, cam.view, cam.size, cam.size);  // draws without them
+  before = Texture::created_count();
+  pass->SetOptions(blended.options);
+  EXPECT_EQ(Texture::created_count() - before, 3);
+  pass->SetOptions(gradient.options);
+  pass->SetOptions(blended.options);
+  EXPECT_EQ(Texture::created_count() - before, 3) << "built once";
+  const Frame switched = RenderFrame(*pass, cam.view, cam.size, cam.size);
+  const Frame built = RenderFrame(*built_blended, cam.view, cam.size, cam.size);
+  EXPECT_GT(built.CountOutcome(1u << static_cast<int>(RayOutcome::kHit)), 0);
+  EXPECT_EQ(switched.color, built.color);
+  EXPECT_EQ(switched.normal, built.normal);
+  EXPECT_NO_GL_ERROR();
+}
+
 // ---- 6. hard cases: finite output over random configurations ----
 
 TEST_F(GlTest, VolumeHardCaseSweepGivesOnlyFinitePixels) {
