@@ -23,61 +23,36 @@ namespace {
 constexpr const char* kFormat = "ibr-dataset";
 constexpr int kVersion = 1;
 
-// Counts the elements of the top-level "views" array without building the
-// document, and stops as soon as there are more than `limit`: a 100,000-view
-// manifest is refused after lexing its first views, not after a DOM of all.
-class ViewCounter : public json::json_sax_t {
+// The parse callback that counts the elements of the top-level "views"
+// array as the parser meets them and stops the parse (ViewLimitExceeded) at
+// the first one over `limit`: a 100,000-view manifest is refused after
+// `limit` views are built, in the one parse that builds the document.
+// Depths are nlohmann's: the top-level keys and "views" itself at 1, its
+// elements at 2 (an object or array starts there, a scalar is a value there).
+struct ViewLimitExceeded {};
+class ViewCounter {
  public:
   explicit ViewCounter(size_t limit) : limit_(limit) {}
-  size_t views() const { return views_; }
-  bool over() const { return views_ > limit_; }
-
-  bool null() override { return Value(); }
-  bool boolean(bool) override { return Value(); }
-  bool number_integer(number_integer_t) override { return Value(); }
-  bool number_unsigned(number_unsigned_t) override { return Value(); }
-  bool number_float(number_float_t, const string_t&) override { return Value(); }
-  bool string(string_t&) override { return Value(); }
-  bool binary(binary_t&) override { return Value(); }
-  bool start_object(std::size_t) override { return Open(); }
-  bool end_object() override { return Close(); }
-  bool start_array(std::size_t) override {
-    if (!Open()) return false;
-    if (depth_ == 2 && key_ == "views") in_views_ = true;
+  bool operator()(int depth, json::parse_event_t event, json& parsed) {
+    using E = json::parse_event_t;
+    if (depth == 1 && event == E::key) {
+      top_key_ = parsed.get<std::string>();
+    } else if (depth == 1 && event == E::array_start) {
+      in_views_ = top_key_ == "views";
+    } else if (depth == 1 && event == E::array_end) {
+      in_views_ = false;
+    } else if (depth == 2 && in_views_ &&
+               (event == E::object_start || event == E::array_start || event == E::value)) {
+      if (++views_ > limit_) throw ViewLimitExceeded{};
+    }
     return true;
-  }
-  bool end_array() override {
-    if (depth_ == 2) in_views_ = false;
-    return Close();
-  }
-  bool key(string_t& k) override {
-    if (depth_ == 1) key_ = k;
-    return true;
-  }
-  bool parse_error(std::size_t, const std::string&, const nlohmann::detail::exception&) override {
-    return false;  // the full parse reports it
   }
 
  private:
-  // An element of "views" starts at depth 3 (objects, arrays) or is a scalar at depth 2.
-  bool Count() {
-    ++views_;
-    return views_ <= limit_;
-  }
-  bool Value() { return in_views_ && depth_ == 2 ? Count() : true; }
-  bool Open() {
-    ++depth_;
-    return in_views_ && depth_ == 3 ? Count() : true;
-  }
-  bool Close() {
-    --depth_;
-    return true;
-  }
   size_t limit_;
   size_t views_ = 0;
-  int depth_ = 0;
   bool in_views_ = false;
-  std::string key_;
+  std::string top_key_;
 };
 
 // A relative path that stays inside the dataset directory.
@@ -304,21 +279,18 @@ core::ImageF Dataset::LoadNormal(size_t i) const {
 Dataset ReadManifest(std::istream& in, const std::string& name, const DatasetUse& use) {
   const std::string where = fmt::format("ReadManifest: '{}'", name);
   const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  // The view count first, before a view is parsed (and before the document is
-  // built): the limit of this use, else the dataset limit.
+  // The view count is checked as the views are parsed (before the document
+  // holds more than the limit): the limit of this use, else the dataset limit.
   const size_t max_views = std::min(use.max_views, kDatasetLimits.max_views);
   const std::string why = use.purpose.empty() || max_views == kDatasetLimits.max_views
                               ? ""
                               : fmt::format(" {}", use.purpose);
-  ViewCounter counter(max_views);
-  json::sax_parse(text, &counter);
-  if (counter.over()) {
-    core::ThrowInputError(where, "more than {} views; at most {}{} are supported", max_views,
-                          max_views, why);
-  }
   json j;
   try {
-    j = json::parse(text);
+    j = json::parse(text, ViewCounter(max_views));
+  } catch (const ViewLimitExceeded&) {
+    core::ThrowInputError(where, "more than {} views; at most {}{} are supported", max_views,
+                          max_views, why);
   } catch (const json::exception& e) {
     core::ThrowInputError(where, "not valid JSON ({})", e.what());
   }

@@ -80,5 +80,36 @@ TEST(MapDataset, OneMapOverTheLimitIsRefusedBeforeAnyImage) {
             std::string::npos);
 }
 
+// Every element of the top-level "views" counts, whatever its type (the
+// reader then refuses it as a view), and a "views" key anywhere but the top
+// level counts nothing.
+TEST(MapDataset, TheCountIsOfTopLevelViewElementsOfAnyType) {
+  const auto manifest = [](const std::string& name, const std::string& views,
+                           const std::string& extra) {
+    const fs::path dir = test_support::TestOutputDir() / name;
+    fs::remove_all(dir);
+    fs::create_directories(dir);
+    std::ofstream(dir / "dataset.json") << R"({"format": "ibr-dataset", "version": 1, )" << extra
+                                        << R"("cameras": [], "views": )" << views << "}\n";
+    return dir;
+  };
+  std::string mixed = "[";
+  for (int i = 0; i <= kMaxMaps; ++i)
+    mixed += (i ? "," : "") + std::string(i % 3 == 0 ? "1" : i % 3 == 1 ? "[2, 3]" : "{}");
+  mixed += "]";
+  EXPECT_NE(ErrorOf([&] {
+              ReadMapDataset(manifest("views_mixed_65", mixed, ""));
+            }).find("more than 64 views"),
+            std::string::npos);
+  // 65 inner "views" arrays of one element each under another key: not views.
+  std::string nested = R"("other": {"views": [)";
+  for (int i = 0; i <= kMaxMaps; ++i) nested += (i ? "," : "") + std::string("[0]");
+  nested += "]}, ";
+  const std::string error =
+      ErrorOf([&] { ReadMapDataset(manifest("views_nested", "[]", nested)); });
+  EXPECT_EQ(error.find("more than"), std::string::npos) << error;
+  EXPECT_FALSE(error.empty());  // no views at all is refused for what it is
+}
+
 }  // namespace
 }  // namespace ibr
