@@ -1,6 +1,7 @@
 #include "bench/deform_bench.h"
 
 #include <fmt/format.h>
+#include <sys/wait.h>
 
 #include <algorithm>
 #include <chrono>
@@ -9,10 +10,10 @@
 #include <fstream>
 #include <glm/gtc/matrix_transform.hpp>
 #include <map>
-#include <memory>
 #include <optional>
 #include <sstream>
 
+#include "bench/peer.h"
 #include "capture/dataset.h"
 #include "capture/synthetic.h"
 #include "core/error.h"
@@ -78,7 +79,7 @@ DeformOutcomes CountDeformOutcomes(const render::Frame& frame) {
   DeformOutcomes r;
   double samples = 0;
   auto has = [](uint32_t bits, render::RayOutcome o) {
-    return (bits & (1u << static_cast<int>(o))) != 0;
+    return (bits & render::OutcomeBit(o)) != 0;
   };
   for (const uint32_t bits : frame.outcome.values()) {
     r.mesh_pixels += (bits & render::kDeformMeshBit) != 0;
@@ -114,13 +115,50 @@ void Normalise(core::TriangleMesh& mesh) {
   for (glm::vec3& p : mesh.positions) p = (p - centre) / longest;
 }
 
+// The one orbit view (of `ibr deform` and of the bench): a size x size
+// pinhole with a 34 degree field of view, looking at `centre` from 2.6
+// `longest` away, at `azimuth_deg` about +y (OBJ up) and `elevation_deg`
+// above the horizon; world units (rigid cam_from_world).
+ibr::ViewCamera OrbitCamera(const glm::dvec3& centre, double longest, double azimuth_deg,
+                            double elevation_deg, int size) {
+  const double az = glm::radians(azimuth_deg), el = glm::radians(elevation_deg);
+  const glm::dvec3 eye_norm =
+      2.6 * glm::dvec3(std::cos(el) * std::sin(az), std::sin(el), std::cos(el) * std::cos(az));
+  const double focal = 0.5 * size / std::tan(glm::radians(17.0));
+  ibr::ViewCamera view;
+  view.camera = ibr::MapCamera::Pinhole(size, size, focal, focal, size / 2.0, size / 2.0);
+  view.cam_from_world = glm::dmat4(core::CamFromWorldLookAt(glm::vec3(centre + longest * eye_norm),
+                                                            glm::vec3(centre), {0, 1, 0}));
+  return view;
+}
+
+// What the clip range must hold (normalised units): the mesh and the
+// deformation box, grown by the largest displacement.
+core::Box3d DeformedBounds(const core::Box3d& mesh, const core::Box3d& box, double displacement) {
+  return {glm::min(mesh.lo, box.lo) - displacement, glm::max(mesh.hi, box.hi) + displacement};
+}
+
 }  // namespace
 
 DeformRunReport RunDeform(render::ProgramCache& programs, const DeformRunOptions& options) {
+  // Every input is read and checked before anything is built or written; the
+  // frame sizes first (the budget's message before the range of Check()).
+  render::CheckFrameSize("ibr deform", "--size", options.size, options.size);
   options.Check();
-  // Every input is read and checked before anything is built or written.
-  std::optional<capture::Dataset> cameras;
-  if (!options.cameras.empty()) cameras = capture::ReadDataset(options.cameras);
+  // The views, in world units (rigid cam_from_world): the dataset's, or (once
+  // the mesh is known) one orbit view.
+  std::vector<ibr::NamedView> views;
+  if (!options.cameras.empty()) {
+    const capture::Dataset cameras = capture::ReadDataset(options.cameras);
+    const std::vector<ibr::ViewCamera> cams = ibr::ViewsFromDataset(cameras);
+    for (size_t i = 0; i < cams.size(); ++i) {
+      views.push_back({cameras.views[i].name, cams[i]});
+      render::CheckFrameSize(
+          "ibr deform",
+          fmt::format("--cameras '{}': view '{}'", options.cameras.string(), views.back().name),
+          cams[i].camera.width, cams[i].camera.height);
+    }
+  }
   capture::SceneMesh scene = capture::LoadSceneMesh(options.mesh);
   core::TriangleMesh& mesh = scene.mesh;
   // world (the mesh file's frame) = centre + longest * normalised.
@@ -160,28 +198,13 @@ DeformRunReport RunDeform(render::ProgramCache& programs, const DeformRunOptions
       core::SampleDeformation(options.deformation, options.deformation_resolution);
   render::DeformPass pass(programs, {&mesh, &sdf, &texture, placement}, options.pass);
 
-  // The views, in world units (rigid cam_from_world): the dataset's, or one
-  // orbit view (azimuth about +y, 34 degree field of view, 2.6 longest sides
-  // from the centre).
-  std::vector<ibr::NamedView> views;
-  if (cameras) {
-    const std::vector<ibr::ViewCamera> cams = ibr::ViewsFromDataset(*cameras);
-    for (size_t i = 0; i < cams.size(); ++i) views.push_back({cameras->views[i].name, cams[i]});
-  } else {
-    const double az = glm::radians(options.azimuth_deg), el = glm::radians(options.elevation_deg);
-    const glm::dvec3 eye_norm =
-        2.6 * glm::dvec3(std::cos(el) * std::sin(az), std::sin(el), std::cos(el) * std::cos(az));
-    const double focal = 0.5 * options.size / std::tan(glm::radians(17.0));
-    ibr::ViewCamera view;
-    view.camera = ibr::MapCamera::Pinhole(options.size, options.size, focal, focal,
-                                          options.size / 2.0, options.size / 2.0);
-    view.cam_from_world = glm::dmat4(core::CamFromWorldLookAt(
-        glm::vec3(centre + longest * eye_norm), glm::vec3(centre), {0, 1, 0}));
-    views.push_back({"deform", view});
+  if (views.empty()) {
+    views.push_back({"deform", OrbitCamera(centre, longest, options.azimuth_deg,
+                                           options.elevation_deg, options.size)});
   }
-  // Clip range: the mesh and the deformation box (grown by the displacement), in world units.
-  const core::Box3d norm_bounds{glm::min(glm::dvec3(lo), box.lo) - report.max_displacement,
-                                glm::max(glm::dvec3(hi), box.hi) + report.max_displacement};
+  // Clip range, in world units.
+  const core::Box3d norm_bounds =
+      DeformedBounds({glm::dvec3(lo), glm::dvec3(hi)}, box, report.max_displacement);
   capture::Bounds world_bounds;
   world_bounds.min = glm::dvec3(world_from_norm * glm::dvec4(norm_bounds.lo, 1.0));
   world_bounds.max = glm::dvec3(world_from_norm * glm::dvec4(norm_bounds.hi, 1.0));
@@ -189,40 +212,36 @@ DeformRunReport RunDeform(render::ProgramCache& programs, const DeformRunOptions
   std::optional<capture::DatasetWriter> writer;
   if (options.WritesDataset()) writer.emplace(options.out);
   render::Frame first;
+  std::optional<render::RenderTarget> target;  // re-created only when the view size changes
   for (size_t v = 0; v < views.size(); ++v) {
     const ibr::ViewCamera& camera = views[v].view;
     render::ViewSetup view = ibr::ViewSetupFor(camera, world_bounds);
     // The pass works in normalised units: cam_from_norm is a similarity, so
     // camera z (and the depth written) stays in world units.
     view.cam_from_world = glm::mat4(camera.cam_from_world * world_from_norm);
-    render::RenderTarget target(
-        render::FrameTargetOptions(camera.camera.width, camera.camera.height));
+    const int w = camera.camera.width, h = camera.camera.height;
+    if (!target || target->width() != w || target->height() != h) {
+      target.emplace(render::FrameTargetOptions(w, h));
+    }
     if (v == 0) {
+      // The last timed frame is view 0's: it is read below, not drawn again.
       render::FrameTimerOptions timer;
       timer.warmup_frames = 1;
       timer.timed_frames = 3;
-      report.frame_ms = render::TimeFrames(
-                            [&] {
-                              render::BeginFrame(target);
-                              pass.Draw(target, view);
-                            },
-                            timer)
-                            .median_ms;
+      report.frame_ms =
+          render::TimeFrames([&] { render::DrawFrame(*target, pass, view); }, timer).median_ms;
+    } else {
+      render::DrawFrame(*target, pass, view);
     }
-    render::BeginFrame(target);
-    pass.Draw(target, view);
-    render::Frame frame = render::ReadFrame(target);
+    render::Frame frame = render::ReadFrame(*target);
     report.views.push_back({views[v].name, CountDeformOutcomes(frame)});
     report.total.Add(report.views.back().outcomes);
     std::fprintf(stderr, "deform: view %zu/%zu %s rendered\n", v + 1, views.size(),
                  views[v].name.c_str());
     if (writer) {
-      core::Image8 mask(frame.color.width(), frame.color.height(), 1, 0);
-      for (int y = 0; y < mask.height(); ++y)
-        for (int x = 0; x < mask.width(); ++x) mask.at(x, y) = frame.Covered(x, y) ? 255 : 0;
       const int cam = writer->AddCamera(ibr::CaptureCamera(camera.camera));
       writer->AddView(views[v].name, cam, ibr::RigidFromMat4(camera.cam_from_world), frame.color,
-                      frame.depth, mask, frame.normal);
+                      ibr::DatasetDepth(frame.depth), render::CoverageMask(frame), frame.normal);
     } else {
       first = std::move(frame);
     }
@@ -243,25 +262,6 @@ DeformRunReport RunDeform(render::ProgramCache& programs, const DeformRunOptions
 
 namespace bench {
 
-LineFit FitLine(const std::vector<double>& x, const std::vector<double>& y) {
-  LineFit fit;
-  const size_t n = std::min(x.size(), y.size());
-  if (n < 2) return fit;
-  double mx = 0, my = 0;
-  for (size_t i = 0; i < n; ++i) mx += x[i] / n, my += y[i] / n;
-  double sxx = 0, sxy = 0, syy = 0;
-  for (size_t i = 0; i < n; ++i) {
-    sxx += (x[i] - mx) * (x[i] - mx);
-    sxy += (x[i] - mx) * (y[i] - my);
-    syy += (y[i] - my) * (y[i] - my);
-  }
-  if (!(sxx > 0)) return fit;
-  fit.slope = sxy / sxx;
-  fit.intercept = my - fit.slope * mx;
-  fit.r2 = syy > 0 ? sxy * sxy / (sxx * syy) : 1.0;
-  return fit;
-}
-
 void DeformBenchOptions::Check() const {
   if (csv.empty()) core::ThrowInputError("ibr bench deform", "--csv FILE is required");
   if (out.empty()) core::ThrowInputError("ibr bench deform", "--out DIR is required");
@@ -276,8 +276,9 @@ struct BenchMesh {
   bool cap_holes;
 };
 
-// The OpenVDB peer: one Python run per mesh over every resolution; returns
-// (seconds, active voxels) per resolution, in order.
+// The OpenVDB peer: one Python run per mesh over every resolution, with our
+// voxel size (the box's longest side / (resolution - 1)) and our exact band
+// as its half width; returns (seconds, active voxels) per resolution, in order.
 std::vector<std::pair<double, double>> RunOpenVdbPeer(const std::filesystem::path& obj,
                                                       const core::Box3d& box,
                                                       const std::vector<int>& resolutions,
@@ -285,15 +286,20 @@ std::vector<std::pair<double, double>> RunOpenVdbPeer(const std::filesystem::pat
   const std::filesystem::path script =
       std::filesystem::path(IBR_BENCH_SOURCE_DIR) / "openvdb_peer.py";
   std::string cmd = fmt::format(
-      "/usr/bin/python3 '{}' '{}' {} {} {} {} {}", script.string(), obj.string(), box.lo.x,
-      box.lo.y, box.lo.z, std::max({box.size().x, box.size().y, box.size().z}), half_width_voxels);
+      "/usr/bin/python3 {} {} {} {}", ShellQuote(script.string()), ShellQuote(obj.string()),
+      std::max({box.size().x, box.size().y, box.size().z}), half_width_voxels);
   for (int r : resolutions) cmd += fmt::format(" {}", r);
   cmd += " 2>&1";
-  std::unique_ptr<FILE, int (*)(FILE*)> pipe(popen(cmd.c_str(), "r"), pclose);
+  FILE* pipe = popen(cmd.c_str(), "r");
   if (!pipe) core::ThrowInputError("ibr bench deform", "cannot run {}", cmd);
   std::string text;
   char buffer[512];
-  while (std::fgets(buffer, sizeof buffer, pipe.get())) text += buffer;
+  while (std::fgets(buffer, sizeof buffer, pipe)) text += buffer;
+  const int status = pclose(pipe);
+  if (status != 0) {
+    core::ThrowInputError("ibr bench deform", "OpenVDB peer failed (exit status {}): {}",
+                          WIFEXITED(status) ? WEXITSTATUS(status) : -1, text);
+  }
   std::vector<std::pair<double, double>> times;
   std::istringstream lines(text);
   std::string line;
@@ -368,10 +374,10 @@ DeformBenchResult RunDeformBench(render::ProgramCache& programs,
     if (options.peer) {
       const std::filesystem::path obj = options.out / (m.name + "_closed.obj");
       WriteObj(distance.closed_mesh(), obj);
-      peer = RunOpenVdbPeer(obj, full, resolutions, 4.0);
+      peer = RunOpenVdbPeer(obj, full, resolutions, core::DistanceFieldOptions().exact_band_voxels);
     }
     for (size_t r = 0; r < resolutions.size(); ++r) {
-      core::DistanceFieldOptions sdf_options;
+      core::DistanceFieldOptions sdf_options;  // the peer's half width is its exact band
       sdf_options.resolution = resolutions[r];
       const auto start = std::chrono::steady_clock::now();
       const core::DistanceField field = core::BuildDistanceField(distance, full, sdf_options);
@@ -413,14 +419,16 @@ DeformBenchResult RunDeformBench(render::ProgramCache& programs,
         distance, full.Grown(grow + 2.0 * glm::length(full.size()) / render_resolution),
         sdf_options);
 
-    render::ViewSetup view;
-    const double az = glm::radians(30.0), el = glm::radians(20.0);
-    const glm::vec3 eye =
-        2.6f * glm::vec3(std::cos(el) * std::sin(az), std::sin(el), std::cos(el) * std::cos(az));
-    view.cam_from_world = core::CamFromWorldLookAt(eye, {0, 0, 0}, {0, 1, 0});
-    const double focal = 0.5 * size / std::tan(glm::radians(17.0));
-    view.clip_from_cam =
-        core::ClipFromCamPerspective(focal, focal, size / 2.0, size / 2.0, size, size, 0.05, 10.0);
+    // RunDeform's default orbit view of the normalised mesh (centre 0,
+    // longest side 1), its clip range holding every region scale's result.
+    const DeformRunOptions run_defaults;
+    const ibr::ViewCamera camera = OrbitCamera(glm::dvec3(0.0), 1.0, run_defaults.azimuth_deg,
+                                               run_defaults.elevation_deg, size);
+    const core::Box3d clip_box = DeformedBounds({glm::dvec3(lo), glm::dvec3(hi)}, full, grow);
+    capture::Bounds bounds;
+    bounds.min = clip_box.lo;
+    bounds.max = clip_box.hi;
+    const render::ViewSetup view = ibr::ViewSetupFor(camera, bounds);
     render::RenderTarget target(render::FrameTargetOptions(size, size));
     double continuous_weighted = 0.0;
     for (const Mode& mode : modes) {
@@ -437,13 +445,8 @@ DeformBenchResult RunDeformBench(render::ProgramCache& programs,
         render::FrameTimerOptions timer;
         timer.warmup_frames = 1;
         timer.timed_frames = options.quick ? 1 : 5;
-        const double ms = render::TimeFrames(
-                              [&] {
-                                render::BeginFrame(target);
-                                pass.Draw(target, view);
-                              },
-                              timer)
-                              .median_ms;
+        const double ms =
+            render::TimeFrames([&] { render::DrawFrame(target, pass, view); }, timer).median_ms;
         const DeformOutcomes o = CountDeformOutcomes(render::ReadFrame(target));
         const double area = static_cast<double>(o.rays) / (double(size) * size);
         areas.push_back(area);

@@ -115,10 +115,4 @@ DeformBenchResult RunDeformBench(render::ProgramCache& programs, const DeformBen
 // and the gnuplot PNGs in out.
 void WriteDeformBench(const DeformBenchResult& result, const DeformBenchOptions& options);
 
-// Least-squares line y = slope x + intercept and its coefficient of determination.
-struct LineFit {
-  double slope = 0.0, intercept = 0.0, r2 = 0.0;
-};
-LineFit FitLine(const std::vector<double>& x, const std::vector<double>& y);
-
 }  // namespace bench

@@ -6,7 +6,7 @@ built for each resolution with the voxel size ours uses (the box's longest
 side / (resolution - 1)) and the same half width in voxels, timed around
 the call alone (not the OBJ parse).
 
-usage: openvdb_peer.py MESH.obj LO_X LO_Y LO_Z LONGEST HALF_WIDTH_VOXELS RES...
+usage: openvdb_peer.py MESH.obj LONGEST HALF_WIDTH_VOXELS RES...
 prints one line per resolution: "res R seconds S active N".
 """
 import sys
@@ -33,13 +33,13 @@ def read_obj(path):
 
 
 def main():
-    if len(sys.argv) < 8:
+    if len(sys.argv) < 5:
         print(__doc__.strip().splitlines()[-2])
         sys.exit(2)
     points, triangles = read_obj(sys.argv[1])
-    longest = float(sys.argv[5])
-    half_width = float(sys.argv[6])
-    for res in [int(r) for r in sys.argv[7:]]:
+    longest = float(sys.argv[2])
+    half_width = float(sys.argv[3])
+    for res in [int(r) for r in sys.argv[4:]]:
         voxel = longest / (res - 1)
         transform = vdb.createLinearTransform(voxelSize=voxel)
         start = time.perf_counter()

@@ -19,15 +19,12 @@
 #include "render/passes/mesh_pass.h"
 
 namespace bench {
-namespace {
 
 std::string ShellQuote(const std::string& s) {
   std::string out = "'";
   for (char c : s) out += c == '\'' ? std::string("'\\''") : std::string(1, c);
   return out + "'";
 }
-
-}  // namespace
 
 // ------------------------------------------------------------ metrics ----
 

@@ -40,6 +40,10 @@
 
 namespace bench {
 
+// `s` in single quotes for /bin/sh (a ' inside becomes '\''): one word,
+// nothing expanded. Every peer's command line quotes its paths with it.
+std::string ShellQuote(const std::string& s);
+
 // ------------------------------------------------------------ metrics ----
 
 // Depth/silhouette metrics shared with ibr/ (core/metrics.h).

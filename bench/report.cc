@@ -17,6 +17,25 @@
 namespace bench {
 namespace fs = std::filesystem;
 
+LineFit FitLine(const std::vector<double>& x, const std::vector<double>& y) {
+  LineFit fit;
+  const size_t n = std::min(x.size(), y.size());
+  if (n < 2) return fit;
+  double mx = 0, my = 0;
+  for (size_t i = 0; i < n; ++i) mx += x[i] / n, my += y[i] / n;
+  double sxx = 0, sxy = 0, syy = 0;
+  for (size_t i = 0; i < n; ++i) {
+    sxx += (x[i] - mx) * (x[i] - mx);
+    sxy += (x[i] - mx) * (y[i] - my);
+    syy += (y[i] - my) * (y[i] - my);
+  }
+  if (!(sxx > 0)) return fit;
+  fit.slope = sxy / sxx;
+  fit.intercept = my - fit.slope * mx;
+  fit.r2 = syy > 0 ? sxy * sxy / (sxx * syy) : 1.0;
+  return fit;
+}
+
 Table::Table(std::vector<std::string> columns) : columns_(std::move(columns)) {}
 
 void Table::AddRow(std::vector<std::string> values) {

@@ -34,6 +34,14 @@ class Table {
 // "1.234" with `digits` decimals; "nan"/"inf" spelled out.
 std::string Num(double value, int digits = 3);
 
+// Least-squares line y = slope x + intercept and its coefficient of
+// determination. Fewer than two points or no spread in x: all zero; no
+// spread in y (but in x): r2 = 1.
+struct LineFit {
+  double slope = 0.0, intercept = 0.0, r2 = 0.0;
+};
+LineFit FitLine(const std::vector<double>& x, const std::vector<double>& y);
+
 struct PlotOptions {
   std::string title;
   std::string x_column;       // e.g. "ms_per_frame"

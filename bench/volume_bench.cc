@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstdio>
@@ -252,23 +253,25 @@ void RunVolumeBench(const VolumeBenchOptions& o) {
     }
   }
   // R^2 of ms against area over the area sweep.
-  std::vector<std::pair<double, double>> xy;
+  std::vector<double> area_mpx, ms;
   for (const auto& row : table.rows()) {
-    if (row[0] == "area")
-      xy.push_back(
-          {std::stod(row[table.Column("area_Mpx")]), std::stod(row[table.Column("ms_per_frame")])});
+    if (row[0] == "area") {
+      area_mpx.push_back(std::stod(row[table.Column("area_Mpx")]));
+      ms.push_back(std::stod(row[table.Column("ms_per_frame")]));
+    }
   }
-  if (xy.size() >= 2) {
-    double mx = 0, my = 0;
-    for (auto [x, y] : xy) mx += x, my += y;
-    mx /= xy.size(), my /= xy.size();
-    double sxy = 0, sxx = 0, syy = 0;
-    for (auto [x, y] : xy)
-      sxy += (x - mx) * (y - my), sxx += (x - mx) * (x - mx), syy += (y - my) * (y - my);
-    const double r2 = sxx > 0 && syy > 0 ? sxy * sxy / (sxx * syy) : std::nan("");
+  if (area_mpx.size() >= 2) {
+    const LineFit fit = FitLine(area_mpx, ms);
+    // Degenerate data print NaN (FitLine reports 0, or r2 = 1 for constant times).
+    auto spread = [](const std::vector<double>& v) {
+      const auto [lo, hi] = std::minmax_element(v.begin(), v.end());
+      return *hi > *lo;
+    };
+    const bool x_spread = spread(area_mpx), y_spread = spread(ms);
     fmt::print(
         "time vs rasterised proxy area (neghip, {} sizes): {:.3f} ms per M px, R^2 = {:.3f}\n",
-        xy.size(), sxx > 0 ? sxy / sxx : std::nan(""), r2);
+        area_mpx.size(), x_spread ? fit.slope : std::nan(""),
+        x_spread && y_spread ? fit.r2 : std::nan(""));
   }
   fmt::print("{}", table.Format());
   fmt::print("ratios at {} px, sampling distance 1 voxel (same run):\n", size);

@@ -100,6 +100,19 @@ void DistanceFieldOptions::Check() const {
     ThrowInputError("DistanceFieldOptions", "threads {} outside 0..256", threads);
 }
 
+namespace {
+
+// Trilinear interpolation of the corner values c[z][y][x] at fractions f in
+// [0, 1]^3 (x first, then y, then z).
+double Trilinear(const double c[2][2][2], const glm::dvec3& f) {
+  auto lerp = [](double a, double b, double t) { return a + (b - a) * t; };
+  const double y0 = lerp(lerp(c[0][0][0], c[0][0][1], f.x), lerp(c[0][1][0], c[0][1][1], f.x), f.y);
+  const double y1 = lerp(lerp(c[1][0][0], c[1][0][1], f.x), lerp(c[1][1][0], c[1][1][1], f.x), f.y);
+  return lerp(y0, y1, f.z);
+}
+
+}  // namespace
+
 double DistanceField::Sample(const glm::dvec3& p) const {
   IBR_CHECK(!values.empty());
   glm::dvec3 g = glm::clamp((p - origin) / spacing, glm::dvec3(0.0), glm::dvec3(size - 1));
@@ -112,10 +125,7 @@ double DistanceField::Sample(const glm::dvec3& p) const {
       for (int dx = 0; dx < 2; ++dx) {
         c[dz][dy][dx] = At(dx ? i1.x : i0.x, dy ? i1.y : i0.y, dz ? i1.z : i0.z);
       }
-  auto lerp = [](double a, double b, double t) { return a + (b - a) * t; };
-  double y0 = lerp(lerp(c[0][0][0], c[0][0][1], f.x), lerp(c[0][1][0], c[0][1][1], f.x), f.y);
-  double y1 = lerp(lerp(c[1][0][0], c[1][0][1], f.x), lerp(c[1][1][0], c[1][1][1], f.x), f.y);
-  return lerp(y0, y1, f.z);
+  return Trilinear(c, f);
 }
 
 namespace {
@@ -131,7 +141,7 @@ namespace {
 // distance is rounded.)
 void ExactRow(const MeshDistance& distance, DistanceField& field, int i0, int i1, int j, int k,
               double previous_bound) {
-  const size_t row = (static_cast<size_t>(k) * field.size.y + j) * field.size.x;
+  const size_t row = field.Index(0, j, k);
   double bound = previous_bound;
   bool previous_inside = previous_bound > 0 && field.values[row + i0 - 1] < 0;
   for (int i = i0; i <= i1; ++i) {
@@ -176,9 +186,6 @@ DistanceField BuildDistanceField(const MeshDistance& distance, const Box3d& box,
   const glm::ivec3 blocks = (field.size - 2) / kBlock + 1;
   field.exact_band =
       banded ? options.exact_band_voxels * field.spacing : std::numeric_limits<double>::infinity();
-  auto node = [&](int i, int j, int k) -> float& {
-    return field.values[(static_cast<size_t>(k) * field.size.y + j) * field.size.x + i];
-  };
   auto span = [&](int b, int axis) {
     return glm::ivec2(b * kBlock, std::min((b + 1) * kBlock, field.size[axis] - 1));
   };
@@ -211,7 +218,7 @@ DistanceField BuildDistanceField(const MeshDistance& distance, const Box3d& box,
         const glm::dvec3 p =
             field.origin +
             field.spacing * glm::dvec3(corner_node(cx, 0), corner_node(cy, 1), corner_node(cz, 2));
-        corners[(static_cast<size_t>(cz) * corner_count.y + cy) * corner_count.x + cx] =
+        corners[GridIndex(corner_count, cx, cy, cz)] =
             static_cast<float>(distance.SignedDistance(p));
       }
       queries += corner_count.x;
@@ -245,9 +252,7 @@ DistanceField BuildDistanceField(const MeshDistance& distance, const Box3d& box,
           for (int dz = 0; dz < 2; ++dz)
             for (int dy = 0; dy < 2; ++dy)
               for (int dx = 0; dx < 2; ++dx) {
-                c[dz][dy][dx] = corners[(static_cast<size_t>(bz + dz) * corner_count.y + by + dy) *
-                                            corner_count.x +
-                                        bx + dx];
+                c[dz][dy][dx] = corners[GridIndex(corner_count, bx + dx, by + dy, bz + dz)];
                 nearest = std::min(nearest, std::abs(c[dz][dy][dx]));
               }
         }
@@ -258,26 +263,17 @@ DistanceField BuildDistanceField(const MeshDistance& distance, const Box3d& box,
           for (int k = sz.x; k <= z1; ++k)
             for (int j = sy.x; j <= y1; ++j)
               for (int i = sx.x; i <= x1; ++i) {
-                const double fx = double(i - sx.x) / (sx.y - sx.x);
-                const double fy = double(j - sy.x) / (sy.y - sy.x);
-                const double fz = double(k - sz.x) / (sz.y - sz.x);
-                auto lerp = [](double a, double b, double t) { return a + (b - a) * t; };
-                const double y0 =
-                    lerp(lerp(c[0][0][0], c[0][0][1], fx), lerp(c[0][1][0], c[0][1][1], fx), fy);
-                const double y1v =
-                    lerp(lerp(c[1][0][0], c[1][0][1], fx), lerp(c[1][1][0], c[1][1][1], fx), fy);
-                node(i, j, k) = static_cast<float>(lerp(y0, y1v, fz));
+                const glm::dvec3 f(double(i - sx.x) / (sx.y - sx.x),
+                                   double(j - sy.x) / (sy.y - sy.x),
+                                   double(k - sz.x) / (sz.y - sz.x));
+                field.values[field.Index(i, j, k)] = static_cast<float>(Trilinear(c, f));
               }
           continue;
         }
         for (int k = sz.x; k <= z1; ++k)
           for (int j = sy.x; j <= y1; ++j) {
             const double bound =
-                previous_bound < 0
-                    ? std::abs(double(
-                          field.values[(static_cast<size_t>(k) * field.size.y + j) * field.size.x +
-                                       sx.x - 1]))
-                    : previous_bound;
+                previous_bound < 0 ? std::abs(double(field.At(sx.x - 1, j, k))) : previous_bound;
             ExactRow(distance, field, sx.x, x1, j, k, bound);
           }
         queries += static_cast<int64_t>(x1 - sx.x + 1) * (y1 - sy.x + 1) * (z1 - sz.x + 1);

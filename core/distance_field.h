@@ -105,6 +105,12 @@ struct DistanceFieldOptions {
   void Check() const;
 };
 
+// Index of node (i, j, k) in an array over a grid of `size` nodes, x fastest,
+// then y, then z.
+inline size_t GridIndex(const glm::ivec3& size, int i, int j, int k) {
+  return (static_cast<size_t>(k) * size.y + j) * size.x + i;
+}
+
 // A signed distance field sampled at the nodes of a regular grid:
 // sample (i, j, k) sits at origin + spacing * (i, j, k). Stored as an R32F 3D
 // texture with texel centres on the nodes: texture coordinate
@@ -119,9 +125,9 @@ struct DistanceField {
   double exact_band = 0.0;
   int64_t distance_queries = 0;  // exact closest-point queries the build made
 
-  float At(int i, int j, int k) const {
-    return values[(static_cast<size_t>(k) * size.y + j) * size.x + i];
-  }
+  // Index of node (i, j, k) in `values`.
+  size_t Index(int i, int j, int k) const { return GridIndex(size, i, j, k); }
+  float At(int i, int j, int k) const { return values[Index(i, j, k)]; }
   Box3d Bounds() const { return {origin, origin + spacing * glm::dvec3(size - 1)}; }
   // Trilinear interpolation with coordinates clamped to the grid, as a GL
   // LINEAR lookup with CLAMP_TO_EDGE does.

@@ -1,5 +1,7 @@
 #include "core/projection.h"
 
+#include <algorithm>
+
 #include "core/check.h"
 
 namespace core {
@@ -32,6 +34,15 @@ glm::mat4 ClipFromCamOrthographic(double sx, double sy, double cx, double cy, in
   m[3][2] = -(far + near) / (far - near);
   m[3][3] = 1;
   return glm::mat4(m);
+}
+
+glm::dvec2 ClipRangeZ(const glm::mat4& p) {
+  glm::dvec2 z;
+  for (int i = 0; i < 2; ++i) {
+    const double ndc = i == 0 ? -1.0 : 1.0;
+    z[i] = (double(p[3][2]) - ndc * p[3][3]) / (ndc * p[2][3] - p[2][2]);
+  }
+  return {std::min(z.x, z.y), std::max(z.x, z.y)};
 }
 
 glm::mat4 CamFromWorldLookAt(glm::vec3 eye, glm::vec3 target, glm::vec3 up) {

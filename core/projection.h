@@ -20,6 +20,12 @@ glm::mat4 ClipFromCamPerspective(double fx, double fy, double cx, double cy, int
 glm::mat4 ClipFromCamOrthographic(double sx, double sy, double cx, double cy, int width, int height,
                                   double near, double far);
 
+// The inverse of either ClipFromCam* in z: the camera z of the near and far
+// clip planes (NDC z = -1 and 1) of a perspective or orthographic
+// clip_from_cam, as (smaller, larger), in scene units. NDC z = (P22 z + P32)
+// / (P23 z + P33) solved for z.
+glm::dvec2 ClipRangeZ(const glm::mat4& clip_from_cam);
+
 // A camera at `eye` looking at `target`, image "up" along `up` (OpenCV axes:
 // the camera's -y is as close to `up` as possible). Returns cam_from_world.
 glm::mat4 CamFromWorldLookAt(glm::vec3 eye, glm::vec3 target, glm::vec3 up);

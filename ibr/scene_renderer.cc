@@ -348,12 +348,9 @@ SceneFrame SceneRenderer::Render(const ViewCamera& view) {
   }
   render::Frame frame = render::ReadFrame(*target_);
   SceneFrame out;
+  out.mask = render::CoverageMask(frame);
   out.color = std::move(frame.color);
   out.depth = std::move(frame.depth);
-  out.mask = core::Image8(w, h, 1, 0);
-  for (int y = 0; y < h; ++y) {
-    for (int x = 0; x < w; ++x) out.mask.at(x, y) = out.color.at(x, y, 3) == 255 ? 255 : 0;
-  }
   return out;
 }
 

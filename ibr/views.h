@@ -53,7 +53,7 @@ render::ViewSetup ViewSetupFor(const ViewCamera& view, const capture::Bounds& bo
 // another dataset's box), which a dataset cannot hold (depth is 0 = invalid,
 // or positive). Those pixels get invalid depth (0), keeping their colour and
 // mask; every other value is copied. The one place rendered frames become
-// dataset depth (ibr render, scene files).
+// dataset depth (ibr render, scene files, ibr deform).
 core::ImageF DatasetDepth(const core::ImageF& camera_z);
 
 // A camera scaled to `width` pixels wide (height keeps the aspect ratio).

@@ -7,6 +7,7 @@
 #include "apps/ibr/commands.h"
 #include "bench/deform_bench.h"
 #include "render/gl/context.h"
+#include "render/passes/pass.h"
 
 namespace apps {
 namespace {
@@ -16,16 +17,17 @@ void AddDeformBench(CLI::App& app) {
   auto* cmd = BenchGroup(app)->add_subcommand(
       "deform",
       "Deformation/cut shaders: ms vs deformed screen area, Table 1 ratios; SDF build vs OpenVDB");
-  cmd->add_option("--csv", options.csv, "the per-frame table as CSV")->required();
-  cmd->add_option("--out", options.out, "directory for plots and the summary tables")->required();
+  AddBenchOutputs(cmd, options.csv, options.out, options.quick);
+  cmd->get_option("--out")->required();  // the peer's meshes and the summary tables go there
   cmd->add_option("--shared-data", options.shared_data, "the shared data folder (meshes/)")
       ->default_val("../shared/data");
   cmd->add_option("--size", options.size, "image size in pixels")->capture_default_str();
-  cmd->add_flag("--quick", options.quick, "small sweep (128 px, two meshes) for smoke runs");
   cmd->add_flag("!--no-peer", options.peer, "skip the OpenVDB peer");
   cmd->callback([] {
     options.Check();
+    CheckBenchOutputs("ibr bench deform", options.csv, options.out);
     auto context = render::HeadlessContext::Create();
+    render::CheckFrameSize("ibr bench deform", "--size", options.size, options.size);
     fmt::print("{} | {}\n", context->info().renderer, context->info().version);
     render::ProgramCache programs;
     const bench::DeformBenchResult result = bench::RunDeformBench(programs, options);

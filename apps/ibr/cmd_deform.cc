@@ -122,9 +122,8 @@ void RunDeformCommand(const DeformFlags& f) {
   o.cameras = f.cameras;
   o.out = f.out;
   auto context = render::HeadlessContext::Create();
-  render::CheckFrameSize("ibr deform", "--size", o.size, o.size);
-  o.Check();  // before any mesh work
   render::ProgramCache programs;
+  // Checks the options and every frame size (--size, --cameras' views) first.
   const bench::DeformRunReport r = bench::RunDeform(programs, o);
   fmt::print(
       "deform: distance field {}x{}x{} in {:.2f} s ({} exact distance queries), max displacement "

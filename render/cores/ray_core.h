@@ -11,6 +11,7 @@
 // cut/deformation shaders.
 #pragma once
 
+#include <cstdint>
 #include <string>
 #include <vector>
 
@@ -27,6 +28,10 @@ enum class RayOutcome : int {
   kEarlyTermination = 3,  // ran out of steps while still inside the domain (Chen-Chang sec. 5)
 };
 std::string RayOutcomeName(RayOutcome outcome);
+
+// The bit of a frame's outcome (render/passes/pass.h) set when any ray at the
+// pixel ended with `outcome` (ray passes OR 1u << RayOutcome per ray).
+constexpr uint32_t OutcomeBit(RayOutcome outcome) { return 1u << static_cast<int>(outcome); }
 
 // How the linear search chooses its step (Correa-Silver-Chen 2007, sec. 3.1.1).
 enum class RayStepPolicy {

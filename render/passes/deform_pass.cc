@@ -6,6 +6,7 @@
 #include <cmath>
 
 #include "core/error.h"
+#include "core/projection.h"
 
 namespace render {
 
@@ -97,18 +98,6 @@ float AlphaLipschitz(const core::DeformationTexture& texture, const core::Placem
   return static_cast<float>(std::max(1e-6, glm::length(g) * std::sqrt(frobenius)));
 }
 
-// Camera z of the near and far clip planes (ndc z = -1 and 1) of a
-// perspective or orthographic clip_from_cam: ndc z = (P22 z + P32) / (P23 z +
-// P33) solved for z.
-glm::vec2 ClipPlanesZ(const glm::mat4& p) {
-  glm::vec2 z;
-  for (int i = 0; i < 2; ++i) {
-    const double ndc = i == 0 ? -1.0 : 1.0;
-    z[i] = static_cast<float>((double(p[3][2]) - ndc * p[3][3]) / (ndc * p[2][3] - p[2][2]));
-  }
-  return glm::vec2(std::min(z.x, z.y), std::max(z.x, z.y));
-}
-
 }  // namespace
 
 DeformPass::DeformPass(ProgramCache& programs, const DeformInputs& inputs,
@@ -152,7 +141,6 @@ DeformPass::DeformPass(ProgramCache& programs, const DeformInputs& inputs,
 }
 
 void DeformPass::Draw(const RenderTarget& target, const ViewSetup& view) {
-  target.Bind();
   BindOutcomeImage(target);  // both stages OR their bits (pass.h)
   const glm::mat4 object_from_box(placement_.object_from_box);
   const glm::mat4 box_from_object(placement_.BoxFromObject());
@@ -166,9 +154,7 @@ void DeformPass::Draw(const RenderTarget& target, const ViewSetup& view) {
     desc.defines = view_defines;
     desc.defines.push_back("MESH_STAGE");
     const Program& program = programs_.Get(desc);
-    program.Use();
-    program.Set("u_cam_from_world", view.cam_from_world);
-    program.Set("u_clip_from_cam", view.clip_from_cam);
+    UseProgram(target, program, view);
     program.Set("u_box_from_object", box_from_object);
     program.Set("u_base_color", options_.base_color);
     for (int i = 0; i < 6; ++i) glEnable(GL_CLIP_DISTANCE0 + i);
@@ -186,12 +172,10 @@ void DeformPass::Draw(const RenderTarget& target, const ViewSetup& view) {
   desc.defines = options_.Defines();
   desc.defines.insert(desc.defines.end(), view_defines.begin(), view_defines.end());
   const Program& program = programs_.Get(desc);
-  program.Use();
+  UseProgram(target, program, view);
   SetRayCoreUniforms(program, options_.RayCore());
-  program.Set("u_cam_from_world", view.cam_from_world);
-  program.Set("u_clip_from_cam", view.clip_from_cam);
   program.Set("u_world_from_cam", glm::inverse(view.cam_from_world));
-  program.Set("u_clip_z", ClipPlanesZ(view.clip_from_cam));
+  program.Set("u_clip_z", glm::vec2(core::ClipRangeZ(view.clip_from_cam)));
   program.Set("u_object_from_box", object_from_box);
   program.Set("u_box_from_object", box_from_object);
   program.Set("u_sdf_origin", sdf_origin_);

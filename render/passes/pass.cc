@@ -97,6 +97,13 @@ int64_t Frame::CountOutcome(uint32_t bits) const {
   return n;
 }
 
+core::Image8 CoverageMask(const Frame& frame) {
+  core::Image8 mask(frame.color.width(), frame.color.height(), 1, 0);
+  for (int y = 0; y < mask.height(); ++y)
+    for (int x = 0; x < mask.width(); ++x) mask.at(x, y) = frame.Covered(x, y) ? 255 : 0;
+  return mask;
+}
+
 void DrawFrame(const RenderTarget& target, Pass& pass, const ViewSetup& view) {
   BeginFrame(target);
   pass.Draw(target, view);

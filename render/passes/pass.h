@@ -97,6 +97,10 @@ struct Frame {
   int64_t CountOutcome(uint32_t bits) const;
 };
 
+// The frame's coverage as a 1-channel mask: 255 where Covered, else 0 (a
+// dataset's mask image).
+core::Image8 CoverageMask(const Frame& frame);
+
 // Reads back every attachment of a target made with FrameTargetOptions.
 Frame ReadFrame(const RenderTarget& target);
 

@@ -92,10 +92,6 @@ struct ReliefSurfaceOptions {
   std::vector<std::string> Defines(const ReliefGeometryOptions& geometry, bool orthographic) const;
 };
 
-// The bit of a frame's outcome (render/passes/pass.h) set when any ray at the
-// pixel ended with `outcome` (the relief pass ORs 1u << RayOutcome per ray).
-constexpr uint32_t OutcomeBit(RayOutcome outcome) { return 1u << static_cast<int>(outcome); }
-
 // A displaced object on the GPU: the shell mesh, the height texture and the
 // tangent-space maps, drawn with per-frame ReliefSurfaceOptions.
 class ReliefSurface final : public Pass {

@@ -122,6 +122,15 @@ vec2 RayBoxInterval(vec3 o, vec3 d, vec3 lo, vec3 hi) {
   return vec2(t_near, t_far);
 }
 
+// RayBoxInterval intersected with the parameter range t_range = (t_min,
+// t_max): the part of the ray inside the box AND in that range (e.g. t >= 0,
+// the segment between the clip planes, a depth interval). Empty (x >= y) when
+// either is; a miss stays empty.
+vec2 RayBoxIntervalClamped(vec3 o, vec3 d, vec3 lo, vec3 hi, vec2 t_range) {
+  vec2 t = RayBoxInterval(o, d, lo, hi);
+  return vec2(max(t.x, t_range.x), min(t.y, t_range.y));
+}
+
 // Step length at sample p (policy chosen by #define).
 float RayStepLength(vec3 p, vec3 dir, float field, float base_step) {
 #if defined(RAY_STEP_THRESHOLD)

@@ -45,7 +45,7 @@ void main() {
 in vec3 v_p_world;
 
 uniform mat4 u_world_from_cam;
-uniform vec2 u_clip_z;            // camera z of the near and far clip planes
+uniform vec2 u_clip_z;            // camera z of the near and far clip planes (core::ClipRangeZ)
 uniform mat4 u_object_from_box;
 uniform mat4 u_box_from_object;
 uniform sampler3D u_sdf;          // signed distance, > 0 outside, nodes at texel centres
@@ -146,22 +146,16 @@ void main() {
   vec3 eye = (u_world_from_cam * vec4(0.0, 0.0, 0.0, 1.0)).xyz;
   vec3 dir = normalize(v_p_world - eye);
 #endif
+  // Only the part in front of the eye and between the clip planes is marched,
+  // as the rasteriser clips the mesh: a camera inside the solid sees it cut by
+  // the near plane (the hit is there), never a hit behind it that no fragment
+  // could show. dz > 0: every rasterised fragment lies in front of the camera.
+  float z0 = (u_cam_from_world * vec4(eye, 1.0)).z, dz = (mat3(u_cam_from_world) * dir).z;
+  vec2 tz = (u_clip_z - z0) / dz;
   // The box interval in box coordinates (affine: the same t).
   vec3 o_box = (u_box_from_object * vec4(eye, 1.0)).xyz;
   vec3 d_box = mat3(u_box_from_object) * dir;
-  vec2 iv = RayBoxInterval(o_box, d_box, vec3(0.0), vec3(1.0));
-  iv.x = max(iv.x, 0.0);
-  // Only the part between the clip planes is marched, as the rasteriser
-  // clips the mesh: a camera inside the solid sees it cut by the near plane
-  // (the hit is there), never a hit behind it that no fragment could show.
-  float z0 = (u_cam_from_world * vec4(eye, 1.0)).z, dz = (mat3(u_cam_from_world) * dir).z;
-  if (abs(dz) > 1e-12) {
-    vec2 tz = (u_clip_z - z0) / dz;
-    iv.x = max(iv.x, min(tz.x, tz.y));
-    iv.y = min(iv.y, max(tz.x, tz.y));
-  } else if (z0 < u_clip_z.x || z0 > u_clip_z.y) {
-    discard;
-  }
+  vec2 iv = RayBoxIntervalClamped(o_box, d_box, vec3(0.0), vec3(1.0), vec2(max(tz.x, 0.0), tz.y));
   if (!(iv.x < iv.y)) discard;
   RayMarch r;
   r.origin = eye + iv.x * dir;

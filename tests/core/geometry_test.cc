@@ -39,6 +39,19 @@ TEST(Projection, OrthographicMatchesAffineFormula) {
   EXPECT_NEAR(uvz.z, 0.0, 1e-6);
 }
 
+TEST(Projection, ClipRangeZInvertsBothProjections) {
+  // The near and far planes come back from the matrices they were built into,
+  // to float precision: the matrices are float, and the far plane divides by
+  // P23 - P22 = 1 - 1.002, which keeps about 4 of float's 7 digits (5e-4 relative).
+  const glm::dvec2 persp =
+      ClipRangeZ(ClipFromCamPerspective(500, 500, 320, 240, 640, 480, 0.1, 100));
+  EXPECT_NEAR(persp.x, 0.1, 1e-6);
+  EXPECT_NEAR(persp.y, 100.0, 0.05);
+  const glm::dvec2 ortho = ClipRangeZ(ClipFromCamOrthographic(100, 100, 64, 64, 128, 128, -1, 3));
+  EXPECT_NEAR(ortho.x, -1.0, 1e-6);
+  EXPECT_NEAR(ortho.y, 3.0, 1e-6);
+}
+
 TEST(Projection, LookAtAxesFollowTheOpenCvConvention) {
   // Camera on -y looking at the origin with world z up: camera z = +y world,
   // camera y (down) = -z world, camera x (right) = +x world.
