@@ -116,11 +116,16 @@ void DisplacedEntries(render::ProgramCache& programs, const GalleryOptions& opti
 // too in the full report) from an oblique view, six cube maps.
 void DepthObjectEntries(render::ProgramCache& programs, const GalleryOptions& options,
                         std::vector<GalleryEntry>& out) {
-  std::vector<std::pair<std::string, capture::SceneMesh>> objects;
-  objects.emplace_back("cup", capture::MakeShapeScene("cup"));
+  struct Object {
+    std::string name;
+    capture::SceneMesh scene;
+    glm::dvec3 up;  // the turntable axis: the cup opens towards +z, OBJ meshes are y-up
+  };
+  std::vector<Object> objects;
+  objects.push_back({"cup", capture::MakeShapeScene("cup"), {0, 0, 1}});
   const fs::path bunny = ibr::SharedDataDir() / "meshes" / "stanford-bunny.obj";
   if (!options.quick && fs::exists(bunny))
-    objects.emplace_back("bunny", capture::LoadSceneMesh(bunny));
+    objects.push_back({"bunny", capture::LoadSceneMesh(bunny), {0, 1, 0}});
   const fs::path work = fs::temp_directory_path() / fmt::format("ibr_report_gallery_{}", getpid());
   struct Remove {
     fs::path path;
@@ -129,7 +134,7 @@ void DepthObjectEntries(render::ProgramCache& programs, const GalleryOptions& op
       fs::remove_all(path, ignored);
     }
   } remove{work};
-  for (const auto& [name, scene] : objects) {
+  for (const auto& [name, scene, up] : objects) {
     capture::CaptureOptions co;
     co.rig = "cube";
     co.size = options.map_size;
@@ -142,7 +147,8 @@ void DepthObjectEntries(render::ProgramCache& programs, const GalleryOptions& op
     ibr::OrbitOptions orbit;
     orbit.count = 8;
     orbit.size = options.size;
-    orbit.elevation_deg = 50;  // oblique to every cube face
+    orbit.elevation_deg = 50;  // oblique to every cube face; into the cup
+    orbit.up = up;
     const ibr::ViewCamera view = ibr::OrbitViews(maps, orbit)[1].view;
     capture::CaptureOptions to;
     to.size = options.size;  // shaded, so that the truth's shape reads

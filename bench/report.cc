@@ -167,7 +167,7 @@ void PlotPng(const Table& table, const PlotOptions& options, const fs::path& png
     gp << "set ylabel "
        << GnuplotQuoted(options.y_label.empty() ? options.y_column : options.y_label) << "\n";
     // Several panels: each key below its panel, so the plots keep their width.
-    gp << (panels.size() > 1 ? "set grid\nset key below horizontal maxcols 3\n"
+    gp << (panels.size() > 1 ? "set grid\nset key below horizontal maxcols 3 height 1.5\n"
                              : "set grid\nset key outside right\n");
     if (options.log_x) gp << "set logscale x\n";
     if (options.log_y) gp << "set logscale y\n";

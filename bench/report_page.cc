@@ -2,6 +2,7 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -171,20 +172,41 @@ std::string HtmlEscaped(const std::string& s) {
   return out;
 }
 
-// Escaped text with `code` spans as <code>.
+// Escaped text with the Markdown the page uses: `code` spans as <code>,
+// **bold** as <b>.
 std::string HtmlText(const std::string& s) {
   std::string out;
-  bool code = false;
-  for (const char c : HtmlEscaped(s)) {
+  bool code = false, bold = false;
+  const std::string escaped = HtmlEscaped(s);
+  for (size_t i = 0; i < escaped.size(); ++i) {
+    const char c = escaped[i];
     if (c == '`') {
       out += code ? "</code>" : "<code>";
       code = !code;
+    } else if (!code && c == '*' && i + 1 < escaped.size() && escaped[i + 1] == '*') {
+      out += bold ? "</b>" : "<b>";
+      bold = !bold;
+      ++i;
     } else {
       out += c;
     }
   }
   if (code) out += "</code>";
+  if (bold) out += "</b>";
   return out;
+}
+
+// A paragraph, or a list when every line starts with "- ".
+std::string HtmlParagraph(const std::string& text) {
+  std::vector<std::string> lines;
+  std::stringstream in(text);
+  for (std::string line; std::getline(in, line);) lines.push_back(line);
+  const bool list = !lines.empty() && std::all_of(lines.begin(), lines.end(),
+                                                  [](auto& l) { return l.rfind("- ", 0) == 0; });
+  if (!list) return "<p>" + HtmlText(text) + "</p>\n";
+  std::string out = "<ul>\n";
+  for (const std::string& l : lines) out += "<li>" + HtmlText(l.substr(2)) + "</li>\n";
+  return out + "</ul>\n";
 }
 
 std::string Base64(const std::string& bytes) {
@@ -221,7 +243,7 @@ std::string Page::Html(const fs::path& dir) const {
         h += fmt::format("<h{0}>{1}</h{0}>\n", b.level, HtmlText(b.text));
         break;
       case Block::kText:
-        h += "<p>" + HtmlText(b.text) + "</p>\n";
+        h += HtmlParagraph(b.text);
         break;
       case Block::kTable: {
         h += "<table><tr>";

@@ -8,6 +8,8 @@
 #include <limits>
 #include <map>
 
+#include "core/check.h"
+
 namespace bench {
 namespace {
 
@@ -43,6 +45,8 @@ Table TradeoffTable(const TradeoffFamily& family) {
   const std::vector<bool> front = ParetoFront(family.rows);
   for (size_t i = 0; i < family.rows.size(); ++i) {
     const TradeoffRow& r = family.rows[i];
+    IBR_CHECK(r.panel.find(',') == std::string::npos && r.method.find(',') == std::string::npos &&
+              r.knob.find(',') == std::string::npos);
     // Enough digits that the CSV reproduces the front (the test recomputes it).
     t.AddRow({r.panel, r.method, r.knob, fmt::format("{:.6g}", r.ms),
               fmt::format("{:.6g}", r.error), front[i] ? "1" : "0"});
@@ -60,8 +64,7 @@ void PlotTradeoff(const TradeoffFamily& family, const std::filesystem::path& png
     if (std::find(panels.begin(), panels.end(), r.panel) == panels.end()) panels.push_back(r.panel);
   }
   const bool log_x = SpansADecade(ms), log_y = SpansADecade(error);
-  std::string title = family.title + ": error vs time, joined along " + family.knob_label +
-                      ", circled: Pareto front";
+  std::string title = family.title + ": error vs time";
   if (log_y) {
     // The truth's error of 0 has no place on a log axis: drawn at a floor.
     double floor = std::numeric_limits<double>::infinity();
@@ -113,7 +116,7 @@ TradeoffFamily DisplacementTradeoff(const Table& t) {
             truth_ms = t.Column("truth_ms_per_frame");
   std::map<std::string, double> truth;  // panel -> the truth's time (one value per panel)
   for (const auto& r : t.rows()) {
-    const std::string panel = fmt::format("elevation {} deg, {} px", r[elevation], r[size]);
+    const std::string panel = fmt::format("elevation {} deg / {} px", r[elevation], r[size]);
     f.rows.push_back(
         {panel, "slices " + r[family], r[slices], CellNumber(r[ms]), CellNumber(r[error])});
     truth.emplace(panel, CellNumber(r[truth_ms]));
@@ -138,7 +141,7 @@ TradeoffFamily NcsTradeoff(const Table& t) {
             iou = t.Column("silhouette_iou");
   for (const auto& r : t.rows()) {
     const std::string name = r[c].empty() ? r[method] : r[method] + " c=" + r[c];
-    f.rows.push_back({fmt::format("{} view, tiling {}", r[view], r[tiling]), name, r[steps],
+    f.rows.push_back({fmt::format("{} view / tiling {}", r[view], r[tiling]), name, r[steps],
                       CellNumber(r[ms]), 1.0 - CellNumber(r[iou])});
   }
   return f;
@@ -161,7 +164,7 @@ TradeoffFamily DepthObjectTradeoff(const Table& t) {
       knob = name.substr(colon + 1);
       name = name.substr(0, colon);
     }
-    f.rows.push_back({fmt::format("{}, {} px", r[object], r[size]), name, knob, CellNumber(r[ms]),
+    f.rows.push_back({fmt::format("{} / {} px", r[object], r[size]), name, knob, CellNumber(r[ms]),
                       CellNumber(r[error])});
   }
   return f;

@@ -14,7 +14,7 @@
 namespace bench {
 
 struct TradeoffRow {
-  std::string panel;   // what is compared: "bunny, 256 px", "grazing view, tiling 4"
+  std::string panel;   // what is compared: "bunny / 256 px", "grazing view / tiling 4"
   std::string method;  // a method or peer; its points are joined along `knob`
   std::string knob;    // the knob's value ("64" slices, "128" voxels); "" = none (a lone point)
   double ms = 0.0;     // time per frame (median), milliseconds
@@ -37,7 +37,8 @@ struct TradeoffFamily {
 };
 
 // The rows as a table: panel, method, knob, ms_per_frame, error, pareto
-// ("1" on the front of its panel, else "0").
+// ("1" on the front of its panel, else "0"). Names hold no commas (the
+// benches' CSV is not quoted): CHECKed.
 Table TradeoffTable(const TradeoffFamily& family);
 
 // The family's plot: one panel per `panel` (in first appearance order), every

@@ -106,7 +106,7 @@ TEST(Tradeoff, FamiliesReadByColumnName) {
   d.AddRow({"bunny", "open3d tsdf:128", "0", "256", "2", "0.05"});
   const TradeoffFamily f = DepthObjectTradeoff(d);
   ASSERT_EQ(f.rows.size(), 2u);
-  EXPECT_EQ(f.rows[0].panel, "bunny, 256 px");
+  EXPECT_EQ(f.rows[0].panel, "bunny / 256 px");
   EXPECT_EQ(f.rows[0].knob, "64");
   EXPECT_EQ(f.rows[1].method, "open3d tsdf");  // the peer's resolution is its knob
   EXPECT_EQ(f.rows[1].knob, "128");
