@@ -1,8 +1,9 @@
 // The hard views of `ibr report`: each technique where it is hardest
 // (displaced surfaces at a grazing view, where silhouettes come from the
 // displacement; depth objects and visual hulls of a concave object from an
-// oblique view) beside its truth rendered in the same run, with a heat map
-// of the depth error.
+// oblique view; a solid cut through a mesh, against the double sphere
+// tracer) beside its truth rendered in the same run, with a heat map of the
+// depth error.
 #pragma once
 
 #include <string>
@@ -25,7 +26,7 @@ core::Image8 DepthErrorHeatMap(const core::Image8& covered, const core::ImageF& 
 void HeatRamp(double t, uint8_t rgb[3]);
 
 struct GalleryEntry {
-  std::string family;   // the report's family id: "displacement", "depth_object"
+  std::string family;   // the report's family id: "displacement", "depth_object", "deform"
   std::string title;    // "ncs, grazing view (8 deg)"
   std::string caption;  // the errors against the truth, the heat map's scale
   core::Image8 render, truth, heat;
@@ -37,7 +38,7 @@ struct GalleryOptions {
   bool quick = false;  // the cup only for depth objects
 };
 
-// Needs a current context (and ../shared/data for the bunny; absent = skipped).
+// Needs a current context (and ../shared/data for the bunny and Spot; absent = skipped).
 std::vector<GalleryEntry> RenderGallery(render::ProgramCache& programs,
                                         const GalleryOptions& options);
 

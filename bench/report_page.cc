@@ -618,7 +618,8 @@ ReportResult WriteReport(const ReportOptions& options) {
   page.Heading("Gallery: hard views beside their truth");
   page.Text(
       "Left to right: the method, the truth rendered in the same run (the tessellated surface; "
-      "the true mesh), and the depth error heat map: |depth - true depth| on a black - red - "
+      "the true mesh; for the cut, the double sphere tracer of `core/deform_reference.h`), and the "
+      "depth error heat map: |depth - true depth| on a black - red - "
       "yellow - white ramp (black = exact, white = at or beyond the scale given), magenta = "
       "surface only the method draws, cyan = surface it misses, grey = background in both.");
   fs::create_directories(dir / "gallery");
