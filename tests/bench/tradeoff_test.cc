@@ -13,6 +13,7 @@
 #include "bench/paper_tables.h"
 #include "bench/report.h"
 #include "bench/report_page.h"
+#include "core/image_io.h"
 #include "tests/support/gl_test.h"
 
 namespace bench {
@@ -98,6 +99,28 @@ TEST(Tradeoff, PanelsAndPlotWithTheFront) {
   const auto png = test_support::TestOutputDir() / "tradeoff.png";
   PlotTradeoff(f, png);  // the truth's 0 on a log axis is drawn at a floor
   EXPECT_GT(std::filesystem::file_size(png), 0u);
+}
+
+TEST(Tradeoff, ManyPanelsGoThreeToARow) {
+  // 5 objects x 3 sizes, 6 methods each with 3 knob values: a 3 x 5 grid.
+  TradeoffFamily f{"many", "many panels", "error", "slices", {}};
+  for (int object = 0; object < 5; ++object) {
+    for (int size : {128, 256, 512}) {
+      for (int method = 0; method < 6; ++method) {
+        for (int knob : {16, 64, 256}) {
+          f.rows.push_back(
+              {"object " + std::to_string(object) + " / " + std::to_string(size) + " px",
+               "method " + std::to_string(method), std::to_string(knob),
+               size * knob * (1 + method) * 1e-3, (1.0 + method) / knob});
+        }
+      }
+    }
+  }
+  const auto png = test_support::TestOutputDir() / "many.png";
+  PlotTradeoff(f, png);
+  const auto header = core::ReadImageHeader(png);
+  EXPECT_EQ(header.width, 3 * 560);
+  EXPECT_EQ(header.height, 60 + 5 * 500);
 }
 
 TEST(Tradeoff, FamiliesReadByColumnName) {
