@@ -6,6 +6,8 @@
 #   make asan   - ASan + UBSan build of the tests (build-asan/), then the whole suite
 #                 (every label but hard, as make test; test timeouts x5)
 #   make bench  - benchmarks that print figures and write plots under build/bench
+#   make report - the full `ibr report` (every bench) regenerating docs/report/ from scratch
+#                 (report.md, report.html, PNGs, CSVs); long, run it on a quiet machine
 #   make fuzz   - clang + libFuzzer + ASan/UBSan build of every parser's fuzz
 #                 target (build-fuzz/), each run FUZZ_RUNS times (default 10^6)
 #                 from the seed corpus; runs per parser in build-fuzz/fuzz-runs.txt
@@ -27,7 +29,7 @@ SHARED_DATA ?= $(abspath ../shared/data)
 # `make fuzz` runs unless FUZZ_TARGETS names a subset.
 FUZZ_TARGETS ?=
 
-.PHONY: deps configure build demo test asan bench fuzz clean format format-check
+.PHONY: deps configure build demo test asan bench report fuzz clean format format-check
 
 deps:
 	@bash scripts/install-deps.sh
@@ -75,6 +77,11 @@ fuzz: deps
 
 bench: build
 	build/bin/ibr bench fillrate
+
+# docs/report/ is an earlier ibr output (its .ibr-output marker lists every
+# file), so ibr replaces it whole: staged beside it, renamed into place.
+report: build
+	build/bin/ibr report --out docs/report
 
 clean:
 	rm -rf build build-debug build-asan build-fuzz

@@ -103,10 +103,7 @@ core::Placement DeformPlacement(const DeformRunOptions& options, const core::Box
                                      options.translation);
 }
 
-namespace {
-
-// Normalises into the unit cube centred at the origin (longest side 1).
-void Normalise(core::TriangleMesh& mesh) {
+void NormaliseMesh(core::TriangleMesh& mesh) {
   glm::vec3 lo, hi;
   mesh.Bounds(lo, hi);
   const float longest = std::max({hi.x - lo.x, hi.y - lo.y, hi.z - lo.z});
@@ -114,6 +111,8 @@ void Normalise(core::TriangleMesh& mesh) {
   const glm::vec3 centre = 0.5f * (lo + hi);
   for (glm::vec3& p : mesh.positions) p = (p - centre) / longest;
 }
+
+namespace {
 
 // The one orbit view (of `ibr deform` and of the bench): a size x size
 // pinhole with a 34 degree field of view, looking at `centre` from 2.6
@@ -166,7 +165,7 @@ DeformRunReport RunDeform(render::ProgramCache& programs, const DeformRunOptions
   mesh.Bounds(lo, hi);
   const glm::dvec3 centre = 0.5 * (glm::dvec3(lo) + glm::dvec3(hi));
   const double longest = std::max({hi.x - lo.x, hi.y - lo.y, hi.z - lo.z});
-  Normalise(mesh);
+  NormaliseMesh(mesh);
   const glm::dmat4 world_from_norm =
       glm::scale(glm::translate(glm::dmat4(1.0), centre), glm::dvec3(longest));
   mesh.Bounds(lo, hi);
@@ -360,7 +359,7 @@ DeformBenchResult RunDeformBench(render::ProgramCache& programs,
   for (const BenchMesh& m : meshes) {
     capture::SceneMesh scene = capture::LoadSceneMesh(options.shared_data / "meshes" / m.file);
     core::TriangleMesh& mesh = scene.mesh;
-    Normalise(mesh);
+    NormaliseMesh(mesh);
     glm::vec3 lo, hi;
     mesh.Bounds(lo, hi);
     const core::Box3d region = core::Box3d{glm::dvec3(lo), glm::dvec3(hi)}.Grown(0.05);

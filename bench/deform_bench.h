@@ -73,6 +73,10 @@ struct DeformRunReport {
 // renders every view and writes the outputs (staged: nothing partial on error).
 DeformRunReport RunDeform(render::ProgramCache& programs, const DeformRunOptions& options);
 
+// Centres the mesh at the origin and scales its longest side to 1 (the
+// normalised units of `ibr deform`); InputError for a mesh without extent.
+void NormaliseMesh(core::TriangleMesh& mesh);
+
 // The deformation box of a run (normalised units) and its placement.
 core::Placement DeformPlacement(const DeformRunOptions& options, const core::Box3d& mesh_bounds);
 

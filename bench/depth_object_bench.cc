@@ -94,7 +94,7 @@ void DepthObjectBenchOptions::Check() const {
     core::ThrowInputError(kWhere, "--csv '{}': no folder '{}'", csv.string(), folder.string());
 }
 
-void RunDepthObjectBench(const DepthObjectBenchOptions& options) {
+DepthObjectBenchResult RunDepthObjectBench(const DepthObjectBenchOptions& options) {
   options.Check();
   auto context = render::HeadlessContext::Create();
   render::ProgramCache programs;
@@ -379,6 +379,7 @@ void RunDepthObjectBench(const DepthObjectBenchOptions& options) {
     }
     fmt::print("wrote plots to {}\n", options.out.string());
   }
+  return {std::move(table), std::move(accuracy), std::move(fig_coverage), std::move(fig_slices)};
 }
 
 }  // namespace bench

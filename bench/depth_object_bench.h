@@ -22,6 +22,8 @@
 #include <string>
 #include <vector>
 
+#include "bench/report.h"
+
 namespace bench {
 
 struct DepthObjectBenchOptions {
@@ -42,8 +44,16 @@ struct DepthObjectBenchOptions {
   void Check() const;
 };
 
+struct DepthObjectBenchResult {
+  Table table;     // the sweep (object, method, slices, size, ms_per_frame, ..., p95_depth_error)
+  Table accuracy;  // every path at slices auto (the accuracy check)
+  Table fig_coverage;  // Fig. 12 analogue: family, slices, size, covered_pixels, ms_per_frame
+  Table fig_slices;    // Fig. 12 analogue: family, slices, size, ms_per_frame
+};
+
 // Needs ../shared/data for the meshes (the cup is analytic); objects whose
 // mesh is absent are skipped with a message. Creates its own GL context.
-void RunDepthObjectBench(const DepthObjectBenchOptions& options);
+// Prints and writes the tables (and plots), and returns them.
+DepthObjectBenchResult RunDepthObjectBench(const DepthObjectBenchOptions& options);
 
 }  // namespace bench

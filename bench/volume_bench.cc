@@ -121,7 +121,7 @@ void VolumeBenchOptions::Check() const {
     core::ThrowInputError("ibr bench volume", "--size {} not in [32, 4096]", size);
 }
 
-void RunVolumeBench(const VolumeBenchOptions& o) {
+Table RunVolumeBench(const VolumeBenchOptions& o) {
   o.Check();
   const int size = o.quick ? 128 : o.size;
   const render::FrameTimerOptions timer{1, o.quick ? 1 : 3};
@@ -317,6 +317,7 @@ void RunVolumeBench(const VolumeBenchOptions& o) {
              .log_x = true},
             o.out / "volume_time_vs_map_size.png");
   }
+  return table;
 }
 
 }  // namespace bench

@@ -5,6 +5,8 @@
 
 #include <filesystem>
 
+#include "bench/report.h"
+
 namespace bench {
 
 struct VolumeBenchOptions {
@@ -17,7 +19,10 @@ struct VolumeBenchOptions {
   void Check() const;
 };
 
-// Needs a current GL context. Prints the table, writes CSV (and plots).
-void RunVolumeBench(const VolumeBenchOptions& options);
+// Needs a current GL context. Prints the table, writes CSV (and plots), and
+// returns the table: sweep, volume, variant, sampling_voxels, map_size,
+// size_px, slices, ms_per_frame, area_Mpx, fill_fraction, ratio_to_plain,
+// vtk_ms, vtk_min_ms.
+Table RunVolumeBench(const VolumeBenchOptions& options);
 
 }  // namespace bench

@@ -1,0 +1,45 @@
+// The hard views of `ibr report`: each technique where it is hardest
+// (displaced surfaces at a grazing view, where silhouettes come from the
+// displacement; depth objects and visual hulls of a concave object from an
+// oblique view; a solid cut through a mesh, against the double sphere
+// tracer) beside its truth rendered in the same run, with a heat map of the
+// depth error.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "core/image.h"
+#include "render/gl/shader_program.h"
+
+namespace bench {
+
+// The heat map's colours: |depth - truth| / scale, clamped to [0, 1], on a
+// black -> red -> yellow -> white ramp (piecewise linear in thirds; dark
+// means right) where both cover the pixel; magenta where only the render
+// covers it (extra surface), cyan where only the truth does (missing
+// surface), dark grey where neither. Coverage masks: nonzero = covered.
+core::Image8 DepthErrorHeatMap(const core::Image8& covered, const core::ImageF& depth,
+                               const core::Image8& truth_covered, const core::ImageF& truth_depth,
+                               double scale);
+// The ramp alone: t in [0, 1] (clamped) -> RGB.
+void HeatRamp(double t, uint8_t rgb[3]);
+
+struct GalleryEntry {
+  std::string family;   // the report's family id: "displacement", "depth_object", "deform"
+  std::string title;    // "ncs, grazing view (8 deg)"
+  std::string caption;  // the errors against the truth, the heat map's scale
+  core::Image8 render, truth, heat;
+};
+
+struct GalleryOptions {
+  int size = 256;      // pixels per side of every view
+  int map_size = 256;  // depth objects: cube-rig map size, pixels
+  bool quick = false;  // the cup only for depth objects
+};
+
+// Needs a current context (and ../shared/data for the bunny and Spot; absent = skipped).
+std::vector<GalleryEntry> RenderGallery(render::ProgramCache& programs,
+                                        const GalleryOptions& options);
+
+}  // namespace bench

@@ -1,0 +1,662 @@
+#include "bench/report_page.h"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <ctime>
+#include <fstream>
+#include <functional>
+#include <memory>
+#include <optional>
+#include <sstream>
+#include <thread>
+
+#include "bench/deform_bench.h"
+#include "bench/depth_object_bench.h"
+#include "bench/displacement_bench.h"
+#include "bench/gallery.h"
+#include "bench/ncs_bench.h"
+#include "bench/paper_tables.h"
+#include "bench/report.h"
+#include "bench/scene_bench.h"
+#include "bench/tradeoff.h"
+#include "bench/volume_bench.h"
+#include "core/atomic_file.h"
+#include "core/error.h"
+#include "core/image_io.h"
+#include "ibr/demo_scene.h"
+#include "render/gl/context.h"
+
+namespace bench {
+namespace fs = std::filesystem;
+
+void ReportOptions::Check() const {
+  if (out.empty()) core::ThrowInputError("ibr report", "--out DIR is required");
+}
+
+double EstimateSecondsLeft(const std::vector<std::string>& names, size_t index,
+                           const std::vector<double>& done,
+                           const std::map<std::string, double>& previous) {
+  double from_previous = 0;
+  bool complete = true;
+  for (size_t i = index; i < names.size(); ++i) {
+    auto it = previous.find(names[i]);
+    if (it == previous.end()) {
+      complete = false;
+      break;
+    }
+    from_previous += it->second;
+  }
+  if (complete) return from_previous;
+  if (done.empty()) return std::nan("");
+  double sum = 0;
+  for (double d : done) sum += d;
+  return sum / static_cast<double>(done.size()) * static_cast<double>(names.size() - index);
+}
+
+std::map<std::string, double> ReadStepTimings(const fs::path& file, const std::string& mode) {
+  std::map<std::string, double> out;
+  std::ifstream in(file);
+  std::string line;
+  if (!std::getline(in, line) || line != "step,mode,seconds") return {};
+  while (std::getline(in, line)) {
+    std::stringstream s(line);
+    std::string step, m, seconds;
+    if (!std::getline(s, step, ',') || !std::getline(s, m, ',') || !std::getline(s, seconds))
+      return {};
+    char* end = nullptr;
+    const double v = std::strtod(seconds.c_str(), &end);
+    if (end == seconds.c_str() || !std::isfinite(v) || v < 0) return {};
+    if (m == mode) out[step] = v;
+  }
+  return out;
+}
+
+namespace {
+
+// ----------------------------------------------------------- the page ----
+
+// A page as blocks, written both as Markdown and as HTML.
+struct Block {
+  enum Kind { kHeading, kText, kTable, kImage } kind;
+  std::string text;  // heading / paragraph / image caption
+  int level = 2;
+  std::optional<Table> table;
+  std::string image;  // path relative to the report folder
+};
+
+class Page {
+ public:
+  void Heading(std::string text, int level = 2) {
+    blocks_.push_back({Block::kHeading, std::move(text), level, {}, {}});
+  }
+  void Text(std::string text) { blocks_.push_back({Block::kText, std::move(text), 0, {}, {}}); }
+  void AddTable(Table table) { blocks_.push_back({Block::kTable, {}, 0, std::move(table), {}}); }
+  void Image(std::string path, std::string caption) {
+    blocks_.push_back({Block::kImage, std::move(caption), 0, {}, std::move(path)});
+  }
+  std::string Markdown() const;
+  std::string Html(const fs::path& dir) const;
+
+ private:
+  std::vector<Block> blocks_;
+};
+
+std::string MarkdownCell(const std::string& s) {
+  std::string out;
+  for (char c : s) out += c == '|' ? std::string("\\|") : std::string(1, c);
+  return out;
+}
+
+std::string Page::Markdown() const {
+  std::string md;
+  for (const Block& b : blocks_) {
+    switch (b.kind) {
+      case Block::kHeading:
+        md += std::string(b.level, '#') + " " + b.text + "\n\n";
+        break;
+      case Block::kText:
+        md += b.text + "\n\n";
+        break;
+      case Block::kTable: {
+        const Table& t = *b.table;
+        auto line = [&](const std::vector<std::string>& cells) {
+          md += "|";
+          for (const auto& c : cells) {
+            md += ' ';
+            md += MarkdownCell(c);
+            md += " |";
+          }
+          md += "\n";
+        };
+        line(t.columns());
+        md += "|";
+        for (size_t c = 0; c < t.columns().size(); ++c) md += "---|";
+        md += "\n";
+        for (const auto& r : t.rows()) line(r);
+        md += "\n";
+        break;
+      }
+      case Block::kImage:
+        md += fmt::format("![{}]({})\n\n", b.text, b.image);
+        if (!b.text.empty()) md += "*" + b.text + "*\n\n";
+        break;
+    }
+  }
+  return md;
+}
+
+std::string HtmlEscaped(const std::string& s) {
+  std::string out;
+  for (char c : s) {
+    switch (c) {
+      case '<':
+        out += "&lt;";
+        break;
+      case '>':
+        out += "&gt;";
+        break;
+      case '&':
+        out += "&amp;";
+        break;
+      case '"':
+        out += "&quot;";
+        break;
+      default:
+        out += c;
+    }
+  }
+  return out;
+}
+
+// Escaped text with the Markdown the page uses: `code` spans as <code>,
+// **bold** as <b>.
+std::string HtmlText(const std::string& s) {
+  std::string out;
+  bool code = false, bold = false;
+  const std::string escaped = HtmlEscaped(s);
+  for (size_t i = 0; i < escaped.size(); ++i) {
+    const char c = escaped[i];
+    if (c == '`') {
+      out += code ? "</code>" : "<code>";
+      code = !code;
+    } else if (!code && c == '*' && i + 1 < escaped.size() && escaped[i + 1] == '*') {
+      out += bold ? "</b>" : "<b>";
+      bold = !bold;
+      ++i;
+    } else {
+      out += c;
+    }
+  }
+  if (code) out += "</code>";
+  if (bold) out += "</b>";
+  return out;
+}
+
+// A paragraph, or a list when every line starts with "- ".
+std::string HtmlParagraph(const std::string& text) {
+  std::vector<std::string> lines;
+  std::stringstream in(text);
+  for (std::string line; std::getline(in, line);) lines.push_back(line);
+  const bool list = !lines.empty() && std::all_of(lines.begin(), lines.end(),
+                                                  [](auto& l) { return l.rfind("- ", 0) == 0; });
+  if (!list) return "<p>" + HtmlText(text) + "</p>\n";
+  std::string out = "<ul>\n";
+  for (const std::string& l : lines) out += "<li>" + HtmlText(l.substr(2)) + "</li>\n";
+  return out + "</ul>\n";
+}
+
+std::string Base64(const std::string& bytes) {
+  static constexpr char kAlphabet[] =
+      "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
+  std::string out;
+  size_t i = 0;
+  for (; i + 2 < bytes.size(); i += 3) {
+    const uint32_t v =
+        (uint8_t(bytes[i]) << 16) | (uint8_t(bytes[i + 1]) << 8) | uint8_t(bytes[i + 2]);
+    for (int k = 3; k >= 0; --k) out += kAlphabet[(v >> (6 * k)) & 63];
+  }
+  if (i < bytes.size()) {
+    uint32_t v = uint8_t(bytes[i]) << 16;
+    if (i + 1 < bytes.size()) v |= uint8_t(bytes[i + 1]) << 8;
+    out += kAlphabet[(v >> 18) & 63];
+    out += kAlphabet[(v >> 12) & 63];
+    out += i + 1 < bytes.size() ? kAlphabet[(v >> 6) & 63] : '=';
+    out += '=';
+  }
+  return out;
+}
+
+std::string Page::Html(const fs::path& dir) const {
+  std::string h =
+      "<!DOCTYPE html>\n<html><head><meta charset=\"utf-8\"><title>ibr report</title>\n"
+      "<style>body{font-family:sans-serif;max-width:1900px;margin:1em auto;padding:0 1em}"
+      "table{border-collapse:collapse;margin:0.5em 0}td,th{border:1px solid #bbb;padding:2px "
+      "6px;font-size:90%}th{background:#eee}img{max-width:100%}figcaption{font-style:italic;"
+      "font-size:90%}</style>\n</head><body>\n";
+  for (const Block& b : blocks_) {
+    switch (b.kind) {
+      case Block::kHeading:
+        h += fmt::format("<h{0}>{1}</h{0}>\n", b.level, HtmlText(b.text));
+        break;
+      case Block::kText:
+        h += HtmlParagraph(b.text);
+        break;
+      case Block::kTable: {
+        h += "<table><tr>";
+        for (const auto& c : b.table->columns()) h += "<th>" + HtmlEscaped(c) + "</th>";
+        h += "</tr>\n";
+        for (const auto& r : b.table->rows()) {
+          h += "<tr>";
+          for (const auto& c : r) h += "<td>" + HtmlEscaped(c) + "</td>";
+          h += "</tr>\n";
+        }
+        h += "</table>\n";
+        break;
+      }
+      case Block::kImage: {
+        std::ifstream in(dir / b.image, std::ios::binary);
+        std::stringstream bytes;
+        bytes << in.rdbuf();
+        if (!in) core::ThrowFileError("ibr report", dir / b.image, "cannot read the image");
+        h += fmt::format(
+            "<figure><img alt=\"{}\" src=\"data:image/png;base64,{}\"><figcaption>{}"
+            "</figcaption></figure>\n",
+            HtmlEscaped(b.text), Base64(bytes.str()), HtmlText(b.text));
+        break;
+      }
+    }
+  }
+  return h + "</body></html>\n";
+}
+
+// ------------------------------------------------------------ machine ----
+
+std::string FirstLineOf(const std::string& command) {
+  std::unique_ptr<FILE, int (*)(FILE*)> pipe(popen(command.c_str(), "r"), pclose);
+  if (!pipe) return "";
+  char buffer[512] = {};
+  if (!fgets(buffer, sizeof(buffer), pipe.get())) return "";
+  std::string line = buffer;
+  while (!line.empty() && (line.back() == '\n' || line.back() == '\r')) line.pop_back();
+  return line;
+}
+
+std::string CpuModel() {
+  std::ifstream in("/proc/cpuinfo");
+  std::string line;
+  while (std::getline(in, line)) {
+    if (line.rfind("model name", 0) == 0) {
+      const size_t colon = line.find(':');
+      if (colon != std::string::npos) return line.substr(line.find_first_not_of(" \t", colon + 1));
+    }
+  }
+  return "unknown";
+}
+
+// The commit of the source tree this binary was built from, when it is a
+// git checkout here.
+std::string SourceCommit() {
+  const fs::path source = fs::path(IBR_BENCH_SOURCE_DIR).parent_path();
+  const std::string git = fmt::format("git -C '{}' ", source.string());
+  const std::string commit = FirstLineOf(git + "rev-parse --short HEAD 2>/dev/null");
+  if (commit.empty()) return "unknown";
+  const bool dirty =
+      !FirstLineOf(git + "status --porcelain --untracked-files=no 2>/dev/null").empty();
+  return dirty ? commit + " (with uncommitted changes)" : commit;
+}
+
+Table MachineTable(const render::GlInfo& gl) {
+  Table t({"what", "value"});
+  std::ifstream load("/proc/loadavg");
+  std::string l1, l5, l15;
+  load >> l1 >> l5 >> l15;
+  const std::time_t now = std::time(nullptr);
+  char date[64];
+  std::strftime(date, sizeof(date), "%Y-%m-%d %H:%M UTC", std::gmtime(&now));
+  t.AddRow({"CPU", CpuModel()});
+  t.AddRow({"cores", std::to_string(std::thread::hardware_concurrency())});
+  t.AddRow(
+      {"load average at start (1, 5, 15 min)", l1.empty() ? "unknown" : l1 + " " + l5 + " " + l15});
+  t.AddRow({"GL_RENDERER", gl.renderer});
+  t.AddRow({"GL_VERSION", gl.version});
+  t.AddRow({"date", date});
+  t.AddRow({"commit", SourceCommit()});
+  return t;
+}
+
+// ------------------------------------------------------------ helpers ----
+
+Table Filtered(const Table& t, const std::function<bool(const std::vector<std::string>&)>& keep) {
+  Table out(t.columns());
+  for (const auto& r : t.rows()) {
+    if (keep(r)) out.AddRow(r);
+  }
+  return out;
+}
+
+void RemoveByExtension(const fs::path& dir, const std::string& suffix) {
+  for (const auto& e : fs::directory_iterator(dir)) {
+    const std::string name = e.path().filename().string();
+    if (name.size() > suffix.size() &&
+        name.compare(name.size() - suffix.size(), suffix.size(), suffix) == 0)
+      fs::remove(e.path());
+  }
+}
+
+std::string Seconds(double s) { return std::isfinite(s) ? fmt::format("{:.0f}s", s) : "?"; }
+
+// The Pareto front of each panel, one line per panel.
+std::vector<std::string> FrontLines(const TradeoffFamily& family) {
+  const std::vector<bool> front = ParetoFront(family.rows);
+  std::vector<std::string> panels;
+  std::map<std::string, std::vector<const TradeoffRow*>> by_panel;
+  for (size_t i = 0; i < family.rows.size(); ++i) {
+    const TradeoffRow& r = family.rows[i];
+    if (!by_panel.count(r.panel)) panels.push_back(r.panel);
+    by_panel[r.panel];
+    if (front[i]) by_panel[r.panel].push_back(&r);
+  }
+  std::vector<std::string> lines;
+  for (const std::string& p : panels) {
+    auto& rows = by_panel[p];
+    std::sort(rows.begin(), rows.end(), [](auto* a, auto* b) { return a->ms < b->ms; });
+    std::string line = p + ": ";
+    for (size_t i = 0; i < rows.size(); ++i) {
+      line += fmt::format("{}{}{} ({:.3g} ms, {:.3g})", i ? "; " : "", rows[i]->method,
+                          rows[i]->knob.empty() ? "" : " " + rows[i]->knob, rows[i]->ms,
+                          rows[i]->error);
+    }
+    lines.push_back(line);
+  }
+  return lines;
+}
+
+}  // namespace
+
+ReportResult WriteReport(const ReportOptions& options) {
+  options.Check();
+  const std::string mode = options.quick ? "quick" : "full";
+  const std::map<std::string, double> previous =
+      fs::is_directory(options.out) ? ReadStepTimings(options.out / "report_timings.csv", mode)
+                                    : std::map<std::string, double>{};
+  // Refuses, before minutes of measuring, a folder that is not ours to replace.
+  core::StagedDirectory staged(options.out);
+  const fs::path dir = staged.path();
+  const fs::path shared = ibr::SharedDataDir();
+
+  render::GlInfo gl;
+  {
+    auto context = render::HeadlessContext::Create();
+    gl = context->info();
+  }
+  const Table machine = MachineTable(gl);
+
+  // The benches' results, filled by the steps.
+  std::optional<DisplacementBenchResult> displacement;
+  std::optional<NcsBenchResult> ncs;
+  std::optional<DepthObjectBenchResult> depth_object;
+  std::optional<DeformBenchResult> deform;
+  std::optional<Table> volume;
+  std::optional<SceneBenchResult> scene;
+  std::vector<GalleryEntry> gallery;
+
+  struct Step {
+    std::string name;
+    std::function<void()> run;
+  };
+  const std::vector<Step> steps = {
+      {"displacement",
+       [&] {
+         fs::create_directories(dir / "displacement");
+         displacement = RunDisplacementBench(
+             {.csv = dir / "displacement" / "displacement.csv", .quick = options.quick});
+         displacement->summary.WriteCsv(dir / "displacement" / "displacement_summary.csv");
+       }},
+      {"ncs",
+       [&] {
+         auto context = render::HeadlessContext::Create();
+         render::ProgramCache programs;
+         ncs = RunNcsBench(programs, options.quick ? NcsBenchOptions::Quick() : NcsBenchOptions{});
+         fs::create_directories(dir / "ncs");
+         WriteNcsBench(*ncs, dir / "ncs" / "ncs.csv", dir / "ncs");
+       }},
+      {"depth objects",
+       [&] {
+         fs::create_directories(dir / "depth_object");
+         DepthObjectBenchOptions o;
+         o.csv = dir / "depth_object" / "depth_object.csv";
+         o.quick = options.quick;
+         depth_object = RunDepthObjectBench(o);
+       }},
+      {"deformation",
+       [&] {
+         auto context = render::HeadlessContext::Create();
+         render::ProgramCache programs;
+         DeformBenchOptions o;
+         o.shared_data = shared;
+         o.out = dir / "deform";
+         o.csv = o.out / "deform.csv";
+         o.quick = options.quick;
+         deform = RunDeformBench(programs, o);
+         WriteDeformBench(*deform, o);
+         RemoveByExtension(o.out, "_closed.obj");  // the peer's inputs
+       }},
+      {"volume",
+       [&] {
+         auto context = render::HeadlessContext::Create();
+         VolumeBenchOptions o;
+         o.shared_data = shared;
+         o.out = dir / "volume";
+         o.csv = o.out / "volume.csv";
+         o.quick = options.quick;
+         volume = RunVolumeBench(o);
+         RemoveByExtension(o.out, ".tf.json");  // the peer's inputs
+       }},
+      {"scene",
+       [&] {
+         auto context = render::HeadlessContext::Create();
+         SceneBenchOptions o;
+         o.quick = options.quick;
+         scene = RunSceneBench(o);
+         fs::create_directories(dir / "scene");
+         WriteSceneBench(*scene, dir / "scene" / "scene.csv", dir / "scene");
+       }},
+      {"gallery",
+       [&] {
+         auto context = render::HeadlessContext::Create();
+         render::ProgramCache programs;
+         GalleryOptions o;
+         o.quick = options.quick;
+         o.size = options.quick ? 160 : 384;
+         o.map_size = options.quick ? 128 : 256;
+         gallery = RenderGallery(programs, o);
+       }},
+  };
+
+  std::vector<std::string> names;
+  for (const Step& s : steps) names.push_back(s.name);
+  std::vector<double> done;
+  ReportResult result;
+  const auto start = std::chrono::steady_clock::now();
+  auto since = [](std::chrono::steady_clock::time_point t) {
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
+  };
+  for (size_t i = 0; i < steps.size(); ++i) {
+    std::fprintf(stderr, "step %zu of %zu: %s, elapsed %s, estimated %s left\n", i + 1,
+                 steps.size(), steps[i].name.c_str(), Seconds(since(start)).c_str(),
+                 Seconds(EstimateSecondsLeft(names, i, done, previous)).c_str());
+    std::fflush(stderr);
+    const auto step_start = std::chrono::steady_clock::now();
+    steps[i].run();
+    done.push_back(since(step_start));
+    result.steps.push_back({steps[i].name, done.back()});
+  }
+
+  // ---------------------------------------------------------- the page ----
+  Page page;
+  page.Heading("What accuracy costs in time: every technique, beside the papers and the peers", 1);
+  page.Text(fmt::format(
+      "Written by `ibr report{}` ({} run: {}). Every number below was measured in this run on "
+      "the machine named here, except the papers' own figures, which are quoted with their "
+      "section, figure or table from the texts in `../shared/papers/`. The papers ran on "
+      "2001-2008 GPUs, so they are compared as ratios (a method's cost against its baseline "
+      "in the same paper), never as absolute times.",
+      options.quick ? " --quick" : "", mode,
+      options.quick ? "every bench's small sweep, a smoke test: the figures are not for quoting"
+                    : "every bench's full sweep"));
+  page.Heading("Machine");
+  page.AddTable(machine);
+
+  std::vector<TradeoffFamily> families = {DisplacementTradeoff(displacement->table),
+                                          NcsTradeoff(ncs->table),
+                                          DepthObjectTradeoff(depth_object->table)};
+  for (const TradeoffFamily& f : families) {
+    TradeoffTable(f).WriteCsv(dir / (f.id + "_tradeoff.csv"));
+    PlotTradeoff(f, dir / (f.id + "_tradeoff.png"));
+  }
+  auto tradeoff_text = [&](const TradeoffFamily& f) {
+    return fmt::format(
+        "Error ({}) against time per frame, one panel per {}, every method and peer on the same "
+        "axes; a method's points are joined only along its {} (nothing else varies along a "
+        "line); circled points are the panel's Pareto front (no other point is both faster and "
+        "more accurate). Data: `{}_tradeoff.csv` (pareto = 1 on the front); the bench's table: "
+        "`{}`.",
+        f.error_label,
+        f.id == "ncs"
+            ? "view and tiling"
+            : (f.id == "displacement" ? "view elevation and image size" : "object and image size"),
+        f.knob_label, f.id, f.id + "/" + f.id + ".csv");
+  };
+
+  page.Heading(families[0].title);
+  page.Text(tradeoff_text(families[0]));
+  page.Image("displacement_tradeoff.png", "displacement by slicing: error vs time");
+  page.Text("The paper's figures beside ours (Kautz-Seidel 2001):");
+  page.AddTable(KautzSeidelSlicingTable(displacement->table));
+  page.Text("Slices needed for a p95 depth error under one height texel (the bench's summary):");
+  page.AddTable(displacement->summary);
+
+  page.Heading(families[1].title);
+  page.Text(tradeoff_text(families[1]));
+  page.Image("ncs_tradeoff.png", "NCS, relief mapping, POM: silhouette error vs time");
+  page.Image("ncs/ncs_time_vs_tiling.png",
+             "cost against tiling (the analogue of Chen-Chang Fig. 6)");
+  page.Text("The paper's figures beside ours (Chen-Chang):");
+  page.AddTable(ChenChangTable(ncs->table));
+
+  page.Heading(families[2].title);
+  page.Text(tradeoff_text(families[2]) +
+            " The peers (Open3D TSDF fusion and voxel carving, `bench/open3d_peer.py`) are "
+            "judged from the same views; their knob is the voxel resolution, their time the "
+            "frame time of drawing their mesh (building it is in the bench's "
+            "time_to_first_image_s column).");
+  page.Image("depth_object_tradeoff.png", "depth objects and peers: error vs time");
+  fs::create_directories(dir / "depth_object");
+  PlotPng(depth_object->fig_coverage,
+          {.title = "Fig. 12 analogue: time vs covered pixels, 128 slices (bunny; quick: cup)",
+           .x_column = "covered_pixels",
+           .y_column = "ms_per_frame",
+           .series_column = "family",
+           .x_label = "object pixels",
+           .y_label = "ms per frame",
+           .order_column = "covered_pixels"},
+          dir / "depth_object" / "fig12_time_vs_coverage.png");
+  PlotPng(depth_object->fig_slices,
+          {.title = "Fig. 12 analogue: time vs slices at a fixed size",
+           .x_column = "slices",
+           .y_column = "ms_per_frame",
+           .series_column = "family",
+           .x_label = "slices",
+           .y_label = "ms per frame",
+           .order_column = "slices"},
+          dir / "depth_object" / "fig12_time_vs_slices.png");
+  page.Image("depth_object/fig12_time_vs_coverage.png", "Kautz-Seidel Fig. 12 (upper) analogue");
+  page.Image("depth_object/fig12_time_vs_slices.png", "Kautz-Seidel Fig. 12 (lower) analogue");
+  page.Text("The paper's figures beside ours (Kautz-Seidel 2001, sec. 6 and Fig. 12):");
+  page.AddTable(KautzSeidelDepthObjectTable(depth_object->fig_coverage, depth_object->fig_slices));
+  page.Text("Every path at its default slice count (sec. 3.4's rule) against the true mesh:");
+  page.AddTable(depth_object->accuracy);
+
+  page.Heading("Deformation and cut shaders (Correa, Silver, Chen 2007)");
+  page.Text(
+      "This bench measures no error against a reference (the pass is checked against the "
+      "double-precision sphere tracer of `core/deform_reference.h` in the tests), so its plot "
+      "is cost against the deformed screen area, the paper's Fig. 7 axis, one line per mesh and "
+      "mode joined along the region scale. The OpenVDB peer builds the distance field beside "
+      "ours. Data: `deform/`.");
+  page.Image("deform/deform_ms_vs_area.png", "ms per frame against the deformed screen area");
+  page.Image("deform/deform_sdf_build.png", "distance-field build time, ours and OpenVDB");
+  page.Text(
+      "The paper's Table 1 beside ours (weighted average time sum(a t) / sum(a), as ratios "
+      "to the continuous deformation of the same model):");
+  page.AddTable(Correa2007Table(deform->summary, deform->frames));
+
+  page.Heading("Volume displacement (Correa, Silver, Chen 2006)");
+  page.Text(
+      "This bench measures no error against a reference (the DVR and iso paths are checked "
+      "against a double CPU reference in the tests: max 0.006/255), so its plots are cost "
+      "against the knobs: sampling distance (the knob that trades accuracy for time), map size, "
+      "rasterised area. The VTK GPU ray caster is the peer. Data: `volume/volume.csv`.");
+  page.Image("volume/volume_time_vs_sampling.png", "peeled tooth: time vs sampling distance");
+  page.Image("volume/volume_time_vs_map_size.png", "peeled tooth: time vs map size");
+  page.Image("volume/volume_time_vs_area.png", "plain DVR: time vs rasterised slice area");
+  page.Text("The paper's figures beside ours (Correa 2006, Tables 1-2, sec. 8):");
+  page.AddTable(Correa2006Table(*volume));
+  page.AddTable(Filtered(*volume, [&](const auto& r) { return r[0] == "volume"; }));
+
+  page.Heading("Scene overhead (no paper)");
+  page.Text(
+      "What an effect costs a scene file when on, named but disabled, and absent (ratios to "
+      "absent; disabled should be 1: only enabled objects build passes). Data: `scene/scene.csv`.");
+  page.Image("scene/scene_bench.png", "ratios to absent per effect");
+  page.AddTable(scene->table);
+
+  page.Heading("Gallery: hard views beside their truth");
+  page.Text(
+      "Left to right: the method, the truth rendered in the same run (the tessellated surface; "
+      "the true mesh; for the cut, the double sphere tracer of `core/deform_reference.h`), and the "
+      "depth error heat map: |depth - true depth| on a black - red - "
+      "yellow - white ramp (black = exact, white = at or beyond the scale given), magenta = "
+      "surface only the method draws, cyan = surface it misses, grey = background in both.");
+  fs::create_directories(dir / "gallery");
+  for (size_t i = 0; i < gallery.size(); ++i) {
+    const GalleryEntry& g = gallery[i];
+    const std::string name = fmt::format("gallery/{:02d}_{}.png", i, g.family);
+    core::WriteImage(dir / name, ContactSheet({g.render, g.truth, g.heat}, 3));
+    page.Image(name, g.title + ": " + g.caption);
+  }
+  page.Image("ncs/ncs_silhouettes_grazing.png",
+             "the NCS bench's grazing silhouettes: truth, then each method; below, coverage "
+             "against the truth (red: extra, green: missing)");
+
+  page.Heading("Closing note: the Pareto front of each family");
+  for (const TradeoffFamily& f : families) {
+    page.Text(fmt::format("**{}** (method knob (ms per frame, {})):", f.title, f.error_label));
+    std::string list;
+    for (const std::string& line : FrontLines(f)) list += "- " + line + "\n";
+    page.Text(list.empty() ? "(no rows)" : list.substr(0, list.size() - 1));
+  }
+  result.seconds = since(start);
+  std::string timing = fmt::format("Run time {:.0f} s:", result.seconds);
+  for (const ReportStep& s : result.steps)
+    timing += fmt::format(" {} {:.0f} s;", s.name, s.seconds);
+  timing.back() = '.';
+  page.Text(timing);
+
+  Table timings({"step", "mode", "seconds"});
+  for (const ReportStep& s : result.steps) timings.AddRow({s.name, mode, Num(s.seconds, 1)});
+  timings.WriteCsv(dir / "report_timings.csv");
+  core::AtomicWriteStream(dir / "report.md", [&](std::ostream& out) { out << page.Markdown(); });
+  const std::string html = page.Html(dir);
+  core::AtomicWriteStream(dir / "report.html", [&](std::ostream& out) { out << html; });
+  staged.Commit();
+  std::fprintf(stderr, "report: done in %.0f s, wrote %s\n", result.seconds,
+               (options.out / "report.md").c_str());
+  return result;
+}
+
+}  // namespace bench

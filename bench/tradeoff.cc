@@ -1,0 +1,173 @@
+#include "bench/tradeoff.h"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdlib>
+#include <limits>
+#include <map>
+
+#include "core/check.h"
+
+namespace bench {
+namespace {
+
+// Positive values of `values` span more than a decade.
+bool SpansADecade(const std::vector<double>& values) {
+  double lo = std::numeric_limits<double>::infinity(), hi = 0;
+  for (double v : values) {
+    if (std::isfinite(v) && v > 0) lo = std::min(lo, v), hi = std::max(hi, v);
+  }
+  return hi > 0 && hi > 10 * lo;
+}
+
+}  // namespace
+
+std::vector<bool> ParetoFront(const std::vector<TradeoffRow>& rows) {
+  std::vector<bool> front(rows.size(), false);
+  auto finite = [](const TradeoffRow& r) { return std::isfinite(r.ms) && std::isfinite(r.error); };
+  for (size_t i = 0; i < rows.size(); ++i) {
+    if (!finite(rows[i])) continue;
+    bool dominated = false;
+    for (size_t j = 0; j < rows.size() && !dominated; ++j) {
+      const TradeoffRow &a = rows[j], &b = rows[i];
+      dominated = j != i && finite(a) && a.panel == b.panel && a.ms <= b.ms && a.error <= b.error &&
+                  (a.ms < b.ms || a.error < b.error);
+    }
+    front[i] = !dominated;
+  }
+  return front;
+}
+
+Table TradeoffTable(const TradeoffFamily& family) {
+  Table t({"panel", "method", "knob", "ms_per_frame", "error", "pareto"});
+  const std::vector<bool> front = ParetoFront(family.rows);
+  for (size_t i = 0; i < family.rows.size(); ++i) {
+    const TradeoffRow& r = family.rows[i];
+    IBR_CHECK(r.panel.find(',') == std::string::npos && r.method.find(',') == std::string::npos &&
+              r.knob.find(',') == std::string::npos);
+    // Enough digits that the CSV reproduces the front (the test recomputes it).
+    t.AddRow({r.panel, r.method, r.knob, fmt::format("{:.6g}", r.ms),
+              fmt::format("{:.6g}", r.error), front[i] ? "1" : "0"});
+  }
+  return t;
+}
+
+void PlotTradeoff(const TradeoffFamily& family, const std::filesystem::path& png) {
+  Table table = TradeoffTable(family);
+  std::vector<double> ms, error;
+  std::vector<std::string> panels;
+  for (const TradeoffRow& r : family.rows) {
+    ms.push_back(r.ms);
+    error.push_back(r.error);
+    if (std::find(panels.begin(), panels.end(), r.panel) == panels.end()) panels.push_back(r.panel);
+  }
+  const bool log_x = SpansADecade(ms), log_y = SpansADecade(error);
+  std::string title = family.title + ": error vs time";
+  if (log_y) {
+    // The truth's error of 0 has no place on a log axis: drawn at a floor.
+    double floor = std::numeric_limits<double>::infinity();
+    for (double e : error) {
+      if (std::isfinite(e) && e > 0) floor = std::min(floor, 0.5 * e);
+    }
+    bool any_zero = false;
+    Table drawn(table.columns());
+    const int ei = table.Column("error");
+    for (auto row : table.rows()) {
+      if (CellNumber(row[ei]) == 0) {
+        row[ei] = fmt::format("{:.6g}", floor);
+        any_zero = true;
+      }
+      drawn.AddRow(row);
+    }
+    table = std::move(drawn);
+    if (any_zero) title += fmt::format("; error 0 drawn at {:.3g}", floor);
+  }
+  const int columns = panels.size() <= 1 ? 1 : (panels.size() <= 4 ? 2 : 3);
+  const int rows = (static_cast<int>(panels.size()) + columns - 1) / columns;
+  PlotPng(table,
+          {.title = title,
+           .x_column = "ms_per_frame",
+           .y_column = "error",
+           .series_column = "method",
+           .x_label = "ms per frame (median)",
+           .y_label = family.error_label,
+           .log_x = log_x,
+           .log_y = log_y,
+           .width_px = columns == 1 ? 1000 : 560 * columns,
+           .height_px = columns == 1 ? 600 : 60 + 500 * rows,
+           .panel_column = "panel",
+           .panel_columns = columns,
+           .order_column = "knob",
+           .highlight_column = "pareto"},
+          png);
+}
+
+TradeoffFamily DisplacementTradeoff(const Table& t) {
+  TradeoffFamily f{"displacement",
+                   "Displacement by slicing (Kautz-Seidel 2001, sec. 3)",
+                   "p95 depth error (height texels)",
+                   "slices",
+                   {}};
+  const int family = t.Column("family"), slices = t.Column("slices"),
+            elevation = t.Column("elevation_deg"), size = t.Column("size_px"),
+            ms = t.Column("ms_per_frame"), error = t.Column("p95_depth_error_texels"),
+            truth_ms = t.Column("truth_ms_per_frame");
+  std::map<std::string, double> truth;  // panel -> the truth's time (one value per panel)
+  for (const auto& r : t.rows()) {
+    const std::string panel = fmt::format("elevation {} deg / {} px", r[elevation], r[size]);
+    f.rows.push_back(
+        {panel, "slices " + r[family], r[slices], CellNumber(r[ms]), CellNumber(r[error])});
+    truth.emplace(panel, CellNumber(r[truth_ms]));
+  }
+  std::vector<std::string> panels;
+  for (const TradeoffRow& r : f.rows) {
+    if (std::find(panels.begin(), panels.end(), r.panel) == panels.end()) panels.push_back(r.panel);
+  }
+  for (const std::string& panel : panels)
+    f.rows.push_back({panel, "tessellated (truth)", "", truth[panel], 0.0});
+  return f;
+}
+
+TradeoffFamily NcsTradeoff(const Table& t) {
+  TradeoffFamily f{"ncs",
+                   "NCS, relief mapping, POM (Chen-Chang)",
+                   "silhouette error 1 - IoU",
+                   "linear-search steps",
+                   {}};
+  const int method = t.Column("method"), view = t.Column("view"), tiling = t.Column("tiling"),
+            steps = t.Column("steps"), c = t.Column("c"), ms = t.Column("ms_per_frame"),
+            iou = t.Column("silhouette_iou");
+  for (const auto& r : t.rows()) {
+    const std::string name = r[c].empty() ? r[method] : r[method] + " c=" + r[c];
+    f.rows.push_back({fmt::format("{} view / tiling {}", r[view], r[tiling]), name, r[steps],
+                      CellNumber(r[ms]), 1.0 - CellNumber(r[iou])});
+  }
+  return f;
+}
+
+TradeoffFamily DepthObjectTradeoff(const Table& t) {
+  TradeoffFamily f{"depth_object",
+                   "Depth objects and peers (Kautz-Seidel 2001, sec. 4)",
+                   "p95 depth error (cube edges)",
+                   "slices (peers: resolution)",
+                   {}};
+  const int object = t.Column("object"), method = t.Column("method"), slices = t.Column("slices"),
+            size = t.Column("size"), ms = t.Column("ms_per_frame"),
+            error = t.Column("p95_depth_error");
+  for (const auto& r : t.rows()) {
+    std::string name = r[method], knob = r[slices];
+    // A peer names its resolution after a colon ("open3d tsdf:128"): that is its knob.
+    const size_t colon = name.rfind(':');
+    if (colon != std::string::npos && std::isfinite(CellNumber(name.substr(colon + 1)))) {
+      knob = name.substr(colon + 1);
+      name = name.substr(0, colon);
+    }
+    f.rows.push_back({fmt::format("{} / {} px", r[object], r[size]), name, knob, CellNumber(r[ms]),
+                      CellNumber(r[error])});
+  }
+  return f;
+}
+
+}  // namespace bench

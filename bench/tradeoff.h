@@ -1,0 +1,65 @@
+// What accuracy costs in time, per technique family, read from the benches'
+// tables by column name: one row per measured configuration (a method or a
+// peer at one setting of the knob that trades accuracy for time, in one
+// panel = one object / view and image size), the Pareto front of each panel,
+// and the error-vs-time plot `ibr report` draws (bench/report_page.h).
+#pragma once
+
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "bench/report.h"
+
+namespace bench {
+
+struct TradeoffRow {
+  std::string panel;   // what is compared: "bunny / 256 px", "grazing view / tiling 4"
+  std::string method;  // a method or peer; its points are joined along `knob`
+  std::string knob;    // the knob's value ("64" slices, "128" voxels); "" = none (a lone point)
+  double ms = 0.0;     // time per frame (median), milliseconds
+  double error = 0.0;  // lower is better (the family's unit); 0 = the truth itself
+};
+
+// Whether each row is on the Pareto front of its panel: no other row of the
+// same panel is at most as slow and at most as wrong, and strictly better in
+// one. Rows with a non-finite time or error are never on it and dominate
+// nothing. Equal rows do not dominate each other (both are on the front).
+std::vector<bool> ParetoFront(const std::vector<TradeoffRow>& rows);
+
+// A technique family's rows with what they mean.
+struct TradeoffFamily {
+  std::string id;           // file names: <id>_tradeoff.csv, <id>_tradeoff.png
+  std::string title;        // "Displacement by slicing (Kautz-Seidel 2001, sec. 3)"
+  std::string error_label;  // "p95 depth error (height texels)"
+  std::string knob_label;   // "slices"
+  std::vector<TradeoffRow> rows;
+};
+
+// The rows as a table: panel, method, knob, ms_per_frame, error, pareto
+// ("1" on the front of its panel, else "0"). Names hold no commas (the
+// benches' CSV is not quoted): CHECKed.
+Table TradeoffTable(const TradeoffFamily& family);
+
+// The family's plot: one panel per `panel` (in first appearance order), every
+// method in the same axes, points joined only along the knob, the Pareto
+// front overlaid; an axis is logarithmic where its positive values span more
+// than a decade. Errors of 0 (the truth) are drawn at a floor of half the
+// smallest positive error on a log axis (said in the title).
+void PlotTradeoff(const TradeoffFamily& family, const std::filesystem::path& png);
+
+// The families, from the benches' tables (columns by name):
+// `ibr bench displacement`: panel = elevation and size, method = slicing
+// family, knob = slices, error = p95 depth error in height texels; the
+// tessellated truth (truth_ms_per_frame) as error 0.
+TradeoffFamily DisplacementTradeoff(const Table& table);
+// `ibr bench ncs`: panel = view and tiling, method = method (NCS with its c),
+// knob = steps, error = 1 - silhouette IoU against the tessellated truth
+// (which is a row of error 0).
+TradeoffFamily NcsTradeoff(const Table& table);
+// `ibr bench depth-object`: panel = object and size, method = path (knob =
+// slices) or peer ("open3d tsdf:128": method "open3d tsdf", knob 128),
+// error = p95 depth error in cube edges.
+TradeoffFamily DepthObjectTradeoff(const Table& table);
+
+}  // namespace bench
