@@ -94,8 +94,11 @@ TEST(MapDataset, TheCountIsOfTopLevelViewElementsOfAnyType) {
     return dir;
   };
   std::string mixed = "[";
-  for (int i = 0; i <= kMaxMaps; ++i)
-    mixed += (i ? "," : "") + std::string(i % 3 == 0 ? "1" : i % 3 == 1 ? "[2, 3]" : "{}");
+  const char* const kinds[] = {"1", "[2, 3]", "{}"};  // a scalar, an array, an object
+  for (int i = 0; i <= kMaxMaps; ++i) {
+    if (i > 0) mixed += ',';
+    mixed += kinds[i % 3];
+  }
   mixed += "]";
   EXPECT_NE(ErrorOf([&] {
               ReadMapDataset(manifest("views_mixed_65", mixed, ""));
@@ -103,7 +106,7 @@ TEST(MapDataset, TheCountIsOfTopLevelViewElementsOfAnyType) {
             std::string::npos);
   // 65 inner "views" arrays of one element each under another key: not views.
   std::string nested = R"("other": {"views": [)";
-  for (int i = 0; i <= kMaxMaps; ++i) nested += (i ? "," : "") + std::string("[0]");
+  for (int i = 0; i <= kMaxMaps; ++i) nested += i > 0 ? ",[0]" : "[0]";
   nested += "]}, ";
   const std::string error =
       ErrorOf([&] { ReadMapDataset(manifest("views_nested", "[]", nested)); });
