@@ -129,7 +129,7 @@ NcsBenchResult RunNcsBench(render::ProgramCache& programs, const NcsBenchOptions
              "silhouette_iou", "wrong_silhouette_px", "mean_depth_error", "p95_depth_error",
              "early_termination_px", "truth_px", "triangles"}),
       Table({"view", "tiling", "steps", "ncs_ms", "relief_ms", "pom_ms", "tessellated_ms",
-             "ncs_over_relief", "ncs_over_tessellated"}),
+             "ncs_over_relief", "ncs_over_tessellated", "crm_ms", "ncs_over_crm"}),
       {}};
   const int n = options.size;
   render::RenderTarget relief_target(render::FrameTargetOptions(n, n));
@@ -177,7 +177,7 @@ NcsBenchResult RunNcsBench(render::ProgramCache& programs, const NcsBenchOptions
       // machine shared with other work the minimum is the least disturbed figure.
       std::map<std::pair<std::string, int>, double> ms_at;
       for (render::ReliefMethod method : {render::ReliefMethod::kNcs, render::ReliefMethod::kRelief,
-                                          render::ReliefMethod::kPom}) {
+                                          render::ReliefMethod::kPom, render::ReliefMethod::kCrm}) {
         const bool ncs = method == render::ReliefMethod::kNcs;
         const std::vector<float> cs = ncs ? options.step_enlargements : std::vector<float>{1.0f};
         for (int steps : options.steps) {
@@ -217,10 +217,11 @@ NcsBenchResult RunNcsBench(render::ProgramCache& programs, const NcsBenchOptions
       }
       for (int steps : options.steps) {
         const double ncs_ms = ms_at[{"ncs", steps}], relief_ms = ms_at[{"relief", steps}],
-                     pom_ms = ms_at[{"pom", steps}];
+                     pom_ms = ms_at[{"pom", steps}], crm_ms = ms_at[{"crm", steps}];
         result.summary.AddRow({view_name, std::to_string(tiling), std::to_string(steps),
                                Num(ncs_ms, 2), Num(relief_ms, 2), Num(pom_ms, 2), Num(truth_ms, 2),
-                               Num(ncs_ms / relief_ms, 2), Num(ncs_ms / truth_ms, 2)});
+                               Num(ncs_ms / relief_ms, 2), Num(ncs_ms / truth_ms, 2),
+                               Num(crm_ms, 2), Num(ncs_ms / crm_ms, 2)});
       }
     }
   }
@@ -278,6 +279,7 @@ void WriteNcsBench(const NcsBenchResult& result, const std::filesystem::path& cs
     if (r[2] != middle_steps) continue;
     fig6.AddRow({"ncs " + r[0], r[1], r[3]});
     fig6.AddRow({"relief " + r[0], r[1], r[4]});
+    fig6.AddRow({"crm " + r[0], r[1], r[9]});
     fig6.AddRow({"tessellated " + r[0], r[1], r[6]});
   }
   PlotPng(

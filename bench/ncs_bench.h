@@ -1,5 +1,6 @@
-// `ibr bench ncs`: accuracy and cost of NCS (Chen-Chang), relief mapping and
-// POM against the tessellated ground truth (a vertex per height-map texel,
+// `ibr bench ncs`: accuracy and cost of NCS (Chen-Chang), relief mapping,
+// POM and curved relief mapping (CRM, Oliveira-Policarpo 2005, the paper's
+// baseline) against the tessellated ground truth (a vertex per height-map texel,
 // core::TessellateDisplaced + render::DrawMesh) rendered in the same run, on
 // a displaced torus: method x steps x c x view (including grazing views of
 // the torus's inner side, the paper's Figure 2 case) x tiling (the paper's
@@ -38,11 +39,11 @@ std::vector<std::string> NcsBenchViewNames();
 
 struct NcsBenchResult {
   Table table;  // one row per (method, view, tiling, steps, c)
-  // NCS cost relative to relief mapping and to the ground truth per view,
-  // tiling and step count, from the fastest timed frame (min_ms_per_frame).
+  // NCS cost relative to relief mapping, to the ground truth and to CRM per
+  // view, tiling and step count, from the fastest timed frame (min_ms_per_frame).
   Table summary;
   // Silhouettes at the grazing view and the first tiling, left to right:
-  // tessellated truth, NCS, relief mapping, POM (middle step count, c = 2.5);
+  // tessellated truth, NCS, relief mapping, POM, CRM (middle step count, c = 2.5);
   // below each, its coverage against the truth (red: extra, green: missing).
   core::Image8 strip;
   std::string strip_view;

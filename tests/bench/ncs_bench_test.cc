@@ -36,8 +36,8 @@ TEST_F(NcsBenchTest, QuickSweepWritesFiniteRowsForEveryMethod) {
                                              "truth_px",
                                              "triangles"};
   EXPECT_EQ(result.table.columns(), expected);
-  // Per view x tiling: the truth + NCS (steps x c) + relief and POM (steps).
-  const size_t per = 1 + options.steps.size() * (options.step_enlargements.size() + 2);
+  // Per view x tiling: the truth + NCS (steps x c) + relief, POM and CRM (steps).
+  const size_t per = 1 + options.steps.size() * (options.step_enlargements.size() + 3);
   EXPECT_EQ(result.table.rows().size(), per * options.views.size() * options.tilings.size());
   std::set<std::string> methods;
   for (const auto& row : result.table.rows()) {
@@ -55,7 +55,7 @@ TEST_F(NcsBenchTest, QuickSweepWritesFiniteRowsForEveryMethod) {
     EXPECT_LE(iou, 1.0);
     EXPECT_GT(iou, 0.5) << row[0];  // every method draws the torus
   }
-  EXPECT_EQ(methods, (std::set<std::string>{"ncs", "relief", "pom", "tessellated"}));
+  EXPECT_EQ(methods, (std::set<std::string>{"ncs", "relief", "pom", "crm", "tessellated"}));
   EXPECT_EQ(result.summary.rows().size(),
             options.steps.size() * options.views.size() * options.tilings.size());
   EXPECT_FALSE(result.strip.empty());
