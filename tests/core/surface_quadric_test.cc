@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
 
 #include "core/error.h"
 #include "core/mesh.h"
@@ -60,8 +61,10 @@ TEST(SurfaceQuadric, TorusMatchesPrincipalCurvatures) {
     worst_a = std::max(worst_a, std::abs(q[k].x - a));
     worst_b = std::max(worst_b, std::abs(q[k].y - b_expected));
   }
+  std::printf("torus: worst |a - a_true| %.2e, |b - b_true| %.2e\n", worst_a, worst_b);
   // The ring and tube chords are circles through the vertex: exact; the
-  // diagonal chords enter the fit through tau and bend it slightly.
+  // diagonal chords enter the fit through tau and bend it slightly
+  // (measured: 3.7e-3 and 7.1e-3, under half the bounds).
   EXPECT_LT(worst_a, 0.01 * 0.5 / (major - minor));
   EXPECT_LT(worst_b, 0.01 * 0.5 / minor);
   // Outer equator (u = 0.25, v = 0): convex both ways; inner (v = 0.5): a saddle.
