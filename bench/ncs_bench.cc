@@ -102,10 +102,10 @@ NcsBenchOptions NcsBenchOptions::Quick() {
   o.size = 96;
   o.height_map_size = 32;
   o.steps = {16};
-  o.step_enlargements = {2.5f};
+  o.step_enlargements = {1.0f, 2.5f};  // two points of Fig. 7
   o.tilings = {1, 4};
   o.views = {"grazing"};
-  o.max_truth_subdivisions = 16;
+  o.max_truth_subdivisions = 4;  // below tiling 4's 6: the cap is exercised
   o.timer = {.warmup_frames = 1, .timed_frames = 1};
   return o;
 }
@@ -127,9 +127,12 @@ NcsBenchResult RunNcsBench(render::ProgramCache& programs, const NcsBenchOptions
   NcsBenchResult result{
       Table({"method", "view", "tiling", "steps", "c", "ms_per_frame", "min_ms_per_frame",
              "silhouette_iou", "wrong_silhouette_px", "mean_depth_error", "p95_depth_error",
-             "early_termination_px", "truth_px", "triangles"}),
+             "early_termination_px", "truth_px", "triangles", "truth_subdivisions",
+             "truth_subdivisions_wanted"}),
+      Table({"view", "tiling", "steps", "c", "early_termination_px", "wrong_silhouette_px",
+             "min_ms_per_frame", "source"}),
       Table({"view", "tiling", "steps", "ncs_ms", "relief_ms", "pom_ms", "tessellated_ms",
-             "ncs_over_relief", "ncs_over_tessellated"}),
+             "ncs_over_relief", "ncs_over_tessellated", "crm_ms", "ncs_over_crm"}),
       {}};
   const int n = options.size;
   render::RenderTarget relief_target(render::FrameTargetOptions(n, n));
@@ -148,6 +151,12 @@ NcsBenchResult RunNcsBench(render::ProgramCache& programs, const NcsBenchOptions
     dm.tiling = static_cast<float>(tiling);
     const int wanted = (options.height_map_size * tiling + kTubeSegments - 1) / kTubeSegments;
     dm.subdivisions = std::clamp(wanted, 1, options.max_truth_subdivisions);
+    fmt::print(stderr,
+               "bench ncs: tiling {}: ground truth {} subdivisions per base triangle (a vertex "
+               "per texel wants {}, cap {})\n",
+               tiling, dm.subdivisions, wanted, options.max_truth_subdivisions);
+    const std::string subdivisions = std::to_string(dm.subdivisions),
+                      subdivisions_wanted = std::to_string(wanted);
     const core::TriangleMesh truth_mesh = core::TessellateDisplaced(torus, height, dm);
     const render::GpuMesh truth_gpu(truth_mesh);
     render::MeshPass truth_pass(programs, truth_gpu);
@@ -165,8 +174,8 @@ NcsBenchResult RunNcsBench(render::ProgramCache& programs, const NcsBenchOptions
       }
       result.table.AddRow({"tessellated", view_name, std::to_string(tiling), "", "",
                            Num(truth_time.median_ms, 2), Num(truth_time.min_ms, 2), Num(1.0, 4),
-                           "0", Num(0.0, 5), Num(0.0, 5), "0", std::to_string(truth_px),
-                           triangles});
+                           "0", Num(0.0, 5), Num(0.0, 5), "0", std::to_string(truth_px), triangles,
+                           subdivisions, subdivisions_wanted});
       const bool strip_here = tiling == strip_tiling && view_name == strip_view;
       if (strip_here) {
         strip_top.push_back(Opaque(truth.color));
@@ -177,7 +186,7 @@ NcsBenchResult RunNcsBench(render::ProgramCache& programs, const NcsBenchOptions
       // machine shared with other work the minimum is the least disturbed figure.
       std::map<std::pair<std::string, int>, double> ms_at;
       for (render::ReliefMethod method : {render::ReliefMethod::kNcs, render::ReliefMethod::kRelief,
-                                          render::ReliefMethod::kPom}) {
+                                          render::ReliefMethod::kPom, render::ReliefMethod::kCrm}) {
         const bool ncs = method == render::ReliefMethod::kNcs;
         const std::vector<float> cs = ncs ? options.step_enlargements : std::vector<float>{1.0f};
         for (int steps : options.steps) {
@@ -195,14 +204,19 @@ NcsBenchResult RunNcsBench(render::ProgramCache& programs, const NcsBenchOptions
             const render::Frame frame = render::ReadFrame(relief_target);
             const core::ViewMetrics e =
                 core::CompareFrames(frame.color, frame.depth, truth.color, truth.depth);
+            const std::string early = std::to_string(
+                frame.CountOutcome(render::OutcomeBit(render::RayOutcome::kEarlyTermination)));
             result.table.AddRow(
                 {render::ReliefMethodName(method), view_name, std::to_string(tiling),
                  std::to_string(steps), ncs ? Num(c, 1) : "", Num(time.median_ms, 2), Num(ms, 2),
                  Num(e.iou, 4), std::to_string(e.wrong_pixels), Num(e.depth.mean, 5),
-                 Num(e.depth.p95, 5),
-                 std::to_string(
-                     frame.CountOutcome(render::OutcomeBit(render::RayOutcome::kEarlyTermination))),
-                 std::to_string(e.truth_pixels), std::to_string(torus.triangle_count())});
+                 Num(e.depth.p95, 5), early, std::to_string(e.truth_pixels),
+                 std::to_string(torus.triangle_count()), subdivisions, subdivisions_wanted});
+            if (ncs) {
+              result.fig7.AddRow({view_name, std::to_string(tiling), std::to_string(steps),
+                                  Num(c, 1), early, std::to_string(e.wrong_pixels), Num(ms, 2),
+                                  "Chen-Chang Fig. 7 (red pixels: early termination)"});
+            }
             const bool summary_c =
                 !ncs || std::abs(c - 2.5f) < 1e-6f ||
                 (options.step_enlargements.size() == 1 && c == options.step_enlargements[0]);
@@ -217,10 +231,11 @@ NcsBenchResult RunNcsBench(render::ProgramCache& programs, const NcsBenchOptions
       }
       for (int steps : options.steps) {
         const double ncs_ms = ms_at[{"ncs", steps}], relief_ms = ms_at[{"relief", steps}],
-                     pom_ms = ms_at[{"pom", steps}];
+                     pom_ms = ms_at[{"pom", steps}], crm_ms = ms_at[{"crm", steps}];
         result.summary.AddRow({view_name, std::to_string(tiling), std::to_string(steps),
                                Num(ncs_ms, 2), Num(relief_ms, 2), Num(pom_ms, 2), Num(truth_ms, 2),
-                               Num(ncs_ms / relief_ms, 2), Num(ncs_ms / truth_ms, 2)});
+                               Num(ncs_ms / relief_ms, 2), Num(ncs_ms / truth_ms, 2),
+                               Num(crm_ms, 2), Num(ncs_ms / crm_ms, 2)});
       }
     }
   }
@@ -237,6 +252,7 @@ void WriteNcsBench(const NcsBenchResult& result, const std::filesystem::path& cs
   result.table.WriteCsv(csv);
   std::filesystem::create_directories(out_dir);
   result.summary.WriteCsv(out_dir / "ncs_summary.csv");
+  result.fig7.WriteCsv(out_dir / "ncs_fig7.csv");
   core::WriteImage(out_dir / "ncs_silhouettes_grazing.png", result.strip);
   // Error versus time at the strip's view and tiling (the grazing view when
   // swept, the first tiling): one series per method (and c), one point per
@@ -265,6 +281,24 @@ void WriteNcsBench(const NcsBenchResult& result, const std::filesystem::path& cs
   p.y_label = "p95 |camera z - truth| (scene units)";
   p.log_y = true;
   PlotPng(plot, p, out_dir / "ncs_depth_error_vs_time.png");
+  // Early termination against c (the paper's Figure 7), at the strip's
+  // view and tiling: one series per step count.
+  Table fig7({"series", "c", "early_termination_px"});
+  for (const auto& r : result.fig7.rows()) {
+    if (r[0] != plot_view || r[1] != plot_tiling) continue;
+    fig7.AddRow({r[2] + " steps", r[3], r[4]});
+  }
+  PlotPng(
+      fig7,
+      {.title = fmt::format("NCS early termination vs c (Chen-Chang Fig. 7), {} view, tiling {}",
+                            plot_view, plot_tiling),
+       .x_column = "c",
+       .y_column = "early_termination_px",
+       .series_column = "series",
+       .x_label = "step enlargement c",
+       .y_label = "early-terminated pixels",
+       .log_x = true},
+      out_dir / "ncs_early_termination_vs_c.png");
   // Cost versus tiling (the paper's Figure 6): one series per method and
   // view, at the middle step count, c = 2.5.
   Table fig6({"series", "tiling", "ms_per_frame"});
@@ -278,6 +312,7 @@ void WriteNcsBench(const NcsBenchResult& result, const std::filesystem::path& cs
     if (r[2] != middle_steps) continue;
     fig6.AddRow({"ncs " + r[0], r[1], r[3]});
     fig6.AddRow({"relief " + r[0], r[1], r[4]});
+    fig6.AddRow({"crm " + r[0], r[1], r[9]});
     fig6.AddRow({"tessellated " + r[0], r[1], r[6]});
   }
   PlotPng(

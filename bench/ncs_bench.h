@@ -1,5 +1,6 @@
-// `ibr bench ncs`: accuracy and cost of NCS (Chen-Chang), relief mapping and
-// POM against the tessellated ground truth (a vertex per height-map texel,
+// `ibr bench ncs`: accuracy and cost of NCS (Chen-Chang), relief mapping,
+// POM and curved relief mapping (CRM, Oliveira-Policarpo 2005, the paper's
+// baseline) against the tessellated ground truth (a vertex per height-map texel,
 // core::TessellateDisplaced + render::DrawMesh) rendered in the same run, on
 // a displaced torus: method x steps x c x view (including grazing views of
 // the torus's inner side, the paper's Figure 2 case) x tiling (the paper's
@@ -18,14 +19,19 @@
 namespace bench {
 
 struct NcsBenchOptions {
-  int size = 256;            // pixels per side of every frame
-  int height_map_size = 64;  // texels per side; the ground truth has a vertex per texel
-  std::vector<int> steps = {16, 32, 64};                       // linear-search steps
-  std::vector<float> step_enlargements = {1.0f, 2.5f, 10.0f};  // NCS c
+  int size = 256;  // pixels per side of every frame
+  // Texels per side; the ground truth has a vertex per texel (up to
+  // max_truth_subdivisions). 512: Chen-Chang's Fig. 6 (512 x 512 height map).
+  int height_map_size = 512;
+  std::vector<int> steps = {16, 32, 64};  // linear-search steps
+  // NCS c: Chen-Chang Fig. 7's sweep (1, 1.1, 1.5, 2, 3, 10) and the paper's
+  // choice 2.5 (sec. 5), which the summary and the strip use.
+  std::vector<float> step_enlargements = {1.0f, 1.1f, 1.5f, 2.0f, 2.5f, 3.0f, 10.0f};
   std::vector<int> tilings = {1, 2, 4, 8, 16};
   std::vector<std::string> views = {"oblique", "grazing", "edge"};  // see NcsBenchViewNames()
-  // Caps the ground truth's subdivisions per base triangle (memory: tiling 16
-  // at 64 texels is ~2M triangles); the CSV reports the count used.
+  // Caps the ground truth's subdivisions per base triangle (memory: 64 gives
+  // 4096 triangles per base triangle, 9.4M for the torus); the CSV reports
+  // the count wanted (a vertex per texel) and the count used.
   int max_truth_subdivisions = 64;
   render::FrameTimerOptions timer{.warmup_frames = 1, .timed_frames = 3};
   void Check() const;
@@ -38,11 +44,14 @@ std::vector<std::string> NcsBenchViewNames();
 
 struct NcsBenchResult {
   Table table;  // one row per (method, view, tiling, steps, c)
-  // NCS cost relative to relief mapping and to the ground truth per view,
-  // tiling and step count, from the fastest timed frame (min_ms_per_frame).
+  // Chen-Chang Fig. 7: NCS's early-terminated pixels against c, per view,
+  // tiling and step count (the table's rows, pivoted).
+  Table fig7;
+  // NCS cost relative to relief mapping, to the ground truth and to CRM per
+  // view, tiling and step count, from the fastest timed frame (min_ms_per_frame).
   Table summary;
   // Silhouettes at the grazing view and the first tiling, left to right:
-  // tessellated truth, NCS, relief mapping, POM (middle step count, c = 2.5);
+  // tessellated truth, NCS, relief mapping, POM, CRM (middle step count, c = 2.5);
   // below each, its coverage against the truth (red: extra, green: missing).
   core::Image8 strip;
   std::string strip_view;

@@ -43,6 +43,7 @@ std::vector<Effect> Effects(bool quick) {
   effects.push_back({"displacement ncs", displaced + R"("method": "ncs")"});
   effects.push_back({"displacement relief", displaced + R"("method": "relief")"});
   effects.push_back({"displacement pom", displaced + R"("method": "pom")"});
+  effects.push_back({"displacement crm", displaced + R"("method": "crm")"});
   effects.push_back({"displacement tessellated", displaced + R"("method": "tessellated")"});
   effects.push_back(
       {"depth-object ray", image + R"("type": "depth-object", "slicing": "ray", "slices": 96)"});

@@ -26,6 +26,7 @@ constexpr MethodEntry kMethods[] = {
     {DisplacementMethod::kNcs, "ncs"},
     {DisplacementMethod::kRelief, "relief"},
     {DisplacementMethod::kPom, "pom"},
+    {DisplacementMethod::kCrm, "crm"},
     {DisplacementMethod::kTessellated, "tessellated"},
 };
 
@@ -177,7 +178,7 @@ DisplacedMeshRenderer::DisplacedMeshRenderer(render::ProgramCache& programs,
   Impl& s = *impl_;
   const DisplacementMethod m = options_.method;
   if (m == DisplacementMethod::kNcs || m == DisplacementMethod::kRelief ||
-      m == DisplacementMethod::kPom) {
+      m == DisplacementMethod::kPom || m == DisplacementMethod::kCrm) {
     if (!data.color.empty()) {
       core::ThrowInputError("DisplacedMeshRenderer",
                             "method {} shades with the base colour: a colour texture is "
@@ -189,9 +190,7 @@ DisplacedMeshRenderer::DisplacedMeshRenderer(render::ProgramCache& programs,
     render::DetectPeriodicAxes(data.base, geometry.tangent_maps.wrap_u,
                                geometry.tangent_maps.wrap_v);
     render::ReliefSurfaceOptions o;
-    o.method = m == DisplacementMethod::kNcs      ? render::ReliefMethod::kNcs
-               : m == DisplacementMethod::kRelief ? render::ReliefMethod::kRelief
-                                                  : render::ReliefMethod::kPom;
+    o.method = render::ReliefMethodFromName(DisplacementMethodName(m));
     o.tiling = options_.tiling;
     o.steps = options_.steps;
     s.pass = std::make_unique<render::ReliefSurface>(programs, data.base, data.height, geometry, o);

@@ -2,7 +2,8 @@
 // (the one method table: the command, the scene renderer, the demo and the
 // benches use it): slicing with the alpha test (Kautz-Seidel 2001, sec. 3;
 // three slice families), ray marching through the ray core (NCS, Chen-Chang
-// sec. 3.2; relief mapping; POM) and the tessellated ground truth.
+// sec. 3.2; relief mapping; POM; curved relief mapping, Oliveira-Policarpo
+// 2005) and the tessellated ground truth.
 #pragma once
 
 #include <filesystem>
@@ -27,9 +28,11 @@ enum class DisplacementMethod {
   kNcs,
   kRelief,
   kPom,
+  kCrm,
   kTessellated
 };
-// "slices-surface", "slices-orthogonal", "slices-screen", "ncs", "relief", "pom", "tessellated".
+// "slices-surface", "slices-orthogonal", "slices-screen", "ncs", "relief", "pom", "crm",
+// "tessellated".
 DisplacementMethod DisplacementMethodFromName(
     const std::string& name);  // InputError listing the names
 std::string DisplacementMethodName(DisplacementMethod method);

@@ -33,10 +33,10 @@ void VerifyOptions::Check() const {
   if (cases < 1 || cases > 10'000'000)
     core::ThrowInputError("ibr verify", "--cases {} outside 1..10000000", cases);
   if (method != "depth-object" && method != "hull" && method != "all" &&
-      !(hard &&
-        (method == "displacement" || method == "ncs" || method == "relief" || method == "pom"))) {
+      !(hard && (method == "displacement" || method == "ncs" || method == "relief" ||
+                 method == "pom" || method == "crm"))) {
     core::ThrowInputError("ibr verify", "--method '{}' (depth-object, hull, all{})", method,
-                          hard ? ", displacement, ncs, relief, pom" : "");
+                          hard ? ", displacement, ncs, relief, pom, crm" : "");
   }
   if (first_case < 0 || first_case > 10'000'000)
     core::ThrowInputError("ibr verify", "--first-case {} outside 0..10000000", first_case);
@@ -975,6 +975,7 @@ SurfaceCase RandomSurfaceCase(std::mt19937& rng, int index) {
   c.view.orthographic = c.orthographic;
   // Beyond every displaced point and every point a march may stop at:
   // relief / POM march up to l = md / min_view_cos = 50 shell thicknesses,
+  // CRM up to 2 l = 100,
   // NCS up to c l (Algorithm 2: num_step steps of c l / num_step, c =
   // step_enlargement <= 3.5 here), 175. A hit beyond the far plane is
   // clipped (window depth 1 fails LESS), flagged and rightly not drawn: with
@@ -1001,8 +1002,8 @@ glm::mat4 WorldFromObject(const SurfaceCase& c) {
 }
 
 // Colour alpha 255 <=> a non-zero depth was written. Ray passes (`flags`):
-// only the ray core's outcome bits; NCS (`carves`) draws exactly the pixels
-// with a hit (early terminations and exits are discarded); relief and POM draw
+// only the ray core's outcome bits; NCS and CRM (`carves`) draw exactly the
+// pixels with a hit (early terminations and exits are discarded); relief and POM draw
 // wherever the march stopped (any outcome) and discard only back-facing
 // fragments (marked exited), so a drawn pixel has an outcome and a hit or an
 // early termination is always drawn.
@@ -1100,7 +1101,8 @@ void HardReliefCase(render::ProgramCache& programs, std::mt19937& rng, render::R
   o.step_policy = u(rng) < 0.5 ? render::RayStepPolicy::kFixed : render::RayStepPolicy::kThreshold;
   o.world_from_object = WorldFromObject(c);
   const render::Frame frame = surface.Render(c.view, c.width, c.height, o);
-  CheckSurfaceFrame(tally, frame, true, method == render::ReliefMethod::kNcs);
+  CheckSurfaceFrame(tally, frame, true,
+                    method == render::ReliefMethod::kNcs || method == render::ReliefMethod::kCrm);
 }
 
 }  // namespace
@@ -1120,8 +1122,9 @@ HardReport RunHardSweeps(render::ProgramCache& programs, VerifyOptions options,
   const auto start = std::chrono::steady_clock::now();
   // Each technique's generator comes from the seed and its place in the full
   // list, so `--method ncs` draws the same cases as `--method all`.
-  const std::vector<std::string> all = {"depth-object", "hull",   "displacement",
-                                        "ncs",          "relief", "pom"};
+  // CRM came last, so the earlier techniques kept their seeds.
+  const std::vector<std::string> all = {"depth-object", "hull", "displacement", "ncs",
+                                        "relief",       "pom",  "crm"};
   std::mt19937 seeds(options.seed);
   std::vector<uint32_t> technique_seeds;
   for (size_t i = 0; i < all.size(); ++i) technique_seeds.push_back(seeds());

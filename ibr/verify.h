@@ -47,7 +47,7 @@ struct VerifyOptions {
   // before it, so --first-case i --cases 1 reruns a failing case alone.
   int first_case = 0;
   // "depth-object", "hull" or "all"; hard sweeps also take one technique:
-  // "displacement", "ncs", "relief", "pom".
+  // "displacement", "ncs", "relief", "pom", "crm".
   std::string method = "all";
   bool hard = false;         // RunHardSweeps sets it (widens `method`)
   bool independent = false;  // also compare with the independent reference
@@ -108,7 +108,8 @@ VerifyReport RunVerify(render::ProgramCache& programs, const VerifyOptions& opti
 
 // ---- hard cases ----
 struct HardTechniqueResult {
-  std::string technique;  // "depth-object", "hull", "displacement", "ncs", "relief", "pom"
+  std::string technique;  // "depth-object", "hull", "displacement", "ncs", "relief", "pom",
+                          // "crm"
   int cases = 0;
   int64_t pixels = 0;        // output pixels checked
   int64_t covered = 0;       // pixels drawn

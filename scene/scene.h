@@ -28,9 +28,8 @@
 //      "mesh"*: {"shape": "torus" | "plane" | "sphere"} or {"file": "OBJ/PLY with uvs"},
 //      "height"*: {"file": "8/16-bit PNG or EXR"} or {"generator": "bumps", "texels": 256},
 //      "texture": "colour image",
-//      effect keys: method (slices-surface | slices-orthogonal | slices-screen | ncs | relief | pom
-//      |
-//                   tessellated), max_displacement, tiling, slices, steps},
+//      effect keys: method (slices-surface | slices-orthogonal | slices-screen | ncs | relief |
+//                   pom | crm | tessellated), max_displacement, tiling, slices, steps},
 //     {"type"*: "mesh", "mesh"*: as above, "texture": FILE}      a plain rasterised mesh
 //     {"type"*: "volume",                                 Correa, Silver, Chen 2006
 //      "volume"*: "QVis .dat or NRRD .nrrd/.nhdr",

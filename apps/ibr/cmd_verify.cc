@@ -105,8 +105,9 @@ void AddVerifyCommand(CLI::App& app) {
                   "index of the first case (cases are numbered per seed: --first-case I --cases 1 "
                   "reruns case I alone)")
       ->capture_default_str();
-  cmd->add_option("--method", o.method,
-                  "depth-object | hull | all (--hard also: displacement | ncs | relief | pom)")
+  cmd->add_option(
+         "--method", o.method,
+         "depth-object | hull | all (--hard also: displacement | ncs | relief | pom | crm)")
       ->capture_default_str();
   cmd->add_flag("--independent", o.independent,
                 "also compare with the independent double-precision reference");

@@ -4,6 +4,8 @@
 #include <cstddef>
 #include <vector>
 
+#include "core/error.h"
+
 namespace render {
 
 namespace {
@@ -44,6 +46,22 @@ GpuMesh::GpuMesh(const core::TriangleMesh& mesh) {
     glVertexArrayAttribFormat(vao_.id(), locations[k], sizes[k], GL_FLOAT, GL_FALSE, offsets[k]);
     glVertexArrayAttribBinding(vao_.id(), locations[k], 0);
   }
+}
+
+GpuMesh::GpuMesh(const core::TriangleMesh& mesh, const std::vector<glm::vec2>& vertex_data)
+    : GpuMesh(mesh) {
+  if (vertex_data.size() != mesh.positions.size()) {
+    core::ThrowInputError("GpuMesh", "{} vertex data values for {} vertices", vertex_data.size(),
+                          mesh.positions.size());
+  }
+  const glm::vec2 dummy(0.0f);
+  vertex_data_ = Buffer::CreateWithData(
+      vertex_data.empty() ? &dummy : vertex_data.data(),
+      static_cast<GLsizeiptr>(std::max<size_t>(1, vertex_data.size()) * sizeof(glm::vec2)));
+  glVertexArrayVertexBuffer(vao_.id(), 1, vertex_data_.id(), 0, sizeof(glm::vec2));
+  glEnableVertexArrayAttrib(vao_.id(), kVertexDataLocation);
+  glVertexArrayAttribFormat(vao_.id(), kVertexDataLocation, 2, GL_FLOAT, GL_FALSE, 0);
+  glVertexArrayAttribBinding(vao_.id(), kVertexDataLocation, 1);
 }
 
 void GpuMesh::Draw() const {

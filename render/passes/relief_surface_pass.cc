@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "core/error.h"
+#include "core/surface_quadric.h"
 
 namespace render {
 
@@ -14,7 +15,9 @@ ReliefMethod ReliefMethodFromName(const std::string& name) {
   if (name == "ncs") return ReliefMethod::kNcs;
   if (name == "relief") return ReliefMethod::kRelief;
   if (name == "pom") return ReliefMethod::kPom;
-  core::ThrowInputError("ReliefMethodFromName", "unknown method '{}' (ncs, relief, pom)", name);
+  if (name == "crm") return ReliefMethod::kCrm;
+  core::ThrowInputError("ReliefMethodFromName", "unknown method '{}' (ncs, relief, pom, crm)",
+                        name);
 }
 
 std::string ReliefMethodName(ReliefMethod method) {
@@ -25,6 +28,8 @@ std::string ReliefMethodName(ReliefMethod method) {
       return "relief";
     case ReliefMethod::kPom:
       return "pom";
+    case ReliefMethod::kCrm:
+      return "crm";
   }
   return "unknown";
 }
@@ -89,6 +94,17 @@ core::TriangleMesh MakeReliefShell(const core::TriangleMesh& base, float max_dis
   return shell;
 }
 
+std::vector<glm::vec2> ReliefVertexQuadrics(const core::TriangleMesh& base,
+                                            const TangentMapOptions& options) {
+  const TangentFrames frames = ComputeTangentFrames(base, options.max_scale);
+  std::vector<glm::vec3> bitangents(base.positions.size());
+  for (size_t k = 0; k < bitangents.size(); ++k) {
+    bitangents[k] =
+        frames.handedness[k] * glm::cross(glm::normalize(base.normals[k]), frames.tangents[k]);
+  }
+  return core::FitVertexQuadrics(base, frames.tangents, bitangents);
+}
+
 namespace {
 Texture UploadHeight(const core::ImageF& height, bool bilinear) {
   if (height.empty() || height.channels() != 1) {
@@ -118,7 +134,8 @@ ReliefSurface::ReliefSurface(ProgramCache& programs, const core::TriangleMesh& b
     : programs_(&programs),
       geometry_((options.Check(), options)),
       options_((surface.Check(), surface)),
-      shell_(MakeReliefShell(base, options.max_displacement)),
+      shell_(MakeReliefShell(base, options.max_displacement),
+             ReliefVertexQuadrics(base, options.tangent_maps)),
       height_(UploadHeight(height, options.height_bilinear)),
       maps_(RenderTangentMaps(programs, base, options.tangent_maps)) {}
 
@@ -134,6 +151,9 @@ std::vector<std::string> ReliefSurfaceOptions::Defines(const ReliefGeometryOptio
       break;
     case ReliefMethod::kPom:
       defines.push_back("METHOD_POM");
+      break;
+    case ReliefMethod::kCrm:
+      defines.push_back("METHOD_CRM");
       break;
   }
   if (orthographic) defines.push_back("ORTHOGRAPHIC");

@@ -9,7 +9,20 @@
 //    entry fragment, a straight texture-space ray, no silhouettes;
 //  - parallax occlusion mapping [BT04, Tat06]: linear search with a
 //    view-dependent sample count and one intersection with the linear
-//    approximation of the height profile, no silhouettes.
+//    approximation of the height profile, no silhouettes;
+//  - curved relief mapping, CRM [OP05] (Oliveira and Policarpo 2005, the
+//    baseline of Chen-Chang): relief mapping's straight texture-space ray
+//    and entry frame, but the ray's depth is measured from a quadric that
+//    approximates the shell near the entry, z = a x^2 + b y^2 (x, y: the
+//    ray's tangent-plane offsets along T and B, scene units; a, b fitted per
+//    vertex of the base mesh by core::FitVertexQuadrics and interpolated by
+//    the rasteriser). At path length t along V the depth below the curved
+//    shell is t cos - q t^2, q = a (T.V)^2 + b (B.V)^2: the march ends where
+//    it reaches the base (a hit: h >= 0 there) or where it comes back out of
+//    the shell (depth < 0); rays that leave are discarded, which carves
+//    silhouettes without prisms. The quadric is local to the entry, so
+//    grazing rays follow its curvature and can miss a farther part of the
+//    surface (Chen-Chang, Fig. 2, sec. 3.2).
 //
 // Geometry and the texture volume: heights h in [0, 1] displace OUTWARD
 // along the normal by h * max_displacement (the convention of
@@ -43,8 +56,8 @@
 
 namespace render {
 
-enum class ReliefMethod { kNcs, kRelief, kPom };
-// "ncs", "relief", "pom" (InputError otherwise).
+enum class ReliefMethod { kNcs, kRelief, kPom, kCrm };
+// "ncs", "relief", "pom", "crm" (InputError otherwise).
 ReliefMethod ReliefMethodFromName(const std::string& name);
 std::string ReliefMethodName(ReliefMethod method);
 
@@ -60,13 +73,13 @@ struct ReliefGeometryOptions {
 // Per frame.
 struct ReliefSurfaceOptions {
   ReliefMethod method = ReliefMethod::kNcs;
-  // Linear-search steps: NCS's num_step (Algorithm 2), relief's linear search,
-  // POM's maximum sample count. 32 keeps 512^2 frames interactive on llvmpipe.
+  // Linear-search steps: NCS's num_step (Algorithm 2), relief's and CRM's
+  // linear search, POM's maximum sample count. 32 keeps 512^2 frames interactive on llvmpipe.
   int steps = 32;
   // NCS step enlargement c (sec. 5): step = c * l / steps with l the
   // flat-surface path length through the shell; the paper uses 2.5.
   float step_enlargement = 2.5f;
-  // Bisection iterations (NCS, relief); POM uses its secant step instead.
+  // Bisection iterations (NCS, relief, CRM); POM uses its secant step instead.
   int refine_steps = 6;
   // POM's minimum sample count at normal incidence (Tatarchuk 2006 varies the
   // count linearly with the view angle between this and `steps`).
@@ -74,7 +87,8 @@ struct ReliefSurfaceOptions {
   // Height map repeats across uv [0, 1] (the paper's Figure 6 tiling).
   float tiling = 1.0f;
   // The flat-surface path length l = max_displacement / max(cos, min_view_cos):
-  // at grazing incidence l would be unbounded; 0.02 caps it at 50 shell thicknesses.
+  // at grazing incidence l would be unbounded; 0.02 caps it at 50 shell
+  // thicknesses (CRM: its march at 2 l).
   float min_view_cos = 0.02f;
   // Step policy of the ray core (fixed or threshold; the texture-space march
   // has no warp Jacobian, so kJacobian is rejected).
@@ -92,8 +106,9 @@ struct ReliefSurfaceOptions {
   std::vector<std::string> Defines(const ReliefGeometryOptions& geometry, bool orthographic) const;
 };
 
-// A displaced object on the GPU: the shell mesh, the height texture and the
-// tangent-space maps, drawn with per-frame ReliefSurfaceOptions.
+// A displaced object on the GPU: the shell mesh (with CRM's per-vertex
+// quadric of the base as attribute kVertexDataLocation), the height texture
+// and the tangent-space maps, drawn with per-frame ReliefSurfaceOptions.
 class ReliefSurface final : public Pass {
  public:
   // `base` needs normals and uvs with a continuous parameterisation; `height`
@@ -126,5 +141,10 @@ class ReliefSurface final : public Pass {
 
 // The outer shell: base + max_displacement * N at every vertex, same uvs and normals.
 core::TriangleMesh MakeReliefShell(const core::TriangleMesh& base, float max_displacement);
+
+// CRM's per-vertex (a, b) of `base` (core::FitVertexQuadrics) in the frame
+// of ComputeTangentFrames: T and B = handedness * N x T, as the tangent maps.
+std::vector<glm::vec2> ReliefVertexQuadrics(const core::TriangleMesh& base,
+                                            const TangentMapOptions& options);
 
 }  // namespace render

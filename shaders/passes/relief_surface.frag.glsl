@@ -4,8 +4,8 @@
 // (u, v, w), w = height above the base in units of u_max_displacement, the
 // solid is w <= h(u, v), rays start on the outer shell at w = 1).
 // Variants: METHOD_NCS (Chen-Chang Algorithm 2) | METHOD_RELIEF [POC05] |
-// METHOD_POM [Tat06]; ORTHOGRAPHIC; SHADED; WRAP_U / WRAP_V (periodic
-// parameterisation); MARK_EARLY_TERMINATION (NCS: red instead of discard,
+// METHOD_POM [Tat06] | METHOD_CRM (curved relief mapping [OP05]);
+// ORTHOGRAPHIC; SHADED; WRAP_U / WRAP_V (periodic parameterisation); MARK_EARLY_TERMINATION (NCS: red instead of discard,
 // the paper's Figure 7); plus render::RayCoreDefines().
 #include "common/shading.glsl"
 
@@ -69,10 +69,29 @@ vec3 TextureDirection(TangentFrame f, vec3 v_in_object) {
 
 float HeightAt(vec2 uv) { return texture(u_height, uv * u_tiling).r; }
 
+#ifdef METHOD_CRM
+in vec2 v_quadric;     // (a, b): depth below the tangent plane = a x^2 + b y^2, scene units
+float g_crm_q;         // a (T.V)^2 + b (B.V)^2: quadric depth per squared path length
+float g_crm_t_per_dw;  // path length per unit drop of the straight ray's w: md / cos
+// The straight march's w drops linearly from the tangent plane; the curved
+// shell lies q t^2 below that plane at path length t, so the ray's height
+// above the base, measured from the quadric, is w + q t^2 / md [OP05].
+float CurvedW(vec3 p) {
+  float t = (1.0 - p.z) * g_crm_t_per_dw;
+  return p.z + g_crm_q * t * t / u_max_displacement;
+}
+#endif
+
 // The ray core's field: > 0 above the height field. The 1e-5 (of a shell
 // thickness) counts a sample landing exactly on the surface -- e.g. on the
 // base of a zero height map after exactly l -- as inside.
-float RayField(vec3 p) { return p.z - HeightAt(p.xy) - 1e-5; }
+float RayField(vec3 p) {
+#ifdef METHOD_CRM
+  return CurvedW(p) - HeightAt(p.xy) - 1e-5;
+#else
+  return p.z - HeightAt(p.xy) - 1e-5;
+#endif
+}
 
 #ifdef METHOD_NCS
 vec3 g_view_in_object;  // the straight object-space ray (unit)
@@ -121,18 +140,35 @@ void main() {
     discard;
   }
   r.t_max = l;
+#ifdef METHOD_CRM
+  // Depth below the quadric at path length t: d(t) = t cos - q t^2. The
+  // march ends at the first root of d = md (the base: w = 0 <= h, a hit)
+  // or, where the quadric bends away faster (no such root, q > 0), where
+  // the ray comes back out of the shell, d = 0 at t = cos / q: a silhouette.
+  float v_t = dot(f0.t, v), v_b = dot(f0.b, v);  // tangent-plane components of V
+  g_crm_q = v_quadric.x * v_t * v_t + v_quadric.y * v_b * v_b;
+  g_crm_t_per_dw = u_max_displacement / cos_in;
+  float disc = cos_in * cos_in - 4.0 * g_crm_q * u_max_displacement;
+  float t_end = disc >= 0.0 ? 2.0 * u_max_displacement / (cos_in + sqrt(disc)) : cos_in / g_crm_q;
+  // Capped at 2 l (100 shell thicknesses at the default min_view_cos): a
+  // near-flat quadric at grazing incidence would march without bound.
+  r.t_max = min(t_end, 2.0 * l);
+#endif
 #ifdef METHOD_POM
   // Tatarchuk 2006: sample count from the view angle.
   float n = floor(mix(float(u_steps), float(u_pom_min_steps), clamp(cos_in, 0.0, 1.0)) + 0.5);
   r.step = l / max(n, 1.0);
 #else
-  r.step = l / float(u_steps);
+  r.step = r.t_max / float(u_steps);  // relief: l; CRM: the quadric path, up to 2 l
 #endif
 #endif
   RayResult res = RayMarchRun(r);
   imageAtomicOr(u_outcome_flags, ivec2(gl_FragCoord.xy), 1u << res.outcome);
 
   vec3 color_override = vec3(-1.0);
+#ifdef METHOD_CRM
+  if (res.outcome != RAY_OUTCOME_HIT) discard;  // came out of the quadric: silhouette
+#endif
 #ifdef METHOD_NCS
   if (res.outcome == RAY_OUTCOME_EARLY_TERMINATION) {
 #ifdef MARK_EARLY_TERMINATION
@@ -145,6 +181,8 @@ void main() {
   }
 #endif
   // Relief and POM shade wherever the march stopped (they never carve).
+  // CRM's hit lies on the straight object-space ray like theirs: the
+  // quadric only decides where along it the surface is.
 
   vec3 p_in_object = v_p_in_object + res.t * v;  // the object-space ray is straight
   vec4 p_in_cam = u_cam_from_object * vec4(p_in_object, 1.0);

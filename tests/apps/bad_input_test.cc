@@ -736,6 +736,8 @@ std::vector<Case> Corpus() {
   add("bench_depth_object_sizes_huge", fixed("bench depth-object --csv OUT --sizes 128 20000"),
       "--sizes: a 20000x20000 frame is larger than");
   add("bench_displacement_no_csv", fixed("bench displacement --out OUT"), "--csv", kCli);
+  add("bench_kautz_seidel_bad_object", fixed("bench kautz-seidel --csv OUT --object nosuch"),
+      "--object 'nosuch'");
   add("bench_fillrate_bogus_flag", fixed("bench fillrate --bogus"), "--bogus", kCli);
   return cases;
 }

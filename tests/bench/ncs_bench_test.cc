@@ -5,6 +5,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdlib>
 #include <fstream>
@@ -34,10 +35,12 @@ TEST_F(NcsBenchTest, QuickSweepWritesFiniteRowsForEveryMethod) {
                                              "p95_depth_error",
                                              "early_termination_px",
                                              "truth_px",
-                                             "triangles"};
+                                             "triangles",
+                                             "truth_subdivisions",
+                                             "truth_subdivisions_wanted"};
   EXPECT_EQ(result.table.columns(), expected);
-  // Per view x tiling: the truth + NCS (steps x c) + relief and POM (steps).
-  const size_t per = 1 + options.steps.size() * (options.step_enlargements.size() + 2);
+  // Per view x tiling: the truth + NCS (steps x c) + relief, POM and CRM (steps).
+  const size_t per = 1 + options.steps.size() * (options.step_enlargements.size() + 3);
   EXPECT_EQ(result.table.rows().size(), per * options.views.size() * options.tilings.size());
   std::set<std::string> methods;
   for (const auto& row : result.table.rows()) {
@@ -55,7 +58,15 @@ TEST_F(NcsBenchTest, QuickSweepWritesFiniteRowsForEveryMethod) {
     EXPECT_LE(iou, 1.0);
     EXPECT_GT(iou, 0.5) << row[0];  // every method draws the torus
   }
-  EXPECT_EQ(methods, (std::set<std::string>{"ncs", "relief", "pom", "tessellated"}));
+  EXPECT_EQ(methods, (std::set<std::string>{"ncs", "relief", "pom", "crm", "tessellated"}));
+  // Fig. 7: one row per NCS setting; the truth's subdivisions at most the cap.
+  EXPECT_EQ(result.fig7.rows().size(), options.steps.size() * options.step_enlargements.size() *
+                                           options.views.size() * options.tilings.size());
+  for (const auto& row : result.table.rows()) {
+    const int used = std::stoi(row[result.table.Column("truth_subdivisions")]);
+    const int wanted = std::stoi(row[result.table.Column("truth_subdivisions_wanted")]);
+    EXPECT_EQ(used, std::min(wanted, options.max_truth_subdivisions));
+  }
   EXPECT_EQ(result.summary.rows().size(),
             options.steps.size() * options.views.size() * options.tilings.size());
   EXPECT_FALSE(result.strip.empty());
@@ -71,6 +82,7 @@ TEST_F(NcsBenchTest, QuickSweepWritesFiniteRowsForEveryMethod) {
   EXPECT_EQ(header, joined);
   EXPECT_TRUE(
       std::filesystem::exists(test_support::TestOutputDir() / "ncs_silhouettes_grazing.png"));
+  EXPECT_TRUE(std::filesystem::exists(test_support::TestOutputDir() / "ncs_fig7.csv"));
   EXPECT_NO_GL_ERROR();
 }
 

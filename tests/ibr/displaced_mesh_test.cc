@@ -20,7 +20,7 @@ namespace fs = std::filesystem;
 
 TEST(DisplacementMethods, NamesRoundTripAndUnknownIsAnError) {
   const std::vector<std::string> names = DisplacementMethodNames();
-  EXPECT_EQ(names.size(), 7u);
+  EXPECT_EQ(names.size(), 8u);
   for (const std::string& n : names)
     EXPECT_EQ(DisplacementMethodName(DisplacementMethodFromName(n)), n);
   EXPECT_THROW(DisplacementMethodFromName("slices"), core::InputError);

@@ -134,7 +134,7 @@ TEST_F(VerifyTest, HardSweepSmokeIsFiniteAndConsistent) {
   o.cases = 24;  // two of every degenerate kind
   o.seed = 3;
   const HardReport r = RunHardSweeps(programs(), o);
-  ASSERT_EQ(r.techniques.size(), 6u);
+  ASSERT_EQ(r.techniques.size(), 7u);
   for (const HardTechniqueResult& t : r.techniques) {
     EXPECT_EQ(t.cases, 24) << t.technique;
     EXPECT_EQ(t.nonfinite, 0) << t.technique;
@@ -164,7 +164,7 @@ TEST_F(VerifyTest, HardSweepFull) {
     EXPECT_GE(t.cases, 1000) << t.technique;
     EXPECT_GT(t.covered, 0) << t.technique;
   }
-  EXPECT_EQ(r.techniques.size(), 6u);
+  EXPECT_EQ(r.techniques.size(), 7u);
   std::printf("hard sweeps: %.1f s\n", r.seconds);
   EXPECT_NO_GL_ERROR();
 }
