@@ -99,6 +99,7 @@ TEST_F(ReportCliTest, EveryFamilyHasItsSectionAndPlot) {
       {"## Displacement by slicing", "displacement_tradeoff.png"},
       {"## NCS, relief mapping, POM", "ncs_tradeoff.png"},
       {"## Depth objects and peers", "depth_object_tradeoff.png"},
+      {"## Kautz-Seidel 2001: the paper's own experiments", "kautz_seidel/ks_time_vs_angle.png"},
       {"## Deformation and cut shaders", "deform/deform_ms_vs_area.png"},
       {"## Volume displacement", "volume/volume_time_vs_sampling.png"},
       {"## Scene overhead", "scene/scene_bench.png"},
@@ -188,8 +189,8 @@ TEST_F(ReportCliTest, PrintsProgressPerStep) {
   std::vector<std::string> steps;
   for (std::sregex_iterator it(run_.err.begin(), run_.err.end(), line), end; it != end; ++it)
     steps.push_back((*it)[3]);
-  EXPECT_EQ(steps, (std::vector<std::string>{"displacement", "ncs", "depth objects", "deformation",
-                                             "volume", "scene", "gallery"}));
+  EXPECT_EQ(steps, (std::vector<std::string>{"displacement", "ncs", "depth objects", "kautz seidel",
+                                             "deformation", "volume", "scene", "gallery"}));
   // Per-step durations are kept for the next run's estimate.
   const auto timings = ReadCsv(dir_ / "report" / "report_timings.csv");
   EXPECT_EQ(timings.size(), steps.size());
