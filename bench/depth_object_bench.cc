@@ -12,6 +12,7 @@
 
 #include "bench/peer.h"
 #include "bench/report.h"
+#include "bench/tradeoff.h"
 #include "capture/synthetic.h"
 #include "core/error.h"
 #include "core/timing.h"
@@ -346,22 +347,10 @@ DepthObjectBenchResult RunDepthObjectBench(const DepthObjectBenchOptions& option
              options.csv.string());
   if (!options.out.empty()) {
     fs::create_directories(options.out);
-    // Error against time, one line per method (log time axis).
-    for (const auto& [title, y, y_label, png] :
-         {std::tuple{"p95 depth error vs time per frame (all objects, slices, sizes)",
-                     "p95_depth_error", "p95 depth error (cube edges)", "error_vs_time.png"},
-          std::tuple{"silhouette IoU vs time per frame", "iou_mean",
-                     "silhouette IoU (mean over views)", "iou_vs_time.png"}}) {
-      PlotPng(table,
-              {.title = title,
-               .x_column = "ms_per_frame",
-               .y_column = y,
-               .series_column = "method",
-               .x_label = "ms per frame (median)",
-               .y_label = y_label,
-               .log_x = true},
-              options.out / png);
-    }
+    // Error against time: one panel per object and size, a method's points
+    // joined only along its slices (a peer's along its resolution).
+    PlotTradeoff(DepthObjectTradeoff(table), options.out / "error_vs_time.png");
+    PlotTradeoff(DepthObjectSilhouetteTradeoff(table), options.out / "iou_vs_time.png");
     // Fig. 12 analogues: time against covered pixels and against slices.
     for (const auto& [fig, title, x, x_label, png] :
          {std::tuple{&fig_coverage, "Fig. 12 analogue: time vs covered pixels, 128 slices (bunny)",

@@ -24,9 +24,11 @@ bool SpansADecade(const std::vector<double>& values) {
 
 }  // namespace
 
-std::vector<bool> ParetoFront(const std::vector<TradeoffRow>& rows) {
+std::vector<bool> ParetoFront(const std::vector<TradeoffRow>& rows, bool count_truth) {
   std::vector<bool> front(rows.size(), false);
-  auto finite = [](const TradeoffRow& r) { return std::isfinite(r.ms) && std::isfinite(r.error); };
+  auto finite = [&](const TradeoffRow& r) {
+    return std::isfinite(r.ms) && std::isfinite(r.error) && (count_truth || !r.truth);
+  };
   for (size_t i = 0; i < rows.size(); ++i) {
     if (!finite(rows[i])) continue;
     bool dominated = false;
@@ -41,15 +43,18 @@ std::vector<bool> ParetoFront(const std::vector<TradeoffRow>& rows) {
 }
 
 Table TradeoffTable(const TradeoffFamily& family) {
-  Table t({"panel", "method", "knob", "ms_per_frame", "error", "pareto"});
-  const std::vector<bool> front = ParetoFront(family.rows);
+  Table t(
+      {"panel", "method", "knob", "ms_per_frame", "error", "truth", "pareto", "pareto_methods"});
+  const std::vector<bool> front = ParetoFront(family.rows),
+                          methods = ParetoFront(family.rows, false);
   for (size_t i = 0; i < family.rows.size(); ++i) {
     const TradeoffRow& r = family.rows[i];
     IBR_CHECK(r.panel.find(',') == std::string::npos && r.method.find(',') == std::string::npos &&
               r.knob.find(',') == std::string::npos);
     // Enough digits that the CSV reproduces the front (the test recomputes it).
     t.AddRow({r.panel, r.method, r.knob, fmt::format("{:.6g}", r.ms),
-              fmt::format("{:.6g}", r.error), front[i] ? "1" : "0"});
+              fmt::format("{:.6g}", r.error), r.truth ? "1" : "0", front[i] ? "1" : "0",
+              methods[i] ? "1" : "0"});
   }
   return t;
 }
@@ -84,6 +89,9 @@ void PlotTradeoff(const TradeoffFamily& family, const std::filesystem::path& png
     table = std::move(drawn);
     if (any_zero) title += fmt::format("; error 0 drawn at {:.3g}", floor);
   }
+  if (std::any_of(family.rows.begin(), family.rows.end(),
+                  [](const TradeoffRow& r) { return r.truth; }))
+    title += "; circled: the methods' front, the truth aside";
   const int columns = panels.size() <= 1 ? 1 : (panels.size() <= 4 ? 2 : 3);
   const int rows = (static_cast<int>(panels.size()) + columns - 1) / columns;
   PlotPng(table,
@@ -100,7 +108,7 @@ void PlotTradeoff(const TradeoffFamily& family, const std::filesystem::path& png
            .panel_column = "panel",
            .panel_columns = columns,
            .order_column = "knob",
-           .highlight_column = "pareto"},
+           .highlight_column = "pareto_methods"},
           png);
 }
 
@@ -126,7 +134,7 @@ TradeoffFamily DisplacementTradeoff(const Table& t) {
     if (std::find(panels.begin(), panels.end(), r.panel) == panels.end()) panels.push_back(r.panel);
   }
   for (const std::string& panel : panels)
-    f.rows.push_back({panel, "tessellated (truth)", "", truth[panel], 0.0});
+    f.rows.push_back({panel, "tessellated (truth)", "", truth[panel], 0.0, true});
   return f;
 }
 
@@ -142,20 +150,18 @@ TradeoffFamily NcsTradeoff(const Table& t) {
   for (const auto& r : t.rows()) {
     const std::string name = r[c].empty() ? r[method] : r[method] + " c=" + r[c];
     f.rows.push_back({fmt::format("{} view / tiling {}", r[view], r[tiling]), name, r[steps],
-                      CellNumber(r[ms]), 1.0 - CellNumber(r[iou])});
+                      CellNumber(r[ms]), 1.0 - CellNumber(r[iou]), r[method] == "tessellated"});
   }
   return f;
 }
 
-TradeoffFamily DepthObjectTradeoff(const Table& t) {
-  TradeoffFamily f{"depth_object",
-                   "Depth objects and peers (Kautz-Seidel 2001, sec. 4)",
-                   "p95 depth error (cube edges)",
-                   "slices (peers: resolution)",
-                   {}};
+namespace {
+
+// The depth-object rows with `error` from one column (`one_minus`: 1 - it).
+TradeoffFamily DepthObjectRows(const Table& t, TradeoffFamily f, const std::string& column,
+                               bool one_minus) {
   const int object = t.Column("object"), method = t.Column("method"), slices = t.Column("slices"),
-            size = t.Column("size"), ms = t.Column("ms_per_frame"),
-            error = t.Column("p95_depth_error");
+            size = t.Column("size"), ms = t.Column("ms_per_frame"), error = t.Column(column);
   for (const auto& r : t.rows()) {
     std::string name = r[method], knob = r[slices];
     // A peer names its resolution after a colon ("open3d tsdf:128"): that is its knob.
@@ -164,10 +170,33 @@ TradeoffFamily DepthObjectTradeoff(const Table& t) {
       knob = name.substr(colon + 1);
       name = name.substr(0, colon);
     }
+    const double e = CellNumber(r[error]);
     f.rows.push_back({fmt::format("{} / {} px", r[object], r[size]), name, knob, CellNumber(r[ms]),
-                      CellNumber(r[error])});
+                      one_minus ? 1.0 - e : e});
   }
   return f;
+}
+
+}  // namespace
+
+TradeoffFamily DepthObjectTradeoff(const Table& t) {
+  return DepthObjectRows(t,
+                         {"depth_object",
+                          "Depth objects and peers (Kautz-Seidel 2001, sec. 4)",
+                          "p95 depth error (cube edges)",
+                          "slices (peers: resolution)",
+                          {}},
+                         "p95_depth_error", false);
+}
+
+TradeoffFamily DepthObjectSilhouetteTradeoff(const Table& t) {
+  return DepthObjectRows(t,
+                         {"depth_object_silhouette",
+                          "Depth objects and peers: silhouettes (Kautz-Seidel 2001, sec. 4)",
+                          "silhouette error 1 - mean IoU",
+                          "slices (peers: resolution)",
+                          {}},
+                         "iou_mean", true);
 }
 
 }  // namespace bench

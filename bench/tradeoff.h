@@ -19,13 +19,18 @@ struct TradeoffRow {
   std::string knob;    // the knob's value ("64" slices, "128" voxels); "" = none (a lone point)
   double ms = 0.0;     // time per frame (median), milliseconds
   double error = 0.0;  // lower is better (the family's unit); 0 = the truth itself
+  bool truth = false;  // the reference the errors are measured against (error 0 by construction)
 };
 
 // Whether each row is on the Pareto front of its panel: no other row of the
 // same panel is at most as slow and at most as wrong, and strictly better in
 // one. Rows with a non-finite time or error are never on it and dominate
 // nothing. Equal rows do not dominate each other (both are on the front).
-std::vector<bool> ParetoFront(const std::vector<TradeoffRow>& rows);
+// Without `count_truth`, truth rows are never on it and dominate nothing:
+// the front of the approximations alone (where the truth itself is the
+// fastest, as the tessellated mesh is on llvmpipe, the front with it is the
+// truth alone and says nothing about the methods).
+std::vector<bool> ParetoFront(const std::vector<TradeoffRow>& rows, bool count_truth = true);
 
 // A technique family's rows with what they mean.
 struct TradeoffFamily {
@@ -36,30 +41,33 @@ struct TradeoffFamily {
   std::vector<TradeoffRow> rows;
 };
 
-// The rows as a table: panel, method, knob, ms_per_frame, error, pareto
-// ("1" on the front of its panel, else "0"). Names hold no commas (the
+// The rows as a table: panel, method, knob, ms_per_frame, error, truth ("1"
+// for the reference), pareto ("1" on the front of its panel, else "0") and
+// pareto_methods (the same without the truth rows). Names hold no commas (the
 // benches' CSV is not quoted): CHECKed.
 Table TradeoffTable(const TradeoffFamily& family);
 
 // The family's plot: one panel per `panel` (in first appearance order), every
 // method in the same axes, points joined only along the knob, the Pareto
-// front overlaid; an axis is logarithmic where its positive values span more
-// than a decade. Errors of 0 (the truth) are drawn at a floor of half the
-// smallest positive error on a log axis (said in the title).
+// front of the methods (pareto_methods) circled; an axis is logarithmic where its positive values
+// span more than a decade. Errors of 0 (the truth) are drawn at a floor of half the smallest
+// positive error on a log axis (said in the title).
 void PlotTradeoff(const TradeoffFamily& family, const std::filesystem::path& png);
 
 // The families, from the benches' tables (columns by name):
 // `ibr bench displacement`: panel = elevation and size, method = slicing
 // family, knob = slices, error = p95 depth error in height texels; the
-// tessellated truth (truth_ms_per_frame) as error 0.
+// tessellated truth (truth_ms_per_frame) as a truth row.
 TradeoffFamily DisplacementTradeoff(const Table& table);
 // `ibr bench ncs`: panel = view and tiling, method = method (NCS with its c),
 // knob = steps, error = 1 - silhouette IoU against the tessellated truth
-// (which is a row of error 0).
+// (its row is a truth row).
 TradeoffFamily NcsTradeoff(const Table& table);
 // `ibr bench depth-object`: panel = object and size, method = path (knob =
 // slices) or peer ("open3d tsdf:128": method "open3d tsdf", knob 128),
 // error = p95 depth error in cube edges.
 TradeoffFamily DepthObjectTradeoff(const Table& table);
+// The same rows with error = 1 - the mean silhouette IoU over the views.
+TradeoffFamily DepthObjectSilhouetteTradeoff(const Table& table);
 
 }  // namespace bench

@@ -161,25 +161,40 @@ TEST_F(ReportCliTest, EveryMethodOfEachBenchTableIsInItsPlotData) {
 TEST_F(ReportCliTest, ParetoFrontRecomputedFromThePlotData) {
   ASSERT_EQ(run_.exit_code, 0) << run_.err;
   const fs::path out = dir_ / "report";
-  for (const std::string family : {"displacement", "ncs", "depth_object"}) {
+  for (const std::string family :
+       {"displacement", "ncs", "depth_object", "depth_object_silhouette"}) {
     const auto rows = ReadCsv(out / (family + "_tradeoff.csv"));
     ASSERT_FALSE(rows.empty()) << family;
-    int front = 0;
-    for (size_t i = 0; i < rows.size(); ++i) {
-      const double ms = std::stod(rows[i].at("ms_per_frame")),
-                   error = std::stod(rows[i].at("error"));
-      bool dominated = !std::isfinite(ms) || !std::isfinite(error);
-      for (size_t j = 0; j < rows.size() && !dominated; ++j) {
-        if (j == i || rows[j].at("panel") != rows[i].at("panel")) continue;
-        const double ms_j = std::stod(rows[j].at("ms_per_frame")),
-                     error_j = std::stod(rows[j].at("error"));
-        dominated = ms_j <= ms && error_j <= error && (ms_j < ms || error_j < error);
+    // Both fronts: every row counted ("pareto"), the truth set aside ("pareto_methods").
+    for (const bool count_truth : {true, false}) {
+      const std::string column = count_truth ? "pareto" : "pareto_methods";
+      int front = 0;
+      auto counted = [&](size_t i) { return count_truth || rows[i].at("truth") == "0"; };
+      for (size_t i = 0; i < rows.size(); ++i) {
+        const double ms = std::stod(rows[i].at("ms_per_frame")),
+                     error = std::stod(rows[i].at("error"));
+        bool dominated = !std::isfinite(ms) || !std::isfinite(error) || !counted(i);
+        for (size_t j = 0; j < rows.size() && !dominated; ++j) {
+          if (j == i || rows[j].at("panel") != rows[i].at("panel") || !counted(j)) continue;
+          const double ms_j = std::stod(rows[j].at("ms_per_frame")),
+                       error_j = std::stod(rows[j].at("error"));
+          dominated = std::isfinite(ms_j) && std::isfinite(error_j) && ms_j <= ms &&
+                      error_j <= error && (ms_j < ms || error_j < error);
+        }
+        EXPECT_EQ(rows[i].at(column), dominated ? "0" : "1")
+            << family << " " << column << " row " << i << ": " << rows[i].at("panel") << " "
+            << rows[i].at("method");
+        front += !dominated;
       }
-      EXPECT_EQ(rows[i].at("pareto"), dominated ? "0" : "1")
-          << family << " row " << i << ": " << rows[i].at("panel") << " " << rows[i].at("method");
-      front += !dominated;
+      EXPECT_GT(front, 0) << family << " " << column;
     }
-    EXPECT_GT(front, 0) << family;
+  }
+  // The truth rows are the tessellated surfaces (displacement and NCS) and nothing else.
+  for (const std::string family : {"displacement", "ncs"}) {
+    int truths = 0;
+    for (const auto& r : ReadCsv(out / (family + "_tradeoff.csv")))
+      truths += r.at("truth") == "1" && r.at("method").rfind("tessellated", 0) == 0;
+    EXPECT_GT(truths, 0) << family;
   }
 }
 

@@ -36,6 +36,19 @@ TEST(ParetoFront, KeepsExactlyTheNonDominatedRowsOfEachPanel) {
   EXPECT_EQ(ParetoFront(rows), expected);
 }
 
+TEST(ParetoFront, TheTruthSetAsideLeavesTheMethodsFront) {
+  // The truth is fastest and exact: with it counted it is the whole front.
+  std::vector<TradeoffRow> rows = {
+      {"a", "m", "8", 2.0, 0.3}, {"a", "m", "16", 3.0, 0.1}, {"a", "n", "8", 2.5, 0.4}};
+  rows.push_back({"a", "truth", "", 1.0, 0.0, true});
+  EXPECT_EQ(ParetoFront(rows), (std::vector<bool>{false, false, false, true}));
+  EXPECT_EQ(ParetoFront(rows, false), (std::vector<bool>{true, true, false, false}));
+  const Table t = TradeoffTable({"f", "f", "e", "k", rows});
+  EXPECT_EQ(t.rows()[3][t.Column("truth")], "1");
+  EXPECT_EQ(t.rows()[0][t.Column("pareto")], "0");
+  EXPECT_EQ(t.rows()[0][t.Column("pareto_methods")], "1");
+}
+
 TEST(ParetoFront, EmptyAndSingleRows) {
   EXPECT_TRUE(ParetoFront({}).empty());
   EXPECT_EQ(ParetoFront({{"p", "m", "", 1.0, 1.0}}), std::vector<bool>{true});
@@ -91,7 +104,7 @@ TEST(Tradeoff, PanelsAndPlotWithTheFront) {
   TradeoffFamily f{"t", "test family", "error", "steps", {}};
   f.rows = {{"panel one", "m", "8", 1, 2},
             {"panel one", "m", "16", 2, 1},
-            {"panel one", "truth", "", 5, 0},
+            {"panel one", "truth", "", 5, 0, true},
             {"panel two", "m", "8", 10, 3}};
   const Table t = TradeoffTable(f);
   ASSERT_EQ(t.rows().size(), 4u);
@@ -124,9 +137,9 @@ TEST(Tradeoff, ManyPanelsGoThreeToARow) {
 }
 
 TEST(Tradeoff, FamiliesReadByColumnName) {
-  Table d({"object", "method", "slices", "size", "ms_per_frame", "p95_depth_error"});
-  d.AddRow({"bunny", "depth-object orthogonal", "64", "256", "10.5", "0.01"});
-  d.AddRow({"bunny", "open3d tsdf:128", "0", "256", "2", "0.05"});
+  Table d({"object", "method", "slices", "size", "ms_per_frame", "p95_depth_error", "iou_mean"});
+  d.AddRow({"bunny", "depth-object orthogonal", "64", "256", "10.5", "0.01", "0.9900"});
+  d.AddRow({"bunny", "open3d tsdf:128", "0", "256", "2", "0.05", "0.9500"});
   const TradeoffFamily f = DepthObjectTradeoff(d);
   ASSERT_EQ(f.rows.size(), 2u);
   EXPECT_EQ(f.rows[0].panel, "bunny / 256 px");
@@ -134,6 +147,12 @@ TEST(Tradeoff, FamiliesReadByColumnName) {
   EXPECT_EQ(f.rows[1].method, "open3d tsdf");  // the peer's resolution is its knob
   EXPECT_EQ(f.rows[1].knob, "128");
   EXPECT_DOUBLE_EQ(f.rows[1].error, 0.05);
+  EXPECT_FALSE(f.rows[0].truth);
+  const TradeoffFamily silhouette = DepthObjectSilhouetteTradeoff(d);
+  ASSERT_EQ(silhouette.rows.size(), 2u);
+  EXPECT_NEAR(silhouette.rows[0].error, 0.01, 1e-12);  // 1 - IoU
+  EXPECT_NEAR(silhouette.rows[1].error, 0.05, 1e-12);
+  EXPECT_EQ(silhouette.rows[1].knob, "128");
 
   Table n({"method", "view", "tiling", "steps", "c", "ms_per_frame", "silhouette_iou"});
   n.AddRow({"tessellated", "grazing", "1", "", "", "4", "1.0000"});
@@ -141,6 +160,8 @@ TEST(Tradeoff, FamiliesReadByColumnName) {
   const TradeoffFamily g = NcsTradeoff(n);
   EXPECT_EQ(g.rows[1].method, "ncs c=2.5");
   EXPECT_EQ(g.rows[0].error, 0.0);
+  EXPECT_TRUE(g.rows[0].truth);
+  EXPECT_FALSE(g.rows[1].truth);
   EXPECT_NEAR(g.rows[1].error, 0.025, 1e-12);
 }
 
