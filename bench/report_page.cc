@@ -664,10 +664,13 @@ ReportResult WriteReport(const ReportOptions& options) {
   page.Heading("Gallery: hard views beside their truth");
   page.Text(
       "Left to right: the method, the truth rendered in the same run (the tessellated surface; "
-      "the true mesh; for the cut, the double sphere tracer of `core/deform_reference.h`), and the "
-      "depth error heat map: |depth - true depth| on a black - red - "
+      "the true mesh; for the cut, the double sphere tracer of `core/deform_reference.h`; for the "
+      "volume, the double DVR reference of `ibr/volume_reference.h` at the pass's own slices), "
+      "and the depth error heat map: |depth - true depth| on a black - red - "
       "yellow - white ramp (black = exact, white = at or beyond the scale given), magenta = "
-      "surface only the method draws, cyan = surface it misses, grey = background in both.");
+      "surface only the method draws, cyan = surface it misses, grey = background in both. The "
+      "translucent volume has no single depth: its heat map is of the colour error, the largest "
+      "premultiplied RGBA channel difference, on the same ramp.");
   fs::create_directories(dir / "gallery");
   for (size_t i = 0; i < gallery.size(); ++i) {
     const GalleryEntry& g = gallery[i];

@@ -1,7 +1,7 @@
 // The report's analysis with analytic answers: the Pareto front, the
 // plotter's series (points joined only along the knob, one set per panel),
 // the families read from bench tables by column name, the progress
-// estimate, the papers' interpolation and the heat map's colours.
+// estimate, the papers' interpolation and the heat maps' colours.
 #include "bench/tradeoff.h"
 
 #include <gtest/gtest.h>
@@ -224,6 +224,24 @@ TEST(HeatMap, RampEndsAndCoverageColours) {
   EXPECT_EQ(h.at(2, 0, 0), 0);  // cyan
   EXPECT_EQ(h.at(2, 0, 1), 255);
   EXPECT_EQ(h.at(3, 0, 0), 40);  // neither
+}
+
+TEST(HeatMap, ColorErrorIsTheWorstPremultipliedChannel) {
+  core::ImageF a(4, 1, 4, 0.0f), b(4, 1, 4, 0.0f);
+  for (int c = 0; c < 4; ++c) a.at(0, 0, c) = b.at(0, 0, c) = 0.5f;
+  b.at(0, 0, 2) = 0.5f + 1.0f / 255;  // 1/255 at a scale of 3/255: t = 1/3 -> red
+  a.at(2, 0, 3) = 1.0f;               // alpha only, far beyond the scale: white
+  for (int c = 0; c < 4; ++c) a.at(3, 0, c) = b.at(3, 0, c) = 0.25f;  // equal: black
+  const core::Image8 h = ColorErrorHeatMap(a, b, 3.0 / 255);
+  EXPECT_EQ(h.at(0, 0, 0), 255);
+  EXPECT_EQ(h.at(0, 0, 1), 0);
+  EXPECT_EQ(h.at(0, 0, 2), 0);
+  for (int c = 0; c < 3; ++c) {
+    EXPECT_EQ(h.at(1, 0, c), 40) << "empty in both: dark grey";
+    EXPECT_EQ(h.at(2, 0, c), 255);
+    EXPECT_EQ(h.at(3, 0, c), 0);
+  }
+  EXPECT_EQ(h.at(0, 0, 3), 255);  // opaque
 }
 
 }  // namespace

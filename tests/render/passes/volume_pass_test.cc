@@ -1,6 +1,7 @@
 // The volume pass against double-precision CPU references at the same sample
-// positions (orthographic camera): llvmpipe's 3D filter, DVR images, iso first
-// hits, normals on analytic fields, the Fig. 4 ablation, hard cases.
+// positions (orthographic camera): llvmpipe's 3D filter, DVR images (against
+// ibr/volume_reference.h, the reference the report's gallery shares), iso
+// first hits, normals on analytic fields, the Fig. 4 ablation, hard cases.
 #include "render/passes/volume_pass.h"
 
 #include <fmt/format.h>
@@ -16,7 +17,7 @@
 #include "core/error.h"
 #include "core/projection.h"
 #include "core/volume_io.h"
-#include "render/cores/slicing.h"
+#include "ibr/volume_reference.h"
 #include "tests/support/gl_test.h"
 
 namespace render {
@@ -84,11 +85,6 @@ OrthoCamera Ortho(double azimuth_deg, double elevation_deg, double radius, int s
   return c;
 }
 
-// Camera-space point at the centre of pixel (col, row) at depth z.
-glm::dvec3 PixelInCam(const OrthoCamera& c, int col, int row, double z) {
-  return {(col + 0.5 - c.size / 2.0) / c.scale, (row + 0.5 - c.size / 2.0) / c.scale, z};
-}
-
 // The frame with a float colour attachment: the truth comparisons see the
 // blending without 8-bit rounding at every slice.
 RenderTargetOptions FloatFrameOptions(int size) {
@@ -120,77 +116,6 @@ Rendered Render(GlTest& t, ProgramCache& programs, const Scene& s, const OrthoCa
   if (keep) *keep = pass.get();
   (void)t;
   return {target.ReadColorF(0), target.ReadChannelsF(1, 1)};
-}
-
-// What the GPU sees of each map: stored at the pass's bits, dequantised.
-std::vector<core::DisplacementMap> StoredMaps(const Scene& s) {
-  std::vector<core::DisplacementMap> out;
-  for (const auto& m : s.maps)
-    out.push_back(core::DequantizeDisplacementMap(
-        core::StoreDisplacementMap(m.map, s.options.displacement_bits)));
-  return out;
-}
-
-std::vector<core::PlacedMap> Placed(const Scene& s,
-                                    const std::vector<core::DisplacementMap>& stored) {
-  std::vector<core::PlacedMap> placed;
-  // Read where the pass reads them (core::ActiveBox of the stored map).
-  for (size_t i = 0; i < stored.size(); ++i)
-    placed.push_back(
-        {&stored[i], s.maps[i].placement,
-         core::ActiveBox(core::StoreDisplacementMap(s.maps[i].map, s.options.displacement_bits))});
-  return placed;
-}
-
-double Density(const core::Volume& v, const glm::dvec3& p) {
-  if (p.x < 0 || p.y < 0 || p.z < 0 || p.x > 1 || p.y > 1 || p.z > 1) return 0;
-  return core::SampleTrilinear(v, p);
-}
-
-// ---- the DVR reference: the pass's slices, in double ----
-struct Reference {
-  core::Image<double> color;  // RGBA premultiplied
-  core::Image8 ambiguous;  // 1 where a sample lies within 1e-4 of a proxy face (rasterisation ties)
-};
-
-Reference DvrReference(const Scene& s, const VolumePass& pass, const OrthoCamera& cam) {
-  const glm::dmat4 world_from_box(pass.world_from_proxy());
-  const glm::dmat4 cam_from_box = glm::dmat4(cam.view.cam_from_world) * world_from_box;
-  const glm::dmat4 box_from_cam = glm::inverse(cam_from_box);
-  const SliceStack stack =
-      MakeSlices(SliceBox{pass.world_from_proxy()}, SliceView{cam.view.cam_from_world, true},
-                 pass.DvrSlicing(cam.view));
-  const core::Box3 proxy = pass.proxy_box();
-  const auto stored = StoredMaps(s);
-  const auto placed = Placed(s, stored);
-  const std::vector<glm::vec4> table = s.transfer.Table(256);
-  const double exponent = static_cast<float>(stack.spacing_world / pass.voxel_world());
-  Reference r{core::Image<double>(cam.size, cam.size, 4, 0.0),
-              core::Image8(cam.size, cam.size, 1, 0)};
-  for (const Slice& slice : stack.slices) {
-    const double z = (cam_from_box * glm::dvec4(glm::dvec3(slice.p_in_box[0]), 1.0)).z;
-    for (int row = 0; row < cam.size; ++row)
-      for (int col = 0; col < cam.size; ++col) {
-        const glm::dvec3 b =
-            glm::dvec3(box_from_cam * glm::dvec4(PixelInCam(cam, col, row, z), 1.0));
-        const double margin = std::min({b.x, b.y, b.z, 1 - b.x, 1 - b.y, 1 - b.z});
-        if (std::abs(margin) < 1e-4) r.ambiguous.at(col, row) = 1;
-        if (margin < 0) continue;
-        const glm::dvec3 pp = proxy.lo + b * (proxy.hi - proxy.lo);
-        const core::DisplacedSample d = core::Displace(placed, pp);
-        if (d.alpha < 0.5) continue;
-        const double sv = Density(s.volume, d.p);
-        const double u = std::clamp(sv, 0.0, 1.0) * 255;
-        const int i0 = static_cast<int>(std::floor(u)), i1 = std::min(i0 + 1, 255);
-        const glm::dvec4 tf = glm::mix(glm::dvec4(table[i0]), glm::dvec4(table[i1]), u - i0);
-        const double a = (1 - std::pow(std::max(1 - tf.a, 0.0), exponent)) * d.alpha;
-        if (!(a > 0)) continue;
-        for (int c = 0; c < 3; ++c)
-          r.color.at(col, row, c) = tf[c] * a + (1 - a) * r.color.at(col, row, c);
-        r.color.at(col, row, 3) = a + (1 - a) * r.color.at(col, row, 3);
-      }
-  }
-  return r;
 }
 
 VolumeMapInput PlacedEffect(core::Effect e, const glm::ivec3& dims,
@@ -289,7 +214,7 @@ struct Agreement {
   int64_t compared = 0;
 };
 
-Agreement Compare(const core::ImageF& gpu, const Reference& ref) {
+Agreement Compare(const core::ImageF& gpu, const ibr::DvrReferenceImage& ref) {
   Agreement a;
   double sum = 0;
   for (int y = 0; y < gpu.height(); ++y)
@@ -345,7 +270,8 @@ TEST_F(GlTest, VolumeDvrAgreesWithTheDoubleReference) {
     const double radius = 0.5 * glm::length(c.scene.volume.Extent());
     const OrthoCamera cam = Ortho(30, 25, 1.6 * radius, 96);
     const Rendered got = Render(*this, programs(), c.scene, cam, &pass);
-    const Reference ref = DvrReference(c.scene, *pass, cam);
+    const ibr::DvrReferenceImage ref = ibr::DvrReference(
+        c.scene.volume, c.scene.transfer, c.scene.maps, *pass, cam.view, cam.size, cam.size);
     const Agreement a = Compare(got.color, ref);
     double coverage = 0;
     for (int y = 0; y < 96; ++y)
@@ -379,7 +305,7 @@ struct IsoReference {
 double IsoField(const Scene& s, const std::vector<core::PlacedMap>& placed, const glm::dvec3& pp) {
   const core::DisplacedSample d = core::Displace(placed, pp);
   if (d.alpha < 0.5) return 1.0;
-  return s.options.iso_value - Density(s.volume, d.p);
+  return s.options.iso_value - ibr::VolumeDensity(s.volume, d.p);
 }
 
 // The GPU's march in double: samples from the proxy entry at the same world
@@ -390,8 +316,8 @@ IsoReference IsoMarch(const Scene& s, const VolumePass& pass, const OrthoCamera&
   const glm::dmat4 cam_from_box = glm::dmat4(cam.view.cam_from_world) * world_from_box;
   const glm::dmat4 box_from_cam = glm::inverse(cam_from_box);
   const core::Box3 proxy = pass.proxy_box();
-  const auto stored = StoredMaps(s);
-  const auto placed = Placed(s, stored);
+  const auto stored = ibr::VolumeStoredMaps(s.maps, s.options.displacement_bits);
+  const auto placed = ibr::VolumePlacedMaps(s.maps, s.options.displacement_bits, stored);
   const double step = s.options.sampling_distance_voxels * pass.voxel_world();
   IsoReference r{core::Image8(cam.size, cam.size, 1, 0), core::ImageF(cam.size, cam.size, 1, 0.0f),
                  std::vector<glm::dvec3>(static_cast<size_t>(cam.size) * cam.size)};
@@ -399,8 +325,9 @@ IsoReference IsoMarch(const Scene& s, const VolumePass& pass, const OrthoCamera&
       glm::dvec3(box_from_cam * glm::dvec4(0, 0, 1, 0));  // one world (= camera) unit
   for (int row = 0; row < cam.size; ++row)
     for (int col = 0; col < cam.size; ++col) {
-      const glm::dvec3 o =
-          glm::dvec3(box_from_cam * glm::dvec4(PixelInCam(cam, col, row, 0.0), 1.0));
+      const glm::dvec3 o = glm::dvec3(
+          box_from_cam *
+          glm::dvec4(ibr::PixelLineInCam(cam.view, cam.size, cam.size, col, row).AtZ(0.0), 1.0));
       double t0 = -1e30, t1 = 1e30;
       for (int k = 0; k < 3; ++k) {
         if (std::abs(dir[k]) < 1e-12) {
@@ -535,8 +462,8 @@ glm::dvec3 FieldNormalWorld(const Scene& s, const std::vector<core::PlacedMap>& 
     glm::dvec3 lo = pp, hi = pp;
     lo[a] -= h;
     hi[a] += h;
-    g[a] = (Density(s.volume, core::Displace(placed, hi).p) -
-            Density(s.volume, core::Displace(placed, lo).p)) /
+    g[a] = (ibr::VolumeDensity(s.volume, core::Displace(placed, hi).p) -
+            ibr::VolumeDensity(s.volume, core::Displace(placed, lo).p)) /
            (2 * h);
   }
   const glm::dmat3 normal_world_from_tex =
@@ -545,8 +472,8 @@ glm::dvec3 FieldNormalWorld(const Scene& s, const std::vector<core::PlacedMap>& 
 }
 
 std::vector<double> NormalErrorsDeg(const Scene& s, const IsoRun& run, int size) {
-  const auto stored = StoredMaps(s);
-  const auto placed = Placed(s, stored);
+  const auto stored = ibr::VolumeStoredMaps(s.maps, s.options.displacement_bits);
+  const auto placed = ibr::VolumePlacedMaps(s.maps, s.options.displacement_bits, stored);
   std::vector<double> err;
   for (int y = 0; y < size; ++y)
     for (int x = 0; x < size; ++x) {
@@ -666,8 +593,8 @@ struct Fig4Numbers {
 Fig4Numbers MeasureFig4(GlTest& t, ProgramCache& programs, VolumeLighting lighting,
                         VolumeJacobian jacobian) {
   const Scene s = PlateScene(lighting, jacobian);
-  const auto stored = StoredMaps(s);
-  const auto placed = Placed(s, stored);
+  const auto stored = ibr::VolumeStoredMaps(s.maps, s.options.displacement_bits);
+  const auto placed = ibr::VolumePlacedMaps(s.maps, s.options.displacement_bits, stored);
   const glm::dvec3 light(s.options.light_dir_world);
   Fig4Numbers r;
   const double voxel = 1.0 / s.volume.dims.x;

@@ -1,0 +1,63 @@
+// The report's gallery (bench/gallery.h): the volume entry is there when the
+// shared volumes are, and its render agrees with its truth (the double DVR
+// reference of ibr/volume_reference.h) within the volume pass test's bound.
+#include "bench/gallery.h"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cstdio>
+#include <cstdlib>
+
+#include "tests/support/gl_test.h"
+
+namespace bench {
+namespace {
+
+using test_support::GlTest;
+
+TEST_F(GlTest, GalleryVolumeEntryAgreesWithTheDoubleReference) {
+  if (test_support::SharedData("volumes/tooth_103x94x161_uint8.dat").empty())
+    GTEST_SKIP() << "../shared/data is absent";
+  GalleryOptions o;
+  o.size = 96;
+  o.quick = true;
+  o.families = {"volume"};
+  const std::vector<GalleryEntry> entries = RenderGallery(programs(), o);
+  ASSERT_EQ(entries.size(), 1u);
+  const GalleryEntry& g = entries.front();
+  std::printf("%s: %s\n", g.title.c_str(), g.caption.c_str());
+  EXPECT_EQ(g.family, "volume");
+  ASSERT_EQ(g.render.width(), o.size);
+  ASSERT_EQ(g.truth.width(), o.size);
+  ASSERT_EQ(g.heat.width(), o.size);
+  test_support::WriteDebugImage("gallery-volume-render.png", g.render);
+  test_support::WriteDebugImage("gallery-volume-truth.png", g.truth);
+  test_support::WriteDebugImage("gallery-volume-heat.png", g.heat);
+  // Something is drawn: pixels off the background (shown over one, opaque).
+  int drawn = 0, worst = 0;
+  for (int y = 0; y < o.size; ++y)
+    for (int x = 0; x < o.size; ++x) {
+      drawn += std::abs(g.render.at(x, y, 0) - g.render.at(0, 0, 0)) > 8;
+      for (int c = 0; c < 3; ++c)
+        worst = std::max(worst, std::abs(g.render.at(x, y, c) - g.truth.at(x, y, c)));
+    }
+  EXPECT_GT(drawn, 500);
+  // Over the background, 8-bit: the colour error (<= 2/255, the bound of
+  // VolumeDvrAgreesWithTheDoubleReference) plus one rounding each side.
+  EXPECT_LE(worst, 3);
+  // The heat map (4/255 saturates) stays within black -> red -> orange: every
+  // premultiplied channel within 2/255 of the reference (t <= 0.5, green <=
+  // 128, no blue); dark grey where both are empty.
+  for (int y = 0; y < o.size; ++y)
+    for (int x = 0; x < o.size; ++x) {
+      const uint8_t r = g.heat.at(x, y, 0), gr = g.heat.at(x, y, 1), b = g.heat.at(x, y, 2);
+      if (r == 40 && gr == 40 && b == 40) continue;
+      EXPECT_EQ(b, 0) << x << "," << y;
+      EXPECT_LE(gr, 128) << x << "," << y;
+    }
+  EXPECT_NO_GL_ERROR();
+}
+
+}  // namespace
+}  // namespace bench
