@@ -69,6 +69,21 @@ core::Image8 DepthErrorHeatMap(const core::Image8& covered, const core::ImageF& 
   return out;
 }
 
+std::vector<double> ColorErrors(const core::ImageF& color, const core::ImageF& truth) {
+  IBR_CHECK(color.width() == truth.width() && color.height() == truth.height());
+  IBR_CHECK(color.channels() == 4 && truth.channels() == 4);
+  std::vector<double> errors;
+  for (int y = 0; y < color.height(); ++y)
+    for (int x = 0; x < color.width(); ++x) {
+      if (color.at(x, y, 3) == 0 && truth.at(x, y, 3) == 0) continue;
+      double e = 0;
+      for (int c = 0; c < 4; ++c)
+        e = std::max(e, std::abs(static_cast<double>(color.at(x, y, c)) - truth.at(x, y, c)));
+      errors.push_back(255 * e);
+    }
+  return errors;
+}
+
 core::Image8 ColorErrorHeatMap(const core::ImageF& color, const core::ImageF& truth_color,
                                double scale) {
   IBR_CHECK(color.width() == truth_color.width() && color.height() == truth_color.height());
@@ -345,12 +360,7 @@ void VolumeEntries(render::ProgramCache& programs, const GalleryOptions& options
   const int n = options.size;
   const render::ViewSetup view =
       VolumeOrbitView(kAzimuthDeg, kElevationDeg, 3.2 * data.radius, n, data.radius);
-  render::RenderTargetOptions target_options = render::FrameTargetOptions(n, n);
-  target_options.color_formats[render::kFrameColor] = GL_RGBA32F;  // no 8-bit rounding per slice
-  render::RenderTarget target(target_options);
-  render::BeginFrame(target);
-  pass.Draw(target, view);
-  const core::ImageF color = target.ReadColorF(render::kFrameColor);
+  const core::ImageF color = DrawVolumeFloat(pass, view, n);
 
   const auto start = std::chrono::steady_clock::now();
   const ibr::DvrReferenceImage ref =
@@ -363,15 +373,7 @@ void VolumeEntries(render::ProgramCache& programs, const GalleryOptions& options
     truth.values()[i] = static_cast<float>(ref.color.values()[i]);
   // Over every pixel either covers, the reference's proxy-face ties
   // (DvrReferenceImage::ambiguous) included: the figures bound them too.
-  std::vector<double> errors;
-  for (int y = 0; y < n; ++y)
-    for (int x = 0; x < n; ++x) {
-      if (color.at(x, y, 3) == 0 && truth.at(x, y, 3) == 0) continue;
-      double e = 0;
-      for (int c = 0; c < 4; ++c)
-        e = std::max(e, std::abs(static_cast<double>(color.at(x, y, c)) - truth.at(x, y, c)));
-      errors.push_back(255 * e);
-    }
+  const std::vector<double> errors = ColorErrors(color, truth);
   const double above = static_cast<double>(std::count_if(errors.begin(), errors.end(),
                                                          [](double e) { return e > 1.0; })) /
                        static_cast<double>(std::max<size_t>(errors.size(), 1));

@@ -30,6 +30,10 @@ core::Image8 DepthErrorHeatMap(const core::Image8& covered, const core::ImageF& 
 // dark grey where both are exactly 0 (empty in both).
 core::Image8 ColorErrorHeatMap(const core::ImageF& color, const core::ImageF& truth_color,
                                double scale);
+// The colour error of a float RGBA render against a truth of the same size,
+// one value per pixel that either covers (alpha > 0): the largest
+// premultiplied channel difference, in units of 1/255.
+std::vector<double> ColorErrors(const core::ImageF& color, const core::ImageF& truth);
 // The ramp alone: t in [0, 1] (clamped) -> RGB.
 void HeatRamp(double t, uint8_t rgb[3]);
 

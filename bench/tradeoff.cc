@@ -189,6 +189,33 @@ TradeoffFamily DepthObjectTradeoff(const Table& t) {
                          "p95_depth_error", false);
 }
 
+TradeoffFamily VolumeTradeoff(const Table& t) {
+  TradeoffFamily f{"volume",
+                   "Volume displacement (Correa, Silver, Chen 2006)",
+                   "p95 colour error against the finest setting (1/255)",
+                   "sampling distance (voxels) or map size (texels per axis)",
+                   {}};
+  const int sweep = t.Column("sweep"), volume = t.Column("volume"),
+            sampling = t.Column("sampling_voxels"), map_size = t.Column("map_size"),
+            size = t.Column("size_px"), ms = t.Column("ms_per_frame"),
+            error = t.Column("p95_color_error_vs_finest");
+  for (const auto& r : t.rows()) {
+    const std::string panel = fmt::format("{} / {} px", r[volume], r[size]);
+    if (r[sweep] == "sampling") {
+      f.rows.push_back({panel, "sampling distance (map 64^3)", r[sampling], CellNumber(r[ms]),
+                        CellNumber(r[error])});
+    } else if (r[sweep] == "map_size") {
+      f.rows.push_back({panel, "map size (sampling 1 voxel)", r[map_size], CellNumber(r[ms]),
+                        CellNumber(r[error])});
+    } else if (r[sweep] == "finest") {
+      f.rows.push_back({panel,
+                        fmt::format("finest (map {}^3 at {} voxel)", r[map_size], r[sampling]), "",
+                        CellNumber(r[ms]), 0.0, true});
+    }
+  }
+  return f;
+}
+
 TradeoffFamily DepthObjectSilhouetteTradeoff(const Table& t) {
   return DepthObjectRows(t,
                          {"depth_object_silhouette",

@@ -69,5 +69,10 @@ TradeoffFamily NcsTradeoff(const Table& table);
 TradeoffFamily DepthObjectTradeoff(const Table& table);
 // The same rows with error = 1 - the mean silhouette IoU over the views.
 TradeoffFamily DepthObjectSilhouetteTradeoff(const Table& table);
+// `ibr bench volume`: the peeled volume's two accuracy knobs, panel = volume
+// and size, method = the knob swept (sampling distance at map 64^3, map size
+// at 1 voxel), error = p95 colour error against the finest setting (its row,
+// sweep "finest", is the truth).
+TradeoffFamily VolumeTradeoff(const Table& table);
 
 }  // namespace bench

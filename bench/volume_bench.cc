@@ -11,10 +11,12 @@
 #include <memory>
 #include <nlohmann/json.hpp>
 
+#include "bench/gallery.h"
 #include "bench/report.h"
 #include "bench/volume_render.h"
 #include "core/atomic_file.h"
 #include "core/error.h"
+#include "core/metrics.h"
 #include "core/volume_io.h"
 #include "render/gl/fill_rate.h"
 #include "render/gl/frame_timer.h"
@@ -29,12 +31,17 @@ struct Measured {
   int slices = 0;
 };
 
+// The bench's one view of a volume: azimuth 30, elevation 20 degrees.
+render::ViewSetup BenchView(const ibr::VolumeObjectData& scene, int size) {
+  return VolumeOrbitView(30, 20, 3.2 * scene.radius, size, scene.radius);
+}
+
 Measured TimeVolume(render::ProgramCache& programs, const ibr::VolumeObjectData& scene,
                     const render::VolumePassOptions& options, int size,
                     const render::FrameTimerOptions& timer) {
   render::VolumePass pass(programs, scene.volume, scene.transfer, scene.maps,
                           scene.world_from_volume, options);
-  const render::ViewSetup view = VolumeOrbitView(30, 20, 3.2 * scene.radius, size, scene.radius);
+  const render::ViewSetup view = BenchView(scene, size);
   render::RenderTarget target(render::FrameTargetOptions(size, size));
   Measured m;
   m.ms = render::TimeFrames(
@@ -135,17 +142,19 @@ Table RunVolumeBench(const VolumeBenchOptions& o) {
 
   Table table({"sweep", "volume", "variant", "sampling_voxels", "map_size", "size_px", "slices",
                "ms_per_frame", "area_Mpx", "fill_fraction", "ratio_to_plain", "vtk_ms",
-               "vtk_min_ms"});
+               "vtk_min_ms", "p95_color_error_vs_finest"});
+  // `error`: the p95 colour error against the finest setting (1/255; NaN:
+  // not measured, an empty cell).
   auto add = [&](const std::string& sweep, const std::string& volume, const std::string& variant,
                  double sampling, int map_size, int px, const Measured& m, double plain_ms,
-                 const PeerResult* peer) {
+                 const PeerResult* peer, double error) {
     const double fraction = m.area_px / (m.ms * 1e-3) / fill.fragments_per_second;
-    table.AddRow({sweep, volume, variant, Num(sampling, 2), std::to_string(map_size),
-                  std::to_string(px), std::to_string(m.slices), Num(m.ms, 1),
-                  Num(m.area_px * 1e-6, 3), Num(fraction, 3),
-                  plain_ms > 0 ? Num(m.ms / plain_ms, 2) : "",
-                  peer && peer->ok ? Num(peer->median_ms, 1) : "",
-                  peer && peer->ok ? Num(peer->min_ms, 1) : ""});
+    table.AddRow(
+        {sweep, volume, variant, Num(sampling, 2), std::to_string(map_size), std::to_string(px),
+         std::to_string(m.slices), Num(m.ms, 1), Num(m.area_px * 1e-6, 3), Num(fraction, 3),
+         plain_ms > 0 ? Num(m.ms / plain_ms, 2) : "",
+         peer && peer->ok ? Num(peer->median_ms, 1) : "",
+         peer && peer->ok ? Num(peer->min_ms, 1) : "", std::isfinite(error) ? Num(error, 3) : ""});
     fmt::print("{:<10} {:<8} {:<22} {:>6.1f} ms  slices {:>4}  fill {:.3f}\n", sweep, volume,
                variant, m.ms, m.slices, fraction);
   };
@@ -194,9 +203,9 @@ Table RunVolumeBench(const VolumeBenchOptions& o) {
       if (!peer.ok) spdlog::warn("VTK peer failed on {}: {}", e.name, peer.error);
     }
     const Measured p = TimeVolume(programs, bare, plain, size, timer);
-    add("volume", e.name, "plain DVR (shaded)", 1.0, 0, size, p, p.ms, &peer);
+    add("volume", e.name, "plain DVR (shaded)", 1.0, 0, size, p, p.ms, &peer, std::nan(""));
     const Measured d = TimeVolume(programs, peeled, displaced, size, timer);
-    add("volume", e.name, "peel 64^3 (eq. 6+7)", 1.0, 64, size, d, p.ms, nullptr);
+    add("volume", e.name, "peel 64^3 (eq. 6+7)", 1.0, 64, size, d, p.ms, nullptr, std::nan(""));
     summary.push_back(fmt::format(
         "{:<13} plain {:7.1f} ms  peel {:7.1f} ms  peel/plain {:5.2f}x  VTK {}  plain/VTK {}",
         e.name, p.ms, d.ms, d.ms / p.ms,
@@ -228,27 +237,47 @@ Table RunVolumeBench(const VolumeBenchOptions& o) {
         po.jacobian = pr.jacobian;
         po.draw_per_slice = pr.per_slice;
         add("profile", e.name, pr.variant, 1.0, pr.displaced ? 64 : 0, size,
-            TimeVolume(programs, pr.displaced ? peeled : bare, po, size, timer), p.ms, nullptr);
+            TimeVolume(programs, pr.displaced ? peeled : bare, po, size, timer), p.ms, nullptr,
+            std::nan(""));
       }
+      // What the two accuracy knobs cost: each setting's image (float
+      // colour, the bench's view) against the finest setting, map 128^3
+      // sampled every 0.25 voxel, itself timed as the family's truth.
+      const ibr::VolumeObjectData finest_map =
+          ibr::MakeVolumeObject(volume, tf, peel, 128, glm::dvec3(0.0), glm::dvec3(1.0));
+      render::VolumePassOptions finest = displaced;
+      finest.sampling_distance_voxels = 0.25;
+      const render::ViewSetup view = BenchView(peeled, size);
+      auto image = [&](const ibr::VolumeObjectData& scene, const render::VolumePassOptions& po) {
+        render::VolumePass pass(programs, scene.volume, scene.transfer, scene.maps,
+                                scene.world_from_volume, po);
+        return DrawVolumeFloat(pass, view, size);
+      };
+      const core::ImageF reference = image(finest_map, finest);
+      auto error_of = [&](const ibr::VolumeObjectData& scene, const render::VolumePassOptions& po) {
+        return core::SummarizeErrors(ColorErrors(image(scene, po), reference)).p95;
+      };
+      add("finest", e.name, "peel 128^3 at 0.25 voxel", 0.25, 128, size,
+          TimeVolume(programs, finest_map, finest, size, timer), 0, nullptr, 0.0);
       for (double sampling :
            o.quick ? std::vector<double>{0.5, 2.0} : std::vector<double>{0.5, 1.0, 2.0, 4.0}) {
         render::VolumePassOptions s = displaced;
         s.sampling_distance_voxels = sampling;
         add("sampling", e.name, "peel 64^3", sampling, 64, size,
-            TimeVolume(programs, peeled, s, size, timer), 0, nullptr);
+            TimeVolume(programs, peeled, s, size, timer), 0, nullptr, error_of(peeled, s));
       }
       for (int map_size : o.quick ? std::vector<int>{16, 64} : std::vector<int>{16, 32, 64, 128}) {
         const ibr::VolumeObjectData m =
             ibr::MakeVolumeObject(volume, tf, peel, map_size, glm::dvec3(0.0), glm::dvec3(1.0));
         add("map_size", e.name, "peel", 1.0, map_size, size,
-            TimeVolume(programs, m, displaced, size, timer), 0, nullptr);
+            TimeVolume(programs, m, displaced, size, timer), 0, nullptr, error_of(m, displaced));
       }
     }
     if (e.name == "neghip") {
       // Time against the rasterised proxy area: image sizes.
       for (int px : o.quick ? std::vector<int>{64, 128} : std::vector<int>{128, 256, 384, 512}) {
         add("area", e.name, "plain DVR (shaded)", 1.0, 0, px,
-            TimeVolume(programs, bare, plain, px, timer), 0, nullptr);
+            TimeVolume(programs, bare, plain, px, timer), 0, nullptr, std::nan(""));
       }
     }
   }

@@ -35,6 +35,15 @@ render::ViewSetup VolumeOrbitView(double azimuth_deg, double elevation_deg, doub
   return v;
 }
 
+core::ImageF DrawVolumeFloat(render::VolumePass& pass, const render::ViewSetup& view, int size) {
+  render::RenderTargetOptions options = render::FrameTargetOptions(size, size);
+  options.color_formats[render::kFrameColor] = GL_RGBA32F;
+  render::RenderTarget target(options);
+  render::BeginFrame(target);
+  pass.Draw(target, view);
+  return target.ReadColorF(render::kFrameColor);
+}
+
 core::Image8 OverBackground(const core::Image8& premultiplied, const glm::vec3& background) {
   core::Image8 out(premultiplied.width(), premultiplied.height(), 4);
   for (int y = 0; y < out.height(); ++y)

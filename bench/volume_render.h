@@ -49,6 +49,10 @@ render::ViewSetup VolumeOrbitView(double azimuth_deg, double elevation_deg, doub
 // Needs a current GL context. Writes atomically (nothing partial on failure).
 VolumeRenderResult RenderVolume(const VolumeRenderRequest& request);
 
+// One frame of `pass` seen by `view` into a size x size RGBA32F target (no
+// 8-bit rounding at each slice): premultiplied colour, image rows.
+core::ImageF DrawVolumeFloat(render::VolumePass& pass, const render::ViewSetup& view, int size);
+
 // Colour over an opaque background (premultiplied frame -> RGBA8 with alpha 255).
 core::Image8 OverBackground(const core::Image8& premultiplied, const glm::vec3& background);
 

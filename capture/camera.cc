@@ -12,6 +12,7 @@
 #include "core/check.h"
 #include "core/error.h"
 #include "core/image_io.h"
+#include "core/look_at.h"
 
 namespace capture {
 namespace {
@@ -308,19 +309,8 @@ void Rigid3::Check(std::string_view where, double tolerance) const {
 }
 
 Rigid3 LookAt(const glm::dvec3& eye, const glm::dvec3& target, const glm::dvec3& up) {
-  const glm::dvec3 z = glm::normalize(target - eye);
-  glm::dvec3 x = glm::cross(z, up);  // camera x = y x z with y = -up
-  if (glm::dot(x, x) < 1e-20) x = glm::cross(z, glm::dvec3(1, 0, 0));
-  if (glm::dot(x, x) < 1e-20) x = glm::cross(z, glm::dvec3(0, 1, 0));
-  x = glm::normalize(x);
-  const glm::dvec3 y = glm::cross(z, x);
-  glm::dmat3 r;  // rows x, y, z
-  for (int c = 0; c < 3; ++c) {
-    r[c][0] = x[c];
-    r[c][1] = y[c];
-    r[c][2] = z[c];
-  }
-  return {r, -(r * eye)};
+  const glm::dmat4 m = core::CamFromWorldLookAtDouble(eye, target, up);
+  return {glm::dmat3(m), glm::dvec3(m[3])};
 }
 
 Camera UndistortedCamera(const Camera& camera) {

@@ -3,6 +3,7 @@
 #include <algorithm>
 
 #include "core/check.h"
+#include "core/look_at.h"
 
 namespace core {
 
@@ -45,14 +46,15 @@ glm::dvec2 ClipRangeZ(const glm::mat4& p) {
   return {std::min(z.x, z.y), std::max(z.x, z.y)};
 }
 
-glm::mat4 CamFromWorldLookAt(glm::vec3 eye, glm::vec3 target, glm::vec3 up) {
-  const glm::vec3 z = glm::normalize(target - eye);
-  glm::vec3 x = glm::cross(z, up);  // camera x = y x z with y = -up
-  if (glm::dot(x, x) < 1e-12f) x = glm::cross(z, glm::vec3(1, 0, 0));
-  if (glm::dot(x, x) < 1e-12f) x = glm::cross(z, glm::vec3(0, 1, 0));
+glm::dmat4 CamFromWorldLookAtDouble(const glm::dvec3& eye, const glm::dvec3& target,
+                                    const glm::dvec3& up) {
+  const glm::dvec3 z = glm::normalize(target - eye);
+  glm::dvec3 x = glm::cross(z, up);  // camera x = y x z with y = -up
+  if (glm::dot(x, x) < 1e-20) x = glm::cross(z, glm::dvec3(1, 0, 0));
+  if (glm::dot(x, x) < 1e-20) x = glm::cross(z, glm::dvec3(0, 1, 0));
   x = glm::normalize(x);
-  const glm::vec3 y = glm::cross(z, x);
-  glm::mat4 m(1.0f);
+  const glm::dvec3 y = glm::cross(z, x);
+  glm::dmat4 m(1.0);
   for (int c = 0; c < 3; ++c) {
     m[c][0] = x[c];
     m[c][1] = y[c];
@@ -62,6 +64,10 @@ glm::mat4 CamFromWorldLookAt(glm::vec3 eye, glm::vec3 target, glm::vec3 up) {
   m[3][1] = -glm::dot(y, eye);
   m[3][2] = -glm::dot(z, eye);
   return m;
+}
+
+glm::mat4 CamFromWorldLookAt(glm::vec3 eye, glm::vec3 target, glm::vec3 up) {
+  return glm::mat4(CamFromWorldLookAtDouble(glm::dvec3(eye), glm::dvec3(target), glm::dvec3(up)));
 }
 
 }  // namespace core

@@ -383,11 +383,8 @@ const DepthObjectRenderer::SkipTexture& DepthObjectRenderer::Skip(
     slot = std::make_unique<SkipTexture>();
     const int n = grid.resolution;
     slot->resolution = n;
-    slot->grid = render::Texture::Create3D(GL_R8UI, n, n, n);
-    glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
-    glTextureSubImage3D(slot->grid.id(), 0, 0, 0, 0, n, n, n, GL_RED_INTEGER, GL_UNSIGNED_BYTE,
-                        grid.distance.data());
-    glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
+    slot->grid = render::Texture::Create3DWithData(GL_R8UI, {n, n, n}, GL_RED_INTEGER,
+                                                   GL_UNSIGNED_BYTE, grid.distance.data());
   }
   return *slot;
 }

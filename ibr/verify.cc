@@ -19,6 +19,7 @@
 #include "core/image_io.h"
 #include "core/mesh.h"
 #include "core/projection.h"
+#include "core/sphere.h"
 #include "ibr/depth_object.h"
 #include "ibr/independent_reference.h"
 #include "ibr/reference.h"
@@ -48,33 +49,7 @@ namespace {
 
 // ---- random scenes (plain CPU maps, ray cast exactly) ----
 
-struct Ball {
-  glm::dvec3 centre;
-  double radius;
-};
-
-// Nearest hit t > 0 of o + t d with a union of balls.
-std::optional<double> HitBalls(const std::vector<Ball>& balls, const glm::dvec3& o,
-                               const glm::dvec3& d) {
-  std::optional<double> best;
-  for (const Ball& b : balls) {
-    const glm::dvec3 oc = o - b.centre;
-    const double qa = glm::dot(d, d), qb = glm::dot(oc, d),
-                 qc = glm::dot(oc, oc) - b.radius * b.radius;
-    const double disc = qb * qb - qa * qc;
-    if (disc < 0) continue;
-    for (double t : {(-qb - std::sqrt(disc)) / qa, (-qb + std::sqrt(disc)) / qa}) {
-      if (t > 0) {
-        if (!best || t < *best) best = t;
-        break;
-      }
-    }
-  }
-  return best;
-}
-
-// Depth (camera z), mask and a position-coded colour of `balls` in map m.
-void CastBalls(const std::vector<Ball>& balls, ImageMap& m) {
+void CastBalls(const std::vector<core::Sphere>& balls, ImageMap& m) {
   const MapCamera& c = m.camera;
   m.depth = core::ImageF(c.width, c.height, 1, 0.0f);
   m.mask = core::Image8(c.width, c.height, 1, 0);
@@ -87,7 +62,7 @@ void CastBalls(const std::vector<Ball>& balls, ImageMap& m) {
       const glm::dvec3 d_cam = c.orthographic ? glm::dvec3(0, 0, 1) : glm::dvec3(x, y, 1);
       const glm::dvec3 o(world_from_cam * glm::dvec4(o_cam, 1.0)),
           d(world_from_cam * glm::dvec4(d_cam, 0.0));
-      const auto t = HitBalls(balls, o, d);
+      const auto t = core::NearestSphereHit(balls, o, d);
       if (!t) continue;
       m.depth.at(col, row) = static_cast<float>(o_cam.z + *t);
       m.mask.at(col, row) = 255;
@@ -250,7 +225,7 @@ Case RandomCase(std::mt19937& rng, const std::string& method_filter,
     c.maps.maps = PinholeRig(rig == 2, count, 3.0 + u(rng), map_size, rng);
     rig_name = fmt::format("{}:{}", rig == 2 ? "sphere" : "ring", count);
   }
-  std::vector<Ball> balls;
+  std::vector<core::Sphere> balls;
   const int nballs = std::uniform_int_distribution<int>(1, 5)(rng);
   for (int i = 0; i < nballs; ++i) {
     balls.push_back({{0.5 * (2 * u(rng) - 1), 0.5 * (2 * u(rng) - 1), 0.5 * (2 * u(rng) - 1)},

@@ -4,6 +4,7 @@
 // bench::RunDeformBench -> print.
 #include <fmt/format.h>
 
+#include "apps/ibr/bench_gl.h"
 #include "apps/ibr/commands.h"
 #include "bench/deform_bench.h"
 #include "render/gl/context.h"
@@ -26,11 +27,8 @@ void AddDeformBench(CLI::App& app) {
   cmd->callback([] {
     options.Check();
     CheckBenchOutputs("ibr bench deform", options.csv, options.out);
-    auto context = render::HeadlessContext::Create();
-    render::CheckFrameSize("ibr bench deform", "--size", options.size, options.size);
-    fmt::print("{} | {}\n", context->info().renderer, context->info().version);
-    render::ProgramCache programs;
-    const bench::DeformBenchResult result = bench::RunDeformBench(programs, options);
+    const auto gl = StartBenchGl("ibr bench deform", options.size);
+    const bench::DeformBenchResult result = bench::RunDeformBench(gl->programs, options);
     fmt::print("{}\n{}\n{}", result.frames.Format(), result.summary.Format(), result.sdf.Format());
     bench::WriteDeformBench(result, options);
     fmt::print("wrote {} and plots in {}\n", options.csv.string(), options.out.string());

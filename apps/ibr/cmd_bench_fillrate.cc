@@ -1,6 +1,7 @@
 // `ibr bench ...`: measured figures, printed (never asserted).
 #include <fmt/format.h>
 
+#include "apps/ibr/bench_gl.h"
 #include "apps/ibr/commands.h"
 #include "render/gl/context.h"
 #include "render/gl/fill_rate.h"
@@ -23,14 +24,11 @@ void AddFillRateBench(CLI::App& app) {
       ->capture_default_str();
   fill->callback([] {
     options.height = options.width;
-    auto context = render::HeadlessContext::Create();
-    render::CheckFrameSize("ibr bench fillrate", "--size", options.width, options.height);
-    render::ProgramCache programs;
-    fmt::print("{} | {}\n", context->info().renderer, context->info().version);
+    const auto gl = StartBenchGl("ibr bench fillrate", options.width);
     for (bool linear : {false, true}) {
       render::FillRateOptions o = options;
       o.linear_filter = linear;
-      const render::FillRate rate = render::MeasureFillRate(programs, o);
+      const render::FillRate rate = render::MeasureFillRate(gl->programs, o);
       fmt::print("fill rate ({:7}) {}x{} x {} layers: {:8.2f} ms/frame  {:7.1f} M fragments/s\n",
                  linear ? "LINEAR" : "NEAREST", o.width, o.height, o.layers_per_frame,
                  rate.ms_per_frame, rate.fragments_per_second * 1e-6);

@@ -6,6 +6,7 @@
 #include <filesystem>
 #include <utility>
 
+#include "apps/ibr/bench_gl.h"
 #include "apps/ibr/commands.h"
 #include "bench/kautz_seidel_experiments.h"
 #include "render/gl/context.h"
@@ -29,11 +30,9 @@ void AddKautzSeidelBench(CLI::App& app) {
     bench::KautzSeidelOptions o = options;
     o.quick = quick;
     o.Check();
-    auto context = render::HeadlessContext::Create();
     const std::filesystem::path out_dir = CheckBenchOutputs("ibr bench kautz-seidel", csv, out);
-    render::ProgramCache programs;
-    fmt::print("{} | {}\n", context->info().renderer, context->info().version);
-    const bench::KautzSeidelResult r = bench::RunKautzSeidelExperiments(programs, o);
+    const auto gl = StartBenchGl("ibr bench kautz-seidel", 0);
+    const bench::KautzSeidelResult r = bench::RunKautzSeidelExperiments(gl->programs, o);
     fmt::print("object: {}\n", r.object);
     for (const auto& [title, table] :
          {std::pair{"Fig. 12 analogues", &r.fig12}, std::pair{"Time vs viewing angle", &r.angle},

@@ -4,6 +4,7 @@
 
 #include <filesystem>
 
+#include "apps/ibr/bench_gl.h"
 #include "apps/ibr/commands.h"
 #include "bench/ncs_bench.h"
 #include "core/error.h"
@@ -36,14 +37,11 @@ void AddNcsBench(CLI::App& app) {
       ->capture_default_str();
   cmd->callback([] {
     bench::NcsBenchOptions o = quick ? bench::NcsBenchOptions::Quick() : options;
-    auto context = render::HeadlessContext::Create();
-    render::CheckFrameSize("ibr bench ncs", "--size", o.size, o.size);
+    const auto gl = StartBenchGl("ibr bench ncs", o.size);
     o.Check();
     const std::filesystem::path& csv_path = csv;
     const std::filesystem::path out_dir = CheckBenchOutputs("ibr bench ncs", csv, out);
-    render::ProgramCache programs;
-    fmt::print("{} | {}\n", context->info().renderer, context->info().version);
-    const bench::NcsBenchResult result = bench::RunNcsBench(programs, o);
+    const bench::NcsBenchResult result = bench::RunNcsBench(gl->programs, o);
     fmt::print("{}\n", result.table.Format());
     fmt::print(
         "NCS cost relative to relief mapping and to the tessellated ground truth (c = 2.5, fastest "

@@ -5,6 +5,7 @@
 
 #include <filesystem>
 
+#include "apps/ibr/bench_gl.h"
 #include "apps/ibr/commands.h"
 #include "bench/scene_bench.h"
 #include "core/error.h"
@@ -24,11 +25,9 @@ void AddSceneBench(CLI::App& app) {
   cmd->add_option("--size", options.size, "frame width = height in pixels")->capture_default_str();
   cmd->add_option("--rounds", options.rounds, "interleaved rounds")->capture_default_str();
   cmd->callback([] {
-    auto context = render::HeadlessContext::Create();
-    render::CheckFrameSize("ibr bench scene", "--size", options.size, options.size);
+    const auto gl = StartBenchGl("ibr bench scene", options.size);
     options.Check();
     const std::filesystem::path out_dir = CheckBenchOutputs("ibr bench scene", csv, out);
-    fmt::print("{} | {}\n", context->info().renderer, context->info().version);
     const bench::SceneBenchResult result = bench::RunSceneBench(options);
     fmt::print("{}\n", result.table.Format());
     bench::WriteSceneBench(result, csv, out_dir);

@@ -3,6 +3,7 @@
 // VTK GPU ray caster in the same run. Flags -> bench::RunVolumeBench.
 #include <fmt/format.h>
 
+#include "apps/ibr/bench_gl.h"
 #include "apps/ibr/commands.h"
 #include "bench/volume_bench.h"
 #include "render/gl/context.h"
@@ -23,9 +24,7 @@ void AddVolumeBench(CLI::App& app) {
   cmd->add_flag("!--no-peer", options.peer, "skip the VTK peer");
   cmd->callback([] {
     CheckBenchOutputs("ibr bench volume", options.csv, options.out);
-    auto context = render::HeadlessContext::Create();
-    render::CheckFrameSize("ibr bench volume", "--size", options.size, options.size);
-    fmt::print("{} | {}\n", context->info().renderer, context->info().version);
+    const auto gl = StartBenchGl("ibr bench volume", options.size);
     bench::RunVolumeBench(options);
   });
 }

@@ -67,10 +67,8 @@ std::vector<std::string> BitDefines(bool orthographic) {
 }
 
 Texture Upload3D(GLenum format, GLenum channels, glm::ivec3 size, const float* data) {
-  Texture texture = Texture::Create3D(format, size.x, size.y, size.z);
-  glTextureSubImage3D(texture.id(), 0, 0, 0, 0, size.x, size.y, size.z, channels, GL_FLOAT, data);
-  glTextureParameteri(texture.id(), GL_TEXTURE_MIN_FILTER, GL_LINEAR);
-  glTextureParameteri(texture.id(), GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+  Texture texture = Texture::Create3DWithData(format, size, channels, GL_FLOAT, data);
+  texture.SetLinearFilter();
   return texture;
 }
 

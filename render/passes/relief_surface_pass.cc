@@ -95,8 +95,7 @@ core::TriangleMesh MakeReliefShell(const core::TriangleMesh& base, float max_dis
 }
 
 std::vector<glm::vec2> ReliefVertexQuadrics(const core::TriangleMesh& base,
-                                            const TangentMapOptions& options) {
-  const TangentFrames frames = ComputeTangentFrames(base, options.max_scale);
+                                            const TangentFrames& frames) {
   std::vector<glm::vec3> bitangents(base.positions.size());
   for (size_t k = 0; k < bitangents.size(); ++k) {
     bitangents[k] =
@@ -131,13 +130,20 @@ Texture UploadHeight(const core::ImageF& height, bool bilinear) {
 ReliefSurface::ReliefSurface(ProgramCache& programs, const core::TriangleMesh& base,
                              const core::ImageF& height, const ReliefGeometryOptions& options,
                              const ReliefSurfaceOptions& surface)
+    : ReliefSurface(programs, base, height, options, surface,
+                    ComputeTangentFrames(
+                        base, (options.Check(), surface.Check(), options.tangent_maps.max_scale))) {
+}
+
+ReliefSurface::ReliefSurface(ProgramCache& programs, const core::TriangleMesh& base,
+                             const core::ImageF& height, const ReliefGeometryOptions& options,
+                             const ReliefSurfaceOptions& surface, const TangentFrames& frames)
     : programs_(&programs),
-      geometry_((options.Check(), options)),
-      options_((surface.Check(), surface)),
-      shell_(MakeReliefShell(base, options.max_displacement),
-             ReliefVertexQuadrics(base, options.tangent_maps)),
+      geometry_(options),
+      options_(surface),
+      shell_(MakeReliefShell(base, options.max_displacement), ReliefVertexQuadrics(base, frames)),
       height_(UploadHeight(height, options.height_bilinear)),
-      maps_(RenderTangentMaps(programs, base, options.tangent_maps)) {}
+      maps_(RenderTangentMaps(programs, base, options.tangent_maps, frames)) {}
 
 std::vector<std::string> ReliefSurfaceOptions::Defines(const ReliefGeometryOptions& geometry,
                                                        bool orthographic) const {

@@ -131,6 +131,12 @@ class ReliefSurface final : public Pass {
   const ReliefGeometryOptions& geometry() const { return geometry_; }
 
  private:
+  // `frames`: ComputeTangentFrames of `base`, shared by the shell's CRM
+  // quadrics and the tangent maps.
+  ReliefSurface(ProgramCache& programs, const core::TriangleMesh& base, const core::ImageF& height,
+                const ReliefGeometryOptions& options, const ReliefSurfaceOptions& surface,
+                const TangentFrames& frames);
+
   ProgramCache* programs_;
   ReliefGeometryOptions geometry_;
   ReliefSurfaceOptions options_;
@@ -143,8 +149,9 @@ class ReliefSurface final : public Pass {
 core::TriangleMesh MakeReliefShell(const core::TriangleMesh& base, float max_displacement);
 
 // CRM's per-vertex (a, b) of `base` (core::FitVertexQuadrics) in the frame
-// of ComputeTangentFrames: T and B = handedness * N x T, as the tangent maps.
+// `frames` = ComputeTangentFrames(base, ...): T and B = handedness * N x T,
+// as the tangent maps.
 std::vector<glm::vec2> ReliefVertexQuadrics(const core::TriangleMesh& base,
-                                            const TangentMapOptions& options);
+                                            const TangentFrames& frames);
 
 }  // namespace render

@@ -150,7 +150,13 @@ struct MapVertex {
 TangentMaps RenderTangentMaps(ProgramCache& programs, const core::TriangleMesh& mesh,
                               const TangentMapOptions& options) {
   options.Check();
-  const TangentFrames frames = ComputeTangentFrames(mesh, options.max_scale);
+  return RenderTangentMaps(programs, mesh, options, ComputeTangentFrames(mesh, options.max_scale));
+}
+
+TangentMaps RenderTangentMaps(ProgramCache& programs, const core::TriangleMesh& mesh,
+                              const TangentMapOptions& options, const TangentFrames& frames) {
+  options.Check();
+  IBR_CHECK(frames.tangents.size() == mesh.positions.size());
   std::vector<MapVertex> vertices(mesh.positions.size());
   for (size_t k = 0; k < vertices.size(); ++k) {
     vertices[k] = {mesh.uvs[k], glm::normalize(mesh.normals[k]),

@@ -58,8 +58,12 @@ struct TangentMaps {
 // on a torus (both), a UV sphere or cylinder (u), not a plane.
 void DetectPeriodicAxes(const core::TriangleMesh& mesh, bool& wrap_u, bool& wrap_v);
 
-// Algorithm 1: renders `mesh` (needs normals and uvs) in UV space.
+// Algorithm 1: renders `mesh` (needs normals and uvs) in UV space. The
+// second form takes the frames already computed (ComputeTangentFrames(mesh,
+// options.max_scale)).
 TangentMaps RenderTangentMaps(ProgramCache& programs, const core::TriangleMesh& mesh,
                               const TangentMapOptions& options);
+TangentMaps RenderTangentMaps(ProgramCache& programs, const core::TriangleMesh& mesh,
+                              const TangentMapOptions& options, const TangentFrames& frames);
 
 }  // namespace render

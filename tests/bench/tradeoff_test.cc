@@ -148,6 +148,20 @@ TEST(Tradeoff, FamiliesReadByColumnName) {
   EXPECT_EQ(f.rows[1].knob, "128");
   EXPECT_DOUBLE_EQ(f.rows[1].error, 0.05);
   EXPECT_FALSE(f.rows[0].truth);
+  Table v({"sweep", "volume", "variant", "sampling_voxels", "map_size", "size_px", "ms_per_frame",
+           "p95_color_error_vs_finest"});
+  v.AddRow({"volume", "tooth", "plain DVR (shaded)", "1.00", "0", "512", "100", ""});
+  v.AddRow({"finest", "tooth", "peel 128^3 at 0.25 voxel", "0.25", "128", "512", "900", "0.000"});
+  v.AddRow({"sampling", "tooth", "peel 64^3", "2.00", "64", "512", "150", "3.500"});
+  v.AddRow({"map_size", "tooth", "peel", "1.00", "32", "512", "250", "1.250"});
+  const TradeoffFamily vf = VolumeTradeoff(v);
+  ASSERT_EQ(vf.rows.size(), 3u);  // the plain row has no error: not on this axis
+  EXPECT_TRUE(vf.rows[0].truth);
+  EXPECT_EQ(vf.rows[0].method, "finest (map 128^3 at 0.25 voxel)");
+  EXPECT_EQ(vf.rows[1].knob, "2.00");  // sampling: the distance is the knob
+  EXPECT_DOUBLE_EQ(vf.rows[1].error, 3.5);
+  EXPECT_EQ(vf.rows[2].knob, "32");  // map size: the size is the knob
+  EXPECT_EQ(vf.rows[2].panel, "tooth / 512 px");
   const TradeoffFamily silhouette = DepthObjectSilhouetteTradeoff(d);
   ASSERT_EQ(silhouette.rows.size(), 2u);
   EXPECT_NEAR(silhouette.rows[0].error, 0.01, 1e-12);  // 1 - IoU

@@ -11,33 +11,18 @@
 #include <vector>
 
 #include "core/projection.h"
+#include "core/sphere.h"
 #include "ibr/depth_object.h"
 #include "ibr/image_maps.h"
 
 namespace ibr::testing {
 
-struct Sphere {
-  glm::dvec3 centre;
-  double radius;
-};
+using core::Sphere;
 
-// Nearest hit t > 0 of o + t d with a union of spheres (d need not be unit).
+// Nearest hit t > 0 of o + t d with a union of spheres (core/sphere.h).
 inline std::optional<double> HitSpheres(const std::vector<Sphere>& spheres, glm::dvec3 o,
                                         glm::dvec3 d) {
-  std::optional<double> best;
-  for (const Sphere& s : spheres) {
-    const glm::dvec3 oc = o - s.centre;
-    const double a = glm::dot(d, d), b = glm::dot(oc, d),
-                 c = glm::dot(oc, oc) - s.radius * s.radius;
-    const double disc = b * b - a * c;
-    if (disc < 0) continue;
-    const double r = std::sqrt(disc);
-    double t = (-b - r) / a;
-    if (t <= 0) t = (-b + r) / a;
-    if (t <= 0) continue;
-    if (!best || t < *best) best = t;
-  }
-  return best;
+  return core::NearestSphereHit(spheres, o, d);
 }
 
 // Camera-frame ray through pixel centre (col, row): origin and direction with

@@ -223,7 +223,7 @@ TEST_F(DeformPassTest, ZeroDeformationCompositeReproducesTheMesh) {
       if (a && b) {
         ++both;
         worst = std::max(worst, std::abs(double(frame.depth.at(x, y)) - truth.depth.at(x, y)));
-        rays += (frame.outcome.at(x, y) & (1u << static_cast<int>(RayOutcome::kHit))) != 0;
+        rays += (frame.outcome.at(x, y) & OutcomeBit(RayOutcome::kHit)) != 0;
       }
     }
   double iou = double(both) / (both + differ);
@@ -457,7 +457,7 @@ TEST_F(DeformPassTest, HardCaseSweepIsFiniteAndConsistent) {
         for (int k = 0; k < 3; ++k) finite &= std::isfinite(frame.normal.at(x, y, k));
         bad_pixels += !finite;
         uint32_t bits = frame.outcome.at(x, y);
-        bool hit = bits & (1u << static_cast<int>(RayOutcome::kHit));
+        bool hit = bits & OutcomeBit(RayOutcome::kHit);
         // A hit hidden behind the rasterised mesh still ORs its bit (every
         // ray reports, pass.h), so hit and mesh bits may both be set.
         bool mesh_px = bits & kDeformMeshBit;

@@ -303,7 +303,7 @@ void ExpectSane(const Frame& f, ReliefMethod method, const std::string& what) {
       const uint32_t flags = f.outcome.at(x, y);
       if (flags & ~0x0Eu) ++bad_flags;  // bits 1..3 only
       const bool covered = f.color.at(x, y, 3) == 255;
-      if (covered && !(flags & (1u << static_cast<int>(RayOutcome::kHit))) &&
+      if (covered && !(flags & OutcomeBit(RayOutcome::kHit)) &&
           (method == ReliefMethod::kNcs || method == ReliefMethod::kCrm)) {
         ++covered_without_hit;
       }

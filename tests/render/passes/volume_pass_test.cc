@@ -373,7 +373,7 @@ IsoReference IsoMarch(const Scene& s, const VolumePass& pass, const OrthoCamera&
 
 // The iso pass ORs every ray's outcome into the frame; a hit sets this bit.
 bool GpuHit(const Frame& frame, int x, int y) {
-  return (frame.outcome.at(x, y) & (1u << static_cast<int>(RayOutcome::kHit))) != 0;
+  return (frame.outcome.at(x, y) & OutcomeBit(RayOutcome::kHit)) != 0;
 }
 
 struct IsoRun {
@@ -700,7 +700,7 @@ TEST_F(GlTest, VolumeJacobianTexturesOnlyWhereTheLightingReadsThem) {
   EXPECT_EQ(Texture::created_count() - before, 3) << "built once";
   const Frame switched = RenderFrame(*pass, cam.view, cam.size, cam.size);
   const Frame built = RenderFrame(*built_blended, cam.view, cam.size, cam.size);
-  EXPECT_GT(built.CountOutcome(1u << static_cast<int>(RayOutcome::kHit)), 0);
+  EXPECT_GT(built.CountOutcome(OutcomeBit(RayOutcome::kHit)), 0);
   EXPECT_EQ(switched.color, built.color);
   EXPECT_EQ(switched.normal, built.normal);
   EXPECT_NO_GL_ERROR();
