@@ -10,6 +10,7 @@
 #include <fstream>
 #include <memory>
 #include <nlohmann/json.hpp>
+#include <utility>
 
 #include "bench/gallery.h"
 #include "bench/report.h"
@@ -29,6 +30,7 @@ struct Measured {
   double ms = 0;
   double area_px = 0;  // rasterised slice area per frame
   int slices = 0;
+  core::ImageF color;  // float RGBA of the view, when asked for (TimeVolume's `float_image`)
 };
 
 // The bench's one view of a volume: azimuth 30, elevation 20 degrees.
@@ -38,7 +40,7 @@ render::ViewSetup BenchView(const ibr::VolumeObjectData& scene, int size) {
 
 Measured TimeVolume(render::ProgramCache& programs, const ibr::VolumeObjectData& scene,
                     const render::VolumePassOptions& options, int size,
-                    const render::FrameTimerOptions& timer) {
+                    const render::FrameTimerOptions& timer, bool float_image = false) {
   render::VolumePass pass(programs, scene.volume, scene.transfer, scene.maps,
                           scene.world_from_volume, options);
   const render::ViewSetup view = BenchView(scene, size);
@@ -53,6 +55,8 @@ Measured TimeVolume(render::ProgramCache& programs, const ibr::VolumeObjectData&
              .median_ms;
   m.area_px = pass.last_stats().proxy_area_px;
   m.slices = pass.last_stats().slices;
+  // The same pass, after timing, into a float target: no second build or upload.
+  if (float_image) m.color = DrawVolumeFloat(pass, BenchView(scene, size), size);
   for (const core::Box3& b : pass.active_boxes()) {
     const glm::dvec3 e = glm::max(b.hi - b.lo, glm::dvec3(0.0));
     spdlog::info(
@@ -247,30 +251,26 @@ Table RunVolumeBench(const VolumeBenchOptions& o) {
           ibr::MakeVolumeObject(volume, tf, peel, 128, glm::dvec3(0.0), glm::dvec3(1.0));
       render::VolumePassOptions finest = displaced;
       finest.sampling_distance_voxels = 0.25;
-      const render::ViewSetup view = BenchView(peeled, size);
-      auto image = [&](const ibr::VolumeObjectData& scene, const render::VolumePassOptions& po) {
-        render::VolumePass pass(programs, scene.volume, scene.transfer, scene.maps,
-                                scene.world_from_volume, po);
-        return DrawVolumeFloat(pass, view, size);
+      const Measured reference = TimeVolume(programs, finest_map, finest, size, timer, true);
+      add("finest", e.name, "peel 128^3 at 0.25 voxel", 0.25, 128, size, reference, 0, nullptr,
+          0.0);
+      // Times one setting and returns it with its error against the finest.
+      auto measure = [&](const ibr::VolumeObjectData& scene, const render::VolumePassOptions& po) {
+        const Measured m = TimeVolume(programs, scene, po, size, timer, true);
+        return std::pair{m, core::SummarizeErrors(ColorErrors(m.color, reference.color)).p95};
       };
-      const core::ImageF reference = image(finest_map, finest);
-      auto error_of = [&](const ibr::VolumeObjectData& scene, const render::VolumePassOptions& po) {
-        return core::SummarizeErrors(ColorErrors(image(scene, po), reference)).p95;
-      };
-      add("finest", e.name, "peel 128^3 at 0.25 voxel", 0.25, 128, size,
-          TimeVolume(programs, finest_map, finest, size, timer), 0, nullptr, 0.0);
       for (double sampling :
            o.quick ? std::vector<double>{0.5, 2.0} : std::vector<double>{0.5, 1.0, 2.0, 4.0}) {
         render::VolumePassOptions s = displaced;
         s.sampling_distance_voxels = sampling;
-        add("sampling", e.name, "peel 64^3", sampling, 64, size,
-            TimeVolume(programs, peeled, s, size, timer), 0, nullptr, error_of(peeled, s));
+        const auto [m, error] = measure(peeled, s);
+        add("sampling", e.name, "peel 64^3", sampling, 64, size, m, 0, nullptr, error);
       }
       for (int map_size : o.quick ? std::vector<int>{16, 64} : std::vector<int>{16, 32, 64, 128}) {
         const ibr::VolumeObjectData m =
             ibr::MakeVolumeObject(volume, tf, peel, map_size, glm::dvec3(0.0), glm::dvec3(1.0));
-        add("map_size", e.name, "peel", 1.0, map_size, size,
-            TimeVolume(programs, m, displaced, size, timer), 0, nullptr, error_of(m, displaced));
+        const auto [measured, error] = measure(m, displaced);
+        add("map_size", e.name, "peel", 1.0, map_size, size, measured, 0, nullptr, error);
       }
     }
     if (e.name == "neghip") {
