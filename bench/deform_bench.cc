@@ -18,6 +18,8 @@
 #include "capture/synthetic.h"
 #include "core/error.h"
 #include "core/image_io.h"
+#include "core/look_at.h"
+#include "core/metrics.h"
 #include "core/projection.h"
 #include "ibr/dataset_maps.h"
 #include "ibr/views.h"
@@ -110,6 +112,109 @@ void NormaliseMesh(core::TriangleMesh& mesh) {
   if (!(longest > 0)) core::ThrowInputError("ibr deform", "the mesh has no extent");
   const glm::vec3 centre = 0.5f * (lo + hi);
   for (glm::vec3& p : mesh.positions) p = (p - centre) / longest;
+}
+
+core::Deformation KnifeCut() {
+  core::Deformation knife;
+  knife.kind = core::DeformationKind::kKnife, knife.amount = 0.15, knife.width = 0.6;
+  return knife;
+}
+
+namespace {
+
+core::TriangleMesh LoadNormalised(const std::filesystem::path& mesh_file) {
+  core::TriangleMesh mesh = capture::LoadSceneMesh(mesh_file).mesh;
+  NormaliseMesh(mesh);
+  return mesh;
+}
+
+core::Placement AroundMesh(const core::TriangleMesh& mesh) {
+  glm::vec3 lo, hi;
+  mesh.Bounds(lo, hi);
+  return core::Placement::FromRegion(core::Box3d{glm::dvec3(lo), glm::dvec3(hi)}.Grown(0.05));
+}
+
+}  // namespace
+
+KnifeCutScene::KnifeCutScene(const std::filesystem::path& mesh_file)
+    : mesh(LoadNormalised(mesh_file)),
+      placement(AroundMesh(mesh)),
+      deformation{{KnifeCut()}},
+      distance(mesh, false, mesh_file.string()),
+      grow(core::MaxObjectDisplacement(deformation, placement, 32)),
+      texture(core::SampleDeformation(deformation, 64)) {}
+
+render::DeformInputs KnifeCutScene::Inputs(const core::DistanceField& sdf) const {
+  return {&mesh, &sdf, &texture, placement};
+}
+
+core::DeformReference KnifeCutScene::Reference() const {
+  return core::DeformReference(distance, deformation, placement, core::CutMode::kSolid, 0.0);
+}
+
+core::DistanceField DeformDistanceField(const core::MeshDistance& distance, const core::Box3d& box,
+                                        double grow, int resolution) {
+  core::DistanceFieldOptions sdf_options;
+  sdf_options.resolution = resolution;
+  return core::BuildDistanceField(
+      distance, box.Grown(grow + 2.0 * glm::length(box.size()) / resolution), sdf_options);
+}
+
+render::ViewSetup DeformPinholeView::Setup() const {
+  render::ViewSetup view;
+  view.cam_from_world = glm::mat4(cam_from_world);
+  view.clip_from_cam = core::ClipFromCamPerspective(focal_px, focal_px, size / 2.0, size / 2.0,
+                                                    size, size, 0.05, 10.0);
+  return view;
+}
+
+DeformPinholeView DeformObliqueView(int size) {
+  const double az = glm::radians(-50.0), el = glm::radians(35.0);
+  const glm::dvec3 eye =
+      2.4 * glm::dvec3(std::cos(el) * std::sin(az), std::sin(el), std::cos(el) * std::cos(az));
+  DeformPinholeView view;
+  view.cam_from_world = core::CamFromWorldLookAtDouble(eye, glm::dvec3(0.0), {0, 1, 0});
+  view.focal_px = 0.5 * size / std::tan(glm::radians(17.0));
+  view.size = size;
+  return view;
+}
+
+DeformReferenceFrame TraceDeformReference(const core::DeformReference& reference,
+                                          const core::Placement& placement,
+                                          const DeformPinholeView& view) {
+  const int n = view.size;
+  const glm::dmat4 world_from_cam = glm::inverse(view.cam_from_world);
+  const glm::dvec3 eye(world_from_cam[3]);
+  const glm::dmat4 box_from_object = placement.BoxFromObject();
+  const glm::dvec3 o(box_from_object * glm::dvec4(eye, 1));
+  DeformReferenceFrame out{core::ImageF(n, n, 1, 0.0f), core::Image8(n, n, 4, 0)};
+  for (int y = 0; y < n; ++y) {
+    for (int x = 0; x < n; ++x) {
+      const glm::dvec3 d_cam((x + 0.5 - n / 2.0) / view.focal_px,
+                             (y + 0.5 - n / 2.0) / view.focal_px, 1.0);
+      const glm::dvec3 dir = glm::normalize(glm::dmat3(world_from_cam) * d_cam);
+      const glm::dvec3 d = glm::dmat3(box_from_object) * dir;
+      // The ray's interval in the box [0, 1]^3 (slab test).
+      double t0 = 0, t1 = 1e30;
+      for (int a = 0; a < 3; ++a) {
+        const double ta = (0 - o[a]) / d[a], tb = (1 - o[a]) / d[a];
+        t0 = std::max(t0, std::min(ta, tb));
+        t1 = std::min(t1, std::max(ta, tb));
+      }
+      if (!(t0 < t1)) continue;
+      const core::DeformReferenceHit hit = reference.Trace(eye, dir, t0, t1);
+      if (!hit.hit) continue;
+      out.depth.at(x, y, 0) =
+          static_cast<float>((view.cam_from_world * glm::dvec4(eye + hit.t * dir, 1.0)).z);
+      // Head-light shading of the reference normal (cut faces tinted).
+      const double shade = 0.25 + 0.75 * std::abs(glm::dot(hit.normal, dir));
+      const glm::dvec3 base = hit.cut_face ? glm::dvec3(0.95, 0.75, 0.55) : glm::dvec3(0.8);
+      for (int c = 0; c < 3; ++c)
+        out.color.at(x, y, c) = static_cast<uint8_t>(std::lround(255 * shade * base[c]));
+      out.color.at(x, y, 3) = 255;
+    }
+  }
+  return out;
 }
 
 namespace {
@@ -324,6 +429,79 @@ void WriteObj(const core::TriangleMesh& mesh, const std::filesystem::path& path)
   if (!out) core::ThrowInputError("ibr bench deform", "cannot write {}", path.string());
 }
 
+// What accuracy costs (DeformBenchOptions): Spot cut by the solid knife
+// from the oblique view, each knob setting's frame time and its depth and
+// silhouette against the double sphere tracer, traced once.
+Table DeformAccuracy(render::ProgramCache& programs, const DeformBenchOptions& options, int size) {
+  Table table({"mesh", "size_px", "knob", "value", "mode", "resolution", "step_voxels",
+               "ms_per_frame", "samples_per_ray", "silhouette_iou", "wrong_pixels",
+               "mean_depth_error", "p95_depth_error"});
+  const KnifeCutScene scene(options.shared_data / "meshes" / "spot.obj");
+  const DeformPinholeView view = DeformObliqueView(size);
+
+  const auto start = std::chrono::steady_clock::now();
+  const DeformReferenceFrame truth = TraceDeformReference(scene.Reference(), scene.placement, view);
+  std::fprintf(stderr, "bench deform: accuracy: the double sphere tracer at %d px in %.1f s\n",
+               size,
+               std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
+
+  // One field per resolution, built once (normalised units: the mesh size is 1).
+  std::map<int, core::DistanceField> fields;
+  auto field = [&](int resolution) -> const core::DistanceField& {
+    auto it = fields.find(resolution);
+    if (it == fields.end()) {
+      it = fields
+               .emplace(resolution,
+                        DeformDistanceField(scene.distance, scene.placement.ObjectBounds(),
+                                            scene.grow, resolution))
+               .first;
+    }
+    return it->second;
+  };
+  render::RenderTarget target(render::FrameTargetOptions(size, size));
+  const render::ViewSetup setup = view.Setup();
+  auto measure = [&](const std::string& knob, const std::string& value, int resolution,
+                     render::RayStepPolicy policy, float step_voxels) {
+    render::DeformPassOptions pass_options;
+    pass_options.cut = core::CutMode::kSolid;
+    pass_options.step_policy = policy;
+    pass_options.step_voxels = step_voxels;
+    render::DeformPass pass(programs, scene.Inputs(field(resolution)), pass_options);
+    render::FrameTimerOptions timer;
+    timer.warmup_frames = 1;
+    timer.timed_frames = options.quick ? 1 : 5;
+    // The last timed frame is the one compared.
+    const double ms =
+        render::TimeFrames([&] { render::DrawFrame(target, pass, setup); }, timer).median_ms;
+    const render::Frame frame = render::ReadFrame(target);
+    const core::ViewMetrics m = core::CompareDepth(frame.depth, truth.depth, 1.0);
+    const DeformOutcomes outcomes = CountDeformOutcomes(frame);
+    const std::string mode = render::RayStepPolicyName(policy);
+    table.AddRow({"spot", std::to_string(size), knob, value, mode, std::to_string(resolution),
+                  Num(step_voxels, 2), Num(ms, 2), Num(outcomes.mean_samples, 1), Num(m.iou, 5),
+                  std::to_string(m.wrong_pixels), Num(m.depth.mean, 6), Num(m.depth.p95, 6)});
+    std::fprintf(stderr,
+                 "bench deform: accuracy %s %s (%s, field %d, step %.2f voxels): %.1f ms, IoU "
+                 "%.4f, p95 depth error %.5f\n",
+                 knob.c_str(), value.c_str(), mode.c_str(), resolution, step_voxels, ms, m.iou,
+                 m.depth.p95);
+  };
+  const std::vector<int> resolutions =
+      options.quick ? std::vector<int>{32, 128} : std::vector<int>{32, 64, 128, 256};
+  for (int r : resolutions)
+    measure("resolution", std::to_string(r), r, render::RayStepPolicy::kFixed, 1.0f);
+  // The step sweeps at one resolution: the default field of `ibr deform`.
+  constexpr int kAccuracyStepResolution = 128;
+  const std::vector<float> steps =
+      options.quick ? std::vector<float>{1.0f, 4.0f} : std::vector<float>{0.5f, 1.0f, 2.0f, 4.0f};
+  for (const render::RayStepPolicy policy :
+       {render::RayStepPolicy::kFixed, render::RayStepPolicy::kThreshold,
+        render::RayStepPolicy::kJacobian}) {
+    for (float step : steps) measure("step", Num(step, 2), kAccuracyStepResolution, policy, step);
+  }
+  return table;
+}
+
 }  // namespace
 
 DeformBenchResult RunDeformBench(render::ProgramCache& programs,
@@ -351,7 +529,8 @@ DeformBenchResult RunDeformBench(render::ProgramCache& programs,
       Table({"mesh", "triangles", "mode", "series", "region_scale", "area_fraction", "ms",
              "samples_per_ray"}),
       Table({"mesh", "mode", "weighted_ms", "over_continuous", "slope_ms", "intercept_ms", "r2"}),
-      Table({"mesh", "resolution", "builder", "series", "seconds", "queries_or_active"})};
+      Table({"mesh", "resolution", "builder", "series", "seconds", "queries_or_active"}),
+      Table(std::vector<std::string>{})};  // accuracy: DeformAccuracy's
   // Fitted ms at one common area per mode (the spread across meshes).
   std::map<std::string, std::vector<double>> at_common_area;
   const double kCommonArea = 0.2;
@@ -401,9 +580,9 @@ DeformBenchResult RunDeformBench(render::ProgramCache& programs,
       core::CutMode cut;
       bool skip;
     };
-    core::Deformation twist, knife;
+    core::Deformation twist;
     twist.kind = core::DeformationKind::kTwist, twist.amount = 2.0, twist.width = 0.35;
-    knife.kind = core::DeformationKind::kKnife, knife.amount = 0.15, knife.width = 0.6;
+    const core::Deformation knife = KnifeCut();
     const std::vector<Mode> modes = {{"continuous", twist, core::CutMode::kNone, false},
                                      {"cut", knife, core::CutMode::kSolid, false},
                                      {"cut_skip", knife, core::CutMode::kSolid, true}};
@@ -412,11 +591,7 @@ DeformBenchResult RunDeformBench(render::ProgramCache& programs,
       grow = std::max(grow, core::MaxObjectDisplacement({{mode.deformation}},
                                                         core::Placement::FromRegion(region), 32));
     }
-    core::DistanceFieldOptions sdf_options;
-    sdf_options.resolution = render_resolution;
-    const core::DistanceField sdf = core::BuildDistanceField(
-        distance, full.Grown(grow + 2.0 * glm::length(full.size()) / render_resolution),
-        sdf_options);
+    const core::DistanceField sdf = DeformDistanceField(distance, full, grow, render_resolution);
 
     // RunDeform's default orbit view of the normalised mesh (centre 0,
     // longest side 1), its clip range holding every region scale's result.
@@ -467,6 +642,7 @@ DeformBenchResult RunDeformBench(render::ProgramCache& programs,
                              Num(fit.slope, 2), Num(fit.intercept, 2), Num(fit.r2, 4)});
     }
   }
+  result.accuracy = DeformAccuracy(programs, options, size);
   for (const auto& [mode, values] : at_common_area) {
     const auto [lo, hi] = std::minmax_element(values.begin(), values.end());
     result.summary.AddRow({"across meshes at area " + Num(kCommonArea, 2), mode, "", "", "", "",
@@ -480,6 +656,7 @@ void WriteDeformBench(const DeformBenchResult& result, const DeformBenchOptions&
   result.frames.WriteCsv(options.csv);
   result.summary.WriteCsv(options.out / "deform_summary.csv");
   result.sdf.WriteCsv(options.out / "deform_sdf.csv");
+  result.accuracy.WriteCsv(options.out / "deform_accuracy.csv");
   PlotOptions frames;
   frames.title = "Deformation and cut shaders: ms per frame against the deformed screen area";
   frames.x_column = "area_fraction";

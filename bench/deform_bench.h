@@ -11,8 +11,10 @@
 #include <vector>
 
 #include "bench/report.h"
+#include "core/deform_reference.h"
 #include "core/deformation.h"
 #include "core/distance_field.h"
+#include "core/image.h"
 #include "render/gl/shader_program.h"
 #include "render/passes/deform_pass.h"
 #include "render/passes/pass.h"
@@ -80,6 +82,65 @@ void NormaliseMesh(core::TriangleMesh& mesh);
 // The deformation box of a run (normalised units) and its placement.
 core::Placement DeformPlacement(const DeformRunOptions& options, const core::Box3d& mesh_bounds);
 
+// The solid knife cut of the bench's cut modes, its accuracy sweep and the
+// report's gallery (Correa, Silver, Chen 2007, eq. 6): a knife of amount 0.15
+// and width 0.6 (box units), CutMode::kSolid in the pass.
+core::Deformation KnifeCut();
+
+// The solid knife cut through a mesh of the gallery and of the bench's
+// accuracy sweep: the mesh normalised, the deformation box its bounds grown
+// by 0.05, KnifeCut sampled at 64 nodes per axis. Built in place (members
+// refer to each other).
+struct KnifeCutScene {
+  explicit KnifeCutScene(const std::filesystem::path& mesh_file);
+  KnifeCutScene(const KnifeCutScene&) = delete;
+  KnifeCutScene& operator=(const KnifeCutScene&) = delete;
+  // The pass's inputs with `sdf` (DeformDistanceField over the box, grow).
+  render::DeformInputs Inputs(const core::DistanceField& sdf) const;
+  // The double sphere tracer of the solid cut (refers to this scene).
+  core::DeformReference Reference() const;
+
+  core::TriangleMesh mesh;  // normalised
+  core::Placement placement;
+  core::DeformationSum deformation;
+  core::MeshDistance distance;  // exact, of `mesh`
+  double grow = 0.0;            // the largest displacement, normalised units
+  core::DeformationTexture texture;
+};
+
+// The distance field the deform pass samples: over `box` (normalised units)
+// grown by `grow` (the largest displacement: samples land up to that far
+// out) and two grid steps of the box's diagonal (the normals' central
+// differences), `resolution` samples along the longest axis.
+core::DistanceField DeformDistanceField(const core::MeshDistance& distance, const core::Box3d& box,
+                                        double grow, int resolution);
+
+// A square pinhole view of a normalised mesh (world = normalised units),
+// principal point at the image centre.
+struct DeformPinholeView {
+  glm::dmat4 cam_from_world{1.0};  // rigid
+  double focal_px = 1.0;
+  int size = 0;  // width = height, pixels
+  // The pass's view: clip range 0.05..10 normalised units.
+  render::ViewSetup Setup() const;
+};
+// The oblique view of the gallery's cut and of the bench's accuracy sweep:
+// 2.4 from the origin at azimuth -50 degrees about +y (OBJ up) and elevation
+// 35 degrees, looking at the origin, a 34 degree field of view.
+DeformPinholeView DeformObliqueView(int size);
+
+// The truth of the deform pass in one view: the double sphere tracer of
+// core/deform_reference.h traced through every pixel centre inside the
+// deformation box (`placement`; the mesh lies inside it, so nothing is seen
+// outside).
+struct DeformReferenceFrame {
+  core::ImageF depth;  // camera z (normalised units); 0 = no hit
+  core::Image8 color;  // RGBA: head-light shading of the reference normal, cut faces tinted
+};
+DeformReferenceFrame TraceDeformReference(const core::DeformReference& reference,
+                                          const core::Placement& placement,
+                                          const DeformPinholeView& view);
+
 }  // namespace bench
 
 namespace bench {
@@ -98,13 +159,21 @@ namespace bench {
 //  - the distance-field build time per resolution (ours: exact within the
 //    band, bench/openvdb_peer.py: OpenVDB's createLevelSetFromPolygons with
 //    the same voxel size and half width, timed in Python) and their ratio.
+//  - what accuracy costs: Spot cut by the solid knife (KnifeCut) from the
+//    oblique view (DeformObliqueView), ms per frame against the error of the
+//    pass's depth and silhouette with respect to the double sphere tracer
+//    (TraceDeformReference, traced once), sweeping one knob at a time: the
+//    distance field's resolution (fixed step of 1 voxel) and, at resolution
+//    128, the step of each step policy (fixed, threshold, Jacobian) in voxels.
 struct DeformBenchOptions {
   std::filesystem::path shared_data = "../shared/data";  // meshes/*.obj
   std::filesystem::path csv;                             // the frame table
   std::filesystem::path out;                             // plots, the other tables, the peer's mesh
   int size = 512;                                        // image width = height, pixels
-  bool quick = false;  // 128 px, two meshes, two region scales, SDF 32/64
-  bool peer = true;    // time OpenVDB beside our distance field
+  // 128 px, two meshes, two region scales, SDF 32/64; accuracy: SDF 32/128,
+  // steps of 1 and 4 voxels.
+  bool quick = false;
+  bool peer = true;  // time OpenVDB beside our distance field
   void Check() const;
 };
 
@@ -112,10 +181,16 @@ struct DeformBenchResult {
   Table frames;   // mesh, triangles, mode, region_scale, area_fraction, ms, samples_per_ray
   Table summary;  // mesh, mode, weighted_ms, over_continuous, slope_ms, intercept_ms, r2
   Table sdf;      // mesh, resolution, builder, seconds, queries_or_active
+  // mesh, size_px, knob ("resolution" or "step"), value (its setting), mode
+  // (step policy), resolution, step_voxels, ms_per_frame, samples_per_ray,
+  // silhouette_iou, wrong_pixels, mean_depth_error, p95_depth_error (depth
+  // errors in mesh sizes: the normalised mesh's longest side is 1).
+  Table accuracy;
 };
 
 DeformBenchResult RunDeformBench(render::ProgramCache& programs, const DeformBenchOptions& options);
-// The tables as CSV (frames at options.csv, the others beside it in out)
+// The tables as CSV (frames at options.csv, the others beside it in out:
+// deform_summary.csv, deform_sdf.csv, deform_accuracy.csv)
 // and the gnuplot PNGs in out.
 void WriteDeformBench(const DeformBenchResult& result, const DeformBenchOptions& options);
 

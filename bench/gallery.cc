@@ -244,85 +244,26 @@ void DeformEntries(render::ProgramCache& programs, const GalleryOptions& options
                    std::vector<GalleryEntry>& out) {
   const fs::path spot = ibr::SharedDataDir() / "meshes" / "spot.obj";
   if (!fs::exists(spot)) return;
-  core::TriangleMesh mesh = capture::LoadSceneMesh(spot).mesh;
-  NormaliseMesh(mesh);
-  glm::vec3 lo, hi;
-  mesh.Bounds(lo, hi);
-  const core::Placement placement =
-      core::Placement::FromRegion(core::Box3d{glm::dvec3(lo), glm::dvec3(hi)}.Grown(0.05));
-  core::Deformation knife;
-  knife.kind = core::DeformationKind::kKnife, knife.amount = 0.15, knife.width = 0.6;
-  const core::DeformationSum deformation{{knife}};
-  const core::MeshDistance distance(mesh, false, spot.string());
-  core::DistanceFieldOptions sdf_options;
-  sdf_options.resolution = options.quick ? 64 : 128;
-  const double grow = core::MaxObjectDisplacement(deformation, placement, 32);
-  const core::DistanceField sdf = core::BuildDistanceField(
-      distance,
-      placement.ObjectBounds().Grown(grow + 2.0 * glm::length(placement.ObjectBounds().size()) /
-                                                sdf_options.resolution),
-      sdf_options);
-  const core::DeformationTexture texture = core::SampleDeformation(deformation, 64);
+  const KnifeCutScene scene(spot);
+  const core::DistanceField sdf = DeformDistanceField(
+      scene.distance, scene.placement.ObjectBounds(), scene.grow, options.quick ? 64 : 128);
   render::DeformPassOptions pass_options;
   pass_options.cut = core::CutMode::kSolid;
-  render::DeformPass pass(programs, {&mesh, &sdf, &texture, placement}, pass_options);
+  render::DeformPass pass(programs, scene.Inputs(sdf), pass_options);
 
-  const int n = options.size;
-  const double az = glm::radians(-50.0), el = glm::radians(35.0);
-  const glm::dvec3 eye =
-      2.4 * glm::dvec3(std::cos(el) * std::sin(az), std::sin(el), std::cos(el) * std::cos(az));
-  render::ViewSetup view;
-  view.cam_from_world = core::CamFromWorldLookAt(glm::vec3(eye), {0, 0, 0}, {0, 1, 0});
-  const double focal = 0.5 * n / std::tan(glm::radians(17.0));
-  view.clip_from_cam =
-      core::ClipFromCamPerspective(focal, focal, n / 2.0, n / 2.0, n, n, 0.05, 10.0);
-  render::RenderTarget target(render::FrameTargetOptions(n, n));
-  render::BeginFrame(target);
-  pass.Draw(target, view);
+  const DeformPinholeView view = DeformObliqueView(options.size);
+  render::RenderTarget target(render::FrameTargetOptions(view.size, view.size));
+  render::DrawFrame(target, pass, view.Setup());
   const render::Frame frame = render::ReadFrame(target);
-
-  // The reference, pixel centre by pixel centre, inside the region's box
-  // (the mesh lies inside it, so nothing is seen outside).
-  const core::DeformReference reference(distance, deformation, placement, core::CutMode::kSolid,
-                                        0.0);
-  const glm::dmat4 cam_from_world(view.cam_from_world);
-  const glm::dmat4 world_from_cam = glm::inverse(cam_from_world);
-  const glm::dmat4 box_from_object = placement.BoxFromObject();
-  core::ImageF truth_depth(n, n, 1, 0.0f);
-  core::Image8 truth_color(n, n, 4, 0);
-  for (int y = 0; y < n; ++y) {
-    for (int x = 0; x < n; ++x) {
-      const glm::dvec3 d_cam((x + 0.5 - n / 2.0) / focal, (y + 0.5 - n / 2.0) / focal, 1.0);
-      const glm::dvec3 dir = glm::normalize(glm::dmat3(world_from_cam) * d_cam);
-      const glm::dvec3 o(box_from_object * glm::dvec4(eye, 1)),
-          d = glm::dmat3(box_from_object) * dir;
-      double t0 = 0, t1 = 1e30;
-      for (int a = 0; a < 3; ++a) {
-        const double ta = (0 - o[a]) / d[a], tb = (1 - o[a]) / d[a];
-        t0 = std::max(t0, std::min(ta, tb));
-        t1 = std::min(t1, std::max(ta, tb));
-      }
-      if (!(t0 < t1)) continue;
-      const core::DeformReferenceHit hit = reference.Trace(eye, dir, t0, t1);
-      if (!hit.hit) continue;
-      truth_depth.at(x, y, 0) =
-          static_cast<float>((cam_from_world * glm::dvec4(eye + hit.t * dir, 1.0)).z);
-      // Head-light shading of the reference normal (cut faces tinted).
-      const double shade = 0.25 + 0.75 * std::abs(glm::dot(hit.normal, dir));
-      const glm::dvec3 base = hit.cut_face ? glm::dvec3(0.95, 0.75, 0.55) : glm::dvec3(0.8);
-      for (int c = 0; c < 3; ++c)
-        truth_color.at(x, y, c) = static_cast<uint8_t>(std::lround(255 * shade * base[c]));
-      truth_color.at(x, y, 3) = 255;
-    }
-  }
-  const core::ViewMetrics m = core::CompareDepth(frame.depth, truth_depth, 1.0);
+  const DeformReferenceFrame truth = TraceDeformReference(scene.Reference(), scene.placement, view);
+  const core::ViewMetrics m = core::CompareDepth(frame.depth, truth.depth, 1.0);
   out.push_back({"deform", "spot, solid knife cut (Correa 2007, eq. 6), oblique view",
                  fmt::format("against the double sphere tracer: silhouette IoU {:.4f}; depth error "
                              "p95 {:.4f} of the mesh size; heat map saturates at 0.01 of it",
                              m.iou, m.depth.p95),
-                 frame.color, truth_color,
+                 frame.color, truth.color,
                  DepthErrorHeatMap(core::CoverageFromDepth(frame.depth), frame.depth,
-                                   core::CoverageFromDepth(truth_depth), truth_depth, 0.01)});
+                                   core::CoverageFromDepth(truth.depth), truth.depth, 0.01)});
 }
 
 // Premultiplied RGBA in [0, 1] -> RGBA8 (rounded), for OverBackground.

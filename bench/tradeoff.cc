@@ -216,6 +216,49 @@ TradeoffFamily VolumeTradeoff(const Table& t) {
   return f;
 }
 
+namespace {
+
+// The deformation rows with `error` from one column (`one_minus`: 1 - it).
+TradeoffFamily DeformRows(const Table& t, TradeoffFamily f, const std::string& column,
+                          bool one_minus) {
+  const int mesh = t.Column("mesh"), size = t.Column("size_px"), knob = t.Column("knob"),
+            value = t.Column("value"), mode = t.Column("mode"), resolution = t.Column("resolution"),
+            step = t.Column("step_voxels"), ms = t.Column("ms_per_frame"), error = t.Column(column);
+  for (const auto& r : t.rows()) {
+    // What stays fixed along the line is in the method's name.
+    const std::string method =
+        r[knob] == "resolution"
+            ? fmt::format("field resolution ({} step {} voxels)", r[mode], r[step])
+            : fmt::format("{} step (field {})", r[mode], r[resolution]);
+    const double e = CellNumber(r[error]);
+    f.rows.push_back({fmt::format("{} knife cut / {} px", r[mesh], r[size]), method, r[value],
+                      CellNumber(r[ms]), one_minus ? 1.0 - e : e});
+  }
+  return f;
+}
+
+}  // namespace
+
+TradeoffFamily DeformTradeoff(const Table& t) {
+  return DeformRows(t,
+                    {"deform",
+                     "Deformation and cut shaders (Correa, Silver, Chen 2007)",
+                     "p95 depth error against the double sphere tracer (mesh sizes)",
+                     "field resolution (samples per axis) or step (voxels)",
+                     {}},
+                    "p95_depth_error", false);
+}
+
+TradeoffFamily DeformSilhouetteTradeoff(const Table& t) {
+  return DeformRows(t,
+                    {"deform_silhouette",
+                     "Deformation and cut shaders: silhouettes (Correa, Silver, Chen 2007)",
+                     "silhouette error 1 - IoU against the double sphere tracer",
+                     "field resolution (samples per axis) or step (voxels)",
+                     {}},
+                    "silhouette_iou", true);
+}
+
 TradeoffFamily DepthObjectSilhouetteTradeoff(const Table& t) {
   return DepthObjectRows(t,
                          {"depth_object_silhouette",

@@ -74,5 +74,14 @@ TradeoffFamily DepthObjectSilhouetteTradeoff(const Table& table);
 // at 1 voxel), error = p95 colour error against the finest setting (its row,
 // sweep "finest", is the truth).
 TradeoffFamily VolumeTradeoff(const Table& table);
+// `ibr bench deform`'s accuracy sweep (deform_accuracy.csv): the solid knife
+// cut through Spot, panel = mesh and size, method = the knob swept (the
+// distance field's resolution at its step policy and step, or one step
+// policy's step at its resolution), knob = its value, error = p95 depth
+// error in mesh sizes against the double sphere tracer; no truth row (the
+// tracer runs on the CPU: its time is not a frame time).
+TradeoffFamily DeformTradeoff(const Table& table);
+// The same rows with error = 1 - silhouette IoU.
+TradeoffFamily DeformSilhouetteTradeoff(const Table& table);
 
 }  // namespace bench

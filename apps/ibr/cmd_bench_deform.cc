@@ -1,6 +1,7 @@
 // `ibr bench deform --csv FILE --out DIR`: the cost of deformation and cut
 // shaders (Correa, Silver, Chen 2007, Table 1 and Fig. 7 analogues) with
-// OpenVDB's level-set builder timed beside our distance field. Flags ->
+// OpenVDB's level-set builder timed beside our distance field, and what
+// accuracy costs (a knife cut against the double sphere tracer). Flags ->
 // bench::RunDeformBench -> print.
 #include <fmt/format.h>
 
@@ -17,7 +18,8 @@ void AddDeformBench(CLI::App& app) {
   static bench::DeformBenchOptions options;
   auto* cmd = BenchGroup(app)->add_subcommand(
       "deform",
-      "Deformation/cut shaders: ms vs deformed screen area, Table 1 ratios; SDF build vs OpenVDB");
+      "Deformation/cut shaders: ms vs deformed screen area, Table 1 ratios; SDF build vs OpenVDB; "
+      "error vs time against the sphere tracer");
   AddBenchOutputs(cmd, options.csv, options.out, options.quick);
   cmd->get_option("--out")->required();  // the peer's meshes and the summary tables go there
   cmd->add_option("--shared-data", options.shared_data, "the shared data folder (meshes/)")
@@ -29,7 +31,8 @@ void AddDeformBench(CLI::App& app) {
     CheckBenchOutputs("ibr bench deform", options.csv, options.out);
     const auto gl = StartBenchGl("ibr bench deform", options.size);
     const bench::DeformBenchResult result = bench::RunDeformBench(gl->programs, options);
-    fmt::print("{}\n{}\n{}", result.frames.Format(), result.summary.Format(), result.sdf.Format());
+    fmt::print("{}\n{}\n{}\n{}", result.frames.Format(), result.summary.Format(),
+               result.sdf.Format(), result.accuracy.Format());
     bench::WriteDeformBench(result, options);
     fmt::print("wrote {} and plots in {}\n", options.csv.string(), options.out.string());
   });

@@ -100,6 +100,8 @@ TEST_F(ReportCliTest, EveryFamilyHasItsSectionAndPlot) {
       {"## NCS, relief mapping, POM", "ncs_tradeoff.png"},
       {"## Depth objects and peers", "depth_object_tradeoff.png"},
       {"## Kautz-Seidel 2001: the paper's own experiments", "kautz_seidel/ks_time_vs_angle.png"},
+      {"## Deformation and cut shaders", "deform_tradeoff.png"},
+      {"## Deformation and cut shaders", "deform_silhouette_tradeoff.png"},
       {"## Deformation and cut shaders", "deform/deform_ms_vs_area.png"},
       {"## Volume displacement", "volume_tradeoff.png"},
       {"## Scene overhead", "scene/scene_bench.png"},
@@ -156,13 +158,22 @@ TEST_F(ReportCliTest, EveryMethodOfEachBenchTableIsInItsPlotData) {
     EXPECT_TRUE(depth.count(name)) << name;
   }
   EXPECT_TRUE(peer) << "the Open3D peer's rows are missing";
+  // The deformation's accuracy sweep: every row plotted, in both families,
+  // none of them a truth (the sphere tracer is not timed).
+  const auto accuracy_rows = ReadCsv(out / "deform" / "deform_accuracy.csv");
+  ASSERT_FALSE(accuracy_rows.empty());
+  for (const std::string family : {"deform", "deform_silhouette"}) {
+    const auto rows = ReadCsv(out / (family + "_tradeoff.csv"));
+    EXPECT_EQ(rows.size(), accuracy_rows.size()) << family;
+    for (const auto& r : rows) EXPECT_EQ(r.at("truth"), "0") << family;
+  }
 }
 
 TEST_F(ReportCliTest, ParetoFrontRecomputedFromThePlotData) {
   ASSERT_EQ(run_.exit_code, 0) << run_.err;
   const fs::path out = dir_ / "report";
-  for (const std::string family :
-       {"displacement", "ncs", "depth_object", "depth_object_silhouette", "volume"}) {
+  for (const std::string family : {"displacement", "ncs", "depth_object", "depth_object_silhouette",
+                                   "volume", "deform", "deform_silhouette"}) {
     const auto rows = ReadCsv(out / (family + "_tradeoff.csv"));
     ASSERT_FALSE(rows.empty()) << family;
     // Both fronts: every row counted ("pareto"), the truth set aside ("pareto_methods").

@@ -1,8 +1,10 @@
 // Smoke test of `ibr bench deform`'s driver (bench/deform_bench.h) on its
 // --quick run: every mesh, mode and region scale measured with finite
 // positive times, areas growing with the region, a summary per mesh and mode,
-// distance-field times for ours and the OpenVDB peer, the CSV and plots
-// written; FitLine against an exact line. Times are printed, not asserted.
+// distance-field times for ours and the OpenVDB peer, the accuracy sweep
+// against the double sphere tracer (finite errors within bounds, the finer
+// field no worse than the coarse one), the CSV and plots written; FitLine
+// against an exact line. Times are printed, not asserted.
 #include "bench/deform_bench.h"
 
 #include <gtest/gtest.h>
@@ -58,8 +60,41 @@ TEST_F(DeformBenchTest, QuickRunMeasuresEveryMeshModeAndScale) {
   // Ours and OpenVDB at two resolutions per mesh.
   ASSERT_EQ(result.sdf.rows().size(), 8u);
   for (const auto& row : result.sdf.rows()) EXPECT_GT(Value(result.sdf, row, "seconds"), 0);
+  // The accuracy sweep: field resolutions 32 and 128 at a fixed step of one
+  // voxel, then steps of 1 and 4 voxels per step policy at resolution 128.
+  const Table& a = result.accuracy;
+  EXPECT_EQ(a.columns(), (std::vector<std::string>{
+                             "mesh", "size_px", "knob", "value", "mode", "resolution",
+                             "step_voxels", "ms_per_frame", "samples_per_ray", "silhouette_iou",
+                             "wrong_pixels", "mean_depth_error", "p95_depth_error"}));
+  ASSERT_EQ(a.rows().size(), 8u);
+  for (const auto& row : a.rows()) {
+    EXPECT_EQ(row[a.Column("mesh")], "spot");
+    EXPECT_GT(Value(a, row, "ms_per_frame"), 0);
+    EXPECT_GT(Value(a, row, "samples_per_ray"), 0);
+    // Every setting draws the cut Spot where the tracer sees it, give or take
+    // its silhouette: the knobs move the error, not the object.
+    const double iou = Value(a, row, "silhouette_iou");
+    EXPECT_GT(iou, 0.9) << row[a.Column("knob")] << " " << row[a.Column("value")];
+    EXPECT_LE(iou, 1.0);
+    EXPECT_GE(Value(a, row, "p95_depth_error"), 0);
+    EXPECT_LT(Value(a, row, "p95_depth_error"), 0.05);  // mesh sizes
+  }
+  const auto& coarse = a.rows()[0];
+  const auto& fine = a.rows()[1];
+  ASSERT_EQ(coarse[a.Column("knob")], "resolution");
+  ASSERT_EQ(coarse[a.Column("value")], "32");
+  ASSERT_EQ(fine[a.Column("value")], "128");
+  // A field of 128 samples per axis holds the surface at least as well as
+  // one of 32 (a quarter of the interpolation error, a quarter of the step).
+  EXPECT_LE(Value(a, fine, "p95_depth_error"), Value(a, coarse, "p95_depth_error"));
+  EXPECT_GE(Value(a, fine, "silhouette_iou"), Value(a, coarse, "silhouette_iou"));
+  for (size_t r = 2; r < a.rows().size(); ++r) {
+    EXPECT_EQ(a.rows()[r][a.Column("knob")], "step");
+    EXPECT_EQ(a.rows()[r][a.Column("resolution")], "128");
+  }
   WriteDeformBench(result, options);
-  for (const char* f : {"deform.csv", "deform_summary.csv", "deform_sdf.csv",
+  for (const char* f : {"deform.csv", "deform_summary.csv", "deform_sdf.csv", "deform_accuracy.csv",
                         "deform_ms_vs_area.png", "deform_sdf_build.png"}) {
     EXPECT_TRUE(std::filesystem::exists(dir / f)) << f;
   }

@@ -1,6 +1,8 @@
 // The report's gallery (bench/gallery.h): the volume entry is there when the
 // shared volumes are, and its render agrees with its truth (the double DVR
-// reference of ibr/volume_reference.h) within the volume pass test's bound.
+// reference of ibr/volume_reference.h) within the volume pass test's bound;
+// the cut's entry covers what its truth (bench::TraceDeformReference, shared
+// with `ibr bench deform`'s accuracy sweep) covers, give or take a silhouette.
 #include "bench/gallery.h"
 
 #include <gtest/gtest.h>
@@ -56,6 +58,36 @@ TEST_F(GlTest, GalleryVolumeEntryAgreesWithTheDoubleReference) {
       EXPECT_EQ(b, 0) << x << "," << y;
       EXPECT_LE(gr, 128) << x << "," << y;
     }
+  EXPECT_NO_GL_ERROR();
+}
+
+TEST_F(GlTest, GalleryDeformEntryCoversWhatTheSphereTracerSees) {
+  if (test_support::SharedData("meshes/spot.obj").empty())
+    GTEST_SKIP() << "../shared/data is absent";
+  GalleryOptions o;
+  o.size = 96;
+  o.quick = true;
+  o.families = {"deform"};
+  const std::vector<GalleryEntry> entries = RenderGallery(programs(), o);
+  ASSERT_EQ(entries.size(), 1u);
+  const GalleryEntry& g = entries.front();
+  std::printf("%s: %s\n", g.title.c_str(), g.caption.c_str());
+  EXPECT_EQ(g.family, "deform");
+  ASSERT_EQ(g.render.width(), o.size);
+  ASSERT_EQ(g.truth.width(), o.size);
+  test_support::WriteDebugImage("gallery-deform-render.png", g.render);
+  test_support::WriteDebugImage("gallery-deform-truth.png", g.truth);
+  test_support::WriteDebugImage("gallery-deform-heat.png", g.heat);
+  // Coverage (alpha 255): the truth sees Spot, and the pass's silhouette
+  // matches it up to a thin rim (a 64^3 field at 96 px: a few percent).
+  int truth = 0, both = 0, either = 0;
+  for (int y = 0; y < o.size; ++y)
+    for (int x = 0; x < o.size; ++x) {
+      const bool a = g.render.at(x, y, 3) == 255, b = g.truth.at(x, y, 3) == 255;
+      truth += b, both += a && b, either += a || b;
+    }
+  EXPECT_GT(truth, 500);
+  EXPECT_GT(static_cast<double>(both) / either, 0.95);
   EXPECT_NO_GL_ERROR();
 }
 

@@ -179,6 +179,39 @@ TEST(Tradeoff, FamiliesReadByColumnName) {
   EXPECT_NEAR(g.rows[1].error, 0.025, 1e-12);
 }
 
+TEST(Tradeoff, DeformFamiliesNameTheKnobSweptAndWhatStaysFixed) {
+  Table t({"mesh", "size_px", "knob", "value", "mode", "resolution", "step_voxels", "ms_per_frame",
+           "samples_per_ray", "silhouette_iou", "wrong_pixels", "mean_depth_error",
+           "p95_depth_error"});
+  t.AddRow({"spot", "512", "resolution", "32", "fixed", "32", "1.00", "20.5", "40.0", "0.98000",
+            "120", "0.002", "0.010000"});
+  t.AddRow({"spot", "512", "resolution", "128", "fixed", "128", "1.00", "60", "150.0", "0.99900",
+            "8", "0.0001", "0.000500"});
+  t.AddRow({"spot", "512", "step", "4.00", "jacobian", "128", "4.00", "25", "45.0", "0.99000", "50",
+            "0.001", "0.004000"});
+  const TradeoffFamily f = DeformTradeoff(t);
+  ASSERT_EQ(f.rows.size(), 3u);
+  EXPECT_EQ(f.id, "deform");
+  EXPECT_EQ(f.rows[0].panel, "spot knife cut / 512 px");
+  EXPECT_EQ(f.rows[0].method, "field resolution (fixed step 1.00 voxels)");
+  EXPECT_EQ(f.rows[1].method, f.rows[0].method);  // one line along the resolution
+  EXPECT_EQ(f.rows[1].knob, "128");
+  EXPECT_DOUBLE_EQ(f.rows[1].ms, 60.0);
+  EXPECT_DOUBLE_EQ(f.rows[1].error, 0.0005);
+  EXPECT_EQ(f.rows[2].method, "jacobian step (field 128)");
+  EXPECT_EQ(f.rows[2].knob, "4.00");
+  for (const TradeoffRow& r : f.rows) EXPECT_FALSE(r.truth);  // the tracer is not timed
+  // No truth: the front is that of the methods; 32 (fastest) and 128 (most accurate) are on it,
+  // the Jacobian step is neither faster than 32 nor more accurate than 128 but between both.
+  EXPECT_EQ(ParetoFront(f.rows), (std::vector<bool>{true, true, true}));
+  const TradeoffFamily s = DeformSilhouetteTradeoff(t);
+  EXPECT_EQ(s.id, "deform_silhouette");
+  ASSERT_EQ(s.rows.size(), 3u);
+  EXPECT_NEAR(s.rows[0].error, 0.02, 1e-12);  // 1 - IoU
+  EXPECT_NEAR(s.rows[1].error, 0.001, 1e-12);
+  EXPECT_EQ(s.rows[2].method, f.rows[2].method);
+}
+
 TEST(ReportProgress, EstimateFromThePreviousRunElseFromStepsDone) {
   const std::vector<std::string> names = {"a", "b", "c"};
   EXPECT_TRUE(std::isnan(EstimateSecondsLeft(names, 0, {}, {})));
