@@ -319,7 +319,9 @@ void VolumeEntries(render::ProgramCache& programs, const GalleryOptions& options
                                                          [](double e) { return e > 1.0; })) /
                        static_cast<double>(std::max<size_t>(errors.size(), 1));
   const core::ErrorStats stats = core::SummarizeErrors(errors);
-  constexpr double kHeatScale = 4.0 / 255;
+  // The errors are far below what 8 bits show: the heat map saturates at
+  // the largest one (floored at 0.001/255), so that where they are is seen.
+  const double heat_scale = std::max(stats.max, 1e-3) / 255;
   const glm::vec3 background(0.08f, 0.08f, 0.1f);
   out.push_back(
       {"volume",
@@ -328,10 +330,11 @@ void VolumeEntries(render::ProgramCache& programs, const GalleryOptions& options
                    kElevationDeg),
        fmt::format("against the double DVR reference at the pass's {} slices: max colour error "
                    "{:.3f}/255, p95 {:.3f}/255 (premultiplied RGBA, worst channel) over {} "
-                   "pixels; {:.2f}% above 1/255; heat map saturates at 4/255",
-                   pass.last_stats().slices, stats.max, stats.p95, stats.count, 100 * above),
+                   "pixels; {:.2f}% above 1/255; heat map saturates at {:.3f}/255",
+                   pass.last_stats().slices, stats.max, stats.p95, stats.count, 100 * above,
+                   heat_scale * 255),
        OverBackground(ToImage8(color), background), OverBackground(ToImage8(truth), background),
-       ColorErrorHeatMap(color, truth, kHeatScale)});
+       ColorErrorHeatMap(color, truth, heat_scale)});
 }
 
 }  // namespace

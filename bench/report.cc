@@ -147,6 +147,32 @@ std::string GnuplotQuoted(const std::string& text) {
   return out + "'";
 }
 
+// A title as a gnuplot double-quoted string, broken into lines of at most
+// `max_chars` at spaces (a long title is otherwise cut at the image's edges;
+// a single panel's title is centred over the plot, which the key outside
+// leaves about half the image).
+std::string GnuplotTitle(const std::string& text, size_t max_chars) {
+  std::string out = "\"";
+  size_t line = 0;
+  std::istringstream words(text);
+  std::string word;
+  while (words >> word) {
+    if (line > 0 && line + 1 + word.size() > max_chars) {
+      out += "\\n";
+      line = 0;
+    } else if (line > 0) {
+      out += ' ';
+      ++line;
+    }
+    for (char c : word) {
+      if (c == '"' || c == '\\') out += '\\';
+      out += c;
+    }
+    line += word.size();
+  }
+  return out + "\"";
+}
+
 // Distinct colours (a series keeps its colour in every panel); point shapes
 // cycle with them so that more series than colours stay apart.
 constexpr const char* kColours[] = {"#1f77b4", "#d62728", "#2ca02c", "#ff7f0e", "#9467bd",
@@ -195,11 +221,13 @@ void PlotPng(const Table& table, const PlotOptions& options, const fs::path& png
       const int cols = std::max(1, std::min<int>(options.panel_columns, panels.size()));
       const int rows = (static_cast<int>(panels.size()) + cols - 1) / cols;
       gp << fmt::format("set multiplot layout {},{} title {}\n", rows, cols,
-                        GnuplotQuoted(options.title));
+                        GnuplotTitle(options.title, options.width_px / 8));
     }
     int index = 0;
     for (const std::string& panel : panels) {
-      gp << "set title " << GnuplotQuoted(multi ? panel : options.title) << "\n";
+      gp << "set title "
+         << (multi ? GnuplotQuoted(panel) : GnuplotTitle(options.title, options.width_px / 16))
+         << "\n";
       gp << "plot ";
       bool first = true;
       for (const PlotSeries& s : series) {
