@@ -9,6 +9,7 @@
 #include <sstream>
 
 #include "core/error.h"
+#include "core/metrics.h"
 #include "core/projection.h"
 #include "core/timing.h"
 #include "ibr/scene_renderer.h"
@@ -106,6 +107,23 @@ void Time(Config& c, int frames) {
   }
 }
 
+// Median over rounds of numerator / denominator, each round's figure the
+// median of that round's frames: a ratio of frames timed side by side, so a
+// change of load between rounds cancels (a ratio of whole-run medians does
+// not: the first full run read 0.90-1.05 for identical work).
+double PairedRatio(const std::vector<double>& numerator, const std::vector<double>& denominator,
+                   int frames) {
+  std::vector<double> ratios;
+  for (size_t r = 0; r + frames <= numerator.size() && r + frames <= denominator.size();
+       r += frames) {
+    const auto round = [&](const std::vector<double>& ms) {
+      return core::Percentile(std::vector<double>(ms.begin() + r, ms.begin() + r + frames), 0.5);
+    };
+    ratios.push_back(round(numerator) / round(denominator));
+  }
+  return core::Percentile(ratios, 0.5);
+}
+
 }  // namespace
 
 void SceneBenchOptions::Check() const {
@@ -123,29 +141,39 @@ SceneBenchResult RunSceneBench(const SceneBenchOptions& options) {
   const int size = options.quick ? std::min(options.size, 128) : options.size;
   const int rounds = options.quick ? 1 : options.rounds;
   const std::string camera = Camera(size);
-  SceneBenchResult result{
-      Table({"effect", "on_ms", "disabled_ms", "absent_ms", "on_over_absent",
-             "disabled_over_absent", "programs_on", "programs_disabled", "programs_absent"})};
+  SceneBenchResult result{Table({"effect", "on_ms", "disabled_ms", "absent_ms", "on_over_absent",
+                                 "disabled_over_absent", "absent_again_over_absent", "programs_on",
+                                 "programs_disabled", "programs_absent"})};
   const std::vector<Effect> effects = Effects(options.quick);
   for (size_t e = 0; e < effects.size(); ++e) {
     const Effect& effect = effects[e];
     fmt::print(stderr, "bench scene: {}/{} {}: building\n", e + 1, effects.size(), effect.name);
-    Config absent, disabled, on;
+    // `again`: a second scene without the effect, built and timed like the
+    // others: its ratio to `absent` is what identical work measures as, the
+    // noise floor the disabled ratio is read against.
+    Config absent, disabled, on, again;
     Build(absent, Scene(camera, ""));
     Build(disabled, Scene(camera, effect.object + R"(, "enabled": false)"));
     Build(on, Scene(camera, effect.object));
-    // Interleaved so that load changes on the machine hit all three alike.
+    Build(again, Scene(camera, ""));
+    // Interleaved so that load changes on the machine hit all four alike.
     for (int r = 0; r < rounds; ++r) {
-      for (Config* c : {&absent, &disabled, &on}) Time(*c, options.frames);
+      for (Config* c : {&absent, &disabled, &again, &on}) Time(*c, options.frames);
     }
     const double a = core::Summarize(absent.ms).median_ms,
                  d = core::Summarize(disabled.ms).median_ms, o = core::Summarize(on.ms).median_ms;
-    result.table.AddRow({effect.name, Num(o, 2), Num(d, 2), Num(a, 2), Num(o / a, 3), Num(d / a, 3),
+    const double on_ratio = PairedRatio(on.ms, absent.ms, options.frames),
+                 disabled_ratio = PairedRatio(disabled.ms, absent.ms, options.frames),
+                 noise = PairedRatio(again.ms, absent.ms, options.frames);
+    result.table.AddRow({effect.name, Num(o, 2), Num(d, 2), Num(a, 2), Num(on_ratio, 3),
+                         Num(disabled_ratio, 3), Num(noise, 3),
                          std::to_string(on.programs_compiled),
                          std::to_string(disabled.programs_compiled),
                          std::to_string(absent.programs_compiled)});
-    fmt::print(stderr, "bench scene: {}: on {:.2f} ms, disabled {:.2f} ms, absent {:.2f} ms\n",
-               effect.name, o, d, a);
+    fmt::print(stderr,
+               "bench scene: {}: on {:.2f} ms, disabled {:.2f} ms, absent {:.2f} ms; per-round "
+               "ratios to absent: on {:.3f}, disabled {:.3f}, absent again {:.3f}\n",
+               effect.name, o, d, a, on_ratio, disabled_ratio, noise);
   }
   return result;
 }
@@ -160,6 +188,8 @@ void WriteSceneBench(const SceneBenchResult& result, const std::filesystem::path
     plot.AddRow({"on / absent", std::to_string(i + 1), t.rows()[i][t.Column("on_over_absent")]});
     plot.AddRow({"disabled / absent", std::to_string(i + 1),
                  t.rows()[i][t.Column("disabled_over_absent")]});
+    plot.AddRow({"absent again / absent (noise)", std::to_string(i + 1),
+                 t.rows()[i][t.Column("absent_again_over_absent")]});
   }
   std::filesystem::create_directories(out_dir);
   PlotPng(

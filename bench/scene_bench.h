@@ -1,6 +1,6 @@
 // `ibr bench scene`: what an effect costs a scene when it is on, when it is
 // named but disabled ("enabled": false) and when it is absent, measured in
-// one run (interleaved rounds, medians). A scene renderer builds only the
+// one run (interleaved rounds; ratios are medians of per-round ratios). A scene renderer builds only the
 // passes its enabled objects name, so disabled and absent should cost the
 // same; the ratios to "absent" are printed, written as CSV and plotted.
 #pragma once
@@ -15,15 +15,18 @@ namespace bench {
 
 struct SceneBenchOptions {
   int size = 384;      // frame width = height, pixels
-  int rounds = 5;      // interleaved rounds (absent, disabled, on per effect per round)
-  int frames = 3;      // timed frames per configuration per round
+  int rounds = 15;     // interleaved rounds (absent, disabled, absent again, on per effect)
+  int frames = 2;      // timed frames per configuration per round
   bool quick = false;  // two effects, small frames: a CI smoke run
   void Check() const;
 };
 
 struct SceneBenchResult {
-  // effect, on_ms, disabled_ms, absent_ms, on_over_absent, disabled_over_absent,
-  // programs_on, programs_disabled, programs_absent (compiled by that scene)
+  // effect, on_ms, disabled_ms, absent_ms (medians over every frame),
+  // on_over_absent, disabled_over_absent, absent_again_over_absent (medians
+  // of per-round ratios; the last, a second scene without the effect, is
+  // the noise floor), programs_on, programs_disabled, programs_absent
+  // (compiled by that scene)
   Table table;
 };
 
