@@ -673,7 +673,8 @@ ReportResult WriteReport(const ReportOptions& options) {
   page.Heading("Scene overhead (no paper)");
   page.Text(
       "What an effect costs a scene file when on, named but disabled, and absent. Ratios to "
-      "absent are medians of per-round ratios (rounds interleaved, so load changes cancel); "
+      "absent are medians of per-round ratios (rounds interleaved in rotated order, so load "
+      "changes cancel); "
       "disabled should be 1 (only enabled objects build passes), read against "
       "absent_again_over_absent, a second scene without the effect timed the same way: what "
       "identical work measures as on this machine. Data: `scene/scene.csv`.");

@@ -1,8 +1,8 @@
 // `ibr bench scene`: what an effect costs a scene when it is on, when it is
 // named but disabled ("enabled": false) and when it is absent, measured in
-// one run (interleaved rounds; ratios are medians of per-round ratios). A scene renderer builds only the
-// passes its enabled objects name, so disabled and absent should cost the
-// same; the ratios to "absent" are printed, written as CSV and plotted.
+// one run (interleaved rounds; ratios are medians of per-round ratios). A scene renderer builds
+// only the passes its enabled objects name, so disabled and absent should cost the same; the ratios
+// to "absent" are printed, written as CSV and plotted.
 #pragma once
 
 #include <filesystem>
@@ -15,7 +15,7 @@ namespace bench {
 
 struct SceneBenchOptions {
   int size = 384;      // frame width = height, pixels
-  int rounds = 15;     // interleaved rounds (absent, disabled, absent again, on per effect)
+  int rounds = 16;     // interleaved rounds (absent, disabled, absent again, on; order rotated)
   int frames = 2;      // timed frames per configuration per round
   bool quick = false;  // two effects, small frames: a CI smoke run
   void Check() const;

@@ -28,17 +28,21 @@ TEST_F(SceneBenchTest, QuickRunMeasuresEveryConfigurationAndDisabledCompilesNoth
   SceneBenchOptions options;
   options.quick = true;
   const SceneBenchResult result = RunSceneBench(options);
-  const std::vector<std::string> expected = {"effect",         "on_ms",
-                                             "disabled_ms",    "absent_ms",
-                                             "on_over_absent", "disabled_over_absent",
-                                             "absent_again_over_absent", "programs_on",
-                                             "programs_disabled", "programs_absent"};
+  const std::vector<std::string> expected = {"effect",
+                                             "on_ms",
+                                             "disabled_ms",
+                                             "absent_ms",
+                                             "on_over_absent",
+                                             "disabled_over_absent",
+                                             "absent_again_over_absent",
+                                             "programs_on",
+                                             "programs_disabled",
+                                             "programs_absent"};
   EXPECT_EQ(result.table.columns(), expected);
   ASSERT_EQ(result.table.rows().size(), 2u);
   for (const auto& row : result.table.rows()) {
-    for (const char* c :
-         {"on_ms", "disabled_ms", "absent_ms", "on_over_absent", "disabled_over_absent",
-          "absent_again_over_absent"}) {
+    for (const char* c : {"on_ms", "disabled_ms", "absent_ms", "on_over_absent",
+                          "disabled_over_absent", "absent_again_over_absent"}) {
       EXPECT_GT(Value(result.table, row, c), 0) << row[0] << " " << c;
     }
     EXPECT_EQ(Value(result.table, row, "programs_disabled"),
