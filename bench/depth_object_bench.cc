@@ -6,6 +6,8 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <map>
+#include <memory>
 #include <string>
 #include <tuple>
 #include <vector>
@@ -23,6 +25,7 @@
 #include "render/gl/context.h"
 #include "render/gl/fill_rate.h"
 #include "render/gl/frame_timer.h"
+#include "render/gl/program_binary_cache.h"
 #include "render/passes/pass.h"
 
 namespace bench {
@@ -54,6 +57,9 @@ std::vector<Object> Objects(bool quick) {
   std::vector<Object> objects;
   objects.push_back({"cup", capture::MakeShapeScene("cup"), false});
   if (quick) return objects;
+  // The mug (core::MakeMug): a concave cavity and a handle's hole, which a
+  // depth object from the six cube maps sees only where some map does.
+  objects.push_back({"mug", capture::MakeShapeScene("mug"), false});
   const fs::path meshes = ibr::SharedDataDir() / "meshes";
   for (const auto& [name, file] :
        std::vector<std::pair<std::string, std::string>>{{"bunny", "stanford-bunny.obj"},
@@ -85,7 +91,93 @@ std::vector<ibr::ViewCamera> Views(const ibr::MapSet& maps, int count, int size)
   return out;
 }
 
+// `ibr bench first-image` in a child process whose only shader caches are
+// under `cache_dir`: ibr's program binaries (IBR_CACHE_DIR) and Mesa's own
+// cache (MESA_SHADER_CACHE_DIR; a MESA_SHADER_CACHE_DISABLE of this process
+// is dropped, so the child runs as ibr does by default).
+FirstImageTimes RunFirstImageChild(const FirstImageOptions& options, const fs::path& cache_dir) {
+  constexpr const char* kWhere = "bench depth-object: first image";
+  const fs::path self = fs::read_symlink("/proc/self/exe");
+  fs::create_directories(cache_dir / "mesa");  // Mesa makes only the last folder
+  const std::string command = fmt::format(
+      "env -u MESA_SHADER_CACHE_DISABLE MESA_SHADER_CACHE_DIR={} IBR_CACHE_DIR={} {} "
+      "--log-level warn bench first-image --dataset {} --slicing {} --skip-grid {} {} --size {} "
+      "2>&1",
+      ShellQuote((cache_dir / "mesa").string()), ShellQuote(cache_dir.string()),
+      ShellQuote(self.string()), ShellQuote(options.dataset.string()), options.slicing,
+      options.skip_grid, options.subtexel ? "--subtexel" : "", options.size);
+  std::unique_ptr<FILE, int (*)(FILE*)> pipe(popen(command.c_str(), "r"), pclose);
+  if (!pipe) core::ThrowInputError(kWhere, "cannot run '{}'", command);
+  std::string output, line;
+  char buffer[4096];
+  while (fgets(buffer, sizeof(buffer), pipe.get())) output += buffer;
+  const int status = pclose(pipe.release());
+  FirstImageTimes t;
+  for (size_t at = 0; at < output.size();) {
+    const size_t end = std::min(output.find('\n', at), output.size());
+    line = output.substr(at, end - at);
+    if (std::sscanf(line.c_str(),
+                    "first_image upload_ms %lf first_frame_ms %lf second_frame_ms %lf programs %d "
+                    "loaded %d",
+                    &t.upload_ms, &t.first_frame_ms, &t.second_frame_ms, &t.programs,
+                    &t.programs_loaded) == 5 &&
+        status == 0)
+      return t;
+    at = end + 1;
+  }
+  core::ThrowInputError(kWhere, "'{}' failed (status {}): {}", command, status, output);
+}
+
 }  // namespace
+
+void FirstImageOptions::Check() const {
+  constexpr const char* kWhere = "bench first-image";
+  if (!fs::is_directory(dataset))
+    core::ThrowInputError(kWhere, "--dataset '{}': no such folder", dataset.string());
+  ibr::SlicingFromName(slicing);
+  if (skip_grid < 0 || skip_grid > 512)
+    core::ThrowInputError(kWhere, "--skip-grid {} is outside 0..512", skip_grid);
+  if (size < 16 || size > 8192)
+    core::ThrowInputError(kWhere, "--size {} is outside 16..8192", size);
+}
+
+FirstImageTimes MeasureFirstImage(const FirstImageOptions& options) {
+  options.Check();
+  auto context = render::HeadlessContext::Create();
+  render::ProgramCache programs;
+  const ibr::MapSet maps = ibr::MapsFromDataset(capture::ReadDataset(options.dataset));
+  const ibr::ViewCamera view = Views(maps, 2, options.size)[0];
+  ibr::DepthObjectOptions o;
+  o.slicing = ibr::SlicingFromName(options.slicing);
+  o.skip_grid = options.skip_grid;
+  o.subtexel_depth = options.subtexel;
+  o.texturing = ibr::Texturing::kNone;
+  FirstImageTimes t;
+  core::Stopwatch upload;
+  ibr::DepthObjectRenderer renderer(programs, maps);
+  t.upload_ms = upload.ElapsedMs();
+  core::Stopwatch first;
+  const ibr::DepthObjectFrame frame = renderer.RenderImages(view, o);
+  t.first_frame_ms = first.ElapsedMs();
+  core::Stopwatch second;
+  renderer.RenderImages(view, o);
+  t.second_frame_ms = second.ElapsedMs();
+  t.programs = static_cast<int>(programs.size());
+  t.programs_loaded = programs.disk() ? programs.disk()->stats().hits : 0;
+  int64_t covered = 0;
+  for (uint8_t m : frame.mask.values()) covered += m > 0;
+  if (covered == 0)
+    core::ThrowInputError("bench first-image", "'{}': the first image shows nothing",
+                          options.dataset.string());
+  return t;
+}
+
+std::string FormatFirstImageLine(const FirstImageTimes& t) {
+  return fmt::format(
+      "first_image upload_ms {:.3f} first_frame_ms {:.3f} second_frame_ms {:.3f} programs {} "
+      "loaded {}",
+      t.upload_ms, t.first_frame_ms, t.second_frame_ms, t.programs, t.programs_loaded);
+}
 
 void DepthObjectBenchOptions::Check() const {
   constexpr const char* kWhere = "bench depth-object";
@@ -128,6 +220,9 @@ DepthObjectBenchResult RunDepthObjectBench(const DepthObjectBenchOptions& option
                   "meets_target"});
   Table fig_coverage({"family", "slices", "size", "covered_pixels", "ms_per_frame"});
   Table fig_slices({"family", "slices", "size", "ms_per_frame"});
+  Table first_image({"object", "method", "size", "cache", "runs", "upload_ms", "first_frame_ms",
+                     "second_frame_ms", "time_to_first_image_ms", "programs", "programs_loaded",
+                     "tsdf_ms", "over_tsdf"});
 
   std::vector<Object> objects = Objects(options.quick);
   if (!options.objects.empty()) {
@@ -333,6 +428,72 @@ DepthObjectBenchResult RunDepthObjectBench(const DepthObjectBenchOptions& option
         fmt::print("bench depth-object: the Open3D peer did not run: {}\n", e.what());
       }
     }
+
+    if (object.name == "bunny" || options.quick) {
+      // Time to first image, cold and warm (issue 12, item 4), each run a
+      // fresh process (RunFirstImageChild): cold = an empty cache folder;
+      // warm = the folder the previous run filled; binaries only = our
+      // program binaries kept and Mesa's cache (the LLVM code) emptied.
+      // Medians of `runs`; against the TSDF peer's time to first image at
+      // voxel 1/256 (integration + mesh extraction + upload + first frame;
+      // Open3D keeps nothing between runs: one figure for cold and warm).
+      const int runs = options.quick ? 1 : 3, size = sizes.back();
+      double tsdf_ms = std::nan("");
+      std::string tsdf_method;
+      for (const auto& row : table.rows()) {
+        if (row[0] == object.name && row[1].starts_with("open3d tsdf:") &&
+            (tsdf_method.empty() || row[1] == "open3d tsdf:256")) {
+          tsdf_method = row[1];
+          tsdf_ms = 1000.0 * CellNumber(row[table.Column("time_to_first_image_s")]);
+        }
+      }
+      if (!tsdf_method.empty()) {
+        first_image.AddRow({object.name, tsdf_method, std::to_string(size), "none (one run)", "1",
+                            "nan", "nan", "nan", Num(tsdf_ms, 1), "0", "0", Num(tsdf_ms, 1),
+                            "1.000"});
+      }
+      const fs::path caches = work / object.name / "first_image_cache";
+      for (const Path& path : paths) {
+        FirstImageOptions child;
+        child.dataset = work / object.name / "cube";
+        child.slicing = ibr::SlicingName(path.slicing);
+        child.skip_grid = path.skip_grid;
+        child.subtexel = path.subtexel;
+        child.size = size;
+        std::map<std::string, std::vector<FirstImageTimes>> by_cache;
+        for (int r = 0; r < runs; ++r) {
+          const fs::path dir = caches / fmt::format("{}_{}", path.name, r);
+          fs::remove_all(dir);
+          by_cache["cold"].push_back(RunFirstImageChild(child, dir));
+          by_cache["warm"].push_back(RunFirstImageChild(child, dir));
+          fs::remove_all(dir / "mesa");
+          by_cache["binaries only"].push_back(RunFirstImageChild(child, dir));
+          fs::remove_all(dir);
+        }
+        for (const char* cache : {"cold", "warm", "binaries only"}) {
+          const std::vector<FirstImageTimes>& ts = by_cache[cache];
+          auto median = [&](auto get) {
+            std::vector<double> v;
+            for (const FirstImageTimes& t : ts) v.push_back(get(t));
+            std::sort(v.begin(), v.end());
+            return v[v.size() / 2];
+          };
+          const double total = median([](const FirstImageTimes& t) { return t.total_ms(); });
+          const std::string method = fmt::format("depth-object {}", path.name);
+          first_image.AddRow(
+              {object.name, method, std::to_string(size), cache, std::to_string(runs),
+               Num(median([](const FirstImageTimes& t) { return t.upload_ms; }), 1),
+               Num(median([](const FirstImageTimes& t) { return t.first_frame_ms; }), 1),
+               Num(median([](const FirstImageTimes& t) { return t.second_frame_ms; }), 1),
+               Num(total, 1), std::to_string(ts.back().programs),
+               std::to_string(ts.back().programs_loaded), Num(tsdf_ms, 1),
+               Num(total / tsdf_ms, 3)});
+          fmt::print(stderr, "{:7} {:24} first image {:13}: {:8.1f} ms ({:.3f} of {})\n",
+                     object.name, method, cache, total, total / tsdf_ms,
+                     tsdf_method.empty() ? "TSDF (absent)" : tsdf_method);
+        }
+      }
+    }
   }
   fs::remove_all(work);
 
@@ -343,8 +504,11 @@ DepthObjectBenchResult RunDepthObjectBench(const DepthObjectBenchOptions& option
   fig_slices.WriteCsv(stem.string() + "_fig12_slices.csv");
   accuracy.WriteCsv(stem.string() + "_accuracy.csv");
   fmt::print("\n{}\n", accuracy.Format());
-  fmt::print("wrote {} (+ _fig12_coverage.csv, _fig12_slices.csv, _accuracy.csv)\n",
-             options.csv.string());
+  first_image.WriteCsv(stem.string() + "_first_image.csv");
+  fmt::print("\n{}\n", first_image.Format());
+  fmt::print(
+      "wrote {} (+ _fig12_coverage.csv, _fig12_slices.csv, _accuracy.csv, _first_image.csv)\n",
+      options.csv.string());
   if (!options.out.empty()) {
     fs::create_directories(options.out);
     // Error against time: one panel per object and size, a method's points
@@ -368,7 +532,8 @@ DepthObjectBenchResult RunDepthObjectBench(const DepthObjectBenchOptions& option
     }
     fmt::print("wrote plots to {}\n", options.out.string());
   }
-  return {std::move(table), std::move(accuracy), std::move(fig_coverage), std::move(fig_slices)};
+  return {std::move(table), std::move(accuracy), std::move(fig_coverage), std::move(fig_slices),
+          std::move(first_image)};
 }
 
 }  // namespace bench

@@ -3,7 +3,7 @@
 //
 // Sweep: path (orthogonal, screen slices; the ray path with and without
 // empty-space skipping) x slices x output size x object (bunny, cow, spot,
-// teapot from ../shared/data/meshes, the analytic cup), each
+// teapot from ../shared/data/meshes, the analytic cup and mug), each
 // object captured with the paper's cube rig (six orthographic maps, 256 px).
 // Per configuration: median frame time after warm-up (glFinish, wall clock;
 // render::TimeFrames), the fraction of the fill rate calibrated in the same
@@ -33,8 +33,8 @@ struct DepthObjectBenchOptions {
   // Small sweep (smoke test, ~30 s): the cup only, two slice counts, 128 px,
   // TSDF at 64 for the peer.
   bool quick = false;
-  // Restrict the full sweep (empty = all): object names (cup, bunny, cow,
-  // spot, teapot), output sizes in pixels, slice counts. The Fig. 12
+  // Restrict the full sweep (empty = all): object names (cup, mug, bunny,
+  // cow, spot, teapot), output sizes in pixels, slice counts. The Fig. 12
   // analogues and the peer run when the bunny is in the sweep.
   std::vector<std::string> objects;
   std::vector<int> sizes;
@@ -49,7 +49,38 @@ struct DepthObjectBenchResult {
   Table accuracy;  // every path at slices auto (the accuracy check)
   Table fig_coverage;  // Fig. 12 analogue: family, slices, size, covered_pixels, ms_per_frame
   Table fig_slices;    // Fig. 12 analogue: family, slices, size, ms_per_frame
+  Table first_image;   // cold / warm time to first image per path, and the TSDF peer's
 };
+
+// Time to first image in a fresh process (issue 12, item 4): `ibr bench
+// first-image` creates its context and reads a cube-rig dataset (neither
+// timed), then times the map upload (DepthObjectRenderer) and the program
+// builds + first frame with readback (RenderImages) from the sweep's first
+// novel view. RunDepthObjectBench spawns it with a temporary cache folder
+// (ibr's program binaries and Mesa's shader cache both in it): empty = cold,
+// filled by the previous run = warm.
+struct FirstImageOptions {
+  std::filesystem::path dataset;  // a cube-rig dataset directory
+  std::string slicing = "ray";    // orthogonal | screen | ray
+  int skip_grid = 0;              // DepthObjectOptions::skip_grid (0: none)
+  bool subtexel = false;          // DepthObjectOptions::subtexel_depth
+  int size = 512;                 // output pixels a side
+  void Check() const;
+};
+
+struct FirstImageTimes {
+  double upload_ms = 0;        // DepthObjectRenderer construction
+  double first_frame_ms = 0;   // the first RenderImages: program builds, draw, readback
+  double second_frame_ms = 0;  // the same frame again (no builds): what the first's rest costs
+  int programs = 0;            // programs the first image needed
+  int programs_loaded = 0;     // of them, loaded from binaries of an earlier run
+  double total_ms() const { return upload_ms + first_frame_ms; }
+};
+
+// In this process (makes its own context).
+FirstImageTimes MeasureFirstImage(const FirstImageOptions& options);
+// The one stdout line `ibr bench first-image` prints and the bench parses.
+std::string FormatFirstImageLine(const FirstImageTimes& t);
 
 // Needs ../shared/data for the meshes (the cup is analytic); objects whose
 // mesh is absent are skipped with a message. Creates its own GL context.

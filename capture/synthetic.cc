@@ -136,9 +136,11 @@ SceneMesh MakeShapeScene(std::string_view name) {
     out.mesh = core::MakeBox({1.0f, 0.7f, 0.5f});
   } else if (name == "cup") {
     out.mesh = core::MakeCup(1.0f, 1.2f, 0.12f, 512);
+  } else if (name == "mug") {
+    out.mesh = core::MakeMug(1.0f, 1.2f, 0.12f, 0.35f, 0.08f, 512);
   } else {
     core::ThrowInputError("MakeShapeScene",
-                          "unknown shape '{}' (expected sphere, torus, box or cup)", name);
+                          "unknown shape '{}' (expected sphere, torus, box, cup or mug)", name);
   }
   return out;
 }

@@ -36,8 +36,10 @@ SceneMesh LoadSceneMesh(const std::filesystem::path& path,
 
 // Analytic shapes: "sphere" (radius 1), "torus" (R 1, r 0.4, around z), "box"
 // (half extents 1, 0.7, 0.5), "cup" (radius 1, height 1.2, wall 0.12, opens
-// to +z), finely tessellated so facets sag < 1e-4 of their size.
+// to +z), "mug" (the cup with a torus handle, R 0.35, r 0.08, in the
+// xz-plane on +x), finely tessellated so facets sag < 1e-4 of their size.
 SceneMesh MakeShapeScene(std::string_view name);
+// The shapes above with an analytic distance (the mug has none).
 std::vector<std::string> ShapeNames();
 
 // A deterministic colour value-noise texture, RGBA8: five octaves of

@@ -25,6 +25,7 @@ function(ibr_test module name)
     "DISPLAY=unset:"
     "WAYLAND_DISPLAY=unset:"
     "MESA_SHADER_CACHE_DISABLE=set:true"
+    "IBR_CACHE_DIR=set:off"
     "IBR_SHARED_DATA=set:${IBR_SHARED_DATA_DIR}"
     "IBR_TEST_OUTPUT=set:${CMAKE_BINARY_DIR}/test-output"
     "ASAN_OPTIONS=set:detect_leaks=0")

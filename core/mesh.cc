@@ -1,5 +1,6 @@
 #include "core/mesh.h"
 
+#include <algorithm>
 #include <cmath>
 #include <numbers>
 
@@ -165,6 +166,29 @@ TriangleMesh MakeCup(float radius, float height, float wall, int segments) {
     GridIndices(segments, 1, local);
     for (uint32_t idx : local) mesh.indices.push_back(base + idx);
   }
+  return mesh;
+}
+
+TriangleMesh MakeMug(float radius, float height, float wall, float handle_radius, float handle_tube,
+                     int segments) {
+  IBR_CHECK(handle_radius > handle_tube && handle_tube > 0);
+  TriangleMesh mesh = MakeCup(radius, height, wall, segments);
+  const TriangleMesh handle =
+      MakeTorus(handle_radius, handle_tube, std::max(segments / 2, 3), std::max(segments / 8, 3));
+  // The tube's innermost point sits a quarter wall outside the cavity (radius
+  // - wall), inside the wall: the ring centre is that far plus the ring and
+  // tube radii out.
+  const glm::vec3 centre(radius - 0.75f * wall + handle_radius + handle_tube, 0, 0.5f * height);
+  const uint32_t base = static_cast<uint32_t>(mesh.positions.size());
+  // Rotation about x by +90 degrees, (x, y, z) -> (x, -z, y): the torus axis
+  // +z becomes -y, so the ring lies in the xz-plane (orientation kept).
+  auto rotate = [](const glm::vec3& p) { return glm::vec3(p.x, -p.z, p.y); };
+  for (size_t i = 0; i < handle.positions.size(); ++i) {
+    mesh.positions.push_back(centre + rotate(handle.positions[i]));
+    mesh.normals.push_back(rotate(handle.normals[i]));
+    mesh.uvs.push_back(handle.uvs[i]);
+  }
+  for (uint32_t idx : handle.indices) mesh.indices.push_back(base + idx);
   return mesh;
 }
 

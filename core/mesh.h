@@ -46,6 +46,14 @@ namespace core {
 // 2D profile distance used by the capture tests.
 TriangleMesh MakeCup(float radius, float height, float wall, int segments = 128);
 
+// A mug: MakeCup(radius, height, wall) with a torus handle (ring radius
+// `handle_radius`, tube `handle_tube`) in the xz-plane, at half height, its
+// inner part buried in the wall (a quarter wall short of the cavity), leaving a hole
+// between handle and wall that looks along +-y. Two overlapping closed
+// surfaces (no boolean union): renders and captures as their union.
+TriangleMesh MakeMug(float radius, float height, float wall, float handle_radius, float handle_tube,
+                     int segments = 128);
+
 }  // namespace core
 
 namespace core {

@@ -162,10 +162,11 @@ class Reader {
     int given = 0;
     if (j.contains("shape")) {
       m.shape = String(j["shape"], p / "shape");
-      static const std::set<std::string> kShapes = {"sphere", "torus", "box", "cup", "plane"};
+      static const std::set<std::string> kShapes = {"sphere", "torus", "box",
+                                                    "cup",    "mug",   "plane"};
       if (!kShapes.count(m.shape)) {
         Fail(p / "shape",
-             fmt::format("unknown shape '{}' (sphere, torus, box, cup, plane)", m.shape));
+             fmt::format("unknown shape '{}' (sphere, torus, box, cup, mug, plane)", m.shape));
       }
       ++given;
     }

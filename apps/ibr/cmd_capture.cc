@@ -71,7 +71,7 @@ void AddCaptureCommand(CLI::App& app) {
   auto* cmd = app.add_subcommand(
       "capture", "Render a mesh or analytic shape from a camera rig into a dataset");
   cmd->add_option("--mesh", o.mesh, "mesh file (OBJ, PLY, ... through assimp)");
-  cmd->add_option("--shape", o.shape, "analytic shape: sphere, torus, box or cup");
+  cmd->add_option("--shape", o.shape, "analytic shape: sphere, torus, box, cup or mug");
   std::string names;
   for (const auto& n : capture::BuiltinSceneNames()) names += (names.empty() ? "" : ", ") + n;
   cmd->add_option("--scene", o.scene, "built-in scene (object, rig, size): " + names);

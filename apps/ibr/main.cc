@@ -16,6 +16,7 @@
 #include "apps/ibr/commands.h"
 #include "core/atomic_file.h"
 #include "core/error.h"
+#include "render/gl/program_binary_cache.h"
 
 namespace {
 
@@ -47,6 +48,10 @@ int main(int argc, char** argv) {
   std::string command_line = "ibr";
   for (int i = 1; i < argc; ++i) command_line += std::string(" ") + argv[i];
   core::SetOutputDescription(command_line);
+  // Compiled shader programs are kept between runs under ibr's own cache
+  // folder ($IBR_CACHE_DIR, else $XDG_CACHE_HOME/ibr or ~/.cache/ibr;
+  // IBR_CACHE_DIR=off disables it); set before any GL context exists.
+  render::EnableShaderCache(render::DefaultShaderCacheDir());
 
   CLI::App app{"ibr: image-based rendering of depth objects, visual hulls and displaced surfaces"};
   app.require_subcommand(1);

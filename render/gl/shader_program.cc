@@ -5,11 +5,13 @@
 
 #include <algorithm>
 #include <cstring>
+#include <optional>
 #include <regex>
 #include <set>
 #include <sstream>
 
 #include "core/error.h"
+#include "render/gl/program_binary_cache.h"
 #include "shaders/embedded.h"
 
 namespace render {
@@ -181,9 +183,8 @@ std::string InfoLog(GLuint id, GetIv get_iv, GetLog get_log) {
   return log;
 }
 
-Shader CompileStage(const ShaderSources& sources, GLenum stage, const std::string& file,
+Shader CompileStage(GLenum stage, const std::string& file, const PreprocessedSource& pre,
                     const std::vector<std::string>& defines) {
-  const PreprocessedSource pre = PreprocessShader(sources, file, defines);
   Shader shader(glCreateShader(stage));
   const char* text = pre.text.c_str();
   glShaderSource(shader.id(), 1, &text, nullptr);
@@ -211,19 +212,38 @@ Shader CompileStage(const ShaderSources& sources, GLenum stage, const std::strin
 
 }  // namespace
 
-Program BuildProgram(const ShaderSources& sources, const ProgramDesc& desc) {
+ProgramSources PreprocessProgram(const ShaderSources& sources, const ProgramDesc& desc) {
   desc.Check();
-  std::vector<Shader> stages;
+  ProgramSources out;
+  auto add = [&](GLenum type, const std::string& file) {
+    if (!file.empty())
+      out.stages.push_back({type, file, PreprocessShader(sources, file, desc.defines)});
+  };
   if (!desc.compute.empty()) {
-    stages.push_back(CompileStage(sources, GL_COMPUTE_SHADER, desc.compute, desc.defines));
+    add(GL_COMPUTE_SHADER, desc.compute);
   } else {
-    stages.push_back(CompileStage(sources, GL_VERTEX_SHADER, desc.vertex, desc.defines));
-    if (!desc.geometry.empty()) {
-      stages.push_back(CompileStage(sources, GL_GEOMETRY_SHADER, desc.geometry, desc.defines));
-    }
-    stages.push_back(CompileStage(sources, GL_FRAGMENT_SHADER, desc.fragment, desc.defines));
+    add(GL_VERTEX_SHADER, desc.vertex);
+    add(GL_GEOMETRY_SHADER, desc.geometry);
+    add(GL_FRAGMENT_SHADER, desc.fragment);
   }
+  return out;
+}
+
+std::string ProgramSources::CacheKey(const ProgramDesc& desc) const {
+  std::string key = desc.Key() + "\n";
+  for (const Stage& s : stages) {
+    key += fmt::format("stage {:#x} {} {} bytes\n", s.type, s.file, s.source.text.size());
+    key += s.source.text;
+  }
+  return key;
+}
+
+Program BuildProgram(const ProgramSources& sources, const ProgramDesc& desc, bool retrievable) {
+  std::vector<Shader> stages;
+  for (const ProgramSources::Stage& s : sources.stages)
+    stages.push_back(CompileStage(s.type, s.file, s.source, desc.defines));
   Program program(glCreateProgram());
+  if (retrievable) glProgramParameteri(program.id(), GL_PROGRAM_BINARY_RETRIEVABLE_HINT, GL_TRUE);
   for (const auto& s : stages) glAttachShader(program.id(), s.id());
   glLinkProgram(program.id());
   for (const auto& s : stages) glDetachShader(program.id(), s.id());
@@ -238,15 +258,41 @@ Program BuildProgram(const ShaderSources& sources, const ProgramDesc& desc) {
   return program;
 }
 
+Program BuildProgram(const ShaderSources& sources, const ProgramDesc& desc) {
+  return BuildProgram(PreprocessProgram(sources, desc), desc);
+}
+
+ProgramCache::ProgramCache(const ShaderSources& sources)
+    : ProgramCache(sources, ShaderCacheDir().empty() ? std::filesystem::path()
+                                                     : ShaderCacheDir() / "programs") {}
+
+ProgramCache::ProgramCache(const ShaderSources& sources, const std::filesystem::path& disk_dir)
+    : sources_(&sources) {
+  if (!disk_dir.empty()) disk_ = std::make_unique<ProgramBinaryCache>(disk_dir);
+}
+
+ProgramCache::~ProgramCache() = default;
+
 const Program& ProgramCache::Get(const ProgramDesc& desc) {
   const std::string key = desc.Key();
   auto it = programs_.find(key);
   if (it != programs_.end()) return *it->second;
-  spdlog::debug("compiling program {}", key);
-  auto program = std::make_unique<Program>(BuildProgram(*sources_, desc));
+  const ProgramSources sources = PreprocessProgram(*sources_, desc);
   for (const std::string* file : {&desc.vertex, &desc.geometry, &desc.fragment, &desc.compute}) {
     if (!file->empty()) ++compiled_by_file_[*file];
   }
+  std::unique_ptr<Program> program;
+  std::string disk_key;
+  if (disk_) {
+    disk_key = sources.CacheKey(desc);
+    if (std::optional<Program> loaded = disk_->Load(disk_key)) {
+      loaded->CacheUniforms();
+      return *programs_.emplace(key, std::make_unique<Program>(std::move(*loaded))).first->second;
+    }
+  }
+  spdlog::debug("compiling program {}", key);
+  program = std::make_unique<Program>(BuildProgram(sources, desc, disk_ != nullptr));
+  if (disk_) disk_->Store(disk_key, *program);
   return *programs_.emplace(key, std::move(program)).first->second;
 }
 

@@ -5,9 +5,11 @@
 //    the slicing and ray cores are shared GLSL, never copies;
 //  - every file gets a GLSL source-string number through `#line`, and compile
 //    logs are rewritten from "N:LINE(COL)" to "file.glsl:LINE(COL)";
-//  - ProgramCache keys programs by file set + defines.
+//  - ProgramCache keys programs by file set + defines, and keeps linked
+//    programs between runs when given a directory (program_binary_cache.h).
 #pragma once
 
+#include <filesystem>
 #include <map>
 #include <memory>
 #include <string>
@@ -63,24 +65,53 @@ PreprocessedSource PreprocessShader(const ShaderSources& sources, const std::str
 // a compiler log into "file:LINE(COL)".
 std::string TranslateShaderLog(const std::string& log, const std::vector<std::string>& files);
 
+// Every stage of `desc`, preprocessed (vertex, geometry, fragment; or compute).
+struct ProgramSources {
+  struct Stage {
+    GLenum type;
+    std::string file;
+    PreprocessedSource source;
+  };
+  std::vector<Stage> stages;
+  // desc.Key() and every stage's full text: what a compiled program depends
+  // on besides the driver (the key of the on-disk cache).
+  std::string CacheKey(const ProgramDesc& desc) const;
+};
+ProgramSources PreprocessProgram(const ShaderSources& sources, const ProgramDesc& desc);
+
 // Compiles and links; throws core::InputError whose message names the file
 // and line of the first error (compile) or the stage files (link).
+// `retrievable` asks the driver to keep the binary (glGetProgramBinary).
+Program BuildProgram(const ProgramSources& sources, const ProgramDesc& desc,
+                     bool retrievable = false);
 Program BuildProgram(const ShaderSources& sources, const ProgramDesc& desc);
 
+class ProgramBinaryCache;
+
 // Programs by key. References stay valid for the cache's lifetime. Needs a
-// current context for Get(); one cache per context.
+// current context for Get(); one cache per context. With a `disk_dir`
+// (default: the process's ShaderCacheDir(), empty unless the command line
+// enabled it) a program is first looked up among the binaries of earlier runs
+// and stored there after compiling; any miss or bad file compiles.
 class ProgramCache {
  public:
-  explicit ProgramCache(const ShaderSources& sources = ShaderSources::Embedded())
-      : sources_(&sources) {}
+  explicit ProgramCache(const ShaderSources& sources = ShaderSources::Embedded());
+  ProgramCache(const ShaderSources& sources, const std::filesystem::path& disk_dir);
+  ~ProgramCache();
+  ProgramCache(const ProgramCache&) = delete;
+  ProgramCache& operator=(const ProgramCache&) = delete;
   const Program& Get(const ProgramDesc& desc);
   size_t size() const { return programs_.size(); }
-  // Programs compiled by this cache, per stage file (a program counts once for
-  // each of its stage files): what a scene made the cache build.
+  // The on-disk layer (nullptr: none).
+  ProgramBinaryCache* disk() { return disk_.get(); }
+  // Programs built by this cache (compiled, or loaded from the disk layer),
+  // per stage file (a program counts once for each of its stage files): what a
+  // scene made the cache build.
   const std::map<std::string, int>& compiled_by_file() const { return compiled_by_file_; }
 
  private:
   const ShaderSources* sources_;
+  std::unique_ptr<ProgramBinaryCache> disk_;
   std::map<std::string, int> compiled_by_file_;
   std::unordered_map<std::string, std::unique_ptr<Program>> programs_;
 };
