@@ -215,7 +215,8 @@ DepthObjectBenchResult RunDepthObjectBench(const DepthObjectBenchOptions& option
 
   Table table({"object", "method", "slices", "size", "ms_per_frame", "fill_rate_fraction",
                "time_to_first_image_s", "iou_mean", "iou_min", "mean_depth_error",
-               "p95_depth_error", "psnr_db"});
+               "p95_depth_error", "psnr_db", "slice_pass_ms", "slice_pass_fill_fraction",
+               "ms_ratio_to_exact"});
   Table accuracy({"object", "path", "slices_auto", "views", "size", "iou_min", "p95_depth_error",
                   "meets_target"});
   Table fig_coverage({"family", "slices", "size", "covered_pixels", "ms_per_frame"});
@@ -234,11 +235,15 @@ DepthObjectBenchResult RunDepthObjectBench(const DepthObjectBenchOptions& option
   // The paths: the paper's slicing families, the ray path marching every step
   // (skip grid off), and with empty-space skipping (ibr/empty_space.h).
   // ray-skip-subtexel adds sub-texel depth (DepthObjectOptions::subtexel_depth).
+  // *-fast: the slice families by the fast path (SlicePath::kFast, one draw a
+  // frame), timed against the exact path's row of the same family.
   struct Path {
     std::string name;
     ibr::Slicing slicing;
     int skip_grid;
     bool subtexel = false;
+    ibr::SlicePath slice_path = ibr::SlicePath::kExact;
+    std::string exact;  // the path its ms_ratio_to_exact divides by ("" = none)
   };
   const ibr::DepthObjectOptions defaults;
   const std::vector<Path> paths = {
@@ -246,7 +251,11 @@ DepthObjectBenchResult RunDepthObjectBench(const DepthObjectBenchOptions& option
       {"screen", ibr::Slicing::kScreen, 0},
       {"ray", ibr::Slicing::kRay, 0},
       {"ray-skip", ibr::Slicing::kRay, defaults.skip_grid},
-      {"ray-skip-subtexel", ibr::Slicing::kRay, defaults.skip_grid, true}};
+      {"ray-skip-subtexel", ibr::Slicing::kRay, defaults.skip_grid, true},
+      {"orthogonal-fast", ibr::Slicing::kOrthogonal, 0, false, ibr::SlicePath::kFast, "orthogonal"},
+      {"screen-fast", ibr::Slicing::kScreen, 0, false, ibr::SlicePath::kFast, "screen"}};
+  // Frame ms of each path by (object, size, slices): the fast rows' ratios.
+  std::map<std::tuple<std::string, std::string, int, int>, double> frame_ms;
   for (const Object& object : objects) {
     capture::CaptureOptions co;
     co.rig = "cube";
@@ -276,6 +285,7 @@ DepthObjectBenchResult RunDepthObjectBench(const DepthObjectBenchOptions& option
           o.slices = slices;
           o.skip_grid = path.skip_grid;
           o.subtexel_depth = path.subtexel;
+          o.slice_path = path.slice_path;
           o.texturing = object.textured ? ibr::Texturing::kViewDependent : ibr::Texturing::kNone;
           core::Stopwatch first;
           ibr::DepthObjectFrame frame0 = renderer.RenderImages(views[0], o);
@@ -287,16 +297,39 @@ DepthObjectBenchResult RunDepthObjectBench(const DepthObjectBenchOptions& option
           // Fragments the slice passes shade: slice coverage x maps in the loop.
           // The ray variant shades one fragment per pixel that marches many
           // steps: no fill-rate fraction is comparable (nan).
-          double fraction = std::nan("");
+          // slice_pass_*: the slice passes alone (DrawSlices / DrawSlicesFast
+          // into the accumulation target, no resolve), against the fragments
+          // their draws rasterise: exact, each slice once per map and once
+          // (robust: twice) more to clear; fast, each slice once.
+          double fraction = std::nan(""), slice_ms = std::nan(""), slice_fraction = std::nan("");
           if (slicing != ibr::Slicing::kRay) {
             const ibr::FrameParams params = ibr::PrepareFrame(renderer.maps(), views[0], o);
             double fragments = 0;
             for (const core::Image8& c : renderer.SliceCoverage(params)) {
               for (uint8_t v : c.values()) fragments += v > 0;
             }
-            fragments *= static_cast<double>(params.active.size());
-            fraction = fragments / (t.median_ms / 1000.0) / fill.fragments_per_second;
+            const double maps = static_cast<double>(params.active.size());
+            fraction = fragments * maps / (t.median_ms / 1000.0) / fill.fragments_per_second;
+            const bool fast = path.slice_path == ibr::SlicePath::kFast;
+            const render::RenderTarget accum(ibr::DepthObjectRenderer::AccumTargetOptions(
+                views[0].camera.width, views[0].camera.height));
+            slice_ms = render::TimeFrames(
+                           [&] {
+                             if (fast)
+                               renderer.DrawSlicesFast(params, o, accum);
+                             else
+                               renderer.DrawSlices(params, o, accum);
+                           },
+                           timer)
+                           .median_ms;
+            const double issued = fast ? fragments : fragments * (maps + (params.robust ? 2 : 1));
+            slice_fraction = issued / (slice_ms / 1000.0) / fill.fragments_per_second;
           }
+          frame_ms[{object.name, path.name, size, slices}] = t.median_ms;
+          double ratio = std::nan("");
+          if (auto it = frame_ms.find({object.name, path.exact, size, slices});
+              it != frame_ms.end())
+            ratio = t.median_ms / it->second;
           std::vector<ViewMetrics> acc;
           double psnr = 0;
           for (size_t i = 0; i < views.size(); ++i) {
@@ -315,12 +348,15 @@ DepthObjectBenchResult RunDepthObjectBench(const DepthObjectBenchOptions& option
                         Num(t.median_ms, 2), Num(fraction, 3),
                         Num((upload_ms + first_ms) / 1000.0, 3), Num(a.iou_mean, 4),
                         Num(a.iou_min, 4), Num(a.depth.mean, 5), Num(a.depth.p95, 5),
-                        object.textured ? Num(psnr, 2) : "nan"});
+                        object.textured ? Num(psnr, 2) : "nan", Num(slice_ms, 2),
+                        Num(slice_fraction, 3), Num(ratio, 3)});
           fmt::print(
               stderr,
               "{:7} {:24} {:4} slices {:5} px: {:9.2f} ms/frame ({:.2f} of fill rate), IoU {:.4f}, "
-              "p95 depth {:.5f} edges\n",
-              object.name, method, slices, size, t.median_ms, fraction, a.iou_mean, a.depth.p95);
+              "p95 depth {:.5f} edges; slice passes {:.2f} ms ({:.2f} of fill rate for the "
+              "fragments they issue), {:.3f} x the exact path's frame\n",
+              object.name, method, slices, size, t.median_ms, fraction, a.iou_mean, a.depth.p95,
+              slice_ms, slice_fraction, ratio);
         }
       }
     }
@@ -339,6 +375,7 @@ DepthObjectBenchResult RunDepthObjectBench(const DepthObjectBenchOptions& option
         o.slicing = path.slicing;
         o.skip_grid = path.skip_grid;
         o.subtexel_depth = path.subtexel;
+        o.slice_path = path.slice_path;
         o.texturing = ibr::Texturing::kNone;
         std::vector<ViewMetrics> acc;
         for (size_t i = 0; i < views.size(); ++i) {
@@ -417,7 +454,7 @@ DepthObjectBenchResult RunDepthObjectBench(const DepthObjectBenchOptions& option
           table.AddRow({object.name, r.method, "0", std::to_string(size), Num(r.median_frame_ms, 2),
                         "nan", Num(r.time_to_first_image_s, 3), Num(r.accuracy.iou_mean, 4),
                         Num(r.accuracy.iou_min, 4), Num(r.accuracy.depth.mean, 5),
-                        Num(r.accuracy.depth.p95, 5), "nan"});
+                        Num(r.accuracy.depth.p95, 5), "nan", "nan", "nan", "nan"});
           fmt::print(
               stderr,
               "{:7} {:24} {:5} px: first image {:.3f} s, IoU {:.4f}, p95 depth {:.5f} edges\n",

@@ -645,6 +645,8 @@ void DepthObjectRenderer::Accumulate(const FrameParams& frame, const DepthObject
   const render::RenderTarget& accum = Accum(frame.width, frame.height);
   if (options.slicing == Slicing::kRay) {
     DrawRay(frame, options, accum);
+  } else if (options.slice_path == SlicePath::kFast) {
+    DrawSlicesFast(frame, options, accum);
   } else {
     DrawSlices(frame, options, accum);
   }

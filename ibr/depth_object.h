@@ -33,6 +33,12 @@ enum class Slicing {
   kScreen,      // view-plane slices (sec. 3.3)
   kRay,         // one pass, a ray per pixel on the shared ray core (render/cores/ray_core.h)
 };
+// How the slice families (kOrthogonal, kScreen) are drawn; kRay ignores it.
+enum class SlicePath {
+  kExact,  // the paper's stencil passes, per slice and map, bit-exact to ibr/reference.h
+  kFast,   // every slice in one draw, the map loop in the shader, the depth test keeps
+           // the front slice (ibr/depth_object_fast.cc)
+};
 enum class Texturing {
   kViewDependent,  // the paper's VDT, blended in the map loop (sec. 4.2)
   kVisibility,     // only maps that saw the point; VDT where none did
@@ -58,10 +64,18 @@ std::string SliceCountName(int slices);  // "auto" or the count
 std::string MethodName(Method m);
 std::string SlicingName(Slicing s);
 std::string TexturingName(Texturing t);
+SlicePath SlicePathFromName(const std::string& name);  // "exact", "fast"
+std::string SlicePathName(SlicePath p);
 
 struct DepthObjectOptions {
   Method method = Method::kDepthObject;
   Slicing slicing = Slicing::kOrthogonal;
+  // kExact (the default): the paper's stencil passes, mirrored bit for bit by
+  // ibr/reference.h. kFast: the same slices, map tests, colour sum and depth
+  // in one draw per frame (ibr/depth_object_fast.cc); where orthogonal slices
+  // are not crossed front to back along a ray (the eye between them) it keeps
+  // the nearest accepted slice instead of the first drawn.
+  SlicePath slice_path = SlicePath::kExact;
   // Slices through the box per frame (>= 1), or kAutoSlices. Depth
   // resolution is one slice spacing; 128-256 is the paper's range. kRay:
   // linear-search steps across the box's depth range (the screen slices'
@@ -221,6 +235,10 @@ class DepthObjectRenderer {
   // RGBA32F accumulated w*colour and w, attachment 1 RG32F (z, covered), stencil.
   void DrawSlices(const FrameParams& frame, const DepthObjectOptions& options,
                   const render::RenderTarget& accum);
+  // SlicePath::kFast into `accum`, same layout as DrawSlices (the stencil is
+  // unused, the depth buffer keeps the front slice): ibr/depth_object_fast.cc.
+  void DrawSlicesFast(const FrameParams& frame, const DepthObjectOptions& options,
+                      const render::RenderTarget& accum);
   // The ray variant (Slicing::kRay) into `accum`, same layout as DrawSlices.
   void DrawRay(const FrameParams& frame, const DepthObjectOptions& options,
                const render::RenderTarget& accum);
@@ -266,6 +284,10 @@ class DepthObjectRenderer {
   render::SliceBuffer slice_buffer_;
   std::unique_ptr<render::RenderTarget> accum_;
   render::VertexArray empty_vao_;
+  // SlicePath::kFast (ibr/depth_object_fast.cc): the slice planes (SSBO), the
+  // active maps' records in loop order (UBO), one-slice stacks for the batch.
+  render::Buffer fast_planes_, fast_maps_;
+  std::vector<render::SliceStack> fast_stacks_;
 };
 
 // Applies the loop order rule for visual hulls (hull_skip_opposite) and

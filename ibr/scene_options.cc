@@ -42,6 +42,7 @@ DepthObjectOptions DepthObjectOptionsFrom(const scene::Settings& s) {
   DepthObjectOptions o;
   o.method = Named(s, "method", MethodName(o.method), MethodFromName);
   o.slicing = Named(s, "slicing", SlicingName(o.slicing), SlicingFromName);
+  o.slice_path = Named(s, "slice_path", SlicePathName(o.slice_path), SlicePathFromName);
   o.texturing = Named(s, "texturing", TexturingName(o.texturing), TexturingFromName);
   // "auto" or a count (a literal 0 is not a spelling of auto).
   if (const scene::Setting* v = s.Find("slices"); v != nullptr && v->value.is_string()) {
@@ -98,6 +99,7 @@ scene::Settings SettingsFromFlags(const DepthObjectFlags& f) {
   s.Set("method", f.method, "--method");
   s.Set("slicing", f.slicing, "--slicing");
   s.Set("slices", f.slices, "--slices");
+  s.Set("slice_path", f.slice_path, "--slice-path");
   s.Set("robust", f.robust, "--robust");
   s.Set("texturing", f.texturing, "--texturing");
   s.Set("outside", f.outside, "--outside");

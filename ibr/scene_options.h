@@ -14,8 +14,8 @@
 namespace ibr {
 
 // Keys: method (depth-object | visual-hull), slicing (orthogonal | screen |
-// ray), slices (a count or "auto"), texturing (vdt | visibility | none), robust (k), outside
-// (pass | fail), invalid_depth (empty | no-constraint), refine_steps. Missing
+// ray), slice_path (exact | fast), slices (a count or "auto"), texturing (vdt | visibility | none),
+// robust (k), outside (pass | fail), invalid_depth (empty | no-constraint), refine_steps. Missing
 // keys keep DepthObjectOptions' defaults.
 DepthObjectOptions DepthObjectOptionsFrom(const scene::Settings& settings);
 
@@ -26,7 +26,8 @@ DisplacedMeshOptions DisplacedMeshOptionsFrom(const scene::Settings& settings);
 struct DepthObjectFlags {
   std::string method = "depth-object";
   std::string slicing = "orthogonal";
-  std::string slices = "auto";  // "auto" (sec. 3.4: one slice per depth texel) or a count
+  std::string slices = "auto";       // "auto" (sec. 3.4: one slice per depth texel) or a count
+  std::string slice_path = "exact";  // "exact" (the stencil passes) or "fast" (one draw)
   int robust = 0;
   std::string texturing = "vdt";
   std::string outside = "pass";

@@ -55,6 +55,10 @@ class DatasetScene : public viewer::Scene {
     if (ImGui::Combo("slicing", &slicing, "orthogonal\0screen\0ray\0")) {
       options_.slicing = static_cast<ibr::Slicing>(slicing);
     }
+    bool fast = options_.slice_path == ibr::SlicePath::kFast;
+    if (ImGui::Checkbox("fast slices (one draw)", &fast)) {
+      options_.slice_path = fast ? ibr::SlicePath::kFast : ibr::SlicePath::kExact;
+    }
     ImGui::SliderInt("slices (0 = auto)", &options_.slices, 0, 512);
     int texturing = static_cast<int>(options_.texturing);
     if (ImGui::Combo("texturing", &texturing, "view-dependent\0visibility\0none\0")) {
@@ -78,9 +82,13 @@ class DatasetScene : public viewer::Scene {
   }
 
   std::string Status() const override {
-    return fmt::format("{} maps, {} {} path, {} slices", renderer_.maps().maps.size(),
-                       ibr::MethodName(options_.method), ibr::SlicingName(options_.slicing),
-                       ibr::SliceCountName(options_.slices));
+    return fmt::format(
+        "{} maps, {} {}{} path, {} slices", renderer_.maps().maps.size(),
+        ibr::MethodName(options_.method), ibr::SlicingName(options_.slicing),
+        options_.slicing != ibr::Slicing::kRay && options_.slice_path == ibr::SlicePath::kFast
+            ? " fast"
+            : "",
+        ibr::SliceCountName(options_.slices));
   }
 
  private:

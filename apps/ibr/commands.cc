@@ -48,6 +48,9 @@ void AddRegisteredCommands(CLI::App& app) {
 void AddDepthObjectFlags(CLI::App* cmd, ibr::DepthObjectFlags& f) {
   cmd->add_option("--method", f.method, "depth-object | visual-hull")->capture_default_str();
   cmd->add_option("--slicing", f.slicing, "orthogonal | screen | ray")->capture_default_str();
+  cmd->add_option("--slice-path", f.slice_path,
+                  "orthogonal/screen slices: exact (stencil passes) | fast (one draw)")
+      ->capture_default_str();
   cmd->add_option("--slices", f.slices,
                   "slices through the box per frame (ray: steps), or auto (one per depth texel)")
       ->capture_default_str();

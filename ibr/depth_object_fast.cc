@@ -1,0 +1,121 @@
+// The fast slice path of depth objects and visual hulls (issue 12, item 3):
+// the slices and map tests of Kautz-Seidel 2001, sec. 4.1 (and sec. 5 for
+// hulls), without the per-slice, per-map stencil passes.
+//
+// The exact path (DrawSlices) draws every slice n + 1 times (one pass per
+// active map, stencil EQUAL j / INCR and the map test as an alpha test, then
+// a pass that clears what fell short), with a uniform and a buffer range
+// switch per pass: thousands of draw calls a frame, and every fragment of
+// every pass shaded, finished pixels included (stencil writes make llvmpipe
+// test late). Here:
+// - all slices go into one vertex buffer as one-slice stacks of the slicing
+//   core (render::SliceBuffer::UploadVolumes: a_volume = the slice index) and
+//   are drawn in ONE call, front to back;
+// - the fragment shader runs the map loop itself (the same MapAccepts, the
+//   same texels) on the point recomputed from the pixel centre and the slice's
+//   plane (read from a storage buffer by index), leaving at the first map
+//   that rejects (robust: counting up to N - k), and sums w_i * colour_i in
+//   the map order of the exact path's additive blending;
+// - the depth test (LESS, depth written) keeps the front slice a pixel
+//   reached; with no stencil writes llvmpipe tests depth before shading, so
+//   fragments behind a finished pixel cost no map test.
+// Output: the accumulation target of DrawSlices (RGBA32F sum w c and sum w,
+// RG32F camera z and covered), resolved by the same resolve pass. The colour
+// sum is formed in registers and written once per pixel, so the RGBA8
+// accumulation of the paper (blending per map pass) would buy nothing here.
+// Differences from the exact path: along a ray that crosses the slices out
+// of drawing order (perspective views with the eye between orthogonal slice
+// planes) this keeps the nearest accepted slice, the exact path the first
+// drawn; and the comparison is not mirrored by ibr/reference.h's bit-exact
+// replay (tests/ibr/depth_object_fast_test.cc compares it with the exact
+// path and the CPU reference instead).
+#include <fmt/format.h>
+
+#include <algorithm>
+
+#include "core/check.h"
+#include "core/error.h"
+#include "ibr/depth_object.h"
+#include "render/gl/gl_state.h"
+
+namespace ibr {
+
+SlicePath SlicePathFromName(const std::string& name) {
+  if (name == "exact") return SlicePath::kExact;
+  if (name == "fast") return SlicePath::kFast;
+  core::ThrowInputError("SlicePathFromName", "unknown slice path '{}' (exact, fast)", name);
+}
+
+std::string SlicePathName(SlicePath p) { return p == SlicePath::kExact ? "exact" : "fast"; }
+
+namespace {
+
+// Storage binding points of this pass (the map table is 0, the exact path's
+// current map 1).
+constexpr GLuint kFastMapsBinding = 3;    // UBO: the active maps in loop order
+constexpr GLuint kFastPlanesBinding = 3;  // SSBO: one plane per slice
+
+// Replaces `buffer`'s contents, growing its mutable storage when needed.
+void Upload(render::Buffer& buffer, const void* data, size_t bytes) {
+  if (!buffer) buffer = render::Buffer::Create();
+  GLint64 capacity = 0;
+  glGetNamedBufferParameteri64v(buffer.id(), GL_BUFFER_SIZE, &capacity);
+  const size_t need = std::max<size_t>(bytes, 16);
+  if (static_cast<size_t>(capacity) < need) {
+    glNamedBufferData(buffer.id(), static_cast<GLsizeiptr>(need), nullptr, GL_STREAM_DRAW);
+  }
+  if (bytes > 0) glNamedBufferSubData(buffer.id(), 0, static_cast<GLsizeiptr>(bytes), data);
+}
+
+}  // namespace
+
+void DepthObjectRenderer::DrawSlicesFast(const FrameParams& frame,
+                                         const DepthObjectOptions& options,
+                                         const render::RenderTarget& accum) {
+  IBR_CHECK(options.slicing != Slicing::kRay);
+  IBR_CHECK_EQ(frame.planes.size(), frame.stack.slices.size());
+  // The whole table too: the resolve pass reads it.
+  BindFrame(frame, options, accum);
+
+  // The active maps' records in loop order: a block indexed by the unrolled
+  // loop's constant (a dynamic index into the whole table gathers per lane).
+  const int n = static_cast<int>(frame.active.size());
+  std::vector<MapRecord> loop;
+  loop.reserve(frame.active.size());
+  for (int i : frame.active) loop.push_back(frame.maps.at(static_cast<size_t>(i)));
+  Upload(fast_maps_, loop.data(), loop.size() * sizeof(MapRecord));
+  Upload(fast_planes_, frame.planes.data(), frame.planes.size() * sizeof(glm::vec4));
+  glBindBufferBase(GL_UNIFORM_BUFFER, kFastMapsBinding, fast_maps_.id());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kFastPlanesBinding, fast_planes_.id());
+
+  std::vector<std::string> defines = Defines(frame, options);
+  defines.push_back(fmt::format("FAST_MAP_COUNT {}", n));
+  if (frame.robust) defines.push_back("ROBUST_COUNT");
+  const render::Program& pass = programs_->Get({.vertex = "passes/depth_object_fast.vert.glsl",
+                                                .fragment = "passes/depth_object_fast.frag.glsl",
+                                                .defines = defines});
+  SetCommonUniforms(pass, frame, true);
+  pass.Set("u_required", frame.required);
+
+  // One stack per slice: the slicing core's buffer tags each vertex with its
+  // stack (a_volume), which is the slice index the shader reads its plane by.
+  fast_stacks_.resize(frame.stack.slices.size());
+  for (size_t s = 0; s < frame.stack.slices.size(); ++s) {
+    render::SliceStack& one = fast_stacks_[s];
+    one.family = frame.stack.family;
+    one.axis = frame.stack.axis;
+    one.normal_in_box = frame.stack.normal_in_box;
+    one.slices.assign(1, frame.stack.slices[s]);
+  }
+  slice_buffer_.UploadVolumes(fast_stacks_);
+
+  // Depth test LESS, written (ties of window depth keep the slice drawn
+  // first); no stencil, blending or culling. Restored on return.
+  const render::ScopedGlState state(render::GlState{});
+  accum.Bind();
+  const float zero[4] = {0, 0, 0, 0};
+  accum.Clear(zero, 1.0f, 0);
+  slice_buffer_.DrawAllBatched();
+}
+
+}  // namespace ibr
