@@ -118,21 +118,37 @@ float VdtSeenColor(MapRecord m, vec3 p, out vec3 color, inout float nearest_resi
   vec2 f = uv - 0.5;
   ivec2 i0 = ivec2(floor(f));
   vec2 t = f - vec2(i0);
+  float d[4], b[4];
+  ivec3 ij[4];
+  float dmin = 1e30, dmax = -1e30, dbil = 0.0;
+  for (int k = 0; k < 4; ++k) {
+    ij[k] = ivec3(clamp(i0 + ivec2(k & 1, k >> 1), ivec2(0), m.info.xy - 1), m.info.w);
+    b[k] = ((k & 1) != 0 ? t.x : 1.0 - t.x) * ((k >> 1) != 0 ? t.y : 1.0 - t.y);
+    d[k] = texelFetch(u_depth_maps, ij[k], 0).r;
+    dmin = min(dmin, d[k]);
+    dmax = max(dmax, d[k]);
+    dbil += b[k] * d[k];
+  }
+  // A footprint on one surface (every depth valid, spanning at most 4 texel
+  // widths: slopes up to 76 degrees to the map) is compared by its bilinear
+  // depth, which follows a slope between the texel centres (each texel's own
+  // depth would leave a sawtooth residual of a texel times the slope: contour
+  // stripes); across a depth edge each texel by its own.
+  float texel_size = m.info.z == 1 ? 1.0 / m.proj.x : q.z / m.proj.x;
+  bool one_surface = dmin > 0.0 && dmax - dmin <= 4.0 * texel_size;
   float seen = 0.0;
   vec3 sum = vec3(0.0);
   for (int k = 0; k < 4; ++k) {
-    ivec3 ij = ivec3(clamp(i0 + ivec2(k & 1, k >> 1), ivec2(0), m.info.xy - 1), m.info.w);
-    float b = ((k & 1) != 0 ? t.x : 1.0 - t.x) * ((k >> 1) != 0 ? t.y : 1.0 - t.y);
-    float residual = TexelResidual(texelFetch(u_depth_maps, ij, 0).r, q.z);
+    float residual = TexelResidual(one_surface ? dbil : d[k], q.z);
     if (residual < nearest_residual) {
       nearest_residual = residual;
-      nearest_color = MapColor(ij).rgb;
+      nearest_color = MapColor(ij[k]).rgb;
     }
     float v =
-        b * (1.0 - smoothstep(0.5 * u_visibility_tolerance, u_visibility_tolerance, residual));
+        b[k] * (1.0 - smoothstep(0.5 * u_visibility_tolerance, u_visibility_tolerance, residual));
     if (v > 0.0) {
       seen += v;
-      sum += v * MapColor(ij).rgb;
+      sum += v * MapColor(ij[k]).rgb;
     }
   }
   if (seen > 0.0) color = sum / seen;

@@ -357,7 +357,13 @@ TEST_F(TexturingTest, SpotSideViewsTakeColoursFromMapsThatSawThem) {
                                   bench::ContactSheet(sheet[t], 8));
   }
   test_support::WriteDebugImage("spot_truth.png", bench::ContactSheet(sheet[3], 8));
+  // Measured: vdt 1.41 levels mean, 132 of 52265 pixels > 64 (the rims of
+  // the horns and legs, where the render's surface and the mesh's differ by
+  // a texel); visibility 2.02 / 348 (the ears and the face bleached);
+  // vdt-paper 8.85 / 2662 (ghosts of the far side's spots).
   ASSERT_GT(compared, 20000);
+  EXPECT_LT(sum[0] / compared, 3.0);
+  EXPECT_LT(wrong[0], compared / 200);
   EXPECT_LT(wrong[0], wrong[2]);
   EXPECT_LT(wrong[0], wrong[1]);
   EXPECT_NO_GL_ERROR();
