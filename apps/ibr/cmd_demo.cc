@@ -31,7 +31,7 @@ std::vector<std::string> DepthObjectDemo(render::ProgramCache& programs,
   // The built-in default scene, datasets/scenes/spot-cube.json, rendered
   // through the scene path; its options pick vdt, whose maps colour only
   // the points they saw (the paper's blend ghosts where a map saw the far
-  // side; visibility's cos^8 weights coloured the ears and horns wrongly).
+  // side; visibility's turntable showed blotched ears and a bleached face).
   ibr::DepthObjectDemoOptions o;
   o.scene = "spot-cube";
   o.size = size;
