@@ -34,8 +34,9 @@ Texturing TexturingFromName(const std::string& name) {
   if (name == "vdt") return Texturing::kViewDependent;
   if (name == "visibility") return Texturing::kVisibility;
   if (name == "none") return Texturing::kNone;
-  core::ThrowInputError("TexturingFromName", "unknown texturing '{}' (vdt, visibility, none)",
-                        name);
+  if (name == "vdt-paper") return Texturing::kPaperBlend;
+  core::ThrowInputError("TexturingFromName",
+                        "unknown texturing '{}' (vdt, visibility, none, vdt-paper)", name);
 }
 int SliceCountFromName(const std::string& name) {
   if (name == "auto") return DepthObjectOptions::kAutoSlices;
@@ -64,6 +65,7 @@ std::string SlicingName(Slicing s) {
 std::string TexturingName(Texturing t) {
   return t == Texturing::kViewDependent ? "vdt"
          : t == Texturing::kVisibility  ? "visibility"
+         : t == Texturing::kPaperBlend  ? "vdt-paper"
                                         : "none";
 }
 
@@ -284,19 +286,19 @@ FrameParams PrepareFrame(const MapSet& maps, const ViewCamera& view,
   f.robust = options.robust_k > 0;
   f.required = std::max(n - options.robust_k, 0);
 
-  // View-dependent weights over the active maps (sec. 4.2, ibr/view_weights.h).
+  // View-dependent weights over every map (sec. 4.2, ibr/view_weights.h), not
+  // only the active ones: a hull's active set swaps a map for its opposite
+  // where the view crosses a face plane, and weights over the three active
+  // maps alone then jumped there (the swapped map held ~14 %); over all maps
+  // the swapping pair both sit at the 4th-smallest angle, weight 0. The map
+  // loop blends the active maps' share (the resolve divides by its sum).
   std::vector<glm::dvec3> dirs;
-  for (int i : f.active) {
-    const ImageMap& m = maps.maps[i];
+  for (const ImageMap& m : maps.maps) {
     dirs.push_back(LookDirection(m.camera.orthographic, m.cam_from_world, centre));
   }
-  const std::vector<float> w = ViewDependentWeights(dirs, view_dir, 3);
-  f.weights.assign(maps.maps.size(), 0.0f);
-  for (int j = 0; j < n; ++j) {
-    f.weights[f.active[j]] = w[j];
-    f.maps[f.active[j]].extra.x = w[j];
-    f.maps[f.active[j]].extra.y = 1.0f;
-  }
+  f.weights = ViewDependentWeights(dirs, view_dir, 3);
+  for (size_t i = 0; i < f.maps.size(); ++i) f.maps[i].extra.x = f.weights[i];
+  for (int j = 0; j < n; ++j) f.maps[f.active[j]].extra.y = 1.0f;
   f.visibility_tolerance =
       static_cast<float>(options.visibility_tolerance > 0 ? options.visibility_tolerance
                                                           : 4.0 * f.stack.spacing_world);
@@ -606,6 +608,7 @@ void DepthObjectRenderer::Resolve(const FrameParams& frame, const DepthObjectOpt
   std::vector<std::string> defines = Defines(frame, options);
   defines.push_back(options.texturing == Texturing::kViewDependent ? "TEXTURING_VDT"
                     : options.texturing == Texturing::kVisibility  ? "TEXTURING_VISIBILITY"
+                    : options.texturing == Texturing::kPaperBlend  ? "TEXTURING_VDT_PAPER"
                                                                    : "TEXTURING_NONE");
   if (frame.robust) defines.push_back("ROBUST_COUNT");
   // The ray variant's hits are already refined by the ray core; the slice

@@ -40,9 +40,10 @@ enum class SlicePath {
            // the front slice (ibr/depth_object_fast.cc)
 };
 enum class Texturing {
-  kViewDependent,  // the paper's VDT, blended in the map loop (sec. 4.2)
-  kVisibility,     // only maps that saw the point; VDT where none did
+  kViewDependent,  // sec. 4.2's weights over the maps that saw the point (default)
+  kVisibility,     // only maps that saw the point, cos^8 weights; VDT where none did
   kNone,           // grey, shaded
+  kPaperBlend,     // the paper's VDT as blended in the map loop, no visibility test
 };
 // Points outside a map's image (or behind a pinhole map).
 enum class OutsidePolicy {
@@ -55,9 +56,10 @@ enum class InvalidDepthPolicy {
   kNoConstraint,  // a hole in a sensor / MVS map carves nothing
 };
 
-Method MethodFromName(const std::string& name);        // "depth-object", "visual-hull"
-Slicing SlicingFromName(const std::string& name);      // "orthogonal", "screen", "ray"
-Texturing TexturingFromName(const std::string& name);  // "vdt", "visibility", "none"
+Method MethodFromName(const std::string& name);    // "depth-object", "visual-hull"
+Slicing SlicingFromName(const std::string& name);  // "orthogonal", "screen", "ray"
+// "vdt", "visibility", "none", "vdt-paper"
+Texturing TexturingFromName(const std::string& name);
 // "auto" -> DepthObjectOptions::kAutoSlices, else a count in 1..16384.
 int SliceCountFromName(const std::string& name);
 std::string SliceCountName(int slices);  // "auto" or the count
@@ -157,7 +159,7 @@ struct FrameParams {
   int required = 0;                // stencil count a pixel needs (N - k, >= 0)
   bool robust = false;             // robust_k > 0: counting stencil scheme
   float visibility_tolerance = 0;  // scene units
-  std::vector<float> weights;      // view-dependent weight per map (0 if not active)
+  std::vector<float> weights;      // view-dependent weight per map, over all maps (<= 3 non-zero)
 };
 
 // The texel data exactly as uploaded (one layer per map, row 0 = image top).

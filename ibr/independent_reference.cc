@@ -185,13 +185,14 @@ void Evaluator::ChooseActive(const glm::dvec3& view_dir) {
 // ViewDependentWeights or PrepareFrame): the reference must catch a mistake
 // in either.
 void Evaluator::ComputeWeights(const glm::dvec3& view_dir) {
+  // Over every map, active or not (a hull's skipped opposite maps included).
   const glm::dvec3 centre(maps_.world_from_box * glm::dvec4(0.5, 0.5, 0.5, 1.0));
-  const int n = static_cast<int>(frame_.active.size());
+  const int n = static_cast<int>(maps_.maps.size());
   frame_.weights.assign(maps_.maps.size(), 0.0);
   if (n == 0) return;
   std::vector<double> theta(n);
   for (int j = 0; j < n; ++j) {
-    const ImageMap& m = maps_.maps[frame_.active[j]];
+    const ImageMap& m = maps_.maps[j];
     const glm::dvec3 d = LookAtBox(m.camera.orthographic, m.cam_from_world, centre);
     theta[j] = std::atan2(glm::length(glm::cross(d, view_dir)), glm::dot(d, view_dir));
   }
@@ -199,7 +200,7 @@ void Evaluator::ComputeWeights(const glm::dvec3& view_dir) {
   std::iota(order.begin(), order.end(), 0);
   std::stable_sort(order.begin(), order.end(), [&](int a, int b) { return theta[a] < theta[b]; });
   if (theta[order[0]] == 0) {
-    frame_.weights[frame_.active[order[0]]] = 1;
+    frame_.weights[order[0]] = 1;
     return;
   }
   const int k = std::min(3, n);
@@ -210,8 +211,7 @@ void Evaluator::ComputeWeights(const glm::dvec3& view_dir) {
     w[j] = std::max(0.0, 1.0 - theta[order[j]] / theta_k) / theta[order[j]];
     sum += w[j];
   }
-  for (int j = 0; j < k; ++j)
-    frame_.weights[frame_.active[order[j]]] = sum > 0 ? w[j] / sum : 1.0 / k;
+  for (int j = 0; j < k; ++j) frame_.weights[order[j]] = sum > 0 ? w[j] / sum : 1.0 / k;
 }
 
 // The box's camera-z range over its eight corners.

@@ -39,7 +39,8 @@
 // the maps' poses and the view (the unstructured-lumigraph penalty with k = 3
 // that ibr/view_weights.h states: theta_i = angle between map i's and the
 // view's direction towards the box centre, orthographic: the camera axis;
-// w'_i = (1 - theta_i / theta_4) / theta_i for the three smallest, normalised;
+// w'_i = (1 - theta_i / theta_4) / theta_i for the three smallest over every
+// map (a hull's skipped opposite maps included), normalised;
 // theta_i = 0 gives weight 1). The accumulated colour of a pixel is
 // sum_i w_i c_i over the maps that accept the front point (slices) or that
 // see the hit point in their image (ray path), c_i the texel's RGBA / 255.

@@ -29,8 +29,9 @@ std::vector<std::string> DepthObjectDemo(render::ProgramCache& programs,
                                          const std::filesystem::path& dir,
                                          const std::filesystem::path& final_dir, int size) {
   // The built-in default scene, datasets/scenes/spot-cube.json, rendered
-  // through the scene path; its options pick visibility-aware texturing,
-  // since the paper's VDT ghosts where a map saw the far side.
+  // through the scene path; its options pick vdt, whose maps colour only
+  // the points they saw (the paper's blend ghosts where a map saw the far
+  // side; visibility's turntable showed blotched ears and a bleached face).
   ibr::DepthObjectDemoOptions o;
   o.scene = "spot-cube";
   o.size = size;

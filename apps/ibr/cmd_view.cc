@@ -61,7 +61,7 @@ class DatasetScene : public viewer::Scene {
     }
     ImGui::SliderInt("slices (0 = auto)", &options_.slices, 0, 512);
     int texturing = static_cast<int>(options_.texturing);
-    if (ImGui::Combo("texturing", &texturing, "view-dependent\0visibility\0none\0")) {
+    if (ImGui::Combo("texturing", &texturing, "view-dependent\0visibility\0none\0paper blend\0")) {
       options_.texturing = static_cast<ibr::Texturing>(texturing);
     }
     const int maps = static_cast<int>(renderer_.maps().maps.size());

@@ -56,7 +56,8 @@ void AddDepthObjectFlags(CLI::App* cmd, ibr::DepthObjectFlags& f) {
       ->capture_default_str();
   cmd->add_option("--robust", f.robust, "keep pixels where at least N-K maps agree")
       ->capture_default_str();
-  cmd->add_option("--texturing", f.texturing, "vdt | visibility | none")->capture_default_str();
+  cmd->add_option("--texturing", f.texturing, "vdt | visibility | none | vdt-paper")
+      ->capture_default_str();
   cmd->add_option("--outside", f.outside, "points outside a map's image: pass | fail")
       ->capture_default_str();
   cmd->add_option("--invalid-depth", f.invalid_depth,

@@ -2,7 +2,12 @@
 // Texturing and background after the stencil slice passes (ibr/depth_object.cc):
 // a full-screen pass (fullscreen.vert.glsl) reading the accumulated colour
 // and the first-surface depth.
-//   TEXTURING_VDT         the paper's view-dependent texturing (sec. 4.2), already
+//   TEXTURING_VDT         view-dependent texturing (sec. 4.2 weights, ibr/view_weights.h)
+//                         with a visibility test: map i contributes w_i times the
+//                         fraction of its 2x2 texel footprint that saw the point
+//                         (VdtSeenColor); where none of the weighted maps saw it, any
+//                         map that did; where none did, the nearest surface
+//   TEXTURING_VDT_PAPER   the paper's view-dependent texturing (sec. 4.2), already
 //                         blended during the map loop: colour = sum(w c) / sum(w)
 //   TEXTURING_VISIBILITY  per pixel, only maps that saw this point (their
 //                         bilinear depth matches within u_visibility_tolerance,
@@ -78,6 +83,111 @@ vec3 VdtColor(ivec2 px) {
   // Robust intersection can finish a pixel where no weighted map passed.
   return acc.a > 0.0 ? acc.rgb / acc.a : vec3(0.5);
 }
+
+#ifdef TEXTURING_VDT
+// The residual between a point at map camera z and the surface a texel of
+// depth code d (ibr::MakeMapTables) saw; 1e30 where the texel cannot show it:
+// outside the silhouette (d < 0: that colour is the background) and, for
+// depth objects, invalid depth (d = 0, a sensor hole: no evidence). Depth
+// objects: |z - d|, the texel's surface is the point's. Visual hulls: the
+// hull lies in front of the object, so only a point behind the texel's
+// surface (z - d > 0, occluded) has a residual; without depth (d = 0) the
+// silhouette alone decides.
+float TexelResidual(float d, float z) {
+  if (d < 0.0) return 1e30;
+#ifdef VISUAL_HULL
+  return d == 0.0 ? 0.0 : max(z - d, 0.0);
+#else
+  return d == 0.0 ? 1e30 : abs(z - d);
+#endif
+}
+
+// Map m at view point p: the fraction of its bilinear 2x2 footprint (texel
+// centres at +0.5) whose texels saw p -- softly, 1 within half the
+// visibility tolerance, 0 beyond it -- and the colour over those texels
+// alone, so neither an occluder in front of p, nor the background beyond a
+// silhouette, nor a sensor hole lends p its colour. Also the smallest
+// residual of the footprint and that texel's colour (the fallback).
+float VdtSeenColor(MapRecord m, vec3 p, out vec3 color, inout float nearest_residual,
+                   inout vec3 nearest_color) {
+  color = vec3(0.0);
+  vec3 q;
+  ivec3 texel;
+  vec2 uv;
+  if (!MapLookupUv(m, p, q, texel, uv)) return 0.0;
+  vec2 f = uv - 0.5;
+  ivec2 i0 = ivec2(floor(f));
+  vec2 t = f - vec2(i0);
+  float d[4], b[4];
+  ivec3 ij[4];
+  float dmin = 1e30, dmax = -1e30, dbil = 0.0;
+  for (int k = 0; k < 4; ++k) {
+    ij[k] = ivec3(clamp(i0 + ivec2(k & 1, k >> 1), ivec2(0), m.info.xy - 1), m.info.w);
+    b[k] = ((k & 1) != 0 ? t.x : 1.0 - t.x) * ((k >> 1) != 0 ? t.y : 1.0 - t.y);
+    d[k] = texelFetch(u_depth_maps, ij[k], 0).r;
+    dmin = min(dmin, d[k]);
+    dmax = max(dmax, d[k]);
+    dbil += b[k] * d[k];
+  }
+  // A footprint on one surface (every depth valid, spanning at most 4 texel
+  // widths: slopes up to 76 degrees to the map) is compared by its bilinear
+  // depth, which follows a slope between the texel centres (each texel's own
+  // depth would leave a sawtooth residual of a texel times the slope: contour
+  // stripes); across a depth edge each texel by its own.
+  float texel_size = m.info.z == 1 ? 1.0 / m.proj.x : q.z / m.proj.x;
+  bool one_surface = dmin > 0.0 && dmax - dmin <= 4.0 * texel_size;
+  float seen = 0.0;
+  vec3 sum = vec3(0.0);
+  for (int k = 0; k < 4; ++k) {
+    float residual = TexelResidual(one_surface ? dbil : d[k], q.z);
+    if (residual < nearest_residual) {
+      nearest_residual = residual;
+      nearest_color = MapColor(ij[k]).rgb;
+    }
+    float v =
+        b[k] * (1.0 - smoothstep(0.5 * u_visibility_tolerance, u_visibility_tolerance, residual));
+    if (v > 0.0) {
+      seen += v;
+      sum += v * MapColor(ij[k]).rgb;
+    }
+  }
+  if (seen > 0.0) color = sum / seen;
+  return seen;
+}
+
+// sum_i w_i s_i c_i / sum_i w_i s_i over the maps (s_i = VdtSeenColor's
+// fraction), w_i = the sec. 4.2 weight (extra.x) + 1e-3 ((1 + cos theta_i) /
+// 2)^8, theta_i between map i's ray and the view's: the second term is
+// negligible wherever a weighted map saw the point and the answer where none
+// did (a concavity only an unweighted map saw), continuously between the two.
+// Where no map saw it (no texel within the tolerance), the colour of the
+// texel whose surface lies nearest to it along its map's ray; where no map
+// has a valid texel there, the paper's blend.
+vec3 VisibleVdtColor(ivec2 px, vec3 p) {
+  vec3 view_ray;
+#ifdef VIEW_ORTHOGRAPHIC
+  view_ray = vec3(0.0, 0.0, 1.0);
+#else
+  view_ray = normalize(p);
+#endif
+  vec3 sum = vec3(0.0);
+  float wsum = 0.0;
+  float nearest_residual = 1e30;
+  vec3 nearest_color = VdtColor(px);
+  for (int i = 0; i < u_map_count; ++i) {
+    vec3 map_ray = u_maps[i].centre_in_view.w > 0.5 ? u_maps[i].axis_in_view.xyz
+                                                    : normalize(p - u_maps[i].centre_in_view.xyz);
+    float h = 0.5 + 0.5 * dot(map_ray, view_ray);
+    float h2 = h * h, h4 = h2 * h2;
+    float w = max(u_maps[i].extra.x, 0.0) + 1e-3 * h4 * h4;
+    vec3 c;
+    float s = VdtSeenColor(u_maps[i], p, c, nearest_residual, nearest_color);
+    sum += w * s * c;
+    wsum += w * s;
+  }
+  return wsum > 0.0 ? sum / wsum : nearest_color;
+}
+#endif
 
 #ifdef TEXTURING_VISIBILITY
 // Bilinear depth and colour of map m at map-camera point q (texel centres at
@@ -170,7 +280,9 @@ void main() {
   }
   if (u_refine != 0) p = RefineSurface(FragmentUv(), p);
   vec3 rgb;
-#if defined(TEXTURING_VISIBILITY)
+#if defined(TEXTURING_VDT)
+  rgb = VisibleVdtColor(px, p);
+#elif defined(TEXTURING_VISIBILITY)
   rgb = VisibilityColor(px, p);
 #elif defined(TEXTURING_NONE)
   float len = length(n);

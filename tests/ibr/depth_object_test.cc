@@ -379,7 +379,7 @@ TEST_F(DepthObjectTest, VisibilityTexturingBeatsViewDependentOnPositionColours) 
     DepthObjectOptions o;
     o.slices = 256;
     o.slicing = Slicing::kScreen;
-    o.texturing = t == 0 ? Texturing::kViewDependent : Texturing::kVisibility;
+    o.texturing = t == 0 ? Texturing::kPaperBlend : Texturing::kVisibility;
     const DepthObjectFrame out = renderer.RenderImages(view, o);
     test_support::WriteDebugImage(fmt::format("texturing_{}.png", TexturingName(o.texturing)),
                                   out.color);
@@ -401,8 +401,8 @@ TEST_F(DepthObjectTest, VisibilityTexturingBeatsViewDependentOnPositionColours) 
     err[t] /= 3.0 * n;
     (void)f;
   }
-  std::printf("texturing colour error (8-bit levels, mean): vdt %.2f, visibility %.2f\n", err[0],
-              err[1]);
+  std::printf("texturing colour error (8-bit levels, mean): vdt-paper %.2f, visibility %.2f\n",
+              err[0], err[1]);
   EXPECT_LT(err[1], err[0]);
   EXPECT_LT(err[1], 6.0);  // a slice spacing and a texel of position, ~100 levels per unit
   EXPECT_NO_GL_ERROR();

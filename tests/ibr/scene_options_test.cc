@@ -30,7 +30,7 @@ TEST(BuiltinScenes, EveryDefinitionIsValidAndItsObjectLoads) {
   }
   const DepthObjectOptions demo =
       DepthObjectOptionsFromJson(capture::LoadBuiltinScene("spot-cube").render, "x");
-  EXPECT_EQ(demo.texturing, Texturing::kVisibility);
+  EXPECT_EQ(demo.texturing, Texturing::kViewDependent);
   EXPECT_EQ(demo.slices, 256);
 }
 
