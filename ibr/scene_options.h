@@ -15,7 +15,8 @@ namespace ibr {
 
 // Keys: method (depth-object | visual-hull), slicing (orthogonal | screen |
 // ray), slices (a count or "auto"), texturing (vdt | visibility | none), robust (k), outside
-// (pass | fail), invalid_depth (empty | no-constraint), refine_steps. Missing
+// (pass | fail), invalid_depth (empty | no-constraint), refine_steps, max_maps (0 = every
+// map, else the nearest that many: DepthObjectOptions::max_maps). Missing
 // keys keep DepthObjectOptions' defaults.
 DepthObjectOptions DepthObjectOptionsFrom(const scene::Settings& settings);
 
@@ -31,6 +32,7 @@ struct DepthObjectFlags {
   std::string texturing = "vdt";
   std::string outside = "pass";
   std::string invalid_depth = "empty";
+  int max_maps = 0;  // 0 = every map
 };
 scene::Settings SettingsFromFlags(const DepthObjectFlags& flags);
 

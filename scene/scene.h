@@ -23,7 +23,8 @@
 //      "images"*: {"dataset": "DIR"} or {"capture": {"shape": S | "mesh": FILE | "shared_mesh":
 //      REL,
 //                                                    "rig": "cube", "size": 512}},
-//      effect keys: slicing, slices, texturing, robust, outside, invalid_depth, refine_steps},
+//      effect keys: slicing, slices, texturing, robust, outside, invalid_depth, refine_steps,
+//                   max_maps},
 //     {"type"*: "displaced-mesh",
 //      "mesh"*: {"shape": "torus" | "plane" | "sphere"} or {"file": "OBJ/PLY with uvs"},
 //      "height"*: {"file": "8/16-bit PNG or EXR"} or {"generator": "bumps", "texels": 256},
