@@ -252,9 +252,10 @@ TEST_F(ManyMapsTest, OverTheLimitsIsOneClearError) {
   o.max_maps = 0;
   o.robust_k = 1;
   o.slicing = Slicing::kScreen;
-  EXPECT_NE(
-      InputErrorOf([&] { renderer.RenderImages(NovelView(8), o); }).find("at most 127 with --robust"),
-      std::string::npos);
+  EXPECT_NE(InputErrorOf([&] {
+              renderer.RenderImages(NovelView(8), o);
+            }).find("at most 127 with --robust"),
+            std::string::npos);
   o.slicing = Slicing::kRay;
   EXPECT_EQ(InputErrorOf([&] { renderer.RenderImages(NovelView(8), o); }), "");
   EXPECT_NO_GL_ERROR();
