@@ -359,7 +359,7 @@ int UniformMaps(size_t maps) {
   glGetIntegerv(GL_MAX_UNIFORM_BLOCK_SIZE, &max_block);
   const size_t rounded = (maps + 63) / 64 * 64;
   return rounded * sizeof(MapRecord) <= static_cast<size_t>(max_block) ? static_cast<int>(rounded)
-                                                                        : 0;
+                                                                       : 0;
 }
 
 // Where the maps came from, for error messages.
