@@ -534,6 +534,17 @@ DepthObjectBenchResult RunDepthObjectBench(const DepthObjectBenchOptions& option
   }
   fs::remove_all(work);
 
+  // The cost per map (issue 12, item 8) on the sweep's first object.
+  MapCountSweepResult map_sweep{Table({"object"}), Table({"object"})};
+  if (options.maps_sweep && !objects.empty()) {
+    MapCountSweepOptions mo =
+        options.quick ? MapCountSweepOptions::Quick() : MapCountSweepOptions{};
+    if (!options.map_counts.empty()) mo.counts = options.map_counts;
+    map_sweep = RunMapCountSweep(programs, objects[0].name, objects[0].scene, mo);
+    if (!options.out.empty()) fs::create_directories(options.out);
+    WriteMapCountSweep(map_sweep, options.csv.parent_path() / options.csv.stem(), options.out);
+  }
+
   fmt::print("\n{}\n", table.Format());
   table.WriteCsv(options.csv);
   const fs::path stem = options.csv.parent_path() / options.csv.stem();
@@ -570,7 +581,7 @@ DepthObjectBenchResult RunDepthObjectBench(const DepthObjectBenchOptions& option
     fmt::print("wrote plots to {}\n", options.out.string());
   }
   return {std::move(table), std::move(accuracy), std::move(fig_coverage), std::move(fig_slices),
-          std::move(first_image)};
+          std::move(first_image), std::move(map_sweep)};
 }
 
 }  // namespace bench

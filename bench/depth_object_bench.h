@@ -22,6 +22,7 @@
 #include <string>
 #include <vector>
 
+#include "bench/map_count_bench.h"
 #include "bench/report.h"
 
 namespace bench {
@@ -41,15 +42,21 @@ struct DepthObjectBenchOptions {
   std::vector<int> slices;
   // The Fig. 12 analogues (bunny; minutes of the full run).
   bool figures = true;
+  // The cost per map (bench/map_count_bench.h) on the sweep's first object:
+  // ring captures of these map counts (empty = the sweep's defaults; quick:
+  // MapCountSweepOptions::Quick); off with maps_sweep = false.
+  bool maps_sweep = true;
+  std::vector<int> map_counts;
   void Check() const;
 };
 
 struct DepthObjectBenchResult {
   Table table;     // the sweep (object, method, slices, size, ms_per_frame, ..., p95_depth_error)
   Table accuracy;  // every path at slices auto (the accuracy check)
-  Table fig_coverage;  // Fig. 12 analogue: family, slices, size, covered_pixels, ms_per_frame
-  Table fig_slices;    // Fig. 12 analogue: family, slices, size, ms_per_frame
-  Table first_image;   // cold / warm time to first image per path, and the TSDF peer's
+  Table fig_coverage;        // Fig. 12 analogue: family, slices, size, covered_pixels, ms_per_frame
+  Table fig_slices;          // Fig. 12 analogue: family, slices, size, ms_per_frame
+  Table first_image;         // cold / warm time to first image per path, and the TSDF peer's
+  MapCountSweepResult maps;  // cost per map, the nearest-maps subset's error
 };
 
 // Time to first image in a fresh process (issue 12, item 4): `ibr bench

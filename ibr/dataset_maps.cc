@@ -29,6 +29,10 @@ glm::dmat4 Mat4From(const capture::Rigid3& cam_from_world) {
   return m;
 }
 
+// The map limit is an input limit no larger than a dataset's (the reader
+// then names only the one number).
+static_assert(kMaxMaps <= capture::kDatasetLimits.max_views);
+
 capture::Dataset ReadMapDataset(const std::filesystem::path& dir) {
   return capture::ReadDataset(
       dir, false, {kMaxMaps, "maps of one depth object or visual hull (ibr::kMaxMaps)"});
@@ -42,6 +46,7 @@ MapSet MapsFromDataset(const capture::Dataset& dataset, double padding) {
   const glm::dvec3 ext = b.extent();
   const double pad = padding * std::max({ext.x, ext.y, ext.z});
   MapSet set;
+  set.source = dataset.root.string();
   set.world_from_box = BoxFromBounds(b.min - pad, b.max + pad);
   for (size_t i = 0; i < dataset.views.size(); ++i) {
     const capture::DatasetView& v = dataset.views[i];

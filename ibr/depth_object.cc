@@ -89,9 +89,41 @@ void DepthObjectOptions::Check() const {
     core::ThrowInputError("DepthObjectOptions", "visibility tolerance {} must be >= 0",
                           visibility_tolerance);
   }
+  if (max_maps < 0 || max_maps > kMaxMaps) {
+    core::ThrowInputError("DepthObjectOptions", "max maps {} outside 0..{} (0 = all)", max_maps,
+                          kMaxMaps);
+  }
 }
 
 // ---- CPU preparation ----
+
+void MakeMapLayer(const ImageMap& m, Method method, int row_stride, float* depth, uint8_t* color) {
+  IBR_CHECK_GE(row_stride, m.camera.width);
+  for (int row = 0; row < m.camera.height; ++row) {
+    for (int col = 0; col < m.camera.width; ++col) {
+      const size_t i = static_cast<size_t>(row) * row_stride + col;
+      float d = m.depth.empty() ? 0.0f : m.depth.at(col, row);
+      if (!std::isfinite(d) || d < 0) d = 0;
+      bool inside;
+      if (!m.mask.empty()) {
+        inside = m.mask.at(col, row) > 127;
+      } else if (method == Method::kVisualHull) {
+        inside = d > 0;  // silhouette from valid depth
+      } else {
+        inside = true;  // no silhouette: depth alone decides
+      }
+      depth[i] = inside ? d : -1.0f;
+      if (color == nullptr) continue;
+      uint8_t* c = color + i * 4;
+      if (m.color.empty()) {
+        c[0] = c[1] = c[2] = c[3] = 255;
+      } else {
+        for (int k = 0; k < 3; ++k) c[k] = m.color.at(col, row, k);
+        c[3] = m.color.channels() == 4 ? m.color.at(col, row, 3) : 255;
+      }
+    }
+  }
+}
 
 MapTables MakeMapTables(const MapSet& maps, Method method) {
   MapTables t;
@@ -104,27 +136,8 @@ MapTables MakeMapTables(const MapSet& maps, Method method) {
   t.depth.assign(n, -1.0f);
   t.color.assign(n * 4, 255);
   for (int l = 0; l < t.layers; ++l) {
-    const ImageMap& m = maps.maps[l];
-    for (int row = 0; row < m.camera.height; ++row) {
-      for (int col = 0; col < m.camera.width; ++col) {
-        const size_t i = t.Index(l, col, row);
-        float d = m.depth.empty() ? 0.0f : m.depth.at(col, row);
-        if (!std::isfinite(d) || d < 0) d = 0;
-        bool inside;
-        if (!m.mask.empty()) {
-          inside = m.mask.at(col, row) > 127;
-        } else if (method == Method::kVisualHull) {
-          inside = d > 0;  // silhouette from valid depth
-        } else {
-          inside = true;  // no silhouette: depth alone decides
-        }
-        t.depth[i] = inside ? d : -1.0f;
-        if (!m.color.empty()) {
-          for (int c = 0; c < 3; ++c) t.color[i * 4 + c] = m.color.at(col, row, c);
-          t.color[i * 4 + 3] = m.color.channels() == 4 ? m.color.at(col, row, 3) : 255;
-        }
-      }
-    }
+    MakeMapLayer(maps.maps[l], method, t.width, &t.depth[t.Index(l, 0, 0)],
+                 &t.color[t.Index(l, 0, 0) * 4]);
   }
   return t;
 }
@@ -171,6 +184,29 @@ std::vector<int> ActiveMaps(const MapSet& maps, Method method, bool skip_opposit
     if (!skip) active.push_back(i);
   }
   return active;
+}
+
+std::vector<int> NearestMaps(const MapSet& maps, const std::vector<int>& active,
+                             const glm::dvec3& view_direction, const glm::dvec3& target, int k) {
+  if (k <= 0 || k >= static_cast<int>(active.size())) return active;
+  std::vector<std::pair<double, int>> by_cosine;
+  for (int i : active) {
+    const ImageMap& m = maps.maps[i];
+    const glm::dvec3 d = LookDirection(m.camera.orthographic, m.cam_from_world, target);
+    by_cosine.emplace_back(-glm::dot(d, view_direction), i);
+  }
+  std::sort(by_cosine.begin(), by_cosine.end());  // largest cosine first, ties by index
+  std::vector<int> nearest;
+  for (int j = 0; j < k; ++j) nearest.push_back(by_cosine[j].second);
+  std::sort(nearest.begin(), nearest.end());
+  return nearest;
+}
+
+std::vector<int> FrameMaps(const MapSet& maps, const DepthObjectOptions& options,
+                           const glm::dvec3& view_direction) {
+  return NearestMaps(maps,
+                     ActiveMaps(maps, options.method, options.hull_skip_opposite, view_direction),
+                     view_direction, BoxCentre(maps), options.max_maps);
 }
 
 int AutoSliceCount(const MapSet& maps, const std::vector<int>& active, float extent_world) {
@@ -241,9 +277,8 @@ FrameParams PrepareFrame(const MapSet& maps, const ViewCamera& view,
     const render::SliceStack one =
         render::MakeSlices({f.world_from_box}, {f.cam_from_world, vc.orthographic}, so);
     const float extent_along = one.spacing_world;
-    const std::vector<int> active =
-        ActiveMaps(maps, options.method, options.hull_skip_opposite,
-                   LookDirection(vc.orthographic, view.cam_from_world, BoxCentre(maps)));
+    const std::vector<int> active = FrameMaps(
+        maps, options, LookDirection(vc.orthographic, view.cam_from_world, BoxCentre(maps)));
     so.count = AutoSliceCount(maps, active, extent_along);
   }
   f.slice_count = so.count;
@@ -281,7 +316,7 @@ FrameParams PrepareFrame(const MapSet& maps, const ViewCamera& view,
     r.axis_in_view = glm::vec4(glm::vec3(view_from_world_r * CameraAxis(m.cam_from_world)), 0.0f);
     f.maps.push_back(r);
   }
-  f.active = ActiveMaps(maps, options.method, options.hull_skip_opposite, view_dir);
+  f.active = FrameMaps(maps, options, view_dir);
   const int n = static_cast<int>(f.active.size());
   f.robust = options.robust_k > 0;
   f.required = std::max(n - options.robust_k, 0);
@@ -308,8 +343,7 @@ FrameParams PrepareFrame(const MapSet& maps, const ViewCamera& view,
 // ---- GPU ----
 
 struct DepthObjectRenderer::GpuTables {
-  MapTables cpu;
-  render::Texture depth, color;
+  render::Texture depth;  // R32F depth codes, one layer per map (the colour is shared: color_maps_)
 };
 
 struct DepthObjectRenderer::SkipTexture {
@@ -319,9 +353,81 @@ struct DepthObjectRenderer::SkipTexture {
 
 namespace {
 
-render::Texture CreateArray(GLenum format, int w, int h, int layers) {
+// The table as a uniform block of the maps rounded up to 64 where it fits
+// (llvmpipe reads it 5x faster in the ray loop than a storage buffer): its
+// record count, else 0 (a storage buffer).
+int UniformMaps(size_t maps) {
+  GLint max_block = 16384;
+  glGetIntegerv(GL_MAX_UNIFORM_BLOCK_SIZE, &max_block);
+  const size_t rounded = (maps + 63) / 64 * 64;
+  return rounded * sizeof(MapRecord) <= static_cast<size_t>(max_block) ? static_cast<int>(rounded)
+                                                                       : 0;
+}
+
+// Where the maps came from, for error messages.
+std::string MapsWhere(const MapSet& maps) {
+  return maps.source.empty() ? std::string("DepthObjectRenderer")
+                             : fmt::format("DepthObjectRenderer: '{}'", maps.source);
+}
+
+// The GL implementation's limits on what the maps need, checked before
+// anything is allocated; each failure is one InputError naming the maps.
+void CheckMapLimits(const MapSet& maps) {
+  const std::string where = MapsWhere(maps);
+  const auto get = [](GLenum e) {
+    GLint v = 0;
+    glGetIntegerv(e, &v);
+    return static_cast<int64_t>(v);
+  };
+  const int64_t n = static_cast<int64_t>(maps.maps.size());
+  int64_t w = 0, h = 0;
+  for (const ImageMap& m : maps.maps) {
+    w = std::max<int64_t>(w, m.camera.width);
+    h = std::max<int64_t>(h, m.camera.height);
+  }
+  const int64_t layers = get(GL_MAX_ARRAY_TEXTURE_LAYERS);
+  if (n > layers) {
+    core::ThrowInputError(where,
+                          "{} maps; this GL implementation holds at most {} in a texture array "
+                          "(GL_MAX_ARRAY_TEXTURE_LAYERS)",
+                          n, layers);
+  }
+  const int64_t size = get(GL_MAX_TEXTURE_SIZE);
+  if (w > size || h > size) {
+    core::ThrowInputError(where,
+                          "maps of {}x{} pixels; this GL implementation's textures are at most "
+                          "{} pixels wide and high (GL_MAX_TEXTURE_SIZE)",
+                          w, h, size);
+  }
+  const int64_t block = get(GL_MAX_SHADER_STORAGE_BLOCK_SIZE);
+  const int64_t table = n * static_cast<int64_t>(sizeof(MapRecord));
+  if (get(GL_MAX_FRAGMENT_SHADER_STORAGE_BLOCKS) < 2 || table > block) {
+    core::ThrowInputError(
+        where,
+        "the map table of {} maps takes {} bytes; this GL implementation's "
+        "fragment shaders read storage blocks of at most {} bytes "
+        "(GL_MAX_SHADER_STORAGE_BLOCK_SIZE, GL_MAX_FRAGMENT_SHADER_STORAGE_BLOCKS "
+        "{})",
+        n, table, block, get(GL_MAX_FRAGMENT_SHADER_STORAGE_BLOCKS));
+  }
+}
+
+render::Texture CreateArray(const MapSet& maps, GLenum format, int bytes_per_texel, int w, int h,
+                            int layers) {
   render::Texture t = render::Texture::Create(GL_TEXTURE_2D_ARRAY);
   glTextureStorage3D(t.id(), 1, format, w, h, layers);
+  // The one GL error an allocation within the queried limits can still
+  // meet: memory (llvmpipe caps one texture's size).
+  if (const GLenum e = glGetError(); e == GL_OUT_OF_MEMORY) {
+    core::ThrowInputError(MapsWhere(maps),
+                          "{} maps of {}x{} pixels need a texture array of {:.0f} MB; this GL "
+                          "implementation is out of memory for it (GL_OUT_OF_MEMORY): use fewer "
+                          "or smaller maps",
+                          layers, w, h,
+                          static_cast<double>(layers) * w * h * bytes_per_texel / (1 << 20));
+  } else {
+    IBR_CHECK_EQ(e, static_cast<GLenum>(GL_NO_ERROR));
+  }
   glTextureParameteri(t.id(), GL_TEXTURE_MIN_FILTER, GL_NEAREST);
   glTextureParameteri(t.id(), GL_TEXTURE_MAG_FILTER, GL_NEAREST);
   glTextureParameteri(t.id(), GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
@@ -333,15 +439,23 @@ render::Texture CreateArray(GLenum format, int w, int h, int layers) {
 
 DepthObjectRenderer::DepthObjectRenderer(render::ProgramCache& programs, MapSet maps)
     : programs_(&programs), maps_(std::move(maps)) {
-  maps_.Check("DepthObjectRenderer");
-  map_ubo_ = render::Buffer::Create();
-  glNamedBufferData(map_ubo_.id(), sizeof(MapRecord) * kMaxMaps, nullptr, GL_DYNAMIC_DRAW);
+  maps_.Check(MapsWhere(maps_));
+  CheckMapLimits(maps_);
+  const size_t n = maps_.maps.size();
+  const size_t rounded = (n + 63) / 64 * 64;
+  map_ssbo_ = render::Buffer::Create();
+  glNamedBufferData(map_ssbo_.id(),
+                    static_cast<GLsizeiptr>(sizeof(MapRecord) * std::max<size_t>(n, rounded)),
+                    nullptr, GL_DYNAMIC_DRAW);
+  active_ssbo_ = render::Buffer::Create();
+  glNamedBufferData(active_ssbo_.id(), static_cast<GLsizeiptr>(sizeof(GLint) * n), nullptr,
+                    GL_DYNAMIC_DRAW);
   GLint align = 16;
   glGetIntegerv(GL_UNIFORM_BUFFER_OFFSET_ALIGNMENT, &align);
   align = std::max(align, 1);
   current_stride_ = static_cast<GLint>((sizeof(MapRecord) + align - 1) / align * align);
   current_ubo_ = render::Buffer::Create();
-  glNamedBufferData(current_ubo_.id(), static_cast<GLsizeiptr>(current_stride_) * kMaxMaps, nullptr,
+  glNamedBufferData(current_ubo_.id(), static_cast<GLsizeiptr>(current_stride_) * n, nullptr,
                     GL_DYNAMIC_DRAW);
   empty_vao_ = render::VertexArray::Create();
 }
@@ -351,16 +465,35 @@ DepthObjectRenderer::~DepthObjectRenderer() = default;
 const DepthObjectRenderer::GpuTables& DepthObjectRenderer::Tables(Method method) {
   auto& slot = tables_[method == Method::kDepthObject ? 0 : 1];
   if (!slot) {
+    // Each map straight into its layer (no copy of every map is assembled):
+    // its depth codes through one layer of staging, its colour from the
+    // image itself when it is RGBA, else through staging too. Texels beyond
+    // a smaller map's size are never read (MapLookup tests its own size).
+    int w = 0, h = 0;
+    for (const ImageMap& m : maps_.maps) {
+      w = std::max(w, m.camera.width);
+      h = std::max(h, m.camera.height);
+    }
+    const int layers = static_cast<int>(maps_.maps.size());
+    const bool upload_color = color_maps_.id() == 0;
     slot = std::make_unique<GpuTables>();
-    slot->cpu = MakeMapTables(maps_, method);
-    const MapTables& t = slot->cpu;
+    slot->depth = CreateArray(maps_, GL_R32F, 4, w, h, layers);
+    if (upload_color) color_maps_ = CreateArray(maps_, GL_RGBA8UI, 4, w, h, layers);
+    std::vector<float> depth(static_cast<size_t>(w) * h);
+    std::vector<uint8_t> color;
     glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
-    slot->depth = CreateArray(GL_R32F, t.width, t.height, t.layers);
-    glTextureSubImage3D(slot->depth.id(), 0, 0, 0, 0, t.width, t.height, t.layers, GL_RED, GL_FLOAT,
-                        t.depth.data());
-    slot->color = CreateArray(GL_RGBA8UI, t.width, t.height, t.layers);
-    glTextureSubImage3D(slot->color.id(), 0, 0, 0, 0, t.width, t.height, t.layers, GL_RGBA_INTEGER,
-                        GL_UNSIGNED_BYTE, t.color.data());
+    for (int l = 0; l < layers; ++l) {
+      const ImageMap& m = maps_.maps[l];
+      const int mw = m.camera.width, mh = m.camera.height;
+      const bool rgba = !m.color.empty() && m.color.channels() == 4;
+      if (upload_color && !rgba) color.resize(static_cast<size_t>(mw) * mh * 4);
+      MakeMapLayer(m, method, mw, depth.data(), upload_color && !rgba ? color.data() : nullptr);
+      glTextureSubImage3D(slot->depth.id(), 0, 0, 0, l, mw, mh, 1, GL_RED, GL_FLOAT, depth.data());
+      if (upload_color) {
+        glTextureSubImage3D(color_maps_.id(), 0, 0, 0, l, mw, mh, 1, GL_RGBA_INTEGER,
+                            GL_UNSIGNED_BYTE, rgba ? m.color.data() : color.data());
+      }
+    }
     glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
   }
   return *slot;
@@ -379,9 +512,17 @@ const DepthObjectRenderer::SkipTexture& DepthObjectRenderer::Skip(
   for (int a : frame.active) key += fmt::format(" {}", a);
   auto& slot = skip_grids_[key];
   if (!slot) {
-    const MapTables& t = Tables(options.method).cpu;
-    const SkipGrid grid =
-        BuildSkipGrid(maps_, t.depth, t.width, t.height, frame.active, policy, options.skip_grid);
+    // Each active map's depth codes, one map at a time (MakeMapLayer: the
+    // texels the GPU reads).
+    const Method method = options.method;
+    const SkipGrid grid = BuildSkipGrid(
+        maps_,
+        [&](int map_index, std::vector<float>& codes) {
+          const ImageMap& m = maps_.maps[map_index];
+          codes.resize(static_cast<size_t>(m.camera.width) * m.camera.height);
+          MakeMapLayer(m, method, m.camera.width, codes.data(), nullptr);
+        },
+        frame.active, policy, options.skip_grid);
     slot = std::make_unique<SkipTexture>();
     const int n = grid.resolution;
     slot->resolution = n;
@@ -392,9 +533,9 @@ const DepthObjectRenderer::SkipTexture& DepthObjectRenderer::Skip(
 }
 
 const MapTables& DepthObjectRenderer::tables(Method method) const {
-  const auto& slot = tables_[method == Method::kDepthObject ? 0 : 1];
-  IBR_CHECK(slot != nullptr);
-  return slot->cpu;
+  auto& slot = cpu_tables_[method == Method::kDepthObject ? 0 : 1];
+  if (!slot) slot = std::make_unique<MapTables>(MakeMapTables(maps_, method));
+  return *slot;
 }
 
 render::RenderTargetOptions DepthObjectRenderer::OutputTargetOptions(int width, int height) {
@@ -414,8 +555,10 @@ const render::RenderTarget& DepthObjectRenderer::Accum(int width, int height) {
 
 std::vector<std::string> DepthObjectRenderer::Defines(const FrameParams& frame,
                                                       const DepthObjectOptions& options) const {
-  static const std::string kMaxMapsDefine = fmt::format("MAX_MAPS {}", kMaxMaps);
-  std::vector<std::string> d = {kMaxMapsDefine};
+  std::vector<std::string> d;
+  const int uniform_maps = UniformMaps(maps_.maps.size());
+  d.push_back(uniform_maps > 0 ? fmt::format("MAX_MAPS {}", uniform_maps)
+                               : std::string("MAPS_IN_STORAGE_BUFFER"));
   if (options.method == Method::kVisualHull) d.push_back("VISUAL_HULL");
   if (options.outside == OutsidePolicy::kPass) d.push_back("OUTSIDE_PASSES");
   if (options.invalid_depth == InvalidDepthPolicy::kNoConstraint)
@@ -426,13 +569,24 @@ std::vector<std::string> DepthObjectRenderer::Defines(const FrameParams& frame,
 
 void DepthObjectRenderer::BindMaps(const GpuTables& t) const {
   glBindTextureUnit(0, t.depth.id());
-  glBindTextureUnit(2, t.color.id());
-  glBindBufferBase(GL_UNIFORM_BUFFER, 0, map_ubo_.id());
+  glBindTextureUnit(2, color_maps_.id());
+  if (UniformMaps(maps_.maps.size()) > 0) {
+    glBindBufferBase(GL_UNIFORM_BUFFER, 0, map_ssbo_.id());
+  } else {
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, map_ssbo_.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, active_ssbo_.id());
+  }
 }
 
 void DepthObjectRenderer::UploadFrame(const FrameParams& frame) {
-  IBR_CHECK_LE(frame.maps.size(), static_cast<size_t>(kMaxMaps));
-  glNamedBufferSubData(map_ubo_.id(), 0, sizeof(MapRecord) * frame.maps.size(), frame.maps.data());
+  IBR_CHECK_EQ(frame.maps.size(), maps_.maps.size());
+  glNamedBufferSubData(map_ssbo_.id(), 0, sizeof(MapRecord) * frame.maps.size(), frame.maps.data());
+  static_assert(sizeof(int) == sizeof(GLint));
+  IBR_CHECK_LE(frame.active.size(), frame.maps.size());
+  if (!frame.active.empty()) {
+    glNamedBufferSubData(active_ssbo_.id(), 0, sizeof(GLint) * frame.active.size(),
+                         frame.active.data());
+  }
   strided_.assign(static_cast<size_t>(current_stride_) * frame.maps.size(), 0);
   for (size_t i = 0; i < frame.maps.size(); ++i) {
     std::memcpy(strided_.data() + i * current_stride_, &frame.maps[i], sizeof(MapRecord));
@@ -447,6 +601,7 @@ void DepthObjectRenderer::SetCommonUniforms(const render::Program& p, const Fram
   p.Set("u_depth_maps", 0);
   p.Set("u_color_maps", 2);
   p.Set("u_map_count", static_cast<int>(frame.maps.size()));
+  p.Set("u_active_count", static_cast<int>(frame.active.size()));
   p.Set("u_view_ray", frame.view_ray);
   p.Set("u_view_height", frame.view_height);
   p.Set("u_inv255", frame.inv255);
@@ -467,6 +622,15 @@ void DepthObjectRenderer::BindFrame(const FrameParams& frame, const DepthObjectO
 
 void DepthObjectRenderer::DrawSlices(const FrameParams& frame, const DepthObjectOptions& options,
                                      const render::RenderTarget& accum) {
+  // The paper's scheme counts the maps a pixel passed in the 8-bit stencil
+  // (robust: its low 7 bits).
+  const size_t stencil_maps = frame.robust ? 127 : 255;
+  if (frame.active.size() > stencil_maps) {
+    core::ThrowInputError(MapsWhere(maps_),
+                          "{} maps in one frame; the slice paths count them in the 8-bit stencil, "
+                          "at most {}{}: use the ray path (--slicing ray) or a subset (--max-maps)",
+                          frame.active.size(), stencil_maps, frame.robust ? " with --robust" : "");
+  }
   BindFrame(frame, options, accum);
   const render::Program& pass = programs_->Get({.vertex = "cores/slice.vert.glsl",
                                                 .fragment = "passes/depth_object.frag.glsl",

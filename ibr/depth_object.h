@@ -128,11 +128,20 @@ struct DepthObjectOptions {
   // Depth difference (texel widths) beyond which neighbours count as another
   // surface: 4 keeps slopes up to 76 degrees to the map smooth.
   float subtexel_edge = 4.0f;
+  // The most maps a frame tests (0 = every map): of the maps ActiveMaps
+  // keeps, the max_maps whose look direction at the box centre is nearest
+  // the view's (NearestMaps). Fewer constraints carve less, so the object can
+  // only grow; `ibr bench depth-object` measures what it costs. The slice
+  // paths count maps in the 8-bit stencil and take at most 255 per frame
+  // (robust: 127); larger map sets need the ray path or this subset.
+  int max_maps = 0;
 
   void Check() const;
 };
 
-// One map's row of the GPU table (std140 layout of shaders/passes/depth_object_core.glsl).
+// One map's row of the GPU table (std430 storage buffer of
+// shaders/passes/depth_object_core.glsl; the same layout as std140, which the
+// slice passes' one-record uniform block uses).
 struct MapRecord {
   glm::vec4 m0, m1, m2, m3;  // columns of map_cam_from_view_cam (xyz)
   glm::vec4 proj;            // fx, fy, cx, cy
@@ -155,7 +164,7 @@ struct FrameParams {
   render::SliceStack stack;
   std::vector<glm::vec4> planes;   // per slice: view camera plane dot(xyz, p) = w
   std::vector<MapRecord> maps;     // every map
-  std::vector<int> active;         // maps in loop order (the paper's base polygons)
+  std::vector<int> active;         // maps in loop order (the paper's base polygons; FrameMaps)
   int required = 0;                // stencil count a pixel needs (N - k, >= 0)
   bool robust = false;             // robust_k > 0: counting stencil scheme
   float visibility_tolerance = 0;  // scene units
@@ -176,6 +185,11 @@ struct MapTables {
 };
 
 MapTables MakeMapTables(const MapSet& maps, Method method);
+// One map's texels of those tables, the one definition of the codes:
+// `depth` (and `color`, RGBA8, if not null) for the map's own width x
+// height texels, rows `row_stride` texels apart. The renderer uploads each
+// map from here, one layer at a time, so no copy of every map is assembled.
+void MakeMapLayer(const ImageMap& map, Method method, int row_stride, float* depth, uint8_t* color);
 
 // kAutoSlices: the finest texel of the active maps near the box centre
 // (orthographic: 1 / pixels per unit; pinhole: depth of the box centre /
@@ -206,6 +220,11 @@ class DepthObjectRenderer {
   DepthObjectRenderer& operator=(const DepthObjectRenderer&) = delete;
 
   const MapSet& maps() const { return maps_; }
+  // Uploads the method's texture arrays now (else the first frame does):
+  // each map straight into its layer.
+  void Upload(Method method) { Tables(method); }
+  // The CPU copy of the method's tables (MakeMapTables), made on first use
+  // for the CPU references; rendering never needs it.
   const MapTables& tables(Method method) const;
 
   // Renders into `output`, a target made with OutputTargetOptions(w, h)
@@ -279,7 +298,10 @@ class DepthObjectRenderer {
   std::unique_ptr<GpuTables> tables_[2];
   // Skip grids by what they depend on (method, policies, k, active maps, resolution).
   std::map<std::string, std::unique_ptr<SkipTexture>> skip_grids_;
-  render::Buffer map_ubo_;      // the whole table (resolve pass)
+  mutable std::unique_ptr<MapTables> cpu_tables_[2];  // tables(method), on demand
+  render::Texture color_maps_;  // RGBA8UI array, one layer per map (both methods)
+  render::Buffer map_ssbo_;     // the whole table (ray and resolve passes)
+  render::Buffer active_ssbo_;  // the frame's maps (FrameParams::active) as ints
   render::Buffer current_ubo_;  // one record per map at an aligned stride (map passes)
   GLint current_stride_ = 0;
   std::vector<uint8_t> strided_;  // UploadFrame's staging, kept between frames
@@ -296,5 +318,14 @@ class DepthObjectRenderer {
 // returns the maps a frame loops over.
 std::vector<int> ActiveMaps(const MapSet& maps, Method method, bool skip_opposite,
                             const glm::dvec3& view_direction);
+// Of `active`, the `k` maps whose look direction (orthographic: the axis;
+// pinhole: centre to `target`) is nearest `view_direction` (largest cosine;
+// ties: lower index), in index order; k <= 0 or k >= active.size(): all.
+std::vector<int> NearestMaps(const MapSet& maps, const std::vector<int>& active,
+                             const glm::dvec3& view_direction, const glm::dvec3& target, int k);
+// The maps a frame from `view_direction` tests: ActiveMaps, then NearestMaps
+// with options.max_maps around the box centre.
+std::vector<int> FrameMaps(const MapSet& maps, const DepthObjectOptions& options,
+                           const glm::dvec3& view_direction);
 
 }  // namespace ibr

@@ -104,10 +104,30 @@ void ChessboardDistance(int n, std::vector<uint8_t>& g) {
 SkipGrid BuildSkipGrid(const MapSet& maps, const std::vector<float>& depth_codes, int layer_width,
                        int layer_height, const std::vector<int>& active,
                        const SkipGridPolicy& policy, int resolution) {
+  IBR_CHECK_EQ(depth_codes.size(), maps.maps.size() * layer_width * layer_height);
+  const auto codes_of = [&](int map_index, std::vector<float>& codes) {
+    const ImageMap& m = maps.maps[map_index];
+    const int w = m.camera.width, h = m.camera.height;
+    IBR_CHECK_LE(w, layer_width);
+    IBR_CHECK_LE(h, layer_height);
+    codes.resize(static_cast<size_t>(w) * h);
+    const float* layer =
+        depth_codes.data() + static_cast<size_t>(map_index) * layer_width * layer_height;
+    for (int row = 0; row < h; ++row) {
+      std::copy_n(layer + static_cast<size_t>(row) * layer_width, w,
+                  codes.data() + static_cast<size_t>(row) * w);
+    }
+  };
+  return BuildSkipGrid(maps, codes_of, active, policy, resolution);
+}
+
+SkipGrid BuildSkipGrid(
+    const MapSet& maps,
+    const std::function<void(int map_index, std::vector<float>& codes)>& codes_of,
+    const std::vector<int>& active, const SkipGridPolicy& policy, int resolution) {
   if (resolution < 1 || resolution > 255) {
     core::ThrowInputError("BuildSkipGrid", "resolution {} outside 1..255", resolution);
   }
-  IBR_CHECK_EQ(depth_codes.size(), maps.maps.size() * layer_width * layer_height);
   const int n = resolution;
   SkipGrid grid;
   grid.resolution = n;
@@ -119,18 +139,17 @@ SkipGrid BuildSkipGrid(const MapSet& maps, const std::vector<float>& depth_codes
   const double tol = 1e-4 * glm::length(diag);
   const int nv = n + 1;  // grid vertices per axis
   std::vector<glm::dvec3> uvz(static_cast<size_t>(nv) * nv * nv);
+  std::vector<float> codes;  // one map's, reused
 
   for (int map_index : active) {
     const ImageMap& m = maps.maps[map_index];
     const int w = m.camera.width, h = m.camera.height;
-    IBR_CHECK_LE(w, layer_width);
-    IBR_CHECK_LE(h, layer_height);
     std::vector<float> threshold(static_cast<size_t>(w) * h);
-    const float* codes =
-        depth_codes.data() + static_cast<size_t>(map_index) * layer_width * layer_height;
+    codes_of(map_index, codes);
+    IBR_CHECK_EQ(codes.size(), threshold.size());
     for (int row = 0; row < h; ++row) {
       for (int col = 0; col < w; ++col) {
-        const float c = codes[static_cast<size_t>(row) * layer_width + col];
+        const float c = codes[static_cast<size_t>(row) * w + col];
         float a;
         if (c < 0) {
           a = kInf;  // outside the silhouette: never accepts

@@ -19,6 +19,7 @@
 #pragma once
 
 #include <cstdint>
+#include <functional>
 #include <vector>
 
 #include "ibr/image_maps.h"
@@ -53,6 +54,13 @@ struct SkipGrid {
 SkipGrid BuildSkipGrid(const MapSet& maps, const std::vector<float>& depth_codes, int layer_width,
                        int layer_height, const std::vector<int>& active,
                        const SkipGridPolicy& policy, int resolution);
+// The same from each active map's codes made on demand, one map at a time:
+// `codes_of(map_index, codes)` fills `codes` with that map's width x height
+// codes (rows width apart); no table of every map is needed.
+SkipGrid BuildSkipGrid(
+    const MapSet& maps,
+    const std::function<void(int map_index, std::vector<float>& codes)>& codes_of,
+    const std::vector<int>& active, const SkipGridPolicy& policy, int resolution);
 
 // In-place chessboard (L-infinity) distance transform of an occupancy grid
 // (input: 0 = maybe occupied, anything else = empty), capped at 255: two

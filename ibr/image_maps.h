@@ -50,17 +50,22 @@ struct ViewCamera {
   glm::dmat4 cam_from_world{1.0};  // rigid, OpenCV axes
 };
 
-// The most maps one depth object or visual hull takes per frame: the size of
-// the passes' map table (a uniform block; the shaders' MAX_MAPS is defined
-// from it). Checked on the manifest (ibr::ReadMapDataset) before any image is
-// loaded, and by MapSet::Check.
-inline constexpr int kMaxMaps = 64;
+// The most maps one depth object or visual hull takes: an input limit, not
+// the size of a shader table (the map table is a storage buffer, the images
+// texture arrays, sized to the maps). Checked on the manifest
+// (ibr::ReadMapDataset) before any view is parsed or image loaded, and by
+// MapSet::Check. The GL implementation's own limits (array layers, texture
+// size, storage block size, memory) are checked when the maps are uploaded
+// (DepthObjectRenderer), each failure one InputError naming the maps' source.
+inline constexpr int kMaxMaps = 4096;
 
 struct MapSet {
   std::vector<ImageMap> maps;
   // The object's bounding box: [0,1]^3 -> world, affine (the paper's cube;
   // its faces are the base polygons in the cube configuration).
   glm::dmat4 world_from_box{1.0};
+  // Where the maps came from (a dataset's directory), for error messages; may be empty.
+  std::string source;
 
   // Throws core::InputError naming the map and the problem: image sizes that
   // disagree with the camera, channel counts, a singular box, no maps.

@@ -57,6 +57,10 @@ DepthObjectOptions DepthObjectOptionsFrom(const scene::Settings& s) {
   }
   o.robust_k = s.GetInt("robust", o.robust_k);
   if (o.robust_k < 0) s.Fail("robust", fmt::format("robust k {} must be >= 0", o.robust_k));
+  o.max_maps = s.GetInt("max_maps", o.max_maps);
+  if (o.max_maps < 0 || o.max_maps > kMaxMaps) {
+    s.Fail("max_maps", fmt::format("{} maps outside 0..{} (0 = all)", o.max_maps, kMaxMaps));
+  }
   o.refine_steps = s.GetInt("refine_steps", o.refine_steps);
   if (o.refine_steps < 0 || o.refine_steps > 64) {
     s.Fail("refine_steps", fmt::format("{} refine steps outside 0..64", o.refine_steps));
@@ -104,6 +108,7 @@ scene::Settings SettingsFromFlags(const DepthObjectFlags& f) {
   s.Set("texturing", f.texturing, "--texturing");
   s.Set("outside", f.outside, "--outside");
   s.Set("invalid_depth", f.invalid_depth, "--invalid-depth");
+  s.Set("max_maps", f.max_maps, "--max-maps");
   return s;
 }
 

@@ -14,8 +14,10 @@
 namespace ibr {
 
 // Keys: method (depth-object | visual-hull), slicing (orthogonal | screen |
-// ray), slice_path (exact | fast), slices (a count or "auto"), texturing (vdt | visibility | none),
-// robust (k), outside (pass | fail), invalid_depth (empty | no-constraint), refine_steps. Missing
+// ray), slice_path (exact | fast), slices (a count or "auto"), texturing (vdt | vdt-paper |
+// visibility | none), robust (k), outside (pass | fail), invalid_depth (empty | no-constraint),
+// refine_steps, max_maps (0 = every map, else the nearest that many:
+// DepthObjectOptions::max_maps). Missing
 // keys keep DepthObjectOptions' defaults.
 DepthObjectOptions DepthObjectOptionsFrom(const scene::Settings& settings);
 
@@ -32,6 +34,7 @@ struct DepthObjectFlags {
   std::string texturing = "vdt";
   std::string outside = "pass";
   std::string invalid_depth = "empty";
+  int max_maps = 0;  // 0 = every map
 };
 scene::Settings SettingsFromFlags(const DepthObjectFlags& flags);
 

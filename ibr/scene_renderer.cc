@@ -79,7 +79,8 @@ core::TriangleMesh LoadMesh(const scene::MeshSource& source, bool displaced) {
   }
 }
 
-// Maps captured from a mesh (synthetic RGB-D capture, capture::MakeRig).
+}  // namespace
+
 MapSet CaptureMaps(render::ProgramCache& programs, const capture::SceneMesh& mesh,
                    const std::string& rig, int size) {
   glm::vec3 lo, hi;
@@ -93,6 +94,7 @@ MapSet CaptureMaps(render::ProgramCache& programs, const capture::SceneMesh& mes
   const glm::dvec3 ext = bounds.extent();
   const double edge = std::max({ext.x, ext.y, ext.z});
   maps.world_from_box = BoxFromBounds(bounds.min - 0.02 * edge, bounds.max + 0.02 * edge);
+  maps.source = fmt::format("{} captured by {}", mesh.source, rig);
   for (const capture::RigView& rv : capture::MakeRig(capture::RigSpec::Parse(rig), bounds, co)) {
     const capture::CapturedView cv = capture::RenderView(programs, mesh, rv, co);
     maps.maps.push_back({rv.name, MapCameraFrom(rv.camera, rv.name), Mat4From(rv.cam_from_world),
@@ -100,6 +102,8 @@ MapSet CaptureMaps(render::ProgramCache& programs, const capture::SceneMesh& mes
   }
   return maps;
 }
+
+namespace {
 
 // An RGBA8 colour texture, bilinear, repeating (as capture's textured meshes).
 render::Texture UploadRgba8(const core::Image8& image) {

@@ -64,6 +64,12 @@ struct LoadedScene {
 // (needs a current context and `programs`). Disabled objects are only checked.
 LoadedScene LoadScene(render::ProgramCache& programs, const scene::Scene& scene);
 
+// The maps of a synthetic RGB-D capture of `mesh` (capture::MakeRig's `rig`,
+// `size` px, rendered by capture::RenderView) in memory, with the box of the
+// mesh's bounds padded by 2 % of their largest extent. Needs a context.
+MapSet CaptureMaps(render::ProgramCache& programs, const capture::SceneMesh& mesh,
+                   const std::string& rig, int size);
+
 struct SceneFrame {
   core::Image8 color;  // RGBA8, alpha 255 where covered, 0 elsewhere
   core::ImageF depth;  // camera z, 0 where empty

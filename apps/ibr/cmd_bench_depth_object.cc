@@ -21,6 +21,9 @@ void AddDepthObjectBench(CLI::App& app) {
   cmd->add_option("--sizes", options.sizes, "only these output sizes (pixels)");
   cmd->add_flag("!--no-figures", options.figures, "skip the Fig. 12 analogues");
   cmd->add_option("--slices", options.slices, "only these slice counts");
+  cmd->add_flag("!--no-maps", options.maps_sweep, "skip the cost-per-map sweep (ring captures)");
+  cmd->add_option("--map-counts", options.map_counts,
+                  "the cost-per-map sweep's ring sizes (default 6 24 64 128 256)");
   cmd->callback([] { bench::RunDepthObjectBench(options); });
 }
 

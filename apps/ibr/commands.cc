@@ -63,6 +63,9 @@ void AddDepthObjectFlags(CLI::App* cmd, ibr::DepthObjectFlags& f) {
   cmd->add_option("--invalid-depth", f.invalid_depth,
                   "depth 0 inside the mask: empty | no-constraint")
       ->capture_default_str();
+  cmd->add_option("--max-maps", f.max_maps,
+                  "maps a frame tests: the nearest N to the view direction (0 = all)")
+      ->capture_default_str();
 }
 
 void AddBenchOutputs(CLI::App* cmd, std::filesystem::path& csv, std::filesystem::path& out,

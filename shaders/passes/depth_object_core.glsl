@@ -20,11 +20,13 @@
 //   ROBUST_COUNT             ObjectField counts accepting maps (robust intersection)
 //   SUBTEXEL_DEPTH           depth interpolated inside the silhouette (ray path only;
 //                            the slice passes stay bit-exact with nearest texels)
-//   MAX_MAPS                 size of the map table (ibr::kMaxMaps; the renderer defines it)
-
-#ifndef MAX_MAPS
-#error "MAX_MAPS missing: the renderer defines it from ibr::kMaxMaps"
-#endif
+//
+// The map table holds any number of maps up to the GL implementation's
+// limits (ibr/depth_object.cc CheckMapLimits): a uniform block of MAX_MAPS
+// records (the maps rounded up to 64) where GL_MAX_UNIFORM_BLOCK_SIZE allows,
+// else (MAPS_IN_STORAGE_BUFFER) a storage buffer, whose object field loops
+// over the frame's maps only (u_active_maps: FrameParams::active). Loops run
+// to u_map_count.
 
 struct MapRecord {
   vec4 m0, m1, m2, m3;  // columns of map_cam_from_view_cam (xyz; w unused)
@@ -35,10 +37,26 @@ struct MapRecord {
   vec4 axis_in_view;    // map's +z axis in view camera space
 };
 
+// MAPS_IN_STORAGE_BUFFER: more maps than a uniform block holds; else a
+// uniform block of MAX_MAPS records (llvmpipe reads those 5x faster in the
+// ray loop).
+#ifdef MAPS_IN_STORAGE_BUFFER
+layout(std430, binding = 0) readonly buffer DepthObjectMaps {
+  MapRecord u_maps[];
+};
+layout(std430, binding = 1) readonly buffer DepthObjectActiveMaps {
+  int u_active_maps[];  // indices into u_maps, in loop order (ascending)
+};
+#else
+#ifndef MAX_MAPS
+#error "MAX_MAPS missing: the renderer defines it"
+#endif
 layout(std140, binding = 0) uniform DepthObjectMaps {
   MapRecord u_maps[MAX_MAPS];
 };
+#endif
 uniform int u_map_count;
+uniform int u_active_count;
 
 // R32F, one fetch answers both questions: < 0 = outside the silhouette
 // (empty), 0 = invalid depth inside it, > 0 = camera z of the surface seen
@@ -210,15 +228,27 @@ float ObjectField(vec3 p) {
   ivec3 texel;
 #ifdef ROBUST_COUNT
   int accepted = 0;
+#ifdef MAPS_IN_STORAGE_BUFFER
+  for (int j = 0; j < u_active_count; ++j) {
+    if (MapField(u_maps[u_active_maps[j]], p, texel) <= 0.0) ++accepted;
+  }
+#else
   for (int i = 0; i < u_map_count; ++i) {
     if (u_maps[i].extra.y > 0.5 && MapField(u_maps[i], p, texel) <= 0.0) ++accepted;
   }
+#endif
   return accepted >= u_required ? -1.0 : 1.0;
 #else
   float f = kMapFree;
+#ifdef MAPS_IN_STORAGE_BUFFER
+  for (int j = 0; j < u_active_count; ++j) {
+    f = max(f, MapField(u_maps[u_active_maps[j]], p, texel));
+  }
+#else
   for (int i = 0; i < u_map_count; ++i) {
     if (u_maps[i].extra.y > 0.5) f = max(f, MapField(u_maps[i], p, texel));
   }
+#endif
   return f;
 #endif
 }

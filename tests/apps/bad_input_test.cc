@@ -421,9 +421,10 @@ std::vector<Case> Corpus() {
         },
         e.expect);
   }
-  // The map limit (ibr::kMaxMaps) on the manifest: its images do not exist, so
-  // any other error would mean one was looked for first.
-  for (const int views : {65, 100000}) {
+  // The map limit (ibr::kMaxMaps, 4096 = the dataset view limit) on the
+  // manifest: its images do not exist, so any other error would mean one was
+  // looked for first.
+  for (const int views : {4097, 100000}) {
     add(
         fmt::format("render_{}_views_as_maps", views),
         [views](const fs::path& dir, const fs::path& out) {
@@ -438,7 +439,7 @@ std::vector<Case> Corpus() {
           });
           return "render " + Quote(dir / "D") + " --orbit 1 --size 16 --out " + Quote(out);
         },
-        "dataset.json': more than 64 views; at most 64 maps of one depth object or visual hull");
+        "dataset.json': more than 4096 views; at most 4096 are supported");
   }
   // Export takes perspective datasets: a few of the edits through it too.
   for (const Edit& e : {edits[0], edits[5], edits[21], edits[25]}) {

@@ -103,6 +103,27 @@ TEST(DepthObjectBench, QuickRunWritesFiniteTableAndPlots) {
                           "fig12_time_vs_slices.png"}) {
     EXPECT_GT(fs::exists(o.out / png) ? fs::file_size(o.out / png) : 0, 1000u) << png;
   }
+  // The cost per map (quick: ring:6 and ring:24 of the cup, both paths):
+  // finite times, ms per map = ms per frame / maps, a reconstructed cup.
+  const auto maps = ReadCsv(stem.string() + "_maps.csv");
+  ASSERT_EQ(maps.size(), 5u);  // header + 2 counts x 2 paths
+  for (size_t r = 1; r < maps.size(); ++r) {
+    ASSERT_EQ(maps[r].size(), 12u);
+    const double n = std::stod(maps[r][1]), ms = std::stod(maps[r][8]);
+    EXPECT_TRUE(std::isfinite(ms) && ms > 0) << maps[r][4];
+    EXPECT_NEAR(std::stod(maps[r][9]), ms / n, 1e-3 + 1e-3 * ms / n);
+    EXPECT_GT(std::stod(maps[r][10]), 0.5) << maps[r][4] << " " << n << " maps";
+  }
+  const auto subset = ReadCsv(stem.string() + "_maps_subset.csv");
+  ASSERT_EQ(subset.size(), 3u);  // header + max_maps 6 and 12 of 24
+  for (size_t r = 1; r < subset.size(); ++r) {
+    const double iou_vs_all = std::stod(subset[r][5]);
+    EXPECT_GT(iou_vs_all, 0.5);
+    EXPECT_LE(iou_vs_all, 1.0);
+  }
+  for (const char* png : {"maps_cost.png", "maps_subset_error.png"}) {
+    EXPECT_GT(fs::exists(o.out / png) ? fs::file_size(o.out / png) : 0, 1000u) << png;
+  }
 }
 
 }  // namespace

@@ -1,7 +1,8 @@
-// The map limit (ibr::kMaxMaps) and the view limit are checked on the
-// manifest, before a view is parsed or any image is opened: every manifest
-// here names images that do not exist, so an error about anything but the
-// count means an image was looked for first.
+// The map limit (ibr::kMaxMaps, 4096: an input limit, the same number as the
+// dataset reader's view limit) is checked on the manifest, before a view is
+// parsed or any image is opened: every manifest here names images that do
+// not exist, so an error about anything but the count means an image was
+// looked for first.
 #include "ibr/dataset_maps.h"
 
 #include <gtest/gtest.h>
@@ -13,6 +14,7 @@
 
 #include "core/error.h"
 #include "tests/support/gl_test.h"
+#include "tests/support/input_error.h"
 
 namespace ibr {
 namespace {
@@ -40,43 +42,34 @@ fs::path ManifestWithViews(const std::string& name, int views) {
   return dir;
 }
 
-std::string ErrorOf(const std::function<void()>& f) {
-  try {
-    f();
-  } catch (const core::InputError& e) {
-    return e.what();
-  }
-  return "";
-}
+using test_support::InputErrorOf;
 
 TEST(MapDataset, HundredThousandViewsAreRefusedOnTheManifest) {
   const fs::path dir = ManifestWithViews("views_100000", 100000);
   const std::string manifest = (dir / "dataset.json").string();
-  EXPECT_EQ(ErrorOf([&] { ReadMapDataset(dir); }),
-            "ReadManifest: '" + manifest +
-                "': more than 64 views; at most 64 maps of one depth object or visual hull "
-                "(ibr::kMaxMaps) are supported");
-  // Any dataset: the dataset limit, also before a view is parsed.
-  EXPECT_EQ(ErrorOf([&] { capture::ReadDataset(dir); }),
+  EXPECT_EQ(InputErrorOf([&] { ReadMapDataset(dir); }),
+            "ReadManifest: '" + manifest + "': more than 4096 views; at most 4096 are supported");
+  // Any dataset: the dataset limit (the same number), also before a view is parsed.
+  EXPECT_EQ(InputErrorOf([&] { capture::ReadDataset(dir); }),
             "ReadManifest: '" + manifest + "': more than 4096 views; at most 4096 are supported");
   EXPECT_FALSE(fs::exists(dir / "color"));
 }
 
 TEST(MapDataset, OneMapOverTheLimitIsRefusedBeforeAnyImage) {
-  const fs::path dir = ManifestWithViews("views_65", kMaxMaps + 1);
-  EXPECT_NE(ErrorOf([&] {
+  ASSERT_EQ(kMaxMaps, 4096);
+  const fs::path dir = ManifestWithViews("views_4097", kMaxMaps + 1);
+  EXPECT_NE(InputErrorOf([&] {
               ReadMapDataset(dir);
-            }).find("more than 64 views; at most 64 maps of one depth object or visual hull"),
+            }).find("more than 4096 views; at most 4096 are supported"),
             std::string::npos);
   // The limit itself passes the count, and the reader then looks for the
   // images (which is how the two tests above know none was opened).
-  const fs::path ok = ManifestWithViews("views_64", kMaxMaps);
-  const std::string error = ErrorOf([&] { ReadMapDataset(ok); });
+  const fs::path ok = ManifestWithViews("views_4096", kMaxMaps);
+  const std::string error = InputErrorOf([&] { ReadMapDataset(ok); });
   EXPECT_NE(error.find("file does not exist"), std::string::npos) << error;
   EXPECT_NE(error.find("color/v0.png"), std::string::npos) << error;
-  // A dataset of 65 views is fine as cameras (not maps): it too gets as far as
-  // the images.
-  EXPECT_NE(ErrorOf([&] { capture::ReadDataset(dir); }).find("file does not exist"),
+  // A dataset of 4096 views is fine as cameras too: it gets as far as the images.
+  EXPECT_NE(InputErrorOf([&] { capture::ReadDataset(ok); }).find("file does not exist"),
             std::string::npos);
 }
 
@@ -100,16 +93,16 @@ TEST(MapDataset, TheCountIsOfTopLevelViewElementsOfAnyType) {
     mixed += kinds[i % 3];
   }
   mixed += "]";
-  EXPECT_NE(ErrorOf([&] {
-              ReadMapDataset(manifest("views_mixed_65", mixed, ""));
-            }).find("more than 64 views"),
+  EXPECT_NE(InputErrorOf([&] {
+              ReadMapDataset(manifest("views_mixed_4097", mixed, ""));
+            }).find("more than 4096 views"),
             std::string::npos);
-  // 65 inner "views" arrays of one element each under another key: not views.
+  // 4097 inner "views" arrays of one element each under another key: not views.
   std::string nested = R"("other": {"views": [)";
   for (int i = 0; i <= kMaxMaps; ++i) nested += i > 0 ? ",[0]" : "[0]";
   nested += "]}, ";
   const std::string error =
-      ErrorOf([&] { ReadMapDataset(manifest("views_nested", "[]", nested)); });
+      InputErrorOf([&] { ReadMapDataset(manifest("views_nested", "[]", nested)); });
   EXPECT_EQ(error.find("more than"), std::string::npos) << error;
   EXPECT_FALSE(error.empty());  // no views at all is refused for what it is
 }
