@@ -28,35 +28,16 @@
 namespace bench {
 
 void DeformRunOptions::Check() const {
-  deformation.Check();
-  pass.Check();
+  object.deformation.Check();
+  object.pass.Check();
   // The frame budget and the GL limits: render::CheckFrameSize (ibr deform).
   if (size < 16 || size > 16384)
     core::ThrowInputError("ibr deform", "--size {} outside 16..16384", size);
-  if (sdf_resolution < 8 || sdf_resolution > 512) {
-    core::ThrowInputError("ibr deform", "--resolution {} outside 8..512", sdf_resolution);
-  }
   if (!std::isfinite(azimuth_deg) || !std::isfinite(elevation_deg) ||
       std::abs(elevation_deg) > 89) {
     core::ThrowInputError("ibr deform",
                           "--azimuth {} / --elevation {} not finite or |elevation| > 89",
                           azimuth_deg, elevation_deg);
-  }
-  if (region) {
-    for (int a = 0; a < 3; ++a) {
-      if (!std::isfinite(region->lo[a]) || !std::isfinite(region->hi[a]) ||
-          !(region->hi[a] > region->lo[a])) {
-        core::ThrowInputError("ibr deform",
-                              "--region must be x0,y0,z0,x1,y1,z1 with x0 < x1, y0 < y1, z0 < z1");
-      }
-    }
-  }
-  if (!std::isfinite(scale) || !(scale > 0))
-    core::ThrowInputError("ibr deform", "placement scale {} must be > 0", scale);
-  for (int a = 0; a < 3; ++a) {
-    if (!std::isfinite(rotation_deg[a]) || !std::isfinite(translation[a])) {
-      core::ThrowInputError("ibr deform", "--placement values must be finite");
-    }
   }
   if (out.empty()) core::ThrowInputError("ibr deform", "--out FILE.png|DIR is required");
   if (!cameras.empty() && !WritesDataset()) {
@@ -99,21 +80,6 @@ DeformOutcomes CountDeformOutcomes(const render::Frame& frame) {
   return r;
 }
 
-core::Placement DeformPlacement(const DeformRunOptions& options, const core::Box3d& mesh_bounds) {
-  core::Box3d region = options.region ? *options.region : mesh_bounds.Grown(0.05);
-  return core::Placement::FromRegion(region, options.rotation_deg, options.scale,
-                                     options.translation);
-}
-
-void NormaliseMesh(core::TriangleMesh& mesh) {
-  glm::vec3 lo, hi;
-  mesh.Bounds(lo, hi);
-  const float longest = std::max({hi.x - lo.x, hi.y - lo.y, hi.z - lo.z});
-  if (!(longest > 0)) core::ThrowInputError("ibr deform", "the mesh has no extent");
-  const glm::vec3 centre = 0.5f * (lo + hi);
-  for (glm::vec3& p : mesh.positions) p = (p - centre) / longest;
-}
-
 core::Deformation KnifeCut() {
   core::Deformation knife;
   knife.kind = core::DeformationKind::kKnife, knife.amount = 0.15, knife.width = 0.6;
@@ -124,7 +90,7 @@ namespace {
 
 core::TriangleMesh LoadNormalised(const std::filesystem::path& mesh_file) {
   core::TriangleMesh mesh = capture::LoadSceneMesh(mesh_file).mesh;
-  NormaliseMesh(mesh);
+  ibr::NormaliseMesh(mesh);
   return mesh;
 }
 
@@ -236,12 +202,6 @@ ibr::ViewCamera OrbitCamera(const glm::dvec3& centre, double longest, double azi
   return view;
 }
 
-// What the clip range must hold (normalised units): the mesh and the
-// deformation box, grown by the largest displacement.
-core::Box3d DeformedBounds(const core::Box3d& mesh, const core::Box3d& box, double displacement) {
-  return {glm::min(mesh.lo, box.lo) - displacement, glm::max(mesh.hi, box.hi) + displacement};
-}
-
 }  // namespace
 
 DeformRunReport RunDeform(render::ProgramCache& programs, const DeformRunOptions& options) {
@@ -263,55 +223,30 @@ DeformRunReport RunDeform(render::ProgramCache& programs, const DeformRunOptions
           cams[i].camera.width, cams[i].camera.height);
     }
   }
-  capture::SceneMesh scene = capture::LoadSceneMesh(options.mesh);
-  core::TriangleMesh& mesh = scene.mesh;
-  // world (the mesh file's frame) = centre + longest * normalised.
-  glm::vec3 lo, hi;
-  mesh.Bounds(lo, hi);
-  const glm::dvec3 centre = 0.5 * (glm::dvec3(lo) + glm::dvec3(hi));
-  const double longest = std::max({hi.x - lo.x, hi.y - lo.y, hi.z - lo.z});
-  NormaliseMesh(mesh);
-  const glm::dmat4 world_from_norm =
-      glm::scale(glm::translate(glm::dmat4(1.0), centre), glm::dvec3(longest));
-  mesh.Bounds(lo, hi);
-  const core::Placement placement = DeformPlacement(options, {glm::dvec3(lo), glm::dvec3(hi)});
-
+  // The one path from options to the pass's inputs (ibr/deform_object.h),
+  // shared with deform objects in scene files.
+  const ibr::DeformObjectData object =
+      ibr::MakeDeformObject(capture::LoadSceneMesh(options.mesh).mesh, options.object,
+                            options.mesh.string(), /*progress=*/true);
+  // world = the mesh file's frame.
+  const glm::dmat4& world_from_norm = object.object_from_norm;
   DeformRunReport report;
-  report.max_displacement =
-      core::MaxObjectDisplacement(options.deformation, placement, options.deformation_resolution);
-  std::fprintf(stderr,
-               "deform: %zu triangles, max displacement %.4f; building the distance field\n",
-               mesh.triangle_count(), report.max_displacement);
-  const auto start = std::chrono::steady_clock::now();
-  core::MeshDistance distance(mesh, options.cap_holes, options.mesh.string());
-  core::DistanceFieldOptions sdf_options;
-  sdf_options.resolution = options.sdf_resolution;
-  sdf_options.progress = true;
-  // Grown by the largest displacement (samples land up to that far out) and
-  // two voxels for the normals' central differences.
-  const core::Box3d box = placement.ObjectBounds();
-  const double voxel =
-      std::max({box.size().x, box.size().y, box.size().z}) / (options.sdf_resolution - 1);
-  const core::DistanceField sdf = core::BuildDistanceField(
-      distance, box.Grown(report.max_displacement + 2 * voxel), sdf_options);
-  report.sdf_seconds =
-      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  report.sdf_size = sdf.size;
-  report.distance_queries = sdf.distance_queries;
-  const core::DeformationTexture texture =
-      core::SampleDeformation(options.deformation, options.deformation_resolution);
-  render::DeformPass pass(programs, {&mesh, &sdf, &texture, placement}, options.pass);
+  report.max_displacement = object.max_displacement;
+  report.sdf_seconds = object.sdf_seconds;
+  report.sdf_size = object.sdf.size;
+  report.distance_queries = object.sdf.distance_queries;
+  render::DeformPass pass(programs, object.Inputs(), options.object.pass);
 
   if (views.empty()) {
+    const glm::dvec3 centre(world_from_norm[3]);
+    const double longest = world_from_norm[0][0];
     views.push_back({"deform", OrbitCamera(centre, longest, options.azimuth_deg,
                                            options.elevation_deg, options.size)});
   }
   // Clip range, in world units.
-  const core::Box3d norm_bounds =
-      DeformedBounds({glm::dvec3(lo), glm::dvec3(hi)}, box, report.max_displacement);
   capture::Bounds world_bounds;
-  world_bounds.min = glm::dvec3(world_from_norm * glm::dvec4(norm_bounds.lo, 1.0));
-  world_bounds.max = glm::dvec3(world_from_norm * glm::dvec4(norm_bounds.hi, 1.0));
+  world_bounds.min = glm::dvec3(world_from_norm * glm::dvec4(object.norm_bounds.lo, 1.0));
+  world_bounds.max = glm::dvec3(world_from_norm * glm::dvec4(object.norm_bounds.hi, 1.0));
 
   std::optional<capture::DatasetWriter> writer;
   if (options.WritesDataset()) writer.emplace(options.out);
@@ -538,7 +473,7 @@ DeformBenchResult RunDeformBench(render::ProgramCache& programs,
   for (const BenchMesh& m : meshes) {
     capture::SceneMesh scene = capture::LoadSceneMesh(options.shared_data / "meshes" / m.file);
     core::TriangleMesh& mesh = scene.mesh;
-    NormaliseMesh(mesh);
+    ibr::NormaliseMesh(mesh);
     glm::vec3 lo, hi;
     mesh.Bounds(lo, hi);
     const core::Box3d region = core::Box3d{glm::dvec3(lo), glm::dvec3(hi)}.Grown(0.05);
@@ -598,7 +533,7 @@ DeformBenchResult RunDeformBench(render::ProgramCache& programs,
     const DeformRunOptions run_defaults;
     const ibr::ViewCamera camera = OrbitCamera(glm::dvec3(0.0), 1.0, run_defaults.azimuth_deg,
                                                run_defaults.elevation_deg, size);
-    const core::Box3d clip_box = DeformedBounds({glm::dvec3(lo), glm::dvec3(hi)}, full, grow);
+    const core::Box3d clip_box = ibr::DeformedBounds({glm::dvec3(lo), glm::dvec3(hi)}, full, grow);
     capture::Bounds bounds;
     bounds.min = clip_box.lo;
     bounds.max = clip_box.hi;

@@ -15,6 +15,7 @@
 #include "core/deformation.h"
 #include "core/distance_field.h"
 #include "core/image.h"
+#include "ibr/deform_object.h"
 #include "render/gl/shader_program.h"
 #include "render/passes/deform_pass.h"
 #include "render/passes/pass.h"
@@ -23,18 +24,11 @@ namespace bench {
 
 struct DeformRunOptions {
   std::filesystem::path mesh;  // OBJ/PLY/... (assimp)
-  bool cap_holes = false;      // fill the boundary loops of an open mesh
-  core::DeformationSum deformation;
-  // Region box in normalised units; empty = the mesh's bounds grown by 0.05.
-  std::optional<core::Box3d> region;
-  glm::dvec3 rotation_deg{0.0};  // placement: Euler angles about the region's centre
-  double scale = 1.0;            // placement: scale about the region's centre
-  glm::dvec3 translation{0.0};   // placement: translation (normalised units)
-  render::DeformPassOptions pass;
-  int sdf_resolution = 128;         // distance-field samples along the longest axis
-  int deformation_resolution = 64;  // deformation texture nodes per axis
-  int size = 512;                   // image width = height, pixels
-  double azimuth_deg = 30.0;        // camera orbit about +y (OBJ up)
+  // The deformation, its box, the cut, the ray's steps, the distance field
+  // (ibr/deform_object.h: flags -> ibr::DeformObjectOptionsFrom).
+  ibr::DeformObjectOptions object;
+  int size = 512;             // image width = height, pixels
+  double azimuth_deg = 30.0;  // camera orbit about +y (OBJ up)
   double elevation_deg = 20.0;
   // A dataset whose cameras to render from instead of the orbit view (its
   // world frame is the mesh file's, as `ibr capture` writes it).
@@ -74,13 +68,6 @@ struct DeformRunReport {
 // Loads, normalises, builds the distance field and the deformation texture,
 // renders every view and writes the outputs (staged: nothing partial on error).
 DeformRunReport RunDeform(render::ProgramCache& programs, const DeformRunOptions& options);
-
-// Centres the mesh at the origin and scales its longest side to 1 (the
-// normalised units of `ibr deform`); InputError for a mesh without extent.
-void NormaliseMesh(core::TriangleMesh& mesh);
-
-// The deformation box of a run (normalised units) and its placement.
-core::Placement DeformPlacement(const DeformRunOptions& options, const core::Box3d& mesh_bounds);
 
 // The solid knife cut of the bench's cut modes, its accuracy sweep and the
 // report's gallery (Correa, Silver, Chen 2007, eq. 6): a knife of amount 0.15

@@ -11,11 +11,29 @@
 
 namespace capture {
 
+namespace {
+
+// Whether a scene file's first object is image-based (a capture scene);
+// scenes of other objects (e.g. cut-and-volume.json) are for `ibr render` /
+// `ibr view` only. Text that is not such JSON counts as one, so
+// ParseBuiltinScene reports what is wrong with it.
+bool FirstObjectImageBased(std::string_view text) {
+  const nlohmann::json j = nlohmann::json::parse(text, nullptr, /*allow_exceptions=*/false);
+  if (!j.is_object() || !j.contains("objects") || !j["objects"].is_array() ||
+      j["objects"].empty() || !j["objects"][0].is_object() || !j["objects"][0].contains("type")) {
+    return true;
+  }
+  const nlohmann::json& type = j["objects"][0]["type"];
+  return !type.is_string() || type == "depth-object" || type == "visual-hull";
+}
+
+}  // namespace
+
 std::vector<std::string> BuiltinSceneNames() {
   std::vector<std::string> names;
   for (const auto& f : datasets::EmbeddedFiles()) {
     std::string name(f.name);
-    if (name.size() > 5 && name.ends_with(".json"))
+    if (name.size() > 5 && name.ends_with(".json") && FirstObjectImageBased(f.source))
       names.push_back(name.substr(0, name.size() - 5));
   }
   return names;

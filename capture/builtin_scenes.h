@@ -22,6 +22,9 @@ struct BuiltinScene {
   nlohmann::json render;    // default rendering options (parsed by ibr/)
 };
 
+// The embedded scenes whose first object is a depth object or visual hull
+// (scene files of other objects, e.g. cut-and-volume.json, are not capture
+// scenes: `ibr render` / `ibr view` read them as files).
 std::vector<std::string> BuiltinSceneNames();
 
 // Parses and validates a definition (InputError naming the scene and the problem).

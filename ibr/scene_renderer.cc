@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <glm/gtc/matrix_transform.hpp>
 #include <optional>
 
 #include "core/error.h"
@@ -196,9 +197,18 @@ LoadedObject LoadObject(render::ProgramCache& programs, const scene::Object& o) 
     case ObjectType::kVolume:
       LoadVolumeInto(o, l);
       break;
-    case ObjectType::kDeform:
-      throw core::InputError(fmt::format("{}: object type '{}' is not built in this version",
-                                         o.where, scene::ObjectTypeName(o.type)));
+    case ObjectType::kDeform: {
+      // ibr/deform_object.h, as `ibr deform`: the mesh in its file's frame,
+      // normalised for the pass; the pass's frame carried to the world.
+      l.deform_options = DeformObjectOptionsFrom(o.settings);
+      l.deform = std::make_shared<DeformObjectData>(
+          MakeDeformObject(LoadMesh(o.mesh, /*displaced=*/false), l.deform_options, o.where));
+      l.world_from_object = o.world_from_object * l.deform->object_from_norm;
+      const core::Box3d& b = l.deform->norm_bounds;
+      l.bounds = BoxBounds(l.world_from_object *
+                           glm::scale(glm::translate(glm::dmat4(1.0), b.lo), b.hi - b.lo));
+      break;
+    }
   }
   return l;
 }
@@ -215,6 +225,7 @@ LoadedScene LoadScene(render::ProgramCache& programs, const scene::Scene& s) {
       if (o.type == ObjectType::kDepthObject || o.type == ObjectType::kVisualHull)
         DepthObjectOptionsFrom(o.settings);
       if (o.type == ObjectType::kVolume) VolumeObjectOptionsFrom(o.settings);
+      if (o.type == ObjectType::kDeform) DeformObjectOptionsFrom(o.settings);
       loaded.disabled.push_back(o.name);
       continue;
     }
@@ -267,9 +278,10 @@ struct SceneRenderer::ObjectPass {
   std::string name;
   // depth object / visual hull
   std::optional<DepthObjectPass> depth_object;
-  // The rigid transform the view is carried into the object's frame by
-  // (identity for the other objects, whose geometry is already in the world).
-  glm::mat4 world_from_object{1.0f};
+  // The transform the view is carried into the object's frame by (rigid for
+  // depth objects, a similarity for deform objects; identity for the other
+  // objects, whose geometry is already in the world).
+  glm::dmat4 world_from_object{1.0};
   // displaced mesh
   std::optional<DisplacedMeshRenderer> displaced;
   // mesh
@@ -278,6 +290,9 @@ struct SceneRenderer::ObjectPass {
   std::optional<render::MeshPass> mesh_pass;
   // volume
   std::optional<render::VolumePass> volume;
+  // deform (the pass's textures are uploaded; the mesh stays referred to)
+  std::shared_ptr<const DeformObjectData> deform_data;
+  std::optional<render::DeformPass> deform;
   // the object's pass (one of the above)
   render::Pass* pass = nullptr;
 };
@@ -291,7 +306,7 @@ SceneRenderer::SceneRenderer(render::ProgramCache& programs, const LoadedScene& 
       case ObjectType::kVisualHull:
         p->name = MethodName(o.depth_object.method);
         p->depth_object.emplace(programs, o.maps, o.depth_object);
-        p->world_from_object = glm::mat4(o.world_from_object);
+        p->world_from_object = o.world_from_object;
         p->pass = &*p->depth_object;
         break;
       case ObjectType::kDisplacedMesh:
@@ -307,6 +322,13 @@ SceneRenderer::SceneRenderer(render::ProgramCache& programs, const LoadedScene& 
         p->pass = &*p->volume;
         break;
       }
+      case ObjectType::kDeform:
+        p->name = "deform";
+        p->deform_data = o.deform;
+        p->deform.emplace(programs, o.deform->Inputs(), o.deform_options.pass);
+        p->world_from_object = o.world_from_object;
+        p->pass = &*p->deform;
+        break;
       default:
         p->name = "mesh";
         p->mesh.emplace(o.mesh.mesh);
@@ -331,7 +353,7 @@ std::vector<std::string> SceneRenderer::PassNames() const {
   return names;
 }
 
-SceneFrame SceneRenderer::Render(const ViewCamera& view) {
+const render::RenderTarget& SceneRenderer::Draw(const ViewCamera& view) {
   const int w = view.camera.width, h = view.camera.height;
   const render::ViewSetup setup = ViewSetupFor(view, bounds_);
   if (!target_ || target_->width() != w || target_->height() != h) {
@@ -344,13 +366,17 @@ SceneFrame SceneRenderer::Render(const ViewCamera& view) {
   for (bool translucent : {false, true}) {
     for (auto& p : passes_) {
       if (p->pass->translucent() != translucent) continue;
-      // A rigid transform leaves camera z (and so the composite) unchanged.
+      // A similarity leaves camera z (and so the composite) unchanged.
       render::ViewSetup object_setup = setup;
-      object_setup.cam_from_world = setup.cam_from_world * p->world_from_object;
+      object_setup.cam_from_world = glm::mat4(view.cam_from_world * p->world_from_object);
       p->pass->Draw(*target_, object_setup);
     }
   }
-  render::Frame frame = render::ReadFrame(*target_);
+  return *target_;
+}
+
+SceneFrame SceneRenderer::Render(const ViewCamera& view) {
+  render::Frame frame = render::ReadFrame(Draw(view));
   SceneFrame out;
   out.mask = render::CoverageMask(frame);
   out.color = std::move(frame.color);

@@ -5,7 +5,8 @@
 // the depth buffer: mesh (render::MeshPass), displaced mesh (the method's pass,
 // ibr/displaced_mesh.h), depth object / visual hull (ibr::DepthObjectPass),
 // volume (render::VolumePass; DVR volumes after the opaque objects, their
-// slices depth-tested against them).
+// slices depth-tested against them), deform (render::DeformPass, built by
+// ibr/deform_object.h as `ibr deform` builds it).
 //
 // Stages: LoadScene (files -> plain CPU data: meshes, height maps, map sets;
 // synthetic captures need a context) -> SceneRenderer (GPU upload, passes) ->
@@ -21,6 +22,7 @@
 
 #include "capture/dataset.h"
 #include "capture/synthetic.h"
+#include "ibr/deform_object.h"
 #include "ibr/depth_object.h"
 #include "ibr/displaced_mesh.h"
 #include "ibr/image_maps.h"
@@ -48,6 +50,11 @@ struct LoadedObject {
   capture::SceneMesh mesh;
   // volume: the data and options (ibr/volume_object.h), shared (large)
   std::shared_ptr<const LoadedVolume> volume;
+  // deform: the normalised mesh, distance field and deformation (large,
+  // shared) and the pass's options; world_from_object above = the object's
+  // transform * data.object_from_norm (a similarity)
+  std::shared_ptr<const DeformObjectData> deform;
+  DeformObjectOptions deform_options;
   capture::Bounds bounds;  // world
 };
 
@@ -87,8 +94,12 @@ class SceneRenderer {
   // BeginFrame once, every pass's Draw into the one frame target (depth
   // test), one readback.
   SceneFrame Render(const ViewCamera& view);
+  // The same frame without the readback: the frame target (render/passes/
+  // pass.h: colour attachment 0 RGBA8), valid until the next Draw or Render
+  // (the interactive viewer shows it).
+  const render::RenderTarget& Draw(const ViewCamera& view);
   // The passes built, one per enabled object: "depth-object", "visual-hull",
-  // "displacement:METHOD", "mesh", "volume:dvr", "volume:iso".
+  // "displacement:METHOD", "mesh", "volume:dvr", "volume:iso", "deform".
   std::vector<std::string> PassNames() const;
 
  private:

@@ -151,9 +151,28 @@ class Reader {
     return path;
   }
 
-  MeshSource Mesh(const json& j, const json::json_pointer& p, bool allow_shared) const {
-    if (allow_shared) {
+  // A file under the shared data folder (`rel` relative to it).
+  fs::path SharedFile(const json& j, const json::json_pointer& p) const {
+    const std::string rel = String(j, p);
+    if (rel.empty() || fs::path(rel).is_absolute()) Fail(p, "expected a relative path");
+    const fs::path file = options_.shared_data / rel;
+    if (options_.check_files && !fs::is_regular_file(file)) {
+      Fail(p, fmt::format("no such file '{}' (set IBR_SHARED_DATA to the data folder)",
+                          file.string()));
+    }
+    return file;
+  }
+
+  // A capture's mesh: "shape", "mesh" (a file) or "shared_mesh" (with "rig",
+  // "size"); a deform object's: "shape", "file" or "shared_mesh"; otherwise
+  // "shape" or "file".
+  enum class MeshKeys { kPlain, kCapture, kDeform };
+  MeshSource Mesh(const json& j, const json::json_pointer& p, MeshKeys kind) const {
+    const bool allow_shared = kind != MeshKeys::kPlain;
+    if (kind == MeshKeys::kCapture) {
       Keys(j, p, {"shape", "mesh", "shared_mesh", "rig", "size"});
+    } else if (kind == MeshKeys::kDeform) {
+      Keys(j, p, {"shape", "file", "shared_mesh"});
     } else {
       Keys(j, p, {"shape", "file"});
     }
@@ -170,25 +189,18 @@ class Reader {
       }
       ++given;
     }
-    const char* file_key = allow_shared ? "mesh" : "file";
+    const char* file_key = kind == MeshKeys::kCapture ? "mesh" : "file";
     if (j.contains(file_key)) {
       m.file = File(j[file_key], p / file_key);
       ++given;
     }
     if (allow_shared && j.contains("shared_mesh")) {
-      const std::string rel = String(j["shared_mesh"], p / "shared_mesh");
-      if (rel.empty() || fs::path(rel).is_absolute())
-        Fail(p / "shared_mesh", "expected a relative path");
-      m.file = options_.shared_data / rel;
-      if (options_.check_files && !fs::is_regular_file(m.file)) {
-        Fail(p / "shared_mesh",
-             fmt::format("no such file '{}' (set IBR_SHARED_DATA to the data folder)",
-                         m.file.string()));
-      }
+      m.file = SharedFile(j["shared_mesh"], p / "shared_mesh");
       ++given;
     }
     if (given != 1) {
-      Fail(p, allow_shared ? "give exactly one of \"shape\", \"mesh\" or \"shared_mesh\""
+      Fail(p, allow_shared ? fmt::format("give exactly one of \"shape\", \"{}\" or \"shared_mesh\"",
+                                         file_key)
                            : "give exactly one of \"shape\" or \"file\"");
     }
     return m;
@@ -322,16 +334,18 @@ class Reader {
       structural = {"mesh", "texture"};
     } else if (type == "volume") {
       o.type = ObjectType::kVolume;
-      structural = {"volume", "transfer"};
+      structural = {"volume", "shared_volume", "transfer"};
       effect_keys = {"effect",   "map_size", "mode", "spacing", "displacement_bits",
                      "lighting", "jacobian"};
     } else if (type == "deform") {
-      Fail(p / "type",
-           fmt::format("object type '{}' is reserved: not built in this version", type));
+      o.type = ObjectType::kDeform;
+      structural = {"mesh"};
+      effect_keys = {"deformation", "amount", "width",       "cut",        "region",   "placement",
+                     "step",        "skip",   "step_voxels", "resolution", "cap_holes"};
     } else {
-      Fail(p / "type",
-           fmt::format("unknown object type '{}' (depth-object, visual-hull, displaced-mesh, mesh)",
-                       type));
+      Fail(p / "type", fmt::format("unknown object type '{}' (depth-object, visual-hull, "
+                                   "displaced-mesh, mesh, volume, deform)",
+                                   type));
     }
     std::set<std::string> allowed = kCommon;
     allowed.insert(structural.begin(), structural.end());
@@ -343,10 +357,14 @@ class Reader {
     if (j.contains("enabled")) o.enabled = Bool(j["enabled"], p / "enabled");
     if (j.contains("transform")) o.world_from_object = Transform(j["transform"], p / "transform");
     for (const std::string& k : structural) {
-      if (k != "texture" && k != "transfer" && !j.contains(k))
+      if (k != "texture" && k != "transfer" && k != "volume" && k != "shared_volume" &&
+          !j.contains(k))
         Fail(p, fmt::format("missing \"{}\"", k));
     }
+    if (o.type == ObjectType::kVolume && j.contains("volume") == j.contains("shared_volume"))
+      Fail(p, "give exactly one of \"volume\" or \"shared_volume\"");
     if (j.contains("volume")) o.volume = File(j["volume"], p / "volume");
+    if (j.contains("shared_volume")) o.volume = SharedFile(j["shared_volume"], p / "shared_volume");
     if (j.contains("images")) {
       const auto q = p / "images";
       const json& im = j["images"];
@@ -358,12 +376,15 @@ class Reader {
       } else {
         const auto r = q / "capture";
         const json& c = im["capture"];
-        o.images.capture_mesh = Mesh(c, r, /*allow_shared=*/true);
+        o.images.capture_mesh = Mesh(c, r, MeshKeys::kCapture);
         if (c.contains("rig")) o.images.capture_rig = String(c["rig"], r / "rig");
         if (c.contains("size")) o.images.capture_size = Int(c["size"], r / "size", 16, 8192);
       }
     }
-    if (j.contains("mesh")) o.mesh = Mesh(j["mesh"], p / "mesh", /*allow_shared=*/false);
+    if (j.contains("mesh")) {
+      o.mesh = Mesh(j["mesh"], p / "mesh",
+                    o.type == ObjectType::kDeform ? MeshKeys::kDeform : MeshKeys::kPlain);
+    }
     if (j.contains("height")) {
       const auto q = p / "height";
       const json& h = j["height"];

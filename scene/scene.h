@@ -33,7 +33,8 @@
 //                   pom | crm | tessellated), max_displacement, tiling, slices, steps},
 //     {"type"*: "mesh", "mesh"*: as above, "texture": FILE}      a plain rasterised mesh
 //     {"type"*: "volume",                                 Correa, Silver, Chen 2006
-//      "volume"*: "QVis .dat or NRRD .nrrd/.nhdr",
+//      "volume"*: "QVis .dat or NRRD .nrrd/.nhdr" (or "shared_volume": REL, under the shared
+//                 data folder),
 //      "transfer": preset (tooth, neghip, bucky, ramp, empty) or JSON file (default: the preset
 //                  named like the volume file, else ramp),
 //      effect keys: effect (none | peel | slices | seam | pull | wave), map_size, mode (dvr |
@@ -41,8 +42,15 @@
 //                   (none | gradient | transformed | blended), jacobian (precomputed |
 //                   differences)}; the object frame is the volume's box scaled to its extent
 //      and centred at the origin; DVR volumes are drawn after the opaque objects
-//     {"type"*: "deform"}               reserved for the cut/deformation pass: refused,
-//                                       "not built in this version"
+//     {"type"*: "deform",                                 Correa, Silver, Chen 2007
+//      "mesh"*: {"shape": S} or {"file": F} or {"shared_mesh": REL} (closed, or cap_holes),
+//      effect keys (ibr/deform_object.h; as `ibr deform`'s flags): deformation (twist | bend |
+//                   pull | knife | peel, or a comma list), amount, width (a number or a comma
+//                   list), cut (none | hollow | solid | thick:T), region ("x0,y0,z0,x1,y1,z1"),
+//                   placement ("tx,ty,tz[,rx,ry,rz[,scale]]"), step (fixed | threshold:T |
+//                   jacobian), step_voxels, skip (bool), resolution, cap_holes (bool)};
+//      the object frame is the mesh file's (the world of `ibr deform`); regions and widths
+//      are in the normalised units (mesh centred, longest side 1)
 //     common keys: "name" (default "object_N"), "enabled" (default true; false = named but
 //       not drawn: its passes, programs and textures are not built), "transform":
 //       {"translate": [x, y, z], "rotate_deg": [x, y, z] (about x, then y, then z),
@@ -50,7 +58,7 @@
 //   ]
 // }
 // Relative file names are relative to the scene file's folder; "shared_mesh"
-// is relative to the shared data folder (../shared/data or $IBR_SHARED_DATA).
+// and "shared_volume" are relative to the shared data folder (../shared/data or $IBR_SHARED_DATA).
 #pragma once
 
 #include <filesystem>

@@ -1,5 +1,6 @@
 // `ibr deform MESH`: a mesh deformed and cut by the deform pass (Correa,
-// Silver, Chen 2007); flags -> bench::DeformRunOptions -> bench::RunDeform.
+// Silver, Chen 2007); flags -> ibr::DeformObjectOptionsFrom (as a scene's
+// deform object) -> bench::DeformRunOptions -> bench::RunDeform.
 #include <fmt/format.h>
 
 #include <sstream>
@@ -9,6 +10,7 @@
 #include "apps/ibr/commands.h"
 #include "bench/deform_bench.h"
 #include "core/error.h"
+#include "ibr/deform_object.h"
 #include "render/gl/context.h"
 #include "render/passes/pass.h"
 
@@ -33,89 +35,37 @@ struct DeformFlags {
   std::string out;
 };
 
-std::vector<double> ParseNumbers(const std::string& text, const char* flag) {
-  std::vector<double> values;
-  std::stringstream in(text);
-  std::string item;
-  while (std::getline(in, item, ',')) {
-    try {
-      size_t used = 0;
-      values.push_back(std::stod(item, &used));
-      if (used != item.size()) throw std::invalid_argument(item);
-    } catch (const std::exception&) {
-      core::ThrowInputError("ibr deform", "{} '{}': '{}' is not a number", flag, text, item);
-    }
-  }
-  return values;
-}
-
-// Default amount and width per kind (normalised box units; radians).
-void Defaults(core::Deformation& d) {
-  switch (d.kind) {
-    case core::DeformationKind::kTwist:
-      d.amount = 2.0, d.width = 0.35;
-      break;
-    case core::DeformationKind::kBend:
-      d.amount = 0.8, d.width = 0.0;
-      break;
-    case core::DeformationKind::kPull:
-      d.amount = 0.5, d.width = 0.03;
-      break;
-    case core::DeformationKind::kKnife:
-      d.amount = 0.15, d.width = 0.6;
-      break;
-    case core::DeformationKind::kPeel:
-      d.amount = 2.4, d.width = 0.15;
-      break;
-  }
+// The flags as settings (where = "--flag"), read by the one function that
+// turns deform options into the pass's (ibr::DeformObjectOptionsFrom).
+scene::Settings SettingsFromFlags(const DeformFlags& f) {
+  auto join = [](const auto& values) {
+    std::string text;
+    for (const auto& v : values) text += (text.empty() ? "" : ",") + fmt::format("{}", v);
+    return text;
+  };
+  scene::Settings s;
+  s.Set("deformation", join(f.deformations), "--deformation");
+  if (!f.amounts.empty()) s.Set("amount", join(f.amounts), "--amount");
+  if (!f.widths.empty()) s.Set("width", join(f.widths), "--width");
+  s.Set("cut", f.cut, "--cut");
+  if (!f.region.empty()) s.Set("region", f.region, "--region");
+  if (!f.placement.empty()) s.Set("placement", f.placement, "--placement");
+  s.Set("step", f.step, "--step");
+  s.Set("step_voxels", f.step_voxels, "--step-voxels");
+  s.Set("skip", f.skip, "--skip");
+  s.Set("resolution", f.resolution, "--resolution");
+  s.Set("cap_holes", f.cap_holes, "--cap-holes");
+  return s;
 }
 
 void RunDeformCommand(const DeformFlags& f) {
   bench::DeformRunOptions o;
   o.mesh = f.mesh;
-  o.cap_holes = f.cap_holes;
-  for (size_t i = 0; i < f.deformations.size(); ++i) {
-    core::Deformation d;
-    d.kind = core::DeformationKindFromName(f.deformations[i]);
-    Defaults(d);
-    if (i < f.amounts.size()) d.amount = f.amounts[i];
-    if (i < f.widths.size()) d.width = f.widths[i];
-    o.deformation.terms.push_back(d);
-  }
-  std::string cut = f.cut;
-  if (cut.rfind("thick:", 0) == 0) {
-    o.pass.thickness = static_cast<float>(ParseNumbers(cut.substr(6), "--cut thick:T").at(0));
-    cut = "thick";
-  }
-  o.pass.cut = core::CutModeFromName(cut);
-  if (!f.region.empty()) {
-    std::vector<double> r = ParseNumbers(f.region, "--region");
-    if (r.size() != 6) core::ThrowInputError("ibr deform", "--region needs x0,y0,z0,x1,y1,z1");
-    o.region = core::Box3d{{r[0], r[1], r[2]}, {r[3], r[4], r[5]}};
-  }
-  if (!f.placement.empty()) {
-    std::vector<double> p = ParseNumbers(f.placement, "--placement");
-    if (p.size() != 3 && p.size() != 6 && p.size() != 7) {
-      core::ThrowInputError("ibr deform", "--placement needs tx,ty,tz[,rx,ry,rz[,scale]]");
-    }
-    o.translation = {p[0], p[1], p[2]};
-    if (p.size() >= 6) o.rotation_deg = {p[3], p[4], p[5]};
-    if (p.size() == 7) o.scale = p[6];
-  }
-  std::string step = f.step;
-  if (step.rfind("threshold:", 0) == 0) {
-    o.pass.threshold =
-        static_cast<float>(ParseNumbers(step.substr(10), "--step threshold:T").at(0));
-    step = "threshold";
-  }
-  o.pass.step_policy = render::RayStepPolicyFromName(step);
+  o.object = ibr::DeformObjectOptionsFrom(SettingsFromFlags(f));
   if (f.implicit != "sdf") {
     core::ThrowInputError(
         "ibr deform", "--implicit {}: only 'sdf' is implemented (depth-cube is not)", f.implicit);
   }
-  o.pass.step_voxels = f.step_voxels;
-  o.pass.skip_empty = f.skip;
-  o.sdf_resolution = f.resolution;
   o.size = f.size;
   o.azimuth_deg = f.azimuth;
   o.elevation_deg = f.elevation;

@@ -1,6 +1,8 @@
 // `ibr view DATASET`: the interactive viewer on a dataset's depth object or
 // visual hull. Orbit with the mouse; switch method, slicing, slice count,
 // texturing and the robust k in the panel; the frame time is shown.
+// `ibr view SCENE.json`: any scene file (scene/scene.h) through
+// ibr::SceneRenderer, the panel listing its objects and passes.
 #ifdef IBR_HAVE_VIEWER
 
 #include <fmt/format.h>
@@ -14,10 +16,12 @@
 
 #include "apps/ibr/commands.h"
 #include "apps/viewer/viewer.h"
+#include "capture/builtin_scenes.h"
 #include "capture/dataset.h"
 #include "core/error.h"
 #include "ibr/dataset_maps.h"
 #include "ibr/depth_object.h"
+#include "ibr/scene_renderer.h"
 #include "render/gl/shader_program.h"
 
 namespace apps {
@@ -101,6 +105,65 @@ class DatasetScene : public viewer::Scene {
   float radius_ = 1;
 };
 
+// A scene file: every enabled object drawn by ibr::SceneRenderer into its
+// frame target (the headless path of `ibr render SCENE.json`), shown as is.
+class SceneFileScene : public viewer::Scene {
+ public:
+  explicit SceneFileScene(const scene::Scene& file)
+      : title_("ibr view: " + file.name),
+        loaded_(ibr::LoadScene(programs_, file)),
+        renderer_(programs_, loaded_) {
+    const capture::Bounds& b = loaded_.bounds;
+    centre_ = glm::vec3(0.5 * (b.min + b.max));
+    radius_ = 0.5f * static_cast<float>(glm::length(b.max - b.min));
+    for (const scene::Object& o : file.objects) {
+      objects_.push_back(fmt::format("{} ({}){}", o.name, scene::ObjectTypeName(o.type),
+                                     o.enabled ? "" : ": disabled"));
+    }
+    passes_ = renderer_.PassNames();
+  }
+
+  std::string Title() const override { return title_; }
+  glm::vec3 Centre() const override { return centre_; }
+  float Radius() const override { return radius_; }
+
+  void DrawControls() override {
+    ImGui::TextUnformatted("objects:");
+    for (const std::string& o : objects_) ImGui::BulletText("%s", o.c_str());
+    ImGui::TextUnformatted("passes:");
+    for (const std::string& p : passes_) ImGui::BulletText("%s", p.c_str());
+  }
+
+  const render::RenderTarget& Render(const viewer::FrameCamera& camera) override {
+    ibr::ViewCamera view;
+    view.camera = ibr::MapCamera::Pinhole(camera.width, camera.height, camera.fx, camera.fy,
+                                          camera.cx, camera.cy);
+    view.cam_from_world = glm::dmat4(camera.cam_from_world);
+    return renderer_.Draw(view);
+  }
+
+  std::string Status() const override {
+    return fmt::format("{} objects drawn, {} disabled", loaded_.objects.size(),
+                       loaded_.disabled.size());
+  }
+
+ private:
+  std::string title_;
+  render::ProgramCache programs_;
+  ibr::LoadedScene loaded_;
+  ibr::SceneRenderer renderer_;
+  std::vector<std::string> objects_, passes_;
+  glm::vec3 centre_{0};
+  float radius_ = 1;
+};
+
+// `ibr view SCENE.json`: the file's schema is checked before a window opens;
+// its objects load with the window's context current (captures render).
+void RunSceneView(const ViewCommandOptions& o) {
+  const scene::Scene file = scene::ReadScene(o.dataset, capture::DefaultSharedDataDir());
+  viewer::Run([&] { return std::make_unique<SceneFileScene>(file); }, o.viewer);
+}
+
 void RunView(ViewCommandOptions& o) {
   int w = 0, h = 0;
   char x = 0;
@@ -110,6 +173,7 @@ void RunView(ViewCommandOptions& o) {
   o.viewer.width = w;
   o.viewer.height = h;
   o.viewer.Check();
+  if (o.dataset.extension() == ".json") return RunSceneView(o);
   // Validate everything before a window opens.
   const ibr::DepthObjectOptions options =
       ibr::DepthObjectOptionsFrom(ibr::SettingsFromFlags(o.flags));
@@ -126,8 +190,13 @@ void RunView(ViewCommandOptions& o) {
 void AddViewCommand(CLI::App& app) {
   static ViewCommandOptions o;
   auto* cmd = app.add_subcommand(
-      "view", "Interactive viewer (GLFW + Dear ImGui) of a dataset's depth object or visual hull");
-  cmd->add_option("DATASET", o.dataset, "dataset directory (dataset.json)")->required();
+      "view",
+      "Interactive viewer (GLFW + Dear ImGui) of a dataset's depth object or visual hull, or of "
+      "a scene file");
+  cmd->add_option("DATASET", o.dataset,
+                  "dataset directory (dataset.json), or a scene file SCENE.json (every object "
+                  "type; the depth-object flags then do not apply)")
+      ->required();
   AddDepthObjectFlags(cmd, o.flags);
   cmd->add_option("--window", o.window, "window size WIDTHxHEIGHT in pixels")
       ->capture_default_str();

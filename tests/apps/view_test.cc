@@ -3,8 +3,11 @@
 // missing display give one clear line.
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <cstdlib>
 #include <filesystem>
+#include <fstream>
+#include <string>
 
 #include "core/image_io.h"
 #include "tests/support/gl_test.h"
@@ -60,6 +63,55 @@ TEST_F(ViewTest, ScreenshotShowsTheObjectAndThePanel) {
   EXPECT_EQ(background, 20 * 40);
   // ImGui's title bar (blue) spans the panel's top.
   EXPECT_GT(image.at(60, 18, 2), image.at(60, 18, 0) + 40);
+}
+
+// `ibr view SCENE.json`: a scene with a deform object (a knife-cut sphere,
+// left) and a DVR volume (a ball of density, right) through
+// ibr::SceneRenderer; both show, the gap between them is background.
+TEST_F(ViewTest, ScreenshotOfASceneShowsTheDeformObjectAndTheVolume) {
+  if (std::system("command -v xvfb-run > /dev/null 2>&1") != 0)
+    GTEST_SKIP() << "xvfb-run is not installed";
+  const fs::path dir = *dir_ / "scene";
+  fs::create_directories(dir);
+  {
+    // A 24^3 QVis volume: density 255 inside a ball of radius 10 voxels.
+    std::ofstream(dir / "ball.dat") << "ObjectFileName: ball.raw\nResolution: 24 24 24\n"
+                                       "SliceThickness: 1 1 1\nFormat: UCHAR\n";
+    std::string voxels;
+    for (int z = 0; z < 24; ++z)
+      for (int y = 0; y < 24; ++y)
+        for (int x = 0; x < 24; ++x)
+          voxels += std::hypot(x - 11.5, y - 11.5, z - 11.5) < 10 ? '\xff' : '\0';
+    std::ofstream(dir / "ball.raw", std::ios::binary) << voxels;
+    std::ofstream(dir / "s.json")
+        << R"({"version": 1, "cameras": {"orbit": {"count": 1, "size": 64}}, "objects": [)"
+           R"({"name": "cut", "type": "deform", "mesh": {"shape": "sphere"}, "deformation": "knife",)"
+           R"( "cut": "solid", "resolution": 48, "transform": {"translate": [-1.6, 0, 0]}},)"
+           R"({"name": "ball", "type": "volume", "volume": "ball.dat", "transfer": "ramp",)"
+           R"( "transform": {"translate": [1.6, 0, 0], "scale": 0.05}}]})";
+  }
+  const fs::path shot = test_support::TestOutputDir() / "view_scene.png";
+  const auto r = RunCommand("xvfb-run -a -s '-screen 0 1024x768x24' " + IbrBinary() + " view '" +
+                            (dir / "s.json").string() +
+                            "' --window 800x600 --frames 2 --azimuth 0 --elevation 0 "
+                            "--screenshot '" +
+                            shot.string() + "'");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.out.find("view: wrote"), std::string::npos) << r.out;
+  const core::Image8 image = core::ReadImage<uint8_t>(shot);
+  ASSERT_EQ(image.width(), 800);
+  ASSERT_EQ(image.height(), 600);
+  // Below the panel: object pixels left and right of the centre, none in
+  // the gap at the centre column.
+  auto lit = [&](int x0, int x1) {
+    int n = 0;
+    for (int y = 290; y < 600; ++y)
+      for (int x = x0; x < x1; ++x) n += image.at(x, y, 0) + image.at(x, y, 1) > 60;
+    return n;
+  };
+  EXPECT_GT(lit(0, 360), 2000) << "the deform object (left)";
+  EXPECT_GT(lit(440, 800), 800) << "the volume (right)";
+  EXPECT_EQ(lit(395, 405), 0) << "the gap between them";
 }
 
 TEST_F(ViewTest, MissingDatasetIsOneLineAndNoWindow) {

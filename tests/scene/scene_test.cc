@@ -171,13 +171,41 @@ TEST_F(SceneTest, BadScenesNameTheFileAndThePointer) {
       {"unknown object type", R"({"version": 1, )" CAM R"(, "objects": [{"type": "cloud"}]})",
        "/objects/0/type"},
       {"volume without its file", R"({"version": 1, )" CAM R"(, "objects": [{"type": "volume"}]})",
-       "missing \"volume\""},
+       "exactly one of \"volume\" or \"shared_volume\""},
       {"volume, unknown key",
        R"({"version": 1, )" CAM
        R"(, "objects": [{"type": "volume", "volume": "v.dat", "slices": 4}]})",
        "/objects/0/slices"},
-      {"deform reserved", R"({"version": 1, )" CAM R"(, "objects": [{"type": "deform"}]})",
-       "/objects/0/type"},
+      {"deform without its mesh", R"({"version": 1, )" CAM R"(, "objects": [{"type": "deform"}]})",
+       "missing \"mesh\""},
+      {"deform, unknown key",
+       R"({"version": 1, )" CAM
+       R"(, "objects": [{"type": "deform", "mesh": {"shape": "torus"}, "slices": 4}]})",
+       "/objects/0/slices"},
+      {"deform, capture key in its mesh",
+       R"({"version": 1, )" CAM
+       R"(, "objects": [{"type": "deform", "mesh": {"shape": "torus", "rig": "cube"}}]})",
+       "/objects/0/mesh/rig"},
+      {"deform, two meshes",
+       R"({"version": 1, )" CAM
+       R"(, "objects": [{"type": "deform", "mesh": {"shape": "torus", "file": "m.obj"}}]})",
+       "/objects/0/mesh"},
+      {"deform, shared mesh missing",
+       R"({"version": 1, )" CAM
+       R"(, "objects": [{"type": "deform", "mesh": {"shared_mesh": "meshes/none.obj"}}]})",
+       "/objects/0/mesh/shared_mesh"},
+      {"deform, option not a scalar",
+       R"({"version": 1, )" CAM
+       R"(, "objects": [{"type": "deform", "mesh": {"shape": "torus"}, "cut": ["solid"]}]})",
+       "/objects/0/cut"},
+      {"volume, two files",
+       R"({"version": 1, )" CAM
+       R"(, "objects": [{"type": "volume", "volume": "v.dat", "shared_volume": "v.dat"}]})",
+       "exactly one of \"volume\" or \"shared_volume\""},
+      {"volume, shared volume missing",
+       R"({"version": 1, )" CAM
+       R"(, "objects": [{"type": "volume", "shared_volume": "volumes/none.dat"}]})",
+       "/objects/0/shared_volume"},
       {"unknown object key",
        R"({"version": 1, )" CAM
        R"(, "objects": [{"type": "mesh", "mesh": {"shape": "cup"}, "colour": "red"}]})",

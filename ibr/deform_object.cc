@@ -1,0 +1,246 @@
+#include "ibr/deform_object.h"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <glm/gtc/matrix_transform.hpp>
+#include <sstream>
+
+#include "core/error.h"
+#include "render/cores/ray_core.h"
+
+namespace ibr {
+namespace {
+
+// A number, or a string of comma-separated numbers; every one finite.
+std::vector<double> Numbers(const scene::Settings& settings, const std::string& key) {
+  const scene::Setting* s = settings.Find(key);
+  if (s == nullptr) return {};
+  if (s->value.is_number()) {
+    const double v = s->value.get<double>();
+    if (!std::isfinite(v)) settings.Fail(key, fmt::format("{} is not finite", s->value.dump()));
+    return {v};
+  }
+  if (!s->value.is_string()) {
+    settings.Fail(
+        key, fmt::format("expected a number or a comma list of numbers, got {}", s->value.dump()));
+  }
+  const std::string text = s->value.get<std::string>();
+  std::vector<double> values;
+  std::stringstream in(text);
+  std::string item;
+  while (std::getline(in, item, ',')) {
+    double v = 0;
+    try {
+      size_t used = 0;
+      v = std::stod(item, &used);
+      if (used != item.size()) throw std::invalid_argument(item);
+    } catch (const std::exception&) {
+      settings.Fail(key, fmt::format("'{}': '{}' is not a number", text, item));
+    }
+    if (!std::isfinite(v)) settings.Fail(key, fmt::format("'{}': '{}' is not finite", text, item));
+    values.push_back(v);
+  }
+  if (values.empty()) settings.Fail(key, "no numbers given");
+  return values;
+}
+
+// The text after "prefix:" as one finite number.
+double Suffix(const scene::Settings& settings, const std::string& key, const std::string& text,
+              size_t at) {
+  scene::Settings one;
+  one.Set(key, text.substr(at), settings.Find(key)->where);
+  const std::vector<double> v = Numbers(one, key);
+  if (v.size() != 1) settings.Fail(key, fmt::format("'{}': expected one number", text));
+  return v[0];
+}
+
+bool Bool(const scene::Settings& settings, const std::string& key, bool fallback) {
+  const scene::Setting* s = settings.Find(key);
+  if (s == nullptr) return fallback;
+  if (!s->value.is_boolean())
+    settings.Fail(key, fmt::format("expected true or false, got {}", s->value.dump()));
+  return s->value.get<bool>();
+}
+
+}  // namespace
+
+void SetDeformationDefaults(core::Deformation& d) {
+  switch (d.kind) {
+    case core::DeformationKind::kTwist:
+      d.amount = 2.0, d.width = 0.35;
+      break;
+    case core::DeformationKind::kBend:
+      d.amount = 0.8, d.width = 0.0;
+      break;
+    case core::DeformationKind::kPull:
+      d.amount = 0.5, d.width = 0.03;
+      break;
+    case core::DeformationKind::kKnife:
+      d.amount = 0.15, d.width = 0.6;
+      break;
+    case core::DeformationKind::kPeel:
+      d.amount = 2.4, d.width = 0.15;
+      break;
+  }
+}
+
+DeformObjectOptions DeformObjectOptionsFrom(const scene::Settings& settings) {
+  DeformObjectOptions o;
+  // The deformations, summed; amount and width per deformation.
+  std::vector<std::string> kinds;
+  {
+    std::stringstream in(settings.GetString("deformation", "twist"));
+    std::string item;
+    while (std::getline(in, item, ',')) kinds.push_back(item);
+    if (kinds.empty()) settings.Fail("deformation", "no deformation given");
+  }
+  const std::vector<double> amounts = Numbers(settings, "amount");
+  const std::vector<double> widths = Numbers(settings, "width");
+  for (const auto& [key, values] : {std::pair{"amount", &amounts}, std::pair{"width", &widths}}) {
+    if (values->size() > kinds.size()) {
+      settings.Fail(key,
+                    fmt::format("{} values for {} deformation(s)", values->size(), kinds.size()));
+    }
+  }
+  for (size_t i = 0; i < kinds.size(); ++i) {
+    core::Deformation d;
+    try {
+      d.kind = core::DeformationKindFromName(kinds[i]);
+    } catch (const core::InputError& e) {
+      settings.Fail("deformation", e.what());
+    }
+    SetDeformationDefaults(d);
+    if (i < amounts.size()) d.amount = amounts[i];
+    if (i < widths.size()) d.width = widths[i];
+    try {
+      d.Check();
+    } catch (const core::InputError& e) {
+      settings.Fail(i < amounts.size()  ? "amount"
+                    : i < widths.size() ? "width"
+                                        : "deformation",
+                    e.what());
+    }
+    o.deformation.terms.push_back(d);
+  }
+  // The cut.
+  std::string cut = settings.GetString("cut", "none");
+  if (cut.rfind("thick:", 0) == 0) {
+    o.pass.thickness = static_cast<float>(Suffix(settings, "cut", cut, 6));
+    if (!(o.pass.thickness > 0)) settings.Fail("cut", fmt::format("'{}': T must be > 0", cut));
+    cut = "thick";
+  }
+  try {
+    o.pass.cut = core::CutModeFromName(cut);
+  } catch (const core::InputError& e) {
+    settings.Fail("cut", e.what());
+  }
+  // The deformation box and its placement.
+  if (settings.Has("region")) {
+    const std::vector<double> r = Numbers(settings, "region");
+    if (r.size() != 6) settings.Fail("region", "needs x0,y0,z0,x1,y1,z1");
+    o.region = core::Box3d{{r[0], r[1], r[2]}, {r[3], r[4], r[5]}};
+    for (int a = 0; a < 3; ++a) {
+      if (!(o.region->hi[a] > o.region->lo[a]))
+        settings.Fail("region", "needs x0 < x1, y0 < y1, z0 < z1");
+    }
+  }
+  if (settings.Has("placement")) {
+    const std::vector<double> p = Numbers(settings, "placement");
+    if (p.size() != 3 && p.size() != 6 && p.size() != 7)
+      settings.Fail("placement", "needs tx,ty,tz[,rx,ry,rz[,scale]]");
+    o.translation = {p[0], p[1], p[2]};
+    if (p.size() >= 6) o.rotation_deg = {p[3], p[4], p[5]};
+    if (p.size() == 7) o.scale = p[6];
+    if (!(o.scale > 0)) settings.Fail("placement", fmt::format("scale {} must be > 0", o.scale));
+  }
+  // The ray's steps.
+  std::string step = settings.GetString("step", "fixed");
+  if (step.rfind("threshold:", 0) == 0) {
+    o.pass.threshold = static_cast<float>(Suffix(settings, "step", step, 10));
+    step = "threshold";
+  }
+  try {
+    o.pass.step_policy = render::RayStepPolicyFromName(step);
+  } catch (const core::InputError& e) {
+    settings.Fail("step", e.what());
+  }
+  o.pass.step_voxels = static_cast<float>(settings.GetDouble("step_voxels", o.pass.step_voxels));
+  o.pass.skip_empty = Bool(settings, "skip", false);
+  try {
+    o.pass.Check();
+  } catch (const core::InputError& e) {
+    for (const char* key : {"step_voxels", "step", "cut"}) {
+      if (settings.Has(key)) settings.Fail(key, e.what());
+    }
+    throw;
+  }
+  o.sdf_resolution = settings.GetInt("resolution", o.sdf_resolution);
+  if (o.sdf_resolution < 8 || o.sdf_resolution > 512)
+    settings.Fail("resolution", fmt::format("{} outside 8..512", o.sdf_resolution));
+  o.cap_holes = Bool(settings, "cap_holes", false);
+  return o;
+}
+
+void NormaliseMesh(core::TriangleMesh& mesh, const std::string& where) {
+  glm::vec3 lo, hi;
+  mesh.Bounds(lo, hi);
+  const float longest = std::max({hi.x - lo.x, hi.y - lo.y, hi.z - lo.z});
+  if (!(longest > 0)) core::ThrowInputError(where, "the mesh has no extent");
+  const glm::vec3 centre = 0.5f * (lo + hi);
+  for (glm::vec3& p : mesh.positions) p = (p - centre) / longest;
+}
+
+core::Box3d DeformedBounds(const core::Box3d& mesh, const core::Box3d& box, double displacement) {
+  return {glm::min(mesh.lo, box.lo) - displacement, glm::max(mesh.hi, box.hi) + displacement};
+}
+
+core::Placement DeformPlacement(const DeformObjectOptions& options,
+                                const core::Box3d& mesh_bounds) {
+  const core::Box3d region = options.region ? *options.region : mesh_bounds.Grown(0.05);
+  return core::Placement::FromRegion(region, options.rotation_deg, options.scale,
+                                     options.translation);
+}
+
+DeformObjectData MakeDeformObject(core::TriangleMesh mesh, const DeformObjectOptions& options,
+                                  const std::string& where, bool progress) {
+  DeformObjectData d;
+  // object (the mesh file's frame) = centre + longest * normalised.
+  glm::vec3 lo, hi;
+  mesh.Bounds(lo, hi);
+  const glm::dvec3 centre = 0.5 * (glm::dvec3(lo) + glm::dvec3(hi));
+  const double longest = std::max({hi.x - lo.x, hi.y - lo.y, hi.z - lo.z});
+  NormaliseMesh(mesh, where);
+  d.object_from_norm = glm::scale(glm::translate(glm::dmat4(1.0), centre), glm::dvec3(longest));
+  mesh.Bounds(lo, hi);
+  d.placement = DeformPlacement(options, {glm::dvec3(lo), glm::dvec3(hi)});
+  d.max_displacement =
+      core::MaxObjectDisplacement(options.deformation, d.placement, options.deformation_resolution);
+  if (progress) {
+    std::fprintf(stderr,
+                 "deform: %zu triangles, max displacement %.4f; building the distance field\n",
+                 mesh.triangle_count(), d.max_displacement);
+  }
+  const auto start = std::chrono::steady_clock::now();
+  const core::MeshDistance distance(mesh, options.cap_holes, where);
+  core::DistanceFieldOptions sdf_options;
+  sdf_options.resolution = options.sdf_resolution;
+  sdf_options.progress = progress;
+  // Grown by the largest displacement (samples land up to that far out) and
+  // two voxels for the normals' central differences.
+  const core::Box3d box = d.placement.ObjectBounds();
+  const double voxel =
+      std::max({box.size().x, box.size().y, box.size().z}) / (options.sdf_resolution - 1);
+  d.sdf =
+      core::BuildDistanceField(distance, box.Grown(d.max_displacement + 2 * voxel), sdf_options);
+  d.sdf_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  d.texture = core::SampleDeformation(options.deformation, options.deformation_resolution);
+  d.norm_bounds = DeformedBounds({glm::dvec3(lo), glm::dvec3(hi)}, box, d.max_displacement);
+  d.mesh = std::move(mesh);
+  return d;
+}
+
+}  // namespace ibr

@@ -1,0 +1,88 @@
+// A mesh deformed and cut by the deform pass (Correa, Silver, Chen 2007;
+// render/passes/deform_pass.h) as plain CPU data, shared by `ibr deform`, the
+// deform bench (bench::RunDeform) and deform objects in scene files
+// (ibr/scene_renderer.h): options (flags or scene keys, as scene::Settings)
+// -> DeformObjectOptions -> MakeDeformObject -> render::DeformPass.
+//
+// The pass works in normalised units: the mesh centred at the origin, its
+// longest side 1 (regions, widths, thicknesses and the threshold are in those
+// units); object_from_norm carries them back to the mesh file's frame, the
+// object frame of a scene's deform object and the world of `ibr deform`.
+#pragma once
+
+#include <glm/glm.hpp>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "core/deformation.h"
+#include "core/distance_field.h"
+#include "core/mesh.h"
+#include "render/passes/deform_pass.h"
+#include "scene/scene.h"
+
+namespace ibr {
+
+struct DeformObjectOptions {
+  core::DeformationSum deformation;  // default: one twist (DeformObjectOptionsFrom)
+  // Region box in normalised units; empty = the mesh's bounds grown by 0.05.
+  std::optional<core::Box3d> region;
+  glm::dvec3 rotation_deg{0.0};  // placement: Euler angles about the region's centre
+  double scale = 1.0;            // placement: scale about the region's centre
+  glm::dvec3 translation{0.0};   // placement: translation (normalised units)
+  render::DeformPassOptions pass;
+  int sdf_resolution = 128;         // distance-field samples along the longest axis
+  int deformation_resolution = 64;  // deformation texture nodes per axis
+  bool cap_holes = false;           // fill the boundary loops of an open mesh
+};
+
+// Default amount and width per kind (normalised box units; radians).
+void SetDeformationDefaults(core::Deformation& deformation);
+
+// Keys (every one optional; errors name the value's `where`):
+//   deformation  twist|bend|pull|knife|peel, or a comma list (summed)
+//   amount, width  a number or a comma list, one per deformation (defaults
+//                  SetDeformationDefaults)
+//   cut          none|hollow|solid|thick:T
+//   region       "x0,y0,z0,x1,y1,z1" (normalised units)
+//   placement    "tx,ty,tz[,rx,ry,rz[,scale]]" about the region's centre
+//   step         fixed|threshold:T|jacobian;  step_voxels  base step (voxels)
+//   skip         true/false (empty-space skipping in the cut, sec. 6.2)
+//   resolution   distance-field samples along the longest axis (8..512)
+//   cap_holes    true/false
+DeformObjectOptions DeformObjectOptionsFrom(const scene::Settings& settings);
+
+// Everything a render::DeformPass needs (Inputs() refers to the members:
+// keep the object where it is while a pass built from it lives).
+struct DeformObjectData {
+  core::TriangleMesh mesh;           // normalised
+  glm::dmat4 object_from_norm{1.0};  // centre + longest * normalised
+  core::Placement placement;         // the deformation box (normalised units)
+  double max_displacement = 0.0;     // normalised units
+  core::DistanceField sdf;
+  core::DeformationTexture texture;
+  double sdf_seconds = 0.0;
+  // What the frame can hold (normalised units): the mesh and the deformation
+  // box grown by the largest displacement.
+  core::Box3d norm_bounds;
+  render::DeformInputs Inputs() const { return {&mesh, &sdf, &texture, placement}; }
+};
+
+// Normalises `mesh` (InputError naming `where` for a mesh without extent),
+// places the deformation box, builds the distance field (progress on stderr
+// when `progress`) and samples the deformation.
+DeformObjectData MakeDeformObject(core::TriangleMesh mesh, const DeformObjectOptions& options,
+                                  const std::string& where, bool progress = false);
+
+// Centres the mesh at the origin and scales its longest side to 1 (the
+// normalised units); InputError naming `where` for a mesh without extent.
+void NormaliseMesh(core::TriangleMesh& mesh, const std::string& where = "ibr deform");
+
+// What a frame must hold (normalised units): the mesh and the deformation
+// box, grown by the largest displacement.
+core::Box3d DeformedBounds(const core::Box3d& mesh, const core::Box3d& box, double displacement);
+
+// The deformation box (normalised units) and its placement.
+core::Placement DeformPlacement(const DeformObjectOptions& options, const core::Box3d& mesh_bounds);
+
+}  // namespace ibr
