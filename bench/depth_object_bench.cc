@@ -308,8 +308,8 @@ DepthObjectBenchResult RunDepthObjectBench(const DepthObjectBenchOptions& option
             for (const core::Image8& c : renderer.SliceCoverage(params)) {
               for (uint8_t v : c.values()) fragments += v > 0;
             }
-            const double maps = static_cast<double>(params.active.size());
-            fraction = fragments * maps / (t.median_ms / 1000.0) / fill.fragments_per_second;
+            const double map_count = static_cast<double>(params.active.size());
+            fraction = fragments * map_count / (t.median_ms / 1000.0) / fill.fragments_per_second;
             const bool fast = path.slice_path == ibr::SlicePath::kFast;
             const render::RenderTarget accum(ibr::DepthObjectRenderer::AccumTargetOptions(
                 views[0].camera.width, views[0].camera.height));
@@ -322,7 +322,8 @@ DepthObjectBenchResult RunDepthObjectBench(const DepthObjectBenchOptions& option
                            },
                            timer)
                            .median_ms;
-            const double issued = fast ? fragments : fragments * (maps + (params.robust ? 2 : 1));
+            const double issued =
+                fast ? fragments : fragments * (map_count + (params.robust ? 2 : 1));
             slice_fraction = issued / (slice_ms / 1000.0) / fill.fragments_per_second;
           }
           frame_ms[{object.name, path.name, size, slices}] = t.median_ms;
@@ -580,8 +581,8 @@ DepthObjectBenchResult RunDepthObjectBench(const DepthObjectBenchOptions& option
     }
     fmt::print("wrote plots to {}\n", options.out.string());
   }
-  return {std::move(table), std::move(accuracy), std::move(fig_coverage), std::move(fig_slices),
-          std::move(first_image), std::move(map_sweep)};
+  return {std::move(table),      std::move(accuracy),    std::move(fig_coverage),
+          std::move(fig_slices), std::move(first_image), std::move(map_sweep)};
 }
 
 }  // namespace bench

@@ -56,7 +56,7 @@ constexpr GLuint kFastMapsBinding = 3;    // UBO: the active maps in loop order
 constexpr GLuint kFastPlanesBinding = 3;  // SSBO: one plane per slice
 
 // Replaces `buffer`'s contents, growing its mutable storage when needed.
-void Upload(render::Buffer& buffer, const void* data, size_t bytes) {
+void UploadBuffer(render::Buffer& buffer, const void* data, size_t bytes) {
   if (!buffer) buffer = render::Buffer::Create();
   GLint64 capacity = 0;
   glGetNamedBufferParameteri64v(buffer.id(), GL_BUFFER_SIZE, &capacity);
@@ -83,8 +83,8 @@ void DepthObjectRenderer::DrawSlicesFast(const FrameParams& frame,
   std::vector<MapRecord> loop;
   loop.reserve(frame.active.size());
   for (int i : frame.active) loop.push_back(frame.maps.at(static_cast<size_t>(i)));
-  Upload(fast_maps_, loop.data(), loop.size() * sizeof(MapRecord));
-  Upload(fast_planes_, frame.planes.data(), frame.planes.size() * sizeof(glm::vec4));
+  UploadBuffer(fast_maps_, loop.data(), loop.size() * sizeof(MapRecord));
+  UploadBuffer(fast_planes_, frame.planes.data(), frame.planes.size() * sizeof(glm::vec4));
   glBindBufferBase(GL_UNIFORM_BUFFER, kFastMapsBinding, fast_maps_.id());
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kFastPlanesBinding, fast_planes_.id());
 
