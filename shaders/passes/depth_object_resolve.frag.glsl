@@ -78,6 +78,15 @@ float WindowDepth(vec3 p) {
 }
 #endif
 
+// The novel view's ray through view-space point p (unit, towards the scene).
+vec3 ViewRay(vec3 p) {
+#ifdef VIEW_ORTHOGRAPHIC
+  return vec3(0.0, 0.0, 1.0);
+#else
+  return normalize(p);
+#endif
+}
+
 vec3 VdtColor(ivec2 px) {
   vec4 acc = texelFetch(u_accum_color, px, 0);
   // Robust intersection can finish a pixel where no weighted map passed.
@@ -164,12 +173,7 @@ float VdtSeenColor(MapRecord m, vec3 p, out vec3 color, inout float nearest_resi
 // texel whose surface lies nearest to it along its map's ray; where no map
 // has a valid texel there, the paper's blend.
 vec3 VisibleVdtColor(ivec2 px, vec3 p) {
-  vec3 view_ray;
-#ifdef VIEW_ORTHOGRAPHIC
-  view_ray = vec3(0.0, 0.0, 1.0);
-#else
-  view_ray = normalize(p);
-#endif
+  const vec3 view_ray = ViewRay(p);
   vec3 sum = vec3(0.0);
   float wsum = 0.0;
   float nearest_residual = 1e30;
@@ -221,12 +225,7 @@ bool MapSampleBilinear(MapRecord m, vec3 q, ivec3 nearest, out float depth, out 
 }
 
 vec3 VisibilityColor(ivec2 px, vec3 p) {
-  vec3 view_ray;
-#ifdef VIEW_ORTHOGRAPHIC
-  view_ray = vec3(0.0, 0.0, 1.0);
-#else
-  view_ray = normalize(p);
-#endif
+  const vec3 view_ray = ViewRay(p);
   // Soft visibility times a view-dependent falloff: w = v * cos^8(theta),
   // v = 1 - smoothstep(tol/2, tol, residual). Both factors are continuous in
   // the point and the camera, so maps fade in and out instead of switching

@@ -185,16 +185,18 @@ TEST(ShaderCacheDirTest, EnvironmentPicksTheFolder) {
     const char* v = std::getenv(name);
     saved.emplace_back(name, v ? std::optional<std::string>(v) : std::nullopt);
   }
-  ::setenv("IBR_CACHE_DIR", "/some/where", 1);
-  EXPECT_EQ(DefaultShaderCacheDir(), fs::path("/some/where"));
+  // Paths only composed, never created: under the temporary folder.
+  const fs::path base = fs::temp_directory_path() / "ibr_cache_dir_test";
+  ::setenv("IBR_CACHE_DIR", (base / "some" / "where").c_str(), 1);
+  EXPECT_EQ(DefaultShaderCacheDir(), base / "some" / "where");
   ::setenv("IBR_CACHE_DIR", "off", 1);
   EXPECT_TRUE(DefaultShaderCacheDir().empty());
   ::unsetenv("IBR_CACHE_DIR");
-  ::setenv("XDG_CACHE_HOME", "/xdg", 1);
-  EXPECT_EQ(DefaultShaderCacheDir(), fs::path("/xdg/ibr"));
+  ::setenv("XDG_CACHE_HOME", (base / "xdg").c_str(), 1);
+  EXPECT_EQ(DefaultShaderCacheDir(), base / "xdg" / "ibr");
   ::unsetenv("XDG_CACHE_HOME");
-  ::setenv("HOME", "/home/u", 1);
-  EXPECT_EQ(DefaultShaderCacheDir(), fs::path("/home/u/.cache/ibr"));
+  ::setenv("HOME", (base / "home").c_str(), 1);
+  EXPECT_EQ(DefaultShaderCacheDir(), base / "home" / ".cache" / "ibr");
   for (const auto& [name, value] : saved) {
     if (value) {
       ::setenv(name, value->c_str(), 1);
