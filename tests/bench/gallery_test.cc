@@ -66,7 +66,9 @@ TEST_F(GlTest, GalleryVolumeEntryAgreesWithTheDoubleReference) {
       EXPECT_TRUE(b == 0 || (r == 255 && gr == 255)) << x << "," << y;
       EXPECT_TRUE(gr == 0 || r == 255) << x << "," << y;
     }
-  if (max_error >= 1e-3) EXPECT_GE(white, 1);
+  if (max_error >= 1e-3) {
+    EXPECT_GE(white, 1);
+  }
   EXPECT_NO_GL_ERROR();
 }
 
