@@ -220,6 +220,7 @@ DepthObjectBenchResult RunDepthObjectBench(const DepthObjectBenchOptions& option
                "ms_ratio_to_exact"});
   Table accuracy({"object", "path", "slices_auto", "views", "size", "iou_min", "p95_depth_error",
                   "meets_target"});
+  Table profile({"object", "size", "auto_steps", "variant", "ms_per_frame", "ratio_to_default"});
   Table fig_coverage({"family", "slices", "size", "covered_pixels", "ms_per_frame"});
   Table fig_slices({"family", "slices", "size", "ms_per_frame"});
   Table first_image({"object", "method", "size", "cache", "runs", "upload_ms", "first_frame_ms",
@@ -360,6 +361,46 @@ DepthObjectBenchResult RunDepthObjectBench(const DepthObjectBenchOptions& option
               object.name, method, slices, size, t.median_ms, fraction, a.iou_mean, a.depth.p95,
               slice_ms, slice_fraction, ratio);
         }
+      }
+    }
+
+    {
+      // Where the default path's time goes (issue 12: what bounds it): the
+      // ray path at its defaults (skipping, sub-texel depth, slices auto) at
+      // the largest size, against the same frame with one thing taken away
+      // or halved, in one run. The march's share scales with the steps and
+      // the maps each step tests; the rest is the resolve and the readback.
+      const int size = sizes.back();
+      const ibr::ViewCamera view = Views(maps, 1, size)[0];
+      const render::RenderTarget target(ibr::DepthObjectRenderer::OutputTargetOptions(size, size));
+      ibr::DepthObjectOptions base;
+      base.slicing = ibr::Slicing::kRay;
+      base.subtexel_depth = true;
+      base.texturing = object.textured ? ibr::Texturing::kViewDependent : ibr::Texturing::kNone;
+      const int auto_steps = ibr::PrepareFrame(renderer.maps(), view, base).slice_count;
+      const auto variant = [&](auto change) {
+        ibr::DepthObjectOptions o = base;
+        change(o);
+        renderer.RenderImages(view, o);  // programs built before timing
+        return render::TimeFrames([&] { renderer.Render(view, o, target); }, timer).median_ms;
+      };
+      const double full = variant([](ibr::DepthObjectOptions&) {});
+      const std::vector<std::pair<std::string, double>> rows = {
+          {"default (ray, skip 64, sub-texel, auto steps)", full},
+          {"nearest texels", variant([](auto& o) { o.subtexel_depth = false; })},
+          {"no empty-space skipping", variant([](auto& o) { o.skip_grid = 0; })},
+          {"no refinement", variant([](auto& o) { o.refine_steps = 0; })},
+          {"a quarter of the steps",
+           variant([&](auto& o) { o.slices = std::max(1, auto_steps / 4); })},
+          {"3 nearest maps of 6", variant([](auto& o) { o.max_maps = 3; })},
+          {"1 nearest map", variant([](auto& o) { o.max_maps = 1; })},
+          {"no texturing", variant([](auto& o) { o.texturing = ibr::Texturing::kNone; })},
+      };
+      for (const auto& [name, ms] : rows) {
+        profile.AddRow({object.name, std::to_string(size), std::to_string(auto_steps), name,
+                        Num(ms, 2), Num(ms / full, 3)});
+        fmt::print(stderr, "{:7} profile {:5} px, {} steps: {:46} {:9.2f} ms ({:.3f} of default)\n",
+                   object.name, size, auto_steps, name, ms, ms / full);
       }
     }
 
@@ -565,8 +606,11 @@ DepthObjectBenchResult RunDepthObjectBench(const DepthObjectBenchOptions& option
   fmt::print("\n{}\n", accuracy.Format());
   first_image.WriteCsv(stem.string() + "_first_image.csv");
   fmt::print("\n{}\n", first_image.Format());
+  profile.WriteCsv(stem.string() + "_profile.csv");
+  fmt::print("\n{}\n", profile.Format());
   fmt::print(
-      "wrote {} (+ _fig12_coverage.csv, _fig12_slices.csv, _accuracy.csv, _first_image.csv)\n",
+      "wrote {} (+ _fig12_coverage.csv, _fig12_slices.csv, _accuracy.csv, _first_image.csv, "
+      "_profile.csv)\n",
       options.csv.string());
   if (!options.out.empty()) {
     fs::create_directories(options.out);
@@ -580,6 +624,7 @@ DepthObjectBenchResult RunDepthObjectBench(const DepthObjectBenchOptions& option
                      "covered_pixels", "object pixels", "fig12_time_vs_coverage.png"},
           std::tuple{&fig_slices, "Fig. 12 analogue: time vs slice count (bunny)", "slices",
                      "slices", "fig12_time_vs_slices.png"}}) {
+      if (fig->rows().empty()) continue;  // --no-figures, or no bunny in --objects
       PlotPng(*fig,
               {.title = title,
                .x_column = x,
@@ -592,7 +637,8 @@ DepthObjectBenchResult RunDepthObjectBench(const DepthObjectBenchOptions& option
     fmt::print("wrote plots to {}\n", options.out.string());
   }
   return {std::move(table),      std::move(accuracy),    std::move(fig_coverage),
-          std::move(fig_slices), std::move(first_image), std::move(map_sweep)};
+          std::move(fig_slices), std::move(first_image), std::move(map_sweep),
+          std::move(profile)};
 }
 
 }  // namespace bench

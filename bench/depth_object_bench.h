@@ -57,6 +57,10 @@ struct DepthObjectBenchResult {
   Table fig_slices;          // Fig. 12 analogue: family, slices, size, ms_per_frame
   Table first_image;         // cold / warm time to first image per path, and the TSDF peer's
   MapCountSweepResult maps;  // cost per map, the nearest-maps subset's error
+  // Where the default path's time goes: per object at the largest size, the
+  // ray path at its defaults against variants with one part taken away
+  // (object, size, auto_steps, variant, ms_per_frame, ratio_to_default)
+  Table profile;
 };
 
 // Time to first image in a fresh process (issue 12, item 4): `ibr bench

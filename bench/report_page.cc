@@ -607,6 +607,25 @@ ReportResult WriteReport(const ReportOptions& options) {
   page.AddTable(KautzSeidelDepthObjectTable(depth_object->fig_coverage, depth_object->fig_slices));
   page.Text("Every path at its default slice count (sec. 3.4's rule) against the true mesh:");
   page.AddTable(depth_object->accuracy);
+  page.Text(
+      "Where the default path's time goes: the ray path at its defaults (empty-space skipping, "
+      "sub-texel depth, one step per depth texel) at the largest size, against the same frame "
+      "with one part taken away or reduced, in the same run:");
+  page.AddTable(depth_object->profile);
+  if (!depth_object->first_image.rows().empty()) {
+    page.Text(
+        "Time to first image (fresh processes; cold, warm and binaries-only caches) beside "
+        "the TSDF peer's:");
+    page.AddTable(depth_object->first_image);
+  }
+  if (!depth_object->maps.cost.rows().empty()) {
+    page.Text(
+        "The cost per map (ring captures of the first object, one view; "
+        "`depth_object/depth_object_maps.csv`) and what a frame's nearest-maps subset "
+        "costs in error (`depth_object/depth_object_maps_subset.csv`):");
+    page.AddTable(depth_object->maps.cost);
+    page.AddTable(depth_object->maps.subset);
+  }
 
   page.Heading("Kautz-Seidel 2001: the paper's own experiments");
   page.Text(fmt::format(
@@ -677,7 +696,10 @@ ReportResult WriteReport(const ReportOptions& options) {
       "changes cancel); "
       "disabled should be 1 (only enabled objects build passes), read against "
       "absent_again_over_absent, a second scene without the effect timed the same way: what "
-      "identical work measures as on this machine. Data: `scene/scene.csv`.");
+      "identical work measures as on this machine. The `_cpu` columns are the same ratios of the "
+      "process's CPU time per frame (llvmpipe renders in its threads): the work done, which "
+      "other processes' load on the machine moves far less than the wall clock. Data: "
+      "`scene/scene.csv`.");
   page.Image("scene/scene_bench.png", "ratios to absent per effect");
   page.AddTable(scene->table);
 

@@ -88,6 +88,7 @@ struct Config {
   ibr::LoadedScene loaded;
   std::unique_ptr<ibr::SceneRenderer> renderer;
   std::vector<double> ms;
+  std::vector<double> cpu_ms;  // the process's CPU time per frame (every thread)
   int programs_compiled = 0;
 };
 
@@ -102,8 +103,10 @@ void Time(Config& c, int frames) {
   for (int i = 0; i < frames; ++i) {
     glFinish();
     core::Stopwatch watch;
+    core::CpuStopwatch cpu;
     c.renderer->Render(c.loaded.views.front().view);  // ends with readback: the GPU work is done
     c.ms.push_back(watch.ElapsedMs());
+    c.cpu_ms.push_back(cpu.ElapsedMs());
   }
 }
 
@@ -141,9 +144,13 @@ SceneBenchResult RunSceneBench(const SceneBenchOptions& options) {
   const int size = options.quick ? std::min(options.size, 128) : options.size;
   const int rounds = options.quick ? 1 : options.rounds;
   const std::string camera = Camera(size);
-  SceneBenchResult result{Table({"effect", "on_ms", "disabled_ms", "absent_ms", "on_over_absent",
-                                 "disabled_over_absent", "absent_again_over_absent", "programs_on",
-                                 "programs_disabled", "programs_absent"})};
+  // Ratios of wall time, and of the process's CPU time (llvmpipe renders in
+  // this process's threads: the work done, which other processes' load
+  // changes far less than the wall clock; `_cpu` columns).
+  SceneBenchResult result{Table(
+      {"effect", "on_ms", "disabled_ms", "absent_ms", "on_over_absent", "disabled_over_absent",
+       "absent_again_over_absent", "on_over_absent_cpu", "disabled_over_absent_cpu",
+       "absent_again_over_absent_cpu", "programs_on", "programs_disabled", "programs_absent"})};
   const std::vector<Effect> effects = Effects(options.quick);
   for (size_t e = 0; e < effects.size(); ++e) {
     const Effect& effect = effects[e];
@@ -169,14 +176,20 @@ SceneBenchResult RunSceneBench(const SceneBenchOptions& options) {
     const double on_ratio = PairedRatio(on.ms, absent.ms, options.frames),
                  disabled_ratio = PairedRatio(disabled.ms, absent.ms, options.frames),
                  noise = PairedRatio(again.ms, absent.ms, options.frames);
+    const double on_cpu = PairedRatio(on.cpu_ms, absent.cpu_ms, options.frames),
+                 disabled_cpu = PairedRatio(disabled.cpu_ms, absent.cpu_ms, options.frames),
+                 noise_cpu = PairedRatio(again.cpu_ms, absent.cpu_ms, options.frames);
     result.table.AddRow(
         {effect.name, Num(o, 2), Num(d, 2), Num(a, 2), Num(on_ratio, 3), Num(disabled_ratio, 3),
-         Num(noise, 3), std::to_string(on.programs_compiled),
-         std::to_string(disabled.programs_compiled), std::to_string(absent.programs_compiled)});
+         Num(noise, 3), Num(on_cpu, 3), Num(disabled_cpu, 3), Num(noise_cpu, 3),
+         std::to_string(on.programs_compiled), std::to_string(disabled.programs_compiled),
+         std::to_string(absent.programs_compiled)});
     fmt::print(stderr,
                "bench scene: {}: on {:.2f} ms, disabled {:.2f} ms, absent {:.2f} ms; per-round "
-               "ratios to absent: on {:.3f}, disabled {:.3f}, absent again {:.3f}\n",
-               effect.name, o, d, a, on_ratio, disabled_ratio, noise);
+               "ratios to absent: on {:.3f}, disabled {:.3f}, absent again {:.3f}; of CPU time: "
+               "on {:.3f}, disabled {:.3f}, absent again {:.3f}\n",
+               effect.name, o, d, a, on_ratio, disabled_ratio, noise, on_cpu, disabled_cpu,
+               noise_cpu);
   }
   return result;
 }
@@ -193,6 +206,10 @@ void WriteSceneBench(const SceneBenchResult& result, const std::filesystem::path
                  t.rows()[i][t.Column("disabled_over_absent")]});
     plot.AddRow({"absent again / absent (noise)", std::to_string(i + 1),
                  t.rows()[i][t.Column("absent_again_over_absent")]});
+    plot.AddRow({"disabled / absent, CPU time", std::to_string(i + 1),
+                 t.rows()[i][t.Column("disabled_over_absent_cpu")]});
+    plot.AddRow({"absent again / absent, CPU time (noise)", std::to_string(i + 1),
+                 t.rows()[i][t.Column("absent_again_over_absent_cpu")]});
   }
   std::filesystem::create_directories(out_dir);
   PlotPng(

@@ -25,7 +25,8 @@ struct SceneBenchResult {
   // effect, on_ms, disabled_ms, absent_ms (medians over every frame),
   // on_over_absent, disabled_over_absent, absent_again_over_absent (medians
   // of per-round ratios; the last, a second scene without the effect, is
-  // the noise floor), programs_on, programs_disabled, programs_absent
+  // the noise floor), the same three of the process's CPU time per frame
+  // (`_cpu`), programs_on, programs_disabled, programs_absent
   // (compiled by that scene)
   Table table;
 };

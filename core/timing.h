@@ -19,6 +19,20 @@ class Stopwatch {
   std::chrono::steady_clock::time_point start_;
 };
 
+// CPU time of the whole process (every thread: llvmpipe's rasteriser threads
+// run inside it), in milliseconds: the work a frame did, which other
+// processes' load on the machine changes far less than the wall clock.
+class CpuStopwatch {
+ public:
+  CpuStopwatch() : start_ms_(NowMs()) {}
+  void Restart() { start_ms_ = NowMs(); }
+  double ElapsedMs() const { return NowMs() - start_ms_; }
+  static double NowMs();
+
+ private:
+  double start_ms_;
+};
+
 // Summary of repeated measurements (milliseconds).
 struct TimingStats {
   double median_ms = 0;

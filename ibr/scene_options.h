@@ -17,7 +17,9 @@ namespace ibr {
 // ray), slice_path (exact | fast), slices (a count or "auto"), texturing (vdt | vdt-paper |
 // visibility | none), robust (k), outside (pass | fail), invalid_depth (empty | no-constraint),
 // refine_steps, max_maps (0 = every map, else the nearest that many:
-// DepthObjectOptions::max_maps). Missing
+// DepthObjectOptions::max_maps), depth_lookup (nearest | subtexel:
+// DepthObjectOptions::subtexel_depth; missing: subtexel for ray-path depth
+// objects, nearest elsewhere, where only nearest applies). Missing
 // keys keep DepthObjectOptions' defaults.
 DepthObjectOptions DepthObjectOptionsFrom(const scene::Settings& settings);
 
@@ -34,7 +36,8 @@ struct DepthObjectFlags {
   std::string texturing = "vdt";
   std::string outside = "pass";
   std::string invalid_depth = "empty";
-  int max_maps = 0;  // 0 = every map
+  int max_maps = 0;          // 0 = every map
+  std::string depth_lookup;  // "nearest", "subtexel", or empty: subtexel where it applies
 };
 scene::Settings SettingsFromFlags(const DepthObjectFlags& flags);
 

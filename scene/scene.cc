@@ -323,8 +323,8 @@ class Reader {
     if (type == "depth-object" || type == "visual-hull") {
       o.type = type == "depth-object" ? ObjectType::kDepthObject : ObjectType::kVisualHull;
       structural = {"images"};
-      effect_keys = {"slicing",       "slices",       "texturing",  "robust",  "outside",
-                     "invalid_depth", "refine_steps", "slice_path", "max_maps"};
+      effect_keys = {"slicing",       "slices",       "texturing",  "robust",   "outside",
+                     "invalid_depth", "refine_steps", "slice_path", "max_maps", "depth_lookup"};
     } else if (type == "displaced-mesh") {
       o.type = ObjectType::kDisplacedMesh;
       structural = {"mesh", "height", "texture"};

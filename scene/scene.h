@@ -24,7 +24,7 @@
 //      REL,
 //                                                    "rig": "cube", "size": 512}},
 //      effect keys: slicing, slice_path, slices, texturing, robust, outside, invalid_depth,
-//                   refine_steps, max_maps},
+//                   refine_steps, max_maps, depth_lookup},
 //     {"type"*: "displaced-mesh",
 //      "mesh"*: {"shape": "torus" | "plane" | "sphere"} or {"file": "OBJ/PLY with uvs"},
 //      "height"*: {"file": "8/16-bit PNG or EXR"} or {"generator": "bumps", "texels": 256},

@@ -49,12 +49,12 @@ std::vector<std::string> DepthObjectDemo(render::ProgramCache& programs,
                    bench::ContactSheet(sheet, static_cast<int>(r.frames.size())));
   return {
       fmt::format(
-          "demo: scene {}: Spot {} (6 orthographic {}x{} cube maps captured in {:.2f} s, {} {} "
-          "slices, {} texturing), {} turntable frames at {}x{} px: {:.1f} ms/frame (median; min "
-          "{:.1f}; "
-          "draw + readback)",
+          "demo: scene {}: Spot {} (6 orthographic {}x{} cube maps captured in {:.2f} s, {} path, "
+          "{} slices{}, {} texturing), {} turntable frames at {}x{} px: {:.1f} ms/frame (median; "
+          "min {:.1f}; draw + readback)",
           o.scene, ibr::MethodName(r.render.method), r.capture_size, r.capture_size,
-          r.capture_seconds, r.render.slices, ibr::SlicingName(r.render.slicing),
+          r.capture_seconds, ibr::SlicingName(r.render.slicing),
+          ibr::SliceCountName(r.render.slices), r.render.subtexel_depth ? ", sub-texel depth" : "",
           ibr::TexturingName(r.render.texturing), r.frames.size(), size, size, r.timing.median_ms,
           r.timing.min_ms),
       fmt::format("demo: Spot depth object vs the true mesh: silhouette IoU mean {:.4f} / worst "

@@ -63,6 +63,8 @@ class DatasetScene : public viewer::Scene {
     if (ImGui::Checkbox("fast slices (one draw)", &fast)) {
       options_.slice_path = fast ? ibr::SlicePath::kFast : ibr::SlicePath::kExact;
     }
+    ImGui::SameLine();
+    ImGui::Checkbox("sub-texel depth (ray)", &options_.subtexel_depth);
     ImGui::SliderInt("slices (0 = auto)", &options_.slices, 0, 512);
     int texturing = static_cast<int>(options_.texturing);
     if (ImGui::Combo("texturing", &texturing, "view-dependent\0visibility\0none\0paper blend\0")) {
@@ -87,12 +89,16 @@ class DatasetScene : public viewer::Scene {
 
   std::string Status() const override {
     return fmt::format(
-        "{} maps, {} {}{} path, {} slices", renderer_.maps().maps.size(),
+        "{} maps, {} {}{} path, {} slices{}", renderer_.maps().maps.size(),
         ibr::MethodName(options_.method), ibr::SlicingName(options_.slicing),
         options_.slicing != ibr::Slicing::kRay && options_.slice_path == ibr::SlicePath::kFast
             ? " fast"
             : "",
-        ibr::SliceCountName(options_.slices));
+        ibr::SliceCountName(options_.slices),
+        options_.slicing == ibr::Slicing::kRay && options_.method == ibr::Method::kDepthObject &&
+                options_.subtexel_depth
+            ? ", sub-texel"
+            : "");
   }
 
  private:

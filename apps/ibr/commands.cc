@@ -66,6 +66,8 @@ void AddDepthObjectFlags(CLI::App* cmd, ibr::DepthObjectFlags& f) {
   cmd->add_option("--max-maps", f.max_maps,
                   "maps a frame tests: the nearest N to the view direction (0 = all)")
       ->capture_default_str();
+  cmd->add_option("--depth-lookup", f.depth_lookup,
+                  "depth objects on the ray path: subtexel (the default there) | nearest");
 }
 
 void AddBenchOutputs(CLI::App* cmd, std::filesystem::path& csv, std::filesystem::path& out,

@@ -35,6 +35,9 @@ TEST_F(SceneBenchTest, QuickRunMeasuresEveryConfigurationAndDisabledCompilesNoth
                                              "on_over_absent",
                                              "disabled_over_absent",
                                              "absent_again_over_absent",
+                                             "on_over_absent_cpu",
+                                             "disabled_over_absent_cpu",
+                                             "absent_again_over_absent_cpu",
                                              "programs_on",
                                              "programs_disabled",
                                              "programs_absent"};
@@ -42,7 +45,8 @@ TEST_F(SceneBenchTest, QuickRunMeasuresEveryConfigurationAndDisabledCompilesNoth
   ASSERT_EQ(result.table.rows().size(), 2u);
   for (const auto& row : result.table.rows()) {
     for (const char* c : {"on_ms", "disabled_ms", "absent_ms", "on_over_absent",
-                          "disabled_over_absent", "absent_again_over_absent"}) {
+                          "disabled_over_absent", "absent_again_over_absent", "on_over_absent_cpu",
+                          "disabled_over_absent_cpu", "absent_again_over_absent_cpu"}) {
       EXPECT_GT(Value(result.table, row, c), 0) << row[0] << " " << c;
     }
     EXPECT_EQ(Value(result.table, row, "programs_disabled"),

@@ -2,6 +2,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <thread>
 
 #include "core/error.h"
 #include "core/mesh.h"
@@ -111,6 +112,22 @@ TEST(Timing, SummarizeGivesMedianMinMax) {
   EXPECT_EQ(s.mean_ms, 5);
   EXPECT_EQ(Summarize({4, 2}).median_ms, 3);
   EXPECT_EQ(Summarize({}).samples, 0);
+}
+
+// CPU time counts work done, not time waited: one thread busy until its CPU
+// clock reads 30 ms took at least that long on the wall clock; a 50 ms sleep
+// costs almost no CPU.
+TEST(Timing, CpuStopwatchCountsWorkNotWaiting) {
+  CpuStopwatch cpu;
+  Stopwatch wall;
+  volatile double x = 0;
+  while (cpu.ElapsedMs() < 30) x = x + 1;
+  EXPECT_GE(wall.ElapsedMs(), 29.0);
+  EXPECT_LT(cpu.ElapsedMs(), 1000.0);
+  cpu.Restart();
+  std::this_thread::sleep_for(std::chrono::milliseconds(50));
+  EXPECT_LT(cpu.ElapsedMs(), 10.0);
+  EXPECT_GE(cpu.ElapsedMs(), 0.0);
 }
 
 }  // namespace

@@ -31,7 +31,36 @@ TEST(BuiltinScenes, EveryDefinitionIsValidAndItsObjectLoads) {
   const DepthObjectOptions demo =
       DepthObjectOptionsFromJson(capture::LoadBuiltinScene("spot-cube").render, "x");
   EXPECT_EQ(demo.texturing, Texturing::kViewDependent);
-  EXPECT_EQ(demo.slices, 256);
+  EXPECT_EQ(demo.slicing, Slicing::kRay);  // the fastest path, and the smooth one
+  EXPECT_TRUE(demo.subtexel_depth);
+  EXPECT_EQ(demo.slices, DepthObjectOptions::kAutoSlices);
+}
+
+// depth_lookup: sub-texel depth where it applies (ray-path depth objects),
+// nearest texels elsewhere; asking for sub-texel where it cannot apply is an
+// error naming the key.
+TEST(SceneOptions, DepthLookupDefaultsToSubtexelWhereItApplies) {
+  const auto options = [](const char* text) {
+    return DepthObjectOptionsFromJson(nlohmann::json::parse(text), "scene.json /objects/0");
+  };
+  EXPECT_TRUE(options(R"({"slicing": "ray"})").subtexel_depth);
+  EXPECT_FALSE(options(R"({"slicing": "ray", "depth_lookup": "nearest"})").subtexel_depth);
+  EXPECT_TRUE(options(R"({"slicing": "ray", "depth_lookup": "subtexel"})").subtexel_depth);
+  EXPECT_FALSE(options(R"({"slicing": "orthogonal"})").subtexel_depth);
+  EXPECT_FALSE(options(R"({"slicing": "screen"})").subtexel_depth);
+  EXPECT_FALSE(options(R"({"slicing": "ray", "method": "visual-hull"})").subtexel_depth);
+  for (const char* bad :
+       {R"({"slicing": "orthogonal", "depth_lookup": "subtexel"})",
+        R"({"slicing": "ray", "method": "visual-hull", "depth_lookup": "subtexel"})",
+        R"({"slicing": "ray", "depth_lookup": "bicubic"})",
+        R"({"slicing": "ray", "depth_lookup": 1})"}) {
+    try {
+      options(bad);
+      ADD_FAILURE() << "accepted: " << bad;
+    } catch (const core::InputError& e) {
+      EXPECT_NE(std::string(e.what()).find("depth_lookup"), std::string::npos) << e.what();
+    }
+  }
 }
 
 TEST(BuiltinScenes, BadDefinitionsNameTheScene) {
