@@ -129,7 +129,7 @@ TEST_F(DeformCliTest, BadParametersLeaveNoOutput) {
            "--step-voxels nan --out " + out.string(),
            "--cut thick:nan --out " + out.string(),
            "--cut sliced --out " + out.string(),
-           "--implicit depth-cube --out " + out.string(),
+           "--implicit octree --out " + out.string(),
            "--cameras " + (dir_ / "missing").string() + " --out " + out.string(),
            "--cameras " + (dir_ / "spot_capture").string() + " --out " + png,
        }) {
