@@ -157,7 +157,33 @@ DeformPass::DeformPass(ProgramCache& programs, const DeformInputs& inputs,
   alpha_lipschitz_ = AlphaLipschitz(d, placement_);
   if (inputs.mesh && options_.draw_mesh) {
     inputs.mesh->Validate("DeformPass");
-    mesh_.emplace(*inputs.mesh);
+    // Classify the triangles against the box once (the box is fixed per
+    // pass): drawing every triangle as six clipped pieces made stage 1 cost
+    // six times the mesh's vertex work.
+    const core::TriangleMesh& mesh = *inputs.mesh;
+    const glm::dmat4 box_from_object = placement_.BoxFromObject();
+    core::TriangleMesh outside = mesh, crossing = mesh;
+    outside.indices.clear();
+    crossing.indices.clear();
+    for (size_t t = 0; t < mesh.triangle_count(); ++t) {
+      glm::dvec3 u[3];
+      for (int k = 0; k < 3; ++k) {
+        u[k] = glm::dvec3(box_from_object *
+                          glm::dvec4(glm::dvec3(mesh.positions[mesh.indices[3 * t + k]]), 1.0));
+      }
+      bool out = false, in = true;
+      for (int a = 0; a < 3; ++a) {
+        out |= (u[0][a] < 0 && u[1][a] < 0 && u[2][a] < 0) ||
+               (u[0][a] > 1 && u[1][a] > 1 && u[2][a] > 1);
+        for (int k = 0; k < 3; ++k) in &= u[k][a] > 0 && u[k][a] < 1;
+      }
+      if (in && !out) continue;
+      core::TriangleMesh& to = out ? outside : crossing;
+      to.indices.insert(to.indices.end(), mesh.indices.begin() + 3 * t,
+                        mesh.indices.begin() + 3 * t + 3);
+    }
+    if (!outside.indices.empty()) mesh_outside_.emplace(outside);
+    if (!crossing.indices.empty()) mesh_crossing_.emplace(crossing);
   }
   // The unit box as 12 triangles (36 corners, positions in box units).
   static const int kFaces[6][4] = {{0, 2, 6, 4}, {1, 5, 7, 3}, {0, 4, 5, 1},
@@ -234,7 +260,7 @@ void DeformPass::Draw(const RenderTarget& target, const ViewSetup& view) {
 
   // Stage 1: the mesh outside the box, as six convex pieces of the box's
   // complement (gl_ClipDistance keeps an intersection of half-spaces).
-  if (mesh_) {
+  if (mesh_outside_ || mesh_crossing_) {
     ProgramDesc desc{.vertex = "passes/deform_mesh.vert.glsl",
                      .fragment = "passes/deform.frag.glsl"};
     desc.defines = view_defines;
@@ -243,13 +269,19 @@ void DeformPass::Draw(const RenderTarget& target, const ViewSetup& view) {
     UseProgram(target, program, view);
     program.Set("u_box_from_object", box_from_object);
     program.Set("u_base_color", options_.base_color);
-    for (int i = 0; i < 6; ++i) glEnable(GL_CLIP_DISTANCE0 + i);
-    for (int piece = 0; piece < 6; ++piece) {
-      program.Set("u_piece", piece);
-      glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
-      mesh_->Draw();
+    if (mesh_outside_) {
+      program.Set("u_piece", -1);  // no clipping
+      mesh_outside_->Draw();
     }
-    for (int i = 0; i < 6; ++i) glDisable(GL_CLIP_DISTANCE0 + i);
+    if (mesh_crossing_) {
+      for (int i = 0; i < 6; ++i) glEnable(GL_CLIP_DISTANCE0 + i);
+      for (int piece = 0; piece < 6; ++piece) {
+        program.Set("u_piece", piece);
+        glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
+        mesh_crossing_->Draw();
+      }
+      for (int i = 0; i < 6; ++i) glDisable(GL_CLIP_DISTANCE0 + i);
+    }
   }
 
   // Stage 2: the box's back faces, one ray per fragment (the camera may be

@@ -1,12 +1,12 @@
 // Deformation and cut shaders on meshes (Correa, Silver, Chen 2007): the
-// mesh outside the deformation box is rasterised as is (stage 1, the box
-// removed exactly with gl_ClipDistance: its complement is drawn as six convex
-// pieces, one instance each); inside the box a ray is cast per fragment of
-// the box's back faces through the shared ray core (stage 2), sampling the
-// mesh's signed distance field (an R32F 3D texture) at the inversely warped
-// point p = p' + M D(M^-1 p') (eq. 1-2, D an RGBA 3D texture: xyz inverse
-// displacement in box units, w the cut alpha A), and writes gl_FragDepth, so
-// the two stages composite by the depth test wherever they overlap.
+// mesh outside the deformation box is rasterised as is (stage 1: triangles
+// wholly outside one of the box's face planes drawn once; those crossing or
+// touching the box drawn as the box's complement, six convex pieces clipped
+// exactly by gl_ClipDistance; those wholly inside not at all); inside the box a ray is cast per
+// fragment of the box's back faces through the shared ray core (stage 2), sampling the mesh's
+// signed distance field (an R32F 3D texture) at the inversely warped point p = p' + M D(M^-1 p')
+// (eq. 1-2, D an RGBA 3D texture: xyz inverse displacement in box units, w the cut alpha A), and
+// writes gl_FragDepth, so the two stages composite by the depth test wherever they overlap.
 //
 // The implicit (DeformPassOptions::implicit, one #define): the mesh's signed
 // distance field (an R32F 3D texture), or the depth-map cube of sec. 6.1
@@ -152,7 +152,12 @@ class DeformPass : public Pass {
   ProgramCache& programs_;
   DeformPassOptions options_;
   core::Placement placement_;
-  std::optional<GpuMesh> mesh_;
+  // Stage 1's triangles by where they lie (box coordinates, strict):
+  // wholly outside one face plane of the box (drawn once, unclipped), or
+  // crossing or touching the box (drawn as the six clipped pieces); those
+  // wholly inside are never drawn.
+  std::optional<GpuMesh> mesh_outside_;
+  std::optional<GpuMesh> mesh_crossing_;
   Texture sdf_;  // the 3D field, or the depth cube's 2D array
   Texture deformation_;
   glm::vec3 sdf_origin_{0.0f};
