@@ -194,11 +194,17 @@ TEST_F(DeformPassTest, TwistedBoxAgreesWithTheReference) {
   EXPECT_NO_GL_ERROR();
 }
 
-TEST_F(DeformPassTest, SolidKnifeCutAgreesWithTheReference) {
+// A sphere cut by the knife through its middle.
+Scene KnifedSphere() {
   Scene scene;
   scene.mesh = core::MakeSphere(0.5f, 48, 96);
   scene.deformation.terms = {Make(core::DeformationKind::kKnife, 0.25, 0.7)};
   scene.placement = core::Placement::FromRegion({{-0.6, -0.6, -0.6}, {0.6, 0.6, 0.6}});
+  return scene;
+}
+
+TEST_F(DeformPassTest, SolidKnifeCutAgreesWithTheReference) {
+  const Scene scene = KnifedSphere();
   core::MeshDistance distance(scene.mesh, false, "sphere");
   for (CutMode cut : {CutMode::kSolid, CutMode::kHollow, CutMode::kThick}) {
     DeformPassOptions options;
@@ -233,10 +239,7 @@ TEST_F(DeformPassTest, SolidKnifeCutAgreesWithTheReference) {
 // maps in closed form): a convex object, which the six maps describe up to
 // their texels, so the reference of the true mesh still holds.
 TEST_F(DeformPassTest, SolidKnifeCutOnADepthCubeAgreesWithTheReference) {
-  Scene scene;
-  scene.mesh = core::MakeSphere(0.5f, 48, 96);
-  scene.deformation.terms = {Make(core::DeformationKind::kKnife, 0.25, 0.7)};
-  scene.placement = core::Placement::FromRegion({{-0.6, -0.6, -0.6}, {0.6, 0.6, 0.6}});
+  const Scene scene = KnifedSphere();
   core::MeshDistance distance(scene.mesh, false, "sphere");
   const DepthCube cube = AnalyticSphereCube(0.5, 128);
   DeformPassOptions options;
