@@ -227,13 +227,15 @@ DeformRunReport RunDeform(render::ProgramCache& programs, const DeformRunOptions
   // shared with deform objects in scene files.
   const ibr::DeformObjectData object =
       ibr::MakeDeformObject(capture::LoadSceneMesh(options.mesh).mesh, options.object,
-                            options.mesh.string(), /*progress=*/true);
+                            options.mesh.string(), /*progress=*/true, &programs);
   // world = the mesh file's frame.
   const glm::dmat4& world_from_norm = object.object_from_norm;
   DeformRunReport report;
   report.max_displacement = object.max_displacement;
   report.sdf_seconds = object.sdf_seconds;
   report.sdf_size = object.sdf.size;
+  report.cube_size = object.depth_cube.faces.empty() ? 0 : object.depth_cube.faces[0].depth.width();
+  report.implicit_bytes = object.ImplicitBytes();
   report.distance_queries = object.sdf.distance_queries;
   render::DeformPass pass(programs, object.Inputs(), options.object.pass);
 
@@ -366,8 +368,11 @@ void WriteObj(const core::TriangleMesh& mesh, const std::filesystem::path& path)
 
 // What accuracy costs (DeformBenchOptions): Spot cut by the solid knife
 // from the oblique view, each knob setting's frame time and its depth and
-// silhouette against the double sphere tracer, traced once.
-Table DeformAccuracy(render::ProgramCache& programs, const DeformBenchOptions& options, int size) {
+// silhouette against the double sphere tracer, traced once; and the two
+// implicits (distance field, depth-map cube) at one resolution into
+// `implicits`.
+Table DeformAccuracy(render::ProgramCache& programs, const DeformBenchOptions& options, int size,
+                     Table& implicits) {
   Table table({"mesh", "size_px", "knob", "value", "mode", "resolution", "step_voxels",
                "ms_per_frame", "samples_per_ray", "silhouette_iou", "wrong_pixels",
                "mean_depth_error", "p95_depth_error"});
@@ -382,26 +387,31 @@ Table DeformAccuracy(render::ProgramCache& programs, const DeformBenchOptions& o
 
   // One field per resolution, built once (normalised units: the mesh size is 1).
   std::map<int, core::DistanceField> fields;
+  std::map<int, double> field_seconds;
   auto field = [&](int resolution) -> const core::DistanceField& {
     auto it = fields.find(resolution);
     if (it == fields.end()) {
+      const auto built = std::chrono::steady_clock::now();
       it = fields
                .emplace(resolution,
                         DeformDistanceField(scene.distance, scene.placement.ObjectBounds(),
                                             scene.grow, resolution))
                .first;
+      field_seconds[resolution] =
+          std::chrono::duration<double>(std::chrono::steady_clock::now() - built).count();
     }
     return it->second;
   };
   render::RenderTarget target(render::FrameTargetOptions(size, size));
   const render::ViewSetup setup = view.Setup();
-  auto measure = [&](const std::string& knob, const std::string& value, int resolution,
-                     render::RayStepPolicy policy, float step_voxels) {
-    render::DeformPassOptions pass_options;
-    pass_options.cut = core::CutMode::kSolid;
-    pass_options.step_policy = policy;
-    pass_options.step_voxels = step_voxels;
-    render::DeformPass pass(programs, scene.Inputs(field(resolution)), pass_options);
+  struct Run {
+    double ms;
+    core::ViewMetrics m;
+    DeformOutcomes outcomes;
+  };
+  auto run = [&](const render::DeformPassOptions& pass_options,
+                 const render::DeformInputs& inputs) {
+    render::DeformPass pass(programs, inputs, pass_options);
     render::FrameTimerOptions timer;
     timer.warmup_frames = 1;
     timer.timed_frames = options.quick ? 1 : 5;
@@ -409,8 +419,15 @@ Table DeformAccuracy(render::ProgramCache& programs, const DeformBenchOptions& o
     const double ms =
         render::TimeFrames([&] { render::DrawFrame(target, pass, setup); }, timer).median_ms;
     const render::Frame frame = render::ReadFrame(target);
-    const core::ViewMetrics m = core::CompareDepth(frame.depth, truth.depth, 1.0);
-    const DeformOutcomes outcomes = CountDeformOutcomes(frame);
+    return Run{ms, core::CompareDepth(frame.depth, truth.depth, 1.0), CountDeformOutcomes(frame)};
+  };
+  auto measure = [&](const std::string& knob, const std::string& value, int resolution,
+                     render::RayStepPolicy policy, float step_voxels) {
+    render::DeformPassOptions pass_options;
+    pass_options.cut = core::CutMode::kSolid;
+    pass_options.step_policy = policy;
+    pass_options.step_voxels = step_voxels;
+    const auto [ms, m, outcomes] = run(pass_options, scene.Inputs(field(resolution)));
     const std::string mode = render::RayStepPolicyName(policy);
     table.AddRow({"spot", std::to_string(size), knob, value, mode, std::to_string(resolution),
                   Num(step_voxels, 2), Num(ms, 2), Num(outcomes.mean_samples, 1), Num(m.iou, 5),
@@ -433,6 +450,38 @@ Table DeformAccuracy(render::ProgramCache& programs, const DeformBenchOptions& o
        {render::RayStepPolicy::kFixed, render::RayStepPolicy::kThreshold,
         render::RayStepPolicy::kJacobian}) {
     for (float step : steps) measure("step", Num(step, 2), kAccuracyStepResolution, policy, step);
+  }
+
+  // The two implicits at the default resolution (fixed step of one voxel or
+  // texel): the distance field over the box, the depth cube of the mesh's
+  // bounding cube (six maps of that many pixels, sec. 6.1). The tracer uses
+  // the true mesh, so what no face of the cube sees shows as error.
+  const int resolution = kAccuracyStepResolution;
+  const auto built = std::chrono::steady_clock::now();
+  const render::DepthCube cube = ibr::MakeDepthCube(programs, scene.mesh, resolution);
+  const double cube_seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - built).count();
+  for (const render::DeformImplicit implicit :
+       {render::DeformImplicit::kSdf, render::DeformImplicit::kDepthCube}) {
+    const bool is_cube = implicit == render::DeformImplicit::kDepthCube;
+    render::DeformPassOptions pass_options;
+    pass_options.cut = core::CutMode::kSolid;
+    pass_options.implicit = implicit;
+    render::DeformInputs inputs = scene.Inputs(field(resolution));
+    inputs.depth_cube = &cube;
+    const auto [ms, m, outcomes] = run(pass_options, inputs);
+    const int64_t bytes =
+        is_cube ? cube.Bytes() : static_cast<int64_t>(field(resolution).values.size() * 4);
+    const double seconds = is_cube ? cube_seconds : field_seconds.at(resolution);
+    implicits.AddRow({"spot", std::to_string(size), render::DeformImplicitName(implicit),
+                      std::to_string(resolution), std::to_string(bytes), Num(seconds, 4),
+                      Num(ms, 2), Num(outcomes.mean_samples, 1), Num(m.iou, 5),
+                      std::to_string(m.wrong_pixels), Num(m.depth.mean, 6), Num(m.depth.p95, 6)});
+    std::fprintf(stderr,
+                 "bench deform: implicit %s %d: %lld bytes, built in %.3f s, %.1f ms, IoU %.4f, "
+                 "p95 depth error %.5f\n",
+                 render::DeformImplicitName(implicit).c_str(), resolution,
+                 static_cast<long long>(bytes), seconds, ms, m.iou, m.depth.p95);
   }
   return table;
 }
@@ -465,7 +514,10 @@ DeformBenchResult RunDeformBench(render::ProgramCache& programs,
              "samples_per_ray"}),
       Table({"mesh", "mode", "weighted_ms", "over_continuous", "slope_ms", "intercept_ms", "r2"}),
       Table({"mesh", "resolution", "builder", "series", "seconds", "queries_or_active"}),
-      Table(std::vector<std::string>{})};  // accuracy: DeformAccuracy's
+      Table(std::vector<std::string>{}),  // accuracy: DeformAccuracy's
+      Table({"mesh", "size_px", "implicit", "resolution", "bytes", "build_seconds", "ms_per_frame",
+             "samples_per_ray", "silhouette_iou", "wrong_pixels", "mean_depth_error",
+             "p95_depth_error"})};
   // Fitted ms at one common area per mode (the spread across meshes).
   std::map<std::string, std::vector<double>> at_common_area;
   const double kCommonArea = 0.2;
@@ -577,7 +629,7 @@ DeformBenchResult RunDeformBench(render::ProgramCache& programs,
                              Num(fit.slope, 2), Num(fit.intercept, 2), Num(fit.r2, 4)});
     }
   }
-  result.accuracy = DeformAccuracy(programs, options, size);
+  result.accuracy = DeformAccuracy(programs, options, size, result.implicits);
   for (const auto& [mode, values] : at_common_area) {
     const auto [lo, hi] = std::minmax_element(values.begin(), values.end());
     result.summary.AddRow({"across meshes at area " + Num(kCommonArea, 2), mode, "", "", "", "",
@@ -592,6 +644,7 @@ void WriteDeformBench(const DeformBenchResult& result, const DeformBenchOptions&
   result.summary.WriteCsv(options.out / "deform_summary.csv");
   result.sdf.WriteCsv(options.out / "deform_sdf.csv");
   result.accuracy.WriteCsv(options.out / "deform_accuracy.csv");
+  result.implicits.WriteCsv(options.out / "deform_implicit.csv");
   PlotOptions frames;
   frames.title = "Deformation and cut shaders: ms per frame against the deformed screen area";
   frames.x_column = "area_fraction";

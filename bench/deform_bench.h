@@ -56,8 +56,10 @@ struct DeformViewReport {
 };
 
 struct DeformRunReport {
-  double sdf_seconds = 0.0;
-  glm::ivec3 sdf_size{0};
+  double sdf_seconds = 0.0;  // the implicit's build time
+  glm::ivec3 sdf_size{0};    // 0 with the depth cube
+  int cube_size = 0;         // the depth cube's map size, 0 with the distance field
+  int64_t implicit_bytes = 0;
   int64_t distance_queries = 0;
   double max_displacement = 0.0;  // normalised units
   std::vector<DeformViewReport> views;
@@ -151,7 +153,9 @@ namespace bench {
 //    pass's depth and silhouette with respect to the double sphere tracer
 //    (TraceDeformReference, traced once), sweeping one knob at a time: the
 //    distance field's resolution (fixed step of 1 voxel) and, at resolution
-//    128, the step of each step policy (fixed, threshold, Jacobian) in voxels.
+//    128, the step of each step policy (fixed, threshold, Jacobian) in voxels;
+//    and the two implicits at 128: the distance field against the depth-map
+//    cube (sec. 6.1): bytes, build time, ms per frame, IoU and depth error.
 struct DeformBenchOptions {
   std::filesystem::path shared_data = "../shared/data";  // meshes/*.obj
   std::filesystem::path csv;                             // the frame table
@@ -173,11 +177,17 @@ struct DeformBenchResult {
   // silhouette_iou, wrong_pixels, mean_depth_error, p95_depth_error (depth
   // errors in mesh sizes: the normalised mesh's longest side is 1).
   Table accuracy;
+  // The two implicits on the accuracy sweep's cut Spot at resolution 128
+  // (fixed step of one voxel / texel): mesh, size_px, implicit (sdf or
+  // depth-cube), resolution, bytes (GPU texture memory), build_seconds,
+  // ms_per_frame, samples_per_ray, silhouette_iou, wrong_pixels,
+  // mean_depth_error, p95_depth_error (mesh sizes, against the tracer).
+  Table implicits;
 };
 
 DeformBenchResult RunDeformBench(render::ProgramCache& programs, const DeformBenchOptions& options);
 // The tables as CSV (frames at options.csv, the others beside it in out:
-// deform_summary.csv, deform_sdf.csv, deform_accuracy.csv)
+// deform_summary.csv, deform_sdf.csv, deform_accuracy.csv, deform_implicit.csv)
 // and the gnuplot PNGs in out.
 void WriteDeformBench(const DeformBenchResult& result, const DeformBenchOptions& options);
 

@@ -9,7 +9,9 @@
 #include <glm/gtc/matrix_transform.hpp>
 #include <sstream>
 
+#include "core/check.h"
 #include "core/error.h"
+#include "ibr/scene_renderer.h"
 #include "render/cores/ray_core.h"
 
 namespace ibr {
@@ -178,6 +180,11 @@ DeformObjectOptions DeformObjectOptionsFrom(const scene::Settings& settings) {
     }
     throw;
   }
+  try {
+    o.pass.implicit = render::DeformImplicitFromName(settings.GetString("implicit", "sdf"));
+  } catch (const core::InputError& e) {
+    settings.Fail("implicit", e.what());
+  }
   o.sdf_resolution = settings.GetInt("resolution", o.sdf_resolution);
   if (o.sdf_resolution < 8 || o.sdf_resolution > 512)
     settings.Fail("resolution", fmt::format("{} outside 8..512", o.sdf_resolution));
@@ -205,8 +212,37 @@ core::Placement DeformPlacement(const DeformObjectOptions& options,
                                      options.translation);
 }
 
+render::DepthCube MakeDepthCube(render::ProgramCache& programs, const core::TriangleMesh& mesh,
+                                int size) {
+  const MapSet maps =
+      CaptureMaps(programs, capture::SceneMesh{mesh, {}, "deform mesh"}, "cube", size);
+  IBR_CHECK_EQ(maps.maps.size(), 6u);
+  render::DepthCube cube;
+  for (const ImageMap& m : maps.maps) {
+    IBR_CHECK(m.camera.orthographic);
+    // (u, v, z) = (sx x + cx, sy y + cy, z) of the map's camera point.
+    glm::dmat4 pixel_from_cam(1.0);
+    pixel_from_cam[0][0] = m.camera.fx;
+    pixel_from_cam[1][1] = m.camera.fy;
+    pixel_from_cam[3] = glm::dvec4(m.camera.cx, m.camera.cy, 0.0, 1.0);
+    cube.faces.push_back({m.depth, pixel_from_cam * m.cam_from_world});
+  }
+  // The rig's scale is size / (cube width): a texel is 1 / scale, the cube
+  // (the far face, depth 0 on the near one) size / scale.
+  cube.texel = 1.0 / maps.maps[0].camera.fx;
+  cube.far = size * cube.texel;
+  cube.Check("MakeDepthCube");
+  return cube;
+}
+
+int64_t DeformObjectData::ImplicitBytes() const {
+  return depth_cube.faces.empty() ? static_cast<int64_t>(sdf.values.size() * sizeof(float))
+                                  : depth_cube.Bytes();
+}
+
 DeformObjectData MakeDeformObject(core::TriangleMesh mesh, const DeformObjectOptions& options,
-                                  const std::string& where, bool progress) {
+                                  const std::string& where, bool progress,
+                                  render::ProgramCache* programs) {
   DeformObjectData d;
   // object (the mesh file's frame) = centre + longest * normalised.
   glm::vec3 lo, hi;
@@ -219,23 +255,33 @@ DeformObjectData MakeDeformObject(core::TriangleMesh mesh, const DeformObjectOpt
   d.placement = DeformPlacement(options, {glm::dvec3(lo), glm::dvec3(hi)});
   d.max_displacement =
       core::MaxObjectDisplacement(options.deformation, d.placement, options.deformation_resolution);
+  const bool cube = options.pass.implicit == render::DeformImplicit::kDepthCube;
   if (progress) {
-    std::fprintf(stderr,
-                 "deform: %zu triangles, max displacement %.4f; building the distance field\n",
-                 mesh.triangle_count(), d.max_displacement);
+    std::fprintf(stderr, "deform: %zu triangles, max displacement %.4f; building the %s\n",
+                 mesh.triangle_count(), d.max_displacement, cube ? "depth cube" : "distance field");
   }
   const auto start = std::chrono::steady_clock::now();
+  // The same closedness rule for both implicits (open meshes refused unless
+  // capped); the depth cube renders the capped mesh if holes were filled
+  // (else the maps would look into them).
   const core::MeshDistance distance(mesh, options.cap_holes, where);
-  core::DistanceFieldOptions sdf_options;
-  sdf_options.resolution = options.sdf_resolution;
-  sdf_options.progress = progress;
-  // Grown by the largest displacement (samples land up to that far out) and
-  // two voxels for the normals' central differences.
   const core::Box3d box = d.placement.ObjectBounds();
-  const double voxel =
-      std::max({box.size().x, box.size().y, box.size().z}) / (options.sdf_resolution - 1);
-  d.sdf =
-      core::BuildDistanceField(distance, box.Grown(d.max_displacement + 2 * voxel), sdf_options);
+  if (cube) {
+    IBR_CHECK(programs != nullptr);  // the depth cube renders its maps
+    d.depth_cube =
+        MakeDepthCube(*programs, distance.capped_holes() > 0 ? distance.closed_mesh() : mesh,
+                      options.sdf_resolution);
+  } else {
+    core::DistanceFieldOptions sdf_options;
+    sdf_options.resolution = options.sdf_resolution;
+    sdf_options.progress = progress;
+    // Grown by the largest displacement (samples land up to that far out) and
+    // two voxels for the normals' central differences.
+    const double voxel =
+        std::max({box.size().x, box.size().y, box.size().z}) / (options.sdf_resolution - 1);
+    d.sdf =
+        core::BuildDistanceField(distance, box.Grown(d.max_displacement + 2 * voxel), sdf_options);
+  }
   d.sdf_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   d.texture = core::SampleDeformation(options.deformation, options.deformation_resolution);
   d.norm_bounds = DeformedBounds({glm::dvec3(lo), glm::dvec3(hi)}, box, d.max_displacement);

@@ -31,7 +31,9 @@ struct DeformObjectOptions {
   double scale = 1.0;            // placement: scale about the region's centre
   glm::dvec3 translation{0.0};   // placement: translation (normalised units)
   render::DeformPassOptions pass;
-  int sdf_resolution = 128;         // distance-field samples along the longest axis
+  // Distance-field samples along the longest axis; with the depth cube
+  // (pass.implicit) the size of its six maps in pixels.
+  int sdf_resolution = 128;
   int deformation_resolution = 64;  // deformation texture nodes per axis
   bool cap_holes = false;           // fill the boundary loops of an open mesh
 };
@@ -48,7 +50,9 @@ void SetDeformationDefaults(core::Deformation& deformation);
 //   placement    "tx,ty,tz[,rx,ry,rz[,scale]]" about the region's centre
 //   step         fixed|threshold:T|jacobian;  step_voxels  base step (voxels)
 //   skip         true/false (empty-space skipping in the cut, sec. 6.2)
-//   resolution   distance-field samples along the longest axis (8..512)
+//   implicit     sdf|depth-cube (the distance field, or sec. 6.1's depth-map cube)
+//   resolution   distance-field samples along the longest axis, or the depth
+//                cube's map size in pixels (8..512)
 //   cap_holes    true/false
 DeformObjectOptions DeformObjectOptionsFrom(const scene::Settings& settings);
 
@@ -59,20 +63,32 @@ struct DeformObjectData {
   glm::dmat4 object_from_norm{1.0};  // centre + longest * normalised
   core::Placement placement;         // the deformation box (normalised units)
   double max_displacement = 0.0;     // normalised units
-  core::DistanceField sdf;
+  core::DistanceField sdf;           // DeformImplicit::kSdf (empty otherwise)
+  render::DepthCube depth_cube;      // DeformImplicit::kDepthCube (empty otherwise)
   core::DeformationTexture texture;
-  double sdf_seconds = 0.0;
+  double sdf_seconds = 0.0;  // the implicit's build time (distance field or depth cube)
+  // The implicit's GPU memory: the R32F field, or the depth cube's six maps.
+  int64_t ImplicitBytes() const;
   // What the frame can hold (normalised units): the mesh and the deformation
   // box grown by the largest displacement.
   core::Box3d norm_bounds;
-  render::DeformInputs Inputs() const { return {&mesh, &sdf, &texture, placement}; }
+  render::DeformInputs Inputs() const { return {&mesh, &sdf, &texture, placement, &depth_cube}; }
 };
 
 // Normalises `mesh` (InputError naming `where` for a mesh without extent),
-// places the deformation box, builds the distance field (progress on stderr
-// when `progress`) and samples the deformation.
+// places the deformation box, builds the implicit (the distance field,
+// progress on stderr when `progress`; or the depth cube, which renders its
+// maps: `programs` with a current context) and samples the deformation.
 DeformObjectData MakeDeformObject(core::TriangleMesh mesh, const DeformObjectOptions& options,
-                                  const std::string& where, bool progress = false);
+                                  const std::string& where, bool progress = false,
+                                  render::ProgramCache* programs = nullptr);
+
+// The depth-map cube (Correa 2007 sec. 6.1, render::DepthCube) of `mesh`:
+// the six orthographic maps of the cube rig of `ibr capture` (CaptureMaps,
+// capture::MakeRig "cube": the mesh's bounding cube grown by 5 %), `size`
+// pixels square, rendered by the capture rasteriser. Needs a current context.
+render::DepthCube MakeDepthCube(render::ProgramCache& programs, const core::TriangleMesh& mesh,
+                                int size);
 
 // Centres the mesh at the origin and scales its longest side to 1 (the
 // normalised units); InputError naming `where` for a mesh without extent.

@@ -202,7 +202,8 @@ LoadedObject LoadObject(render::ProgramCache& programs, const scene::Object& o) 
       // normalised for the pass; the pass's frame carried to the world.
       l.deform_options = DeformObjectOptionsFrom(o.settings);
       l.deform = std::make_shared<DeformObjectData>(
-          MakeDeformObject(LoadMesh(o.mesh, /*displaced=*/false), l.deform_options, o.where));
+          MakeDeformObject(LoadMesh(o.mesh, /*displaced=*/false), l.deform_options, o.where,
+                           /*progress=*/false, &programs));
       l.world_from_object = o.world_from_object * l.deform->object_from_norm;
       const core::Box3d& b = l.deform->norm_bounds;
       l.bounds = BoxBounds(l.world_from_object *

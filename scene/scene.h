@@ -48,7 +48,8 @@
 //                   pull | knife | peel, or a comma list), amount, width (a number or a comma
 //                   list), cut (none | hollow | solid | thick:T), region ("x0,y0,z0,x1,y1,z1"),
 //                   placement ("tx,ty,tz[,rx,ry,rz[,scale]]"), step (fixed | threshold:T |
-//                   jacobian), step_voxels, skip (bool), resolution, cap_holes (bool)};
+//                   jacobian), step_voxels, skip (bool), resolution, cap_holes (bool),
+//                   implicit (sdf | depth-cube)};
 //      the object frame is the mesh file's (the world of `ibr deform`); regions and widths
 //      are in the normalised units (mesh centred, longest side 1)
 //     common keys: "name" (default "object_N"), "enabled" (default true; false = named but

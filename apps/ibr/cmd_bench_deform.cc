@@ -31,8 +31,8 @@ void AddDeformBench(CLI::App& app) {
     CheckBenchOutputs("ibr bench deform", options.csv, options.out);
     const auto gl = StartBenchGl("ibr bench deform", options.size);
     const bench::DeformBenchResult result = bench::RunDeformBench(gl->programs, options);
-    fmt::print("{}\n{}\n{}\n{}", result.frames.Format(), result.summary.Format(),
-               result.sdf.Format(), result.accuracy.Format());
+    fmt::print("{}\n{}\n{}\n{}\n{}", result.frames.Format(), result.summary.Format(),
+               result.sdf.Format(), result.accuracy.Format(), result.implicits.Format());
     bench::WriteDeformBench(result, options);
     fmt::print("wrote {} and plots in {}\n", options.csv.string(), options.out.string());
   });

@@ -4,11 +4,43 @@
 
 #include <algorithm>
 #include <cmath>
+#include <span>
 
 #include "core/error.h"
 #include "core/projection.h"
 
 namespace render {
+
+DeformImplicit DeformImplicitFromName(const std::string& name) {
+  if (name == "sdf") return DeformImplicit::kSdf;
+  if (name == "depth-cube") return DeformImplicit::kDepthCube;
+  core::ThrowInputError("DeformPass", "implicit '{}' is not sdf or depth-cube", name);
+}
+
+std::string DeformImplicitName(DeformImplicit implicit) {
+  return implicit == DeformImplicit::kDepthCube ? "depth-cube" : "sdf";
+}
+
+void DepthCube::Check(const std::string& where) const {
+  if (faces.size() != 6)
+    core::ThrowInputError(where, "a depth cube has 6 faces, not {}", faces.size());
+  const int n = faces[0].depth.width();
+  for (const DepthCubeFace& f : faces) {
+    if (f.depth.width() != n || f.depth.height() != n || f.depth.channels() != 1 || n < 2) {
+      core::ThrowInputError(where, "depth cube faces must be one square size >= 2, got {}x{}x{}",
+                            f.depth.width(), f.depth.height(), f.depth.channels());
+    }
+  }
+  if (!std::isfinite(far) || !(far > 0) || !std::isfinite(texel) || !(texel > 0))
+    core::ThrowInputError(where, "depth cube far {} / texel {} must be finite and > 0", far, texel);
+}
+
+int64_t DepthCube::Bytes() const {
+  int64_t bytes = 0;
+  for (const DepthCubeFace& f : faces)
+    bytes += static_cast<int64_t>(f.depth.width()) * f.depth.height() * 4;
+  return bytes;
+}
 
 void DeformPassOptions::Check() const {
   if (!std::isfinite(thickness) || !(thickness > 0)) {
@@ -51,6 +83,7 @@ std::vector<std::string> DeformPassOptions::Defines() const {
       break;
   }
   if (skip_empty && cut != CutMode::kNone) defines.push_back("SKIP_EMPTY");
+  if (implicit == DeformImplicit::kDepthCube) defines.push_back("IMPLICIT_DEPTH_CUBE");
   defines.push_back("RAY_STAGE");
   return defines;
 }
@@ -103,23 +136,54 @@ DeformPass::DeformPass(ProgramCache& programs, const DeformInputs& inputs,
     : programs_(programs), options_(options), placement_(inputs.placement) {
   options_.Check();
   placement_.Check();
-  if (!inputs.sdf || inputs.sdf->values.empty())
-    core::ThrowInputError("DeformPass", "no distance field");
   if (!inputs.deformation || inputs.deformation->resolution < 2) {
     core::ThrowInputError("DeformPass", "no deformation texture");
   }
-  const core::DistanceField& sdf = *inputs.sdf;
-  sdf_ = Upload3D(GL_R32F, GL_RED, sdf.size, sdf.values.data());
-  sdf_origin_ = glm::vec3(sdf.origin);
-  sdf_spacing_ = static_cast<float>(sdf.spacing);
-  sdf_size_ = sdf.size;
+  if (options_.implicit == DeformImplicit::kDepthCube) {
+    if (!inputs.depth_cube) core::ThrowInputError("DeformPass", "no depth cube");
+    UploadDepthCube(*inputs.depth_cube);
+  } else {
+    if (!inputs.sdf || inputs.sdf->values.empty())
+      core::ThrowInputError("DeformPass", "no distance field");
+    const core::DistanceField& sdf = *inputs.sdf;
+    sdf_ = Upload3D(GL_R32F, GL_RED, sdf.size, sdf.values.data());
+    sdf_origin_ = glm::vec3(sdf.origin);
+    sdf_spacing_ = static_cast<float>(sdf.spacing);
+    sdf_size_ = sdf.size;
+  }
   const core::DeformationTexture& d = *inputs.deformation;
   deformation_resolution_ = d.resolution;
   deformation_ = Upload3D(GL_RGBA32F, GL_RGBA, glm::ivec3(d.resolution), d.rgba.data());
   alpha_lipschitz_ = AlphaLipschitz(d, placement_);
   if (inputs.mesh && options_.draw_mesh) {
     inputs.mesh->Validate("DeformPass");
-    mesh_.emplace(*inputs.mesh);
+    // Classify the triangles against the box once (the box is fixed per
+    // pass): drawing every triangle as six clipped pieces made stage 1 cost
+    // six times the mesh's vertex work.
+    const core::TriangleMesh& mesh = *inputs.mesh;
+    const glm::dmat4 box_from_object = placement_.BoxFromObject();
+    core::TriangleMesh outside = mesh, crossing = mesh;
+    outside.indices.clear();
+    crossing.indices.clear();
+    for (size_t t = 0; t < mesh.triangle_count(); ++t) {
+      glm::dvec3 u[3];
+      for (int k = 0; k < 3; ++k) {
+        u[k] = glm::dvec3(box_from_object *
+                          glm::dvec4(glm::dvec3(mesh.positions[mesh.indices[3 * t + k]]), 1.0));
+      }
+      bool out = false, in = true;
+      for (int a = 0; a < 3; ++a) {
+        out |= (u[0][a] < 0 && u[1][a] < 0 && u[2][a] < 0) ||
+               (u[0][a] > 1 && u[1][a] > 1 && u[2][a] > 1);
+        for (int k = 0; k < 3; ++k) in &= u[k][a] > 0 && u[k][a] < 1;
+      }
+      if (in && !out) continue;
+      core::TriangleMesh& to = out ? outside : crossing;
+      to.indices.insert(to.indices.end(), mesh.indices.begin() + 3 * t,
+                        mesh.indices.begin() + 3 * t + 3);
+    }
+    if (!outside.indices.empty()) mesh_outside_.emplace(outside);
+    if (!crossing.indices.empty()) mesh_crossing_.emplace(crossing);
   }
   // The unit box as 12 triangles (36 corners, positions in box units).
   static const int kFaces[6][4] = {{0, 2, 6, 4}, {1, 5, 7, 3}, {0, 4, 5, 1},
@@ -138,6 +202,56 @@ DeformPass::DeformPass(ProgramCache& programs, const DeformInputs& inputs,
   glVertexArrayAttribBinding(box_vao_.id(), kPositionLocation, 0);
 }
 
+void DeformPass::UploadDepthCube(const DepthCube& cube) {
+  cube.Check("DeformPass");
+  const int n = cube.faces[0].depth.width();
+  sdf_ = Texture::Create(GL_TEXTURE_2D_ARRAY);
+  glTextureStorage3D(sdf_.id(), 1, GL_R32F, n, n, 6);
+  std::vector<float> layer(static_cast<size_t>(n) * n);
+  glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
+  for (int i = 0; i < 6; ++i) {
+    const DepthCubeFace& face = cube.faces[i];
+    // Nothing seen: the surface at the far face (the face only says empty),
+    // except a one-texel ring around the silhouette, which takes the nearest
+    // depth of its seen neighbours. Without the ring the bilinear blend of
+    // the last seen texel and the far face carves up to a texel inside the
+    // silhouette, shifting the faces another map sees head-on (a box's sides:
+    // 1.5 texels mean depth error at 64 px maps); with it the face's solid
+    // extends past its silhouette instead, where the faces that see that
+    // region carve it (intersection).
+    const auto seen = [&](int x, int y) {
+      const float d = face.depth.at(x, y);
+      return std::isfinite(d) && d > 0;
+    };
+    for (int y = 0; y < n; ++y) {
+      for (int x = 0; x < n; ++x) {
+        float d = face.depth.at(x, y);
+        if (!seen(x, y)) {
+          d = static_cast<float>(cube.far);
+          for (int dy = -1; dy <= 1; ++dy) {
+            for (int dx = -1; dx <= 1; ++dx) {
+              const int xx = x + dx, yy = y + dy;
+              if (xx >= 0 && yy >= 0 && xx < n && yy < n && seen(xx, yy))
+                d = std::min(d, face.depth.at(xx, yy));
+            }
+          }
+        }
+        layer[static_cast<size_t>(y) * n + x] = d;
+      }
+    }
+    glTextureSubImage3D(sdf_.id(), 0, 0, 0, i, n, n, 1, GL_RED, GL_FLOAT, layer.data());
+    // (u, v) pixels -> (s, t) texture coordinates (row v = texel row v).
+    glm::dmat4 tex_from_map(1.0);
+    tex_from_map[0][0] = tex_from_map[1][1] = 1.0 / n;
+    cube_from_object_.push_back(glm::mat4(tex_from_map * face.map_from_object));
+  }
+  glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
+  sdf_.SetLinearFilter();
+  for (GLenum p : {GL_TEXTURE_WRAP_S, GL_TEXTURE_WRAP_T})
+    glTextureParameteri(sdf_.id(), p, GL_CLAMP_TO_EDGE);
+  sdf_spacing_ = static_cast<float>(cube.texel);
+}
+
 void DeformPass::Draw(const RenderTarget& target, const ViewSetup& view) {
   BindOutcomeImage(target);  // both stages OR their bits (pass.h)
   const glm::mat4 object_from_box(placement_.object_from_box);
@@ -146,7 +260,7 @@ void DeformPass::Draw(const RenderTarget& target, const ViewSetup& view) {
 
   // Stage 1: the mesh outside the box, as six convex pieces of the box's
   // complement (gl_ClipDistance keeps an intersection of half-spaces).
-  if (mesh_) {
+  if (mesh_outside_ || mesh_crossing_) {
     ProgramDesc desc{.vertex = "passes/deform_mesh.vert.glsl",
                      .fragment = "passes/deform.frag.glsl"};
     desc.defines = view_defines;
@@ -155,13 +269,19 @@ void DeformPass::Draw(const RenderTarget& target, const ViewSetup& view) {
     UseProgram(target, program, view);
     program.Set("u_box_from_object", box_from_object);
     program.Set("u_base_color", options_.base_color);
-    for (int i = 0; i < 6; ++i) glEnable(GL_CLIP_DISTANCE0 + i);
-    for (int piece = 0; piece < 6; ++piece) {
-      program.Set("u_piece", piece);
-      glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
-      mesh_->Draw();
+    if (mesh_outside_) {
+      program.Set("u_piece", -1);  // no clipping
+      mesh_outside_->Draw();
     }
-    for (int i = 0; i < 6; ++i) glDisable(GL_CLIP_DISTANCE0 + i);
+    if (mesh_crossing_) {
+      for (int i = 0; i < 6; ++i) glEnable(GL_CLIP_DISTANCE0 + i);
+      for (int piece = 0; piece < 6; ++piece) {
+        program.Set("u_piece", piece);
+        glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
+        mesh_crossing_->Draw();
+      }
+      for (int i = 0; i < 6; ++i) glDisable(GL_CLIP_DISTANCE0 + i);
+    }
   }
 
   // Stage 2: the box's back faces, one ray per fragment (the camera may be
@@ -176,9 +296,13 @@ void DeformPass::Draw(const RenderTarget& target, const ViewSetup& view) {
   program.Set("u_clip_z", glm::vec2(core::ClipRangeZ(view.clip_from_cam)));
   program.Set("u_object_from_box", object_from_box);
   program.Set("u_box_from_object", box_from_object);
-  program.Set("u_sdf_origin", sdf_origin_);
+  if (options_.implicit == DeformImplicit::kDepthCube) {
+    program.Set("u_cube_from_object", std::span<const glm::mat4>(cube_from_object_));
+  } else {
+    program.Set("u_sdf_origin", sdf_origin_);
+    program.Set("u_sdf_size", glm::vec3(sdf_size_));
+  }
   program.Set("u_sdf_spacing", sdf_spacing_);
-  program.Set("u_sdf_size", glm::vec3(sdf_size_));
   program.Set("u_deform_resolution", static_cast<float>(deformation_resolution_));
   program.Set("u_step", options_.step_voxels * sdf_spacing_);
   program.Set("u_thickness", options_.thickness);

@@ -1,12 +1,18 @@
 // Deformation and cut shaders on meshes (Correa, Silver, Chen 2007): the
-// mesh outside the deformation box is rasterised as is (stage 1, the box
-// removed exactly with gl_ClipDistance: its complement is drawn as six convex
-// pieces, one instance each); inside the box a ray is cast per fragment of
-// the box's back faces through the shared ray core (stage 2), sampling the
-// mesh's signed distance field (an R32F 3D texture) at the inversely warped
-// point p = p' + M D(M^-1 p') (eq. 1-2, D an RGBA 3D texture: xyz inverse
-// displacement in box units, w the cut alpha A), and writes gl_FragDepth, so
-// the two stages composite by the depth test wherever they overlap.
+// mesh outside the deformation box is rasterised as is (stage 1: triangles
+// wholly outside one of the box's face planes drawn once; those crossing or
+// touching the box drawn as the box's complement, six convex pieces clipped
+// exactly by gl_ClipDistance; those wholly inside not at all); inside the box a ray is cast per
+// fragment of the box's back faces through the shared ray core (stage 2), sampling the mesh's
+// signed distance field (an R32F 3D texture) at the inversely warped point p = p' + M D(M^-1 p')
+// (eq. 1-2, D an RGBA 3D texture: xyz inverse displacement in box units, w the cut alpha A), and
+// writes gl_FragDepth, so the two stages composite by the depth test wherever they overlap.
+//
+// The implicit (DeformPassOptions::implicit, one #define): the mesh's signed
+// distance field (an R32F 3D texture), or the depth-map cube of sec. 6.1
+// (DepthCube: six orthographic depth maps on the faces of a cube around the
+// object, an R32F 2D array); only the lookup differs, the warp, cuts, steps
+// and normals are one code path.
 //
 // Sign convention, converted once here: Correa's f is > 0 inside; the ray
 // core's field is > 0 in empty space, so RayField = sdf (> 0 outside), the
@@ -21,6 +27,7 @@
 // is on a cut face; bits 16..31 hold the ray's field samples (saturated).
 #pragma once
 
+#include <cstdint>
 #include <glm/glm.hpp>
 #include <optional>
 #include <string>
@@ -29,6 +36,7 @@
 
 #include "core/deformation.h"
 #include "core/distance_field.h"
+#include "core/image.h"
 #include "core/mesh.h"
 #include "render/cores/ray_core.h"
 #include "render/gl/gpu_mesh.h"
@@ -43,6 +51,53 @@ inline constexpr uint32_t kDeformMeshBit = 1u << 5;     // rasterised, undeforme
 inline constexpr int kDeformSamplesShift = 16;          // samples per ray in bits 16..31
 
 using core::CutMode;
+
+// The implicit the ray stage samples.
+enum class DeformImplicit {
+  kSdf,        // the mesh's signed distance field (core::DistanceField)
+  kDepthCube,  // the depth-map cube of Correa 2007 sec. 6.1 (DepthCube)
+};
+// "sdf", "depth-cube" (InputError naming the value otherwise).
+DeformImplicit DeformImplicitFromName(const std::string& name);
+std::string DeformImplicitName(DeformImplicit implicit);
+
+// The depth-map cube (Correa, Silver, Chen 2007, sec. 6.1), plain CPU data:
+// six orthographic depth maps of the object, one per face of a cube around
+// it, each looking inwards (ibr::MakeDepthCube renders them with the cube rig
+// of `ibr capture`). Face i at an object point p: H_i(u, v) - z_i(p), the
+// depth the face saw at p's texel (bilinear) minus p's distance from the
+// face, > 0 in front of the surface it saw. The implicit is the largest of
+// the six (> 0 empty: in front of some face's surface; the intersection of
+// Kautz-Seidel's depth objects, the depth-object ray field of ibr/). The
+// paper combines faces as sign * min(|f1|, |f2|); both are <= 0 exactly where
+// every face's difference is (the same solid, so the same surface) and differ
+// in magnitude only. The max is continuous (a max of bilinear functions), so
+// bisection and central-difference normals work on it as on the distance
+// field; it is not a distance (an axis distance to the surface seen, >= the
+// Euclidean one), which only the threshold step policy reads (as a
+// closeness test), and the deform pass's empty-space skip reads the cut alpha
+// alone, so it stays a true lower bound with either implicit. It is exact for objects whose every
+// surface point is seen by some face (convex ones), up to the maps' texels; concavities no face
+// sees are filled. Where a face saw nothing the pass stores `far` (the cube's width: the surface
+// "at the far face", so the face only says empty there), except in a one-texel ring around the
+// silhouette, which repeats the nearest seen depth (so the bilinear blend with the far face lies
+// outside the silhouette and the other faces trim it).
+struct DepthCubeFace {
+  core::ImageF depth;  // distance from the face to the surface seen; <= 0 = nothing seen
+  // Affine: object point -> (u, v) in pixels (centres at +0.5, row v) and z,
+  // the distance from the face along its inward axis.
+  glm::dmat4 map_from_object{1.0};
+};
+struct DepthCube {
+  std::vector<DepthCubeFace> faces;  // six, square, one size
+  double far = 0.0;                  // the cube's width, stored where a face saw nothing
+  double texel = 0.0;                // object units per texel (steps, normals)
+  // InputError naming `where` unless six square faces of one size, far and
+  // texel positive and finite.
+  void Check(const std::string& where) const;
+  // GPU memory: six R32F maps.
+  int64_t Bytes() const;
+};
 
 struct DeformPassOptions {
   CutMode cut = CutMode::kNone;
@@ -62,6 +117,8 @@ struct DeformPassOptions {
   // RAY_SKIP with skip = A / Lipschitz(A), a true lower bound of the
   // distance to the cut's boundary.
   bool skip_empty = false;
+  // The implicit the ray stage samples; the inputs must hold it.
+  DeformImplicit implicit = DeformImplicit::kSdf;
   bool draw_mesh = true;  // stage 1; off = the box's ray cast alone
   glm::vec4 base_color{0.8f, 0.8f, 0.8f, 1.0f};
   glm::vec4 cut_color{0.85f, 0.35f, 0.3f, 1.0f};  // cut faces and the inside of hollow shells
@@ -78,6 +135,8 @@ struct DeformInputs {
   const core::DistanceField* sdf = nullptr;               // over the box grown by max |M D|
   const core::DeformationTexture* deformation = nullptr;  // D and A over the box
   core::Placement placement;                              // object_from_box
+  // DeformImplicit::kDepthCube: the object's depth-map cube (sdf unused).
+  const DepthCube* depth_cube = nullptr;
 };
 
 class DeformPass : public Pass {
@@ -88,15 +147,23 @@ class DeformPass : public Pass {
   const DeformPassOptions& options() const { return options_; }
 
  private:
+  void UploadDepthCube(const DepthCube& cube);
+
   ProgramCache& programs_;
   DeformPassOptions options_;
   core::Placement placement_;
-  std::optional<GpuMesh> mesh_;
-  Texture sdf_;
+  // Stage 1's triangles by where they lie (box coordinates, strict):
+  // wholly outside one face plane of the box (drawn once, unclipped), or
+  // crossing or touching the box (drawn as the six clipped pieces); those
+  // wholly inside are never drawn.
+  std::optional<GpuMesh> mesh_outside_;
+  std::optional<GpuMesh> mesh_crossing_;
+  Texture sdf_;  // the 3D field, or the depth cube's 2D array
   Texture deformation_;
   glm::vec3 sdf_origin_{0.0f};
-  float sdf_spacing_ = 1.0f;
+  float sdf_spacing_ = 1.0f;  // the implicit's grid step (voxel or depth-cube texel)
   glm::ivec3 sdf_size_{0};
+  std::vector<glm::mat4> cube_from_object_;  // depth cube: (s, t) texture coordinates, z
   int deformation_resolution_ = 0;
   float alpha_lipschitz_ = 1.0f;  // bound of |grad A| in object units (for the skip)
   VertexArray box_vao_;

@@ -5,6 +5,8 @@
 //               shared ray core; writes gl_FragDepth.
 // Cut variants (RAY_STAGE): CUT_HOLLOW, CUT_SOLID, CUT_THICK; SKIP_EMPTY adds
 // empty-space skipping by the cut alpha. ORTHOGRAPHIC: parallel rays.
+// IMPLICIT_DEPTH_CUBE: the object's implicit from the depth-map cube of
+// sec. 6.1 instead of the 3D distance field (Implicit(), the only difference).
 //
 // Sign convention, converted here once: the paper's f is > 0 inside; the
 // ray core's field (RayField) is > 0 in empty space, so RayField works on
@@ -48,10 +50,15 @@ uniform mat4 u_world_from_cam;
 uniform vec2 u_clip_z;            // camera z of the near and far clip planes (core::ClipRangeZ)
 uniform mat4 u_object_from_box;
 uniform mat4 u_box_from_object;
+#ifdef IMPLICIT_DEPTH_CUBE
+uniform sampler2DArray u_sdf;     // the six faces' depths (R32F, bilinear; the far face where empty)
+uniform mat4 u_cube_from_object[6];  // per face: object -> (s, t) texture coordinates, z from the face
+#else
 uniform sampler3D u_sdf;          // signed distance, > 0 outside, nodes at texel centres
 uniform vec3 u_sdf_origin;        // object position of node (0, 0, 0)
-uniform float u_sdf_spacing;      // object units between nodes
 uniform vec3 u_sdf_size;          // nodes per axis
+#endif
+uniform float u_sdf_spacing;      // object units between nodes (depth cube: per texel)
 uniform sampler3D u_deformation;  // xyz: D (box units), w: cut alpha A (> 0 cut)
 uniform float u_deform_resolution;
 uniform float u_step;             // base step, object units
@@ -59,7 +66,22 @@ uniform float u_thickness;        // CUT_THICK: shell thickness T, object units
 uniform float u_alpha_lipschitz;  // bound of |grad A| in object units (SKIP_EMPTY)
 uniform vec4 u_cut_color;
 
-float Sdf(vec3 p) { return texture(u_sdf, ((p - u_sdf_origin) / u_sdf_spacing + 0.5) / u_sdf_size).r; }
+// The object's implicit at an undeformed point (> 0 outside), the one lookup
+// that differs between the variants.
+#ifdef IMPLICIT_DEPTH_CUBE
+// Depth-map cube (sec. 6.1; render::DepthCube): the largest of the six faces'
+// signed depth differences (depth seen - distance from the face).
+float Implicit(vec3 p) {
+  float f = -1e30;
+  for (int i = 0; i < 6; ++i) {
+    vec3 q = (u_cube_from_object[i] * vec4(p, 1.0)).xyz;
+    f = max(f, texture(u_sdf, vec3(q.xy, float(i))).r - q.z);
+  }
+  return f;
+}
+#else
+float Implicit(vec3 p) { return texture(u_sdf, ((p - u_sdf_origin) / u_sdf_spacing + 0.5) / u_sdf_size).r; }
+#endif
 
 // (p' + M D(M^-1 p'), A(p')) for a deformed-space point p' (eq. 2); outside
 // the box D = 0 and A = -1.
@@ -82,7 +104,7 @@ float Body(float sdf) {
 
 float RayField(vec3 p) {
   vec4 w = Warp(p);
-  float body = Body(Sdf(w.xyz));
+  float body = Body(Implicit(w.xyz));
 #if defined(CUT_SOLID) || defined(CUT_THICK)
   return max(body, w.w);  // eq. 6: inside the body and outside the cut
 #else
@@ -125,10 +147,19 @@ float RaySkip(vec3 p) {
 
 #include "cores/ray_core.glsl"
 
-vec3 SdfGradient(vec3 p) {
+vec3 ImplicitGradient(vec3 p) {
+#ifdef IMPLICIT_DEPTH_CUBE
+  // Two texels each way: the max switches between faces whose bilinear
+  // maps facet the surface per texel (a face seeing it at a grazing angle
+  // carves it most), so half a texel bands the shading texel by texel
+  // (Spot at 256 px); two texels soften the bands, they do not remove them.
+  float h = 2.0 * u_sdf_spacing;
+#else
   float h = 0.5 * u_sdf_spacing;
-  return vec3(Sdf(p + vec3(h, 0, 0)) - Sdf(p - vec3(h, 0, 0)), Sdf(p + vec3(0, h, 0)) - Sdf(p - vec3(0, h, 0)),
-              Sdf(p + vec3(0, 0, h)) - Sdf(p - vec3(0, 0, h)));
+#endif
+  return vec3(Implicit(p + vec3(h, 0, 0)) - Implicit(p - vec3(h, 0, 0)),
+              Implicit(p + vec3(0, h, 0)) - Implicit(p - vec3(0, h, 0)),
+              Implicit(p + vec3(0, 0, h)) - Implicit(p - vec3(0, 0, h)));
 }
 
 vec3 AlphaGradient(vec3 p) {
@@ -171,7 +202,7 @@ void main() {
   }
   vec3 p = res.p;
   vec4 w = Warp(p);
-  float sdf = Sdf(w.xyz);
+  float sdf = Implicit(w.xyz);
   bool cut_face = false;
 #if defined(CUT_SOLID) || defined(CUT_THICK)
   cut_face = w.w > Body(sdf);  // eq. 6: the cut's term is the active one
@@ -181,7 +212,7 @@ void main() {
     n = normalize(AlphaGradient(p));  // out of the solid, into the cut
   } else {
     // Eq. 5: n' = (I + J_D)^T grad f at the warped point.
-    vec3 g = SdfGradient(w.xyz);
+    vec3 g = ImplicitGradient(w.xyz);
 #ifdef CUT_THICK
     if (sdf + 0.5 * u_thickness < 0.0) g = -g;  // the shell's inner surface
 #endif

@@ -53,7 +53,8 @@ TEST_F(DeformCliTest, WritesAPngAndPrintsOutcomeCounts) {
   for (const std::string& args :
        std::vector<std::string>{"--deformation twist", "--deformation knife --cut solid --skip",
                                 "--deformation peel --cut hollow --step jacobian",
-                                "--deformation bend,pull --amount 0.5,0.2 --width 0,0.1"}) {
+                                "--deformation bend,pull --amount 0.5,0.2 --width 0,0.1",
+                                "--deformation knife --cut solid --implicit depth-cube"}) {
     const fs::path out = dir_ / "one.png";
     fs::remove(out);
     const auto r =
@@ -65,6 +66,12 @@ TEST_F(DeformCliTest, WritesAPngAndPrintsOutcomeCounts) {
     // The default region is the mesh's bounds grown: the whole object is ray cast.
     EXPECT_GE(mesh, 0) << r.out;
     EXPECT_GT(hit, 100) << args << "\n" << r.out;
+    // The implicit's memory: the 32^3-ish field, or six 32^2 float maps.
+    const bool cube = args.find("depth-cube") != std::string::npos;
+    EXPECT_NE(
+        r.out.find(cube ? "implicit depth-cube 6 x 32x32 R32F, 24576 bytes" : "implicit sdf "),
+        std::string::npos)
+        << r.out;
   }
 }
 
@@ -129,7 +136,7 @@ TEST_F(DeformCliTest, BadParametersLeaveNoOutput) {
            "--step-voxels nan --out " + out.string(),
            "--cut thick:nan --out " + out.string(),
            "--cut sliced --out " + out.string(),
-           "--implicit depth-cube --out " + out.string(),
+           "--implicit octree --out " + out.string(),
            "--cameras " + (dir_ / "missing").string() + " --out " + out.string(),
            "--cameras " + (dir_ / "spot_capture").string() + " --out " + png,
        }) {

@@ -93,9 +93,23 @@ TEST_F(DeformBenchTest, QuickRunMeasuresEveryMeshModeAndScale) {
     EXPECT_EQ(a.rows()[r][a.Column("knob")], "step");
     EXPECT_EQ(a.rows()[r][a.Column("resolution")], "128");
   }
+  // The two implicits at resolution 128: the depth cube's six 128^2 R32F
+  // maps against the distance field's voxels, both drawing the cut Spot.
+  const Table& im = result.implicits;
+  ASSERT_EQ(im.rows().size(), 2u);
+  EXPECT_EQ(im.rows()[0][im.Column("implicit")], "sdf");
+  EXPECT_EQ(im.rows()[1][im.Column("implicit")], "depth-cube");
+  EXPECT_EQ(Value(im, im.rows()[1], "bytes"), 6.0 * 128 * 128 * 4);
+  EXPECT_GT(Value(im, im.rows()[0], "bytes"), 10 * Value(im, im.rows()[1], "bytes"));
+  for (const auto& row : im.rows()) {
+    EXPECT_GT(Value(im, row, "ms_per_frame"), 0);
+    EXPECT_GT(Value(im, row, "build_seconds"), 0);
+    EXPECT_GT(Value(im, row, "silhouette_iou"), 0.9) << row[im.Column("implicit")];
+    EXPECT_LT(Value(im, row, "p95_depth_error"), 0.05) << row[im.Column("implicit")];
+  }
   WriteDeformBench(result, options);
   for (const char* f : {"deform.csv", "deform_summary.csv", "deform_sdf.csv", "deform_accuracy.csv",
-                        "deform_ms_vs_area.png", "deform_sdf_build.png"}) {
+                        "deform_implicit.csv", "deform_ms_vs_area.png", "deform_sdf_build.png"}) {
     EXPECT_TRUE(std::filesystem::exists(dir / f)) << f;
   }
   EXPECT_NO_GL_ERROR();

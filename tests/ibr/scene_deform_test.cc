@@ -172,6 +172,8 @@ TEST(SceneDeformOptions, BadValuesNameThePointer) {
       {R"("resolution": 4)", "/objects/0/resolution"},
       {R"("resolution": 64.5)", "/objects/0/resolution"},
       {R"("cap_holes": 1)", "/objects/0/cap_holes"},
+      {R"("implicit": "octree")", "/objects/0/implicit"},
+      {R"("implicit": 3)", "/objects/0/implicit"},
   };
   render::ProgramCache programs;  // no context needed: nothing is built
   for (const auto& [keys, pointer] : bad) {

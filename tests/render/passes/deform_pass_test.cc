@@ -120,7 +120,7 @@ Agreement Compare(const Frame& frame, const ViewSetup& view, const core::DeformR
 class DeformPassTest : public test_support::GlTest {
  protected:
   Frame Render(const Scene& scene, const DeformPassOptions& options, const ViewSetup& view,
-               const core::MeshDistance& distance) {
+               const core::MeshDistance& distance, const DepthCube* cube = nullptr) {
     double grow = core::MaxObjectDisplacement(scene.deformation, scene.placement,
                                               scene.deformation_resolution);
     core::DistanceFieldOptions sdf_options;
@@ -128,7 +128,7 @@ class DeformPassTest : public test_support::GlTest {
     sdf_ = core::BuildDistanceField(distance, scene.placement.ObjectBounds().Grown(grow + 0.02),
                                     sdf_options);
     texture_ = core::SampleDeformation(scene.deformation, scene.deformation_resolution);
-    DeformInputs inputs{&scene.mesh, &sdf_, &texture_, scene.placement};
+    DeformInputs inputs{&scene.mesh, &sdf_, &texture_, scene.placement, cube};
     DeformPass pass(programs(), inputs, options);
     return RenderFrame(pass, view, kSize, kSize);
   }
@@ -142,6 +142,35 @@ core::Deformation Make(core::DeformationKind kind, double amount, double width) 
   d.amount = amount;
   d.width = width;
   return d;
+}
+
+// The depth-map cube (DepthCube) of a sphere of `radius` at the origin, in
+// closed form: face i looks inwards along -/+ axis i/2 from the cube
+// [-half, half]^3, half = 1.05 radius; depth at a texel centre = half - the
+// sphere's height there, 0 where the ray misses it.
+DepthCube AnalyticSphereCube(double radius, int n) {
+  const double half = 1.05 * radius, scale = n / (2 * half);
+  DepthCube cube;
+  cube.far = 2 * half;
+  cube.texel = 1.0 / scale;
+  for (int f = 0; f < 6; ++f) {
+    const int axis = f / 2, a = (axis + 1) % 3, b = (axis + 2) % 3;
+    const double s = f % 2 == 0 ? 1.0 : -1.0;  // the face sits at s * half on its axis
+    DepthCubeFace face{core::ImageF(n, n, 1), glm::dmat4(0.0)};
+    // u = scale p_a + n/2, v = scale p_b + n/2, z = half - s p_axis.
+    face.map_from_object[a][0] = scale;
+    face.map_from_object[b][1] = scale;
+    face.map_from_object[axis][2] = -s;
+    face.map_from_object[3] = glm::dvec4(n / 2.0, n / 2.0, half, 1.0);
+    for (int y = 0; y < n; ++y)
+      for (int x = 0; x < n; ++x) {
+        const double pa = (x + 0.5 - n / 2.0) / scale, pb = (y + 0.5 - n / 2.0) / scale;
+        const double h2 = radius * radius - pa * pa - pb * pb;
+        face.depth.at(x, y) = h2 > 0 ? static_cast<float>(half - std::sqrt(h2)) : 0.0f;
+      }
+    cube.faces.push_back(std::move(face));
+  }
+  return cube;
 }
 
 TEST_F(DeformPassTest, TwistedBoxAgreesWithTheReference) {
@@ -165,11 +194,17 @@ TEST_F(DeformPassTest, TwistedBoxAgreesWithTheReference) {
   EXPECT_NO_GL_ERROR();
 }
 
-TEST_F(DeformPassTest, SolidKnifeCutAgreesWithTheReference) {
+// A sphere cut by the knife through its middle.
+Scene KnifedSphere() {
   Scene scene;
   scene.mesh = core::MakeSphere(0.5f, 48, 96);
   scene.deformation.terms = {Make(core::DeformationKind::kKnife, 0.25, 0.7)};
   scene.placement = core::Placement::FromRegion({{-0.6, -0.6, -0.6}, {0.6, 0.6, 0.6}});
+  return scene;
+}
+
+TEST_F(DeformPassTest, SolidKnifeCutAgreesWithTheReference) {
+  const Scene scene = KnifedSphere();
   core::MeshDistance distance(scene.mesh, false, "sphere");
   for (CutMode cut : {CutMode::kSolid, CutMode::kHollow, CutMode::kThick}) {
     DeformPassOptions options;
@@ -197,6 +232,32 @@ TEST_F(DeformPassTest, SolidKnifeCutAgreesWithTheReference) {
       EXPECT_LT(a.worst_cut_normal_deg, 1.0) << core::CutModeName(cut);
     }
   }
+  EXPECT_NO_GL_ERROR();
+}
+
+// The same knife through the sphere's depth-map cube (IMPLICIT_DEPTH_CUBE,
+// maps in closed form): a convex object, which the six maps describe up to
+// their texels, so the reference of the true mesh still holds.
+TEST_F(DeformPassTest, SolidKnifeCutOnADepthCubeAgreesWithTheReference) {
+  const Scene scene = KnifedSphere();
+  core::MeshDistance distance(scene.mesh, false, "sphere");
+  const DepthCube cube = AnalyticSphereCube(0.5, 128);
+  DeformPassOptions options;
+  options.cut = CutMode::kSolid;
+  options.implicit = DeformImplicit::kDepthCube;
+  options.step_voxels = 0.5f;
+  ViewSetup view = MakeView({0.9f, -2.0f, 2.0f});
+  Frame frame = Render(scene, options, view, distance, &cube);
+  test_support::WriteDebugImage("knife_depth_cube.png", frame.color);
+  core::DeformReference reference(distance, scene.deformation, scene.placement, CutMode::kSolid,
+                                  0.0);
+  Agreement a = Compare(frame, view, reference, scene.placement);
+  std::printf("knife on the depth cube: %d/%d pixels agree (%.3f %%), %d in the band\n", a.agree,
+              a.compared, 100.0 * a.agree / a.compared, a.band);
+  EXPECT_GE(a.agree, 0.995 * a.compared);
+  EXPECT_GT(a.compared, kSize * kSize / 2);
+  EXPECT_GT(a.cut_normals, 50);
+  EXPECT_LT(a.worst_cut_normal_deg, 1.0);
   EXPECT_NO_GL_ERROR();
 }
 
@@ -364,8 +425,10 @@ TEST_F(DeformPassTest, HardCaseSweepIsFiniteAndConsistent) {
   // policies, regions (tiny, containing the whole mesh, missing it),
   // placements (rotated, scaled 0.2-3x, far off), cameras (inside the box,
   // grazing); every 8th configuration gets a NaN or infinite parameter,
-  // which must be a clear InputError.
+  // which must be a clear InputError. Every other configuration samples the
+  // sphere's depth-map cube instead of its distance field.
   core::TriangleMesh mesh = core::MakeSphere(0.5f, 12, 24);
+  const DepthCube cube = AnalyticSphereCube(0.5, 20);
   core::MeshDistance distance(mesh, false, "sphere");
   std::mt19937 rng(2007);
   std::uniform_real_distribution<double> u01(0.0, 1.0);
@@ -423,6 +486,7 @@ TEST_F(DeformPassTest, HardCaseSweepIsFiniteAndConsistent) {
     options.step_policy = policies[rng() % 3];
     options.skip_empty = u01(rng) < 0.5;
     options.max_steps = 256;
+    if (c % 2 == 1) options.implicit = DeformImplicit::kDepthCube;
     glm::vec3 eye =
         glm::normalize(glm::vec3(uniform(-1, 1), uniform(-1, 1), uniform(-1, 1)) + 1e-3f);
     eye *= static_cast<float>(c % 6 == 0 ? uniform(0.05, 0.4)
@@ -440,7 +504,7 @@ TEST_F(DeformPassTest, HardCaseSweepIsFiniteAndConsistent) {
       sdf_ = core::BuildDistanceField(distance, scene.placement.ObjectBounds().Grown(grow + 0.01),
                                       sdf_options);
       texture_ = core::SampleDeformation(scene.deformation, scene.deformation_resolution);
-      DeformPass pass(programs(), {&scene.mesh, &sdf_, &texture_, scene.placement}, options);
+      DeformPass pass(programs(), {&scene.mesh, &sdf_, &texture_, scene.placement, &cube}, options);
       frame = RenderFrame(pass, view, kPixels, kPixels);
     } catch (const core::InputError& e) {
       ++refused;
