@@ -48,9 +48,12 @@ Texture UploadGradient(const core::Volume& v) {
   return t;
 }
 
-Texture UploadMap(const core::StoredDisplacementMap& s) {
+Texture UploadMap(const core::StoredDisplacementMap& s, bool as_float) {
   Texture t;
-  if (s.bits == 32) {
+  if (as_float && s.bits != 32) {
+    const core::DisplacementMap d = core::DequantizeDisplacementMap(s);
+    t = Texture::Create3DWithData(GL_RGBA32F, s.dims, GL_RGBA, GL_FLOAT, d.texels.data());
+  } else if (s.bits == 32) {
     t = Texture::Create3DWithData(GL_RGBA32F, s.dims, GL_RGBA, GL_FLOAT, s.floats.data());
   } else if (s.bits == 16) {
     t = Texture::Create3DWithData(GL_RGBA16, s.dims, GL_RGBA, GL_UNSIGNED_SHORT, s.unorm.data());
@@ -203,7 +206,7 @@ void VolumePassOptions::Check() const {
 
 std::vector<std::string> VolumePassOptions::Defines(int map_count) const {
   std::vector<std::string> d = {fmt::format("VOLUME_MAPS {}", map_count)};
-  if (displacement_bits == 32) d.push_back("VOLUME_MAPS_FLOAT");
+  if (displacement_bits == 32 || float_map_textures) d.push_back("VOLUME_MAPS_FLOAT");
   switch (lighting) {
     case VolumeLighting::kNone:
       d.push_back("VOLUME_LIGHT_NONE");
@@ -320,8 +323,9 @@ void VolumePass::SetOptions(const VolumePassOptions& options) {
                           VolumeJacobianName(options.jacobian), TextureUnitsNeeded(options),
                           max_texture_units_);
   }
-  const bool restore =
-      stored_.size() != maps_.size() || options.displacement_bits != options_.displacement_bits;
+  const bool restore = stored_.size() != maps_.size() ||
+                       options.displacement_bits != options_.displacement_bits ||
+                       options.float_map_textures != options_.float_map_textures;
   options_ = options;
   if (restore) {
     stored_.clear();
@@ -331,7 +335,7 @@ void VolumePass::SetOptions(const VolumePassOptions& options) {
     for (const auto& m : maps_) {
       stored_.push_back(core::StoreDisplacementMap(m.map, options_.displacement_bits));
       active_.push_back(core::ActiveBox(stored_.back()));
-      map_textures_.push_back(UploadMap(stored_.back()));
+      map_textures_.push_back(UploadMap(stored_.back(), options_.float_map_textures));
     }
     support_ = SupportBox(maps_, active_, proxy_box_);
   }

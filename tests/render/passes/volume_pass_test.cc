@@ -247,6 +247,15 @@ TEST_F(GlTest, VolumeDvrAgreesWithTheDoubleReference) {
     cases.push_back({"neghip plain", s});
     s.maps.push_back(PlacedEffect(core::Effect::kPeel, {32, 32, 32}));
     cases.push_back({"neghip peel 16-bit", s});
+    // The RGBA16 texture (scale and bias in the shader) instead of the
+    // dequantised RGBA32F one: the same values, so the same bounds. (An
+    // RGBA8 texture is not: llvmpipe filters it with 8-bit weights, 75/255
+    // off at the peel's cut, which the RGBA32F upload of 8-bit maps avoids.)
+    s.options.float_map_textures = false;
+    cases.push_back({"neghip peel 16-bit RGBA16 texture", s});
+    s.options.float_map_textures = true;
+    s.options.displacement_bits = 8;
+    cases.push_back({"neghip peel 8-bit", s});
     s.options.displacement_bits = 32;
     s.maps.push_back(
         PlacedEffect(core::Effect::kWave, {32, 8, 8},
