@@ -246,8 +246,8 @@ Table RunVolumeBench(const VolumeBenchOptions& o) {
         render::VolumeJacobian jacobian;
         bool per_slice;
         bool support_skip = true;
-        int bits = 16;            // the map's storage
-        bool float_maps = true;   // its texture: dequantised RGBA32F, or UNORM
+        int bits = 16;           // the map's storage
+        bool float_maps = true;  // its texture: dequantised RGBA32F, or UNORM
       };
       using L = render::VolumeLighting;
       using J = render::VolumeJacobian;

@@ -76,11 +76,12 @@ struct VolumePassOptions {
   // How the maps are stored on the GPU: 8 or 16 bits (scale and bias, sec. 4
   // and 8) or 32-bit float.
   int displacement_bits = 16;
-  // 8/16-bit maps go to the GPU dequantised as RGBA32F (the same values: what
-  // an RGBA8/RGBA16 texture returns, scaled and biased once on the CPU) at
-  // twice or four times the texture memory: llvmpipe filters RGBA32F faster
-  // than RGBA16 or RGBA8 UNORM (ibr bench volume, profile rows). Off: the
-  // UNORM texture with scale and bias in the shader.
+  // 8/16-bit maps go to the GPU dequantised as RGBA32F (the stored values,
+  // scaled and biased once on the CPU) at two or four times the texture
+  // memory: llvmpipe filters RGBA8 with 8-bit weights (75/255 off the double
+  // reference at the peel's cut, tests/render/passes/volume_pass_test), and
+  // RGBA16 filters no faster than RGBA32F (ibr bench volume, the RGBA16
+  // rows). Off: the UNORM texture with scale and bias in the shader.
   bool float_map_textures = true;
   VolumeLighting lighting = VolumeLighting::kBlended;
   // Precomputed by default: the cheaper per sample (ibr bench volume).
