@@ -55,6 +55,11 @@ Measured TimeVolume(render::ProgramCache& programs, const ibr::VolumeObjectData&
              .median_ms;
   m.area_px = pass.last_stats().proxy_area_px;
   m.slices = pass.last_stats().slices;
+  if (!scene.maps.empty()) {
+    spdlog::info("bench volume: displaced shader on {:.1f}% of the slice area, {} draw calls",
+                 100 * pass.last_stats().displaced_area_px / std::max(m.area_px, 1.0),
+                 pass.last_stats().draw_calls);
+  }
   // The same pass, after timing, into a float target: no second build or upload.
   if (float_image) m.color = DrawVolumeFloat(pass, BenchView(scene, size), size);
   for (const core::Box3& b : pass.active_boxes()) {
@@ -210,9 +215,23 @@ Table RunVolumeBench(const VolumeBenchOptions& o) {
     add("volume", e.name, "plain DVR (shaded)", 1.0, 0, size, p, p.ms, &peer, std::nan(""));
     const Measured d = TimeVolume(programs, peeled, displaced, size, timer);
     add("volume", e.name, "peel 64^3 (eq. 6+7)", 1.0, 64, size, d, p.ms, nullptr, std::nan(""));
+    // The baseline of the support skip (VolumePassOptions::support_skip):
+    // every slice fragment runs the displaced shader.
+    render::VolumePassOptions unsplit = displaced;
+    unsplit.support_skip = false;
+    const Measured w = TimeVolume(programs, peeled, unsplit, size, timer);
+    // (its own sweep: the paper table reads every "volume" row as the peel).
+    add("unsplit", e.name, "peel 64^3 (eq. 6+7) unsplit", 1.0, 64, size, w, p.ms, nullptr,
+        std::nan(""));
+    // Before both: unsplit, the 16-bit map as an RGBA16 texture.
+    unsplit.float_map_textures = false;
+    const Measured b = TimeVolume(programs, peeled, unsplit, size, timer);
+    add("unsplit", e.name, "peel 64^3 (eq. 6+7) unsplit RGBA16 map", 1.0, 64, size, b, p.ms,
+        nullptr, std::nan(""));
     summary.push_back(fmt::format(
-        "{:<13} plain {:7.1f} ms  peel {:7.1f} ms  peel/plain {:5.2f}x  VTK {}  plain/VTK {}",
-        e.name, p.ms, d.ms, d.ms / p.ms,
+        "{:<13} plain {:7.1f} ms  peel {:7.1f} ms  peel/plain {:5.2f}x (unsplit {:5.2f}x, unsplit "
+        "RGBA16 map {:5.2f}x)  VTK {}  plain/VTK {}",
+        e.name, p.ms, d.ms, d.ms / p.ms, w.ms / p.ms, b.ms / p.ms,
         peer.ok ? fmt::format("{:7.1f} ms", peer.median_ms) : "  n/a",
         peer.ok ? fmt::format("{:5.2f}x", p.ms / peer.median_ms) : "n/a"));
     if (e.name == "tooth") {
@@ -226,6 +245,9 @@ Table RunVolumeBench(const VolumeBenchOptions& o) {
         render::VolumeLighting lighting;
         render::VolumeJacobian jacobian;
         bool per_slice;
+        bool support_skip = true;
+        int bits = 16;           // the map's storage
+        bool float_maps = true;  // its texture: dequantised RGBA32F, or UNORM
       };
       using L = render::VolumeLighting;
       using J = render::VolumeJacobian;
@@ -233,13 +255,24 @@ Table RunVolumeBench(const VolumeBenchOptions& o) {
                {"plain unshaded", false, L::kNone, J::kPrecomputed, false},
                {"plain one draw per slice", false, L::kGradient, J::kPrecomputed, true},
                {"peel unshaded", true, L::kNone, J::kPrecomputed, false},
+               {"peel unshaded unsplit", true, L::kNone, J::kPrecomputed, false, false},
+               {"peel unshaded unsplit RGBA16 map", true, L::kNone, J::kPrecomputed, false, false,
+                16, false},
+               {"peel unshaded unsplit RGBA8 map", true, L::kNone, J::kPrecomputed, false, false, 8,
+                false},
                {"peel gradient only", true, L::kGradient, J::kPrecomputed, false},
+               {"peel gradient only unsplit", true, L::kGradient, J::kPrecomputed, false, false},
                {"peel eq. 6", true, L::kTransformed, J::kPrecomputed, false},
+               {"peel eq. 6 unsplit", true, L::kTransformed, J::kPrecomputed, false, false},
+               {"peel eq. 6+7 one draw per part", true, L::kBlended, J::kPrecomputed, true},
                {"peel eq. 6+7 J_D differences", true, L::kBlended, J::kFiniteDifferences, false}}) {
         render::VolumePassOptions po = plain;
         po.lighting = pr.lighting;
         po.jacobian = pr.jacobian;
         po.draw_per_slice = pr.per_slice;
+        po.support_skip = pr.support_skip;
+        po.displacement_bits = pr.bits;
+        po.float_map_textures = pr.float_maps;
         add("profile", e.name, pr.variant, 1.0, pr.displaced ? 64 : 0, size,
             TimeVolume(programs, pr.displaced ? peeled : bare, po, size, timer), p.ms, nullptr,
             std::nan(""));

@@ -97,6 +97,9 @@ void AddVolumeCommand(CLI::App& app) {
                   "preset (tooth, neghip, bucky, ramp, empty) or JSON file");
   cmd->add_option("--displacement-bits", r.pass.displacement_bits, "8 | 16 | 32")
       ->capture_default_str();
+  cmd->add_flag("!--no-support-skip", r.pass.support_skip,
+                "DVR: every slice fragment runs the displaced shader (no split of the slices "
+                "at the maps' support box; same image, the baseline of ibr bench volume)");
   cmd->add_option("--size", r.size, "image width = height, pixels (orbit view)")
       ->capture_default_str();
   cmd->add_option("--azimuth", r.azimuth_deg, "degrees around +z")->capture_default_str();

@@ -85,6 +85,13 @@ void SliceBuffer::DrawSlice(int i) const {
   glDrawArrays(GL_TRIANGLES, r.first, r.count);
 }
 
+void SliceBuffer::DrawSlices(int first, int count) const {
+  if (count <= 0) return;
+  const Range& a = ranges_.at(static_cast<size_t>(first));
+  const Range& b = ranges_.at(static_cast<size_t>(first + count - 1));
+  glDrawArrays(GL_TRIANGLES, a.first, b.first + b.count - a.first);
+}
+
 void SliceBuffer::DrawAllBatched() const {
   if (vertex_count_ == 0) return;
   Bind();

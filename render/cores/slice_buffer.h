@@ -32,6 +32,9 @@ class SliceBuffer {
   void Unbind() const;
   // Draws slice i (Bind() first).
   void DrawSlice(int i) const;
+  // Draws slices first .. first + count - 1 (consecutive in the buffer) in one
+  // call (Bind() first).
+  void DrawSlices(int first, int count) const;
   // Binds, draws every slice in order, unbinds.
   void DrawAll() const;
   // Same pixels as DrawAll() (slices are consecutive in the buffer, in

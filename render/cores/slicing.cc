@@ -157,6 +157,72 @@ std::vector<glm::vec3> ClipPolygonToHalfSpace(const std::vector<glm::vec3>& poly
   return out;
 }
 
+PolygonBoxSplit SplitPolygonByBox(const std::vector<glm::vec3>& polygon, const glm::vec3& lo,
+                                  const glm::vec3& hi) {
+  constexpr float kOnPlane = 1e-6f;
+  PolygonBoxSplit split;
+  std::vector<glm::vec3> rest = polygon;  // what is still inside every plane so far
+  for (int plane = 0; plane < 6 && !rest.empty(); ++plane) {
+    const int axis = plane / 2;
+    const bool upper = (plane % 2) == 1;
+    const float value = upper ? hi[axis] : lo[axis];
+    // s > 0: outside this plane.
+    std::vector<float> s(rest.size());
+    bool any_out = false, any_in = false;
+    for (size_t i = 0; i < rest.size(); ++i) {
+      s[i] = upper ? rest[i][axis] - value : value - rest[i][axis];
+      if (std::abs(s[i]) <= kOnPlane) s[i] = 0;
+      any_out = any_out || s[i] > 0;
+      any_in = any_in || s[i] < 0;
+    }
+    if (!any_out) continue;  // wholly inside (or on) this plane
+    if (!any_in) {
+      split.outside.push_back(std::move(rest));
+      rest.clear();
+      break;
+    }
+    std::vector<glm::vec3> in, out;
+    const size_t n = rest.size();
+    for (size_t i = 0; i < n; ++i) {
+      const glm::vec3 a = rest[i], b = rest[(i + 1) % n];
+      const float sa = s[i], sb = s[(i + 1) % n];
+      if (sa <= 0) in.push_back(a);
+      if (sa >= 0) out.push_back(a);
+      if ((sa < 0 && sb > 0) || (sa > 0 && sb < 0)) {
+        glm::vec3 v = a + (b - a) * (sa / (sa - sb));
+        v[axis] = value;  // exactly on the plane
+        in.push_back(v);
+        out.push_back(v);
+        // An earlier outside part sharing the edge a-b gets v too.
+        for (auto& part : split.outside) {
+          for (size_t j = 0; j < part.size(); ++j) {
+            const glm::vec3& p = part[j];
+            const glm::vec3& q = part[(j + 1) % part.size()];
+            if ((p == a && q == b) || (p == b && q == a)) {
+              part.insert(part.begin() + static_cast<std::ptrdiff_t>(j + 1), v);
+              break;
+            }
+          }
+        }
+      }
+    }
+    split.outside.push_back(std::move(out));
+    rest = std::move(in);
+  }
+  split.inside = std::move(rest);
+  return split;
+}
+
+std::vector<glm::vec3> CentroidFan(const std::vector<glm::vec3>& polygon) {
+  glm::vec3 mean(0.0f);
+  for (const glm::vec3& v : polygon) mean += v;
+  mean /= static_cast<float>(polygon.size());
+  std::vector<glm::vec3> fan = {mean};
+  fan.insert(fan.end(), polygon.begin(), polygon.end());
+  fan.push_back(polygon.front());
+  return fan;
+}
+
 float PolygonArea(const std::vector<glm::vec3>& polygon) {
   glm::vec3 twice_area(0);
   for (size_t i = 1; i + 1 < polygon.size(); ++i) {

@@ -92,6 +92,28 @@ std::vector<glm::vec3> ClipPlaneToUnitBox(glm::vec3 n, float d);
 std::vector<glm::vec3> ClipPolygonToHalfSpace(const std::vector<glm::vec3>& polygon, glm::vec3 n,
                                               float d);
 
+// A convex polygon split by an axis-aligned box [lo, hi] (box coordinates)
+// into the part inside and at most six convex parts outside: cut by the box's
+// six planes in turn (a point on a plane counts as inside). The parts share
+// their cut vertices bit for bit, and a cut ending on an earlier part's edge
+// puts its vertex into that part too, so the parts meet without T-junctions:
+// rasterised, every pixel centre of the polygon is covered by exactly one
+// part (GL's rules are watertight only across edges with identical end
+// points). Outside parts can hold such extra vertices on their edges; draw
+// them as CentroidFan. Vertices within 1e-6 of a plane count as on it (no
+// sliver parts).
+struct PolygonBoxSplit {
+  std::vector<glm::vec3> inside;  // convex; empty when the polygon misses the box
+  std::vector<std::vector<glm::vec3>> outside;
+};
+PolygonBoxSplit SplitPolygonByBox(const std::vector<glm::vec3>& polygon, const glm::vec3& lo,
+                                  const glm::vec3& hi);
+// The polygon as a fan around its vertex mean: {mean, v0, v1, ..., v_{n-1},
+// v0}. Fanned from its first vertex (SliceBuffer) it covers a convex polygon
+// also when some vertices lie on the edge between their neighbours, where a
+// fan from v0 would give zero-area triangles of either orientation.
+std::vector<glm::vec3> CentroidFan(const std::vector<glm::vec3>& polygon);
+
 // Area of a planar polygon (any orientation), in the units of its vertices.
 float PolygonArea(const std::vector<glm::vec3>& polygon);
 

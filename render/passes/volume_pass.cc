@@ -48,9 +48,12 @@ Texture UploadGradient(const core::Volume& v) {
   return t;
 }
 
-Texture UploadMap(const core::StoredDisplacementMap& s) {
+Texture UploadMap(const core::StoredDisplacementMap& s, bool as_float) {
   Texture t;
-  if (s.bits == 32) {
+  if (as_float && s.bits != 32) {
+    const core::DisplacementMap d = core::DequantizeDisplacementMap(s);
+    t = Texture::Create3DWithData(GL_RGBA32F, s.dims, GL_RGBA, GL_FLOAT, d.texels.data());
+  } else if (s.bits == 32) {
     t = Texture::Create3DWithData(GL_RGBA32F, s.dims, GL_RGBA, GL_FLOAT, s.floats.data());
   } else if (s.bits == 16) {
     t = Texture::Create3DWithData(GL_RGBA16, s.dims, GL_RGBA, GL_UNSIGNED_SHORT, s.unorm.data());
@@ -123,6 +126,25 @@ constexpr int kFirstDerivativeUnit = kFirstMapUnit + kMaxVolumeMaps;
 
 constexpr int kTransferSize = 256;
 
+// VolumePass::support_box: every map's active box (map space) through its
+// placement M (volume texture space) into proxy-box coordinates, bounded.
+core::Box3 SupportBox(const std::vector<VolumeMapInput>& maps,
+                      const std::vector<core::Box3>& active, const core::Box3& proxy_box) {
+  core::Box3 support{glm::dvec3(1e300), glm::dvec3(-1e300)};
+  for (size_t i = 0; i < maps.size(); ++i) {
+    const core::Box3& b = active[i];
+    if (b.lo.x > b.hi.x || b.lo.y > b.hi.y || b.lo.z > b.hi.z) continue;  // never read
+    for (int c = 0; c < 8; ++c) {
+      const glm::dvec3 u(c & 1 ? b.hi.x : b.lo.x, c & 2 ? b.hi.y : b.lo.y, c & 4 ? b.hi.z : b.lo.z);
+      const glm::dvec3 tex(maps[i].placement * glm::dvec4(u, 1.0));
+      const glm::dvec3 in_proxy = (tex - proxy_box.lo) / (proxy_box.hi - proxy_box.lo);
+      support.lo = glm::min(support.lo, in_proxy);
+      support.hi = glm::max(support.hi, in_proxy);
+    }
+  }
+  return support;
+}
+
 }  // namespace
 
 VolumeLighting VolumeLightingFromName(std::string_view name) {
@@ -184,7 +206,7 @@ void VolumePassOptions::Check() const {
 
 std::vector<std::string> VolumePassOptions::Defines(int map_count) const {
   std::vector<std::string> d = {fmt::format("VOLUME_MAPS {}", map_count)};
-  if (displacement_bits == 32) d.push_back("VOLUME_MAPS_FLOAT");
+  if (displacement_bits == 32 || float_map_textures) d.push_back("VOLUME_MAPS_FLOAT");
   switch (lighting) {
     case VolumeLighting::kNone:
       d.push_back("VOLUME_LIGHT_NONE");
@@ -301,8 +323,9 @@ void VolumePass::SetOptions(const VolumePassOptions& options) {
                           VolumeJacobianName(options.jacobian), TextureUnitsNeeded(options),
                           max_texture_units_);
   }
-  const bool restore =
-      stored_.size() != maps_.size() || options.displacement_bits != options_.displacement_bits;
+  const bool restore = stored_.size() != maps_.size() ||
+                       options.displacement_bits != options_.displacement_bits ||
+                       options.float_map_textures != options_.float_map_textures;
   options_ = options;
   if (restore) {
     stored_.clear();
@@ -312,8 +335,9 @@ void VolumePass::SetOptions(const VolumePassOptions& options) {
     for (const auto& m : maps_) {
       stored_.push_back(core::StoreDisplacementMap(m.map, options_.displacement_bits));
       active_.push_back(core::ActiveBox(stored_.back()));
-      map_textures_.push_back(UploadMap(stored_.back()));
+      map_textures_.push_back(UploadMap(stored_.back(), options_.float_map_textures));
     }
+    support_ = SupportBox(maps_, active_, proxy_box_);
   }
   // The derivative textures only when these options read them, built the
   // first time they do (and again after the maps were re-stored).
@@ -394,40 +418,104 @@ SlicingOptions VolumePass::DvrSlicing(const ViewSetup& view) const {
   return slicing;
 }
 
+namespace {
+
+// Projected area (pixels) of a polygon in box coordinates.
+double ProjectedArea(const std::vector<glm::vec3>& polygon, const glm::mat4& clip_from_box,
+                     int width, int height) {
+  std::vector<glm::dvec2> px;
+  for (const glm::vec3& v : polygon) {
+    const glm::vec4 c = clip_from_box * glm::vec4(v, 1.0f);
+    px.push_back({(c.x / c.w * 0.5 + 0.5) * width, (c.y / c.w * 0.5 + 0.5) * height});
+  }
+  double twice_area = 0;
+  for (size_t i = 0; i < px.size(); ++i) {
+    const glm::dvec2& a = px[i];
+    const glm::dvec2& b = px[(i + 1) % px.size()];
+    twice_area += a.x * b.y - b.x * a.y;
+  }
+  return 0.5 * std::abs(twice_area);
+}
+
+// Consecutive slice parts drawn by one program.
+struct PartRun {
+  bool displaced;
+  int first, count;
+};
+
+}  // namespace
+
 void VolumePass::DrawDvr(const RenderTarget& target, const ViewSetup& view) {
   const SliceStack stack =
       MakeSlices(SliceBox{world_from_proxy()}, SliceView{view.cam_from_world, view.orthographic},
                  DvrSlicing(view));
-  slices_.Upload(stack);
   stats_ = {};
   stats_.slices = static_cast<int>(stack.slices.size());
   stats_.slice_spacing_world = stack.spacing_world;
   // Rasterised area of the slices (pixels): the fragments the slices cost.
   const glm::mat4 clip_from_box = view.clip_from_cam * view.cam_from_world * world_from_proxy();
   for (const Slice& slice : stack.slices) {
-    std::vector<glm::dvec2> px;
-    for (const glm::vec3& v : slice.p_in_box) {
-      const glm::vec4 c = clip_from_box * glm::vec4(v, 1.0f);
-      px.push_back(
-          {(c.x / c.w * 0.5 + 0.5) * target.width(), (c.y / c.w * 0.5 + 0.5) * target.height()});
-    }
-    double twice_area = 0;
-    for (size_t i = 0; i < px.size(); ++i) {
-      const glm::dvec2& a = px[i];
-      const glm::dvec2& b = px[(i + 1) % px.size()];
-      twice_area += a.x * b.y - b.x * a.y;
-    }
-    stats_.proxy_area_px += 0.5 * std::abs(twice_area);
+    stats_.proxy_area_px +=
+        ProjectedArea(slice.p_in_box, clip_from_box, target.width(), target.height());
   }
 
+  // The slices split by the support box (support_skip), or whole and all
+  // displaced. Within a slice the parts are disjoint, so their order is free:
+  // the part drawn last in one slice comes first in the next, which halves
+  // the program changes.
+  std::vector<PartRun> runs;
+  const bool split = options_.support_skip && !maps_.empty();
+  if (split) {
+    SliceStack parts;
+    const glm::vec3 lo(support_.lo), hi(support_.hi);
+    const bool any_support = support_.lo.x <= support_.hi.x;
+    auto add = [&](bool displaced, std::vector<glm::vec3> polygon, float offset) {
+      if (runs.empty() || runs.back().displaced != displaced) {
+        runs.push_back({displaced, static_cast<int>(parts.slices.size()), 0});
+      }
+      ++runs.back().count;
+      parts.slices.push_back(Slice{std::move(polygon), offset});
+    };
+    for (const Slice& slice : stack.slices) {
+      PolygonBoxSplit pieces;
+      if (any_support) {
+        pieces = SplitPolygonByBox(slice.p_in_box, lo, hi);
+      } else {
+        pieces.outside.push_back(slice.p_in_box);
+      }
+      const bool whole = pieces.inside.empty() && pieces.outside.size() == 1;
+      const bool inside_first = !runs.empty() && runs.back().displaced;
+      if (inside_first && !pieces.inside.empty()) add(true, pieces.inside, slice.offset_in_box);
+      for (auto& part : pieces.outside) {
+        add(false, whole ? std::move(part) : CentroidFan(part), slice.offset_in_box);
+      }
+      if (!inside_first && !pieces.inside.empty()) add(true, pieces.inside, slice.offset_in_box);
+      if (!pieces.inside.empty()) {
+        stats_.displaced_area_px +=
+            ProjectedArea(pieces.inside, clip_from_box, target.width(), target.height());
+      }
+    }
+    slices_.Upload(parts);
+  } else {
+    slices_.Upload(stack);
+    runs.push_back({true, 0, static_cast<int>(stack.slices.size())});
+    stats_.displaced_area_px = maps_.empty() ? 0 : stats_.proxy_area_px;
+  }
+
+  // The displaced program and, when slices are split, the one without maps
+  // (the same options otherwise: VOLUME_MAPS 0 is the identity displacement).
   ProgramDesc desc{.vertex = "cores/slice.vert.glsl", .fragment = "passes/volume_dvr.frag.glsl"};
   desc.defines = options_.Defines(static_cast<int>(maps_.size()));
-  const Program& program = programs_->Get(desc);
+  const Program& displaced_program = programs_->Get(desc);
+  desc.defines = options_.Defines(0);
+  const Program* plain_program = split ? &programs_->Get(desc) : nullptr;
   target.Bind();
-  program.Use();
-  SetCommonUniforms(program, view);
-  program.Set("u_transfer_size", static_cast<float>(kTransferSize));
-  program.Set("u_opacity_exponent", static_cast<float>(stack.spacing_world / voxel_world_));
+  for (const Program* program : {&displaced_program, plain_program}) {
+    if (!program) continue;
+    SetCommonUniforms(*program, view);
+    program->Set("u_transfer_size", static_cast<float>(kTransferSize));
+    program->Set("u_opacity_exponent", static_cast<float>(stack.spacing_world / voxel_world_));
+  }
 
   // Translucent slices: depth-tested against what is in the frame, no depth
   // writes, premultiplied back-to-front blending into the colour attachment
@@ -439,14 +527,22 @@ void VolumePass::DrawDvr(const RenderTarget& target, const ViewSetup& view) {
   const ScopedGlState scoped(state);
   for (GLuint i : {kFrameCameraZ, kFrameNormal})
     glColorMaski(i, GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);
-  // One draw for the whole stack: GL blends a draw's primitives in the
-  // order they are given, so back to front holds; per-slice draws cost
-  // llvmpipe a fixed setup each (ibr bench volume, profile rows).
-  if (options_.draw_per_slice) {
-    slices_.DrawAll();
-  } else {
-    slices_.DrawAllBatched();
+  // One draw per run of parts (the whole stack when nothing is split): GL
+  // blends a draw's primitives in the order they are given, so back to front
+  // holds; per-slice draws cost llvmpipe a fixed setup each (ibr bench
+  // volume, profile rows).
+  slices_.Bind();
+  for (const PartRun& run : runs) {
+    (run.displaced ? displaced_program : *plain_program).Use();
+    if (options_.draw_per_slice) {
+      for (int i = run.first; i < run.first + run.count; ++i) slices_.DrawSlice(i);
+      stats_.draw_calls += run.count;
+    } else {
+      slices_.DrawSlices(run.first, run.count);
+      ++stats_.draw_calls;
+    }
   }
+  slices_.Unbind();
   for (GLuint i : {kFrameCameraZ, kFrameNormal})
     glColorMaski(i, GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
 }

@@ -76,6 +76,13 @@ struct VolumePassOptions {
   // How the maps are stored on the GPU: 8 or 16 bits (scale and bias, sec. 4
   // and 8) or 32-bit float.
   int displacement_bits = 16;
+  // 8/16-bit maps go to the GPU dequantised as RGBA32F (the stored values,
+  // scaled and biased once on the CPU) at two or four times the texture
+  // memory: llvmpipe filters RGBA8 with 8-bit weights (75/255 off the double
+  // reference at the peel's cut, tests/render/passes/volume_pass_test), and
+  // RGBA16 filters no faster than RGBA32F (ibr bench volume, the RGBA16
+  // rows). Off: the UNORM texture with scale and bias in the shader.
+  bool float_map_textures = true;
   VolumeLighting lighting = VolumeLighting::kBlended;
   // Precomputed by default: the cheaper per sample (ibr bench volume).
   VolumeJacobian jacobian = VolumeJacobian::kPrecomputed;
@@ -83,6 +90,15 @@ struct VolumePassOptions {
   // same pixels, GL keeps primitive order for blending). For the bench's
   // profile of the per-draw overhead only.
   bool draw_per_slice = false;
+  // DVR with maps: each slice is split on the CPU by the maps' support box
+  // (VolumePass::support_box: outside it every map is the identity) into the
+  // part inside, drawn by the displaced shader, and up to six parts outside,
+  // drawn by the shader without maps (same transfer function, opacity
+  // correction and lighting; the parts of a slice are disjoint and drawn
+  // before the next slice, so the blending is unchanged). Off: every slice
+  // fragment runs the displaced shader, which skips the fetches outside each
+  // map's active box by a branch (the baseline of ibr bench volume).
+  bool support_skip = true;
   // Direction TOWARDS the light, world frame (normalised on use). Default:
   // from above (+z), as in Fig. 4.
   glm::vec3 light_dir_world{0.0f, 0.0f, 1.0f};
@@ -120,6 +136,10 @@ struct VolumeDrawStats {
   int slices = 0;
   double slice_spacing_world = 0;
   double proxy_area_px = 0;  // sum of the slices' projected areas, pixels (fill estimate)
+  // The part of proxy_area_px drawn by the displaced shader (all of it
+  // without support_skip).
+  double displaced_area_px = 0;
+  int draw_calls = 0;
 };
 
 class VolumePass : public Pass {
@@ -152,6 +172,12 @@ class VolumePass : public Pass {
   const VolumeDrawStats& last_stats() const { return stats_; }
   // core::ActiveBox of each map (map space): where its fetch is not skipped.
   const std::vector<core::Box3>& active_boxes() const { return active_; }
+  // Where the displaced shader differs from the one without maps, proxy-box
+  // coordinates: the bounding box of every map's active box placed in the
+  // volume (eq. 10); outside every one of them each map is the identity (the
+  // last map acts first, eq. 9, and leaves p' unmoved). Empty (lo > hi) when
+  // no map moves anything.
+  const core::Box3& support_box() const { return support_; }
   // World length of one voxel of the smallest-spacing axis.
   double voxel_world() const { return voxel_world_; }
   glm::mat4 world_from_proxy() const;
@@ -178,6 +204,7 @@ class VolumePass : public Pass {
   std::vector<VolumeMapInput> maps_;
   std::vector<core::StoredDisplacementMap> stored_;
   std::vector<core::Box3> active_;  // core::ActiveBox of each stored map
+  core::Box3 support_;              // support_box()
   core::Box3 proxy_box_;
   double voxel_world_ = 1;
   Texture volume_texture_;

@@ -84,8 +84,8 @@ TEST_F(VolumeBenchTest, QuickRunWritesEveryConfigurationAndThePlots) {
       EXPECT_TRUE(f[13].empty()) << line;
     }
   }
-  EXPECT_EQ(sweeps,
-            (std::set<std::string>{"volume", "profile", "finest", "sampling", "map_size", "area"}));
+  EXPECT_EQ(sweeps, (std::set<std::string>{"volume", "unsplit", "profile", "finest", "sampling",
+                                           "map_size", "area"}));
   // Sampling 4x farther apart than the finest's step costs accuracy; half a
   // voxel apart is nearer the finest (0.25 voxel) than two voxels.
   ASSERT_EQ(sampling_error.size(), 2u);

@@ -391,5 +391,146 @@ TEST(Slicing, FullSizeScreenSlicesContainTheExactOnes) {
   }
 }
 
+// ---- a slice split by a box (the volume pass's support box) ----
+
+// Whether q lies in the convex polygon (any orientation, plane normal n),
+// more than `margin` inside every edge.
+bool InsideConvex(const std::vector<glm::vec3>& poly, const glm::vec3& n, const glm::vec3& q,
+                  float margin) {
+  int sign = 0;
+  for (size_t i = 0; i < poly.size(); ++i) {
+    const glm::vec3 a = poly[i], b = poly[(i + 1) % poly.size()];
+    if (glm::length(b - a) < 1e-9f) continue;
+    const float side = glm::dot(glm::cross(b - a, q - a), n) / glm::length(b - a);
+    if (std::abs(side) <= margin) return false;
+    const int s = side > 0 ? 1 : -1;
+    if (sign != 0 && s != sign) return false;
+    sign = s;
+  }
+  return true;
+}
+
+float DistanceToSegment(const glm::vec3& p, const glm::vec3& a, const glm::vec3& b, float* t) {
+  const glm::vec3 ab = b - a;
+  *t = std::clamp(glm::dot(p - a, ab) / glm::dot(ab, ab), 0.0f, 1.0f);
+  return glm::length(p - (a + *t * ab));
+}
+
+TEST(Slicing, PolygonSplitByABoxTilesThePolygonWithoutTJunctions) {
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<float> u(0, 1), w(-0.3f, 1.3f), dir(-1, 1);
+  int split_cases = 0, inside_cases = 0, snapped_cases = 0;
+  for (int trial = 0; trial < 400; ++trial) {
+    // A plane through the unit box (every 5th parallel to a box face, as a
+    // screen slice of an axis-aligned view).
+    glm::vec3 n = glm::normalize(glm::vec3(dir(rng), dir(rng), dir(rng)) + glm::vec3(1e-3f));
+    if (trial % 5 == 0) n = glm::vec3(0, 0, 0), n[trial % 3] = 1;
+    const glm::vec3 c(u(rng), u(rng), u(rng));
+    const std::vector<glm::vec3> polygon = ClipPlaneToUnitBox(n, glm::dot(n, c));
+    if (polygon.size() < 3) continue;
+    glm::vec3 lo(w(rng), w(rng), w(rng)), hi(w(rng), w(rng), w(rng));
+    for (int a = 0; a < 3; ++a) {
+      if (lo[a] > hi[a]) std::swap(lo[a], hi[a]);
+    }
+    if (trial % 7 == 0) {  // a box face through a polygon vertex
+      lo.x = polygon[0].x;
+      ++snapped_cases;
+    }
+    if (trial % 11 == 0 && trial % 5 == 0) lo.z = hi.z = polygon[0].z;  // a face on the plane
+    const PolygonBoxSplit split = SplitPolygonByBox(polygon, lo, hi);
+    std::vector<std::vector<glm::vec3>> parts = split.outside;
+    if (!split.inside.empty()) parts.push_back(split.inside), ++inside_cases;
+    split_cases += parts.size() > 1;
+    ASSERT_LE(split.outside.size(), 6u);
+    // 1. The parts' areas add up to the polygon's; the inside part's is the
+    //    clip of the polygon by the box's six half-spaces.
+    const float area = PolygonArea(polygon);
+    float sum = 0;
+    for (const auto& part : parts) sum += PolygonArea(part);
+    EXPECT_NEAR(sum, area, 1e-4f * area + 1e-6f) << trial;
+    std::vector<glm::vec3> clipped = polygon;
+    for (int a = 0; a < 3 && !clipped.empty(); ++a) {
+      glm::vec3 e(0.0f);
+      e[a] = 1;
+      clipped = ClipPolygonToHalfSpace(clipped, -e, -lo[a]);
+      if (!clipped.empty()) clipped = ClipPolygonToHalfSpace(clipped, e, hi[a]);
+    }
+    const float inside_area = split.inside.empty() ? 0 : PolygonArea(split.inside);
+    const float clipped_area = clipped.empty() ? 0 : PolygonArea(clipped);
+    EXPECT_NEAR(inside_area, clipped_area, 1e-4f * area + 2e-6f) << trial;
+    // 2. Every vertex lies on the plane; the inside part in the box.
+    for (const auto& part : parts) {
+      EXPECT_GE(part.size(), 3u);
+      for (const glm::vec3& v : part) EXPECT_NEAR(glm::dot(n, v), glm::dot(n, c), 1e-5f);
+    }
+    for (const glm::vec3& v : split.inside) {
+      EXPECT_TRUE(glm::all(glm::greaterThanEqual(v, lo - 2e-6f)) &&
+                  glm::all(glm::lessThanEqual(v, hi + 2e-6f)))
+          << trial;
+    }
+    // 3. No T-junction: no vertex of one part lies inside an edge of another
+    //    (it must be that edge's end point, bit for bit, or away from it).
+    for (size_t i = 0; i < parts.size(); ++i)
+      for (size_t j = 0; j < parts.size(); ++j) {
+        if (i == j) continue;
+        for (size_t k = 0; k < parts[i].size(); ++k) {
+          const glm::vec3 a = parts[i][k], b = parts[i][(k + 1) % parts[i].size()];
+          for (const glm::vec3& v : parts[j]) {
+            if (v == a || v == b) continue;
+            float t = 0;
+            const float d = DistanceToSegment(v, a, b, &t);
+            EXPECT_FALSE(d < 1e-5f && t > 0 && t < 1) << "trial " << trial << ": a vertex of part "
+                                                      << j << " inside an edge of part " << i;
+          }
+        }
+      }
+    // 4. Random points of the polygon away from every edge lie in exactly one
+    //    part, the inside one iff in the box.
+    for (int q = 0; q < 50; ++q) {
+      glm::vec3 p(0.0f);
+      float total = 0;
+      for (const glm::vec3& v : polygon) {
+        const float weight = u(rng);
+        p += weight * v;
+        total += weight;
+      }
+      p /= total;
+      int in_parts = 0, margin_hits = 0;
+      for (const auto& part : parts) {
+        in_parts += InsideConvex(part, n, p, 1e-4f);
+        margin_hits += InsideConvex(part, n, p, -1e-4f) && !InsideConvex(part, n, p, 1e-4f);
+      }
+      if (margin_hits > 0) continue;  // on an edge: a tie
+      EXPECT_EQ(in_parts, 1) << trial;
+      if (!split.inside.empty() && InsideConvex(split.inside, n, p, 1e-4f)) {
+        EXPECT_TRUE(glm::all(glm::greaterThanEqual(p, lo - 1e-5f)) &&
+                    glm::all(glm::lessThanEqual(p, hi + 1e-5f)));
+      }
+    }
+  }
+  EXPECT_GT(split_cases, 100);
+  EXPECT_GT(inside_cases, 50);
+  EXPECT_GT(snapped_cases, 20);
+}
+
+TEST(Slicing, CentroidFanCoversAPolygonWithCollinearVertices) {
+  // A square with a vertex in the middle of each edge, one of them 1e-7
+  // outside, one 1e-7 inside: a fan from its first vertex would hold
+  // zero-area triangles of either orientation.
+  const std::vector<glm::vec3> square = {{0, 0, 0}, {0.5f, -1e-7f, 0},    {1, 0, 0}, {1, 0.5f, 0},
+                                         {1, 1, 0}, {0.5f, 1 - 1e-7f, 0}, {0, 1, 0}, {0, 0.5f, 0}};
+  const std::vector<glm::vec3> fan = CentroidFan(square);
+  ASSERT_EQ(fan.size(), square.size() + 2);
+  EXPECT_EQ(fan[1], square[0]);
+  EXPECT_EQ(fan.back(), square[0]);
+  float sum = 0;
+  for (size_t i = 1; i + 1 < fan.size(); ++i) {
+    const float signed_area = 0.5f * glm::cross(fan[i] - fan[0], fan[i + 1] - fan[0]).z;
+    EXPECT_GT(signed_area, 0.1f) << i;  // every triangle the same way round
+    sum += signed_area;
+  }
+  EXPECT_NEAR(sum, 1.0f, 1e-5f);
+}
+
 }  // namespace
 }  // namespace render

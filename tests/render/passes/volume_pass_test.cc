@@ -247,6 +247,15 @@ TEST_F(GlTest, VolumeDvrAgreesWithTheDoubleReference) {
     cases.push_back({"neghip plain", s});
     s.maps.push_back(PlacedEffect(core::Effect::kPeel, {32, 32, 32}));
     cases.push_back({"neghip peel 16-bit", s});
+    // The RGBA16 texture (scale and bias in the shader) instead of the
+    // dequantised RGBA32F one: the same values, so the same bounds. (An
+    // RGBA8 texture is not: llvmpipe filters it with 8-bit weights, 75/255
+    // off at the peel's cut, which the RGBA32F upload of 8-bit maps avoids.)
+    s.options.float_map_textures = false;
+    cases.push_back({"neghip peel 16-bit RGBA16 texture", s});
+    s.options.float_map_textures = true;
+    s.options.displacement_bits = 8;
+    cases.push_back({"neghip peel 8-bit", s});
     s.options.displacement_bits = 32;
     s.maps.push_back(
         PlacedEffect(core::Effect::kWave, {32, 8, 8},
@@ -289,6 +298,222 @@ TEST_F(GlTest, VolumeDvrAgreesWithTheDoubleReference) {
         img.values()[i] =
             static_cast<uint8_t>(std::clamp(got.color.values()[i] * 255.0f, 0.0f, 255.0f));
       test_support::WriteDebugImage(std::string("dvr-") + c.label + ".png", img);
+    }
+  }
+  EXPECT_NO_GL_ERROR();
+}
+
+// ---- 2b. the support skip: slices split at the maps' support box ----
+
+// A map cube turned 30 degrees about z in the volume: its support is no
+// axis-aligned box there.
+glm::dmat4 RotatedPlacement() {
+  return glm::scale(glm::rotate(glm::translate(glm::dmat4(1.0), glm::dvec3(0.5, 0.1, 0.2)),
+                                glm::radians(30.0), glm::dvec3(0, 0, 1)),
+                    glm::dvec3(0.5, 0.5, 0.7));
+}
+
+// The pass's support box (proxy-box coordinates) against a brute-force scan
+// of 32-bit maps (where the stored identity is exactly (0, 0, 0, 1)): every
+// texel whose D, alpha, J_D or grad alpha (core::ComputeMapDerivatives, what
+// the pass uploads) is not the identity's, with the trilinear footprint of
+// that texel, placed; and every p' of a grid over the proxy box that
+// core::Displace (maps read everywhere) moves, masks or shears. The box is
+// also tight: within half a texel of the scanned footprints.
+TEST_F(GlTest, VolumeSupportBoxHoldsEveryPointTheMapsMove) {
+  const core::Volume volume = BallVolume(12, 0.3, 2.0);
+  const glm::dmat4 placed = glm::scale(glm::translate(glm::dmat4(1.0), glm::dvec3(0.2, 0.3, 0.1)),
+                                       glm::dvec3(0.5, 0.4, 0.6));
+  const glm::dmat4 rotated = RotatedPlacement();
+  struct Case {
+    const char* label;
+    std::vector<VolumeMapInput> maps;
+  };
+  const std::vector<Case> cases = {
+      {"peel", {PlacedEffect(core::Effect::kPeel, {32, 32, 32})}},
+      {"pull placed", {PlacedEffect(core::Effect::kPull, {16, 16, 16}, placed)}},
+      {"seam rotated", {PlacedEffect(core::Effect::kSeam, {16, 16, 16}, rotated)}},
+      {"slices", {PlacedEffect(core::Effect::kSlices, {32, 4, 4})}},
+      {"peel + pull rotated",
+       {PlacedEffect(core::Effect::kPeel, {16, 16, 16}),
+        PlacedEffect(core::Effect::kPull, {16, 16, 16}, rotated)}},
+  };
+  for (const Case& c : cases) {
+    VolumePassOptions options;
+    options.displacement_bits = 32;
+    const VolumePass pass(programs(), volume, core::TransferPreset("ramp"), c.maps,
+                          CentredWorldFromVolume(volume), options);
+    const core::Box3 support = pass.support_box();
+    const core::Box3 proxy = pass.proxy_box();
+    const auto to_proxy = [&](const glm::dvec3& tex) {
+      return (tex - proxy.lo) / (proxy.hi - proxy.lo);
+    };
+    const auto in_support = [&](const glm::dvec3& q) {
+      return glm::all(glm::greaterThanEqual(q, support.lo - 1e-9)) &&
+             glm::all(glm::lessThanEqual(q, support.hi + 1e-9));
+    };
+    // Texel scan.
+    core::Box3 scanned{glm::dvec3(1e300), glm::dvec3(-1e300)};
+    int64_t moving = 0;
+    for (const VolumeMapInput& m : c.maps) {
+      const core::DisplacementMap stored =
+          core::DequantizeDisplacementMap(core::StoreDisplacementMap(m.map, 32));
+      const core::MapDerivatives d = core::ComputeMapDerivatives(stored);
+      const glm::ivec3 n = stored.dims;
+      for (int z = 0; z < n.z; ++z)
+        for (int y = 0; y < n.y; ++y)
+          for (int x = 0; x < n.x; ++x) {
+            const size_t i = (static_cast<size_t>(z) * n.y + y) * n.x + x;
+            if (stored.texels[i] == glm::vec4(0, 0, 0, 1) && d.jacobian[i] == glm::mat3(0.0f) &&
+                d.alpha_gradient[i] == glm::vec3(0.0f)) {
+              continue;
+            }
+            ++moving;
+            // Filtered samples read texel i within one texel of its centre.
+            const glm::dvec3 cell(x, y, z);
+            for (const double grow : {0.0, 0.5}) {
+              const glm::dvec3 lo = glm::max((cell - 0.5 - grow) / glm::dvec3(n), 0.0);
+              const glm::dvec3 hi = glm::min((cell + 1.5 + grow) / glm::dvec3(n), 1.0);
+              for (int k = 0; k < 8; ++k) {
+                const glm::dvec3 u(k & 1 ? hi.x : lo.x, k & 2 ? hi.y : lo.y, k & 4 ? hi.z : lo.z);
+                const glm::dvec3 q = to_proxy(glm::dvec3(m.placement * glm::dvec4(u, 1.0)));
+                if (grow == 0) {
+                  ASSERT_TRUE(in_support(q)) << c.label << ": texel " << x << " " << y << " " << z;
+                } else {
+                  scanned.lo = glm::min(scanned.lo, q);
+                  scanned.hi = glm::max(scanned.hi, q);
+                }
+              }
+            }
+          }
+    }
+    ASSERT_GT(moving, 0) << c.label;
+    EXPECT_TRUE(glm::all(glm::greaterThanEqual(support.lo, scanned.lo - 1e-9)) &&
+                glm::all(glm::lessThanEqual(support.hi, scanned.hi + 1e-9)))
+        << c.label << ": the support box is looser than half a texel";
+    // Point scan through the CPU displacement with the maps read everywhere.
+    const std::vector<core::DisplacementMap> stored = ibr::VolumeStoredMaps(c.maps, 32);
+    std::vector<core::PlacedMap> everywhere;
+    for (size_t i = 0; i < c.maps.size(); ++i)
+      everywhere.push_back({&stored[i], c.maps[i].placement, {}});
+    constexpr int kGrid = 40;
+    int64_t moved = 0, outside = 0;
+    for (int z = 0; z < kGrid; ++z)
+      for (int y = 0; y < kGrid; ++y)
+        for (int x = 0; x < kGrid; ++x) {
+          const glm::dvec3 q = (glm::dvec3(x, y, z) + 0.5) / static_cast<double>(kGrid);
+          const glm::dvec3 p_prime = proxy.lo + q * (proxy.hi - proxy.lo);
+          const core::DisplacedSample d = core::Displace(everywhere, p_prime, true);
+          // (The double trilinear weights of a mask of ones sum to 1 - 1e-16.)
+          const bool identity =
+              d.p == p_prime && std::abs(d.alpha - 1.0) < 1e-12 && d.jacobian == glm::dmat3(1.0);
+          moved += !identity;
+          outside += !in_support(q);
+          if (!identity) {
+            EXPECT_TRUE(in_support(q)) << c.label << ": p' " << p_prime.x << " " << p_prime.y << " "
+                                       << p_prime.z << " moves outside the support";
+          }
+        }
+    std::printf(
+        "support box (%s): [%.3f %.3f %.3f]-[%.3f %.3f %.3f] of the proxy box; %lld texels "
+        "not the identity, %lld of %d grid points moved, %lld outside the box\n",
+        c.label, support.lo.x, support.lo.y, support.lo.z, support.hi.x, support.hi.y, support.hi.z,
+        static_cast<long long>(moving), static_cast<long long>(moved), kGrid * kGrid * kGrid,
+        static_cast<long long>(outside));
+    EXPECT_GT(moved, 0) << c.label;
+  }
+  EXPECT_NO_GL_ERROR();
+}
+
+// The split slices (support_skip, the default) draw what the unsplit ones
+// draw: on every pixel the reference does not call a tie, within the DVR
+// reference bounds, and without the one-sample jumps a crack or an overlap
+// between the parts of a slice would leave (> 0.5/255). Lit and unlit,
+// 8/16/32-bit maps, placed, rotated and composed maps, a view along a box
+// axis (slices parallel to the support box's faces), voxels full to the
+// proxy's faces.
+TEST_F(GlTest, VolumeSupportSkipDrawsWhatTheUnsplitSlicesDraw) {
+  const auto dat = test_support::SharedData("volumes/neghip_64x64x64_uint8.dat");
+  if (dat.empty()) GTEST_SKIP() << "../shared/data is absent";
+  const glm::dmat4 rotated = RotatedPlacement();
+  struct Case {
+    const char* label;
+    Scene scene;
+    double azimuth, elevation;
+  };
+  std::vector<Case> cases;
+  const core::Volume neghip = core::ReadVolume(dat);
+  {
+    Scene s{neghip, core::TransferPreset("neghip"), {}, {}};
+    s.options.lighting = VolumeLighting::kNone;
+    s.maps.push_back(PlacedEffect(core::Effect::kPeel, {32, 32, 32}));
+    cases.push_back({"peel 16-bit", s, 30, 25});
+    s.options.lighting = VolumeLighting::kBlended;
+    s.options.displacement_bits = 8;
+    cases.push_back({"peel 8-bit blended", s, 30, 25});
+    cases.push_back({"peel 8-bit blended axis view", s, 0, 0});
+    s.options.displacement_bits = 32;
+    s.options.lighting = VolumeLighting::kTransformed;
+    s.maps.push_back(PlacedEffect(core::Effect::kPull, {16, 16, 16}, rotated));
+    cases.push_back({"peel + pull rotated 32-bit transformed", s, -50, 40});
+  }
+  {
+    Scene s{SmoothRandomVolume({20, 12, 7}, core::ScalarType::kUint16, 4),
+            core::TransferPreset("ramp"),
+            {},
+            {}};
+    s.volume.spacing = {1.0, 1.5, 3.0};
+    s.options.lighting = VolumeLighting::kNone;
+    s.options.sampling_distance_voxels = 0.7;
+    s.maps.push_back(PlacedEffect(core::Effect::kSeam, {16, 16, 16}));
+    cases.push_back({"random uint16 anisotropic seam", s, 120, -20});
+  }
+  for (Case& c : cases) {
+    const double radius = 0.5 * glm::length(c.scene.volume.Extent());
+    const OrthoCamera cam = Ortho(c.azimuth, c.elevation, 1.6 * radius, 96);
+    VolumePass* pass = nullptr;
+    c.scene.options.support_skip = false;
+    const Rendered whole = Render(*this, programs(), c.scene, cam, &pass);
+    const VolumeDrawStats whole_stats = pass->last_stats();
+    // The reference marks the ties (samples on a proxy face) for both.
+    const ibr::DvrReferenceImage ref = ibr::DvrReference(
+        c.scene.volume, c.scene.transfer, c.scene.maps, *pass, cam.view, cam.size, cam.size);
+    c.scene.options.support_skip = true;
+    const Rendered split = Render(*this, programs(), c.scene, cam, &pass);
+    const VolumeDrawStats split_stats = pass->last_stats();
+    double max = 0, sum = 0, coverage = 0;
+    int64_t compared = 0, jumps = 0;
+    for (int y = 0; y < cam.size; ++y)
+      for (int x = 0; x < cam.size; ++x) {
+        coverage += whole.color.at(x, y, 3) > 0.02;
+        if (ref.ambiguous.at(x, y)) continue;
+        double pixel = 0;
+        for (int ch = 0; ch < 4; ++ch) {
+          const double e = std::abs(split.color.at(x, y, ch) - whole.color.at(x, y, ch)) * 255;
+          pixel = std::max(pixel, e);
+          sum += e;
+          ++compared;
+        }
+        max = std::max(max, pixel);
+        jumps += pixel > 0.5;
+      }
+    const double mean = compared ? sum / compared : 0;
+    std::printf(
+        "support skip (%s): split vs unsplit max %.4f/255, mean %.6f/255, %lld px > 0.5/255; "
+        "displaced area %.0f of %.0f px, %d draw calls\n",
+        c.label, max, mean, static_cast<long long>(jumps), split_stats.displaced_area_px,
+        split_stats.proxy_area_px, split_stats.draw_calls);
+    EXPECT_GT(coverage, 300) << c.label;
+    EXPECT_LE(max, 2.0) << c.label;
+    EXPECT_LE(mean, 0.2) << c.label;
+    EXPECT_EQ(jumps, 0) << c.label;
+    EXPECT_DOUBLE_EQ(split_stats.proxy_area_px, whole_stats.proxy_area_px);
+    EXPECT_GT(split_stats.displaced_area_px, 0) << c.label;
+    EXPECT_LT(split_stats.displaced_area_px, 0.99 * whole_stats.displaced_area_px) << c.label;
+    if (c.scene.options.lighting == VolumeLighting::kNone) {
+      const Agreement a = Compare(split.color, ref);
+      EXPECT_LE(a.max, 2.0) << c.label;
+      EXPECT_LE(a.mean, 0.2) << c.label;
     }
   }
   EXPECT_NO_GL_ERROR();
