@@ -146,6 +146,12 @@ bool MapLookup(MapRecord m, vec3 p, out vec3 q, out ivec3 texel) {
   return MapLookupUv(m, p, q, texel, uv);
 }
 
+// One texel's width of map m, in scene units, at map camera z q_z
+// (orthographic: 1 / sx, the same at every depth).
+float MapTexelSize(MapRecord m, float q_z) {
+  return m.info.z == 1 ? 1.0 / m.proj.x : q_z / m.proj.x;
+}
+
 #ifdef SUBTEXEL_DEPTH
 // Sub-texel depth (issue 12, item 2): the depth at image point uv (texel
 // centres at +0.5) interpolated bilinearly over the 2x2 texels around it,
@@ -158,9 +164,7 @@ float SubtexelDepth(MapRecord m, vec2 uv, float d0, float q_z) {
   vec2 f = uv - 0.5;
   ivec2 i0 = ivec2(floor(f));
   vec2 t = f - vec2(i0);
-  // One texel's width in scene units at this depth (orthographic: 1 / sx).
-  float texel_size = m.info.z == 1 ? 1.0 / m.proj.x : q_z / m.proj.x;
-  float edge = u_subtexel_edge * texel_size;
+  float edge = u_subtexel_edge * MapTexelSize(m, q_z);
   float wsum = 0.0, dsum = 0.0;
   for (int k = 0; k < 4; ++k) {
     ivec2 ij = clamp(i0 + ivec2(k & 1, k >> 1), ivec2(0), m.info.xy - 1);

@@ -163,7 +163,7 @@ float VdtSeenColor(MapRecord m, vec3 p, out vec3 color, inout float nearest_resi
   // depth, which follows a slope between the texel centres (each texel's own
   // depth would leave a sawtooth residual of a texel times the slope: contour
   // stripes); across a depth edge each texel by its own.
-  float texel_size = m.info.z == 1 ? 1.0 / m.proj.x : q.z / m.proj.x;
+  float texel_size = MapTexelSize(m, q.z);
   bool one_surface = dmin > 0.0 && dmax - dmin <= 4.0 * texel_size;
   float seen = 0.0;
   vec3 sum = vec3(0.0);
@@ -239,7 +239,7 @@ bool MapSampleBilinear(MapRecord m, vec3 q, ivec3 nearest, out float depth, out 
     c[k] = MapColor(ivec3(ij, m.info.w)).rgb;
     ok = ok && d[k] > 0.0;
   }
-  density = SamplingDensity(d, t, m.info.z == 1 ? 1.0 / m.proj.x : q.z / m.proj.x);
+  density = SamplingDensity(d, t, MapTexelSize(m, q.z));
   if (!ok) {
     depth = texelFetch(u_depth_maps, nearest, 0).r;
     color = MapColor(nearest).rgb;
