@@ -14,9 +14,10 @@
 namespace bench {
 
 struct SceneBenchOptions {
-  int size = 384;      // frame width = height, pixels
-  int rounds = 16;     // interleaved rounds (absent, disabled, absent again, on; order rotated)
-  int frames = 2;      // timed frames per configuration per round
+  int size = 384;    // frame width = height, pixels
+  int rounds = 96;   // interleaved rounds (absent, disabled, absent again; order rotated)
+  int on_every = 8;  // the effect on joins every on_every-th round (its ratio is not the question)
+  int frames = 2;    // timed frames per configuration per round (the round's figure: their median)
   bool quick = false;  // two effects, small frames: a CI smoke run
   void Check() const;
 };
@@ -26,15 +27,19 @@ struct SceneBenchResult {
   // on_over_absent, disabled_over_absent, absent_again_over_absent (medians
   // of per-round ratios; the last, a second scene without the effect, is
   // the noise floor), the same three of the process's CPU time per frame
-  // (`_cpu`), programs_on, programs_disabled, programs_absent
-  // (compiled by that scene)
+  // (`_cpu`); `_lo` / `_hi` the distribution-free 95 % interval of the
+  // disabled and absent-again medians (core::MedianConfidenceInterval; NaN
+  // under 6 rounds) and its coverage; programs_on, programs_disabled,
+  // programs_absent (compiled by that scene); samples_* and primitives_*,
+  // the GL work of one frame (GL_SAMPLES_PASSED, GL_PRIMITIVES_GENERATED)
   Table table;
 };
 
 // Needs a current context. Each configuration compiles into its own program
 // cache (its count is a column).
 SceneBenchResult RunSceneBench(const SceneBenchOptions& options);
-// CSV + ratio plot (scene_bench.png) into `out_dir`.
+// CSV + ratio plots into `out_dir`: scene_bench.png (the effect on),
+// scene_bench_disabled.png (disabled, its interval, the noise floor, the 2 % limit).
 void WriteSceneBench(const SceneBenchResult& result, const std::filesystem::path& csv,
                      const std::filesystem::path& out_dir);
 

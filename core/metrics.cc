@@ -28,6 +28,29 @@ double Percentile(std::vector<double> values, double q) {
   return values[k];
 }
 
+MedianInterval MedianConfidenceInterval(std::vector<double> values, double level) {
+  IBR_CHECK(level > 0.0 && level < 1.0);
+  const size_t n = values.size();
+  // P(Binomial(n, 1/2) = k) in logs (n may be large enough for 2^-n to underflow).
+  const auto pmf = [n](size_t k) {
+    const double nd = static_cast<double>(n), kd = static_cast<double>(k);
+    return std::exp(std::lgamma(nd + 1) - std::lgamma(kd + 1) - std::lgamma(nd - kd + 1) -
+                    nd * std::log(2.0));
+  };
+  // tail = P(X < j) for the candidate rank j (1-based).
+  size_t j = 0;
+  double tail = 0, below = 0;
+  for (size_t r = 1; 2 * r <= n + 1; ++r) {
+    below += pmf(r - 1);  // P(X < r)
+    if (below > 0.5 * (1.0 - level)) break;
+    j = r;
+    tail = below;
+  }
+  if (j == 0) return {kNaN, kNaN, 0.0};
+  std::sort(values.begin(), values.end());
+  return {values[j - 1], values[n - j], 1.0 - 2.0 * tail};
+}
+
 ErrorStats SummarizeErrors(std::vector<double> errors) {
   ErrorStats s;
   s.count = static_cast<int64_t>(errors.size());

@@ -25,6 +25,18 @@ namespace core {
 // Nearest-rank quantile (see above); q in [0, 1]; NaN when `values` is empty.
 double Percentile(std::vector<double> values, double q);
 
+// Distribution-free confidence interval of the median (the order-statistic
+// rule of the sign test): the j-th and (n+1-j)-th smallest of the n values,
+// j the largest rank with P(Binomial(n, 1/2) < j) <= (1 - level) / 2, so the
+// interval holds the population median with probability `coverage` >= level,
+// whatever the distribution. NaN bounds (and coverage 0) when no rank reaches
+// the level (n < 6 at 95 %) or `values` is empty. level in (0, 1).
+struct MedianInterval {
+  double lo = 0, hi = 0;
+  double coverage = 0;
+};
+MedianInterval MedianConfidenceInterval(std::vector<double> values, double level = 0.95);
+
 // Mean, p95 and max of a set of errors; NaN (and count 0) when empty.
 struct ErrorStats {
   int64_t count = 0;

@@ -23,7 +23,14 @@ void AddSceneBench(CLI::App& app) {
   static bench::SceneBenchOptions options;
   AddBenchOutputs(cmd, csv, out, options.quick);
   cmd->add_option("--size", options.size, "frame width = height in pixels")->capture_default_str();
-  cmd->add_option("--rounds", options.rounds, "interleaved rounds")->capture_default_str();
+  cmd->add_option("--rounds", options.rounds,
+                  "interleaved rounds of the effect disabled, absent and absent again")
+      ->capture_default_str();
+  cmd->add_option("--on-every", options.on_every,
+                  "the effect enabled joins every N-th round (from the first)")
+      ->capture_default_str();
+  cmd->add_option("--frames", options.frames, "timed frames per configuration and round")
+      ->capture_default_str();
   cmd->callback([] {
     const auto gl = StartBenchGl("ibr bench scene", options.size);
     options.Check();

@@ -38,9 +38,24 @@ TEST_F(SceneBenchTest, QuickRunMeasuresEveryConfigurationAndDisabledCompilesNoth
                                              "on_over_absent_cpu",
                                              "disabled_over_absent_cpu",
                                              "absent_again_over_absent_cpu",
+                                             "disabled_over_absent_lo",
+                                             "disabled_over_absent_hi",
+                                             "absent_again_over_absent_lo",
+                                             "absent_again_over_absent_hi",
+                                             "disabled_over_absent_cpu_lo",
+                                             "disabled_over_absent_cpu_hi",
+                                             "absent_again_over_absent_cpu_lo",
+                                             "absent_again_over_absent_cpu_hi",
+                                             "interval_coverage",
                                              "programs_on",
                                              "programs_disabled",
-                                             "programs_absent"};
+                                             "programs_absent",
+                                             "samples_on",
+                                             "samples_disabled",
+                                             "samples_absent",
+                                             "primitives_on",
+                                             "primitives_disabled",
+                                             "primitives_absent"};
   EXPECT_EQ(result.table.columns(), expected);
   ASSERT_EQ(result.table.rows().size(), 2u);
   for (const auto& row : result.table.rows()) {
@@ -54,11 +69,27 @@ TEST_F(SceneBenchTest, QuickRunMeasuresEveryConfigurationAndDisabledCompilesNoth
         << row[0];
     EXPECT_GT(Value(result.table, row, "programs_on"), Value(result.table, row, "programs_absent"))
         << row[0];
+    // The GL work of a frame: a disabled effect draws nothing, so its frame
+    // passes exactly the absent scene's fragments and primitives; an enabled
+    // one draws more.
+    EXPECT_EQ(Value(result.table, row, "samples_disabled"),
+              Value(result.table, row, "samples_absent"))
+        << row[0];
+    EXPECT_EQ(Value(result.table, row, "primitives_disabled"),
+              Value(result.table, row, "primitives_absent"))
+        << row[0];
+    EXPECT_GT(Value(result.table, row, "samples_absent"), 0) << row[0];
+    EXPECT_GT(Value(result.table, row, "primitives_on"),
+              Value(result.table, row, "primitives_absent"))
+        << row[0];
+    // One round (quick): too few for a 95 % interval of the median.
+    EXPECT_EQ(row[result.table.Column("disabled_over_absent_hi")], "nan") << row[0];
   }
   const std::filesystem::path dir = test_support::TestOutputDir();
   WriteSceneBench(result, dir / "scene.csv", dir);
   EXPECT_TRUE(std::filesystem::exists(dir / "scene.csv"));
   EXPECT_TRUE(std::filesystem::exists(dir / "scene_bench.png"));
+  EXPECT_TRUE(std::filesystem::exists(dir / "scene_bench_disabled.png"));
   EXPECT_NO_GL_ERROR();
 }
 

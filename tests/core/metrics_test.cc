@@ -25,6 +25,40 @@ TEST(Percentile, NearestRankOnHandCountedSets) {
   EXPECT_TRUE(std::isnan(Percentile({}, 0.95)));
 }
 
+TEST(MedianConfidenceInterval, OrderStatisticRanksFromTheBinomialByHand) {
+  // n = 16: P(X <= 3) = (1 + 16 + 120 + 560) / 65536 = 0.0106 <= 0.025 but
+  // P(X <= 4) = 2517 / 65536 = 0.0384 > 0.025: the 4th and 13th smallest,
+  // coverage 1 - 2 * 697 / 65536 = 0.97873.
+  std::vector<double> sixteen;
+  for (int i = 16; i >= 1; --i) sixteen.push_back(10.0 * i);  // unsorted on purpose
+  MedianInterval m = MedianConfidenceInterval(sixteen);
+  EXPECT_EQ(m.lo, 40);
+  EXPECT_EQ(m.hi, 130);
+  EXPECT_NEAR(m.coverage, 1.0 - 2.0 * 697.0 / 65536.0, 1e-12);
+  // n = 6: P(X = 0) = 1/64 = 0.0156 <= 0.025, P(X <= 1) = 7/64 > 0.025: min and max.
+  m = MedianConfidenceInterval({6, 1, 5, 2, 4, 3});
+  EXPECT_EQ(m.lo, 1);
+  EXPECT_EQ(m.hi, 6);
+  EXPECT_NEAR(m.coverage, 1.0 - 2.0 / 64.0, 1e-12);
+  // n = 5: even the extremes cover only 1 - 2/32 = 0.9375 < 0.95.
+  m = MedianConfidenceInterval({1, 2, 3, 4, 5});
+  EXPECT_TRUE(std::isnan(m.lo) && std::isnan(m.hi));
+  EXPECT_EQ(m.coverage, 0);
+  // ... but reach an 80 % level: P(X = 0) = 1/32 <= 0.1, P(X <= 1) = 6/32 > 0.1.
+  m = MedianConfidenceInterval({1, 2, 3, 4, 5}, 0.8);
+  EXPECT_EQ(m.lo, 1);
+  EXPECT_EQ(m.hi, 5);
+  EXPECT_TRUE(std::isnan(MedianConfidenceInterval({}).lo));
+  // Large n stays finite (2^-1000 in logs): the ranks close in on the median.
+  std::vector<double> thousand;
+  for (int i = 1; i <= 1000; ++i) thousand.push_back(i);
+  m = MedianConfidenceInterval(thousand);
+  EXPECT_GT(m.lo, 460);
+  EXPECT_LT(m.hi, 540);
+  EXPECT_EQ(m.lo + m.hi, 1001);  // symmetric ranks
+  EXPECT_GE(m.coverage, 0.95);
+}
+
 TEST(SummarizeErrors, MeanP95MaxAndEmptyIsNaN) {
   const ErrorStats s = SummarizeErrors({0.5, 0.25, 1.0, 0.25});
   EXPECT_EQ(s.count, 4);
