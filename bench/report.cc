@@ -68,8 +68,22 @@ std::string Table::Format() const {
 
 void Table::WriteCsv(const fs::path& path) const {
   core::AtomicWriteStream(path, [&](std::ostream& out) {
+    // RFC 4180: a cell holding a comma, a quote or a line break is quoted,
+    // its quotes doubled ("default (ray, skip 64, ...)" is one cell).
+    auto cell = [&](const std::string& v) {
+      if (v.find_first_of(",\"\r\n") == std::string::npos) {
+        out << v;
+        return;
+      }
+      out << '"';
+      for (char ch : v) out << (ch == '"' ? "\"\"" : std::string(1, ch));
+      out << '"';
+    };
     auto line = [&](const std::vector<std::string>& v) {
-      for (size_t c = 0; c < v.size(); ++c) out << v[c] << (c + 1 < v.size() ? "," : "\n");
+      for (size_t c = 0; c < v.size(); ++c) {
+        cell(v[c]);
+        out << (c + 1 < v.size() ? "," : "\n");
+      }
     };
     line(columns_);
     for (const auto& r : rows_) line(r);

@@ -35,6 +35,19 @@ TEST(Report, CsvHasHeaderAndRows) {
   EXPECT_NE(SampleTable().Format().find("orthogonal"), std::string::npos);
 }
 
+TEST(Report, CsvQuotesCellsWithCommasQuotesAndLineBreaks) {
+  const auto path = test_support::TestOutputDir() / "q.csv";
+  Table t({"variant", "note"});
+  t.AddRow({"default (ray, skip 64)", "say \"hi\""});
+  t.AddRow({"two\nlines", "plain"});
+  t.WriteCsv(path);
+  std::ifstream in(path);
+  std::stringstream ss;
+  ss << in.rdbuf();
+  EXPECT_EQ(ss.str(),
+            "variant,note\n\"default (ray, skip 64)\",\"say \"\"hi\"\"\"\n\"two\nlines\",plain\n");
+}
+
 TEST(Report, GnuplotWritesADecodablePng) {
   const auto path = test_support::TestOutputDir() / "plot.png";
   PlotPng(SampleTable(),
