@@ -25,6 +25,7 @@
 #include "core/deform_reference.h"
 #include "core/error.h"
 #include "core/metrics.h"
+#include "core/look_at.h"
 #include "tests/support/gl_test.h"
 
 namespace ibr {
