@@ -4,7 +4,10 @@
 // analytic cut alpha. The step |F| / L uses L >= max |grad F| (for
 // sdf(T^-1 p), |grad| <= ||I + J_D||; for the cut term, |grad A|), so the
 // first surface is never stepped over (up to the bound's sampling, below).
-// Same conventions as render/passes/deform_pass.h: F > 0 empty.
+// Same conventions as render/passes/deform_pass.h: F > 0 empty. A sum with a
+// peel is the union (min) of its two pieces' fields (core/deformation.h,
+// "Pieces"): the rest (the cut mode's field) and the flap (bounded by its
+// mask in every mode).
 #pragma once
 
 #include <glm/glm.hpp>
@@ -37,7 +40,11 @@ class DeformReference {
 
  private:
   double Body(double sdf) const;
-  glm::dvec3 Gradient(const glm::dvec3& p, bool alpha) const;
+  // One piece's field (piece 1: the flap, bounded by its mask).
+  double PieceField(const glm::dvec3& p, int piece) const;
+  // The piece whose field is the smaller at p (0 without a flap).
+  int ActivePiece(const glm::dvec3& p) const;
+  glm::dvec3 Gradient(const glm::dvec3& p, int piece, bool alpha) const;
 
   const MeshDistance& mesh_;
   const DeformationSum& deformation_;
@@ -46,6 +53,7 @@ class DeformReference {
   double thickness_;
   double lipschitz_ = 1.0;
   double scale_ = 1.0;  // box diagonal, object units (tolerances)
+  int pieces_ = 1;
 };
 
 }  // namespace core

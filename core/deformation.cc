@@ -10,6 +10,10 @@ namespace core {
 namespace {
 
 constexpr glm::dvec2 kAxis{0.5, 0.5};  // twist and pull axis in (x, y), box units
+// The flap's D is defined everywhere but used only where its mask is near
+// or below 0 (the mask is 1-Lipschitz in box units): displacement bounds
+// (and so the distance field's extent) count those nodes only.
+constexpr double kFlapMargin = 0.05;
 
 // Twist weight: 1 inside radius r0, smooth to 0 at the inscribed radius 0.5
 // (so the twist vanishes on the four side faces), times z (0 on the bottom).
@@ -192,6 +196,15 @@ glm::dvec4 Deformation::Evaluate(const glm::dvec3& u) const {
   return {0, 0, 0, -1};
 }
 
+glm::dvec4 Deformation::EvaluatePiece(const glm::dvec3& u, int piece) const {
+  if (kind != DeformationKind::kPeel) return Evaluate(u);
+  if (piece == 0) return {0.0, 0.0, 0.0, std::max(PeelSlab(*this, u), -1.0)};  // the slab left
+  // The flap: where its rigid rotation came from, everywhere (continuous);
+  // the mask is > 0 outside the turned slab.
+  const glm::dvec3 q = PeelRotate(*this, u, -amount);
+  return {q - u, std::max(-PeelSlab(*this, q), -1.0)};
+}
+
 glm::dvec3 Deformation::Forward(const glm::dvec3& u) const {
   switch (kind) {
     case DeformationKind::kTwist: {
@@ -246,6 +259,35 @@ glm::dmat3 DeformationSum::Jacobian(const glm::dvec3& u, double h) const {
   return j;
 }
 
+int DeformationSum::Pieces() const {
+  return std::any_of(terms.begin(), terms.end(),
+                     [](const Deformation& d) { return d.kind == DeformationKind::kPeel; })
+             ? 2
+             : 1;
+}
+
+glm::dvec4 DeformationSum::EvaluatePiece(const glm::dvec3& u, int piece) const {
+  glm::dvec4 sum(0.0, 0.0, 0.0, piece == 0 ? -1.0 : -1e300);
+  for (const Deformation& d : terms) {
+    const glm::dvec4 e = d.EvaluatePiece(u, piece);
+    sum = glm::dvec4(glm::dvec3(sum) + glm::dvec3(e), sum.w);
+    if (piece == 0 || d.kind == DeformationKind::kPeel) sum.w = std::max(sum.w, e.w);
+  }
+  if (sum.w < -1.0) sum.w = 1.0;  // piece 1 without a peel: no flap anywhere
+  return sum;
+}
+
+glm::dmat3 DeformationSum::JacobianPiece(const glm::dvec3& u, int piece, double h) const {
+  glm::dmat3 j(0.0);
+  for (int a = 0; a < 3; ++a) {
+    glm::dvec3 e(0.0);
+    e[a] = h;
+    j[a] = (glm::dvec3(EvaluatePiece(u + e, piece)) - glm::dvec3(EvaluatePiece(u - e, piece))) /
+           (2 * h);
+  }
+  return j;
+}
+
 bool DeformationSum::HasCut() const {
   return std::any_of(terms.begin(), terms.end(), [](const Deformation& d) { return d.HasCut(); });
 }
@@ -296,6 +338,17 @@ glm::dvec4 DeformObjectPoint(const DeformationSum& deformation, const Placement&
   return {p_deformed + placement.Linear() * glm::dvec3(e), e.w};
 }
 
+glm::dvec4 DeformObjectPointPiece(const DeformationSum& deformation, const Placement& placement,
+                                  const glm::dvec3& p_deformed, int piece) {
+  glm::dvec3 u(placement.BoxFromObject() * glm::dvec4(p_deformed, 1.0));
+  if (glm::any(glm::lessThan(u, glm::dvec3(0.0))) ||
+      glm::any(glm::greaterThan(u, glm::dvec3(1.0)))) {
+    return {p_deformed, piece == 0 ? -1.0 : 1.0};
+  }
+  glm::dvec4 e = deformation.EvaluatePiece(u, piece);
+  return {p_deformed + placement.Linear() * glm::dvec3(e), e.w};
+}
+
 DeformationTexture SampleDeformation(const DeformationSum& deformation, int resolution) {
   deformation.Check();
   if (resolution < 2 || resolution > 512) {
@@ -303,16 +356,22 @@ DeformationTexture SampleDeformation(const DeformationSum& deformation, int reso
   }
   DeformationTexture texture;
   texture.resolution = resolution;
-  texture.rgba.resize(static_cast<size_t>(resolution) * resolution * resolution * 4);
+  texture.pieces = deformation.Pieces();
+  texture.rgba.resize(static_cast<size_t>(texture.pieces) * resolution * resolution * resolution *
+                      4);
   size_t n = 0;
-  for (int k = 0; k < resolution; ++k)
-    for (int j = 0; j < resolution; ++j)
-      for (int i = 0; i < resolution; ++i) {
-        glm::dvec4 e = deformation.Evaluate(glm::dvec3(i, j, k) / double(resolution - 1));
-        texture.max_displacement_box =
-            std::max(texture.max_displacement_box, glm::length(glm::dvec3(e)));
-        for (int c = 0; c < 4; ++c) texture.rgba[n++] = static_cast<float>(e[c]);
-      }
+  for (int piece = 0; piece < texture.pieces; ++piece)
+    for (int k = 0; k < resolution; ++k)
+      for (int j = 0; j < resolution; ++j)
+        for (int i = 0; i < resolution; ++i) {
+          glm::dvec4 e =
+              deformation.EvaluatePiece(glm::dvec3(i, j, k) / double(resolution - 1), piece);
+          if (piece == 0 || e.w <= kFlapMargin) {
+            texture.max_displacement_box =
+                std::max(texture.max_displacement_box, glm::length(glm::dvec3(e)));
+          }
+          for (int c = 0; c < 4; ++c) texture.rgba[n++] = static_cast<float>(e[c]);
+        }
   return texture;
 }
 
@@ -320,12 +379,15 @@ double MaxObjectDisplacement(const DeformationSum& deformation, const Placement&
                              int resolution) {
   double best = 0.0;
   glm::dmat3 linear = placement.Linear();
-  for (int k = 0; k < resolution; ++k)
-    for (int j = 0; j < resolution; ++j)
-      for (int i = 0; i < resolution; ++i) {
-        glm::dvec4 e = deformation.Evaluate(glm::dvec3(i, j, k) / double(resolution - 1));
-        best = std::max(best, glm::length(linear * glm::dvec3(e)));
-      }
+  for (int piece = 0; piece < deformation.Pieces(); ++piece)
+    for (int k = 0; k < resolution; ++k)
+      for (int j = 0; j < resolution; ++j)
+        for (int i = 0; i < resolution; ++i) {
+          glm::dvec4 e =
+              deformation.EvaluatePiece(glm::dvec3(i, j, k) / double(resolution - 1), piece);
+          if (piece == 1 && e.w > kFlapMargin) continue;  // no flap near: D unused
+          best = std::max(best, glm::length(linear * glm::dvec3(e)));
+        }
   return best;
 }
 

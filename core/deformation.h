@@ -16,6 +16,15 @@
 //          the whole box in y that turns about the hinge x = 0.5 (like the
 //          knife, the region is placed with its y faces beyond the object)
 //          and is clipped where it leaves the box through the top or x = 0
+//
+// Pieces. A peel's inverse displacement jumps at the turned flap's faces
+// (two pre-images meet there), and a sampled D interpolated across the jump
+// maps the texels of that band anywhere: ragged flap edges and specks. So a
+// sum with a peel is two pieces, each with a continuous D, joined by a union
+// of their fields: piece 0 (the rest) has D = 0 for the peel and its vacated
+// slab as cut alpha; piece 1 (the flap) has the peel's rigid rotation D
+// everywhere and as alpha the mask -slab(q) (> 0 outside the flap), which
+// bounds the piece in every cut mode (its zero set is the flap's cut faces).
 #pragma once
 
 #include <glm/glm.hpp>
@@ -53,6 +62,10 @@ struct Deformation {
   // The forward map T(u) (T^-1(T(u)) = u): twist, bend and knife only.
   glm::dvec3 Forward(const glm::dvec3& u) const;
   bool HasCut() const { return kind == DeformationKind::kKnife || kind == DeformationKind::kPeel; }
+  // (D, A) of one piece (see "Pieces" above): piece 0 = the rest, piece 1 =
+  // the peel's flap (A = its mask). Both continuous in u. Terms other than
+  // the peel are the same in both pieces (Evaluate).
+  glm::dvec4 EvaluatePiece(const glm::dvec3& u, int piece) const;
 };
 
 // How a cut alpha is rendered (sec. 5): no cut, hollow thin shell (hits in
@@ -72,6 +85,14 @@ struct DeformationSum {
   // J_D(u) by central differences (step h in box units).
   glm::dmat3 Jacobian(const glm::dvec3& u, double h = 1e-5) const;
   bool HasCut() const;
+  // Pieces (see above): 2 when a term is a peel, else 1 (piece 0 = Evaluate).
+  int Pieces() const;
+  // Piece 0: D = sum, A = max over terms of EvaluatePiece(u, 0). Piece 1:
+  // D = sum of EvaluatePiece(u, 1), A = max over the peels' masks only (the
+  // flap's domain; other terms' cuts apply to the rest).
+  glm::dvec4 EvaluatePiece(const glm::dvec3& u, int piece) const;
+  // J_D of one piece by central differences.
+  glm::dmat3 JacobianPiece(const glm::dvec3& u, int piece, double h = 1e-5) const;
 };
 
 // Where the deformation box sits in object space: object = M(u), affine.
@@ -93,14 +114,20 @@ struct Placement {
 // cut alpha at p' (-1 outside the box, where D = 0).
 glm::dvec4 DeformObjectPoint(const DeformationSum& deformation, const Placement& placement,
                              const glm::dvec3& p_deformed);
+// The same for one piece (DeformationSum::EvaluatePiece); outside the box
+// piece 1's mask is +1 (no flap there).
+glm::dvec4 DeformObjectPointPiece(const DeformationSum& deformation, const Placement& placement,
+                                  const glm::dvec3& p_deformed, int piece);
 
 // The deformation sampled on the nodes of a res^3 grid over the box
 // (node (i, j, k) at u = (i, j, k) / (res - 1); as a 3D texture its texel
 // centres are the nodes, lookup coordinate (u (res - 1) + 0.5) / res), RGBA:
-// D in box units, A.
+// D in box units, A; one res^3 block per piece (DeformationSum::Pieces),
+// piece 0 first.
 struct DeformationTexture {
   int resolution = 0;
-  std::vector<float> rgba;            // 4 floats per node, x fastest
+  int pieces = 1;
+  std::vector<float> rgba;            // 4 floats per node, x fastest, pieces * res^3 nodes
   double max_displacement_box = 0.0;  // max |D| over the nodes, box units
 };
 DeformationTexture SampleDeformation(const DeformationSum& deformation, int resolution);

@@ -110,18 +110,21 @@ Texture Upload3D(GLenum format, GLenum channels, glm::ivec3 size, const float* d
 // (the interpolant's partial derivative is a convex combination of them),
 // mapped to object units through ||M^-T|| <= Frobenius norm of M^-1.
 float AlphaLipschitz(const core::DeformationTexture& texture, const core::Placement& placement) {
+  // Over every piece (the skip reads the flap's mask too).
   const int n = texture.resolution;
+  size_t piece = 0;
   auto a = [&](int i, int j, int k) {
-    return texture.rgba[((static_cast<size_t>(k) * n + j) * n + i) * 4 + 3];
+    return texture.rgba[(((piece * n + k) * n + j) * n + i) * 4 + 3];
   };
   glm::dvec3 g(0.0);
-  for (int k = 0; k < n; ++k)
-    for (int j = 0; j < n; ++j)
-      for (int i = 0; i < n; ++i) {
-        if (i + 1 < n) g.x = std::max(g.x, double(std::abs(a(i + 1, j, k) - a(i, j, k))));
-        if (j + 1 < n) g.y = std::max(g.y, double(std::abs(a(i, j + 1, k) - a(i, j, k))));
-        if (k + 1 < n) g.z = std::max(g.z, double(std::abs(a(i, j, k + 1) - a(i, j, k))));
-      }
+  for (piece = 0; piece < static_cast<size_t>(texture.pieces); ++piece)
+    for (int k = 0; k < n; ++k)
+      for (int j = 0; j < n; ++j)
+        for (int i = 0; i < n; ++i) {
+          if (i + 1 < n) g.x = std::max(g.x, double(std::abs(a(i + 1, j, k) - a(i, j, k))));
+          if (j + 1 < n) g.y = std::max(g.y, double(std::abs(a(i, j + 1, k) - a(i, j, k))));
+          if (k + 1 < n) g.z = std::max(g.z, double(std::abs(a(i, j, k + 1) - a(i, j, k))));
+        }
   g *= double(n - 1);  // per box unit
   glm::dmat3 inv = glm::inverse(placement.Linear());
   double frobenius = 0.0;
@@ -153,7 +156,17 @@ DeformPass::DeformPass(ProgramCache& programs, const DeformInputs& inputs,
   }
   const core::DeformationTexture& d = *inputs.deformation;
   deformation_resolution_ = d.resolution;
+  if (d.pieces < 1 || d.pieces > 2 ||
+      d.rgba.size() !=
+          static_cast<size_t>(d.pieces) * d.resolution * d.resolution * d.resolution * 4) {
+    core::ThrowInputError("DeformPass", "deformation texture of {} floats for {} piece(s) of {}^3",
+                          d.rgba.size(), d.pieces, d.resolution);
+  }
   deformation_ = Upload3D(GL_RGBA32F, GL_RGBA, glm::ivec3(d.resolution), d.rgba.data());
+  if (d.pieces == 2) {
+    deformation_flap_ =
+        Upload3D(GL_RGBA32F, GL_RGBA, glm::ivec3(d.resolution), d.rgba.data() + d.rgba.size() / 2);
+  }
   alpha_lipschitz_ = AlphaLipschitz(d, placement_);
   if (inputs.mesh && options_.draw_mesh) {
     inputs.mesh->Validate("DeformPass");
@@ -289,6 +302,8 @@ void DeformPass::Draw(const RenderTarget& target, const ViewSetup& view) {
   ProgramDesc desc{.vertex = "passes/deform_box.vert.glsl", .fragment = "passes/deform.frag.glsl"};
   desc.defines = options_.Defines();
   desc.defines.insert(desc.defines.end(), view_defines.begin(), view_defines.end());
+  const bool flap = deformation_flap_.id() != 0;
+  if (flap) desc.defines.push_back("DEFORM_FLAP");
   const Program& program = programs_.Get(desc);
   UseProgram(target, program, view);
   SetRayCoreUniforms(program, options_.RayCore());
@@ -313,6 +328,10 @@ void DeformPass::Draw(const RenderTarget& target, const ViewSetup& view) {
   program.Set("u_deformation", 1);
   glBindTextureUnit(0, sdf_.id());
   glBindTextureUnit(1, deformation_.id());
+  if (flap) {
+    program.Set("u_deformation_flap", 2);
+    glBindTextureUnit(2, deformation_flap_.id());
+  }
   // The box's triangles face inwards: the far faces are front-facing (for a
   // mirroring placement, back-facing). Each pixel gets one fragment; its ray
   // is intersected with the box analytically, so either face set would do.
@@ -325,6 +344,7 @@ void DeformPass::Draw(const RenderTarget& target, const ViewSetup& view) {
   glCullFace(GL_BACK);
   glBindTextureUnit(0, 0);
   glBindTextureUnit(1, 0);
+  glBindTextureUnit(2, 0);
 }
 
 }  // namespace render

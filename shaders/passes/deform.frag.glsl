@@ -7,6 +7,10 @@
 // empty-space skipping by the cut alpha. ORTHOGRAPHIC: parallel rays.
 // IMPLICIT_DEPTH_CUBE: the object's implicit from the depth-map cube of
 // sec. 6.1 instead of the 3D distance field (Implicit(), the only difference).
+// DEFORM_FLAP: the deformation has a second piece, a peel's flap
+// (core/deformation.h "Pieces"): the field is the union (min) of the rest's
+// and the flap's, each warped by its own continuous D; the flap is bounded
+// by its mask (u_deformation_flap's alpha) in every cut mode.
 //
 // Sign convention, converted here once: the paper's f is > 0 inside; the
 // ray core's field (RayField) is > 0 in empty space, so RayField works on
@@ -60,6 +64,9 @@ uniform vec3 u_sdf_size;          // nodes per axis
 #endif
 uniform float u_sdf_spacing;      // object units between nodes (depth cube: per texel)
 uniform sampler3D u_deformation;  // xyz: D (box units), w: cut alpha A (> 0 cut)
+#ifdef DEFORM_FLAP
+uniform sampler3D u_deformation_flap;  // the flap piece: xyz its D, w its mask (> 0 no flap)
+#endif
 uniform float u_deform_resolution;
 uniform float u_step;             // base step, object units
 uniform float u_thickness;        // CUT_THICK: shell thickness T, object units
@@ -83,14 +90,22 @@ float Implicit(vec3 p) {
 float Implicit(vec3 p) { return texture(u_sdf, ((p - u_sdf_origin) / u_sdf_spacing + 0.5) / u_sdf_size).r; }
 #endif
 
-// (p' + M D(M^-1 p'), A(p')) for a deformed-space point p' (eq. 2); outside
-// the box D = 0 and A = -1.
-vec4 Warp(vec3 p) {
+// (p' + M D(M^-1 p'), A(p')) of one piece for a deformed-space point p'
+// (eq. 2; piece 1: the flap, A its mask); outside the box D = 0 and A = -1
+// (the flap's mask: +1, no flap there).
+vec4 WarpPiece(vec3 p, int piece) {
   vec3 u = (u_box_from_object * vec4(p, 1.0)).xyz;
-  if (any(lessThan(u, vec3(0.0))) || any(greaterThan(u, vec3(1.0)))) return vec4(p, -1.0);
-  vec4 e = texture(u_deformation, (u * (u_deform_resolution - 1.0) + 0.5) / u_deform_resolution);
+  if (any(lessThan(u, vec3(0.0))) || any(greaterThan(u, vec3(1.0))))
+    return vec4(p, piece == 0 ? -1.0 : 1.0);
+  vec3 s = (u * (u_deform_resolution - 1.0) + 0.5) / u_deform_resolution;
+#ifdef DEFORM_FLAP
+  vec4 e = piece == 0 ? texture(u_deformation, s) : texture(u_deformation_flap, s);
+#else
+  vec4 e = texture(u_deformation, s);
+#endif
   return vec4(p + mat3(u_object_from_box) * e.xyz, e.w);
 }
+vec4 Warp(vec3 p) { return WarpPiece(p, 0); }
 
 // The object's field before the cut: sdf, or the thick shell of eq. 7
 // (solid where -T <= sdf <= 0).
@@ -102,45 +117,70 @@ float Body(float sdf) {
 #endif
 }
 
-float RayField(vec3 p) {
-  vec4 w = Warp(p);
+// One piece's field: the rest's per cut mode, the flap's bounded by its mask.
+float PieceField(vec3 p, int piece) {
+  vec4 w = WarpPiece(p, piece);
   float body = Body(Implicit(w.xyz));
 #if defined(CUT_SOLID) || defined(CUT_THICK)
   return max(body, w.w);  // eq. 6: inside the body and outside the cut
 #else
-  return body;
+  return piece == 0 ? body : max(body, w.w);
 #endif
 }
 
-// J_{T^-1} = I + J_D by central differences of the warp (half a texel of D).
-mat3 WarpJacobian(vec3 p) {
+float RayField(vec3 p) {
+#ifdef DEFORM_FLAP
+  return min(PieceField(p, 0), PieceField(p, 1));  // the union of the pieces
+#else
+  return PieceField(p, 0);
+#endif
+}
+
+// The piece whose field is the smaller at p (where a hit lies on).
+int ActivePiece(vec3 p) {
+#ifdef DEFORM_FLAP
+  return PieceField(p, 1) < PieceField(p, 0) ? 1 : 0;
+#else
+  return 0;
+#endif
+}
+
+// J_{T^-1} = I + J_D of one piece by central differences of its warp (half
+// a texel of D).
+mat3 WarpJacobian(vec3 p, int piece) {
   float h = 0.5 * length(mat3(u_object_from_box)[0]) / (u_deform_resolution - 1.0);
   h = max(h, 1e-5);
   mat3 j;
   for (int a = 0; a < 3; ++a) {
     vec3 e = vec3(0.0);
     e[a] = h;
-    j[a] = (Warp(p + e).xyz - Warp(p - e).xyz) / (2.0 * h);
+    j[a] = (WarpPiece(p + e, piece).xyz - WarpPiece(p - e, piece).xyz) / (2.0 * h);
   }
   return j;
 }
 
 #ifdef RAY_STEP_JACOBIAN
-mat3 RayJacobian(vec3 p) { return WarpJacobian(p); }
+// The rest's (the flap's D is a rigid turn for a lone peel: I + J is a rotation).
+mat3 RayJacobian(vec3 p) { return WarpJacobian(p, 0); }
 #endif
 
 #ifdef CUT_HOLLOW
 #define RAY_BOTH_CROSSINGS
 #define RAY_REJECT
-// Sec. 5.1.1: hits of the surface inside the cut are discarded.
-bool RayRejectHit(vec3 p) { return Warp(p).w > 0.0; }
+// Sec. 5.1.1: hits of the surface inside the cut are discarded (the rest's;
+// the flap is bounded by its mask instead).
+bool RayRejectHit(vec3 p) { return ActivePiece(p) == 0 && Warp(p).w > 0.0; }
 #endif
 
 #ifdef SKIP_EMPTY
 #define RAY_SKIP
 // Inside the cut (A > 0) nothing is hit within A / Lipschitz(A) (sec. 6.2).
+// With a flap, both pieces must be empty there: the smaller of the two.
 float RaySkip(vec3 p) {
   float a = Warp(p).w;
+#ifdef DEFORM_FLAP
+  a = min(a, WarpPiece(p, 1).w);
+#endif
   return a > 0.0 ? a / u_alpha_lipschitz : 0.0;
 }
 #endif
@@ -162,11 +202,11 @@ vec3 ImplicitGradient(vec3 p) {
               Implicit(p + vec3(0, 0, h)) - Implicit(p - vec3(0, 0, h)));
 }
 
-vec3 AlphaGradient(vec3 p) {
+vec3 AlphaGradient(vec3 p, int piece) {
   float h = 0.5 * length(mat3(u_object_from_box)[0]) / (u_deform_resolution - 1.0);
-  return vec3(Warp(p + vec3(h, 0, 0)).w - Warp(p - vec3(h, 0, 0)).w,
-              Warp(p + vec3(0, h, 0)).w - Warp(p - vec3(0, h, 0)).w,
-              Warp(p + vec3(0, 0, h)).w - Warp(p - vec3(0, 0, h)).w);
+  return vec3(WarpPiece(p + vec3(h, 0, 0), piece).w - WarpPiece(p - vec3(h, 0, 0), piece).w,
+              WarpPiece(p + vec3(0, h, 0), piece).w - WarpPiece(p - vec3(0, h, 0), piece).w,
+              WarpPiece(p + vec3(0, 0, h), piece).w - WarpPiece(p - vec3(0, 0, h), piece).w);
 }
 
 void main() {
@@ -201,22 +241,23 @@ void main() {
     discard;
   }
   vec3 p = res.p;
-  vec4 w = Warp(p);
+  int piece = ActivePiece(p);
+  vec4 w = WarpPiece(p, piece);
   float sdf = Implicit(w.xyz);
-  bool cut_face = false;
+  bool cut_face = piece == 1 && w.w > Body(sdf);  // the flap's mask bounds it in every mode
 #if defined(CUT_SOLID) || defined(CUT_THICK)
   cut_face = w.w > Body(sdf);  // eq. 6: the cut's term is the active one
 #endif
   vec3 n;
   if (cut_face) {
-    n = normalize(AlphaGradient(p));  // out of the solid, into the cut
+    n = normalize(AlphaGradient(p, piece));  // out of the solid, into the cut
   } else {
     // Eq. 5: n' = (I + J_D)^T grad f at the warped point.
     vec3 g = ImplicitGradient(w.xyz);
 #ifdef CUT_THICK
     if (sdf + 0.5 * u_thickness < 0.0) g = -g;  // the shell's inner surface
 #endif
-    n = normalize(transpose(WarpJacobian(p)) * g);
+    n = normalize(transpose(WarpJacobian(p, piece)) * g);
   }
   vec4 p_in_cam = u_cam_from_world * vec4(p, 1.0);
   vec4 clip = u_clip_from_cam * p_in_cam;

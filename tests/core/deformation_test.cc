@@ -141,6 +141,60 @@ TEST(Deformation, PeelTurnsTheFlapAndCutsTheSlabItLeft) {
   EXPECT_EQ(DeformationKindFromName("peel"), DeformationKind::kPeel);
 }
 
+TEST(Deformation, PeelPiecesAreContinuousAndAgreeWithThePseudoInverse) {
+  // The sampled D must not jump (a jump interpolated over one texel maps
+  // that band anywhere): per piece, neighbouring points 1e-4 apart differ by
+  // at most ~|J| 1e-4 in D and 1e-4 in A (the flap's D is a rigid turn:
+  // |J| <= 2). Where the flap's mask is <= 0 its D is the pseudo-inverse's
+  // (Evaluate: the flap wins); elsewhere the rest's is, with the slab cut.
+  std::mt19937 rng(17);
+  std::uniform_real_distribution<double> u01(0.0, 1.0);
+  for (double angle : {0.0, 0.7, 2.4, M_PI}) {
+    DeformationSum sum;
+    sum.terms = {Make(DeformationKind::kPeel, angle, 0.15)};
+    ASSERT_EQ(sum.Pieces(), 2);
+    double worst_jump = 0.0, worst_mismatch = 0.0;
+    int flap = 0;
+    for (int n = 0; n < 20000; ++n) {
+      const glm::dvec3 u(u01(rng), u01(rng), u01(rng));
+      const glm::dvec3 v =
+          u + 1e-4 * glm::normalize(glm::dvec3(u01(rng), u01(rng), u01(rng)) - 0.5);
+      for (int piece = 0; piece < 2; ++piece) {
+        const glm::dvec4 a = sum.EvaluatePiece(u, piece), b = sum.EvaluatePiece(v, piece);
+        worst_jump = std::max({worst_jump, glm::length(glm::dvec3(a) - glm::dvec3(b)) / 2e-4,
+                               std::abs(a.w - b.w) / 1e-4});
+      }
+      const glm::dvec4 rest = sum.EvaluatePiece(u, 0), turned = sum.EvaluatePiece(u, 1);
+      const glm::dvec4 single = sum.Evaluate(u);
+      if (angle > 0 && turned.w < 0) {
+        ++flap;
+        worst_mismatch = std::max(worst_mismatch, glm::length(glm::dvec3(turned - single)));
+      } else if (angle > 0) {
+        worst_mismatch = std::max(worst_mismatch, glm::length(glm::dvec3(rest - single)));
+        EXPECT_NEAR(rest.w, single.w, 1e-12);
+      }
+      EXPECT_LE(glm::length(glm::dvec3(rest)), 0.0);  // the rest stays in place
+    }
+    EXPECT_LT(worst_jump, 1.0 + 1e-6) << angle;
+    EXPECT_LT(worst_mismatch, 1e-12) << angle;
+    if (angle > 0) {
+      EXPECT_GT(flap, 200) << angle;  // at 2.4 most of the flap has left the box
+    }
+  }
+  // Without a peel there is one piece, piece 0 being Evaluate.
+  DeformationSum twist;
+  twist.terms = {Make(DeformationKind::kTwist, 1.0, 0.2)};
+  EXPECT_EQ(twist.Pieces(), 1);
+  const glm::dvec3 u(0.3, 0.6, 0.7);
+  EXPECT_EQ(twist.EvaluatePiece(u, 0), twist.Evaluate(u));
+  EXPECT_EQ(SampleDeformation(twist, 4).pieces, 1);
+  DeformationSum peel;
+  peel.terms = {Make(DeformationKind::kPeel, 1.0, 0.2)};
+  const DeformationTexture t = SampleDeformation(peel, 4);
+  EXPECT_EQ(t.pieces, 2);
+  EXPECT_EQ(t.rgba.size(), size_t{2} * 4 * 4 * 4 * 4);
+}
+
 TEST(Deformation, SumAddsDisplacementsAndTakesTheLargestAlpha) {
   DeformationSum sum{
       {Make(DeformationKind::kTwist, 1.0, 0.3), Make(DeformationKind::kKnife, 0.2, 0.5)}};
