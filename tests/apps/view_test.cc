@@ -121,7 +121,8 @@ TEST_F(ViewTest, ScreenshotOfASceneShowsTheDeformObjectAndTheVolume) {
   // mode, spacing) take it further down.
   int bottom = 0;
   for (int y = 0; y < 700; ++y) {
-    if (std::abs(image.at(200, y, 0) - 31) > 2 || std::abs(image.at(200, y, 2) - 36) > 2) bottom = y;
+    if (std::abs(image.at(200, y, 0) - 31) > 2 || std::abs(image.at(200, y, 2) - 36) > 2)
+      bottom = y;
   }
   EXPECT_GT(bottom, 480) << "the panel holds no object controls";
 }
