@@ -240,6 +240,115 @@ int64_t DeformObjectData::ImplicitBytes() const {
                                   : depth_cube.Bytes();
 }
 
+void DeformObjectOptions::Check() const {
+  deformation.Check();
+  pass.Check();
+  if (!(scale > 0) || !std::isfinite(scale))
+    core::ThrowInputError("DeformObjectOptions", "placement scale {} must be finite and > 0",
+                          scale);
+  if (sdf_resolution < 8 || sdf_resolution > 512)
+    core::ThrowInputError("DeformObjectOptions", "resolution {} outside 8..512", sdf_resolution);
+  if (deformation_resolution < 2 || deformation_resolution > 256) {
+    core::ThrowInputError("DeformObjectOptions", "deformation resolution {} outside 2..256",
+                          deformation_resolution);
+  }
+  if (sdf_reach && (!std::isfinite(*sdf_reach) || *sdf_reach < 0))
+    core::ThrowInputError("DeformObjectOptions", "reach {} must be finite and >= 0", *sdf_reach);
+}
+
+namespace {
+
+core::Box3d NormMeshBounds(const core::TriangleMesh& mesh) {
+  glm::vec3 lo, hi;
+  mesh.Bounds(lo, hi);
+  return {glm::dvec3(lo), glm::dvec3(hi)};
+}
+
+// The deformation's largest displacement, its texture and what the frame can
+// hold (d.placement set; the normalised mesh's bounds given).
+void SampleDeformObject(DeformObjectData& d, const DeformObjectOptions& options,
+                        const core::Box3d& mesh_bounds) {
+  d.max_displacement =
+      core::MaxObjectDisplacement(options.deformation, d.placement, options.deformation_resolution);
+  d.texture = core::SampleDeformation(options.deformation, options.deformation_resolution);
+  d.norm_bounds = DeformedBounds(mesh_bounds, d.placement.ObjectBounds(), d.max_displacement);
+}
+
+// The implicit of the normalised mesh: the distance field over the
+// deformation box grown by the reach, or the depth cube.
+struct Implicit {
+  core::DistanceField sdf;
+  render::DepthCube depth_cube;
+  double reach = 0.0;
+  double seconds = 0.0;
+};
+Implicit BuildImplicit(const core::TriangleMesh& mesh, const core::Placement& placement,
+                       double max_displacement, const DeformObjectOptions& options,
+                       const std::string& where, bool progress, render::ProgramCache* programs) {
+  const bool cube = options.pass.implicit == render::DeformImplicit::kDepthCube;
+  if (progress) {
+    std::fprintf(stderr, "deform: %zu triangles, max displacement %.4f; building the %s\n",
+                 mesh.triangle_count(), max_displacement, cube ? "depth cube" : "distance field");
+  }
+  const auto start = std::chrono::steady_clock::now();
+  // The same closedness rule for both implicits (open meshes refused unless
+  // capped); the depth cube renders the capped mesh if holes were filled
+  // (else the maps would look into them).
+  const core::MeshDistance distance(mesh, options.cap_holes, where);
+  const core::Box3d box = placement.ObjectBounds();
+  Implicit i;
+  if (cube) {
+    IBR_CHECK(programs != nullptr);  // the depth cube renders its maps
+    i.depth_cube =
+        MakeDepthCube(*programs, distance.capped_holes() > 0 ? distance.closed_mesh() : mesh,
+                      options.sdf_resolution);
+  } else {
+    core::DistanceFieldOptions sdf_options;
+    sdf_options.resolution = options.sdf_resolution;
+    sdf_options.progress = progress;
+    // Grown by the reach (samples land up to the largest displacement out)
+    // and two voxels for the normals' central differences.
+    const double voxel =
+        std::max({box.size().x, box.size().y, box.size().z}) / (options.sdf_resolution - 1);
+    i.reach = std::max(options.sdf_reach.value_or(0.0), max_displacement);
+    i.sdf = core::BuildDistanceField(distance, box.Grown(i.reach + 2 * voxel), sdf_options);
+  }
+  i.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  return i;
+}
+
+void SetImplicit(DeformObjectData& d, Implicit i) {
+  d.sdf = std::move(i.sdf);
+  d.depth_cube = std::move(i.depth_cube);
+  d.sdf_reach = i.reach;
+  d.sdf_seconds = i.seconds;
+  ++d.implicit_builds;
+}
+
+bool SameDeformation(const core::DeformationSum& a, const core::DeformationSum& b) {
+  if (a.terms.size() != b.terms.size()) return false;
+  for (size_t i = 0; i < a.terms.size(); ++i) {
+    const core::Deformation &x = a.terms[i], &y = b.terms[i];
+    if (x.kind != y.kind || x.amount != y.amount || x.width != y.width) return false;
+  }
+  return true;
+}
+
+bool SamePass(const render::DeformPassOptions& a, const render::DeformPassOptions& b) {
+  return a.cut == b.cut && a.thickness == b.thickness && a.step_voxels == b.step_voxels &&
+         a.step_policy == b.step_policy && a.threshold == b.threshold &&
+         a.max_steps == b.max_steps && a.refine_steps == b.refine_steps &&
+         a.skip_empty == b.skip_empty && a.implicit == b.implicit && a.draw_mesh == b.draw_mesh &&
+         a.base_color == b.base_color && a.cut_color == b.cut_color;
+}
+
+bool SameRegion(const std::optional<core::Box3d>& a, const std::optional<core::Box3d>& b) {
+  if (a.has_value() != b.has_value()) return false;
+  return !a || (a->lo == b->lo && a->hi == b->hi);
+}
+
+}  // namespace
+
 DeformObjectData MakeDeformObject(core::TriangleMesh mesh, const DeformObjectOptions& options,
                                   const std::string& where, bool progress,
                                   render::ProgramCache* programs) {
@@ -251,42 +360,67 @@ DeformObjectData MakeDeformObject(core::TriangleMesh mesh, const DeformObjectOpt
   const double longest = std::max({hi.x - lo.x, hi.y - lo.y, hi.z - lo.z});
   NormaliseMesh(mesh, where);
   d.object_from_norm = glm::scale(glm::translate(glm::dmat4(1.0), centre), glm::dvec3(longest));
-  mesh.Bounds(lo, hi);
-  d.placement = DeformPlacement(options, {glm::dvec3(lo), glm::dvec3(hi)});
-  d.max_displacement =
-      core::MaxObjectDisplacement(options.deformation, d.placement, options.deformation_resolution);
-  const bool cube = options.pass.implicit == render::DeformImplicit::kDepthCube;
-  if (progress) {
-    std::fprintf(stderr, "deform: %zu triangles, max displacement %.4f; building the %s\n",
-                 mesh.triangle_count(), d.max_displacement, cube ? "depth cube" : "distance field");
-  }
-  const auto start = std::chrono::steady_clock::now();
-  // The same closedness rule for both implicits (open meshes refused unless
-  // capped); the depth cube renders the capped mesh if holes were filled
-  // (else the maps would look into them).
-  const core::MeshDistance distance(mesh, options.cap_holes, where);
-  const core::Box3d box = d.placement.ObjectBounds();
-  if (cube) {
-    IBR_CHECK(programs != nullptr);  // the depth cube renders its maps
-    d.depth_cube =
-        MakeDepthCube(*programs, distance.capped_holes() > 0 ? distance.closed_mesh() : mesh,
-                      options.sdf_resolution);
-  } else {
-    core::DistanceFieldOptions sdf_options;
-    sdf_options.resolution = options.sdf_resolution;
-    sdf_options.progress = progress;
-    // Grown by the largest displacement (samples land up to that far out) and
-    // two voxels for the normals' central differences.
-    const double voxel =
-        std::max({box.size().x, box.size().y, box.size().z}) / (options.sdf_resolution - 1);
-    d.sdf =
-        core::BuildDistanceField(distance, box.Grown(d.max_displacement + 2 * voxel), sdf_options);
-  }
-  d.sdf_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  d.texture = core::SampleDeformation(options.deformation, options.deformation_resolution);
-  d.norm_bounds = DeformedBounds({glm::dvec3(lo), glm::dvec3(hi)}, box, d.max_displacement);
   d.mesh = std::move(mesh);
+  d.placement = DeformPlacement(options, NormMeshBounds(d.mesh));
+  SampleDeformObject(d, options, NormMeshBounds(d.mesh));
+  SetImplicit(d, BuildImplicit(d.mesh, d.placement, d.max_displacement, options, where, progress,
+                               programs));
   return d;
+}
+
+DeformObjectChange UpdateDeformObject(DeformObjectData& data,
+                                      const DeformObjectOptions& old_options,
+                                      DeformObjectOptions& options, const std::string& where,
+                                      render::ProgramCache* programs) {
+  try {
+    options.Check();
+  } catch (const core::InputError& e) {
+    throw core::InputError(fmt::format("{}: {}", where, e.what()));
+  }
+  DeformObjectChange change;
+  const bool placement = !SameRegion(old_options.region, options.region) ||
+                         old_options.rotation_deg != options.rotation_deg ||
+                         old_options.scale != options.scale ||
+                         old_options.translation != options.translation;
+  change.deformation = placement ||
+                       !SameDeformation(old_options.deformation, options.deformation) ||
+                       old_options.deformation_resolution != options.deformation_resolution;
+  change.pass = !SamePass(old_options.pass, options.pass);
+  const bool cube = options.pass.implicit == render::DeformImplicit::kDepthCube;
+  change.implicit = placement || old_options.pass.implicit != options.pass.implicit ||
+                    old_options.sdf_resolution != options.sdf_resolution ||
+                    old_options.cap_holes != options.cap_holes ||
+                    (!cube && old_options.sdf_reach != options.sdf_reach);
+  // Everything new is built aside first: on an error nothing changes.
+  DeformObjectData next = {};
+  next.placement = placement ? DeformPlacement(options, NormMeshBounds(data.mesh)) : data.placement;
+  next.max_displacement = data.max_displacement;
+  if (change.deformation) SampleDeformObject(next, options, NormMeshBounds(data.mesh));
+  // A field that does not reach as far as the new deformation needs.
+  if (!cube && data.sdf_reach < next.max_displacement) change.implicit = true;
+  std::optional<double> reach = options.sdf_reach;
+  if (!cube && !change.implicit) {
+    reach = data.sdf_reach;  // the field kept: the options make the same data
+  } else if (!cube) {
+    reach = std::max(reach.value_or(0.0), 1.5 * next.max_displacement);
+  }
+  std::optional<Implicit> implicit;
+  if (change.implicit) {
+    DeformObjectOptions build = options;
+    build.sdf_reach = reach;
+    implicit = BuildImplicit(data.mesh, next.placement, next.max_displacement, build, where,
+                             /*progress=*/false, programs);
+  }
+  // Commit.
+  options.sdf_reach = reach;
+  if (change.deformation) {
+    data.placement = next.placement;
+    data.max_displacement = next.max_displacement;
+    data.texture = std::move(next.texture);
+    data.norm_bounds = next.norm_bounds;
+  }
+  if (implicit) SetImplicit(data, std::move(*implicit));
+  return change;
 }
 
 }  // namespace ibr

@@ -36,6 +36,18 @@ struct DeformObjectOptions {
   int sdf_resolution = 128;
   int deformation_resolution = 64;  // deformation texture nodes per axis
   bool cap_holes = false;           // fill the boundary loops of an open mesh
+  // How far (normalised units) the distance field reaches beyond the
+  // deformation box, at least: the field covers the box grown by
+  // max(sdf_reach, the deformation's largest displacement) (warped samples
+  // land up to that far out). Empty = the largest displacement alone.
+  // UpdateDeformObject sets it when it keeps a field that reaches further
+  // than the new deformation needs, so the options still make the same data.
+  std::optional<double> sdf_reach;
+
+  // InputError on values MakeDeformObject cannot use: the deformation's and
+  // the pass's Check(), a placement scale <= 0, resolutions outside 8..512
+  // (field) and 2..256 (deformation texture), a negative or non-finite reach.
+  void Check() const;
 };
 
 // Default amount and width per kind (normalised box units; radians).
@@ -67,6 +79,8 @@ struct DeformObjectData {
   render::DepthCube depth_cube;      // DeformImplicit::kDepthCube (empty otherwise)
   core::DeformationTexture texture;
   double sdf_seconds = 0.0;  // the implicit's build time (distance field or depth cube)
+  double sdf_reach = 0.0;    // the distance field's reach beyond the box (normalised units)
+  int implicit_builds = 0;   // times the implicit was built (1 after MakeDeformObject)
   // The implicit's GPU memory: the R32F field, or the depth cube's six maps.
   int64_t ImplicitBytes() const;
   // What the frame can hold (normalised units): the mesh and the deformation
@@ -82,6 +96,32 @@ struct DeformObjectData {
 DeformObjectData MakeDeformObject(core::TriangleMesh mesh, const DeformObjectOptions& options,
                                   const std::string& where, bool progress = false,
                                   render::ProgramCache* programs = nullptr);
+
+// What changing a deform object's options invalidated (UpdateDeformObject).
+struct DeformObjectChange {
+  bool implicit = false;     // the distance field or depth cube was rebuilt
+  bool deformation = false;  // the deformation texture was resampled (and the
+                             // largest displacement and norm_bounds recomputed)
+  bool pass = false;         // the pass options differ (shader defines, uniforms)
+  bool Any() const { return implicit || deformation || pass; }
+};
+
+// Turns `data`, made by MakeDeformObject from `old_options`, into what it
+// makes from `options` with the same mesh, rebuilding only what the change
+// invalidates: the deformation's kinds, amounts, widths or texture resolution
+// resample the deformation texture (cheap, milliseconds); the placement,
+// implicit kind, field resolution, hole capping or reach rebuild the implicit
+// (the distance field costs seconds), as does a deformation whose largest
+// displacement outgrows the field's reach; a rebuilt field reaches 1.5 times
+// as far as needed (so a slider dragged upwards rarely rebuilds it). A kept
+// field's reach goes into options.sdf_reach, as does a rebuilt one's, so
+// MakeDeformObject(options) makes the same data. Cut, step and skip options
+// change the pass alone. options.Check() first (InputError naming `where`);
+// on any error nothing changes.
+DeformObjectChange UpdateDeformObject(DeformObjectData& data,
+                                      const DeformObjectOptions& old_options,
+                                      DeformObjectOptions& options, const std::string& where,
+                                      render::ProgramCache* programs = nullptr);
 
 // The depth-map cube (Correa 2007 sec. 6.1, render::DepthCube) of `mesh`:
 // the six orthographic maps of the cube rig of `ibr capture` (CaptureMaps,

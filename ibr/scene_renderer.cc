@@ -8,6 +8,7 @@
 #include <glm/gtc/matrix_transform.hpp>
 #include <optional>
 
+#include "core/check.h"
 #include "core/error.h"
 #include "core/image_io.h"
 #include "core/timing.h"
@@ -127,11 +128,28 @@ capture::Bounds BoxBounds(const glm::dmat4& world_from_box) {
   return b;
 }
 
+// A deform object's world box: what its normalised frame can hold, carried
+// to the world.
+capture::Bounds DeformWorldBounds(const LoadedObject& l) {
+  const core::Box3d& b = l.deform->norm_bounds;
+  return BoxBounds(l.world_from_object *
+                   glm::scale(glm::translate(glm::dmat4(1.0), b.lo), b.hi - b.lo));
+}
+
+// The world bounds of every enabled object.
+capture::Bounds SceneBounds(const std::vector<LoadedObject>& objects) {
+  capture::Bounds bounds = objects.front().bounds;
+  for (size_t i = 1; i < objects.size(); ++i) bounds = Union(bounds, objects[i].bounds);
+  return bounds;
+}
+
 // A volume object (ibr/volume_object.h): its data and the world box its
 // proxy covers.
 void LoadVolumeInto(const scene::Object& o, LoadedObject& l) {
-  l.volume = std::make_shared<LoadedVolume>(LoadVolumeObject(o));
-  l.bounds = BoxBounds(WorldFromProxy(l.volume->data));
+  LoadedVolume v = LoadVolumeObject(o);
+  l.volume = std::make_shared<const VolumeObjectData>(std::move(v.data));
+  l.volume_options = v.options;
+  l.bounds = BoxBounds(WorldFromProxy(*l.volume));
 }
 
 LoadedObject LoadObject(render::ProgramCache& programs, const scene::Object& o) {
@@ -205,9 +223,7 @@ LoadedObject LoadObject(render::ProgramCache& programs, const scene::Object& o) 
           MakeDeformObject(LoadMesh(o.mesh, /*displaced=*/false), l.deform_options, o.where,
                            /*progress=*/false, &programs));
       l.world_from_object = o.world_from_object * l.deform->object_from_norm;
-      const core::Box3d& b = l.deform->norm_bounds;
-      l.bounds = BoxBounds(l.world_from_object *
-                           glm::scale(glm::translate(glm::dmat4(1.0), b.lo), b.hi - b.lo));
+      l.bounds = DeformWorldBounds(l);
       break;
     }
   }
@@ -232,12 +248,11 @@ LoadedScene LoadScene(render::ProgramCache& programs, const scene::Scene& s) {
     }
     spdlog::info("scene {}: loading {} '{}'", s.name, scene::ObjectTypeName(o.type), o.name);
     loaded.objects.push_back(LoadObject(programs, o));
-    loaded.bounds = loaded.objects.size() == 1 ? loaded.objects.back().bounds
-                                               : Union(loaded.bounds, loaded.objects.back().bounds);
   }
   if (loaded.objects.empty()) {
     core::ThrowInputError("LoadScene", "'{}': every object is disabled: nothing to render", s.name);
   }
+  loaded.bounds = SceneBounds(loaded.objects);
   const scene::Cameras& c = s.cameras;
   switch (c.kind) {
     case scene::Cameras::Kind::kOrbit: {
@@ -296,6 +311,7 @@ struct SceneRenderer::ObjectPass {
   std::optional<render::DeformPass> deform;
   // the object's pass (one of the above)
   render::Pass* pass = nullptr;
+  int builds = 0;  // times the pass was built
 };
 
 SceneRenderer::SceneRenderer(render::ProgramCache& programs, const LoadedScene& scene)
@@ -316,10 +332,11 @@ SceneRenderer::SceneRenderer(render::ProgramCache& programs, const LoadedScene& 
         p->pass = &p->displaced->pass();
         break;
       case ObjectType::kVolume: {
-        const LoadedVolume& v = *o.volume;
-        p->volume.emplace(programs, v.data.volume, v.data.transfer, v.data.maps,
-                          v.data.world_from_volume, v.options.pass);
-        p->name = v.options.pass.mode == render::VolumeMode::kDvr ? "volume:dvr" : "volume:iso";
+        const VolumeObjectData& v = *o.volume;
+        p->volume.emplace(programs, v.volume, v.transfer, v.maps, v.world_from_volume,
+                          o.volume_options.pass);
+        p->name =
+            o.volume_options.pass.mode == render::VolumeMode::kDvr ? "volume:dvr" : "volume:iso";
         p->pass = &*p->volume;
         break;
       }
@@ -342,8 +359,78 @@ SceneRenderer::SceneRenderer(render::ProgramCache& programs, const LoadedScene& 
         p->pass = &*p->mesh_pass;
         break;
     }
+    p->builds = 1;
     passes_.push_back(std::move(p));
   }
+}
+
+DeformObjectChange SceneRenderer::UpdateDeform(LoadedScene& scene, size_t index,
+                                               DeformObjectOptions options) {
+  IBR_CHECK_LT(index, scene.objects.size());
+  IBR_CHECK_EQ(scene.objects.size(), passes_.size());
+  LoadedObject& l = scene.objects[index];
+  IBR_CHECK(l.type == ObjectType::kDeform);
+  // A copy, changed aside: the old data stays valid until the new pass exists.
+  auto data = std::make_shared<DeformObjectData>(*l.deform);
+  const DeformObjectChange change = UpdateDeformObject(
+      *data, l.deform_options, options, fmt::format("object '{}'", l.name), programs_);
+  if (!change.Any()) return change;
+  l.deform = std::move(data);
+  l.deform_options = options;
+  l.bounds = DeformWorldBounds(l);
+  scene.bounds = SceneBounds(scene.objects);
+  bounds_ = scene.bounds;
+  ObjectPass& p = *passes_[index];
+  p.deform.reset();
+  p.deform_data = l.deform;
+  p.deform.emplace(*programs_, l.deform->Inputs(), l.deform_options.pass);
+  p.pass = &*p.deform;
+  ++p.builds;
+  return change;
+}
+
+VolumeObjectChange SceneRenderer::UpdateVolume(LoadedScene& scene, size_t index,
+                                               const VolumeObjectOptions& options) {
+  IBR_CHECK_LT(index, scene.objects.size());
+  IBR_CHECK_EQ(scene.objects.size(), passes_.size());
+  LoadedObject& l = scene.objects[index];
+  IBR_CHECK(l.type == ObjectType::kVolume);
+  const std::string where = fmt::format("object '{}'", l.name);
+  // The maps changed aside (the volume itself is copied only when they do).
+  VolumeObjectData maps_only;
+  maps_only.maps = l.volume->maps;
+  maps_only.map_placement = l.volume->map_placement;
+  const VolumeObjectChange change = UpdateVolumeObject(maps_only, l.volume_options, options, where);
+  if (!change.Any()) return change;
+  ObjectPass& p = *passes_[index];
+  if (change.maps) {
+    auto data = std::make_shared<VolumeObjectData>(*l.volume);
+    data->maps = std::move(maps_only.maps);
+    l.volume = std::move(data);
+    l.volume_options = options;
+    l.bounds = BoxBounds(WorldFromProxy(*l.volume));
+    scene.bounds = SceneBounds(scene.objects);
+    bounds_ = scene.bounds;
+    p.volume.reset();
+    p.volume.emplace(*programs_, l.volume->volume, l.volume->transfer, l.volume->maps,
+                     l.volume->world_from_volume, options.pass);
+    p.pass = &*p.volume;
+    ++p.builds;
+  } else {
+    try {
+      p.volume->SetOptions(options.pass);
+    } catch (const core::InputError& e) {
+      throw core::InputError(fmt::format("{}: {}", where, e.what()));
+    }
+    l.volume_options = options;
+  }
+  p.name = options.pass.mode == render::VolumeMode::kDvr ? "volume:dvr" : "volume:iso";
+  return change;
+}
+
+int SceneRenderer::PassBuilds(size_t index) const {
+  IBR_CHECK_LT(index, passes_.size());
+  return passes_[index]->builds;
 }
 
 SceneRenderer::~SceneRenderer() = default;

@@ -48,8 +48,9 @@ struct LoadedObject {
   DisplacedMeshOptions displacement;
   // mesh: transformed to the world
   capture::SceneMesh mesh;
-  // volume: the data and options (ibr/volume_object.h), shared (large)
-  std::shared_ptr<const LoadedVolume> volume;
+  // volume: the data (ibr/volume_object.h; large, shared) and the options
+  std::shared_ptr<const VolumeObjectData> volume;
+  VolumeObjectOptions volume_options;
   // deform: the normalised mesh, distance field and deformation (large,
   // shared) and the pass's options; world_from_object above = the object's
   // transform * data.object_from_norm (a similarity)
@@ -101,6 +102,25 @@ class SceneRenderer {
   // The passes built, one per enabled object: "depth-object", "visual-hull",
   // "displacement:METHOD", "mesh", "volume:dvr", "volume:iso", "deform".
   std::vector<std::string> PassNames() const;
+
+  // Changes the options of enabled object `index` of `scene` (the scene this
+  // renderer was built from; a deform object) to `options`, rebuilding only
+  // what the change invalidates (ibr::UpdateDeformObject: the deformation
+  // texture for amounts and widths, the distance field only when the
+  // placement, implicit or reach asks for it), then the object's pass, whose
+  // textures are uploaded anew (render::DeformPass takes its options at
+  // construction), and the object's and the scene's bounds. The next Draw
+  // matches a scene loaded with the options the object ends with
+  // (scene.objects[index].deform_options; their sdf_reach says how far the
+  // field kept reaches). InputError (nothing changed) on invalid options.
+  DeformObjectChange UpdateDeform(LoadedScene& scene, size_t index, DeformObjectOptions options);
+  // The same for a volume object (ibr::UpdateVolumeObject): pass options go
+  // to render::VolumePass::SetOptions (no volume upload); effect or map-size
+  // changes resample the map and build the pass anew.
+  VolumeObjectChange UpdateVolume(LoadedScene& scene, size_t index,
+                                  const VolumeObjectOptions& options);
+  // Times object `index`'s pass was built (1 after the constructor).
+  int PassBuilds(size_t index) const;
 
  private:
   struct ObjectPass;

@@ -25,6 +25,44 @@ core::TransferFunction TransferForVolume(const std::string& name,
   return core::TransferPreset("ramp");
 }
 
+namespace {
+
+// The effect sampled on a map_size grid placed by `placement` (see
+// MakeVolumeObject).
+render::VolumeMapInput SampleEffectMap(const core::EffectOptions& effect, int map_size,
+                                       const glm::dmat4& placement) {
+  // Thin maps where the effect does not vary along an axis (Table 2: the
+  // peel and slicing maps are 128 x 128 x 1... here at least 4 texels).
+  glm::ivec3 dims(map_size);
+  if (effect.effect == core::Effect::kSlices || effect.effect == core::Effect::kWave ||
+      effect.effect == core::Effect::kPeel || effect.effect == core::Effect::kSeam)
+    dims.y = std::min(map_size, 4);
+  return {core::SampleEffect(effect, dims, 2), placement};
+}
+
+bool SameEffect(const core::EffectOptions& a, const core::EffectOptions& b) {
+  return a.effect == b.effect && a.peel_top == b.peel_top && a.peel_thickness == b.peel_thickness &&
+         a.peel_hinge_x == b.peel_hinge_x && a.peel_angle_deg == b.peel_angle_deg &&
+         a.slices_period == b.slices_period && a.slices_gap == b.slices_gap &&
+         a.seam_z == b.seam_z && a.seam_width == b.seam_width && a.pull_sigma == b.pull_sigma &&
+         a.wave_amplitude == b.wave_amplitude && a.wave_frequency == b.wave_frequency;
+}
+
+bool SamePass(const render::VolumePassOptions& a, const render::VolumePassOptions& b) {
+  return a.mode == b.mode && a.iso_value == b.iso_value &&
+         a.sampling_distance_voxels == b.sampling_distance_voxels &&
+         a.displacement_bits == b.displacement_bits &&
+         a.float_map_textures == b.float_map_textures && a.lighting == b.lighting &&
+         a.jacobian == b.jacobian && a.draw_per_slice == b.draw_per_slice &&
+         a.support_skip == b.support_skip && a.light_dir_world == b.light_dir_world &&
+         a.ambient == b.ambient && a.ray.max_steps == b.ray.max_steps &&
+         a.ray.refine_steps == b.ray.refine_steps && a.ray.step_policy == b.ray.step_policy &&
+         a.ray.refinement == b.ray.refinement && a.ray.threshold == b.ray.threshold &&
+         a.ray.fine_step_scale == b.ray.fine_step_scale;
+}
+
+}  // namespace
+
 VolumeObjectData MakeVolumeObject(core::Volume volume, const core::TransferFunction& transfer,
                                   const std::optional<core::EffectOptions>& effect, int map_size,
                                   const glm::dvec3& placement_offset,
@@ -44,17 +82,40 @@ VolumeObjectData MakeVolumeObject(core::Volume volume, const core::TransferFunct
         core::ThrowInputError(where, "placement: offsets must be finite and scales finite and > 0");
       }
     }
-    // Thin maps where the effect does not vary along an axis (Table 2: the
-    // peel and slicing maps are 128 x 128 x 1... here at least 4 texels).
-    glm::ivec3 dims(map_size);
-    if (effect->effect == core::Effect::kSlices || effect->effect == core::Effect::kWave ||
-        effect->effect == core::Effect::kPeel || effect->effect == core::Effect::kSeam)
-      dims.y = std::min(map_size, 4);
-    s.maps.push_back(
-        {core::SampleEffect(*effect, dims, 2),
-         glm::scale(glm::translate(glm::dmat4(1.0), placement_offset), placement_scale)});
+    s.map_placement =
+        glm::scale(glm::translate(glm::dmat4(1.0), placement_offset), placement_scale);
+    s.maps.push_back(SampleEffectMap(*effect, map_size, s.map_placement));
   }
   return s;
+}
+
+void VolumeObjectOptions::Check() const {
+  if (effect) effect->Check();
+  if (map_size < 1 || map_size > 512)
+    core::ThrowInputError("VolumeObjectOptions", "map size {} not in [1, 512]", map_size);
+  pass.Check();
+}
+
+VolumeObjectChange UpdateVolumeObject(VolumeObjectData& data,
+                                      const VolumeObjectOptions& old_options,
+                                      const VolumeObjectOptions& options,
+                                      const std::string& where) {
+  try {
+    options.Check();
+  } catch (const core::InputError& e) {
+    throw core::InputError(fmt::format("{}: {}", where, e.what()));
+  }
+  VolumeObjectChange change;
+  change.pass = !SamePass(old_options.pass, options.pass);
+  change.maps = old_options.effect.has_value() != options.effect.has_value() ||
+                (options.effect && (!SameEffect(*old_options.effect, *options.effect) ||
+                                    old_options.map_size != options.map_size));
+  if (change.maps) {
+    data.maps.clear();
+    if (options.effect)
+      data.maps.push_back(SampleEffectMap(*options.effect, options.map_size, data.map_placement));
+  }
+  return change;
 }
 
 void ApplyVolumeMode(const std::string& mode, render::VolumePassOptions& options,

@@ -27,6 +27,9 @@ struct VolumeObjectData {
   // object frame of a scene's volume object, before its transform).
   glm::mat4 world_from_volume{1.0f};
   double radius = 1;  // of the volume's bounding sphere, world units
+  // The effect map's unit cube -> volume texture space (eq. 10's M), kept
+  // for resampling the map with other effect options (UpdateVolumeObject).
+  glm::dmat4 map_placement{1.0};
 };
 
 // The effect sampled on a map_size grid (thin along axes it does not vary
@@ -55,7 +58,26 @@ struct VolumeObjectOptions {
   std::optional<core::EffectOptions> effect;  // none: plain DVR / iso
   int map_size = 64;                          // texels per axis of the effect's map
   render::VolumePassOptions pass;
+  // InputError on bad values: the effect's and the pass's Check(), a map size
+  // outside 1..512.
+  void Check() const;
 };
+
+// What changing a volume object's options invalidated (UpdateVolumeObject).
+struct VolumeObjectChange {
+  bool maps = false;  // the effect's map was resampled (effect options, map size)
+  bool pass = false;  // the pass options differ (render::VolumePass::SetOptions)
+  bool Any() const { return maps || pass; }
+};
+// Turns `data`, made with `old_options`, into what MakeVolumeObject makes
+// with `options` (same volume, transfer function and map placement): only
+// effect or map-size changes resample the map (milliseconds for 64^3); the
+// pass options (mode, iso value, spacing, lighting, Jacobian, bits) touch no
+// data here, the caller hands them to the pass. options.Check() first
+// (InputError naming `where`); on an error nothing changes.
+VolumeObjectChange UpdateVolumeObject(VolumeObjectData& data,
+                                      const VolumeObjectOptions& old_options,
+                                      const VolumeObjectOptions& options, const std::string& where);
 VolumeObjectOptions VolumeObjectOptionsFrom(const scene::Settings& settings);
 
 // A scene's volume object: reads the volume and the transfer function, samples

@@ -2,7 +2,8 @@
 // visual hull. Orbit with the mouse; switch method, slicing, slice count,
 // texturing and the robust k in the panel; the frame time is shown.
 // `ibr view SCENE.json`: any scene file (scene/scene.h) through
-// ibr::SceneRenderer, the panel listing its objects and passes.
+// ibr::SceneRenderer, the panel listing its objects and passes and editing
+// deform and volume objects' parameters.
 #ifdef IBR_HAVE_VIEWER
 
 #include <fmt/format.h>
@@ -11,6 +12,7 @@
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
+#include <initializer_list>
 #include <memory>
 #include <optional>
 
@@ -111,8 +113,58 @@ class DatasetScene : public viewer::Scene {
   float radius_ = 1;
 };
 
+// A combo box over `values`, labelled by `name`; true when the choice changed.
+template <typename T, typename NameOf>
+bool ComboOf(const char* label, T& current, std::initializer_list<T> values, NameOf name) {
+  bool changed = false;
+  if (ImGui::BeginCombo(label, std::string(name(current)).c_str())) {
+    for (T v : values) {
+      if (ImGui::Selectable(std::string(name(v)).c_str(), v == current) && v != current) {
+        current = v;
+        changed = true;
+      }
+    }
+    ImGui::EndCombo();
+  }
+  return changed;
+}
+
+// A float slider over a double option (clamped to [lo, hi], typed values too).
+bool SliderDouble(const char* label, double& value, float lo, float hi, const char* format) {
+  float v = static_cast<float>(value);
+  if (!ImGui::SliderFloat(label, &v, lo, hi, format, ImGuiSliderFlags_AlwaysClamp)) return false;
+  value = v;
+  return true;
+}
+
+// Slider range of a deformation's amount and width per kind (the values
+// core::Deformation::Check accepts, narrowed to what is worth dragging
+// through); width {0, 0}: unused.
+struct DeformationRanges {
+  float amount_lo, amount_hi, width_lo, width_hi;
+};
+DeformationRanges RangesOf(core::DeformationKind kind) {
+  switch (kind) {
+    case core::DeformationKind::kTwist:
+      return {-6.3f, 6.3f, 0.0f, 0.5f};
+    case core::DeformationKind::kBend:
+      return {-3.14f, 3.14f, 0.0f, 0.0f};
+    case core::DeformationKind::kPull:
+      return {-1.0f, 1.0f, 0.005f, 0.3f};
+    case core::DeformationKind::kKnife:
+      return {0.01f, 0.5f, 0.05f, 1.0f};
+    case core::DeformationKind::kPeel:
+      return {0.0f, 3.14f, 0.02f, 0.5f};
+  }
+  return {0, 1, 0, 1};
+}
+
 // A scene file: every enabled object drawn by ibr::SceneRenderer into its
-// frame target (the headless path of `ibr render SCENE.json`), shown as is.
+// frame target (the headless path of `ibr render SCENE.json`). The panel
+// lists the objects and passes and shows each deform and volume object's
+// cheap-to-change options as controls; a change goes to
+// SceneRenderer::UpdateDeform / UpdateVolume, which rebuild only what it
+// invalidates and reject invalid options (the error shows in the panel).
 class SceneFileScene : public viewer::Scene {
  public:
   explicit SceneFileScene(const scene::Scene& file)
@@ -126,7 +178,6 @@ class SceneFileScene : public viewer::Scene {
       objects_.push_back(fmt::format("{} ({}){}", o.name, scene::ObjectTypeName(o.type),
                                      o.enabled ? "" : ": disabled"));
     }
-    passes_ = renderer_.PassNames();
   }
 
   std::string Title() const override { return title_; }
@@ -137,7 +188,26 @@ class SceneFileScene : public viewer::Scene {
     ImGui::TextUnformatted("objects:");
     for (const std::string& o : objects_) ImGui::BulletText("%s", o.c_str());
     ImGui::TextUnformatted("passes:");
-    for (const std::string& p : passes_) ImGui::BulletText("%s", p.c_str());
+    for (const std::string& p : renderer_.PassNames()) ImGui::BulletText("%s", p.c_str());
+    if (!error_.empty()) ImGui::TextColored(ImVec4(1, 0.4f, 0.4f, 1), "%s", error_.c_str());
+    for (size_t i = 0; i < loaded_.objects.size(); ++i) {
+      const ibr::LoadedObject& o = loaded_.objects[i];
+      if (o.type != scene::ObjectType::kDeform && o.type != scene::ObjectType::kVolume) continue;
+      ImGui::PushID(static_cast<int>(i));
+      const std::string header = fmt::format("{} ({})", o.name, scene::ObjectTypeName(o.type));
+      if (ImGui::CollapsingHeader(header.c_str(), ImGuiTreeNodeFlags_DefaultOpen)) {
+        try {
+          if (o.type == scene::ObjectType::kDeform) {
+            DeformControls(i);
+          } else {
+            VolumeControls(i);
+          }
+        } catch (const core::InputError& e) {
+          error_ = e.what();  // the object is unchanged
+        }
+      }
+      ImGui::PopID();
+    }
   }
 
   const render::RenderTarget& Render(const viewer::FrameCamera& camera) override {
@@ -154,11 +224,108 @@ class SceneFileScene : public viewer::Scene {
   }
 
  private:
+  // Per deformation: kind, amount, width; cut and thickness; step policy,
+  // threshold and base step; skip; the implicit (shown).
+  void DeformControls(size_t index) {
+    const ibr::LoadedObject& object = loaded_.objects[index];
+    ibr::DeformObjectOptions o = object.deform_options;
+    bool changed = false;
+    for (size_t t = 0; t < o.deformation.terms.size(); ++t) {
+      core::Deformation& d = o.deformation.terms[t];
+      ImGui::PushID(static_cast<int>(t));
+      ImGui::Text("deformation %zu: %s", t + 1, core::DeformationKindName(d.kind).c_str());
+      const DeformationRanges r = RangesOf(d.kind);
+      changed |= SliderDouble("amount", d.amount, r.amount_lo, r.amount_hi, "%.3f");
+      if (r.width_hi > r.width_lo)
+        changed |= SliderDouble("width", d.width, r.width_lo, r.width_hi, "%.3f");
+      ImGui::PopID();
+    }
+    render::DeformPassOptions& pass = o.pass;
+    changed |= ComboOf("cut", pass.cut,
+                       {core::CutMode::kNone, core::CutMode::kHollow, core::CutMode::kSolid,
+                        core::CutMode::kThick},
+                       core::CutModeName);
+    if (pass.cut == core::CutMode::kThick) {
+      changed |= ImGui::SliderFloat("thickness", &pass.thickness, 0.005f, 0.3f, "%.3f",
+                                    ImGuiSliderFlags_AlwaysClamp);
+    }
+    changed |= ComboOf("step", pass.step_policy,
+                       {render::RayStepPolicy::kFixed, render::RayStepPolicy::kThreshold,
+                        render::RayStepPolicy::kJacobian},
+                       render::RayStepPolicyName);
+    if (pass.step_policy == render::RayStepPolicy::kThreshold) {
+      changed |= ImGui::SliderFloat("threshold", &pass.threshold, 0.001f, 0.2f, "%.3f",
+                                    ImGuiSliderFlags_AlwaysClamp);
+    }
+    changed |= ImGui::SliderFloat("step voxels", &pass.step_voxels, 0.25f, 4.0f, "%.2f",
+                                  ImGuiSliderFlags_AlwaysClamp);
+    changed |= ImGui::Checkbox("skip empty space (cut)", &pass.skip_empty);
+    const ibr::DeformObjectData& data = *object.deform;
+    if (pass.implicit == render::DeformImplicit::kDepthCube) {
+      ImGui::Text("implicit: depth cube, 6 maps of %d px (built %dx, %.2f s)", o.sdf_resolution,
+                  data.implicit_builds, data.sdf_seconds);
+    } else {
+      ImGui::Text("implicit: sdf %dx%dx%d, reach %.3f (built %dx, %.2f s)", data.sdf.size.x,
+                  data.sdf.size.y, data.sdf.size.z, data.sdf_reach, data.implicit_builds,
+                  data.sdf_seconds);
+    }
+    if (changed) {
+      renderer_.UpdateDeform(loaded_, index, o);
+      error_.clear();
+    }
+  }
+
+  // The effect's main parameter; lighting; mode and iso value; spacing.
+  void VolumeControls(size_t index) {
+    ibr::VolumeObjectOptions o = loaded_.objects[index].volume_options;
+    bool changed = false;
+    if (o.effect) {
+      core::EffectOptions& e = *o.effect;
+      ImGui::Text("effect: %s", std::string(core::EffectName(e.effect)).c_str());
+      switch (e.effect) {
+        case core::Effect::kPeel:
+          changed |= SliderDouble("peel angle (deg)", e.peel_angle_deg, 0, 180, "%.1f");
+          break;
+        case core::Effect::kSlices:
+          changed |= SliderDouble("slice gap", e.slices_gap, 0,
+                                  0.95f * static_cast<float>(e.slices_period), "%.3f");
+          break;
+        case core::Effect::kSeam:
+          changed |= SliderDouble("seam width", e.seam_width, 0, 1, "%.3f");
+          break;
+        case core::Effect::kPull:
+          changed |= SliderDouble("pull sigma", e.pull_sigma, 0.02f, 0.5f, "%.3f");
+          break;
+        case core::Effect::kWave:
+          changed |= SliderDouble("wave amplitude", e.wave_amplitude, -0.2f, 0.2f, "%.3f");
+          break;
+      }
+    } else {
+      ImGui::TextUnformatted("effect: none");
+    }
+    render::VolumePassOptions& pass = o.pass;
+    changed |= ComboOf("lighting", pass.lighting,
+                       {render::VolumeLighting::kNone, render::VolumeLighting::kGradient,
+                        render::VolumeLighting::kTransformed, render::VolumeLighting::kBlended},
+                       render::VolumeLightingName);
+    changed |=
+        ComboOf("mode", pass.mode, {render::VolumeMode::kDvr, render::VolumeMode::kIso},
+                [](render::VolumeMode m) { return m == render::VolumeMode::kDvr ? "dvr" : "iso"; });
+    if (pass.mode == render::VolumeMode::kIso)
+      changed |= SliderDouble("iso value", pass.iso_value, 0, 1, "%.3f");
+    changed |= SliderDouble("spacing (voxels)", pass.sampling_distance_voxels, 0.25f, 4, "%.2f");
+    if (changed) {
+      renderer_.UpdateVolume(loaded_, index, o);
+      error_.clear();
+    }
+  }
+
   std::string title_;
   render::ProgramCache programs_;
   ibr::LoadedScene loaded_;
   ibr::SceneRenderer renderer_;
-  std::vector<std::string> objects_, passes_;
+  std::vector<std::string> objects_;
+  std::string error_;  // the last rejected change
   glm::vec3 centre_{0};
   float radius_ = 1;
 };

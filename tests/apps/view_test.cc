@@ -67,7 +67,9 @@ TEST_F(ViewTest, ScreenshotShowsTheObjectAndThePanel) {
 
 // `ibr view SCENE.json`: a scene with a deform object (a knife-cut sphere,
 // left) and a DVR volume (a ball of density, right) through
-// ibr::SceneRenderer; both show, the gap between them is background.
+// ibr::SceneRenderer; both show, the gap between them is background, and the
+// panel (left, clear of the objects in a wide window) holds the deform and
+// volume objects' controls below the object and pass lists.
 TEST_F(ViewTest, ScreenshotOfASceneShowsTheDeformObjectAndTheVolume) {
   if (std::system("command -v xvfb-run > /dev/null 2>&1") != 0)
     GTEST_SKIP() << "xvfb-run is not installed";
@@ -91,27 +93,38 @@ TEST_F(ViewTest, ScreenshotOfASceneShowsTheDeformObjectAndTheVolume) {
            R"( "transform": {"translate": [1.6, 0, 0], "scale": 0.05}}]})";
   }
   const fs::path shot = test_support::TestOutputDir() / "view_scene.png";
-  const auto r = RunCommand("xvfb-run -a -s '-screen 0 1024x768x24' " + IbrBinary() + " view '" +
+  const auto r = RunCommand("xvfb-run -a -s '-screen 0 1700x800x24' " + IbrBinary() + " view '" +
                             (dir / "s.json").string() +
-                            "' --window 800x600 --frames 2 --azimuth 0 --elevation 0 "
+                            "' --window 1600x700 --frames 2 --azimuth 0 --elevation 0 "
                             "--screenshot '" +
                             shot.string() + "'");
   ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_NE(r.out.find("view: wrote"), std::string::npos) << r.out;
   const core::Image8 image = core::ReadImage<uint8_t>(shot);
-  ASSERT_EQ(image.width(), 800);
-  ASSERT_EQ(image.height(), 600);
-  // Below the panel: object pixels left and right of the centre, none in
+  ASSERT_EQ(image.width(), 1600);
+  ASSERT_EQ(image.height(), 700);
+  // Right of the panel: object pixels left and right of the centre, none in
   // the gap at the centre column.
   auto lit = [&](int x0, int x1) {
     int n = 0;
-    for (int y = 290; y < 600; ++y)
+    for (int y = 0; y < 700; ++y)
       for (int x = x0; x < x1; ++x) n += image.at(x, y, 0) + image.at(x, y, 1) > 60;
     return n;
   };
-  EXPECT_GT(lit(0, 360), 2000) << "the deform object (left)";
-  EXPECT_GT(lit(440, 800), 800) << "the volume (right)";
-  EXPECT_EQ(lit(395, 405), 0) << "the gap between them";
+  EXPECT_GT(lit(450, 780), 2000) << "the deform object (left)";
+  EXPECT_GT(lit(820, 1300), 800) << "the volume (right)";
+  EXPECT_EQ(lit(795, 805), 0) << "the gap between them";
+  // The panel's bottom: the lowest row of a column inside it (x = 200, left
+  // of every object) that is not the viewer's background (0.12, 0.12, 0.14).
+  // The lists alone end near y = 300; the deform controls (amount, width,
+  // cut, step, step voxels, skip, implicit) and the volume's (effect, lighting,
+  // mode, spacing) take it further down.
+  int bottom = 0;
+  for (int y = 0; y < 700; ++y) {
+    if (std::abs(image.at(200, y, 0) - 31) > 2 || std::abs(image.at(200, y, 2) - 36) > 2)
+      bottom = y;
+  }
+  EXPECT_GT(bottom, 480) << "the panel holds no object controls";
 }
 
 TEST_F(ViewTest, MissingDatasetIsOneLineAndNoWindow) {
