@@ -24,8 +24,8 @@
 #include "capture/synthetic.h"
 #include "core/deform_reference.h"
 #include "core/error.h"
-#include "core/metrics.h"
 #include "core/look_at.h"
+#include "core/metrics.h"
 #include "tests/support/gl_test.h"
 
 namespace ibr {
