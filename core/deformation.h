@@ -56,6 +56,7 @@ struct Deformation {
   double width = 0.3;
 
   void Check() const;  // InputError on NaN/inf or out-of-range values
+  bool operator==(const Deformation&) const = default;
   // (D(u), A(u)): inverse displacement (box units) and cut alpha at u.
   glm::dvec4 Evaluate(const glm::dvec3& u) const;
   bool HasForward() const { return kind != DeformationKind::kPull; }
@@ -80,6 +81,7 @@ std::string CutModeName(CutMode mode);
 // D = sum of D_i, A = max of A_i.
 struct DeformationSum {
   std::vector<Deformation> terms;
+  bool operator==(const DeformationSum&) const = default;
   void Check() const;
   glm::dvec4 Evaluate(const glm::dvec3& u) const;
   // J_D(u) by central differences (step h in box units).

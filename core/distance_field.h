@@ -31,6 +31,7 @@ struct Box3d {
   }
   // The box grown by `margin` on every side.
   Box3d Grown(double margin) const { return {lo - glm::dvec3(margin), hi + glm::dvec3(margin)}; }
+  bool operator==(const Box3d&) const = default;
 };
 
 // Vertex welding: for every vertex, the index of the first vertex within

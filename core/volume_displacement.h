@@ -74,6 +74,7 @@ struct EffectOptions {
   double wave_frequency = 2;     // periods across the map
 
   void Check() const;  // InputError on NaN/Inf or out-of-range values
+  bool operator==(const EffectOptions&) const = default;
 };
 
 // (D, alpha) of the effect at map-space point u, exact (double).

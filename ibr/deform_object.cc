@@ -325,28 +325,6 @@ void SetImplicit(DeformObjectData& d, Implicit i) {
   ++d.implicit_builds;
 }
 
-bool SameDeformation(const core::DeformationSum& a, const core::DeformationSum& b) {
-  if (a.terms.size() != b.terms.size()) return false;
-  for (size_t i = 0; i < a.terms.size(); ++i) {
-    const core::Deformation &x = a.terms[i], &y = b.terms[i];
-    if (x.kind != y.kind || x.amount != y.amount || x.width != y.width) return false;
-  }
-  return true;
-}
-
-bool SamePass(const render::DeformPassOptions& a, const render::DeformPassOptions& b) {
-  return a.cut == b.cut && a.thickness == b.thickness && a.step_voxels == b.step_voxels &&
-         a.step_policy == b.step_policy && a.threshold == b.threshold &&
-         a.max_steps == b.max_steps && a.refine_steps == b.refine_steps &&
-         a.skip_empty == b.skip_empty && a.implicit == b.implicit && a.draw_mesh == b.draw_mesh &&
-         a.base_color == b.base_color && a.cut_color == b.cut_color;
-}
-
-bool SameRegion(const std::optional<core::Box3d>& a, const std::optional<core::Box3d>& b) {
-  if (a.has_value() != b.has_value()) return false;
-  return !a || (a->lo == b->lo && a->hi == b->hi);
-}
-
 }  // namespace
 
 DeformObjectData MakeDeformObject(core::TriangleMesh mesh, const DeformObjectOptions& options,
@@ -378,14 +356,12 @@ DeformObjectChange UpdateDeformObject(DeformObjectData& data,
     throw core::InputError(fmt::format("{}: {}", where, e.what()));
   }
   DeformObjectChange change;
-  const bool placement = !SameRegion(old_options.region, options.region) ||
-                         old_options.rotation_deg != options.rotation_deg ||
-                         old_options.scale != options.scale ||
-                         old_options.translation != options.translation;
-  change.deformation = placement ||
-                       !SameDeformation(old_options.deformation, options.deformation) ||
+  const bool placement =
+      old_options.region != options.region || old_options.rotation_deg != options.rotation_deg ||
+      old_options.scale != options.scale || old_options.translation != options.translation;
+  change.deformation = placement || old_options.deformation != options.deformation ||
                        old_options.deformation_resolution != options.deformation_resolution;
-  change.pass = !SamePass(old_options.pass, options.pass);
+  change.pass = old_options.pass != options.pass;
   const bool cube = options.pass.implicit == render::DeformImplicit::kDepthCube;
   change.implicit = placement || old_options.pass.implicit != options.pass.implicit ||
                     old_options.sdf_resolution != options.sdf_resolution ||

@@ -40,27 +40,6 @@ render::VolumeMapInput SampleEffectMap(const core::EffectOptions& effect, int ma
   return {core::SampleEffect(effect, dims, 2), placement};
 }
 
-bool SameEffect(const core::EffectOptions& a, const core::EffectOptions& b) {
-  return a.effect == b.effect && a.peel_top == b.peel_top && a.peel_thickness == b.peel_thickness &&
-         a.peel_hinge_x == b.peel_hinge_x && a.peel_angle_deg == b.peel_angle_deg &&
-         a.slices_period == b.slices_period && a.slices_gap == b.slices_gap &&
-         a.seam_z == b.seam_z && a.seam_width == b.seam_width && a.pull_sigma == b.pull_sigma &&
-         a.wave_amplitude == b.wave_amplitude && a.wave_frequency == b.wave_frequency;
-}
-
-bool SamePass(const render::VolumePassOptions& a, const render::VolumePassOptions& b) {
-  return a.mode == b.mode && a.iso_value == b.iso_value &&
-         a.sampling_distance_voxels == b.sampling_distance_voxels &&
-         a.displacement_bits == b.displacement_bits &&
-         a.float_map_textures == b.float_map_textures && a.lighting == b.lighting &&
-         a.jacobian == b.jacobian && a.draw_per_slice == b.draw_per_slice &&
-         a.support_skip == b.support_skip && a.light_dir_world == b.light_dir_world &&
-         a.ambient == b.ambient && a.ray.max_steps == b.ray.max_steps &&
-         a.ray.refine_steps == b.ray.refine_steps && a.ray.step_policy == b.ray.step_policy &&
-         a.ray.refinement == b.ray.refinement && a.ray.threshold == b.ray.threshold &&
-         a.ray.fine_step_scale == b.ray.fine_step_scale;
-}
-
 }  // namespace
 
 VolumeObjectData MakeVolumeObject(core::Volume volume, const core::TransferFunction& transfer,
@@ -106,10 +85,9 @@ VolumeObjectChange UpdateVolumeObject(VolumeObjectData& data,
     throw core::InputError(fmt::format("{}: {}", where, e.what()));
   }
   VolumeObjectChange change;
-  change.pass = !SamePass(old_options.pass, options.pass);
-  change.maps = old_options.effect.has_value() != options.effect.has_value() ||
-                (options.effect && (!SameEffect(*old_options.effect, *options.effect) ||
-                                    old_options.map_size != options.map_size));
+  change.pass = old_options.pass != options.pass;
+  change.maps = old_options.effect != options.effect ||
+                (options.effect && old_options.map_size != options.map_size);
   if (change.maps) {
     data.maps.clear();
     if (options.effect)

@@ -64,6 +64,7 @@ struct RayCoreOptions {
   float fine_step_scale = 0.25f;
 
   void Check() const;  // InputError on out-of-range values
+  bool operator==(const RayCoreOptions&) const = default;
 };
 
 // The #defines a program including ray_core.glsl needs: outcome codes, step

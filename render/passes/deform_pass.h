@@ -124,6 +124,7 @@ struct DeformPassOptions {
   glm::vec4 cut_color{0.85f, 0.35f, 0.3f, 1.0f};  // cut faces and the inside of hollow shells
 
   void Check() const;
+  bool operator==(const DeformPassOptions&) const = default;
   RayCoreOptions RayCore() const;
   // The shader #defines of the ray-cast stage (ray core's included).
   std::vector<std::string> Defines() const;

@@ -107,6 +107,7 @@ struct VolumePassOptions {
   RayCoreOptions ray{.max_steps = 4096, .refine_steps = 10};
 
   void Check() const;  // InputError on bad values
+  bool operator==(const VolumePassOptions&) const = default;
   // The per-texel J_D / grad alpha textures (VolumeJacobian::kPrecomputed) are
   // read only by the lightings that transform normals (eq. 6, 7): no lighting
   // or the plain gradient never builds, defines or binds them.
