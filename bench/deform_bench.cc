@@ -510,16 +510,18 @@ DeformBenchResult RunDeformBench(render::ProgramCache& programs,
   std::filesystem::create_directories(options.out);
 
   DeformBenchResult result{
-      Table({"mesh", "triangles", "mode", "series", "region_scale", "area_fraction", "ms",
+      Table({"mesh", "triangles", "mode", "series", "region_scale", "area_fraction", "ms", "ray_ms",
              "samples_per_ray"}),
-      Table({"mesh", "mode", "weighted_ms", "over_continuous", "slope_ms", "intercept_ms", "r2"}),
+      Table({"mesh", "mode", "weighted_ms", "over_continuous", "slope_ms", "intercept_ms", "r2",
+             "ray_weighted_ms", "ray_over_continuous"}),
       Table({"mesh", "resolution", "builder", "series", "seconds", "queries_or_active"}),
       Table(std::vector<std::string>{}),  // accuracy: DeformAccuracy's
       Table({"mesh", "size_px", "implicit", "resolution", "bytes", "build_seconds", "ms_per_frame",
              "samples_per_ray", "silhouette_iou", "wrong_pixels", "mean_depth_error",
              "p95_depth_error"})};
-  // Fitted ms at one common area per mode (the spread across meshes).
-  std::map<std::string, std::vector<double>> at_common_area;
+  // Fitted ms at one common area per mode (the spread across meshes): whole
+  // frames, and the ray stage alone (the frame minus the mesh stage).
+  std::map<std::string, std::vector<double>> at_common_area, ray_at_common_area;
   const double kCommonArea = 0.2;
 
   for (const BenchMesh& m : meshes) {
@@ -561,18 +563,24 @@ DeformBenchResult RunDeformBench(render::ProgramCache& programs,
 
     // One field for every region scale: the largest box grown by the largest
     // displacement (the knife's and the twist's, at scale 1).
+    // Table 1's rows: continuous; the paper's solid cut (sec. 5.1.2, the
+    // two-field search) without and with empty-space skipping (ESK); and our
+    // CSG solid cut (the field max(body, A)) without. Every mode keeps the
+    // pass's default skipping by the object's distance field.
     struct Mode {
       std::string name;
       core::Deformation deformation;
       core::CutMode cut;
       bool skip;
+      bool search;
     };
     core::Deformation twist;
     twist.kind = core::DeformationKind::kTwist, twist.amount = 2.0, twist.width = 0.35;
     const core::Deformation knife = KnifeCut();
-    const std::vector<Mode> modes = {{"continuous", twist, core::CutMode::kNone, false},
-                                     {"cut", knife, core::CutMode::kSolid, false},
-                                     {"cut_skip", knife, core::CutMode::kSolid, true}};
+    const std::vector<Mode> modes = {{"continuous", twist, core::CutMode::kNone, false, false},
+                                     {"cut", knife, core::CutMode::kSolid, false, true},
+                                     {"cut_skip", knife, core::CutMode::kSolid, true, true},
+                                     {"cut_csg", knife, core::CutMode::kSolid, false, false}};
     double grow = 0.0;
     for (const Mode& mode : modes) {
       grow = std::max(grow, core::MaxObjectDisplacement({{mode.deformation}},
@@ -591,49 +599,79 @@ DeformBenchResult RunDeformBench(render::ProgramCache& programs,
     bounds.max = clip_box.hi;
     const render::ViewSetup view = ibr::ViewSetupFor(camera, bounds);
     render::RenderTarget target(render::FrameTargetOptions(size, size));
-    double continuous_weighted = 0.0;
+    render::FrameTimerOptions timer;
+    timer.warmup_frames = 1;
+    timer.timed_frames = options.quick ? 1 : 5;
+    // The mesh stage's time per region scale: the continuous frame minus its
+    // ray stage alone (draw_mesh off); the stage does not depend on the mode.
+    std::vector<double> mesh_stage_ms;
+    double continuous_weighted = 0.0, continuous_ray_weighted = 0.0;
     for (const Mode& mode : modes) {
       const core::DeformationSum sum{{mode.deformation}};
       const core::DeformationTexture texture = core::SampleDeformation(sum, 64);
       render::DeformPassOptions pass_options;
       pass_options.cut = mode.cut;
       pass_options.skip_empty = mode.skip;
-      std::vector<double> areas, times;
-      for (double scale : scales) {
+      pass_options.solid_search = mode.search;
+      std::vector<double> areas, times, ray_times;
+      for (size_t si = 0; si < scales.size(); ++si) {
+        const double scale = scales[si];
         const core::Placement placement =
             core::Placement::FromRegion(region, glm::dvec3(0.0), scale);
         render::DeformPass pass(programs, {&mesh, &sdf, &texture, placement}, pass_options);
-        render::FrameTimerOptions timer;
-        timer.warmup_frames = 1;
-        timer.timed_frames = options.quick ? 1 : 5;
         const double ms =
             render::TimeFrames([&] { render::DrawFrame(target, pass, view); }, timer).median_ms;
         const DeformOutcomes o = CountDeformOutcomes(render::ReadFrame(target));
+        if (mode.name == "continuous") {
+          render::DeformPassOptions ray_only = pass_options;
+          ray_only.draw_mesh = false;
+          render::DeformPass ray_pass(programs, {&mesh, &sdf, &texture, placement}, ray_only);
+          const double ray =
+              render::TimeFrames([&] { render::DrawFrame(target, ray_pass, view); }, timer)
+                  .median_ms;
+          mesh_stage_ms.push_back(std::max(ms - ray, 0.0));
+        }
+        const double ray_ms = std::max(ms - mesh_stage_ms[si], 0.0);
         const double area = static_cast<double>(o.rays) / (double(size) * size);
         areas.push_back(area);
         times.push_back(ms);
+        ray_times.push_back(ray_ms);
         result.frames.AddRow({m.name, std::to_string(mesh.triangle_count()), mode.name,
                               m.name + " " + mode.name, Num(scale, 2), Num(area, 4), Num(ms, 2),
-                              Num(o.mean_samples, 1)});
-        std::fprintf(stderr, "bench deform: %s %s scale %.2f: area %.3f, %.1f ms\n", m.name.c_str(),
-                     mode.name.c_str(), scale, area, ms);
+                              Num(ray_ms, 2), Num(o.mean_samples, 1)});
+        std::fprintf(stderr,
+                     "bench deform: %s %s scale %.2f: area %.3f, %.1f ms (ray stage %.1f), "
+                     "%.1f samples per ray\n",
+                     m.name.c_str(), mode.name.c_str(), scale, area, ms, ray_ms, o.mean_samples);
       }
-      double weighted = 0.0, weight = 0.0;
-      for (size_t k = 0; k < areas.size(); ++k) weighted += areas[k] * times[k], weight += areas[k];
-      weighted = weight > 0 ? weighted / weight : 0.0;
-      if (mode.name == "continuous") continuous_weighted = weighted;
-      const LineFit fit = FitLine(areas, times);
+      const auto weighted_mean = [&](const std::vector<double>& t) {
+        double weighted = 0.0, weight = 0.0;
+        for (size_t k = 0; k < areas.size(); ++k) weighted += areas[k] * t[k], weight += areas[k];
+        return weight > 0 ? weighted / weight : 0.0;
+      };
+      const double weighted = weighted_mean(times), ray_weighted = weighted_mean(ray_times);
+      if (mode.name == "continuous") {
+        continuous_weighted = weighted;
+        continuous_ray_weighted = ray_weighted;
+      }
+      const LineFit fit = FitLine(areas, times), ray_fit = FitLine(areas, ray_times);
       at_common_area[mode.name].push_back(fit.slope * kCommonArea + fit.intercept);
-      result.summary.AddRow({m.name, mode.name, Num(weighted, 2),
-                             Num(continuous_weighted > 0 ? weighted / continuous_weighted : 0.0, 3),
-                             Num(fit.slope, 2), Num(fit.intercept, 2), Num(fit.r2, 4)});
+      ray_at_common_area[mode.name].push_back(ray_fit.slope * kCommonArea + ray_fit.intercept);
+      result.summary.AddRow(
+          {m.name, mode.name, Num(weighted, 2),
+           Num(continuous_weighted > 0 ? weighted / continuous_weighted : 0.0, 3),
+           Num(fit.slope, 2), Num(fit.intercept, 2), Num(fit.r2, 4), Num(ray_weighted, 2),
+           Num(continuous_ray_weighted > 0 ? ray_weighted / continuous_ray_weighted : 0.0, 3)});
     }
   }
   result.accuracy = DeformAccuracy(programs, options, size, result.implicits);
   for (const auto& [mode, values] : at_common_area) {
-    const auto [lo, hi] = std::minmax_element(values.begin(), values.end());
+    const auto spread = [](const std::vector<double>& v) {
+      const auto [lo, hi] = std::minmax_element(v.begin(), v.end());
+      return "max/min " + Num(*lo > 0 ? *hi / *lo : 0.0, 3);
+    };
     result.summary.AddRow({"across meshes at area " + Num(kCommonArea, 2), mode, "", "", "", "",
-                           "max/min " + Num(*lo > 0 ? *hi / *lo : 0.0, 3)});
+                           spread(values), "", spread(ray_at_common_area[mode])});
   }
   return result;
 }

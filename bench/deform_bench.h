@@ -137,14 +137,18 @@ namespace bench {
 // `ibr bench deform`: the cost of deformation and cut shaders (Correa,
 // Silver, Chen 2007, sec. 6.2, Table 1 and Fig. 7 analogues) on Spot,
 // fandisk, the cow and the capped Stanford bunny (normalised, one orbit view):
-//  - per mesh and mode (continuous = twist; cut = solid knife without
-//    empty-space skipping; cut_skip = the same with skipping) and region
-//    scale: ms per frame (median) against the deformed region's relative
-//    screen area a (pixels where a ray was cast / all pixels);
+//  - per mesh and mode (continuous = twist; cut = solid knife by the paper's
+//    two-field search of sec. 5.1.2 without empty-space skipping; cut_skip =
+//    the same with skipping; cut_csg = the solid knife by the CSG field, no
+//    skipping; all with the pass's default skipping by the object's distance
+//    field) and region scale: ms per frame (median) against the deformed
+//    region's relative screen area a (pixels where a ray was cast / all
+//    pixels), and the ray stage's share (the frame minus the mesh stage,
+//    measured per scale as the continuous frame minus its ray stage alone);
 //  - the paper's weighted average sum(a t) / sum(a) per mesh and mode, the
-//    ratios cut / continuous and cut_skip / continuous, a least-squares line
-//    of ms against a with its R^2, and the spread across meshes of the
-//    fitted ms at one area;
+//    ratios to continuous (frames and ray stages), a least-squares line of ms
+//    against a with its R^2, and the spread across meshes of the fitted ms at
+//    one area (frames and ray stages);
 //  - the distance-field build time per resolution (ours: exact within the
 //    band, bench/openvdb_peer.py: OpenVDB's createLevelSetFromPolygons with
 //    the same voxel size and half width, timed in Python) and their ratio.
@@ -169,9 +173,13 @@ struct DeformBenchOptions {
 };
 
 struct DeformBenchResult {
-  Table frames;   // mesh, triangles, mode, region_scale, area_fraction, ms, samples_per_ray
-  Table summary;  // mesh, mode, weighted_ms, over_continuous, slope_ms, intercept_ms, r2
-  Table sdf;      // mesh, resolution, builder, seconds, queries_or_active
+  // mesh, triangles, mode, series, region_scale, area_fraction, ms, ray_ms
+  // (the frame minus the mesh stage), samples_per_ray
+  Table frames;
+  // mesh, mode, weighted_ms, over_continuous, slope_ms, intercept_ms, r2,
+  // ray_weighted_ms, ray_over_continuous (and one "across meshes" row per mode)
+  Table summary;
+  Table sdf;  // mesh, resolution, builder, seconds, queries_or_active
   // mesh, size_px, knob ("resolution" or "step"), value (its setting), mode
   // (step policy), resolution, step_voxels, ms_per_frame, samples_per_ray,
   // silhouette_iou, wrong_pixels, mean_depth_error, p95_depth_error (depth

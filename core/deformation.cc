@@ -176,10 +176,14 @@ glm::dvec4 Deformation::Evaluate(const glm::dvec3& u) const {
     case DeformationKind::kKnife: {
       // Forward: the halves x < 0.5 and x > 0.5 move apart by w(z)/2 each.
       // Inverse: a point in the gap maps onto the plane x = 0.5 (D stays
-      // continuous); A = w/2 - |x - 0.5| is > 0 in the gap.
+      // continuous); A = w/2 - |x - 0.5| is > 0 in the gap, also below the
+      // blade (w = 0: A <= 0), so A is Lipschitz everywhere (1 in x, the
+      // blade's taper in z) and A / Lipschitz(A) bounds the distance to the
+      // gap: the empty-space skip of sec. 6.2 (a constant -1 below the blade
+      // made A jump by up to 1 in one texel and the bound useless).
       double half = 0.5 * KnifeWidth(*this, u.z);
       double dx = -std::clamp(u.x - 0.5, -half, half);
-      double alpha = half > 0 ? half - std::abs(u.x - 0.5) : -1.0;
+      double alpha = half - std::abs(u.x - 0.5);
       return {dx, 0.0, 0.0, alpha};
     }
     case DeformationKind::kPeel: {

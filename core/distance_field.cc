@@ -113,6 +113,15 @@ double Trilinear(const double c[2][2][2], const glm::dvec3& f) {
 
 }  // namespace
 
+// BuildDistanceField's blocks: kBlock^3 voxels whose far-from-surface nodes
+// are interpolated from the block's corners.
+constexpr int kBlock = 4;
+
+double DistanceField::LookupOverestimate() const {
+  const double blocks = std::isfinite(exact_band) ? kBlock : 0.0;
+  return std::sqrt(3.0) * spacing * (1.0 + blocks);
+}
+
 double DistanceField::Sample(const glm::dvec3& p) const {
   IBR_CHECK(!values.empty());
   glm::dvec3 g = glm::clamp((p - origin) / spacing, glm::dvec3(0.0), glm::dvec3(size - 1));
@@ -181,7 +190,6 @@ DistanceField BuildDistanceField(const MeshDistance& distance, const Box3d& box,
   // Blocks of kBlock^3 voxels; block b spans nodes b * kBlock .. min((b + 1)
   // kBlock, n - 1) per axis (neighbours share their face nodes); the blocks
   // are also the unit of work of the threads.
-  constexpr int kBlock = 4;
   const bool banded = options.exact_band_voxels > 0;
   const glm::ivec3 blocks = (field.size - 2) / kBlock + 1;
   field.exact_band =

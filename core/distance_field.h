@@ -130,6 +130,13 @@ struct DistanceField {
   size_t Index(int i, int j, int k) const { return GridIndex(size, i, j, k); }
   float At(int i, int j, int k) const { return values[Index(i, j, k)]; }
   Box3d Bounds() const { return {origin, origin + spacing * glm::dvec3(size - 1)}; }
+  // The most |Sample(p)| (or a GL LINEAR lookup) can exceed p's true
+  // distance to the surface, inside the grid: a trilinear blend of a
+  // 1-Lipschitz function's node values exceeds it by at most the voxel
+  // diagonal, and nodes beyond the exact band (interpolated over their block)
+  // by at most the block's diagonal. What an empty-space skip by the field
+  // must subtract to stay a lower bound.
+  double LookupOverestimate() const;
   // Trilinear interpolation with coordinates clamped to the grid, as a GL
   // LINEAR lookup with CLAMP_TO_EDGE does.
   double Sample(const glm::dvec3& p) const;

@@ -172,6 +172,11 @@ DeformObjectOptions DeformObjectOptionsFrom(const scene::Settings& settings) {
   }
   o.pass.step_voxels = static_cast<float>(settings.GetDouble("step_voxels", o.pass.step_voxels));
   o.pass.skip_empty = Bool(settings, "skip", false);
+  o.pass.skip_object = Bool(settings, "skip_object", true);
+  const std::string solid = settings.GetString("solid", "csg");
+  if (solid != "csg" && solid != "search")
+    settings.Fail("solid", fmt::format("'{}' is not csg or search", solid));
+  o.pass.solid_search = solid == "search";
   try {
     o.pass.Check();
   } catch (const core::InputError& e) {

@@ -340,8 +340,9 @@ class Reader {
     } else if (type == "deform") {
       o.type = ObjectType::kDeform;
       structural = {"mesh"};
-      effect_keys = {"deformation", "amount", "width",       "cut",        "region",    "placement",
-                     "step",        "skip",   "step_voxels", "resolution", "cap_holes", "implicit"};
+      effect_keys = {"deformation", "amount",   "width",       "cut",         "region",
+                     "placement",   "step",     "skip",        "step_voxels", "resolution",
+                     "cap_holes",   "implicit", "skip_object", "solid"};
     } else {
       Fail(p / "type", fmt::format("unknown object type '{}' (depth-object, visual-hull, "
                                    "displaced-mesh, mesh, volume, deform)",

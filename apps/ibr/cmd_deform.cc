@@ -28,6 +28,8 @@ struct DeformFlags {
   std::string implicit = "sdf";
   float step_voxels = 1.0f;
   bool skip = false;
+  bool skip_object = true;
+  std::string solid = "csg";
   int resolution = 128;
   int size = 512;
   double azimuth = 30, elevation = 20;
@@ -53,6 +55,8 @@ scene::Settings SettingsFromFlags(const DeformFlags& f) {
   s.Set("step", f.step, "--step");
   s.Set("step_voxels", f.step_voxels, "--step-voxels");
   s.Set("skip", f.skip, "--skip");
+  s.Set("skip_object", f.skip_object, "--skip-object");
+  s.Set("solid", f.solid, "--solid");
   s.Set("resolution", f.resolution, "--resolution");
   s.Set("cap_holes", f.cap_holes, "--cap-holes");
   s.Set("implicit", f.implicit, "--implicit");
@@ -121,6 +125,13 @@ void AddDeformCommand(CLI::App& app) {
   cmd->add_option("--step-voxels", f.step_voxels, "base step in distance-field voxels")
       ->capture_default_str();
   cmd->add_flag("--skip", f.skip, "empty-space skipping in the cut (sec. 6.2)");
+  cmd->add_option("--skip-object", f.skip_object,
+                  "empty-space skipping by the object's distance field (sdf implicit)")
+      ->capture_default_str();
+  cmd->add_option("--solid", f.solid,
+                  "solid/thick cuts: csg (the field max(body, A)) or search (sec. 5.1.2: "
+                  "reject surface hits in the cut, then find the cut's boundary)")
+      ->capture_default_str();
   cmd->add_option("--implicit", f.implicit,
                   "sdf|depth-cube: the distance field, or six depth maps (sec. 6.1)")
       ->capture_default_str();

@@ -249,6 +249,8 @@ class SceneFileScene : public viewer::Scene {
       changed |= ImGui::SliderFloat("thickness", &pass.thickness, 0.005f, 0.3f, "%.3f",
                                     ImGuiSliderFlags_AlwaysClamp);
     }
+    if (pass.cut == core::CutMode::kSolid || pass.cut == core::CutMode::kThick)
+      changed |= ImGui::Checkbox("solid by search (sec. 5.1.2)", &pass.solid_search);
     changed |= ComboOf("step", pass.step_policy,
                        {render::RayStepPolicy::kFixed, render::RayStepPolicy::kThreshold,
                         render::RayStepPolicy::kJacobian},
@@ -260,6 +262,7 @@ class SceneFileScene : public viewer::Scene {
     changed |= ImGui::SliderFloat("step voxels", &pass.step_voxels, 0.25f, 4.0f, "%.2f",
                                   ImGuiSliderFlags_AlwaysClamp);
     changed |= ImGui::Checkbox("skip empty space (cut)", &pass.skip_empty);
+    changed |= ImGui::Checkbox("skip by the distance field", &pass.skip_object);
     const ibr::DeformObjectData& data = *object.deform;
     if (pass.implicit == render::DeformImplicit::kDepthCube) {
       ImGui::Text("implicit: depth cube, 6 maps of %d px (built %dx, %.2f s)", o.sdf_resolution,

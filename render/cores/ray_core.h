@@ -3,9 +3,11 @@
 // shaders/cores/ray_core.glsl (whose header documents the GLSL contract: the
 // includer supplies RayField, optionally RayBend / RayInDomain / RayJacobian,
 // and the hooks RAY_REJECT + RayRejectHit (reject a crossing and march on),
-// RAY_BOTH_CROSSINGS (a hit is a change of side either way) and RAY_SKIP +
-// RaySkip (empty-space skipping: a crossing-free distance in t units); it
-// never copies the marching loop). RayResult counts the field evaluations
+// RAY_BOTH_CROSSINGS (a hit is a change of side either way), RAY_SKIP +
+// RaySkip (empty-space skipping: a crossing-free distance in t units, given
+// the field's value at the sample) and RAY_SECOND_FIELD (a rejected crossing
+// switches the search to a second field and back: Correa 2007's solid cuts);
+// it never copies the marching loop). RayResult counts the field evaluations
 // per ray (samples). Used by NCS, POM and relief mapping
 // (render/passes/relief_surface_pass.h) and by the depth-object ray variant and the
 // cut/deformation shaders.

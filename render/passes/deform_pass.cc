@@ -83,6 +83,9 @@ std::vector<std::string> DeformPassOptions::Defines() const {
       break;
   }
   if (skip_empty && cut != CutMode::kNone) defines.push_back("SKIP_EMPTY");
+  if (solid_search && (cut == CutMode::kSolid || cut == CutMode::kThick))
+    defines.push_back("SOLID_SEARCH");
+  if (skip_object && implicit == DeformImplicit::kSdf) defines.push_back("SKIP_OBJECT");
   if (implicit == DeformImplicit::kDepthCube) defines.push_back("IMPLICIT_DEPTH_CUBE");
   defines.push_back("RAY_STAGE");
   return defines;
@@ -132,6 +135,47 @@ float AlphaLipschitz(const core::DeformationTexture& texture, const core::Placem
   return static_cast<float>(std::max(1e-6, glm::length(g) * std::sqrt(frobenius)));
 }
 
+// An upper bound of the largest singular value of m: the square root of
+// Gershgorin's bound of the largest eigenvalue of m^T m (its largest
+// absolute row sum), exact for a similarity. For a matrix of non-negative
+// entries bounding |J| entrywise it bounds ||J||_2 too (the norm is monotone
+// in the entries' magnitudes).
+double SpectralNormBound(const glm::dmat3& m) {
+  const glm::dmat3 g = glm::transpose(m) * m;
+  double largest = 0.0;
+  for (int r = 0; r < 3; ++r)
+    largest = std::max(largest, std::abs(g[0][r]) + std::abs(g[1][r]) + std::abs(g[2][r]));
+  return std::sqrt(largest);
+}
+
+// Upper bound of |I + M J_D M^-1| (spectral norm, object units) over the
+// trilinear interpolants of every piece's D: per cell, axis and component
+// the largest difference of D (the interpolant's partial derivatives are
+// convex combinations of them), that bound matrix's norm, and ||M||, ||M^-1||
+// (SpectralNormBound each).
+float WarpLipschitz(const core::DeformationTexture& texture, const core::Placement& placement) {
+  const int n = texture.resolution;
+  size_t piece = 0;
+  auto d = [&](int i, int j, int k, int c) {
+    return double(texture.rgba[(((piece * n + k) * n + j) * n + i) * 4 + c]);
+  };
+  glm::dmat3 e(0.0);  // e[axis][component]
+  for (piece = 0; piece < static_cast<size_t>(texture.pieces); ++piece)
+    for (int k = 0; k < n; ++k)
+      for (int j = 0; j < n; ++j)
+        for (int i = 0; i < n; ++i)
+          for (int c = 0; c < 3; ++c) {
+            const double v = d(i, j, k, c);
+            if (i + 1 < n) e[0][c] = std::max(e[0][c], std::abs(d(i + 1, j, k, c) - v));
+            if (j + 1 < n) e[1][c] = std::max(e[1][c], std::abs(d(i, j + 1, k, c) - v));
+            if (k + 1 < n) e[2][c] = std::max(e[2][c], std::abs(d(i, j, k + 1, c) - v));
+          }
+  const glm::dmat3 m = placement.Linear();
+  const double bound = 1.0 + SpectralNormBound(m) * SpectralNormBound(e) * double(n - 1) *
+                                 SpectralNormBound(glm::inverse(m));
+  return static_cast<float>(std::isfinite(bound) ? bound : 1e30);
+}
+
 }  // namespace
 
 DeformPass::DeformPass(ProgramCache& programs, const DeformInputs& inputs,
@@ -153,6 +197,7 @@ DeformPass::DeformPass(ProgramCache& programs, const DeformInputs& inputs,
     sdf_origin_ = glm::vec3(sdf.origin);
     sdf_spacing_ = static_cast<float>(sdf.spacing);
     sdf_size_ = sdf.size;
+    sdf_margin_ = static_cast<float>(sdf.LookupOverestimate());
   }
   const core::DeformationTexture& d = *inputs.deformation;
   deformation_resolution_ = d.resolution;
@@ -168,6 +213,7 @@ DeformPass::DeformPass(ProgramCache& programs, const DeformInputs& inputs,
         Upload3D(GL_RGBA32F, GL_RGBA, glm::ivec3(d.resolution), d.rgba.data() + d.rgba.size() / 2);
   }
   alpha_lipschitz_ = AlphaLipschitz(d, placement_);
+  warp_lipschitz_ = WarpLipschitz(d, placement_);
   if (inputs.mesh && options_.draw_mesh) {
     inputs.mesh->Validate("DeformPass");
     // Classify the triangles against the box once (the box is fixed per
@@ -322,6 +368,8 @@ void DeformPass::Draw(const RenderTarget& target, const ViewSetup& view) {
   program.Set("u_step", options_.step_voxels * sdf_spacing_);
   program.Set("u_thickness", options_.thickness);
   program.Set("u_alpha_lipschitz", alpha_lipschitz_);
+  program.Set("u_warp_lipschitz", warp_lipschitz_);
+  program.Set("u_sdf_margin", sdf_margin_);
   program.Set("u_base_color", options_.base_color);
   program.Set("u_cut_color", options_.cut_color);
   program.Set("u_sdf", 0);

@@ -19,8 +19,11 @@
 // paper's f = -sdf. Cuts (sec. 5): hollow = hits of sdf in either direction,
 // those where A > 0 rejected (RAY_BOTH_CROSSINGS + RAY_REJECT); solid (eq. 6)
 // = the field max(sdf, A) with the cut face's normal grad A; thick shell
-// (eq. 7) = max(|sdf + T/2| - T/2, A). Normals (eq. 5): (I + J)^T grad sdf at
-// the warped point, J by central differences of the warp.
+// (eq. 7) = max(|sdf + T/2| - T/2, A), or (solid_search) the paper's own
+// search of sec. 5.1.2 on the ray core's two-field hook (RAY_SECOND_FIELD).
+// Normals (eq. 5): (I + J)^T grad sdf at the warped point, J by central
+// differences of the warp. Skips: by the cut alpha (skip_empty, sec. 6.2)
+// and by the object's distance field (skip_object).
 //
 // Outcome bits (frame attachment 3): 1 << RayOutcome for ray-cast pixels,
 // kDeformMeshBit for rasterised mesh pixels, kDeformCutFaceBit where the hit
@@ -117,6 +120,17 @@ struct DeformPassOptions {
   // RAY_SKIP with skip = A / Lipschitz(A), a true lower bound of the
   // distance to the cut's boundary.
   bool skip_empty = false;
+  // Solid and thick cuts by the paper's two-field search (sec. 5.1.2: a
+  // surface hit inside the cut is rejected and the march looks for the cut's
+  // boundary inside the body) instead of the CSG field max(body, A). Same
+  // surface; the search pays for its rejected crossings, the CSG field can
+  // miss sharp cuts' slivers thinner than a step.
+  bool solid_search = false;
+  // Empty-space skipping by the object's distance field (sdf implicit only;
+  // the depth cube is no distance bound): the march advances by at least
+  // (|field| - the lookup's overestimate) / Lipschitz(warp), a true lower
+  // bound of the ray length to any crossing.
+  bool skip_object = true;
   // The implicit the ray stage samples; the inputs must hold it.
   DeformImplicit implicit = DeformImplicit::kSdf;
   bool draw_mesh = true;  // stage 1; off = the box's ray cast alone
@@ -168,6 +182,8 @@ class DeformPass : public Pass {
   std::vector<glm::mat4> cube_from_object_;  // depth cube: (s, t) texture coordinates, z
   int deformation_resolution_ = 0;
   float alpha_lipschitz_ = 1.0f;  // bound of |grad A| in object units (for the skip)
+  float warp_lipschitz_ = 1.0f;   // bound of |I + M J_D M^-1| (the object skip)
+  float sdf_margin_ = 0.0f;       // DistanceField::LookupOverestimate (the object skip)
   VertexArray box_vao_;
   Buffer box_vbo_;
 };

@@ -51,13 +51,33 @@
 //       2007 sec. 5.1.1: intersections inside the cut region are discarded).
 //       RayResult.rejected counts them.
 //
-//   #define RAY_SKIP and  float RaySkip(vec3 p);                   (optional)
+//   #define RAY_SKIP and  float RaySkip(vec3 p, float field);      (optional)
 //       Empty-space skipping (Correa 2007 sec. 6.2): a distance along the
 //       ray, in t units, proven free of any crossing (and of any hit that
-//       would not be rejected) from sample p; the march advances by
+//       would not be rejected) from sample p, where the field is `field`
+//       (the core passes the value it already has: a distance-like field
+//       bounds the skip at no extra lookup); the march advances by
 //       max(policy step, skip). Return 0 where nothing is known. A skip
 //       that is not a true lower bound loses hits: that is the includer's
 //       proof to make.
+//
+//   #define RAY_SECOND_FIELD                                       (optional)
+//       Two-field search (Correa 2007 sec. 5.1.2, solid cuts): the march
+//       alternates between field 0 (the solid) and field 1 (the cut: > 0
+//       inside it, so "solid" = leaving the cut). A crossing of the current
+//       field k that the reject test turns down switches the search to the
+//       other field, from the rejected crossing on (a surface hit inside the
+//       cut: now look for where the ray leaves the cut inside the solid; a
+//       cut-boundary crossing outside the solid: look for the surface
+//       again). Then the includer defines, instead of RayField / RaySkip /
+//       RayRejectHit,
+//         float RayFieldK(vec3 p, int k);
+//         bool RayRejectHitK(vec3 p, int k);    (RAY_REJECT is implied)
+//         float RaySkipK(vec3 p, float field, int k);   (with RAY_SKIP)
+//       and the reject test of field k must be "the other field is > 0
+//       (empty) here", so the search resumes on the empty side. A ray that
+//       starts inside field 0 where that is rejected starts on field 1.
+//       RayResult.field says which field the hit is on.
 //
 // Defines that render::RayCoreDefines() inserts (never written by hand):
 //   RAY_OUTCOME_HIT / RAY_OUTCOME_EXITED / RAY_OUTCOME_EARLY_TERMINATION:
@@ -83,6 +103,20 @@
 #error "ray_core.glsl: define exactly one of RAY_REFINE_BISECTION, RAY_REFINE_SECANT"
 #endif
 
+#ifdef RAY_SECOND_FIELD
+#ifndef RAY_REJECT
+#define RAY_REJECT
+#endif
+#define RAY_FIELD_K(p, k) RayFieldK(p, k)
+#define RAY_REJECT_K(p, k) RayRejectHitK(p, k)
+#define RAY_SKIP_K(p, f, k) RaySkipK(p, f, k)
+float RayField(vec3 p) { return RayFieldK(p, 0); }
+#else
+#define RAY_FIELD_K(p, k) RayField(p)
+#define RAY_REJECT_K(p, k) RayRejectHit(p)
+#define RAY_SKIP_K(p, f, k) RaySkip(p, f)
+#endif
+
 uniform int u_ray_max_steps;          // linear-search samples before early termination
 uniform int u_ray_refine_steps;       // bisection iterations after the first inside sample
 uniform float u_ray_threshold;        // RAY_STEP_THRESHOLD: |field| below which steps shrink
@@ -103,6 +137,7 @@ struct RayResult {
   int samples;  // RayField evaluations: origin + linear search + refinement
   bool entering;  // hit: the crossing goes empty -> solid (always, without RAY_BOTH_CROSSINGS)
   int rejected;   // crossings RayRejectHit turned down (0 without RAY_REJECT)
+  int field;      // RAY_SECOND_FIELD: the field the hit (or the last sample) is on; else 0
 };
 
 // Entry/exit parameters of the straight ray o + t d against the box [lo, hi]:
@@ -152,7 +187,8 @@ float RayStepLength(vec3 p, vec3 dir, float field, float base_step) {
 // fraction of the way from p to q. Also called by passes that find the
 // bracketing samples another way (the depth-object slice passes' resolve,
 // between the finishing slice and the one before).
-float RayRefineCrossing(vec3 p, vec3 q, float fp, float fq) {
+// RayRefineCrossingK: the same on field `field` (RAY_SECOND_FIELD).
+float RayRefineCrossingK(vec3 p, vec3 q, float fp, float fq, int field) {
 #if defined(RAY_REFINE_SECANT)
   float den = fp - fq;
   return clamp(fp / (abs(den) > 1e-30 ? den : 1e-30), 0.0, 1.0);
@@ -161,11 +197,14 @@ float RayRefineCrossing(vec3 p, vec3 q, float fp, float fq) {
   float ta = 0.0, tb = 1.0;  // fractions along [p, q]: ta on p's side, tb on q's
   for (int k = 0; k < u_ray_refine_steps; ++k) {
     float tm = 0.5 * (ta + tb);
-    float fm = RayField(mix(p, q, tm));
+    float fm = RAY_FIELD_K(mix(p, q, tm), field);
     if ((fm <= 0.0) == q_inside) tb = tm; else ta = tm;
   }
   return 0.5 * (ta + tb);
 #endif
+}
+float RayRefineCrossing(vec3 p, vec3 q, float fp, float fq) {
+  return RayRefineCrossingK(p, q, fp, fq, 0);
 }
 
 RayResult RayMarchRun(RayMarch r) {
@@ -176,16 +215,24 @@ RayResult RayMarchRun(RayMarch r) {
   res.entering = true;
   res.t = 0.0;
   res.p = r.origin;
+  res.field = 0;
+  int field = 0;  // the field searched (RAY_SECOND_FIELD), else 0
   float f = RayField(r.origin);
   bool inside = f <= 0.0;  // side of the last sample (<= 0 is solid)
 #if !defined(RAY_BOTH_CROSSINGS)
   if (inside) {
 #ifdef RAY_REJECT
-    if (!RayRejectHit(r.origin)) {
+    if (!RAY_REJECT_K(r.origin, 0)) {
       res.outcome = RAY_OUTCOME_HIT;  // starts inside: the entry is the crossing
       return res;
     }
     res.rejected = 1;
+#ifdef RAY_SECOND_FIELD
+    field = 1;  // inside the solid, in the cut: look for the cut's boundary
+    f = RAY_FIELD_K(r.origin, 1);
+    inside = f <= 0.0;
+    res.samples += 1;
+#endif
 #else
     res.outcome = RAY_OUTCOME_HIT;  // starts inside: the entry is the crossing
     return res;
@@ -203,7 +250,7 @@ RayResult RayMarchRun(RayMarch r) {
     float dt = RayStepLength(p, dir, f, r.step);
     if (!(dt > 0.0) || isinf(dt)) dt = r.step;  // NaN/inf-safe: a bad policy value never stalls
 #ifdef RAY_SKIP
-    float skip = RaySkip(p);
+    float skip = RAY_SKIP_K(p, f, field);
     if (skip > dt && !isinf(skip)) dt = skip;  // NaN and inf skips are ignored
 #endif
     // The sample that would pass the exit lands exactly on it (a relative
@@ -215,7 +262,7 @@ RayResult RayMarchRun(RayMarch r) {
 #else
     vec3 q = r.origin + (t + dt) * r.dir;
 #endif
-    float fq = RayField(q);
+    float fq = RAY_FIELD_K(q, field);
     bool inside_q = fq <= 0.0;
     res.steps = i + 1;
     res.samples += 1;
@@ -227,14 +274,25 @@ RayResult RayMarchRun(RayMarch r) {
     if (crossed) {
       // The crossing lies on the segment [p, q] (straight in march space even
       // for bent rays: the piecewise-linear curve of Chen-Chang Fig. 5).
-      float s_hit = RayRefineCrossing(p, q, f, fq);
+      float s_hit = RayRefineCrossingK(p, q, f, fq, field);
 #if !defined(RAY_REFINE_SECANT)
       res.samples += u_ray_refine_steps;
 #endif
       vec3 hit = mix(p, q, s_hit);
 #ifdef RAY_REJECT
-      if (RayRejectHit(hit)) {
+      if (RAY_REJECT_K(hit, field)) {
         res.rejected += 1;
+#ifdef RAY_SECOND_FIELD
+        // Search the other field from the rejected crossing on (empty there
+        // by the reject test's contract); the next step starts at it.
+        field = 1 - field;
+        p = hit;
+        t += s_hit * dt;
+        f = RAY_FIELD_K(hit, field);
+        inside = f <= 0.0;
+        res.samples += 1;
+        continue;
+#endif
       } else
 #endif
       {
@@ -242,6 +300,7 @@ RayResult RayMarchRun(RayMarch r) {
         res.entering = inside_q;
         res.p = hit;
         res.t = t + s_hit * dt;
+        res.field = field;
         return res;
       }
     }
@@ -267,5 +326,6 @@ RayResult RayMarchRun(RayMarch r) {
   res.outcome = RAY_OUTCOME_EARLY_TERMINATION;  // still inside the domain: steps ran out
   res.p = p;
   res.t = t;
+  res.field = field;
   return res;
 }

@@ -3,8 +3,12 @@
 //   MESH_STAGE  the rasterised, undeformed mesh outside the box;
 //   RAY_STAGE   the ray cast inside the box (Correa-Silver-Chen 2007) on the
 //               shared ray core; writes gl_FragDepth.
-// Cut variants (RAY_STAGE): CUT_HOLLOW, CUT_SOLID, CUT_THICK; SKIP_EMPTY adds
-// empty-space skipping by the cut alpha. ORTHOGRAPHIC: parallel rays.
+// Cut variants (RAY_STAGE): CUT_HOLLOW, CUT_SOLID, CUT_THICK; with CUT_SOLID
+// or CUT_THICK, SOLID_SEARCH selects the paper's two-field search (sec.
+// 5.1.2) instead of the CSG field max(body, A). SKIP_EMPTY adds empty-space
+// skipping by the cut alpha (sec. 6.2); SKIP_OBJECT skipping by the object's
+// distance field (sphere tracing's bound through the warp's Lipschitz
+// constant). ORTHOGRAPHIC: parallel rays.
 // IMPLICIT_DEPTH_CUBE: the object's implicit from the depth-map cube of
 // sec. 6.1 instead of the 3D distance field (Implicit(), the only difference).
 // DEFORM_FLAP: the deformation has a second piece, a peel's flap
@@ -70,7 +74,9 @@ uniform sampler3D u_deformation_flap;  // the flap piece: xyz its D, w its mask 
 uniform float u_deform_resolution;
 uniform float u_step;             // base step, object units
 uniform float u_thickness;        // CUT_THICK: shell thickness T, object units
-uniform float u_alpha_lipschitz;  // bound of |grad A| in object units (SKIP_EMPTY)
+uniform float u_alpha_lipschitz;  // bound of |grad A| in object units (SKIP_EMPTY, SKIP_OBJECT)
+uniform float u_warp_lipschitz;   // bound of |I + J| of the warp, object units (SKIP_OBJECT)
+uniform float u_sdf_margin;       // SKIP_OBJECT: the most a lookup can exceed the true distance
 uniform vec4 u_cut_color;
 
 // The object's implicit at an undeformed point (> 0 outside), the one lookup
@@ -117,33 +123,62 @@ float Body(float sdf) {
 #endif
 }
 
+#if (defined(CUT_SOLID) || defined(CUT_THICK)) && defined(SOLID_SEARCH)
+#define TWO_FIELDS  // the ray core's RAY_SECOND_FIELD: k = 0 the body, k = 1 the cut
+#endif
+
 // One piece's field: the rest's per cut mode, the flap's bounded by its mask.
-float PieceField(vec3 p, int piece) {
+// k (TWO_FIELDS, the rest only): 0 the body alone, 1 the cut alpha alone.
+float PieceFieldK(vec3 p, int piece, int k) {
   vec4 w = WarpPiece(p, piece);
   float body = Body(Implicit(w.xyz));
-#if defined(CUT_SOLID) || defined(CUT_THICK)
+#ifdef TWO_FIELDS
+  if (piece == 0) return k == 0 ? body : w.w;
+  return max(body, w.w);
+#elif defined(CUT_SOLID) || defined(CUT_THICK)
   return max(body, w.w);  // eq. 6: inside the body and outside the cut
 #else
   return piece == 0 ? body : max(body, w.w);
 #endif
 }
+float PieceField(vec3 p, int piece) { return PieceFieldK(p, piece, 0); }
 
-float RayField(vec3 p) {
-#ifdef DEFORM_FLAP
-  return min(PieceField(p, 0), PieceField(p, 1));  // the union of the pieces
+// The cut alpha where FieldK was last evaluated (the smaller of the pieces'
+// masks), so the cut skip at a sample the march just evaluated costs no
+// second warp lookup; CutSkip checks the position before using it.
+vec3 g_alpha_p = vec3(1e30);
+float g_alpha = 0.0;
+
+float FieldK(vec3 p, int k) {
+  vec4 w = WarpPiece(p, 0);
+  float body = Body(Implicit(w.xyz));
+  g_alpha_p = p;
+  g_alpha = w.w;
+#ifdef TWO_FIELDS
+  float rest = k == 0 ? body : w.w;
+#elif defined(CUT_SOLID) || defined(CUT_THICK)
+  float rest = max(body, w.w);  // eq. 6: inside the body and outside the cut
 #else
-  return PieceField(p, 0);
+  float rest = body;
+#endif
+#ifdef DEFORM_FLAP
+  vec4 wf = WarpPiece(p, 1);
+  g_alpha = min(g_alpha, wf.w);
+  return min(rest, max(Body(Implicit(wf.xyz)), wf.w));  // the union of the pieces
+#else
+  return rest;
 #endif
 }
 
 // The piece whose field is the smaller at p (where a hit lies on).
-int ActivePiece(vec3 p) {
+int ActivePieceK(vec3 p, int k) {
 #ifdef DEFORM_FLAP
-  return PieceField(p, 1) < PieceField(p, 0) ? 1 : 0;
+  return PieceFieldK(p, 1, k) < PieceFieldK(p, 0, k) ? 1 : 0;
 #else
   return 0;
 #endif
 }
+int ActivePiece(vec3 p) { return ActivePieceK(p, 0); }
 
 // J_{T^-1} = I + J_D of one piece by central differences of its warp (half
 // a texel of D).
@@ -172,17 +207,66 @@ mat3 RayJacobian(vec3 p) { return WarpJacobian(p, 0); }
 bool RayRejectHit(vec3 p) { return ActivePiece(p) == 0 && Warp(p).w > 0.0; }
 #endif
 
-#ifdef SKIP_EMPTY
+#ifdef TWO_FIELDS
+#define RAY_SECOND_FIELD
+float RayFieldK(vec3 p, int k) { return FieldK(p, k); }
+// Sec. 5.1.2. Field 0: a surface hit inside the cut (A > 0) is discarded and
+// the search turns to the cut's boundary. Field 1: a boundary crossing
+// outside the body is no cut face, and the search turns to the surface
+// again. A flap hit is never rejected (its mask bounds it in both fields).
+bool RayRejectHitK(vec3 p, int k) {
+  if (ActivePieceK(p, k) != 0) return false;
+  vec4 w = Warp(p);
+  return k == 0 ? w.w > 0.0 : Body(Implicit(w.xyz)) > 0.0;
+}
+#endif
+
+#if defined(SKIP_EMPTY) || defined(SKIP_OBJECT)
 #define RAY_SKIP
+// A crossing-free distance from p given the current field's value f there.
+// Every field here is a max / min / |.| of the body (a distance through the
+// warp: changes by at most u_warp_lipschitz per unit of ray, plus the
+// lookup's margin) and the cut alpha (u_alpha_lipschitz), so reaching a sign
+// change takes at least min((|f| - margin) / L_warp, |f| / L_A).
+float ObjectSkip(float f) {
+  float a = abs(f);
+  return max(min((a - u_sdf_margin) / u_warp_lipschitz, a / u_alpha_lipschitz), 0.0);
+}
 // Inside the cut (A > 0) nothing is hit within A / Lipschitz(A) (sec. 6.2).
 // With a flap, both pieces must be empty there: the smaller of the two.
-float RaySkip(vec3 p) {
-  float a = Warp(p).w;
+float CutSkip(vec3 p) {
+  float a;
+  if (p == g_alpha_p) {
+    a = g_alpha;  // the march's own last evaluation at this sample
+  } else {
+    a = Warp(p).w;
 #ifdef DEFORM_FLAP
-  a = min(a, WarpPiece(p, 1).w);
+    a = min(a, WarpPiece(p, 1).w);
 #endif
+  }
   return a > 0.0 ? a / u_alpha_lipschitz : 0.0;
 }
+float SkipK(vec3 p, float f, int k) {
+  float skip = 0.0;
+#ifdef SKIP_OBJECT
+  if (k == 0) skip = ObjectSkip(f);
+#endif
+#ifdef SKIP_EMPTY
+  // Inside the cut nothing is hit (field 0 of the search: a surface crossing
+  // there would be rejected; field 1: the cut's boundary is A / L_A away).
+  skip = max(skip, CutSkip(p));
+#endif
+  return skip;
+}
+#ifdef TWO_FIELDS
+float RaySkipK(vec3 p, float f, int k) { return SkipK(p, f, k); }
+#else
+float RaySkip(vec3 p, float f) { return SkipK(p, f, 0); }
+#endif
+#endif
+
+#ifndef TWO_FIELDS
+float RayField(vec3 p) { return FieldK(p, 0); }
 #endif
 
 #include "cores/ray_core.glsl"
@@ -241,7 +325,7 @@ void main() {
     discard;
   }
   vec3 p = res.p;
-  int piece = ActivePiece(p);
+  int piece = ActivePieceK(p, res.field);
   vec4 w = WarpPiece(p, piece);
   float sdf = Implicit(w.xyz);
   bool cut_face = piece == 1 && w.w > Body(sdf);  // the flap's mask bounds it in every mode

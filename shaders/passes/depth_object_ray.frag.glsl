@@ -27,7 +27,7 @@ uniform usampler3D u_skip_grid;  // R8UI
 uniform int u_skip_resolution;   // voxels per box axis
 vec3 g_ray_dir_in_grid;          // the current ray's direction, grid units per t
 
-float RaySkip(vec3 p) {
+float RaySkip(vec3 p, float field) {
   vec3 g = (u_box_from_cam * vec4(p, 1.0)).xyz * float(u_skip_resolution);
   ivec3 c = clamp(ivec3(floor(g)), ivec3(0), ivec3(u_skip_resolution - 1));
   uint dist = texelFetch(u_skip_grid, c, 0).r;

@@ -52,6 +52,8 @@ std::pair<long, long> Counts(const std::string& out, const std::string& what) {
 TEST_F(DeformCliTest, WritesAPngAndPrintsOutcomeCounts) {
   for (const std::string& args :
        std::vector<std::string>{"--deformation twist", "--deformation knife --cut solid --skip",
+                                "--deformation knife --cut solid --solid search --skip",
+                                "--deformation twist --skip-object false",
                                 "--deformation peel --cut hollow --step jacobian",
                                 "--deformation bend,pull --amount 0.5,0.2 --width 0,0.1",
                                 "--deformation knife --cut solid --implicit depth-cube"}) {
@@ -136,6 +138,8 @@ TEST_F(DeformCliTest, BadParametersLeaveNoOutput) {
            "--step-voxels nan --out " + out.string(),
            "--cut thick:nan --out " + out.string(),
            "--cut sliced --out " + out.string(),
+           "--cut solid --solid mesh --out " + out.string(),
+           "--skip-object maybe --out " + out.string(),
            "--implicit octree --out " + out.string(),
            "--cameras " + (dir_ / "missing").string() + " --out " + out.string(),
            "--cameras " + (dir_ / "spot_capture").string() + " --out " + png,

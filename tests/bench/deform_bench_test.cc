@@ -45,18 +45,21 @@ TEST_F(DeformBenchTest, QuickRunMeasuresEveryMeshModeAndScale) {
   options.csv = dir / "deform.csv";
   options.out = dir;
   const DeformBenchResult result = RunDeformBench(programs(), options);
-  // 2 meshes x 3 modes x 2 scales.
-  ASSERT_EQ(result.frames.rows().size(), 12u);
+  // 2 meshes x 4 modes x 2 scales.
+  ASSERT_EQ(result.frames.rows().size(), 16u);
   for (size_t r = 0; r < result.frames.rows().size(); r += 2) {
     const auto& small = result.frames.rows()[r];
     const auto& large = result.frames.rows()[r + 1];
     EXPECT_GT(Value(result.frames, small, "ms"), 0);
+    // The ray stage is part of the frame.
+    EXPECT_GE(Value(result.frames, small, "ray_ms"), 0);
+    EXPECT_LE(Value(result.frames, small, "ray_ms"), Value(result.frames, small, "ms"));
     EXPECT_GT(Value(result.frames, large, "area_fraction"),
               Value(result.frames, small, "area_fraction"))
         << small[0] << " " << small[2];
   }
-  // 2 x 3 summaries and one across-mesh row per mode.
-  EXPECT_EQ(result.summary.rows().size(), 9u);
+  // 2 x 4 summaries and one across-mesh row per mode.
+  EXPECT_EQ(result.summary.rows().size(), 12u);
   // Ours and OpenVDB at two resolutions per mesh.
   ASSERT_EQ(result.sdf.rows().size(), 8u);
   for (const auto& row : result.sdf.rows()) EXPECT_GT(Value(result.sdf, row, "seconds"), 0);

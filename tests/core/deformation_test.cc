@@ -89,9 +89,10 @@ TEST(Deformation, PullMatchesTheFigure3Values) {
 
 TEST(Deformation, KnifeAlphaMarksTheGap) {
   Deformation knife = Make(DeformationKind::kKnife, 0.2, 0.5);
-  EXPECT_NEAR(knife.Evaluate({0.5, 0.3, 1.0}).w, 0.1, 1e-15);  // middle of the gap at the top
-  EXPECT_LT(knife.Evaluate({0.65, 0.3, 1.0}).w, 0.0);          // outside the gap
-  EXPECT_LT(knife.Evaluate({0.5, 0.3, 0.4}).w, 0.0);           // below the cut
+  EXPECT_NEAR(knife.Evaluate({0.5, 0.3, 1.0}).w, 0.1, 1e-15);   // middle of the gap at the top
+  EXPECT_LT(knife.Evaluate({0.65, 0.3, 1.0}).w, 0.0);           // outside the gap
+  EXPECT_LE(knife.Evaluate({0.5, 0.3, 0.4}).w, 0.0);            // below the blade: not cut
+  EXPECT_NEAR(knife.Evaluate({0.6, 0.3, 0.4}).w, -0.1, 1e-15);  // -|x - 0.5| there (Lipschitz)
   EXPECT_NEAR(knife.Evaluate({0.55, 0.3, 0.75}).w, 0.0,
               1e-15);  // on the gap's face (w = 0.1 there)
   // The gap's material collapses onto x = 0.5: D continuous across its face.

@@ -166,6 +166,35 @@ TEST(DistanceField, FarBlocksKeepTheSignAndStayBeyondTheBand) {
   EXPECT_LE(worst_far, std::sqrt(3.0) * 4 * field.spacing);
 }
 
+// The skip bound of the deform pass: at random points (not nodes) a
+// trilinear lookup exceeds the true distance by at most LookupOverestimate,
+// with the band (far blocks interpolated) and without it.
+TEST(DistanceField, LookupOverestimateBoundsTheLookupsExcess) {
+  TriangleMesh sphere = MakeSphere(0.25f, 8, 12);
+  const Box3d box{{-1.2, -1.1, -1.0}, {1.3, 1.2, 1.1}};
+  std::mt19937 rng(5);
+  for (double band : {4.0, 0.0}) {
+    DistanceFieldOptions options;
+    options.resolution = 32;
+    options.threads = 2;
+    options.exact_band_voxels = band;
+    const DistanceField field = BuildDistanceField(sphere, box, options, "small sphere");
+    const double bound = field.LookupOverestimate();
+    std::uniform_real_distribution<double> u01(0.0, 1.0);
+    const Box3d grid = field.Bounds();
+    double worst = -1e30;
+    for (int n = 0; n < 4000; ++n) {
+      const glm::dvec3 p = grid.lo + (grid.hi - grid.lo) * glm::dvec3(u01(rng), u01(rng), u01(rng));
+      const double truth = std::abs(BruteSignedDistance(sphere, p));
+      worst = std::max(worst, std::abs(field.Sample(p)) - truth);
+    }
+    std::printf("band %.0f voxels: largest |lookup| - |distance| %.4g, bound %.4g\n", band, worst,
+                bound);
+    EXPECT_LE(worst, bound) << "band " << band;
+    EXPECT_GT(worst, 0.0);  // lookups do exceed it: the bound is not vacuous
+  }
+}
+
 TEST(DistanceField, ExactEverywhereWithoutABand) {
   ExpectMatchesBruteForce(MakeTorus(0.6f, 0.25f, 12, 8), "torus (no band)", 24, 0.0);
   ExpectMatchesBruteForce(MakeCup(0.7f, 0.9f, 0.15f, 12), "cup (band 1 voxel)", 37, 1.0);

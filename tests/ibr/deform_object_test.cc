@@ -151,8 +151,9 @@ TEST_F(DeformDepthCubeTest, SpotIsNotExactAndTheErrorIsPrinted) {
   EXPECT_GE(cube.metrics.iou, 0.9);
   EXPECT_TRUE(std::isfinite(cube.metrics.depth.max));
   // ...but not exact: what no face sees is filled, so the error is above
-  // the distance field's of the same resolution.
-  EXPECT_GT(cube.metrics.depth.max, sdf.metrics.depth.max);
+  // the distance field's of the same resolution (the max is no measure here:
+  // both share the odd silhouette pixel where a step misses a thin tip).
+  EXPECT_GT(cube.metrics.depth.p95, sdf.metrics.depth.p95);
   EXPECT_GT(cube.metrics.depth.mean, sdf.metrics.depth.mean);
   EXPECT_GT(cube.off_by_a_texel, sdf.off_by_a_texel);
   EXPECT_EQ(cube.bytes, int64_t{6} * 128 * 128 * 4);

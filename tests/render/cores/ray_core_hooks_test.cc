@@ -26,7 +26,16 @@ layout(location = 0) out vec4 o_a;
 layout(location = 1) out vec4 o_b;
 
 float Slab(float z, float lo, float hi) { return max(lo - z, z - hi); }
-float RayField(vec3 p) { return min(Slab(p.z, -1.0, -0.5), Slab(p.z, 0.5, 1.0)); }
+float Solid(vec3 p) { return min(Slab(p.z, -1.0, -0.5), Slab(p.z, 0.5, 1.0)); }
+#ifdef SECOND
+// The two-field search (solid cuts): the cut is z < u_cut_z (A > 0 there).
+#define RAY_SECOND_FIELD
+uniform float u_cut_z;
+float RayFieldK(vec3 p, int k) { return k == 0 ? Solid(p) : u_cut_z - p.z; }
+bool RayRejectHitK(vec3 p, int k) { return k == 0 ? u_cut_z - p.z > 0.0 : Solid(p) > 0.0; }
+#else
+float RayField(vec3 p) { return Solid(p); }
+#endif
 #ifdef REJECT
 #define RAY_REJECT
 bool RayRejectHit(vec3 p) { return p.z < u_reject_z; }
@@ -37,7 +46,7 @@ bool RayRejectHit(vec3 p) { return p.z < u_reject_z; }
 #ifdef SKIP
 #define RAY_SKIP
 // Distance along +z to the next slab face ahead of p (every face is a crossing).
-float RaySkip(vec3 p) {
+float RaySkip(vec3 p, float field) {
   float next = p.z < -1.0 ? -1.0 : p.z < -0.5 ? -0.5 : p.z < 0.5 ? 0.5 : p.z < 1.0 ? 1.0 : 1e30;
   return u_skip_scale * (next - p.z);
 }
@@ -55,7 +64,7 @@ void main() {
   r.step = u_step;
   RayResult res = RayMarchRun(r);
   o_a = vec4(float(res.outcome), res.t + iv.x, float(res.samples), float(res.steps));
-  o_b = vec4(float(res.rejected), res.entering ? 1.0 : 0.0, 0.0, 0.0);
+  o_b = vec4(float(res.rejected), res.entering ? 1.0 : 0.0, float(res.field), 0.0);
 }
 )";
 
@@ -64,6 +73,7 @@ struct Hit {
   double t;  // from z = -10
   int samples, steps, rejected;
   bool entering;
+  int field;
 };
 
 struct HookSetup {
@@ -72,6 +82,7 @@ struct HookSetup {
   float reject_z = 0.0f;
   float skip_scale = 1.0f;
   float start_z = -1.5f;
+  float cut_z = 0.0f;
   RayCoreOptions core;
 };
 
@@ -97,6 +108,7 @@ class RayCoreHooksTest : public test_support::GlTest {
     glUniform1f(program.Uniform("u_step"), s.step);
     glUniform1f(program.Uniform("u_start_z"), s.start_z);
     if (program.Uniform("u_reject_z") >= 0) glUniform1f(program.Uniform("u_reject_z"), s.reject_z);
+    if (program.Uniform("u_cut_z") >= 0) glUniform1f(program.Uniform("u_cut_z"), s.cut_z);
     if (program.Uniform("u_skip_scale") >= 0)
       glUniform1f(program.Uniform("u_skip_scale"), s.skip_scale);
     VertexArray vao = VertexArray::Create();
@@ -109,7 +121,8 @@ class RayCoreHooksTest : public test_support::GlTest {
             static_cast<int>(std::lround(a.at(0, 0, 2))),
             static_cast<int>(std::lround(a.at(0, 0, 3))),
             static_cast<int>(std::lround(b.at(0, 0, 0))),
-            b.at(0, 0, 1) > 0.5f};
+            b.at(0, 0, 1) > 0.5f,
+            static_cast<int>(std::lround(b.at(0, 0, 2)))};
   }
   // Bisection leaves the crossing within step / 2^(n+1); plus float rounding.
   double Tolerance(const HookSetup& s) {
@@ -160,6 +173,40 @@ TEST_F(RayCoreHooksTest, BothCrossingsFindsTheExitOfARejectedSolid) {
   EXPECT_NEAR(h.t, 10.5, Tolerance(s));
   EXPECT_TRUE(h.entering);
   EXPECT_EQ(h.rejected, 2);
+}
+
+// Correa 2007 sec. 5.1.2 on slabs z in [-1, -0.5] and [0.5, 1] cut by
+// z < cut_z: a surface hit in the cut is rejected and the search turns to the
+// cut's boundary, accepted inside the solid, else back to the surface.
+TEST_F(RayCoreHooksTest, SecondFieldFindsTheCutFaceInsideTheSolidOrTheNextSurface) {
+  HookSetup s;
+  s.defines = {"SECOND"};
+  s.core.max_steps = 128;  // a switch restarts the step at the crossing: more than 3 / step
+  struct Case {
+    float cut_z, start_z;
+    double t;  // from z = -10
+    int field, rejected;
+  };
+  for (const Case& c : {Case{-0.75f, -1.5f, 9.25, 1, 1},  // the cut face inside slab 1
+                        Case{-2.0f, -1.5f, 9.0, 0, 0},    // no cut on the ray: slab 1's face
+                        Case{0.0f, -1.5f, 10.5, 0, 2},    // slab 1 cut away; boundary in the gap
+                        Case{0.75f, -1.5f, 10.75, 1, 1},  // the cut face inside slab 2
+                        Case{-0.75f, -0.9f, 9.25, 1, 1},  // starts in the solid, in the cut
+                        Case{2.0f, -1.5f, 0.0, 0, 1}}) {  // everything cut: leaves the box
+    s.cut_z = c.cut_z;
+    s.start_z = c.start_z;
+    const Hit h = March(s);
+    SCOPED_TRACE(::testing::Message() << "cut z < " << c.cut_z << ", start " << c.start_z);
+    if (c.t == 0.0) {
+      EXPECT_EQ(h.outcome, RayOutcome::kExited);
+      EXPECT_EQ(h.rejected, c.rejected);
+      continue;
+    }
+    ASSERT_EQ(h.outcome, RayOutcome::kHit);
+    EXPECT_NEAR(h.t, c.t, Tolerance(s));
+    EXPECT_EQ(h.field, c.field);
+    EXPECT_EQ(h.rejected, c.rejected);
+  }
 }
 
 TEST_F(RayCoreHooksTest, StartingInsideHitsAtTheOriginUnlessBothCrossings) {

@@ -208,31 +208,108 @@ Scene KnifedSphere() {
 TEST_F(DeformPassTest, SolidKnifeCutAgreesWithTheReference) {
   const Scene scene = KnifedSphere();
   core::MeshDistance distance(scene.mesh, false, "sphere");
-  for (CutMode cut : {CutMode::kSolid, CutMode::kHollow, CutMode::kThick}) {
+  // Solid and thick by the CSG field and by the paper's two-field search
+  // (sec. 5.1.2): the same surface.
+  const std::pair<CutMode, bool> cases[] = {{CutMode::kSolid, false},
+                                            {CutMode::kSolid, true},
+                                            {CutMode::kHollow, false},
+                                            {CutMode::kThick, false},
+                                            {CutMode::kThick, true}};
+  for (const auto& [cut, search] : cases) {
     DeformPassOptions options;
     options.cut = cut;
+    options.solid_search = search;
     options.thickness = 0.08f;
     options.step_voxels = 0.5f;
     ViewSetup view = MakeView({0.9f, -2.0f, 2.0f});
     Frame frame = Render(scene, options, view, distance);
-    test_support::WriteDebugImage("knife_" + core::CutModeName(cut) + ".png", frame.color);
+    const std::string name = core::CutModeName(cut) + (search ? " search" : "");
+    test_support::WriteDebugImage(
+        "knife_" + core::CutModeName(cut) + (search ? "_search" : "") + ".png", frame.color);
     core::DeformReference reference(distance, scene.deformation, scene.placement, cut,
                                     options.thickness);
     Agreement a = Compare(frame, view, reference, scene.placement);
     std::printf(
         "knife %s: %d/%d pixels agree (%.3f %%), %d in the band; cut-face normals: %d, worst %.3f "
         "deg\n",
-        core::CutModeName(cut).c_str(), a.agree, a.compared, 100.0 * a.agree / a.compared, a.band,
-        a.cut_normals, a.worst_cut_normal_deg);
+        name.c_str(), a.agree, a.compared, 100.0 * a.agree / a.compared, a.band, a.cut_normals,
+        a.worst_cut_normal_deg);
     // (worst printed with more digits below)
     std::printf("  worst cut-face normal angle %.6f deg\n", a.worst_cut_normal_deg);
-    EXPECT_GE(a.agree, 0.995 * a.compared) << core::CutModeName(cut);
+    EXPECT_GE(a.agree, 0.995 * a.compared) << name;
     if (cut == CutMode::kSolid) {
-      EXPECT_GT(a.cut_normals, 50);
+      EXPECT_GT(a.cut_normals, 50) << name;
     }
     if (cut != CutMode::kHollow) {
-      EXPECT_LT(a.worst_cut_normal_deg, 1.0) << core::CutModeName(cut);
+      EXPECT_LT(a.worst_cut_normal_deg, 1.0) << name;
     }
+  }
+  EXPECT_NO_GL_ERROR();
+}
+
+// Mean field samples per cast ray of a frame (bits 16..31 of the outcome).
+double MeanSamples(const Frame& frame) {
+  double samples = 0, rays = 0;
+  for (int y = 0; y < frame.outcome.height(); ++y)
+    for (int x = 0; x < frame.outcome.width(); ++x) {
+      const uint32_t o = frame.outcome.at(x, y);
+      const uint32_t n = o >> kDeformSamplesShift;
+      if (n == 0) continue;
+      samples += n;
+      rays += 1;
+    }
+  return rays > 0 ? samples / rays : 0.0;
+}
+
+// Skipping by the object's distance field (the default) and by the cut alpha
+// draw what the plain march draws (the reference agreement holds either way)
+// with fewer samples; per mode: none (twist), solid CSG, solid search, hollow.
+TEST_F(DeformPassTest, SkippingKeepsTheSurfaceAndSavesSamples) {
+  struct Case {
+    std::string name;
+    Scene scene;
+    CutMode cut;
+    bool search;
+  };
+  // A gentle twist (a small warp Lipschitz bound) of a sphere small in its
+  // box: room for the distance-field skip. A wide knife: room for the cut's.
+  Scene twisted;
+  twisted.mesh = core::MakeSphere(0.3f, 48, 96);
+  twisted.deformation.terms = {Make(core::DeformationKind::kTwist, 0.5, 0.1)};
+  twisted.placement = core::Placement::FromRegion({{-0.6, -0.6, -0.6}, {0.6, 0.6, 0.6}});
+  Scene wide = KnifedSphere();
+  wide.deformation.terms = {Make(core::DeformationKind::kKnife, 0.45, 0.8)};
+  const std::vector<Case> cases = {{"twist", twisted, CutMode::kNone, false},
+                                   {"wide knife solid csg", wide, CutMode::kSolid, false},
+                                   {"wide knife solid search", wide, CutMode::kSolid, true},
+                                   {"wide knife hollow", wide, CutMode::kHollow, false}};
+  for (const Case& c : cases) {
+    core::MeshDistance distance(c.scene.mesh, false, c.name);
+    const ViewSetup view = MakeView({0.9f, -2.0f, 2.0f});
+    core::DeformReference reference(distance, c.scene.deformation, c.scene.placement, c.cut, 0.08);
+    DeformPassOptions options;
+    options.cut = c.cut;
+    options.solid_search = c.search;
+    options.step_voxels = 0.5f;
+    options.skip_object = false;
+    const Frame plain = Render(c.scene, options, view, distance);
+    options.skip_object = true;
+    options.skip_empty = c.cut != CutMode::kNone;
+    const Frame skipped = Render(c.scene, options, view, distance);
+    const Agreement a_plain = Compare(plain, view, reference, c.scene.placement);
+    const Agreement a_skip = Compare(skipped, view, reference, c.scene.placement);
+    int differ = 0;
+    for (int y = 0; y < kSize; ++y)
+      for (int x = 0; x < kSize; ++x) differ += GpuClass(plain, x, y) != GpuClass(skipped, x, y);
+    const double s_plain = MeanSamples(plain), s_skip = MeanSamples(skipped);
+    std::printf(
+        "%s: samples per ray %.2f plain, %.2f skipping; agreement %d/%d vs %d/%d; %d pixels of "
+        "another class\n",
+        c.name.c_str(), s_plain, s_skip, a_plain.agree, a_plain.compared, a_skip.agree,
+        a_skip.compared, differ);
+    EXPECT_GE(a_skip.agree, 0.995 * a_skip.compared) << c.name;
+    EXPECT_LE(differ, kSize * kSize / 500) << c.name;  // silhouette pixels at most
+    EXPECT_LT(s_skip, s_plain) << c.name;
   }
   EXPECT_NO_GL_ERROR();
 }
