@@ -118,7 +118,9 @@ double Trilinear(const double c[2][2][2], const glm::dvec3& f) {
 constexpr int kBlock = 4;
 
 double DistanceField::LookupOverestimate() const {
-  const double blocks = std::isfinite(exact_band) ? kBlock : 0.0;
+  // A node interpolated from its block's corners exceeds its distance by at
+  // most sum w_c |c - x| <= the half diagonal (at the block's centre).
+  const double blocks = std::isfinite(exact_band) ? 0.5 * kBlock : 0.0;
   return std::sqrt(3.0) * spacing * (1.0 + blocks);
 }
 

@@ -133,8 +133,8 @@ struct DistanceField {
   // The most |Sample(p)| (or a GL LINEAR lookup) can exceed p's true
   // distance to the surface, inside the grid: a trilinear blend of a
   // 1-Lipschitz function's node values exceeds it by at most the voxel
-  // diagonal, and nodes beyond the exact band (interpolated over their block)
-  // by at most the block's diagonal. What an empty-space skip by the field
+  // diagonal, and nodes beyond the exact band (interpolated from their
+  // block's corners) by at most half the block's diagonal. What an empty-space skip by the field
   // must subtract to stay a lower bound.
   double LookupOverestimate() const;
   // Trilinear interpolation with coordinates clamped to the grid, as a GL

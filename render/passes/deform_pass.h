@@ -182,8 +182,11 @@ class DeformPass : public Pass {
   std::vector<glm::mat4> cube_from_object_;  // depth cube: (s, t) texture coordinates, z
   int deformation_resolution_ = 0;
   float alpha_lipschitz_ = 1.0f;  // bound of |grad A| in object units (for the skip)
-  float warp_lipschitz_ = 1.0f;   // bound of |I + M J_D M^-1| (the object skip)
-  float sdf_margin_ = 0.0f;       // DistanceField::LookupOverestimate (the object skip)
+  // Bounds of |I + M J_D M^-1| per brick of the box, dilated (the object
+  // skip; R32F, NEAREST), and the longest skip they hold for.
+  Texture warp_lipschitz_;
+  float warp_skip_cap_ = 0.0f;
+  float sdf_margin_ = 0.0f;  // DistanceField::LookupOverestimate (the object skip)
   VertexArray box_vao_;
   Buffer box_vbo_;
 };

@@ -75,7 +75,9 @@ uniform float u_deform_resolution;
 uniform float u_step;             // base step, object units
 uniform float u_thickness;        // CUT_THICK: shell thickness T, object units
 uniform float u_alpha_lipschitz;  // bound of |grad A| in object units (SKIP_EMPTY, SKIP_OBJECT)
-uniform float u_warp_lipschitz;   // bound of |I + J| of the warp, object units (SKIP_OBJECT)
+uniform sampler3D u_warp_lipschitz;  // SKIP_OBJECT: per box brick, a bound of |I + J| over
+                                     // the brick and its neighbours (R32F, NEAREST)
+uniform float u_warp_skip_cap;       // SKIP_OBJECT: the longest skip those bounds hold for
 uniform float u_sdf_margin;       // SKIP_OBJECT: the most a lookup can exceed the true distance
 uniform vec4 u_cut_color;
 
@@ -225,12 +227,16 @@ bool RayRejectHitK(vec3 p, int k) {
 #define RAY_SKIP
 // A crossing-free distance from p given the current field's value f there.
 // Every field here is a max / min / |.| of the body (a distance through the
-// warp: changes by at most u_warp_lipschitz per unit of ray, plus the
-// lookup's margin) and the cut alpha (u_alpha_lipschitz), so reaching a sign
-// change takes at least min((|f| - margin) / L_warp, |f| / L_A).
-float ObjectSkip(float f) {
+// warp: changes by at most L_warp per unit of ray, plus the lookup's margin)
+// and the cut alpha (u_alpha_lipschitz), so reaching a sign change takes at
+// least min((|f| - margin) / L_warp, |f| / L_A); L_warp is the bound of p's
+// brick, valid up to u_warp_skip_cap.
+float ObjectSkip(vec3 p, float f) {
   float a = abs(f);
-  return max(min((a - u_sdf_margin) / u_warp_lipschitz, a / u_alpha_lipschitz), 0.0);
+  vec3 u = clamp((u_box_from_object * vec4(p, 1.0)).xyz, 0.0, 1.0);
+  float l = texture(u_warp_lipschitz, u).r;
+  float skip = min((a - u_sdf_margin) / l, a / u_alpha_lipschitz);
+  return clamp(skip, 0.0, u_warp_skip_cap);
 }
 // Inside the cut (A > 0) nothing is hit within A / Lipschitz(A) (sec. 6.2).
 // With a flap, both pieces must be empty there: the smaller of the two.
@@ -249,7 +255,7 @@ float CutSkip(vec3 p) {
 float SkipK(vec3 p, float f, int k) {
   float skip = 0.0;
 #ifdef SKIP_OBJECT
-  if (k == 0) skip = ObjectSkip(f);
+  if (k == 0) skip = ObjectSkip(p, f);
 #endif
 #ifdef SKIP_EMPTY
   // Inside the cut nothing is hit (field 0 of the search: a surface crossing
