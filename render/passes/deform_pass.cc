@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <span>
 
@@ -108,27 +109,53 @@ Texture Upload3D(GLenum format, GLenum channels, glm::ivec3 size, const float* d
   return texture;
 }
 
-// Upper bound of |grad A| in object units over the texture's trilinear
-// interpolant: per cell and axis the largest difference of A along that axis
-// (the interpolant's partial derivative is a convex combination of them),
-// mapped to object units through ||M^-T|| <= Frobenius norm of M^-1.
-float AlphaLipschitz(const core::DeformationTexture& texture, const core::Placement& placement) {
-  // Over every piece (the skip reads the flap's mask too).
-  const int n = texture.resolution;
+// The bricks of the Lipschitz grid over the deformation box (the distance-
+// field skip reads a bound of the warp's |I + J| per brick).
+constexpr int kLipschitzBricks = 8;
+
+// Per brick of a kLipschitzBricks^3 grid over the box and per axis, the
+// largest difference of each channel (D's x, y, z and the alpha) along that
+// axis over the brick's cells and every piece: the trilinear interpolant's
+// partial derivatives are convex combinations of a cell's four edge
+// differences along the axis, so these bound them (per texel). One scan of
+// the texture serves both Lipschitz bounds below.
+using BrickDifferences = std::array<glm::dvec4, 3>;  // [axis][channel]
+std::vector<BrickDifferences> MaxDifferencesPerBrick(const core::DeformationTexture& texture) {
+  const int n = texture.resolution, b = kLipschitzBricks;
   size_t piece = 0;
-  auto a = [&](int i, int j, int k) {
-    return texture.rgba[(((piece * n + k) * n + j) * n + i) * 4 + 3];
+  auto d = [&](int i, int j, int k) {
+    const float* t = &texture.rgba[(((piece * n + k) * n + j) * n + i) * 4];
+    return glm::dvec4(t[0], t[1], t[2], t[3]);
   };
-  glm::dvec3 g(0.0);
+  // The brick of cell c (cells 0 .. n - 2 per axis).
+  auto brick = [&](int c) { return std::min(c * b / std::max(n - 1, 1), b - 1); };
+  std::vector<BrickDifferences> bricks(static_cast<size_t>(b) * b * b,
+                                       {glm::dvec4(0.0), glm::dvec4(0.0), glm::dvec4(0.0)});
   for (piece = 0; piece < static_cast<size_t>(texture.pieces); ++piece)
-    for (int k = 0; k < n; ++k)
-      for (int j = 0; j < n; ++j)
-        for (int i = 0; i < n; ++i) {
-          if (i + 1 < n) g.x = std::max(g.x, double(std::abs(a(i + 1, j, k) - a(i, j, k))));
-          if (j + 1 < n) g.y = std::max(g.y, double(std::abs(a(i, j + 1, k) - a(i, j, k))));
-          if (k + 1 < n) g.z = std::max(g.z, double(std::abs(a(i, j, k + 1) - a(i, j, k))));
+    for (int k = 0; k + 1 < n; ++k)
+      for (int j = 0; j + 1 < n; ++j)
+        for (int i = 0; i + 1 < n; ++i) {
+          BrickDifferences& m =
+              bricks[(static_cast<size_t>(brick(k)) * b + brick(j)) * b + brick(i)];
+          for (int s = 0; s < 2; ++s)
+            for (int t = 0; t < 2; ++t) {
+              m[0] = glm::max(m[0], glm::abs(d(i + 1, j + s, k + t) - d(i, j + s, k + t)));
+              m[1] = glm::max(m[1], glm::abs(d(i + s, j + 1, k + t) - d(i + s, j, k + t)));
+              m[2] = glm::max(m[2], glm::abs(d(i + s, j + t, k + 1) - d(i + s, j + t, k)));
+            }
         }
-  g *= double(n - 1);  // per box unit
+  return bricks;
+}
+
+// Upper bound of |grad A| in object units over the texture's trilinear
+// interpolant: per axis the largest difference of A (over every piece: the
+// skip reads the flap's mask too), mapped to object units through
+// ||M^-T|| <= Frobenius norm of M^-1.
+float AlphaLipschitz(const std::vector<BrickDifferences>& bricks, int resolution,
+                     const core::Placement& placement) {
+  glm::dvec3 g(0.0);
+  for (const BrickDifferences& m : bricks) g = glm::max(g, glm::dvec3(m[0].w, m[1].w, m[2].w));
+  g *= double(resolution - 1);  // per box unit
   glm::dmat3 inv = glm::inverse(placement.Linear());
   double frobenius = 0.0;
   for (int c = 0; c < 3; ++c) frobenius += glm::dot(inv[c], inv[c]);
@@ -149,50 +176,25 @@ double SpectralNormBound(const glm::dmat3& m) {
 }
 
 // Local upper bounds of |I + M J_D M^-1| (spectral norm, object units) over
-// the trilinear interpolants of every piece's D, per brick of a
-// kLipschitzBricks^3 grid over the box: per cell, axis and component the
-// largest difference of D (the interpolant's partial derivatives are convex
-// combinations of them), maximised over the brick's cells, that bound
-// matrix's norm and ||M||, ||M^-1|| (SpectralNormBound each); then each brick
-// takes the largest bound of its 3^3 neighbourhood, so it holds for any
-// segment that starts in the brick and is shorter than one brick
-// (WarpSkipCap). A global bound was useless for the bench's twist (25: the
-// angle falls from 2 rad to 0 over 0.15 of the box at its rigid radius)
-// while most of the box moves rigidly or not at all.
-constexpr int kLipschitzBricks = 8;
-
-std::vector<float> WarpLipschitzGrid(const core::DeformationTexture& texture,
+// the trilinear interpolants of every piece's D, per brick: the brick's
+// difference bounds of D (MaxDifferencesPerBrick) as a matrix, its norm and
+// ||M||, ||M^-1|| (SpectralNormBound each); then each brick takes the largest
+// bound of its 3^3 neighbourhood, so it holds for any segment that starts in
+// the brick and is shorter than one brick (WarpSkipCap). A global bound was
+// useless for the bench's twist (25: the angle falls from 2 rad to 0 over
+// 0.15 of the box at its rigid radius) while most of the box moves rigidly or
+// not at all.
+std::vector<float> WarpLipschitzGrid(const std::vector<BrickDifferences>& bricks, int resolution,
                                      const core::Placement& placement) {
-  const int n = texture.resolution, b = kLipschitzBricks;
-  size_t piece = 0;
-  auto d = [&](int i, int j, int k, int c) {
-    return double(texture.rgba[(((piece * n + k) * n + j) * n + i) * 4 + c]);
-  };
-  // The brick of cell c (cells 0 .. n - 2 per axis).
-  auto brick = [&](int c) { return std::min(c * b / std::max(n - 1, 1), b - 1); };
-  std::vector<glm::dmat3> e(static_cast<size_t>(b) * b * b, glm::dmat3(0.0));  // e[axis][component]
-  for (piece = 0; piece < static_cast<size_t>(texture.pieces); ++piece)
-    for (int k = 0; k + 1 < n; ++k)
-      for (int j = 0; j + 1 < n; ++j)
-        for (int i = 0; i + 1 < n; ++i) {
-          glm::dmat3& m = e[(static_cast<size_t>(brick(k)) * b + brick(j)) * b + brick(i)];
-          // The cell's edges along each axis (all four per axis).
-          for (int c = 0; c < 3; ++c)
-            for (int s = 0; s < 2; ++s)
-              for (int t = 0; t < 2; ++t) {
-                m[0][c] =
-                    std::max(m[0][c], std::abs(d(i + 1, j + s, k + t, c) - d(i, j + s, k + t, c)));
-                m[1][c] =
-                    std::max(m[1][c], std::abs(d(i + s, j + 1, k + t, c) - d(i + s, j, k + t, c)));
-                m[2][c] =
-                    std::max(m[2][c], std::abs(d(i + s, j + t, k + 1, c) - d(i + s, j + t, k, c)));
-              }
-        }
+  const int b = kLipschitzBricks;
   const glm::dmat3 m = placement.Linear();
-  const double scale = SpectralNormBound(m) * double(n - 1) * SpectralNormBound(glm::inverse(m));
-  std::vector<float> local(e.size()), dilated(e.size());
-  for (size_t i = 0; i < e.size(); ++i) {
-    const double bound = 1.0 + scale * SpectralNormBound(e[i]);
+  const double scale =
+      SpectralNormBound(m) * double(resolution - 1) * SpectralNormBound(glm::inverse(m));
+  std::vector<float> local(bricks.size()), dilated(bricks.size());
+  for (size_t i = 0; i < bricks.size(); ++i) {
+    glm::dmat3 e;  // e[axis][component]
+    for (int axis = 0; axis < 3; ++axis) e[axis] = glm::dvec3(bricks[i][axis]);
+    const double bound = 1.0 + scale * SpectralNormBound(e);
     local[i] = static_cast<float>(std::isfinite(bound) ? std::min(bound, 1e30) : 1e30);
   }
   for (int k = 0; k < b; ++k)
@@ -255,9 +257,10 @@ DeformPass::DeformPass(ProgramCache& programs, const DeformInputs& inputs,
     deformation_flap_ =
         Upload3D(GL_RGBA32F, GL_RGBA, glm::ivec3(d.resolution), d.rgba.data() + d.rgba.size() / 2);
   }
-  alpha_lipschitz_ = AlphaLipschitz(d, placement_);
   {
-    const std::vector<float> grid = WarpLipschitzGrid(d, placement_);
+    const std::vector<BrickDifferences> bricks = MaxDifferencesPerBrick(d);
+    alpha_lipschitz_ = AlphaLipschitz(bricks, d.resolution, placement_);
+    const std::vector<float> grid = WarpLipschitzGrid(bricks, d.resolution, placement_);
     warp_lipschitz_ = Texture::Create3DWithData(GL_R32F, glm::ivec3(kLipschitzBricks), GL_RED,
                                                 GL_FLOAT, grid.data());
     warp_skip_cap_ = WarpSkipCap(placement_);

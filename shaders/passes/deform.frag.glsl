@@ -129,21 +129,22 @@ float Body(float sdf) {
 #define TWO_FIELDS  // the ray core's RAY_SECOND_FIELD: k = 0 the body, k = 1 the cut
 #endif
 
-// One piece's field: the rest's per cut mode, the flap's bounded by its mask.
-// k (TWO_FIELDS, the rest only): 0 the body alone, 1 the cut alpha alone.
-float PieceFieldK(vec3 p, int piece, int k) {
+// One piece's (field, mask): the rest's field per cut mode, the flap's
+// bounded by its mask; k (TWO_FIELDS, the rest only): 0 the body alone, 1 the
+// cut alpha alone. The mask is the piece's alpha (w) at p.
+vec2 PieceFieldAndMask(vec3 p, int piece, int k) {
   vec4 w = WarpPiece(p, piece);
   float body = Body(Implicit(w.xyz));
+  if (piece == 1) return vec2(max(body, w.w), w.w);
 #ifdef TWO_FIELDS
-  if (piece == 0) return k == 0 ? body : w.w;
-  return max(body, w.w);
+  return vec2(k == 0 ? body : w.w, w.w);
 #elif defined(CUT_SOLID) || defined(CUT_THICK)
-  return max(body, w.w);  // eq. 6: inside the body and outside the cut
+  return vec2(max(body, w.w), w.w);  // eq. 6: inside the body and outside the cut
 #else
-  return piece == 0 ? body : max(body, w.w);
+  return vec2(body, w.w);
 #endif
 }
-float PieceField(vec3 p, int piece) { return PieceFieldK(p, piece, 0); }
+float PieceFieldK(vec3 p, int piece, int k) { return PieceFieldAndMask(p, piece, k).x; }
 
 // The cut alpha where FieldK was last evaluated (the smaller of the pieces'
 // masks), so the cut skip at a sample the march just evaluated costs no
@@ -152,23 +153,15 @@ vec3 g_alpha_p = vec3(1e30);
 float g_alpha = 0.0;
 
 float FieldK(vec3 p, int k) {
-  vec4 w = WarpPiece(p, 0);
-  float body = Body(Implicit(w.xyz));
+  vec2 rest = PieceFieldAndMask(p, 0, k);
   g_alpha_p = p;
-  g_alpha = w.w;
-#ifdef TWO_FIELDS
-  float rest = k == 0 ? body : w.w;
-#elif defined(CUT_SOLID) || defined(CUT_THICK)
-  float rest = max(body, w.w);  // eq. 6: inside the body and outside the cut
-#else
-  float rest = body;
-#endif
+  g_alpha = rest.y;
 #ifdef DEFORM_FLAP
-  vec4 wf = WarpPiece(p, 1);
-  g_alpha = min(g_alpha, wf.w);
-  return min(rest, max(Body(Implicit(wf.xyz)), wf.w));  // the union of the pieces
+  vec2 flap = PieceFieldAndMask(p, 1, k);
+  g_alpha = min(g_alpha, flap.y);
+  return min(rest.x, flap.x);  // the union of the pieces
 #else
-  return rest;
+  return rest.x;
 #endif
 }
 
