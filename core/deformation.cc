@@ -41,9 +41,15 @@ double KnifeWidth(const Deformation& d, double z) {
 constexpr double kPeelHinge = 0.5;
 double PeelTop(const Deformation& d) { return 1.0 - d.width; }
 // Signed distance-like alpha of the flap's slab (> 0 inside, box units).
-double PeelSlab(const Deformation& d, const glm::dvec3& u) {
+// Its three bounding planes (each affine in u, > 0 on the slab's side); the
+// slab's alpha is their minimum.
+glm::dvec3 PeelSlabPlanes(const Deformation& d, const glm::dvec3& u) {
   const double top = PeelTop(d);
-  return std::min({u.x - kPeelHinge, u.z - (top - d.width), top - u.z});
+  return {u.x - kPeelHinge, u.z - (top - d.width), top - u.z};
+}
+double PeelSlab(const Deformation& d, const glm::dvec3& u) {
+  const glm::dvec3 planes = PeelSlabPlanes(d, u);
+  return std::min({planes.x, planes.y, planes.z});
 }
 // Rotation of (x, z) about the hinge by a (positive a lifts +x towards +z).
 glm::dvec3 PeelRotate(const Deformation& d, const glm::dvec3& u, double a) {
@@ -292,6 +298,29 @@ glm::dmat3 DeformationSum::JacobianPiece(const glm::dvec3& u, int piece, double 
   return j;
 }
 
+glm::dvec4 DeformationSum::AlphaComponents(const glm::dvec3& u, int piece) const {
+  const Deformation* peel = nullptr;
+  int peels = 0;
+  double others = -1.0;  // piece 0: the other terms' cut alphas (their max, at least -1)
+  for (const Deformation& d : terms) {
+    if (d.kind == DeformationKind::kPeel) {
+      peel = &d;
+      ++peels;
+    } else if (piece == 0) {
+      others = std::max(others, d.EvaluatePiece(u, 0).w);
+    }
+  }
+  const double sign = AlphaComponentSign(piece);
+  if (peels != 1) return glm::dvec4(sign * EvaluatePiece(u, piece).w);
+  if (piece == 0) return {PeelSlabPlanes(*peel, u), others};
+  // The flap's mask -slab(q): q is a rotation of u, so each plane stays affine.
+  return {PeelSlabPlanes(*peel, PeelRotate(*peel, u, -peel->amount)), -1e30};
+}
+
+double DeformationSum::AlphaFromComponents(const glm::dvec4& c, int piece) {
+  return std::max(AlphaComponentSign(piece) * std::max(c.w, std::min({c.x, c.y, c.z})), -1.0);
+}
+
 bool DeformationSum::HasCut() const {
   return std::any_of(terms.begin(), terms.end(), [](const Deformation& d) { return d.HasCut(); });
 }
@@ -376,6 +405,18 @@ DeformationTexture SampleDeformation(const DeformationSum& deformation, int reso
           }
           for (int c = 0; c < 4; ++c) texture.rgba[n++] = static_cast<float>(e[c]);
         }
+  if (texture.pieces == 2) {
+    texture.alpha_components.resize(texture.rgba.size());
+    n = 0;
+    for (int piece = 0; piece < texture.pieces; ++piece)
+      for (int k = 0; k < resolution; ++k)
+        for (int j = 0; j < resolution; ++j)
+          for (int i = 0; i < resolution; ++i) {
+            const glm::dvec4 c =
+                deformation.AlphaComponents(glm::dvec3(i, j, k) / double(resolution - 1), piece);
+            for (int a = 0; a < 4; ++a) texture.alpha_components[n++] = static_cast<float>(c[a]);
+          }
+  }
   return texture;
 }
 

@@ -95,6 +95,20 @@ struct DeformationSum {
   glm::dvec4 EvaluatePiece(const glm::dvec3& u, int piece) const;
   // J_D of one piece by central differences.
   glm::dmat3 JacobianPiece(const glm::dvec3& u, int piece, double h = 1e-5) const;
+  // A piece's cut alpha as four smooth components c, for exact cut-face
+  // normals: A = AlphaFromComponents(c, piece) = max(s max(c.w, min(c.x, c.y,
+  // c.z)), -1), s = AlphaComponentSign(piece). A lone peel's slab is the
+  // minimum of three planes; sampled and interpolated, that minimum is
+  // rounded within a texel of the slab's edges and its gradient there blends
+  // the faces' normals (by up to 64 degrees at 64^3), while each plane alone
+  // (affine in u, the flap's too: q is a rotation of u) is interpolated
+  // exactly. So with exactly one peel c.xyz are its planes (of u
+  // for piece 0, of the flap's pre-image q for piece 1) and c.w the other
+  // terms' alpha (piece 0; -1e30 for the flap); otherwise every component is
+  // s A (no kink resolved: a sum of two peels, or none).
+  glm::dvec4 AlphaComponents(const glm::dvec3& u, int piece) const;
+  static double AlphaComponentSign(int piece) { return piece == 0 ? 1.0 : -1.0; }
+  static double AlphaFromComponents(const glm::dvec4& c, int piece);
 };
 
 // Where the deformation box sits in object space: object = M(u), affine.
@@ -129,7 +143,10 @@ glm::dvec4 DeformObjectPointPiece(const DeformationSum& deformation, const Place
 struct DeformationTexture {
   int resolution = 0;
   int pieces = 1;
-  std::vector<float> rgba;            // 4 floats per node, x fastest, pieces * res^3 nodes
+  std::vector<float> rgba;  // 4 floats per node, x fastest, pieces * res^3 nodes
+  // DeformationSum::AlphaComponents on the same nodes and in the same layout;
+  // sampled only when there are two pieces (a peel), else empty.
+  std::vector<float> alpha_components;
   double max_displacement_box = 0.0;  // max |D| over the nodes, box units
 };
 DeformationTexture SampleDeformation(const DeformationSum& deformation, int resolution);

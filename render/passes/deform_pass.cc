@@ -254,8 +254,21 @@ DeformPass::DeformPass(ProgramCache& programs, const DeformInputs& inputs,
   }
   deformation_ = Upload3D(GL_RGBA32F, GL_RGBA, glm::ivec3(d.resolution), d.rgba.data());
   if (d.pieces == 2) {
+    if (d.alpha_components.size() != d.rgba.size()) {
+      core::ThrowInputError("DeformPass", "{} alpha components for {} texture floats",
+                            d.alpha_components.size(), d.rgba.size());
+    }
+    const size_t half = d.rgba.size() / 2;
     deformation_flap_ =
-        Upload3D(GL_RGBA32F, GL_RGBA, glm::ivec3(d.resolution), d.rgba.data() + d.rgba.size() / 2);
+        Upload3D(GL_RGBA32F, GL_RGBA, glm::ivec3(d.resolution), d.rgba.data() + half);
+    alpha_components_ =
+        Upload3D(GL_RGBA32F, GL_RGBA, glm::ivec3(d.resolution), d.alpha_components.data());
+    alpha_components_flap_ =
+        Upload3D(GL_RGBA32F, GL_RGBA, glm::ivec3(d.resolution), d.alpha_components.data() + half);
+  } else {  // a previous deformation's flap must not stay bound
+    deformation_flap_ = Texture();
+    alpha_components_ = Texture();
+    alpha_components_flap_ = Texture();
   }
   {
     const std::vector<BrickDifferences> bricks = MaxDifferencesPerBrick(d);
@@ -432,6 +445,10 @@ void DeformPass::Draw(const RenderTarget& target, const ViewSetup& view) {
   if (flap) {
     program.Set("u_deformation_flap", 2);
     glBindTextureUnit(2, deformation_flap_.id());
+    program.Set("u_alpha_components", 4);
+    glBindTextureUnit(4, alpha_components_.id());
+    program.Set("u_alpha_components_flap", 5);
+    glBindTextureUnit(5, alpha_components_flap_.id());
   }
   // The box's triangles face inwards: the far faces are front-facing (for a
   // mirroring placement, back-facing). Each pixel gets one fragment; its ray
@@ -447,6 +464,8 @@ void DeformPass::Draw(const RenderTarget& target, const ViewSetup& view) {
   glBindTextureUnit(1, 0);
   glBindTextureUnit(2, 0);
   glBindTextureUnit(3, 0);
+  glBindTextureUnit(4, 0);
+  glBindTextureUnit(5, 0);
 }
 
 }  // namespace render

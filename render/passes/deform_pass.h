@@ -177,6 +177,9 @@ class DeformPass : public Pass {
   Texture sdf_;  // the 3D field, or the depth cube's 2D array
   Texture deformation_;
   Texture deformation_flap_;  // a peel's flap piece (core/deformation.h "Pieces"); empty if none
+  // With a flap: each piece's alpha components (DeformationSum::AlphaComponents).
+  Texture alpha_components_;
+  Texture alpha_components_flap_;
   glm::vec3 sdf_origin_{0.0f};
   float sdf_spacing_ = 1.0f;  // the implicit's grid step (voxel or depth-cube texel)
   glm::ivec3 sdf_size_{0};

@@ -70,6 +70,10 @@ uniform float u_sdf_spacing;      // object units between nodes (depth cube: per
 uniform sampler3D u_deformation;  // xyz: D (box units), w: cut alpha A (> 0 cut)
 #ifdef DEFORM_FLAP
 uniform sampler3D u_deformation_flap;  // the flap piece: xyz its D, w its mask (> 0 no flap)
+// Per piece, its alpha as four smooth components (core::DeformationSum::
+// AlphaComponents; a lone peel's planes), for exact cut-face normals.
+uniform sampler3D u_alpha_components;
+uniform sampler3D u_alpha_components_flap;
 #endif
 uniform float u_deform_resolution;
 uniform float u_step;             // base step, object units
@@ -103,7 +107,9 @@ float Implicit(vec3 p) { return texture(u_sdf, ((p - u_sdf_origin) / u_sdf_spaci
 // (the flap's mask: +1, no flap there).
 vec4 WarpPiece(vec3 p, int piece) {
   vec3 u = (u_box_from_object * vec4(p, 1.0)).xyz;
-  if (any(lessThan(u, vec3(0.0))) || any(greaterThan(u, vec3(1.0))))
+  // The box's faces belong to it: a ray's entry point, computed on a face,
+  // may round to just outside (1e-5: float rounding of the box transform).
+  if (any(lessThan(u, vec3(-1e-5))) || any(greaterThan(u, vec3(1.0 + 1e-5))))
     return vec4(p, piece == 0 ? -1.0 : 1.0);
   vec3 s = (u * (u_deform_resolution - 1.0) + 0.5) / u_deform_resolution;
 #ifdef DEFORM_FLAP
@@ -285,12 +291,50 @@ vec3 ImplicitGradient(vec3 p) {
               Implicit(p + vec3(0, 0, h)) - Implicit(p - vec3(0, 0, h)));
 }
 
+#ifdef DEFORM_FLAP
+// The components at box point u, clamped into the box (each is affine where
+// a peel's, so differences of clamped points stay exact).
+vec4 AlphaComponents(vec3 u, int piece) {
+  vec3 s = (clamp(u, 0.0, 1.0) * (u_deform_resolution - 1.0) + 0.5) / u_deform_resolution;
+  return piece == 0 ? texture(u_alpha_components, s) : texture(u_alpha_components_flap, s);
+}
+// The gradient of the component that sets the alpha at p (A = max(s max(c.w,
+// min(c.x, c.y, c.z)), -1)): the face's own plane beside the slab's edges,
+// where differences of the interpolated alpha blend two faces' normals. The
+// flap ends at the box (its mask is 1 outside, WarpPiece): where the box's
+// face is nearer than the mask's planes, that face bounds it.
+vec3 AlphaGradient(vec3 p, int piece) {
+  vec3 u = (u_box_from_object * vec4(p, 1.0)).xyz;
+  vec4 c = AlphaComponents(u, piece);
+  float lo = min(min(c.x, c.y), c.z);
+  vec3 g = vec3(0.0);
+  vec3 inside = min(u, 1.0 - u);
+  float box_face = -min(min(inside.x, inside.y), inside.z);
+  if (piece == 1 && box_face >= -max(c.w, lo)) {
+    int axis = inside.x <= min(inside.y, inside.z) ? 0 : (inside.y <= inside.z ? 1 : 2);
+    g[axis] = u[axis] > 0.5 ? 1.0 : -1.0;  // outwards
+  } else {
+    int which = c.w >= lo ? 3 : (lo == c.x ? 0 : (lo == c.y ? 1 : 2));
+    float h = 0.5 / (u_deform_resolution - 1.0);
+    for (int a = 0; a < 3; ++a) {
+      vec3 e = vec3(0.0);
+      e[a] = h;
+      vec3 up = clamp(u + e, 0.0, 1.0), um = clamp(u - e, 0.0, 1.0);
+      g[a] = (AlphaComponents(up, piece)[which] - AlphaComponents(um, piece)[which]) /
+             max(up[a] - um[a], 1e-7);
+    }
+    g *= piece == 0 ? 1.0 : -1.0;  // the flap's mask is -max(...)
+  }
+  return transpose(mat3(u_box_from_object)) * g;  // grad_p = M^-T grad_u
+}
+#else
 vec3 AlphaGradient(vec3 p, int piece) {
   float h = 0.5 * length(mat3(u_object_from_box)[0]) / (u_deform_resolution - 1.0);
   return vec3(WarpPiece(p + vec3(h, 0, 0), piece).w - WarpPiece(p - vec3(h, 0, 0), piece).w,
               WarpPiece(p + vec3(0, h, 0), piece).w - WarpPiece(p - vec3(0, h, 0), piece).w,
               WarpPiece(p + vec3(0, 0, h), piece).w - WarpPiece(p - vec3(0, 0, h), piece).w);
 }
+#endif
 
 void main() {
 #ifdef ORTHOGRAPHIC

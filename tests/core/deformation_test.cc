@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
 #include <random>
 
 #include "core/error.h"
@@ -194,6 +195,67 @@ TEST(Deformation, PeelPiecesAreContinuousAndAgreeWithThePseudoInverse) {
   const DeformationTexture t = SampleDeformation(peel, 4);
   EXPECT_EQ(t.pieces, 2);
   EXPECT_EQ(t.rgba.size(), size_t{2} * 4 * 4 * 4 * 4);
+}
+
+// Trilinear interpolation of one component channel of a sampled texture.
+double Trilinear(const std::vector<float>& values, int res, int piece, int channel,
+                 const glm::dvec3& u) {
+  const glm::dvec3 g = u * double(res - 1);
+  const glm::ivec3 i0 = glm::clamp(glm::ivec3(glm::floor(g)), 0, res - 2);
+  const glm::dvec3 f = g - glm::dvec3(i0);
+  double v = 0.0;
+  for (int c = 0; c < 8; ++c) {
+    const glm::ivec3 o(c & 1, (c >> 1) & 1, c >> 2);
+    const glm::ivec3 i = i0 + o;
+    const double w = (o.x ? f.x : 1 - f.x) * (o.y ? f.y : 1 - f.y) * (o.z ? f.z : 1 - f.z);
+    v += w * values[((((size_t(piece) * res + i.z) * res + i.y) * res + i.x) * 4) + channel];
+  }
+  return v;
+}
+
+TEST(Deformation, AlphaComponentsRebuildTheAlphaAndInterpolateExactly) {
+  // The components recombine to each piece's alpha everywhere; with one peel
+  // its planes are affine, so the sampled texture interpolates each exactly
+  // (where the interpolated alpha itself rounds the slab's edges: measured
+  // beside them as the largest error of the interpolated alpha).
+  std::mt19937 rng(29);
+  std::uniform_real_distribution<double> u01(0.0, 1.0);
+  const std::vector<DeformationSum> sums = {
+      {{Make(DeformationKind::kPeel, 0.9, 0.15)}},
+      {{Make(DeformationKind::kPeel, 2.4, 0.2), Make(DeformationKind::kKnife, 0.2, 0.5)}},
+      {{Make(DeformationKind::kTwist, 1.0, 0.3), Make(DeformationKind::kPeel, 1.5, 0.1)}},
+      {{Make(DeformationKind::kPeel, 0.5, 0.1), Make(DeformationKind::kPeel, 1.0, 0.2)}},
+      {{Make(DeformationKind::kKnife, 0.2, 0.5)}}};
+  for (size_t s = 0; s < sums.size(); ++s) {
+    const DeformationSum& sum = sums[s];
+    const int res = 17;
+    const DeformationTexture t = SampleDeformation(sum, res);
+    EXPECT_EQ(t.alpha_components.size(), sum.Pieces() == 2 ? t.rgba.size() : size_t{0}) << s;
+    double worst_rebuild = 0.0, worst_plane = 0.0, worst_alpha = 0.0;
+    for (int n = 0; n < 4000; ++n) {
+      const glm::dvec3 u(u01(rng), u01(rng), u01(rng));
+      for (int piece = 0; piece < sum.Pieces(); ++piece) {
+        const glm::dvec4 c = sum.AlphaComponents(u, piece);
+        worst_rebuild =
+            std::max(worst_rebuild, std::abs(DeformationSum::AlphaFromComponents(c, piece) -
+                                             sum.EvaluatePiece(u, piece).w));
+        if (s >= 3) continue;  // planes only for a lone peel
+        for (int a = 0; a < 3; ++a) {
+          worst_plane = std::max(worst_plane,
+                                 std::abs(Trilinear(t.alpha_components, res, piece, a, u) - c[a]));
+        }
+        worst_alpha = std::max(worst_alpha, std::abs(Trilinear(t.rgba, res, piece, 3, u) -
+                                                     sum.EvaluatePiece(u, piece).w));
+      }
+    }
+    std::printf("sum %zu: rebuild %.3g, planes interpolated %.3g, alpha interpolated %.3g\n", s,
+                worst_rebuild, worst_plane, worst_alpha);
+    EXPECT_EQ(worst_rebuild, 0.0) << s;
+    if (s < 3) {
+      EXPECT_LT(worst_plane, 1e-6) << s;  // float storage only
+      EXPECT_GT(worst_alpha, 1e-3) << s;  // what the planes avoid
+    }
+  }
 }
 
 TEST(Deformation, SumAddsDisplacementsAndTakesTheLargestAlpha) {
