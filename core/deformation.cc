@@ -392,31 +392,25 @@ DeformationTexture SampleDeformation(const DeformationSum& deformation, int reso
   texture.pieces = deformation.Pieces();
   texture.rgba.resize(static_cast<size_t>(texture.pieces) * resolution * resolution * resolution *
                       4);
+  // With a flap, the pieces' alpha components on the same nodes (exact cut-face normals).
+  const bool components = texture.pieces == 2;
+  if (components) texture.alpha_components.resize(texture.rgba.size());
   size_t n = 0;
   for (int piece = 0; piece < texture.pieces; ++piece)
     for (int k = 0; k < resolution; ++k)
       for (int j = 0; j < resolution; ++j)
-        for (int i = 0; i < resolution; ++i) {
-          glm::dvec4 e =
-              deformation.EvaluatePiece(glm::dvec3(i, j, k) / double(resolution - 1), piece);
+        for (int i = 0; i < resolution; ++i, n += 4) {
+          const glm::dvec3 u = glm::dvec3(i, j, k) / double(resolution - 1);
+          const glm::dvec4 e = deformation.EvaluatePiece(u, piece);
           if (piece == 0 || e.w <= kFlapMargin) {
             texture.max_displacement_box =
                 std::max(texture.max_displacement_box, glm::length(glm::dvec3(e)));
           }
-          for (int c = 0; c < 4; ++c) texture.rgba[n++] = static_cast<float>(e[c]);
+          for (int c = 0; c < 4; ++c) texture.rgba[n + c] = static_cast<float>(e[c]);
+          if (!components) continue;
+          const glm::dvec4 a = deformation.AlphaComponents(u, piece);
+          for (int c = 0; c < 4; ++c) texture.alpha_components[n + c] = static_cast<float>(a[c]);
         }
-  if (texture.pieces == 2) {
-    texture.alpha_components.resize(texture.rgba.size());
-    n = 0;
-    for (int piece = 0; piece < texture.pieces; ++piece)
-      for (int k = 0; k < resolution; ++k)
-        for (int j = 0; j < resolution; ++j)
-          for (int i = 0; i < resolution; ++i) {
-            const glm::dvec4 c =
-                deformation.AlphaComponents(glm::dvec3(i, j, k) / double(resolution - 1), piece);
-            for (int a = 0; a < 4; ++a) texture.alpha_components[n++] = static_cast<float>(c[a]);
-          }
-  }
   return texture;
 }
 

@@ -265,10 +265,6 @@ DeformPass::DeformPass(ProgramCache& programs, const DeformInputs& inputs,
         Upload3D(GL_RGBA32F, GL_RGBA, glm::ivec3(d.resolution), d.alpha_components.data());
     alpha_components_flap_ =
         Upload3D(GL_RGBA32F, GL_RGBA, glm::ivec3(d.resolution), d.alpha_components.data() + half);
-  } else {  // a previous deformation's flap must not stay bound
-    deformation_flap_ = Texture();
-    alpha_components_ = Texture();
-    alpha_components_flap_ = Texture();
   }
   {
     const std::vector<BrickDifferences> bricks = MaxDifferencesPerBrick(d);

@@ -102,6 +102,10 @@ float Implicit(vec3 p) {
 float Implicit(vec3 p) { return texture(u_sdf, ((p - u_sdf_origin) / u_sdf_spacing + 0.5) / u_sdf_size).r; }
 #endif
 
+// The texture coordinate of box point u in the deformation's textures (node
+// (i, j, k) at u = (i, j, k) / (res - 1) is a texel centre).
+vec3 DeformTexCoord(vec3 u) { return (u * (u_deform_resolution - 1.0) + 0.5) / u_deform_resolution; }
+
 // (p' + M D(M^-1 p'), A(p')) of one piece for a deformed-space point p'
 // (eq. 2; piece 1: the flap, A its mask); outside the box D = 0 and A = -1
 // (the flap's mask: +1, no flap there).
@@ -111,7 +115,7 @@ vec4 WarpPiece(vec3 p, int piece) {
   // may round to just outside (1e-5: float rounding of the box transform).
   if (any(lessThan(u, vec3(-1e-5))) || any(greaterThan(u, vec3(1.0 + 1e-5))))
     return vec4(p, piece == 0 ? -1.0 : 1.0);
-  vec3 s = (u * (u_deform_resolution - 1.0) + 0.5) / u_deform_resolution;
+  vec3 s = DeformTexCoord(u);
 #ifdef DEFORM_FLAP
   vec4 e = piece == 0 ? texture(u_deformation, s) : texture(u_deformation_flap, s);
 #else
@@ -295,7 +299,7 @@ vec3 ImplicitGradient(vec3 p) {
 // The components at box point u, clamped into the box (each is affine where
 // a peel's, so differences of clamped points stay exact).
 vec4 AlphaComponents(vec3 u, int piece) {
-  vec3 s = (clamp(u, 0.0, 1.0) * (u_deform_resolution - 1.0) + 0.5) / u_deform_resolution;
+  vec3 s = DeformTexCoord(clamp(u, 0.0, 1.0));
   return piece == 0 ? texture(u_alpha_components, s) : texture(u_alpha_components_flap, s);
 }
 // The gradient of the component that sets the alpha at p (A = max(s max(c.w,

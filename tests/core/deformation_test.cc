@@ -5,10 +5,12 @@
 
 #include <gtest/gtest.h>
 
+#include <array>
 #include <cmath>
 #include <cstdio>
 #include <random>
 
+#include "core/distance_field.h"
 #include "core/error.h"
 
 namespace core {
@@ -197,20 +199,16 @@ TEST(Deformation, PeelPiecesAreContinuousAndAgreeWithThePseudoInverse) {
   EXPECT_EQ(t.rgba.size(), size_t{2} * 4 * 4 * 4 * 4);
 }
 
-// Trilinear interpolation of one component channel of a sampled texture.
-double Trilinear(const std::vector<float>& values, int res, int piece, int channel,
-                 const glm::dvec3& u) {
-  const glm::dvec3 g = u * double(res - 1);
-  const glm::ivec3 i0 = glm::clamp(glm::ivec3(glm::floor(g)), 0, res - 2);
-  const glm::dvec3 f = g - glm::dvec3(i0);
-  double v = 0.0;
-  for (int c = 0; c < 8; ++c) {
-    const glm::ivec3 o(c & 1, (c >> 1) & 1, c >> 2);
-    const glm::ivec3 i = i0 + o;
-    const double w = (o.x ? f.x : 1 - f.x) * (o.y ? f.y : 1 - f.y) * (o.z ? f.z : 1 - f.z);
-    v += w * values[((((size_t(piece) * res + i.z) * res + i.y) * res + i.x) * 4) + channel];
-  }
-  return v;
+// One channel of one piece of a sampled texture (4 floats per node) as a
+// grid over the unit box, whose Sample is GL's LINEAR lookup.
+DistanceField Channel(const std::vector<float>& values, int res, int piece, int channel) {
+  DistanceField grid;
+  grid.size = glm::ivec3(res);
+  grid.spacing = 1.0 / (res - 1);
+  const size_t nodes = static_cast<size_t>(res) * res * res;
+  grid.values.resize(nodes);
+  for (size_t i = 0; i < nodes; ++i) grid.values[i] = values[(piece * nodes + i) * 4 + channel];
+  return grid;
 }
 
 TEST(Deformation, AlphaComponentsRebuildTheAlphaAndInterpolateExactly) {
@@ -232,6 +230,11 @@ TEST(Deformation, AlphaComponentsRebuildTheAlphaAndInterpolateExactly) {
     const DeformationTexture t = SampleDeformation(sum, res);
     EXPECT_EQ(t.alpha_components.size(), sum.Pieces() == 2 ? t.rgba.size() : size_t{0}) << s;
     double worst_rebuild = 0.0, worst_plane = 0.0, worst_alpha = 0.0;
+    std::vector<std::array<DistanceField, 4>> planes(sum.Pieces());  // components 0-2, alpha
+    for (int piece = 0; piece < sum.Pieces() && s < 3; ++piece) {
+      for (int a = 0; a < 3; ++a) planes[piece][a] = Channel(t.alpha_components, res, piece, a);
+      planes[piece][3] = Channel(t.rgba, res, piece, 3);
+    }
     for (int n = 0; n < 4000; ++n) {
       const glm::dvec3 u(u01(rng), u01(rng), u01(rng));
       for (int piece = 0; piece < sum.Pieces(); ++piece) {
@@ -240,12 +243,10 @@ TEST(Deformation, AlphaComponentsRebuildTheAlphaAndInterpolateExactly) {
             std::max(worst_rebuild, std::abs(DeformationSum::AlphaFromComponents(c, piece) -
                                              sum.EvaluatePiece(u, piece).w));
         if (s >= 3) continue;  // planes only for a lone peel
-        for (int a = 0; a < 3; ++a) {
-          worst_plane = std::max(worst_plane,
-                                 std::abs(Trilinear(t.alpha_components, res, piece, a, u) - c[a]));
-        }
-        worst_alpha = std::max(worst_alpha, std::abs(Trilinear(t.rgba, res, piece, 3, u) -
-                                                     sum.EvaluatePiece(u, piece).w));
+        for (int a = 0; a < 3; ++a)
+          worst_plane = std::max(worst_plane, std::abs(planes[piece][a].Sample(u) - c[a]));
+        worst_alpha = std::max(
+            worst_alpha, std::abs(planes[piece][3].Sample(u) - sum.EvaluatePiece(u, piece).w));
       }
     }
     std::printf("sum %zu: rebuild %.3g, planes interpolated %.3g, alpha interpolated %.3g\n", s,
