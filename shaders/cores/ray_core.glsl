@@ -207,6 +207,21 @@ float RayRefineCrossing(vec3 p, vec3 q, float fp, float fq) {
   return RayRefineCrossingK(p, q, fp, fq, 0);
 }
 
+// The march moves on to sample q (path step dt, field fq there); true when
+// that ends it: q was the exit's sample, or it left the domain.
+bool RayAdvance(inout vec3 p, inout float t, inout float f, inout bool inside, vec3 q, float dt,
+                float fq, bool last) {
+  p = q;
+  t += dt;
+  f = fq;
+  inside = fq <= 0.0;
+#ifdef RAY_DOMAIN
+  return last || !RayInDomain(p);
+#else
+  return last;
+#endif
+}
+
 RayResult RayMarchRun(RayMarch r) {
   RayResult res;
   res.steps = 0;
@@ -241,87 +256,93 @@ RayResult RayMarchRun(RayMarch r) {
 #endif
   vec3 p = r.origin;
   float t = 0.0;
-  for (int i = 0; i < u_ray_max_steps; ++i) {
+  bool exited = false;
+  int i = 0;  // linear-search samples taken, over all segments
+  // Each round marches to the next crossing (inner loop: one field
+  // evaluation per sample and nothing else), then refines and tests it. The
+  // refinement and the reject test stay out of the per-sample loop: a SIMD
+  // implementation (llvmpipe, a GPU warp) runs a branch's body, masked, on
+  // every iteration where it is inside the loop, whether or not a lane takes it.
+  while (i < u_ray_max_steps) {
+    bool crossed = false;
+    vec3 q = p;
+    float fq = f, dt = 0.0;
+    bool inside_q = inside, last = false;
+    while (i < u_ray_max_steps) {
 #ifdef RAY_BEND
-    vec3 dir = RayBend(p);
+      vec3 dir = RayBend(p);
 #else
-    vec3 dir = r.dir;
+      vec3 dir = r.dir;
 #endif
-    float dt = RayStepLength(p, dir, f, r.step);
-    if (!(dt > 0.0) || isinf(dt)) dt = r.step;  // NaN/inf-safe: a bad policy value never stalls
+      dt = RayStepLength(p, dir, f, r.step);
+      if (!(dt > 0.0) || isinf(dt)) dt = r.step;  // NaN/inf-safe: a bad policy value never stalls
 #ifdef RAY_SKIP
-    float skip = RAY_SKIP_K(p, f, field);
-    if (skip > dt && !isinf(skip)) dt = skip;  // NaN and inf skips are ignored
+      float skip = RAY_SKIP_K(p, f, field);
+      if (skip > dt && !isinf(skip)) dt = skip;  // NaN and inf skips are ignored
 #endif
-    // The sample that would pass the exit lands exactly on it (a relative
-    // slack absorbs rounding so n steps of t_max/n do reach the exit).
-    bool last = t + dt >= r.t_max - 1e-4 * dt;
-    if (last) dt = r.t_max - t;
+      // The sample that would pass the exit lands exactly on it (a relative
+      // slack absorbs rounding so n steps of t_max/n do reach the exit).
+      last = t + dt >= r.t_max - 1e-4 * dt;
+      if (last) dt = r.t_max - t;
 #ifdef RAY_BEND
-    vec3 q = p + dt * dir;
+      q = p + dt * dir;
 #else
-    vec3 q = r.origin + (t + dt) * r.dir;
+      q = r.origin + (t + dt) * r.dir;
 #endif
-    float fq = RAY_FIELD_K(q, field);
-    bool inside_q = fq <= 0.0;
-    res.steps = i + 1;
-    res.samples += 1;
+      fq = RAY_FIELD_K(q, field);
+      inside_q = fq <= 0.0;
+      ++i;
+      res.steps = i;
+      res.samples += 1;
 #ifdef RAY_BOTH_CROSSINGS
-    bool crossed = inside_q != inside;
+      crossed = inside_q != inside;
 #else
-    bool crossed = inside_q && !inside;
+      crossed = inside_q && !inside;
 #endif
-    if (crossed) {
-      // The crossing lies on the segment [p, q] (straight in march space even
-      // for bent rays: the piecewise-linear curve of Chen-Chang Fig. 5).
-      float s_hit = RayRefineCrossingK(p, q, f, fq, field);
+      if (crossed) break;
+      exited = RayAdvance(p, t, f, inside, q, dt, fq, last);
+      if (exited) break;
+    }
+    if (!crossed) break;  // exited, or the steps ran out
+    // The crossing lies on the segment [p, q] (straight in march space even
+    // for bent rays: the piecewise-linear curve of Chen-Chang Fig. 5).
+    float s_hit = RayRefineCrossingK(p, q, f, fq, field);
 #if !defined(RAY_REFINE_SECANT)
-      res.samples += u_ray_refine_steps;
+    res.samples += u_ray_refine_steps;
 #endif
-      vec3 hit = mix(p, q, s_hit);
+    vec3 hit = mix(p, q, s_hit);
 #ifdef RAY_REJECT
-      if (RAY_REJECT_K(hit, field)) {
-        res.rejected += 1;
+    if (RAY_REJECT_K(hit, field)) {
+      res.rejected += 1;
 #ifdef RAY_SECOND_FIELD
-        // Search the other field from the rejected crossing on (empty there
-        // by the reject test's contract); the next step starts at it.
-        field = 1 - field;
-        p = hit;
-        t += s_hit * dt;
-        f = RAY_FIELD_K(hit, field);
-        inside = f <= 0.0;
-        res.samples += 1;
-        continue;
+      // Search the other field from the rejected crossing on (empty there
+      // by the reject test's contract); the next step starts at it.
+      field = 1 - field;
+      p = hit;
+      t += s_hit * dt;
+      f = RAY_FIELD_K(hit, field);
+      inside = f <= 0.0;
+      res.samples += 1;
+#else
+      // Go on from the sample after the crossing, now on its far side.
+      exited = RayAdvance(p, t, f, inside, q, dt, fq, last);
+      if (exited) break;
 #endif
-      } else
-#endif
-      {
-        res.outcome = RAY_OUTCOME_HIT;
-        res.entering = inside_q;
-        res.p = hit;
-        res.t = t + s_hit * dt;
-        res.field = field;
-        return res;
-      }
-    }
-    p = q;
-    t += dt;
-    f = fq;
-    inside = inside_q;
-    if (last) {
-      res.outcome = RAY_OUTCOME_EXITED;
-      res.p = p;
-      res.t = t;
-      return res;
-    }
-#ifdef RAY_DOMAIN
-    if (!RayInDomain(p)) {
-      res.outcome = RAY_OUTCOME_EXITED;
-      res.p = p;
-      res.t = t;
-      return res;
+      continue;
     }
 #endif
+    res.outcome = RAY_OUTCOME_HIT;
+    res.entering = inside_q;
+    res.p = hit;
+    res.t = t + s_hit * dt;
+    res.field = field;
+    return res;
+  }
+  if (exited) {
+    res.outcome = RAY_OUTCOME_EXITED;
+    res.p = p;
+    res.t = t;
+    return res;
   }
   res.outcome = RAY_OUTCOME_EARLY_TERMINATION;  // still inside the domain: steps ran out
   res.p = p;
