@@ -32,7 +32,8 @@ struct MapRecord {
   vec4 m0, m1, m2, m3;  // columns of map_cam_from_view_cam (xyz; w unused)
   vec4 proj;            // fx, fy, cx, cy (orthographic: sx, sy in pixels per unit)
   ivec4 info;           // width, height, orthographic (0/1), texture layer
-  vec4 extra;           // x: view-dependent weight, y: 1 = the map carves this view (active), zw unused
+  vec4 extra;           // x: view-dependent weight, y: 1 = the map carves this view (active),
+                        // z: record j < u_active_count: the j-th active map's index; w unused
   vec4 centre_in_view;  // map's centre (orthographic: a point far back along its axis) in view camera space, w = orthographic
   vec4 axis_in_view;    // map's +z axis in view camera space
 };
@@ -57,6 +58,15 @@ layout(std140, binding = 0) uniform DepthObjectMaps {
 #endif
 uniform int u_map_count;
 uniform int u_active_count;
+
+// The index of the j-th active map (j < u_active_count).
+int ActiveMap(int j) {
+#ifdef MAPS_IN_STORAGE_BUFFER
+  return u_active_maps[j];
+#else
+  return int(u_maps[j].extra.z);
+#endif
+}
 
 // R32F, one fetch answers both questions: < 0 = outside the silhouette
 // (empty), 0 = invalid depth inside it, > 0 = camera z of the surface seen
@@ -229,30 +239,19 @@ bool MapAccepts(MapRecord m, vec3 p, out ivec3 texel) {
 // maps accept, as a step field.
 uniform int u_required;  // maps that must accept a point (N - k)
 float ObjectField(vec3 p) {
+  // Over the active maps' list, not every map with a test of its flag: a SIMD
+  // implementation evaluates a skipped map's lookup anyway, masked (llvmpipe:
+  // a hull's three inactive cube maps cost as much as its three active ones).
   ivec3 texel;
 #ifdef ROBUST_COUNT
   int accepted = 0;
-#ifdef MAPS_IN_STORAGE_BUFFER
   for (int j = 0; j < u_active_count; ++j) {
-    if (MapField(u_maps[u_active_maps[j]], p, texel) <= 0.0) ++accepted;
+    if (MapField(u_maps[ActiveMap(j)], p, texel) <= 0.0) ++accepted;
   }
-#else
-  for (int i = 0; i < u_map_count; ++i) {
-    if (u_maps[i].extra.y > 0.5 && MapField(u_maps[i], p, texel) <= 0.0) ++accepted;
-  }
-#endif
   return accepted >= u_required ? -1.0 : 1.0;
 #else
   float f = kMapFree;
-#ifdef MAPS_IN_STORAGE_BUFFER
-  for (int j = 0; j < u_active_count; ++j) {
-    f = max(f, MapField(u_maps[u_active_maps[j]], p, texel));
-  }
-#else
-  for (int i = 0; i < u_map_count; ++i) {
-    if (u_maps[i].extra.y > 0.5) f = max(f, MapField(u_maps[i], p, texel));
-  }
-#endif
+  for (int j = 0; j < u_active_count; ++j) f = max(f, MapField(u_maps[ActiveMap(j)], p, texel));
   return f;
 #endif
 }
