@@ -124,7 +124,7 @@ struct DeformPassOptions {
   // surface hit inside the cut is rejected and the march looks for the cut's
   // boundary inside the body) instead of the CSG field max(body, A). Same
   // surface; the search is a little slower here (2-5 % more samples per ray,
-  // 1.10-1.17x the time in `ibr bench deform`), the CSG field can miss sharp
+  // 1.04-1.13x the time in `ibr bench deform`), the CSG field can miss sharp
   // cuts' slivers thinner than a step.
   bool solid_search = false;
   // Empty-space skipping by the object's distance field (sdf implicit only;

@@ -11,8 +11,11 @@
 //
 // Cost order (sec. 4.2): VolumeDisplace gives p and the mask only; the
 // Jacobian (VolumeNormalFrame) is evaluated after the mask and the transfer
-// function have kept the sample, so cut or transparent samples never pay for
-// the normal.
+// function have kept the sample, so where a GPU skips a branch no lane takes,
+// cut or transparent samples do not pay for the normal. llvmpipe does not:
+// a discard or an if only masks lanes, and the code after it runs anyway
+// (the peeled tooth at 512 px with an all-transparent transfer function:
+// 180 ms a frame, with the tooth preset 185).
 
 uniform sampler3D u_volume;    // normalised scalar, LINEAR, CLAMP_TO_EDGE
 uniform sampler3D u_gradient;  // rgb: gradient of the scalar per unit texture coordinate

@@ -20,6 +20,6 @@ void main() {
   vec4 tf = texture(u_transfer, (s * (u_transfer_size - 1.0) + 0.5) / u_transfer_size);
   // Opacity correction for the slice spacing.
   float a = (1.0 - pow(max(1.0 - tf.a, 0.0), u_opacity_exponent)) * d.alpha;
-  if (!(a > 0.0)) discard;  // before the normal: empty samples cost no Jacobian
+  if (!(a > 0.0)) discard;  // before the normal (volume_core.glsl: cost order)
   o_color = vec4(VolumeShade(tf.rgb, d) * a, a);
 }
