@@ -163,7 +163,7 @@ TEST(StagedDirectory, EmptyFolderIsReplacedAndSymlinkIsRefused) {
   }
   EXPECT_EQ(Slurp(root / "empty" / "x"), "x");
   const fs::path docs = UserFolder(root);
-  fs::create_directory_symlink(docs, root / "link");
+  fs::create_directory_symlink(fs::absolute(docs), root / "link");
   EXPECT_THROW(StagedDirectory(root / "link"), InputError);
   ExpectUserFolderIntact(docs);
 }
@@ -177,7 +177,9 @@ TEST(StagedDirectory, OutputNeverOverlapsAnInput) {
     std::ofstream(staged.path() / "dataset.json") << "{}";
     staged.Commit();
   }
-  fs::create_directory_symlink(input, root / "alias");
+  // Absolute targets: a relative one would resolve against the link's folder
+  // (TestOutputDir is relative without IBR_TEST_OUTPUT).
+  fs::create_directory_symlink(fs::absolute(input), root / "alias");
   NoteInputPath(input);
   for (const fs::path& out : {input, root / "alias", root / "in" / ".." / "in", input / "renders",
                               root / "alias" / "sub" / "deeper", fs::path(root)}) {
@@ -225,8 +227,11 @@ TEST(StagedDirectory, StaleStagingOfDeadProcessesIsRemovedLiveOnesKept) {
 // folder and still end the child by that signal.
 void ExpectSignalRemovesStaging(int sig) {
   const auto root = test_support::TestOutputDir();
-  int ready[2];
+  // ready: the child is mid-write; go: the parent has looked (the child may
+  // abort only then, or its handler races the parent's directory scan).
+  int ready[2], go[2];
   ASSERT_EQ(::pipe(ready), 0);
+  ASSERT_EQ(::pipe(go), 0);
   const pid_t child = ::fork();
   ASSERT_GE(child, 0);
   if (child == 0) {
@@ -237,7 +242,11 @@ void ExpectSignalRemovesStaging(int sig) {
     AtomicWriteStream(staged.path() / "dataset.json", [&](std::ostream& o) {
       o << "{";
       (void)!::write(ready[1], "r", 1);
-      if (sig == SIGABRT) std::abort();
+      if (sig == SIGABRT) {
+        char go_byte = 0;
+        (void)!::read(go[0], &go_byte, 1);
+        std::abort();
+      }
       for (;;) ::pause();
     });
     ::_exit(0);
@@ -245,14 +254,17 @@ void ExpectSignalRemovesStaging(int sig) {
   char byte = 0;
   ASSERT_EQ(::read(ready[0], &byte, 1), 1);
   EXPECT_GT(Entries(root).size(), 0u);
-  if (sig != SIGABRT) ::kill(child, sig);
+  if (sig == SIGABRT) {
+    ASSERT_EQ(::write(go[1], "g", 1), 1);
+  } else {
+    ::kill(child, sig);
+  }
   int status = 0;
   ASSERT_EQ(::waitpid(child, &status, 0), child);
   EXPECT_TRUE(WIFSIGNALED(status));
   EXPECT_EQ(WTERMSIG(status), sig);
   EXPECT_EQ(Entries(root), std::set<std::string>{}) << "left behind by signal " << sig;
-  ::close(ready[0]);
-  ::close(ready[1]);
+  for (int fd : {ready[0], ready[1], go[0], go[1]}) ::close(fd);
 }
 
 TEST(StagedDirectory, SigintRemovesStaging) { ExpectSignalRemovesStaging(SIGINT); }
