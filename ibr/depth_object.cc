@@ -333,10 +333,9 @@ FrameParams PrepareFrame(const MapSet& maps, const ViewCamera& view,
   }
   f.weights = ViewDependentWeights(dirs, view_dir, 3);
   for (size_t i = 0; i < f.maps.size(); ++i) f.maps[i].extra.x = f.weights[i];
-  for (int j = 0; j < n; ++j) {
-    f.maps[f.active[j]].extra.y = 1.0f;
-    f.maps[j].extra.z = static_cast<float>(f.active[j]);  // the shaders' list (uniform block)
-  }
+  // The shaders' list of the active maps (the uniform block's; the storage
+  // buffer path uploads `active` itself).
+  for (int j = 0; j < n; ++j) f.maps[j].extra.y = static_cast<float>(f.active[j]);
   f.visibility_tolerance =
       static_cast<float>(options.visibility_tolerance > 0 ? options.visibility_tolerance
                                                           : 4.0 * f.stack.spacing_world);

@@ -146,7 +146,7 @@ struct MapRecord {
   glm::vec4 m0, m1, m2, m3;  // columns of map_cam_from_view_cam (xyz)
   glm::vec4 proj;            // fx, fy, cx, cy
   glm::ivec4 info;           // width, height, orthographic, layer
-  glm::vec4 extra;           // view-dependent weight, active (1/0), record j: active[j], unused
+  glm::vec4 extra;           // view-dependent weight, record j: active[j], unused, unused
   glm::vec4 centre_in_view;  // map centre in view camera space, w = 1 if orthographic
   glm::vec4 axis_in_view;    // map +z in view camera space
 };

@@ -32,8 +32,8 @@ struct MapRecord {
   vec4 m0, m1, m2, m3;  // columns of map_cam_from_view_cam (xyz; w unused)
   vec4 proj;            // fx, fy, cx, cy (orthographic: sx, sy in pixels per unit)
   ivec4 info;           // width, height, orthographic (0/1), texture layer
-  vec4 extra;           // x: view-dependent weight, y: 1 = the map carves this view (active),
-                        // z: record j < u_active_count: the j-th active map's index; w unused
+  vec4 extra;           // x: view-dependent weight, y: record j < u_active_count: the j-th
+                        // active map's index (the maps that carve this view); zw unused
   vec4 centre_in_view;  // map's centre (orthographic: a point far back along its axis) in view camera space, w = orthographic
   vec4 axis_in_view;    // map's +z axis in view camera space
 };
@@ -64,7 +64,7 @@ int ActiveMap(int j) {
 #ifdef MAPS_IN_STORAGE_BUFFER
   return u_active_maps[j];
 #else
-  return int(u_maps[j].extra.z);
+  return int(u_maps[j].extra.y);
 #endif
 }
 
@@ -233,7 +233,7 @@ bool MapAccepts(MapRecord m, vec3 p, out ivec3 texel) {
   return MapField(m, p, texel) <= 0.0;
 }
 
-// The object as one field over the active maps (extra.y = 1), for the ray
+// The object as one field over the active maps (ActiveMap), for the ray
 // core (ray pass, resolve pass): "inside all maps" is the largest map field
 // (Kautz-Seidel's intersection); robust (ROBUST_COUNT): at least u_required
 // maps accept, as a step field.
