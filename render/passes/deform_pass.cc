@@ -231,6 +231,18 @@ DeformPass::DeformPass(ProgramCache& programs, const DeformInputs& inputs,
   if (!inputs.deformation || inputs.deformation->resolution < 2) {
     core::ThrowInputError("DeformPass", "no deformation texture");
   }
+  // The deformation texture is checked before anything is uploaded.
+  const core::DeformationTexture& d = *inputs.deformation;
+  if (d.pieces < 1 || d.pieces > 2 ||
+      d.rgba.size() !=
+          static_cast<size_t>(d.pieces) * d.resolution * d.resolution * d.resolution * 4) {
+    core::ThrowInputError("DeformPass", "deformation texture of {} floats for {} piece(s) of {}^3",
+                          d.rgba.size(), d.pieces, d.resolution);
+  }
+  if (d.pieces == 2 && d.alpha_components.size() != d.rgba.size()) {
+    core::ThrowInputError("DeformPass", "{} alpha components for {} texture floats",
+                          d.alpha_components.size(), d.rgba.size());
+  }
   if (options_.implicit == DeformImplicit::kDepthCube) {
     if (!inputs.depth_cube) core::ThrowInputError("DeformPass", "no depth cube");
     UploadDepthCube(*inputs.depth_cube);
@@ -244,20 +256,9 @@ DeformPass::DeformPass(ProgramCache& programs, const DeformInputs& inputs,
     sdf_size_ = sdf.size;
     sdf_margin_ = static_cast<float>(sdf.LookupOverestimate());
   }
-  const core::DeformationTexture& d = *inputs.deformation;
   deformation_resolution_ = d.resolution;
-  if (d.pieces < 1 || d.pieces > 2 ||
-      d.rgba.size() !=
-          static_cast<size_t>(d.pieces) * d.resolution * d.resolution * d.resolution * 4) {
-    core::ThrowInputError("DeformPass", "deformation texture of {} floats for {} piece(s) of {}^3",
-                          d.rgba.size(), d.pieces, d.resolution);
-  }
   deformation_ = Upload3D(GL_RGBA32F, GL_RGBA, glm::ivec3(d.resolution), d.rgba.data());
   if (d.pieces == 2) {
-    if (d.alpha_components.size() != d.rgba.size()) {
-      core::ThrowInputError("DeformPass", "{} alpha components for {} texture floats",
-                            d.alpha_components.size(), d.rgba.size());
-    }
     const size_t half = d.rgba.size() / 2;
     deformation_flap_ =
         Upload3D(GL_RGBA32F, GL_RGBA, glm::ivec3(d.resolution), d.rgba.data() + half);

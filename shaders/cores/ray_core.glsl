@@ -260,9 +260,10 @@ RayResult RayMarchRun(RayMarch r) {
   int i = 0;  // linear-search samples taken, over all segments
   // Each round marches to the next crossing (inner loop: one field
   // evaluation per sample and nothing else), then refines and tests it. The
-  // refinement and the reject test stay out of the per-sample loop: a SIMD
-  // implementation (llvmpipe, a GPU warp) runs a branch's body, masked, on
-  // every iteration where it is inside the loop, whether or not a lane takes it.
+  // refinement and the reject test stay out of the per-sample loop: llvmpipe
+  // has no branches (an if masks lanes), so a branch inside the loop costs
+  // every iteration whether or not a lane takes it; a GPU skips it only when
+  // no lane of the warp does.
   while (i < u_ray_max_steps) {
     bool crossed = false;
     vec3 q = p;

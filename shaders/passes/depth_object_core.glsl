@@ -239,9 +239,9 @@ bool MapAccepts(MapRecord m, vec3 p, out ivec3 texel) {
 // maps accept, as a step field.
 uniform int u_required;  // maps that must accept a point (N - k)
 float ObjectField(vec3 p) {
-  // Over the active maps' list, not every map with a test of its flag: a SIMD
-  // implementation evaluates a skipped map's lookup anyway, masked (llvmpipe:
-  // a hull's three inactive cube maps cost as much as its three active ones).
+  // Over the active maps' list, not every map with a test of its flag:
+  // llvmpipe evaluates a skipped map's lookup anyway, masked (a hull's three
+  // inactive cube maps cost as much as its three active ones).
   ivec3 texel;
 #ifdef ROBUST_COUNT
   int accepted = 0;
