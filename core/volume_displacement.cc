@@ -414,33 +414,131 @@ Box3 ProxyBox(const Box3& object_box, const std::vector<PlacedMap>& maps) {
   return box;
 }
 
-Box3 ActiveBox(const StoredDisplacementMap& s) {
-  const glm::ivec3 n = s.dims;
-  glm::ivec3 lo = n, hi(-1);
+namespace {
+
+// Per texel of a stored map: whether it reads as the identity (D = 0 as
+// stored, alpha = 1), and whether its mask as the GPU reads it is below
+// kCutAlpha (x fastest).
+struct TexelFlags {
+  std::vector<uint8_t> identity, cut;
+};
+// Below 0.5 with room for the GPU's filtering weights (llvmpipe's 8-bit
+// lerps stay within the two values they blend; the room is for anything
+// coarser).
+constexpr double kCutAlpha = 0.45;
+
+TexelFlags ClassifyTexels(const StoredDisplacementMap& s) {
+  const size_t count = static_cast<size_t>(s.dims.x) * s.dims.y * s.dims.z;
+  IBR_CHECK_EQ(s.bits == 32 ? s.floats.size() : s.unorm.size(), 4 * count);
   const double max_unorm = s.bits == 8 ? 255.0 : 65535.0;
   const auto zero_code = static_cast<uint16_t>(std::lround(0.5 * max_unorm));
   const auto one_code = static_cast<uint16_t>(max_unorm);
+  TexelFlags flags{std::vector<uint8_t>(count), std::vector<uint8_t>(count)};
+  for (size_t t = 0; t < count; ++t) {
+    const size_t i = 4 * t;
+    bool identity = true;
+    for (int c = 0; c < 4; ++c) {
+      if (s.bits == 32) {
+        identity = identity && s.floats[i + c] == (c == 3 ? 1.0f : 0.0f);
+      } else {
+        identity = identity && s.unorm[i + c] == (c == 3 ? one_code : zero_code);
+      }
+    }
+    const double alpha = s.bits == 32 ? s.floats[i + 3] : s.unorm[i + 3] / max_unorm;
+    flags.identity[t] = identity;
+    flags.cut[t] = alpha < kCutAlpha;
+  }
+  return flags;
+}
+
+// ActiveBox in texels [lo, hi): the texels that are not the identity, two
+// more each side (one for the trilinear footprint, one for the central
+// differences), clipped to the map; lo > hi when there are none.
+struct TexelRange {
+  glm::ivec3 lo, hi;
+};
+TexelRange ActiveTexels(const glm::ivec3& n, const TexelFlags& flags) {
+  glm::ivec3 first = n, last(-1);
   for (int z = 0; z < n.z; ++z)
     for (int y = 0; y < n.y; ++y)
       for (int x = 0; x < n.x; ++x) {
-        const size_t i = 4 * ((static_cast<size_t>(z) * n.y + y) * n.x + x);
-        bool identity = true;
-        for (int c = 0; c < 4; ++c) {
-          if (s.bits == 32) {
-            identity = identity && s.floats[i + c] == (c == 3 ? 1.0f : 0.0f);
-          } else {
-            identity = identity && s.unorm[i + c] == (c == 3 ? one_code : zero_code);
-          }
-        }
-        if (identity) continue;
-        lo = glm::min(lo, glm::ivec3(x, y, z));
-        hi = glm::max(hi, glm::ivec3(x, y, z));
+        if (flags.identity[(static_cast<size_t>(z) * n.y + y) * n.x + x]) continue;
+        first = glm::min(first, glm::ivec3(x, y, z));
+        last = glm::max(last, glm::ivec3(x, y, z));
       }
-  if (hi.x < 0) return {glm::dvec3(1.0), glm::dvec3(0.0)};
-  const glm::dvec3 texel = 1.0 / glm::dvec3(n);
-  // Texel i spans [i, i + 1] / n; two more texels each side.
-  return {glm::max(glm::dvec3(lo - 2) * texel, glm::dvec3(0.0)),
-          glm::min(glm::dvec3(hi + 3) * texel, glm::dvec3(1.0))};
+  if (last.x < 0) return {n, glm::ivec3(0)};
+  return {glm::max(first - 2, glm::ivec3(0)), glm::min(last + 3, n)};
+}
+
+}  // namespace
+
+Box3 ActiveBox(const StoredDisplacementMap& s) {
+  const TexelRange r = ActiveTexels(s.dims, ClassifyTexels(s));
+  if (r.lo.x > r.hi.x) return {glm::dvec3(1.0), glm::dvec3(0.0)};
+  // Texel i spans [i, i + 1] / n.
+  const glm::dvec3 texel = 1.0 / glm::dvec3(s.dims);
+  return {glm::dvec3(r.lo) * texel, glm::dvec3(r.hi) * texel};
+}
+
+double MapBricks::Edge(int axis, int b) const {
+  return static_cast<double>(std::min(lo[axis] + b * brick_texels, hi[axis])) / dims[axis];
+}
+
+MapBricks ClassifyMapBricks(const StoredDisplacementMap& s, int brick_texels) {
+  IBR_CHECK(brick_texels >= 1);
+  const glm::ivec3 n = s.dims;
+  MapBricks bricks;
+  bricks.dims = n;
+  bricks.brick_texels = brick_texels;
+  const TexelFlags flags = ClassifyTexels(s);
+  const TexelRange active = ActiveTexels(n, flags);
+  if (active.lo.x > active.hi.x) return bricks;  // the identity everywhere: no bricks
+  bricks.lo = active.lo;
+  bricks.hi = active.hi;
+  bricks.grid = (bricks.hi - bricks.lo + brick_texels - 1) / brick_texels;
+  // 3D prefix counts of the texels that are not the identity / not cut.
+  const glm::ivec3 m = n + 1;
+  std::vector<int> moving(static_cast<size_t>(m.x) * m.y * m.z, 0), kept(moving.size(), 0);
+  auto at = [&](int x, int y, int z) { return (static_cast<size_t>(z) * m.y + y) * m.x + x; };
+  for (int z = 0; z < n.z; ++z)
+    for (int y = 0; y < n.y; ++y)
+      for (int x = 0; x < n.x; ++x) {
+        const size_t t = (static_cast<size_t>(z) * n.y + y) * n.x + x;
+        auto accumulate = [&](std::vector<int>& p, bool value) {
+          p[at(x + 1, y + 1, z + 1)] = int{value} + p[at(x, y + 1, z + 1)] +
+                                       p[at(x + 1, y, z + 1)] + p[at(x + 1, y + 1, z)] -
+                                       p[at(x, y, z + 1)] - p[at(x, y + 1, z)] -
+                                       p[at(x + 1, y, z)] + p[at(x, y, z)];
+        };
+        accumulate(moving, !flags.identity[t]);
+        accumulate(kept, !flags.cut[t]);
+      }
+  // Texels lo..hi inclusive, clamped to the map (CLAMP_TO_EDGE reads the faces).
+  auto count = [&](const std::vector<int>& p, glm::ivec3 lo, glm::ivec3 hi) {
+    lo = glm::clamp(lo, glm::ivec3(0), n - 1);
+    hi = glm::clamp(hi, glm::ivec3(0), n - 1) + 1;
+    return p[at(hi.x, hi.y, hi.z)] - p[at(lo.x, hi.y, hi.z)] - p[at(hi.x, lo.y, hi.z)] -
+           p[at(hi.x, hi.y, lo.z)] + p[at(lo.x, lo.y, hi.z)] + p[at(lo.x, hi.y, lo.z)] +
+           p[at(hi.x, lo.y, lo.z)] - p[at(lo.x, lo.y, lo.z)];
+  };
+  bricks.kinds.resize(static_cast<size_t>(bricks.grid.x) * bricks.grid.y * bricks.grid.z);
+  for (int z = 0; z < bricks.grid.z; ++z)
+    for (int y = 0; y < bricks.grid.y; ++y)
+      for (int x = 0; x < bricks.grid.x; ++x) {
+        // Brick texels [b0, b1); samples in it filter texels b0 - 1 .. b1
+        // (trilinear), their derivatives b0 - 2 .. b1 + 1 (central
+        // differences of the texels, or of the filtered map at half a texel).
+        const glm::ivec3 b0 = bricks.lo + glm::ivec3(x, y, z) * brick_texels;
+        const glm::ivec3 b1 = glm::min(b0 + brick_texels, bricks.hi);
+        MapBrickKind kind = MapBrickKind::kDisplaced;
+        if (s.bits != 8 && count(moving, b0 - 2, b1 + 1) == 0) {
+          kind = MapBrickKind::kIdentity;
+        } else if (count(kept, b0 - 1, b1) == 0) {
+          kind = MapBrickKind::kCut;
+        }
+        bricks.kinds[(static_cast<size_t>(z) * bricks.grid.y + y) * bricks.grid.x + x] = kind;
+      }
+  return bricks;
 }
 
 }  // namespace core

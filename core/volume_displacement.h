@@ -16,6 +16,7 @@
 // map of a list applied first, alphas multiplied.
 #pragma once
 
+#include <cstdint>
 #include <glm/glm.hpp>
 #include <string>
 #include <string_view>
@@ -164,5 +165,27 @@ Box3 ProxyBox(const Box3& object_box, const std::vector<PlacedMap>& maps);
 // rounding of 0 (16 bits: 1.5e-5 scale), so the volume pass skips the fetch
 // there. A map that is the identity everywhere gives an empty box (lo > hi).
 Box3 ActiveBox(const StoredDisplacementMap& stored);
+
+// A stored map's ActiveBox (texel-exact) in bricks of brick_texels^3
+// texels (the last on an axis may be smaller), each classified by what a
+// single map does to every DVR sample in it (render::VolumePass splits
+// slices by them): kIdentity, every texel its samples and their derivatives
+// read is the stored identity (two texels of margin, as ActiveBox); kCut,
+// every texel its samples filter has alpha < 0.45 (so the sample's alpha
+// < 0.5: transparent, sec. 4.2); kDisplaced, anything else. Outside the
+// bricks the map is the identity. 8-bit maps have no kIdentity bricks: their
+// stored zero reads as 0.4 % of the scale, which the displaced shader applies
+// inside ActiveBox.
+enum class MapBrickKind : uint8_t { kIdentity, kCut, kDisplaced };
+struct MapBricks {
+  glm::ivec3 dims{0};  // the map's texels
+  int brick_texels = 0;
+  glm::ivec3 lo{0}, hi{0};          // texels [lo, hi): ActiveBox's
+  glm::ivec3 grid{0};               // bricks per axis; 0 when the map is the identity
+  std::vector<MapBrickKind> kinds;  // x fastest
+  // Map-space coordinate of brick boundary b (0..grid) along axis.
+  double Edge(int axis, int b) const;
+};
+MapBricks ClassifyMapBricks(const StoredDisplacementMap& stored, int brick_texels);
 
 }  // namespace core

@@ -100,6 +100,11 @@ void AddVolumeCommand(CLI::App& app) {
   cmd->add_flag("!--no-support-skip", r.pass.support_skip,
                 "DVR: every slice fragment runs the displaced shader (no split of the slices "
                 "at the maps' support box; same image, the baseline of ibr bench volume)");
+  cmd->add_option("--brick-texels", r.pass.brick_texels,
+                  "DVR, one map: split the support box further by map bricks of this many "
+                  "texels (identity bricks drawn without maps, cut-away ones not drawn); 0: the "
+                  "support box only")
+      ->capture_default_str();
   cmd->add_option("--size", r.size, "image width = height, pixels (orbit view)")
       ->capture_default_str();
   cmd->add_option("--azimuth", r.azimuth_deg, "degrees around +z")->capture_default_str();

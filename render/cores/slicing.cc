@@ -159,58 +159,231 @@ std::vector<glm::vec3> ClipPolygonToHalfSpace(const std::vector<glm::vec3>& poly
 
 PolygonBoxSplit SplitPolygonByBox(const std::vector<glm::vec3>& polygon, const glm::vec3& lo,
                                   const glm::vec3& hi) {
-  constexpr float kOnPlane = 1e-6f;
-  PolygonBoxSplit split;
-  std::vector<glm::vec3> rest = polygon;  // what is still inside every plane so far
-  for (int plane = 0; plane < 6 && !rest.empty(); ++plane) {
+  // The box's six planes in turn, each with the outside as a leaf (label 0)
+  // and the rest split further; the inside is label 1.
+  BoxTree tree;
+  for (int plane = 0; plane < 6; ++plane) {
     const int axis = plane / 2;
     const bool upper = (plane % 2) == 1;
-    const float value = upper ? hi[axis] : lo[axis];
-    // s > 0: outside this plane.
-    std::vector<float> s(rest.size());
-    bool any_out = false, any_in = false;
-    for (size_t i = 0; i < rest.size(); ++i) {
-      s[i] = upper ? rest[i][axis] - value : value - rest[i][axis];
-      if (std::abs(s[i]) <= kOnPlane) s[i] = 0;
-      any_out = any_out || s[i] > 0;
-      any_in = any_in || s[i] < 0;
+    const int node = static_cast<int>(tree.nodes.size());
+    const int next = node + 2;  // the node after this one's outside leaf
+    tree.nodes.push_back({.axis = axis,
+                          .value = upper ? hi[axis] : lo[axis],
+                          .lo = upper ? next : node + 1,
+                          .hi = upper ? node + 1 : next,
+                          .ties_hi = !upper});  // on the plane counts as inside
+    tree.nodes.push_back({.label = 0});
+  }
+  tree.nodes.push_back({.label = 1});
+  PolygonBoxSplit split;
+  std::vector<glm::dvec3> in(polygon.begin(), polygon.end());
+  for (const LabelledPolygon& part : PartitionPolygon(in, tree, 1e-6)) {
+    std::vector<glm::vec3> v(part.polygon.begin(), part.polygon.end());
+    if (part.label == 1) {
+      split.inside = std::move(v);
+    } else {
+      split.outside.push_back(std::move(v));
     }
-    if (!any_out) continue;  // wholly inside (or on) this plane
-    if (!any_in) {
-      split.outside.push_back(std::move(rest));
-      rest.clear();
-      break;
+  }
+  return split;
+}
+
+int BoxTree::Leaves() const {
+  int leaves = 0;
+  for (const Node& n : nodes) leaves += n.axis < 0;
+  return leaves;
+}
+
+int BoxTree::LabelAt(const glm::dvec3& p) const {
+  int i = 0;
+  while (nodes[i].axis >= 0) {
+    const Node& n = nodes[i];
+    const double x = p[n.axis];
+    i = x < n.value || (x == n.value && !n.ties_hi) ? n.lo : n.hi;
+  }
+  return nodes[i].label;
+}
+
+BoxTree BoxTreeOfGrid(const glm::ivec3& grid, const std::vector<uint8_t>& labels,
+                      const std::array<std::vector<double>, 3>& edges, int background) {
+  constexpr int kLabels = 16;
+  const size_t cells = static_cast<size_t>(grid.x) * grid.y * grid.z;
+  IBR_CHECK_EQ(labels.size(), cells);
+  for (int a = 0; a < 3; ++a) IBR_CHECK_EQ(edges[a].size(), static_cast<size_t>(grid[a]) + 1);
+  IBR_CHECK(background >= 0 && background < kLabels);
+  BoxTree tree;
+  auto leaf = [&](int label) {
+    tree.nodes.push_back({.label = label});
+    return static_cast<int>(tree.nodes.size()) - 1;
+  };
+  auto split = [&](int axis, double value) {
+    tree.nodes.push_back({.axis = axis, .value = value});
+    return static_cast<int>(tree.nodes.size()) - 1;
+  };
+  // The bounding box of the foreground cells.
+  glm::ivec3 lo = grid, hi(-1);
+  for (int z = 0; z < grid.z; ++z)
+    for (int y = 0; y < grid.y; ++y)
+      for (int x = 0; x < grid.x; ++x) {
+        const uint8_t l = labels[(static_cast<size_t>(z) * grid.y + y) * grid.x + x];
+        IBR_CHECK(l < kLabels);
+        if (l == background) continue;
+        lo = glm::min(lo, glm::ivec3(x, y, z));
+        hi = glm::max(hi, glm::ivec3(x, y, z) + 1);
+      }
+  if (hi.x < 0) {
+    leaf(background);
+    return tree;
+  }
+  // Per-label 3D prefix counts.
+  const glm::ivec3 m = grid + 1;
+  auto at = [&](int x, int y, int z) { return (static_cast<size_t>(z) * m.y + y) * m.x + x; };
+  std::vector<std::array<int, kLabels>> prefix(static_cast<size_t>(m.x) * m.y * m.z);
+  for (auto& p : prefix) p.fill(0);
+  for (int z = 0; z < grid.z; ++z)
+    for (int y = 0; y < grid.y; ++y)
+      for (int x = 0; x < grid.x; ++x) {
+        const uint8_t l = labels[(static_cast<size_t>(z) * grid.y + y) * grid.x + x];
+        for (int k = 0; k < kLabels; ++k) {
+          prefix[at(x + 1, y + 1, z + 1)][k] =
+              int{l == k} + prefix[at(x, y + 1, z + 1)][k] + prefix[at(x + 1, y, z + 1)][k] +
+              prefix[at(x + 1, y + 1, z)][k] - prefix[at(x, y, z + 1)][k] -
+              prefix[at(x, y + 1, z)][k] - prefix[at(x + 1, y, z)][k] + prefix[at(x, y, z)][k];
+        }
+      }
+  // The one label of cells [a, b) or -1 when mixed.
+  auto uniform = [&](const glm::ivec3& a, const glm::ivec3& b) {
+    const size_t volume = static_cast<size_t>(b.x - a.x) * (b.y - a.y) * (b.z - a.z);
+    for (int k = 0; k < kLabels; ++k) {
+      const int n = prefix[at(b.x, b.y, b.z)][k] - prefix[at(a.x, b.y, b.z)][k] -
+                    prefix[at(b.x, a.y, b.z)][k] - prefix[at(b.x, b.y, a.z)][k] +
+                    prefix[at(a.x, a.y, b.z)][k] + prefix[at(a.x, b.y, a.z)][k] +
+                    prefix[at(b.x, a.y, a.z)][k] - prefix[at(a.x, a.y, a.z)][k];
+      if (n == 0) continue;
+      return static_cast<size_t>(n) == volume ? k : -1;
     }
-    std::vector<glm::vec3> in, out;
-    const size_t n = rest.size();
-    for (size_t i = 0; i < n; ++i) {
-      const glm::vec3 a = rest[i], b = rest[(i + 1) % n];
-      const float sa = s[i], sb = s[(i + 1) % n];
-      if (sa <= 0) in.push_back(a);
-      if (sa >= 0) out.push_back(a);
+    return -1;
+  };
+  auto volume = [](const glm::ivec3& a, const glm::ivec3& b) {
+    return static_cast<double>(b.x - a.x) * (b.y - a.y) * (b.z - a.z);
+  };
+  // Cells [a, b): a leaf, or the split leaving the least volume in mixed
+  // children (ties: the more central plane).
+  auto build = [&](auto&& self, glm::ivec3 a, glm::ivec3 b) -> int {
+    if (const int l = uniform(a, b); l >= 0) return leaf(l);
+    int best_axis = -1, best_at = 0;
+    double best_cost = 1e300, best_offset = 1e300;
+    for (int axis = 0; axis < 3; ++axis) {
+      for (int c = a[axis] + 1; c < b[axis]; ++c) {
+        glm::ivec3 left_hi = b, right_lo = a;
+        left_hi[axis] = c;
+        right_lo[axis] = c;
+        const double cost = (uniform(a, left_hi) < 0 ? volume(a, left_hi) : 0) +
+                            (uniform(right_lo, b) < 0 ? volume(right_lo, b) : 0);
+        const double offset = std::abs(c - 0.5 * (a[axis] + b[axis])) / (b[axis] - a[axis]);
+        if (cost < best_cost || (cost == best_cost && offset < best_offset)) {
+          best_axis = axis, best_at = c, best_cost = cost, best_offset = offset;
+        }
+      }
+    }
+    IBR_CHECK(best_axis >= 0);  // a mixed range has two cells on some axis
+    const int node = split(best_axis, edges[best_axis][best_at]);
+    glm::ivec3 left_hi = b, right_lo = a;
+    left_hi[best_axis] = best_at;
+    right_lo[best_axis] = best_at;
+    const int l = self(self, a, left_hi);
+    const int r = self(self, right_lo, b);
+    tree.nodes[node].lo = l;
+    tree.nodes[node].hi = r;
+    return node;
+  };
+  // Background on each side of the bounding box, then the grid inside it.
+  int parent = -1;
+  bool parent_lo = false;
+  auto attach = [&](int child) {
+    if (parent < 0) return;
+    (parent_lo ? tree.nodes[parent].lo : tree.nodes[parent].hi) = child;
+  };
+  for (int axis = 0; axis < 3; ++axis) {
+    for (const bool upper : {false, true}) {
+      const int bound = upper ? hi[axis] : lo[axis];
+      const int node = split(axis, edges[axis][bound]);
+      attach(node);
+      const int outside = leaf(background);
+      (upper ? tree.nodes[node].hi : tree.nodes[node].lo) = outside;
+      parent = node;
+      parent_lo = upper;
+    }
+  }
+  attach(build(build, lo, hi));
+  return tree;
+}
+
+std::vector<LabelledPolygon> PartitionPolygon(const std::vector<glm::dvec3>& polygon,
+                                              const BoxTree& tree, double on_plane) {
+  struct Piece {
+    std::vector<glm::dvec3> v;
+    int node;
+  };
+  std::vector<Piece> pieces{{polygon, 0}};
+  std::vector<size_t> pending{0};
+  while (!pending.empty()) {
+    const size_t i = pending.back();
+    pending.pop_back();
+    const BoxTree::Node node = tree.nodes[pieces[i].node];
+    if (node.axis < 0) continue;
+    const std::vector<glm::dvec3> v = pieces[i].v;
+    const size_t n = v.size();
+    // s > 0: the hi side.
+    std::vector<double> s(n);
+    bool any_lo = false, any_hi = false;
+    for (size_t k = 0; k < n; ++k) {
+      s[k] = v[k][node.axis] - node.value;
+      if (std::abs(s[k]) <= on_plane) s[k] = 0;
+      any_lo = any_lo || s[k] < 0;
+      any_hi = any_hi || s[k] > 0;
+    }
+    if (!any_hi || !any_lo) {
+      // One side, or on the plane (ties).
+      pieces[i].node = any_hi || (!any_lo && node.ties_hi) ? node.hi : node.lo;
+      pending.push_back(i);
+      continue;
+    }
+    std::vector<glm::dvec3> lo, hi;
+    for (size_t k = 0; k < n; ++k) {
+      const glm::dvec3 a = v[k], b = v[(k + 1) % n];
+      const double sa = s[k], sb = s[(k + 1) % n];
+      if (sa <= 0) lo.push_back(a);
+      if (sa >= 0) hi.push_back(a);
       if ((sa < 0 && sb > 0) || (sa > 0 && sb < 0)) {
-        glm::vec3 v = a + (b - a) * (sa / (sa - sb));
-        v[axis] = value;  // exactly on the plane
-        in.push_back(v);
-        out.push_back(v);
-        // An earlier outside part sharing the edge a-b gets v too.
-        for (auto& part : split.outside) {
-          for (size_t j = 0; j < part.size(); ++j) {
-            const glm::vec3& p = part[j];
-            const glm::vec3& q = part[(j + 1) % part.size()];
-            if ((p == a && q == b) || (p == b && q == a)) {
-              part.insert(part.begin() + static_cast<std::ptrdiff_t>(j + 1), v);
+        glm::dvec3 c = a + (b - a) * (sa / (sa - sb));
+        c[node.axis] = node.value;  // exactly on the plane
+        lo.push_back(c);
+        hi.push_back(c);
+        // Any other part with the edge a-b gets c too.
+        for (size_t p = 0; p < pieces.size(); ++p) {
+          if (p == i) continue;
+          std::vector<glm::dvec3>& q = pieces[p].v;
+          for (size_t j = 0; j < q.size(); ++j) {
+            const glm::dvec3& x = q[j];
+            const glm::dvec3& y = q[(j + 1) % q.size()];
+            if ((x == a && y == b) || (x == b && y == a)) {
+              q.insert(q.begin() + static_cast<std::ptrdiff_t>(j + 1), c);
               break;
             }
           }
         }
       }
     }
-    split.outside.push_back(std::move(out));
-    rest = std::move(in);
+    pieces[i] = {std::move(lo), node.lo};
+    pending.push_back(i);
+    pieces.push_back({std::move(hi), node.hi});
+    pending.push_back(pieces.size() - 1);
   }
-  split.inside = std::move(rest);
-  return split;
+  std::vector<LabelledPolygon> parts;
+  parts.reserve(pieces.size());
+  for (Piece& p : pieces) parts.push_back({std::move(p.v), tree.nodes[p.node].label});
+  return parts;
 }
 
 std::vector<glm::vec3> CentroidFan(const std::vector<glm::vec3>& polygon) {

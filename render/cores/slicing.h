@@ -11,6 +11,8 @@
 // h_alpha is simply its interpolated box z (sec. 3.2: the alpha ramp).
 #pragma once
 
+#include <array>
+#include <cstdint>
 #include <glm/glm.hpp>
 #include <string>
 #include <vector>
@@ -113,6 +115,45 @@ PolygonBoxSplit SplitPolygonByBox(const std::vector<glm::vec3>& polygon, const g
 // also when some vertices lie on the edge between their neighbours, where a
 // fan from v0 would give zero-area triangles of either orientation.
 std::vector<glm::vec3> CentroidFan(const std::vector<glm::vec3>& polygon);
+
+// ---- a slice partitioned by an axis-aligned kd-tree (the volume pass's map bricks) ----
+// Node i is a leaf (axis < 0) with `label`, or splits at `value` along
+// `axis`: points with coordinate < value go to node `lo`, those > value to
+// `hi`, those on the plane to `hi` if ties_hi, else to `lo`. nodes[0] is the
+// root.
+struct BoxTree {
+  struct Node {
+    int axis = -1;
+    double value = 0;
+    int lo = -1, hi = -1;
+    int label = 0;
+    bool ties_hi = false;
+  };
+  std::vector<Node> nodes;
+  int Leaves() const;
+  // The label of the leaf holding p.
+  int LabelAt(const glm::dvec3& p) const;
+};
+// A grid of labelled cells (x fastest; cell (i, j, k) spans edges[0][i] ..
+// edges[0][i + 1] along x, and so on; labels in 0..15) as a BoxTree: outside
+// the bounding box of the cells labelled other than `background`, one
+// background leaf per side; inside it, cells merged into boxes of one label
+// by greedy splits (each split the plane that leaves the least volume in
+// mixed children).
+BoxTree BoxTreeOfGrid(const glm::ivec3& grid, const std::vector<uint8_t>& labels,
+                      const std::array<std::vector<double>, 3>& edges, int background);
+struct LabelledPolygon {
+  std::vector<glm::dvec3> polygon;
+  int label = 0;
+};
+// A convex polygon split by the tree's planes into convex parts, one per leaf
+// it crosses (the whole polygon, untouched, when it meets one leaf). As in
+// SplitPolygonByBox: cut vertices lie exactly on their plane and are shared
+// bit for bit, and a cut ending on another part's edge puts its vertex into
+// that part too, so the parts meet without T-junctions; draw split parts as
+// CentroidFan. Vertices within `on_plane` of a plane count as on it.
+std::vector<LabelledPolygon> PartitionPolygon(const std::vector<glm::dvec3>& polygon,
+                                              const BoxTree& tree, double on_plane = 1e-9);
 
 // Area of a planar polygon (any orientation), in the units of its vertices.
 float PolygonArea(const std::vector<glm::vec3>& polygon);

@@ -201,6 +201,10 @@ void VolumePassOptions::Check() const {
   if (!(glm::length(light_dir_world) > 0) || !std::isfinite(glm::length(light_dir_world))) {
     core::ThrowInputError("VolumePassOptions", "light direction must be finite and non-zero");
   }
+  if (brick_texels < 0 || brick_texels > 1024) {
+    core::ThrowInputError("VolumePassOptions", "brick size {} texels not in [0, 1024]",
+                          brick_texels);
+  }
   ray.Check();
 }
 
@@ -326,6 +330,7 @@ void VolumePass::SetOptions(const VolumePassOptions& options) {
   const bool restore = stored_.size() != maps_.size() ||
                        options.displacement_bits != options_.displacement_bits ||
                        options.float_map_textures != options_.float_map_textures;
+  const bool rebrick = restore || options.brick_texels != options_.brick_texels;
   options_ = options;
   if (restore) {
     stored_.clear();
@@ -338,6 +343,20 @@ void VolumePass::SetOptions(const VolumePassOptions& options) {
       map_textures_.push_back(UploadMap(stored_.back(), options_.float_map_textures));
     }
     support_ = SupportBox(maps_, active_, proxy_box_);
+  }
+  if (rebrick) {
+    bricks_ = {};
+    if (maps_.size() == 1 && options_.brick_texels > 0) {
+      const core::MapBricks b = core::ClassifyMapBricks(stored_[0], options_.brick_texels);
+      std::array<std::vector<double>, 3> edges;
+      for (int a = 0; a < 3; ++a) {
+        for (int i = 0; i <= b.grid[a]; ++i) edges[a].push_back(b.Edge(a, i));
+      }
+      std::vector<uint8_t> labels(b.kinds.size());
+      for (size_t i = 0; i < labels.size(); ++i) labels[i] = static_cast<uint8_t>(b.kinds[i]);
+      bricks_ =
+          BoxTreeOfGrid(b.grid, labels, edges, static_cast<int>(core::MapBrickKind::kIdentity));
+    }
   }
   // The derivative textures only when these options read them, built the
   // first time they do (and again after the maps were re-stored).
@@ -476,7 +495,45 @@ void VolumePass::DrawDvr(const RenderTarget& target, const ViewSetup& view) {
       ++runs.back().count;
       parts.slices.push_back(Slice{std::move(polygon), offset});
     };
+    // Bricks: the slice in map space, split by the bricks' tree, back.
+    const glm::dmat4 map_from_box =
+        glm::inverse(maps_[0].placement) * glm::dmat4(TexFromProxy(proxy_box_));
+    const glm::dmat4 box_from_map = glm::inverse(map_from_box);
     for (const Slice& slice : stack.slices) {
+      if (!bricks_.nodes.empty()) {
+        std::vector<glm::dvec3> in_map;
+        for (const glm::vec3& v : slice.p_in_box)
+          in_map.emplace_back(map_from_box * glm::dvec4(v, 1.0));
+        std::vector<LabelledPolygon> brick_parts = PartitionPolygon(in_map, bricks_, 1e-6);
+        const bool whole = brick_parts.size() == 1;
+        const bool inside_first = !runs.empty() && runs.back().displaced;
+        std::vector<std::pair<bool, std::vector<glm::vec3>>> ordered;
+        for (LabelledPolygon& part : brick_parts) {
+          const auto kind = static_cast<core::MapBrickKind>(part.label);
+          std::vector<glm::vec3> polygon;
+          if (whole) {
+            polygon = slice.p_in_box;
+          } else {
+            for (const glm::dvec3& u : part.polygon)
+              polygon.emplace_back(box_from_map * glm::dvec4(u, 1.0));
+          }
+          const double area =
+              ProjectedArea(polygon, clip_from_box, target.width(), target.height());
+          if (kind == core::MapBrickKind::kCut) {
+            stats_.cut_area_px += area;
+            continue;
+          }
+          const bool displaced = kind == core::MapBrickKind::kDisplaced;
+          if (displaced) stats_.displaced_area_px += area;
+          ordered.emplace_back(displaced, whole ? std::move(polygon) : CentroidFan(polygon));
+        }
+        // Parts of the last run's program first.
+        std::stable_partition(ordered.begin(), ordered.end(),
+                              [&](const auto& p) { return p.first == inside_first; });
+        for (auto& [displaced, polygon] : ordered)
+          add(displaced, std::move(polygon), slice.offset_in_box);
+        continue;
+      }
       PolygonBoxSplit pieces;
       if (any_support) {
         pieces = SplitPolygonByBox(slice.p_in_box, lo, hi);
@@ -495,10 +552,12 @@ void VolumePass::DrawDvr(const RenderTarget& target, const ViewSetup& view) {
             ProjectedArea(pieces.inside, clip_from_box, target.width(), target.height());
       }
     }
+    stats_.parts = static_cast<int>(parts.slices.size());
     slices_.Upload(parts);
   } else {
     slices_.Upload(stack);
     runs.push_back({true, 0, static_cast<int>(stack.slices.size())});
+    stats_.parts = static_cast<int>(stack.slices.size());
     stats_.displaced_area_px = maps_.empty() ? 0 : stats_.proxy_area_px;
   }
 

@@ -99,6 +99,15 @@ struct VolumePassOptions {
   // fragment runs the displaced shader, which skips the fetches outside each
   // map's active box by a branch (the baseline of ibr bench volume).
   bool support_skip = true;
+  // With support_skip and exactly one map: the part inside the support box
+  // is split further by the map's bricks of this many texels a side
+  // (core::ClassifyMapBricks, merged into boxes by render::BoxTreeOfGrid):
+  // bricks where the map is the identity are drawn by the shader without
+  // maps too, bricks it cuts away entirely (alpha < 0.5 at every sample) are
+  // not drawn, the rest displaced. 0: the support box only. Several maps
+  // compose (eq. 9: only the last reads p' itself), so they are split by the
+  // support box only.
+  int brick_texels = 4;
   // Direction TOWARDS the light, world frame (normalised on use). Default:
   // from above (+z), as in Fig. 4.
   glm::vec3 light_dir_world{0.0f, 0.0f, 1.0f};
@@ -140,6 +149,9 @@ struct VolumeDrawStats {
   // The part of proxy_area_px drawn by the displaced shader (all of it
   // without support_skip).
   double displaced_area_px = 0;
+  // The part not drawn: bricks the map cuts away entirely (brick_texels).
+  double cut_area_px = 0;
+  int parts = 0;  // slice parts drawn
   int draw_calls = 0;
 };
 
@@ -206,6 +218,9 @@ class VolumePass : public Pass {
   std::vector<core::StoredDisplacementMap> stored_;
   std::vector<core::Box3> active_;  // core::ActiveBox of each stored map
   core::Box3 support_;              // support_box()
+  // The single map's bricks (brick_texels) as boxes, map space, labelled by
+  // core::MapBrickKind; no nodes when slices are not split by bricks.
+  BoxTree bricks_;
   core::Box3 proxy_box_;
   double voxel_world_ = 1;
   Texture volume_texture_;

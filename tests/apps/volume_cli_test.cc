@@ -66,6 +66,8 @@ TEST_F(VolumeCliTest, RendersEveryEffectAndMode) {
   for (const std::string& args : std::vector<std::string>{
            dat + " --effect none --transfer ramp",
            dat + " --effect peel --peel-angle 120 --displacement-bits 16",
+           dat + " --effect peel --brick-texels 0",
+           dat + " --effect seam --brick-texels 2 --no-support-skip",
            dat + " --effect slices --displacement-bits 8 --lighting transformed",
            dat + " --effect seam --mode iso:0.3 --lighting blended",
            nrrd + " --effect pull --map-size 32 --spacing 0.5",
@@ -126,6 +128,8 @@ TEST_F(VolumeCliTest, BadInputGivesOneErrorLineAndNoOutput) {
       {ball + " --spacing 0", "0"},
       {ball + " --size 0", "size"},
       {ball + " --effect peel --placement 0 0 0 0 1 1", "placement"},
+      {ball + " --effect peel --brick-texels -1", "brick"},
+      {ball + " --effect peel --brick-texels 5000", "brick"},
   };
   for (const Case& c : cases) {
     const fs::path out = dir_ / "bad.png";

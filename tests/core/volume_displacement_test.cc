@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
 #include <glm/gtc/matrix_transform.hpp>
 #include <random>
 
@@ -267,6 +268,77 @@ TEST(VolumeDisplacement, ActiveBoxHoldsEveryTexelThatMovesAnything) {
         EXPECT_LT(glm::length(glm::vec3(back.at(x, y, z))), 1e-4f);
         EXPECT_EQ(back.at(x, y, z).w, 1.0f);
       }
+}
+
+// Every sample in an identity brick reads the identity (as stored: 16 bits
+// round 0 to 1.5e-5 of the scale), and so do the samples half a texel away
+// that the derivatives difference; every sample in a cut brick is
+// transparent; the bricks tile ActiveBox. Brute force over random points of
+// every brick, five effects, three storages, two sizes.
+TEST(VolumeDisplacement, MapBricksHoldWhatEverySampleInThemReads) {
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<double> u01(0, 1);
+  int counts[3] = {0, 0, 0};
+  for (Effect effect :
+       {Effect::kPeel, Effect::kSlices, Effect::kSeam, Effect::kPull, Effect::kWave}) {
+    EffectOptions o;
+    o.effect = effect;
+    for (const int n : {32, 64}) {
+      const DisplacementMap map = SampleEffect(o, {n, n, n});
+      for (const int bits : {8, 16, 32}) {
+        const StoredDisplacementMap stored = StoreDisplacementMap(map, bits);
+        const DisplacementMap read = DequantizeDisplacementMap(stored);
+        const double zero = bits == 32 ? 0.0 : 1.6e-5 * stored.scale;
+        const MapBricks bricks = ClassifyMapBricks(stored, 4);
+        const Box3 active = ActiveBox(stored);
+        for (int a = 0; a < 3; ++a) {
+          EXPECT_DOUBLE_EQ(bricks.Edge(a, 0), active.lo[a]);
+          EXPECT_DOUBLE_EQ(bricks.Edge(a, bricks.grid[a]), active.hi[a]);
+        }
+        const glm::dvec3 texel(1.0 / n);
+        for (int z = 0; z < bricks.grid.z; ++z)
+          for (int y = 0; y < bricks.grid.y; ++y)
+            for (int x = 0; x < bricks.grid.x; ++x) {
+              const MapBrickKind kind =
+                  bricks.kinds[(static_cast<size_t>(z) * bricks.grid.y + y) * bricks.grid.x + x];
+              ++counts[static_cast<int>(kind)];
+              if (bits == 8) {
+                EXPECT_NE(kind, MapBrickKind::kIdentity);
+              }
+              const glm::dvec3 lo(bricks.Edge(0, x), bricks.Edge(1, y), bricks.Edge(2, z));
+              const glm::dvec3 hi(bricks.Edge(0, x + 1), bricks.Edge(1, y + 1),
+                                  bricks.Edge(2, z + 1));
+              for (int q = 0; q < 12; ++q) {
+                // Corners and faces too: the first eight points are corners.
+                glm::dvec3 p;
+                for (int a = 0; a < 3; ++a)
+                  p[a] =
+                      q < 8 ? ((q >> a) & 1 ? hi[a] : lo[a]) : lo[a] + u01(rng) * (hi[a] - lo[a]);
+                if (kind == MapBrickKind::kCut) {
+                  EXPECT_LT(SampleMap(read, p).w, 0.5) << EffectName(effect) << " " << n;
+                  continue;
+                }
+                if (kind != MapBrickKind::kIdentity) continue;
+                for (int k = -1; k < 3; ++k) {
+                  glm::dvec3 at = p;
+                  if (k >= 0) at[k] += (q % 2 ? 0.5 : -0.5) * texel[k];
+                  const glm::dvec4 v = SampleMap(read, at);
+                  EXPECT_LE(glm::length(glm::dvec3(v)), 2 * zero) << EffectName(effect) << " " << n;
+                  EXPECT_NEAR(v.w, 1.0, 1e-12) << EffectName(effect) << " " << n;
+                }
+              }
+            }
+      }
+    }
+  }
+  std::printf("map bricks: %d identity, %d cut, %d displaced\n", counts[0], counts[1], counts[2]);
+  EXPECT_GT(counts[0], 100);
+  EXPECT_GT(counts[1], 10);
+  // A map that is the identity everywhere has no bricks.
+  DisplacementMap identity;
+  identity.dims = {8, 8, 8};
+  identity.texels.assign(512, glm::vec4(0, 0, 0, 1));
+  EXPECT_EQ(ClassifyMapBricks(StoreDisplacementMap(identity, 16), 4).grid, glm::ivec3(0));
 }
 
 TEST(VolumeDisplacement, ProxyBoxHoldsTheObjectAndThePlacedMaps) {

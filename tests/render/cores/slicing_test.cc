@@ -8,6 +8,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <glm/gtc/matrix_transform.hpp>
 #include <random>
@@ -511,6 +512,151 @@ TEST(Slicing, PolygonSplitByABoxTilesThePolygonWithoutTJunctions) {
   EXPECT_GT(split_cases, 100);
   EXPECT_GT(inside_cases, 50);
   EXPECT_GT(snapped_cases, 20);
+}
+
+// ---- a slice partitioned by a kd-tree of labelled grid cells (the volume pass's bricks) ----
+
+// The label of the grid cell holding p (background outside the grid), by
+// search of the edges: independent of the tree.
+int GridLabel(const glm::ivec3& grid, const std::vector<uint8_t>& labels,
+              const std::array<std::vector<double>, 3>& edges, int background,
+              const glm::dvec3& p) {
+  glm::ivec3 cell;
+  for (int a = 0; a < 3; ++a) {
+    if (p[a] < edges[a].front() || p[a] > edges[a].back()) return background;
+    cell[a] = static_cast<int>(std::upper_bound(edges[a].begin(), edges[a].end(), p[a]) -
+                               edges[a].begin()) -
+              1;
+    cell[a] = std::min(cell[a], grid[a] - 1);
+  }
+  return labels[(static_cast<size_t>(cell.z) * grid.y + cell.y) * grid.x + cell.x];
+}
+
+TEST(Slicing, BoxTreeOfGridLabelsEveryPointAsItsCell) {
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> u(0, 1);
+  for (int trial = 0; trial < 60; ++trial) {
+    const glm::ivec3 grid(1 + trial % 7, 1 + (trial / 2) % 5, 1 + (trial / 3) % 6);
+    std::array<std::vector<double>, 3> edges;
+    for (int a = 0; a < 3; ++a) {
+      double x = -0.2 + 0.2 * u(rng);
+      for (int i = 0; i <= grid[a]; ++i) edges[a].push_back(x), x += 0.05 + 0.3 * u(rng);
+    }
+    // Blocks of labels (0 the background, most common), some cells noise.
+    std::vector<uint8_t> labels(static_cast<size_t>(grid.x) * grid.y * grid.z);
+    const glm::dvec3 c(u(rng) * grid.x, u(rng) * grid.y, u(rng) * grid.z);
+    for (int z = 0; z < grid.z; ++z)
+      for (int y = 0; y < grid.y; ++y)
+        for (int x = 0; x < grid.x; ++x) {
+          uint8_t l = glm::length(glm::dvec3(x, y, z) - c) < 2 ? 2 : 0;
+          if (x > c.x + 1) l = 1;
+          if (u(rng) < 0.1) l = static_cast<uint8_t>(rng() % 3);
+          labels[(static_cast<size_t>(z) * grid.y + y) * grid.x + x] = l;
+        }
+    const BoxTree tree = BoxTreeOfGrid(grid, labels, edges, 0);
+    EXPECT_LE(tree.Leaves(), static_cast<int>(labels.size()) + 6) << trial;
+    for (int q = 0; q < 400; ++q) {
+      const glm::dvec3 p(-0.5 + 3 * u(rng), -0.5 + 3 * u(rng), -0.5 + 3 * u(rng));
+      EXPECT_EQ(tree.LabelAt(p), GridLabel(grid, labels, edges, 0, p)) << trial;
+    }
+  }
+  // One label everywhere: one leaf, or the background's six around one.
+  const glm::ivec3 grid(4, 4, 4);
+  std::array<std::vector<double>, 3> edges;
+  for (int a = 0; a < 3; ++a)
+    for (int i = 0; i <= 4; ++i) edges[a].push_back(0.25 * i);
+  EXPECT_EQ(BoxTreeOfGrid(grid, std::vector<uint8_t>(64, 0), edges, 0).Leaves(), 1);
+  EXPECT_EQ(BoxTreeOfGrid(grid, std::vector<uint8_t>(64, 3), edges, 0).Leaves(), 7);
+}
+
+TEST(Slicing, PolygonPartitionByABoxTreeTilesThePolygonWithoutTJunctions) {
+  std::mt19937 rng(17);
+  std::uniform_real_distribution<float> u(0, 1), dir(-1, 1);
+  std::uniform_real_distribution<double> ud(0, 1);
+  int many_parts = 0;
+  size_t most_parts = 0;
+  for (int trial = 0; trial < 300; ++trial) {
+    glm::vec3 n = glm::normalize(glm::vec3(dir(rng), dir(rng), dir(rng)) + glm::vec3(1e-3f));
+    if (trial % 5 == 0) n = glm::vec3(0, 0, 0), n[trial % 3] = 1;  // parallel to cell faces
+    const glm::vec3 c(u(rng), u(rng), u(rng));
+    const std::vector<glm::vec3> slice = ClipPlaneToUnitBox(n, glm::dot(n, c));
+    if (slice.size() < 3) continue;
+    const std::vector<glm::dvec3> polygon(slice.begin(), slice.end());
+    // A random grid over (part of) the box, cell edges sometimes through a
+    // polygon vertex or on the plane.
+    const glm::ivec3 grid(2 + trial % 5, 2 + (trial / 5) % 4, 2 + (trial / 7) % 3);
+    std::array<std::vector<double>, 3> edges;
+    for (int a = 0; a < 3; ++a) {
+      double x = -0.1 + 0.3 * ud(rng);
+      for (int i = 0; i <= grid[a]; ++i) edges[a].push_back(x), x += 0.05 + 0.35 * ud(rng);
+    }
+    if (trial % 7 == 0) edges[0][1] = polygon[0].x;
+    if (trial % 5 == 0 && trial % 3 == 2) edges[2][1] = polygon[0].z;  // a cell face on the plane
+    for (int a = 0; a < 3; ++a) std::sort(edges[a].begin(), edges[a].end());
+    std::vector<uint8_t> labels(static_cast<size_t>(grid.x) * grid.y * grid.z);
+    for (auto& l : labels) l = static_cast<uint8_t>(rng() % 3);
+    const BoxTree tree = BoxTreeOfGrid(grid, labels, edges, 0);
+    const std::vector<LabelledPolygon> parts = PartitionPolygon(polygon, tree);
+    many_parts += parts.size() > 4;
+    most_parts = std::max(most_parts, parts.size());
+    // 1. Areas add up; every part is a convex polygon on the plane.
+    std::vector<std::vector<glm::vec3>> fparts;
+    for (const auto& part : parts) fparts.emplace_back(part.polygon.begin(), part.polygon.end());
+    const float area = PolygonArea(slice);
+    float sum = 0;
+    for (const auto& part : fparts) {
+      ASSERT_GE(part.size(), 3u);
+      sum += PolygonArea(part);
+      for (const glm::vec3& v : part) EXPECT_NEAR(glm::dot(n, v), glm::dot(n, c), 1e-5f);
+    }
+    EXPECT_NEAR(sum, area, 1e-4f * area + 1e-6f) << trial;
+    // 2. No T-junction (as for SplitPolygonByBox).
+    for (size_t i = 0; i < parts.size(); ++i)
+      for (size_t j = 0; j < parts.size(); ++j) {
+        if (i == j) continue;
+        const auto& pi = parts[i].polygon;
+        for (size_t k = 0; k < pi.size(); ++k) {
+          const glm::dvec3 a = pi[k], b = pi[(k + 1) % pi.size()];
+          for (const glm::dvec3& v : parts[j].polygon) {
+            if (v == a || v == b) continue;
+            float t = 0;
+            const float d = DistanceToSegment(glm::vec3(v), glm::vec3(a), glm::vec3(b), &t);
+            EXPECT_FALSE(d < 1e-6f && t > 0 && t < 1) << "trial " << trial << ": a vertex of part "
+                                                      << j << " inside an edge of part " << i;
+          }
+        }
+      }
+    // 3. Random points of the polygon away from every edge lie in exactly one
+    //    part, whose label is the grid's there.
+    for (int q = 0; q < 60; ++q) {
+      glm::vec3 p(0.0f);
+      float total = 0;
+      for (const glm::vec3& v : slice) {
+        const float weight = u(rng);
+        p += weight * v;
+        total += weight;
+      }
+      p /= total;
+      int in_parts = 0, margin_hits = 0, label = -1;
+      for (size_t k = 0; k < fparts.size(); ++k) {
+        if (InsideConvex(fparts[k], n, p, 1e-4f)) ++in_parts, label = parts[k].label;
+        margin_hits +=
+            InsideConvex(fparts[k], n, p, -1e-4f) && !InsideConvex(fparts[k], n, p, 1e-4f);
+      }
+      if (margin_hits > 0) continue;  // on an edge: a tie
+      EXPECT_EQ(in_parts, 1) << trial;
+      // On a cell face (the plane lying in one): a tie, either side's label.
+      bool on_face = false;
+      for (int a = 0; a < 3; ++a)
+        for (double e : edges[a]) on_face = on_face || std::abs(p[a] - e) < 1e-5;
+      if (!on_face) {
+        EXPECT_EQ(label, GridLabel(grid, labels, edges, 0, glm::dvec3(p))) << trial;
+      }
+    }
+  }
+  std::printf("partition: %d of 300 slices in more than 4 parts, at most %zu parts\n", many_parts,
+              most_parts);
+  EXPECT_GT(many_parts, 100);
 }
 
 TEST(Slicing, CentroidFanCoversAPolygonWithCollinearVertices) {

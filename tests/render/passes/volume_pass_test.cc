@@ -428,10 +428,12 @@ TEST_F(GlTest, VolumeSupportBoxHoldsEveryPointTheMapsMove) {
 // The split slices (support_skip, the default) draw what the unsplit ones
 // draw: on every pixel the reference does not call a tie, within the DVR
 // reference bounds, and without the one-sample jumps a crack or an overlap
-// between the parts of a slice would leave (> 0.5/255). Lit and unlit,
-// 8/16/32-bit maps, placed, rotated and composed maps, a view along a box
-// axis (slices parallel to the support box's faces), voxels full to the
-// proxy's faces.
+// between the parts of a slice would leave (> 0.5/255); both with the map's
+// bricks (the default; identity bricks drawn without maps, cut-away ones not
+// drawn) and with the support box alone. Lit and unlit, 8/16/32-bit maps,
+// placed, rotated and composed maps, a view along a box axis (slices
+// parallel to the support box's faces), voxels full to the proxy's faces, a
+// seam wide enough to cut whole bricks away.
 TEST_F(GlTest, VolumeSupportSkipDrawsWhatTheUnsplitSlicesDraw) {
   const auto dat = test_support::SharedData("volumes/neghip_64x64x64_uint8.dat");
   if (dat.empty()) GTEST_SKIP() << "../shared/data is absent";
@@ -468,6 +470,18 @@ TEST_F(GlTest, VolumeSupportSkipDrawsWhatTheUnsplitSlicesDraw) {
     s.maps.push_back(PlacedEffect(core::Effect::kSeam, {16, 16, 16}));
     cases.push_back({"random uint16 anisotropic seam", s, 120, -20});
   }
+  {
+    // A seam opening wide enough at 64^3 for whole bricks to be cut away,
+    // placed and rotated (bricks split in map space), lit by eq. 6 + 7.
+    Scene s{neghip, core::TransferPreset("neghip"), {}, {}};
+    s.maps.push_back(PlacedEffect(core::Effect::kSeam, {64, 64, 64}, rotated));
+    cases.push_back({"seam 64^3 rotated blended", s, 70, 30});
+    s.options.displacement_bits = 32;
+    cases.push_back({"seam 64^3 rotated blended 32", s, 70, 30});
+    s.options.displacement_bits = 16;
+    s.options.lighting = VolumeLighting::kNone;
+    cases.push_back({"seam 64^3 rotated none", s, 70, 30});
+  }
   for (Case& c : cases) {
     const double radius = 0.5 * glm::length(c.scene.volume.Extent());
     const OrthoCamera cam = Ortho(c.azimuth, c.elevation, 1.6 * radius, 96);
@@ -478,42 +492,69 @@ TEST_F(GlTest, VolumeSupportSkipDrawsWhatTheUnsplitSlicesDraw) {
     // The reference marks the ties (samples on a proxy face) for both.
     const ibr::DvrReferenceImage ref = ibr::DvrReference(
         c.scene.volume, c.scene.transfer, c.scene.maps, *pass, cam.view, cam.size, cam.size);
-    c.scene.options.support_skip = true;
-    const Rendered split = Render(*this, programs(), c.scene, cam, &pass);
-    const VolumeDrawStats split_stats = pass->last_stats();
-    double max = 0, sum = 0, coverage = 0;
-    int64_t compared = 0, jumps = 0;
-    for (int y = 0; y < cam.size; ++y)
-      for (int x = 0; x < cam.size; ++x) {
-        coverage += whole.color.at(x, y, 3) > 0.02;
-        if (ref.ambiguous.at(x, y)) continue;
-        double pixel = 0;
-        for (int ch = 0; ch < 4; ++ch) {
-          const double e = std::abs(split.color.at(x, y, ch) - whole.color.at(x, y, ch)) * 255;
-          pixel = std::max(pixel, e);
-          sum += e;
-          ++compared;
+    // Bricks (the default, one map only) and the support box alone.
+    double brick_displaced_area = 0, box_displaced_area = 0, brick_cut_area = 0;
+    for (const int brick_texels : {VolumePassOptions{}.brick_texels, 0}) {
+      c.scene.options.support_skip = true;
+      c.scene.options.brick_texels = brick_texels;
+      const Rendered split = Render(*this, programs(), c.scene, cam, &pass);
+      const VolumeDrawStats split_stats = pass->last_stats();
+      double max = 0, sum = 0, coverage = 0;
+      int64_t compared = 0, jumps = 0;
+      for (int y = 0; y < cam.size; ++y)
+        for (int x = 0; x < cam.size; ++x) {
+          coverage += whole.color.at(x, y, 3) > 0.02;
+          if (ref.ambiguous.at(x, y)) continue;
+          double pixel = 0;
+          for (int ch = 0; ch < 4; ++ch) {
+            const double e = std::abs(split.color.at(x, y, ch) - whole.color.at(x, y, ch)) * 255;
+            pixel = std::max(pixel, e);
+            sum += e;
+            ++compared;
+          }
+          max = std::max(max, pixel);
+          jumps += pixel > 0.5;
         }
-        max = std::max(max, pixel);
-        jumps += pixel > 0.5;
+      const double mean = compared ? sum / compared : 0;
+      std::printf(
+          "support skip (%s, bricks %d): split vs unsplit max %.4f/255, mean %.6f/255, %lld px > "
+          "0.5/255; displaced area %.0f, cut away %.0f of %.0f px, %d parts, %d draw calls\n",
+          c.label, brick_texels, max, mean, static_cast<long long>(jumps),
+          split_stats.displaced_area_px, split_stats.cut_area_px, split_stats.proxy_area_px,
+          split_stats.parts, split_stats.draw_calls);
+      const std::string label = fmt::format("{}, bricks {}", c.label, brick_texels);
+      EXPECT_GT(coverage, 300) << label;
+      EXPECT_LE(max, 2.0) << label;
+      EXPECT_LE(mean, 0.2) << label;
+      EXPECT_EQ(jumps, 0) << label;
+      EXPECT_DOUBLE_EQ(split_stats.proxy_area_px, whole_stats.proxy_area_px);
+      EXPECT_GT(split_stats.displaced_area_px, 0) << label;
+      EXPECT_LT(split_stats.displaced_area_px, 0.99 * whole_stats.displaced_area_px) << label;
+      (brick_texels ? brick_displaced_area : box_displaced_area) = split_stats.displaced_area_px;
+      if (brick_texels) brick_cut_area = split_stats.cut_area_px;
+      if (brick_texels == 0 || c.scene.maps.size() > 1) {
+        EXPECT_EQ(split_stats.cut_area_px, 0) << label;
       }
-    const double mean = compared ? sum / compared : 0;
-    std::printf(
-        "support skip (%s): split vs unsplit max %.4f/255, mean %.6f/255, %lld px > 0.5/255; "
-        "displaced area %.0f of %.0f px, %d draw calls\n",
-        c.label, max, mean, static_cast<long long>(jumps), split_stats.displaced_area_px,
-        split_stats.proxy_area_px, split_stats.draw_calls);
-    EXPECT_GT(coverage, 300) << c.label;
-    EXPECT_LE(max, 2.0) << c.label;
-    EXPECT_LE(mean, 0.2) << c.label;
-    EXPECT_EQ(jumps, 0) << c.label;
-    EXPECT_DOUBLE_EQ(split_stats.proxy_area_px, whole_stats.proxy_area_px);
-    EXPECT_GT(split_stats.displaced_area_px, 0) << c.label;
-    EXPECT_LT(split_stats.displaced_area_px, 0.99 * whole_stats.displaced_area_px) << c.label;
-    if (c.scene.options.lighting == VolumeLighting::kNone) {
-      const Agreement a = Compare(split.color, ref);
-      EXPECT_LE(a.max, 2.0) << c.label;
-      EXPECT_LE(a.mean, 0.2) << c.label;
+      if (c.scene.options.lighting == VolumeLighting::kNone) {
+        const Agreement a = Compare(split.color, ref);
+        EXPECT_LE(a.max, 2.0) << label;
+        EXPECT_LE(a.mean, 0.2) << label;
+      }
+    }
+    // One map: the bricks (within the box) leave no more to the displaced
+    // shader than the box, much less for the peel and the wide seam at 16 and
+    // 32 bits (8 bits: cut bricks only); several maps: the box alone.
+    if (c.scene.maps.size() == 1) {
+      EXPECT_LE(brick_displaced_area, box_displaced_area * (1 + 1e-9)) << c.label;
+      if (c.scene.options.displacement_bits != 8 && c.scene.maps[0].map.dims.x >= 32) {
+        EXPECT_LT(brick_displaced_area, 0.95 * box_displaced_area) << c.label;
+      }
+    } else {
+      EXPECT_DOUBLE_EQ(brick_displaced_area, box_displaced_area) << c.label;
+    }
+    // The seam at 64^3 opens wider than a brick and its margins.
+    if (std::string(c.label).starts_with("seam 64")) {
+      EXPECT_GT(brick_cut_area, 100) << c.label;
     }
   }
   EXPECT_NO_GL_ERROR();
