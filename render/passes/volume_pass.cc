@@ -346,17 +346,7 @@ void VolumePass::SetOptions(const VolumePassOptions& options) {
   }
   if (rebrick) {
     bricks_ = {};
-    // Bricks only for a map placed without rotation or shear: with a
-    // rotated one, a sweep of random views found single pixels up to
-    // 3.2/255 off the unsplit render in 5 of 24 views of a rotated seam (also
-    // with every brick drawn displaced, so from splitting slices at the
-    // rotated planes), against 1 of 24 with the support box alone
-    // (tests/render/passes/volume_pass_test, the view sweep; untraced).
-    const glm::dmat3 linear = maps_.empty() ? glm::dmat3(1.0) : glm::dmat3(maps_[0].placement);
-    bool axis_aligned = true;
-    for (int c = 0; c < 3; ++c)
-      for (int r = 0; r < 3; ++r) axis_aligned = axis_aligned && (r == c || linear[c][r] == 0.0);
-    if (maps_.size() == 1 && options_.brick_texels > 0 && axis_aligned) {
+    if (maps_.size() == 1 && options_.brick_texels > 0) {
       const core::MapBricks b = core::ClassifyMapBricks(stored_[0], options_.brick_texels);
       std::array<std::vector<double>, 3> edges;
       for (int a = 0; a < 3; ++a) {

@@ -106,9 +106,7 @@ struct VolumePassOptions {
   // maps too, bricks it cuts away entirely (alpha < 0.5 at every sample) are
   // not drawn, the rest displaced. 0: the support box only. Several maps
   // compose (eq. 9: only the last reads p' itself), so they are split by the
-  // support box only, and so is a map placed with a rotation or shear (see
-  // SetOptions: single pixels off the unsplit render, more often than with
-  // the box; untraced).
+  // support box only.
   int brick_texels = 4;
   // Direction TOWARDS the light, world frame (normalised on use). Default:
   // from above (+z), as in Fig. 4.
