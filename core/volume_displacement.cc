@@ -7,6 +7,7 @@
 
 #include "core/check.h"
 #include "core/error.h"
+#include "core/summed_volume.h"
 
 namespace core {
 namespace {
@@ -496,30 +497,17 @@ MapBricks ClassifyMapBricks(const StoredDisplacementMap& s, int brick_texels) {
   bricks.lo = active.lo;
   bricks.hi = active.hi;
   bricks.grid = (bricks.hi - bricks.lo + brick_texels - 1) / brick_texels;
-  // 3D prefix counts of the texels that are not the identity / not cut.
-  const glm::ivec3 m = n + 1;
-  std::vector<int> moving(static_cast<size_t>(m.x) * m.y * m.z, 0), kept(moving.size(), 0);
-  auto at = [&](int x, int y, int z) { return (static_cast<size_t>(z) * m.y + y) * m.x + x; };
-  for (int z = 0; z < n.z; ++z)
-    for (int y = 0; y < n.y; ++y)
-      for (int x = 0; x < n.x; ++x) {
-        const size_t t = (static_cast<size_t>(z) * n.y + y) * n.x + x;
-        auto accumulate = [&](std::vector<int>& p, bool value) {
-          p[at(x + 1, y + 1, z + 1)] = int{value} + p[at(x, y + 1, z + 1)] +
-                                       p[at(x + 1, y, z + 1)] + p[at(x + 1, y + 1, z)] -
-                                       p[at(x, y, z + 1)] - p[at(x, y + 1, z)] -
-                                       p[at(x + 1, y, z)] + p[at(x, y, z)];
-        };
-        accumulate(moving, !flags.identity[t]);
-        accumulate(kept, !flags.cut[t]);
-      }
+  // Counts of the texels that are not the identity / not cut.
+  std::vector<uint8_t> moving_flags(flags.identity.size()), kept_flags(flags.cut.size());
+  for (size_t t = 0; t < moving_flags.size(); ++t) {
+    moving_flags[t] = !flags.identity[t];
+    kept_flags[t] = !flags.cut[t];
+  }
+  const SummedVolume moving(n, moving_flags), kept(n, kept_flags);
   // Texels lo..hi inclusive, clamped to the map (CLAMP_TO_EDGE reads the faces).
-  auto count = [&](const std::vector<int>& p, glm::ivec3 lo, glm::ivec3 hi) {
-    lo = glm::clamp(lo, glm::ivec3(0), n - 1);
-    hi = glm::clamp(hi, glm::ivec3(0), n - 1) + 1;
-    return p[at(hi.x, hi.y, hi.z)] - p[at(lo.x, hi.y, hi.z)] - p[at(hi.x, lo.y, hi.z)] -
-           p[at(hi.x, hi.y, lo.z)] + p[at(lo.x, lo.y, hi.z)] + p[at(lo.x, hi.y, lo.z)] +
-           p[at(hi.x, lo.y, lo.z)] - p[at(lo.x, lo.y, lo.z)];
+  auto count = [&](const SummedVolume& table, glm::ivec3 lo, glm::ivec3 hi) {
+    return table.Count(glm::clamp(lo, glm::ivec3(0), n - 1),
+                       glm::clamp(hi, glm::ivec3(0), n - 1) + 1);
   };
   bricks.kinds.resize(static_cast<size_t>(bricks.grid.x) * bricks.grid.y * bricks.grid.z);
   for (int z = 0; z < bricks.grid.z; ++z)

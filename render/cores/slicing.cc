@@ -2,9 +2,11 @@
 
 #include <algorithm>
 #include <cmath>
+#include <optional>
 
 #include "core/check.h"
 #include "core/error.h"
+#include "core/summed_volume.h"
 
 namespace render {
 
@@ -157,10 +159,9 @@ std::vector<glm::vec3> ClipPolygonToHalfSpace(const std::vector<glm::vec3>& poly
   return out;
 }
 
-PolygonBoxSplit SplitPolygonByBox(const std::vector<glm::vec3>& polygon, const glm::vec3& lo,
-                                  const glm::vec3& hi) {
-  // The box's six planes in turn, each with the outside as a leaf (label 0)
-  // and the rest split further; the inside is label 1.
+BoxTree BoxTreeOfBox(const glm::dvec3& lo, const glm::dvec3& hi, int inside, int outside) {
+  // The six planes in turn, each with the outside as a leaf and the rest
+  // split further by the next plane.
   BoxTree tree;
   for (int plane = 0; plane < 6; ++plane) {
     const int axis = plane / 2;
@@ -172,20 +173,35 @@ PolygonBoxSplit SplitPolygonByBox(const std::vector<glm::vec3>& polygon, const g
                           .lo = upper ? next : node + 1,
                           .hi = upper ? node + 1 : next,
                           .ties_hi = !upper});  // on the plane counts as inside
-    tree.nodes.push_back({.label = 0});
+    tree.nodes.push_back({.label = outside});
   }
-  tree.nodes.push_back({.label = 1});
-  PolygonBoxSplit split;
-  std::vector<glm::dvec3> in(polygon.begin(), polygon.end());
-  for (const LabelledPolygon& part : PartitionPolygon(in, tree, 1e-6)) {
-    std::vector<glm::vec3> v(part.polygon.begin(), part.polygon.end());
-    if (part.label == 1) {
-      split.inside = std::move(v);
-    } else {
-      split.outside.push_back(std::move(v));
-    }
+  tree.nodes.push_back({.label = inside});
+  return tree;
+}
+
+SliceSplitter::SliceSplitter(BoxTree tree_in, const glm::dmat4& tree_from_box_in,
+                             double on_plane_in)
+    : tree(std::move(tree_in)),
+      tree_from_box(tree_from_box_in),
+      box_from_tree(glm::inverse(tree_from_box_in)),
+      on_plane(on_plane_in) {}
+
+std::vector<SlicePart> SliceSplitter::Split(const std::vector<glm::vec3>& p_in_box) const {
+  std::vector<glm::dvec3> in_tree;
+  in_tree.reserve(p_in_box.size());
+  for (const glm::vec3& v : p_in_box) in_tree.emplace_back(tree_from_box * glm::dvec4(v, 1.0));
+  std::vector<LabelledPolygon> parts = PartitionPolygon(in_tree, tree, on_plane);
+  if (parts.size() == 1) return {{p_in_box, parts[0].label}};
+  std::vector<SlicePart> out;
+  out.reserve(parts.size());
+  for (const LabelledPolygon& part : parts) {
+    std::vector<glm::vec3> polygon;
+    polygon.reserve(part.polygon.size());
+    for (const glm::dvec3& u : part.polygon)
+      polygon.emplace_back(box_from_tree * glm::dvec4(u, 1.0));
+    out.push_back({CentroidFan(polygon), part.label});
   }
-  return split;
+  return out;
 }
 
 int BoxTree::Leaves() const {
@@ -235,32 +251,22 @@ BoxTree BoxTreeOfGrid(const glm::ivec3& grid, const std::vector<uint8_t>& labels
     leaf(background);
     return tree;
   }
-  // Per-label 3D prefix counts.
-  const glm::ivec3 m = grid + 1;
-  auto at = [&](int x, int y, int z) { return (static_cast<size_t>(z) * m.y + y) * m.x + x; };
-  std::vector<std::array<int, kLabels>> prefix(static_cast<size_t>(m.x) * m.y * m.z);
-  for (auto& p : prefix) p.fill(0);
-  for (int z = 0; z < grid.z; ++z)
-    for (int y = 0; y < grid.y; ++y)
-      for (int x = 0; x < grid.x; ++x) {
-        const uint8_t l = labels[(static_cast<size_t>(z) * grid.y + y) * grid.x + x];
-        for (int k = 0; k < kLabels; ++k) {
-          prefix[at(x + 1, y + 1, z + 1)][k] =
-              int{l == k} + prefix[at(x, y + 1, z + 1)][k] + prefix[at(x + 1, y, z + 1)][k] +
-              prefix[at(x + 1, y + 1, z)][k] - prefix[at(x, y, z + 1)][k] -
-              prefix[at(x, y + 1, z)][k] - prefix[at(x + 1, y, z)][k] + prefix[at(x, y, z)][k];
-        }
-      }
+  // Per-label counts, for the labels that occur.
+  std::vector<std::optional<core::SummedVolume>> counts(kLabels);
+  for (int k = 0; k < kLabels; ++k) {
+    if (std::find(labels.begin(), labels.end(), k) == labels.end()) continue;
+    std::vector<uint8_t> is_k(labels.size());
+    for (size_t i = 0; i < labels.size(); ++i) is_k[i] = labels[i] == k;
+    counts[k].emplace(grid, is_k);
+  }
   // The one label of cells [a, b) or -1 when mixed.
   auto uniform = [&](const glm::ivec3& a, const glm::ivec3& b) {
-    const size_t volume = static_cast<size_t>(b.x - a.x) * (b.y - a.y) * (b.z - a.z);
+    const int volume = (b.x - a.x) * (b.y - a.y) * (b.z - a.z);
     for (int k = 0; k < kLabels; ++k) {
-      const int n = prefix[at(b.x, b.y, b.z)][k] - prefix[at(a.x, b.y, b.z)][k] -
-                    prefix[at(b.x, a.y, b.z)][k] - prefix[at(b.x, b.y, a.z)][k] +
-                    prefix[at(a.x, a.y, b.z)][k] + prefix[at(a.x, b.y, a.z)][k] +
-                    prefix[at(b.x, a.y, a.z)][k] - prefix[at(a.x, a.y, a.z)][k];
+      if (!counts[k]) continue;
+      const int n = counts[k]->Count(a, b);
       if (n == 0) continue;
-      return static_cast<size_t>(n) == volume ? k : -1;
+      return n == volume ? k : -1;
     }
     return -1;
   };
@@ -332,7 +338,9 @@ std::vector<LabelledPolygon> PartitionPolygon(const std::vector<glm::dvec3>& pol
     pending.pop_back();
     const BoxTree::Node node = tree.nodes[pieces[i].node];
     if (node.axis < 0) continue;
-    const std::vector<glm::dvec3> v = pieces[i].v;
+    // Moved out: the cut below inserts into every piece but this one, and
+    // pieces[i] is replaced by its lower part.
+    std::vector<glm::dvec3> v = std::move(pieces[i].v);
     const size_t n = v.size();
     // s > 0: the hi side.
     std::vector<double> s(n);
@@ -346,6 +354,7 @@ std::vector<LabelledPolygon> PartitionPolygon(const std::vector<glm::dvec3>& pol
     if (!any_hi || !any_lo) {
       // One side, or on the plane (ties).
       pieces[i].node = any_hi || (!any_lo && node.ties_hi) ? node.hi : node.lo;
+      pieces[i].v = std::move(v);
       pending.push_back(i);
       continue;
     }

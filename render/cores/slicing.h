@@ -94,22 +94,6 @@ std::vector<glm::vec3> ClipPlaneToUnitBox(glm::vec3 n, float d);
 std::vector<glm::vec3> ClipPolygonToHalfSpace(const std::vector<glm::vec3>& polygon, glm::vec3 n,
                                               float d);
 
-// A convex polygon split by an axis-aligned box [lo, hi] (box coordinates)
-// into the part inside and at most six convex parts outside: cut by the box's
-// six planes in turn (a point on a plane counts as inside). The parts share
-// their cut vertices bit for bit, and a cut ending on an earlier part's edge
-// puts its vertex into that part too, so the parts meet without T-junctions:
-// rasterised, every pixel centre of the polygon is covered by exactly one
-// part (GL's rules are watertight only across edges with identical end
-// points). Outside parts can hold such extra vertices on their edges; draw
-// them as CentroidFan. Vertices within 1e-6 of a plane count as on it (no
-// sliver parts).
-struct PolygonBoxSplit {
-  std::vector<glm::vec3> inside;  // convex; empty when the polygon misses the box
-  std::vector<std::vector<glm::vec3>> outside;
-};
-PolygonBoxSplit SplitPolygonByBox(const std::vector<glm::vec3>& polygon, const glm::vec3& lo,
-                                  const glm::vec3& hi);
 // The polygon as a fan around its vertex mean: {mean, v0, v1, ..., v_{n-1},
 // v0}. Fanned from its first vertex (SliceBuffer) it covers a convex polygon
 // also when some vertices lie on the edge between their neighbours, where a
@@ -147,13 +131,37 @@ struct LabelledPolygon {
   int label = 0;
 };
 // A convex polygon split by the tree's planes into convex parts, one per leaf
-// it crosses (the whole polygon, untouched, when it meets one leaf). As in
-// SplitPolygonByBox: cut vertices lie exactly on their plane and are shared
-// bit for bit, and a cut ending on another part's edge puts its vertex into
-// that part too, so the parts meet without T-junctions; draw split parts as
-// CentroidFan. Vertices within `on_plane` of a plane count as on it.
+// it crosses (the whole polygon, untouched, when it meets one leaf). Cut
+// vertices lie exactly on their plane and are shared bit for bit, and a cut
+// ending on another part's edge puts its vertex into that part too, so the
+// parts meet without T-junctions (GL's rules are watertight only across
+// edges with identical end points): rasterised, every pixel centre of the
+// polygon is covered by exactly one part. Draw split parts as CentroidFan.
+// Vertices within `on_plane` of a plane count as on it (no sliver parts).
 std::vector<LabelledPolygon> PartitionPolygon(const std::vector<glm::dvec3>& polygon,
                                               const BoxTree& tree, double on_plane = 1e-9);
+
+// The box [lo, hi] as a BoxTree of its six planes: `inside` for the box (a
+// point on a face counts as inside), `outside` around it (one leaf per plane).
+BoxTree BoxTreeOfBox(const glm::dvec3& lo, const glm::dvec3& hi, int inside, int outside);
+// Slices (box coordinates) split by `tree`, which lives in its own frame
+// (tree_from_box: box coordinates to it): Split gives the parts back in box
+// coordinates, ready for SliceBuffer, which fans each polygon from its first
+// vertex: the slice untouched when it meets one leaf, else each part as a
+// CentroidFan (a part can hold its neighbours' cut ends on its edges).
+// Vertices within `on_plane` (tree units) of a plane count as on it.
+struct SlicePart {
+  std::vector<glm::vec3> p_in_box;
+  int label = 0;
+};
+struct SliceSplitter {
+  SliceSplitter(BoxTree tree, const glm::dmat4& tree_from_box, double on_plane);
+  std::vector<SlicePart> Split(const std::vector<glm::vec3>& p_in_box) const;
+
+  BoxTree tree;
+  glm::dmat4 tree_from_box, box_from_tree;
+  double on_plane;
+};
 
 // Area of a planar polygon (any orientation), in the units of its vertices.
 float PolygonArea(const std::vector<glm::vec3>& polygon);

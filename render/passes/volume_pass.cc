@@ -330,7 +330,8 @@ void VolumePass::SetOptions(const VolumePassOptions& options) {
   const bool restore = stored_.size() != maps_.size() ||
                        options.displacement_bits != options_.displacement_bits ||
                        options.float_map_textures != options_.float_map_textures;
-  const bool rebrick = restore || options.brick_texels != options_.brick_texels;
+  const bool resplit = restore || options.brick_texels != options_.brick_texels ||
+                       options.support_skip != options_.support_skip;
   options_ = options;
   if (restore) {
     stored_.clear();
@@ -344,18 +345,32 @@ void VolumePass::SetOptions(const VolumePassOptions& options) {
     }
     support_ = SupportBox(maps_, active_, proxy_box_);
   }
-  if (rebrick) {
-    bricks_ = {};
-    if (maps_.size() == 1 && options_.brick_texels > 0) {
-      const core::MapBricks b = core::ClassifyMapBricks(stored_[0], options_.brick_texels);
-      std::array<std::vector<double>, 3> edges;
-      for (int a = 0; a < 3; ++a) {
-        for (int i = 0; i <= b.grid[a]; ++i) edges[a].push_back(b.Edge(a, i));
+  if (resplit) {
+    // How DrawDvr splits its slices, labelled by core::MapBrickKind: one
+    // map's bricks (map space), or the support box (proxy-box coordinates:
+    // inside displaced, outside the identity); none without support_skip.
+    splitter_.reset();
+    if (options_.support_skip && !maps_.empty()) {
+      constexpr double kOnPlane = 1e-6;  // tree units: no sliver parts
+      const int identity = static_cast<int>(core::MapBrickKind::kIdentity);
+      if (maps_.size() == 1 && options_.brick_texels > 0) {
+        const core::MapBricks b = core::ClassifyMapBricks(stored_[0], options_.brick_texels);
+        std::array<std::vector<double>, 3> edges;
+        for (int a = 0; a < 3; ++a) {
+          for (int i = 0; i <= b.grid[a]; ++i) edges[a].push_back(b.Edge(a, i));
+        }
+        std::vector<uint8_t> labels(b.kinds.size());
+        for (size_t i = 0; i < labels.size(); ++i) labels[i] = static_cast<uint8_t>(b.kinds[i]);
+        const glm::dmat4 map_from_box =
+            glm::inverse(maps_[0].placement) * glm::dmat4(TexFromProxy(proxy_box_));
+        splitter_.emplace(BoxTreeOfGrid(b.grid, labels, edges, identity), map_from_box, kOnPlane);
+      } else if (support_.lo.x <= support_.hi.x) {
+        splitter_.emplace(BoxTreeOfBox(support_.lo, support_.hi,
+                                       static_cast<int>(core::MapBrickKind::kDisplaced), identity),
+                          glm::dmat4(1.0), kOnPlane);
+      } else {  // no map moves anything
+        splitter_.emplace(BoxTree{{BoxTree::Node{.label = identity}}}, glm::dmat4(1.0), kOnPlane);
       }
-      std::vector<uint8_t> labels(b.kinds.size());
-      for (size_t i = 0; i < labels.size(); ++i) labels[i] = static_cast<uint8_t>(b.kinds[i]);
-      bricks_ =
-          BoxTreeOfGrid(b.grid, labels, edges, static_cast<int>(core::MapBrickKind::kIdentity));
     }
   }
   // The derivative textures only when these options read them, built the
@@ -478,78 +493,35 @@ void VolumePass::DrawDvr(const RenderTarget& target, const ViewSetup& view) {
         ProjectedArea(slice.p_in_box, clip_from_box, target.width(), target.height());
   }
 
-  // The slices split by the support box (support_skip), or whole and all
+  // The slices split by splitter_ (support_skip), or whole and all
   // displaced. Within a slice the parts are disjoint, so their order is free:
-  // the part drawn last in one slice comes first in the next, which halves
-  // the program changes.
+  // the parts of the last run's program come first in the next slice, which
+  // halves the program changes.
   std::vector<PartRun> runs;
-  const bool split = options_.support_skip && !maps_.empty();
+  const bool split = splitter_.has_value();
   if (split) {
     SliceStack parts;
-    const glm::vec3 lo(support_.lo), hi(support_.hi);
-    const bool any_support = support_.lo.x <= support_.hi.x;
-    auto add = [&](bool displaced, std::vector<glm::vec3> polygon, float offset) {
-      if (runs.empty() || runs.back().displaced != displaced) {
-        runs.push_back({displaced, static_cast<int>(parts.slices.size()), 0});
-      }
-      ++runs.back().count;
-      parts.slices.push_back(Slice{std::move(polygon), offset});
-    };
-    // Bricks: the slice in map space, split by the bricks' tree, back.
-    const glm::dmat4 map_from_box =
-        glm::inverse(maps_[0].placement) * glm::dmat4(TexFromProxy(proxy_box_));
-    const glm::dmat4 box_from_map = glm::inverse(map_from_box);
     for (const Slice& slice : stack.slices) {
-      if (!bricks_.nodes.empty()) {
-        std::vector<glm::dvec3> in_map;
-        for (const glm::vec3& v : slice.p_in_box)
-          in_map.emplace_back(map_from_box * glm::dvec4(v, 1.0));
-        std::vector<LabelledPolygon> brick_parts = PartitionPolygon(in_map, bricks_, 1e-6);
-        const bool whole = brick_parts.size() == 1;
-        const bool inside_first = !runs.empty() && runs.back().displaced;
-        std::vector<std::pair<bool, std::vector<glm::vec3>>> ordered;
-        for (LabelledPolygon& part : brick_parts) {
-          const auto kind = static_cast<core::MapBrickKind>(part.label);
-          std::vector<glm::vec3> polygon;
-          if (whole) {
-            polygon = slice.p_in_box;
-          } else {
-            for (const glm::dvec3& u : part.polygon)
-              polygon.emplace_back(box_from_map * glm::dvec4(u, 1.0));
-          }
-          const double area =
-              ProjectedArea(polygon, clip_from_box, target.width(), target.height());
-          if (kind == core::MapBrickKind::kCut) {
-            stats_.cut_area_px += area;
-            continue;
-          }
-          const bool displaced = kind == core::MapBrickKind::kDisplaced;
-          if (displaced) stats_.displaced_area_px += area;
-          ordered.emplace_back(displaced, whole ? std::move(polygon) : CentroidFan(polygon));
+      std::vector<SlicePart> pieces = splitter_->Split(slice.p_in_box);
+      const bool last_displaced = !runs.empty() && runs.back().displaced;
+      std::stable_partition(pieces.begin(), pieces.end(), [&](const SlicePart& p) {
+        return (p.label == static_cast<int>(core::MapBrickKind::kDisplaced)) == last_displaced;
+      });
+      for (SlicePart& piece : pieces) {
+        const auto kind = static_cast<core::MapBrickKind>(piece.label);
+        const double area =
+            ProjectedArea(piece.p_in_box, clip_from_box, target.width(), target.height());
+        if (kind == core::MapBrickKind::kCut) {  // transparent throughout: not drawn
+          stats_.cut_area_px += area;
+          continue;
         }
-        // Parts of the last run's program first.
-        std::stable_partition(ordered.begin(), ordered.end(),
-                              [&](const auto& p) { return p.first == inside_first; });
-        for (auto& [displaced, polygon] : ordered)
-          add(displaced, std::move(polygon), slice.offset_in_box);
-        continue;
-      }
-      PolygonBoxSplit pieces;
-      if (any_support) {
-        pieces = SplitPolygonByBox(slice.p_in_box, lo, hi);
-      } else {
-        pieces.outside.push_back(slice.p_in_box);
-      }
-      const bool whole = pieces.inside.empty() && pieces.outside.size() == 1;
-      const bool inside_first = !runs.empty() && runs.back().displaced;
-      if (inside_first && !pieces.inside.empty()) add(true, pieces.inside, slice.offset_in_box);
-      for (auto& part : pieces.outside) {
-        add(false, whole ? std::move(part) : CentroidFan(part), slice.offset_in_box);
-      }
-      if (!inside_first && !pieces.inside.empty()) add(true, pieces.inside, slice.offset_in_box);
-      if (!pieces.inside.empty()) {
-        stats_.displaced_area_px +=
-            ProjectedArea(pieces.inside, clip_from_box, target.width(), target.height());
+        const bool displaced = kind == core::MapBrickKind::kDisplaced;
+        if (displaced) stats_.displaced_area_px += area;
+        if (runs.empty() || runs.back().displaced != displaced) {
+          runs.push_back({displaced, static_cast<int>(parts.slices.size()), 0});
+        }
+        ++runs.back().count;
+        parts.slices.push_back(Slice{std::move(piece.p_in_box), slice.offset_in_box});
       }
     }
     stats_.parts = static_cast<int>(parts.slices.size());

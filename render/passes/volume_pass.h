@@ -28,6 +28,7 @@
 
 #include <glm/glm.hpp>
 #include <memory>
+#include <optional>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -218,9 +219,9 @@ class VolumePass : public Pass {
   std::vector<core::StoredDisplacementMap> stored_;
   std::vector<core::Box3> active_;  // core::ActiveBox of each stored map
   core::Box3 support_;              // support_box()
-  // The single map's bricks (brick_texels) as boxes, map space, labelled by
-  // core::MapBrickKind; no nodes when slices are not split by bricks.
-  BoxTree bricks_;
+  // How DrawDvr splits slices (support_skip): one map's bricks (brick_texels)
+  // or the support box, labelled by core::MapBrickKind; empty without split.
+  std::optional<SliceSplitter> splitter_;
   core::Box3 proxy_box_;
   double voxel_world_ = 1;
   Texture volume_texture_;

@@ -2,11 +2,13 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <random>
 #include <thread>
 
 #include "core/error.h"
 #include "core/mesh.h"
 #include "core/projection.h"
+#include "core/summed_volume.h"
 #include "core/timing.h"
 
 namespace core {
@@ -129,6 +131,29 @@ TEST(Timing, CpuStopwatchCountsWorkNotWaiting) {
   std::this_thread::sleep_for(std::chrono::milliseconds(50));
   EXPECT_LT(cpu.ElapsedMs(), 10.0);
   EXPECT_GE(cpu.ElapsedMs(), 0.0);
+}
+
+// The summed-volume table against brute-force counts over random boxes.
+TEST(SummedVolume, CountsMatchBruteForce) {
+  std::mt19937 rng(7);
+  const glm::ivec3 dims(7, 5, 9);
+  std::vector<uint8_t> flags(static_cast<size_t>(dims.x) * dims.y * dims.z);
+  for (auto& f : flags) f = static_cast<uint8_t>(rng() % 3 == 0 ? 1 + rng() % 4 : 0);
+  const SummedVolume table(dims, flags);
+  for (int trial = 0; trial < 500; ++trial) {
+    glm::ivec3 lo, hi;
+    for (int a = 0; a < 3; ++a) {
+      lo[a] = static_cast<int>(rng() % (dims[a] + 1));
+      hi[a] = static_cast<int>(rng() % (dims[a] + 1));
+      if (lo[a] > hi[a]) std::swap(lo[a], hi[a]);
+    }
+    int expected = 0;
+    for (int z = lo.z; z < hi.z; ++z)
+      for (int y = lo.y; y < hi.y; ++y)
+        for (int x = lo.x; x < hi.x; ++x)
+          expected += flags[(static_cast<size_t>(z) * dims.y + y) * dims.x + x] != 0;
+    EXPECT_EQ(table.Count(lo, hi), expected) << trial;
+  }
 }
 
 }  // namespace

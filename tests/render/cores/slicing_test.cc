@@ -417,6 +417,27 @@ float DistanceToSegment(const glm::vec3& p, const glm::vec3& a, const glm::vec3&
   return glm::length(p - (a + *t * ab));
 }
 
+// No T-junction: no vertex of one part lies inside an edge of another (it
+// must be that edge's end point, bit for bit, or further than `tolerance`
+// from it).
+template <typename V>
+void ExpectNoTJunctions(const std::vector<std::vector<V>>& parts, float tolerance, int trial) {
+  for (size_t i = 0; i < parts.size(); ++i)
+    for (size_t j = 0; j < parts.size(); ++j) {
+      if (i == j) continue;
+      for (size_t k = 0; k < parts[i].size(); ++k) {
+        const V a = parts[i][k], b = parts[i][(k + 1) % parts[i].size()];
+        for (const V& v : parts[j]) {
+          if (v == a || v == b) continue;
+          float t = 0;
+          const float d = DistanceToSegment(glm::vec3(v), glm::vec3(a), glm::vec3(b), &t);
+          EXPECT_FALSE(d < tolerance && t > 0 && t < 1)
+              << "trial " << trial << ": a vertex of part " << j << " inside an edge of part " << i;
+        }
+      }
+    }
+}
+
 TEST(Slicing, PolygonSplitByABoxTilesThePolygonWithoutTJunctions) {
   std::mt19937 rng(11);
   std::uniform_real_distribution<float> u(0, 1), w(-0.3f, 1.3f), dir(-1, 1);
@@ -438,11 +459,25 @@ TEST(Slicing, PolygonSplitByABoxTilesThePolygonWithoutTJunctions) {
       ++snapped_cases;
     }
     if (trial % 11 == 0 && trial % 5 == 0) lo.z = hi.z = polygon[0].z;  // a face on the plane
-    const PolygonBoxSplit split = SplitPolygonByBox(polygon, lo, hi);
-    std::vector<std::vector<glm::vec3>> parts = split.outside;
-    if (!split.inside.empty()) parts.push_back(split.inside), ++inside_cases;
+    // The box's tree (inside 1, outside 0), as the volume pass splits slices
+    // at its support box.
+    std::vector<glm::vec3> inside;
+    std::vector<std::vector<glm::vec3>> parts;
+    size_t outside_parts = 0;
+    for (const LabelledPolygon& part :
+         PartitionPolygon(std::vector<glm::dvec3>(polygon.begin(), polygon.end()),
+                          BoxTreeOfBox(lo, hi, 1, 0), 1e-6)) {
+      parts.emplace_back(part.polygon.begin(), part.polygon.end());
+      if (part.label == 1) {
+        ASSERT_TRUE(inside.empty()) << trial;
+        inside = parts.back();
+      } else {
+        ++outside_parts;
+      }
+    }
+    inside_cases += !inside.empty();
     split_cases += parts.size() > 1;
-    ASSERT_LE(split.outside.size(), 6u);
+    ASSERT_LE(outside_parts, 6u);
     // 1. The parts' areas add up to the polygon's; the inside part's is the
     //    clip of the polygon by the box's six half-spaces.
     const float area = PolygonArea(polygon);
@@ -456,7 +491,7 @@ TEST(Slicing, PolygonSplitByABoxTilesThePolygonWithoutTJunctions) {
       clipped = ClipPolygonToHalfSpace(clipped, -e, -lo[a]);
       if (!clipped.empty()) clipped = ClipPolygonToHalfSpace(clipped, e, hi[a]);
     }
-    const float inside_area = split.inside.empty() ? 0 : PolygonArea(split.inside);
+    const float inside_area = inside.empty() ? 0 : PolygonArea(inside);
     const float clipped_area = clipped.empty() ? 0 : PolygonArea(clipped);
     EXPECT_NEAR(inside_area, clipped_area, 1e-4f * area + 2e-6f) << trial;
     // 2. Every vertex lies on the plane; the inside part in the box.
@@ -464,27 +499,13 @@ TEST(Slicing, PolygonSplitByABoxTilesThePolygonWithoutTJunctions) {
       EXPECT_GE(part.size(), 3u);
       for (const glm::vec3& v : part) EXPECT_NEAR(glm::dot(n, v), glm::dot(n, c), 1e-5f);
     }
-    for (const glm::vec3& v : split.inside) {
+    for (const glm::vec3& v : inside) {
       EXPECT_TRUE(glm::all(glm::greaterThanEqual(v, lo - 2e-6f)) &&
                   glm::all(glm::lessThanEqual(v, hi + 2e-6f)))
           << trial;
     }
-    // 3. No T-junction: no vertex of one part lies inside an edge of another
-    //    (it must be that edge's end point, bit for bit, or away from it).
-    for (size_t i = 0; i < parts.size(); ++i)
-      for (size_t j = 0; j < parts.size(); ++j) {
-        if (i == j) continue;
-        for (size_t k = 0; k < parts[i].size(); ++k) {
-          const glm::vec3 a = parts[i][k], b = parts[i][(k + 1) % parts[i].size()];
-          for (const glm::vec3& v : parts[j]) {
-            if (v == a || v == b) continue;
-            float t = 0;
-            const float d = DistanceToSegment(v, a, b, &t);
-            EXPECT_FALSE(d < 1e-5f && t > 0 && t < 1) << "trial " << trial << ": a vertex of part "
-                                                      << j << " inside an edge of part " << i;
-          }
-        }
-      }
+    // 3. No T-junction.
+    ExpectNoTJunctions(parts, 1e-5f, trial);
     // 4. Random points of the polygon away from every edge lie in exactly one
     //    part, the inside one iff in the box.
     for (int q = 0; q < 50; ++q) {
@@ -503,7 +524,7 @@ TEST(Slicing, PolygonSplitByABoxTilesThePolygonWithoutTJunctions) {
       }
       if (margin_hits > 0) continue;  // on an edge: a tie
       EXPECT_EQ(in_parts, 1) << trial;
-      if (!split.inside.empty() && InsideConvex(split.inside, n, p, 1e-4f)) {
+      if (!inside.empty() && InsideConvex(inside, n, p, 1e-4f)) {
         EXPECT_TRUE(glm::all(glm::greaterThanEqual(p, lo - 1e-5f)) &&
                     glm::all(glm::lessThanEqual(p, hi + 1e-5f)));
       }
@@ -610,22 +631,10 @@ TEST(Slicing, PolygonPartitionByABoxTreeTilesThePolygonWithoutTJunctions) {
       for (const glm::vec3& v : part) EXPECT_NEAR(glm::dot(n, v), glm::dot(n, c), 1e-5f);
     }
     EXPECT_NEAR(sum, area, 1e-4f * area + 1e-6f) << trial;
-    // 2. No T-junction (as for SplitPolygonByBox).
-    for (size_t i = 0; i < parts.size(); ++i)
-      for (size_t j = 0; j < parts.size(); ++j) {
-        if (i == j) continue;
-        const auto& pi = parts[i].polygon;
-        for (size_t k = 0; k < pi.size(); ++k) {
-          const glm::dvec3 a = pi[k], b = pi[(k + 1) % pi.size()];
-          for (const glm::dvec3& v : parts[j].polygon) {
-            if (v == a || v == b) continue;
-            float t = 0;
-            const float d = DistanceToSegment(glm::vec3(v), glm::vec3(a), glm::vec3(b), &t);
-            EXPECT_FALSE(d < 1e-6f && t > 0 && t < 1) << "trial " << trial << ": a vertex of part "
-                                                      << j << " inside an edge of part " << i;
-          }
-        }
-      }
+    // 2. No T-junction.
+    std::vector<std::vector<glm::dvec3>> dparts;
+    for (const auto& part : parts) dparts.push_back(part.polygon);
+    ExpectNoTJunctions(dparts, 1e-6f, trial);
     // 3. Random points of the polygon away from every edge lie in exactly one
     //    part, whose label is the grid's there.
     for (int q = 0; q < 60; ++q) {
