@@ -13,6 +13,8 @@ PACKAGES=(
   # maths, images (openimageio-tools: its CMake config references iconvert),
   # camera maths, meshes
   libglm-dev libopenimageio-dev openimageio-tools python3-imath libopencv-dev libassimp-dev
+  # triangle order for the post-transform vertex cache (render/gl/gpu_mesh.cc)
+  libmeshoptimizer-dev
   # infrastructure
   libspdlog-dev libfmt-dev libcli11-dev nlohmann-json3-dev
   # viewer GUI

@@ -1,5 +1,7 @@
 #include "render/gl/gpu_mesh.h"
 
+#include <meshoptimizer.h>
+
 #include <algorithm>
 #include <cstddef>
 #include <vector>
@@ -14,26 +16,56 @@ struct Vertex {
   glm::vec3 normal;
   glm::vec2 uv;
 };
+
+// One GL buffer holding `values` (one dummy element when empty: zero-size
+// storage is invalid in GL).
+template <typename T>
+Buffer BufferOf(const std::vector<T>& values) {
+  const T dummy{};
+  return Buffer::CreateWithData(
+      values.empty() ? &dummy : values.data(),
+      static_cast<GLsizeiptr>(std::max<size_t>(1, values.size()) * sizeof(T)));
+}
 }  // namespace
 
-GpuMesh::GpuMesh(const core::TriangleMesh& mesh) {
+VertexOrder VertexCacheOrder(const std::vector<uint32_t>& indices, size_t vertex_count) {
+  VertexOrder order;
+  std::vector<uint32_t> reordered(indices.size());
+  meshopt_optimizeVertexCache(reordered.data(), indices.data(), indices.size(), vertex_count);
+  order.new_from_old.resize(vertex_count);
+  order.vertex_count = meshopt_optimizeVertexFetchRemap(order.new_from_old.data(), reordered.data(),
+                                                        reordered.size(), vertex_count);
+  order.indices.resize(reordered.size());
+  meshopt_remapIndexBuffer(order.indices.data(), reordered.data(), reordered.size(),
+                           order.new_from_old.data());
+  return order;
+}
+
+GpuMesh::GpuMesh(const core::TriangleMesh& mesh) : GpuMesh(mesh, nullptr) {}
+
+GpuMesh::GpuMesh(const core::TriangleMesh& mesh, const std::vector<glm::vec2>& vertex_data)
+    : GpuMesh(mesh, &vertex_data) {}
+
+GpuMesh::GpuMesh(const core::TriangleMesh& mesh, const std::vector<glm::vec2>* vertex_data) {
   mesh.Validate("GpuMesh");
-  std::vector<Vertex> vertices(mesh.positions.size());
-  for (size_t i = 0; i < vertices.size(); ++i) {
-    vertices[i].position = mesh.positions[i];
-    vertices[i].normal = mesh.normals.empty() ? glm::vec3(0, 0, 1) : mesh.normals[i];
-    vertices[i].uv = mesh.uvs.empty() ? glm::vec2(0) : mesh.uvs[i];
+  if (vertex_data && vertex_data->size() != mesh.positions.size()) {
+    core::ThrowInputError("GpuMesh", "{} vertex data values for {} vertices", vertex_data->size(),
+                          mesh.positions.size());
   }
-  index_count_ = static_cast<GLsizei>(mesh.indices.size());
-  // Zero-size storage is invalid in GL: keep one dummy element for empty meshes.
-  const Vertex dummy_vertex{};
-  const uint32_t dummy_index = 0;
-  vertices_ = Buffer::CreateWithData(
-      vertices.empty() ? &dummy_vertex : vertices.data(),
-      static_cast<GLsizeiptr>(std::max<size_t>(1, vertices.size()) * sizeof(Vertex)));
-  indices_ = Buffer::CreateWithData(
-      mesh.indices.empty() ? &dummy_index : mesh.indices.data(),
-      static_cast<GLsizeiptr>(std::max<size_t>(1, mesh.indices.size()) * sizeof(uint32_t)));
+  const VertexOrder order = VertexCacheOrder(mesh.indices, mesh.positions.size());
+  std::vector<Vertex> vertices(order.vertex_count);
+  std::vector<glm::vec2> data(vertex_data ? order.vertex_count : 0);
+  for (size_t i = 0; i < mesh.positions.size(); ++i) {
+    const uint32_t j = order.new_from_old[i];
+    if (j == VertexOrder::kUnused) continue;
+    vertices[j].position = mesh.positions[i];
+    vertices[j].normal = mesh.normals.empty() ? glm::vec3(0, 0, 1) : mesh.normals[i];
+    vertices[j].uv = mesh.uvs.empty() ? glm::vec2(0) : mesh.uvs[i];
+    if (vertex_data) data[j] = (*vertex_data)[i];
+  }
+  index_count_ = static_cast<GLsizei>(order.indices.size());
+  vertices_ = BufferOf(vertices);
+  indices_ = BufferOf(order.indices);
   vao_ = VertexArray::Create();
   glVertexArrayVertexBuffer(vao_.id(), 0, vertices_.id(), 0, sizeof(Vertex));
   glVertexArrayElementBuffer(vao_.id(), indices_.id());
@@ -46,22 +78,13 @@ GpuMesh::GpuMesh(const core::TriangleMesh& mesh) {
     glVertexArrayAttribFormat(vao_.id(), locations[k], sizes[k], GL_FLOAT, GL_FALSE, offsets[k]);
     glVertexArrayAttribBinding(vao_.id(), locations[k], 0);
   }
-}
-
-GpuMesh::GpuMesh(const core::TriangleMesh& mesh, const std::vector<glm::vec2>& vertex_data)
-    : GpuMesh(mesh) {
-  if (vertex_data.size() != mesh.positions.size()) {
-    core::ThrowInputError("GpuMesh", "{} vertex data values for {} vertices", vertex_data.size(),
-                          mesh.positions.size());
+  if (vertex_data) {
+    vertex_data_ = BufferOf(data);
+    glVertexArrayVertexBuffer(vao_.id(), 1, vertex_data_.id(), 0, sizeof(glm::vec2));
+    glEnableVertexArrayAttrib(vao_.id(), kVertexDataLocation);
+    glVertexArrayAttribFormat(vao_.id(), kVertexDataLocation, 2, GL_FLOAT, GL_FALSE, 0);
+    glVertexArrayAttribBinding(vao_.id(), kVertexDataLocation, 1);
   }
-  const glm::vec2 dummy(0.0f);
-  vertex_data_ = Buffer::CreateWithData(
-      vertex_data.empty() ? &dummy : vertex_data.data(),
-      static_cast<GLsizeiptr>(std::max<size_t>(1, vertex_data.size()) * sizeof(glm::vec2)));
-  glVertexArrayVertexBuffer(vao_.id(), 1, vertex_data_.id(), 0, sizeof(glm::vec2));
-  glEnableVertexArrayAttrib(vao_.id(), kVertexDataLocation);
-  glVertexArrayAttribFormat(vao_.id(), kVertexDataLocation, 2, GL_FLOAT, GL_FALSE, 0);
-  glVertexArrayAttribBinding(vao_.id(), kVertexDataLocation, 1);
 }
 
 void GpuMesh::Draw() const {
