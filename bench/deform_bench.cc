@@ -532,8 +532,9 @@ DeformBenchResult RunDeformBench(render::ProgramCache& programs,
     mesh.Bounds(lo, hi);
     const core::Box3d region = core::Box3d{glm::dvec3(lo), glm::dvec3(hi)}.Grown(0.05);
     core::MeshDistance distance(mesh, m.cap_holes, m.file);
+    const core::TriangleMesh drawn = ibr::DrawnMesh(mesh, distance);  // as ibr deform draws it
     std::fprintf(stderr, "bench deform: %s, %zu triangles\n", m.name.c_str(),
-                 mesh.triangle_count());
+                 drawn.triangle_count());
 
     // Distance-field build times, ours and the peer's, over the full region.
     const core::Box3d full = core::Placement::FromRegion(region).ObjectBounds();
@@ -618,14 +619,14 @@ DeformBenchResult RunDeformBench(render::ProgramCache& programs,
         const double scale = scales[si];
         const core::Placement placement =
             core::Placement::FromRegion(region, glm::dvec3(0.0), scale);
-        render::DeformPass pass(programs, {&mesh, &sdf, &texture, placement}, pass_options);
+        render::DeformPass pass(programs, {&drawn, &sdf, &texture, placement}, pass_options);
         const double ms =
             render::TimeFrames([&] { render::DrawFrame(target, pass, view); }, timer).median_ms;
         const DeformOutcomes o = CountDeformOutcomes(render::ReadFrame(target));
         if (mode.name == "continuous") {
           render::DeformPassOptions ray_only = pass_options;
           ray_only.draw_mesh = false;
-          render::DeformPass ray_pass(programs, {&mesh, &sdf, &texture, placement}, ray_only);
+          render::DeformPass ray_pass(programs, {&drawn, &sdf, &texture, placement}, ray_only);
           const double ray =
               render::TimeFrames([&] { render::DrawFrame(target, ray_pass, view); }, timer)
                   .median_ms;
@@ -636,7 +637,7 @@ DeformBenchResult RunDeformBench(render::ProgramCache& programs,
         areas.push_back(area);
         times.push_back(ms);
         ray_times.push_back(ray_ms);
-        result.frames.AddRow({m.name, std::to_string(mesh.triangle_count()), mode.name,
+        result.frames.AddRow({m.name, std::to_string(drawn.triangle_count()), mode.name,
                               m.name + " " + mode.name, Num(scale, 2), Num(area, 4), Num(ms, 2),
                               Num(ray_ms, 2), Num(o.mean_samples, 1)});
         std::fprintf(stderr,

@@ -227,19 +227,7 @@ TriangleMesh TessellateDisplaced(const TriangleMesh& base, const ImageF& height,
   // Area-weighted vertex normals of the displaced surface. Vertices on shared
   // base edges are duplicated per triangle, so normals there come from one
   // side only: fine for shading a reference, not used for geometry.
-  out.normals.assign(out.positions.size(), glm::vec3(0));
-  for (size_t t = 0; t < out.triangle_count(); ++t) {
-    const uint32_t a = out.indices[3 * t], b = out.indices[3 * t + 1], c = out.indices[3 * t + 2];
-    const glm::vec3 n =
-        glm::cross(out.positions[b] - out.positions[a], out.positions[c] - out.positions[a]);
-    out.normals[a] += n;
-    out.normals[b] += n;
-    out.normals[c] += n;
-  }
-  for (auto& n : out.normals) {
-    const float len = glm::length(n);
-    n = len > 1e-30f ? n / len : glm::vec3(0, 0, 1);
-  }
+  SetAreaWeightedNormals(out);
   return out;
 }
 

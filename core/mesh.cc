@@ -44,6 +44,23 @@ void TriangleMesh::Validate(const std::string& where) const {
     if (!finite(t)) ThrowInputError(where, "non-finite uv");
 }
 
+void SetAreaWeightedNormals(TriangleMesh& mesh) {
+  mesh.normals.assign(mesh.positions.size(), glm::vec3(0));
+  for (size_t t = 0; t < mesh.triangle_count(); ++t) {
+    const uint32_t a = mesh.indices[3 * t], b = mesh.indices[3 * t + 1],
+                   c = mesh.indices[3 * t + 2];
+    const glm::vec3 n =
+        glm::cross(mesh.positions[b] - mesh.positions[a], mesh.positions[c] - mesh.positions[a]);
+    mesh.normals[a] += n;
+    mesh.normals[b] += n;
+    mesh.normals[c] += n;
+  }
+  for (auto& n : mesh.normals) {
+    const float len = glm::length(n);
+    n = len > 1e-30f ? n / len : glm::vec3(0, 0, 1);
+  }
+}
+
 namespace {
 constexpr float kPi = std::numbers::pi_v<float>;
 

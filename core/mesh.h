@@ -23,6 +23,10 @@ struct TriangleMesh {
   void Validate(const std::string& where) const;
 };
 
+// Replaces mesh.normals by area-weighted vertex normals (the sum of the
+// incident triangles' cross products, normalised; +z where they cancel).
+void SetAreaWeightedNormals(TriangleMesh& mesh);
+
 // UV sphere of `radius`, `rings` x `segments` quads; uv = (longitude, latitude) in [0,1].
 TriangleMesh MakeSphere(float radius, int rings = 32, int segments = 64);
 // Torus around +z: ring radius `major`, tube radius `minor`; u along the ring,

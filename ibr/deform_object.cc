@@ -284,6 +284,7 @@ void SampleDeformObject(DeformObjectData& d, const DeformObjectOptions& options,
 struct Implicit {
   core::DistanceField sdf;
   render::DepthCube depth_cube;
+  core::TriangleMesh drawn;  // DrawnMesh
   double reach = 0.0;
   double seconds = 0.0;
 };
@@ -302,6 +303,7 @@ Implicit BuildImplicit(const core::TriangleMesh& mesh, const core::Placement& pl
   const core::MeshDistance distance(mesh, options.cap_holes, where);
   const core::Box3d box = placement.ObjectBounds();
   Implicit i;
+  i.drawn = DrawnMesh(mesh, distance);
   if (cube) {
     IBR_CHECK(programs != nullptr);  // the depth cube renders its maps
     i.depth_cube =
@@ -325,12 +327,20 @@ Implicit BuildImplicit(const core::TriangleMesh& mesh, const core::Placement& pl
 void SetImplicit(DeformObjectData& d, Implicit i) {
   d.sdf = std::move(i.sdf);
   d.depth_cube = std::move(i.depth_cube);
+  d.drawn = std::move(i.drawn);
   d.sdf_reach = i.reach;
   d.sdf_seconds = i.seconds;
   ++d.implicit_builds;
 }
 
 }  // namespace
+
+core::TriangleMesh DrawnMesh(const core::TriangleMesh& mesh, const core::MeshDistance& distance) {
+  if (distance.capped_holes() == 0) return mesh;
+  core::TriangleMesh closed = distance.closed_mesh();
+  core::SetAreaWeightedNormals(closed);
+  return closed;
+}
 
 DeformObjectData MakeDeformObject(core::TriangleMesh mesh, const DeformObjectOptions& options,
                                   const std::string& where, bool progress,

@@ -72,6 +72,7 @@ DeformObjectOptions DeformObjectOptionsFrom(const scene::Settings& settings);
 // keep the object where it is while a pass built from it lives).
 struct DeformObjectData {
   core::TriangleMesh mesh;           // normalised
+  core::TriangleMesh drawn;          // what the pass rasterises: DrawnMesh(mesh, ...)
   glm::dmat4 object_from_norm{1.0};  // centre + longest * normalised
   core::Placement placement;         // the deformation box (normalised units)
   double max_displacement = 0.0;     // normalised units
@@ -86,8 +87,15 @@ struct DeformObjectData {
   // What the frame can hold (normalised units): the mesh and the deformation
   // box grown by the largest displacement.
   core::Box3d norm_bounds;
-  render::DeformInputs Inputs() const { return {&mesh, &sdf, &texture, placement, &depth_cube}; }
+  render::DeformInputs Inputs() const { return {&drawn, &sdf, &texture, placement, &depth_cube}; }
 };
+
+// The mesh the deform pass rasterises outside the box: `mesh` itself, or,
+// where `distance` filled holes (--cap-holes), its closed mesh (welded,
+// holes capped, outward-oriented) with area-weighted normals, so that the
+// rasterised part and the ray-cast implicit are one closed surface and no
+// hole shows the inside beside a capped field.
+core::TriangleMesh DrawnMesh(const core::TriangleMesh& mesh, const core::MeshDistance& distance);
 
 // Normalises `mesh` (InputError naming `where` for a mesh without extent),
 // places the deformation box, builds the implicit (the distance field,

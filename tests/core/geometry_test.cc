@@ -1,6 +1,7 @@
 // Camera projection helpers, analytic meshes and timing statistics.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <random>
 #include <thread>
@@ -95,6 +96,30 @@ TEST(Mesh, AnalyticShapesLieOnTheirSurfaces) {
       EXPECT_GT(glm::dot(n, m->normals[a] + m->normals[b] + m->normals[c]), 0.0f);
     }
   }
+}
+
+TEST(Mesh, AreaWeightedNormalsOfASphereAreItsRadii) {
+  core::TriangleMesh sphere = core::MakeSphere(2.0f, 24, 48);
+  sphere.normals.clear();
+  core::SetAreaWeightedNormals(sphere);
+  ASSERT_EQ(sphere.normals.size(), sphere.positions.size());
+  // Degrees, away from the poles and the seam column (its vertices are
+  // repeated, each copy seeing one side's triangles only).
+  double worst = 0.0;
+  for (size_t i = 0; i < sphere.positions.size(); ++i) {
+    const glm::vec3 radial = glm::normalize(sphere.positions[i]);
+    EXPECT_NEAR(glm::length(sphere.normals[i]), 1.0f, 1e-5f);
+    if (std::abs(radial.z) > 0.99f || sphere.uvs[i].x == 0.0f || sphere.uvs[i].x == 1.0f) continue;
+    const double c = std::clamp(glm::dot(radial, sphere.normals[i]), -1.0f, 1.0f);
+    worst = std::max(worst, std::acos(c) * 180.0 / 3.14159265358979);
+  }
+  EXPECT_LT(worst, 1.0);
+  // A triangle with no area leaves its corners' normals at +z.
+  core::TriangleMesh flat;
+  flat.positions = {{0, 0, 0}, {1, 0, 0}, {2, 0, 0}};
+  flat.indices = {0, 1, 2};
+  core::SetAreaWeightedNormals(flat);
+  for (const glm::vec3& n : flat.normals) EXPECT_EQ(n, glm::vec3(0, 0, 1));
 }
 
 TEST(Mesh, ValidateRejectsBadMeshes) {

@@ -16,6 +16,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <string>
@@ -23,9 +24,12 @@
 #include "bench/deform_bench.h"
 #include "capture/synthetic.h"
 #include "core/deform_reference.h"
+#include "core/distance_field.h"
 #include "core/error.h"
 #include "core/look_at.h"
+#include "core/mesh.h"
 #include "core/metrics.h"
+#include "core/projection.h"
 #include "tests/support/gl_test.h"
 
 namespace ibr {
@@ -245,6 +249,67 @@ TEST_F(DeformDepthCubeTest, PeeledSpotAgreesWithTheReferenceWithoutSpecks) {
     EXPECT_GT(cut_pixels, 20) << tag;  // the flap's faces are seen
     EXPECT_EQ(isolated, 0) << tag;
   }
+  EXPECT_NO_GL_ERROR();
+}
+
+// --cap-holes caps the rasterised part too (ibr::DrawnMesh): a sphere with its
+// top cap of triangles removed, capped, its deformation box at the bottom,
+// seen from above: the hole shows the cap at the rim's height, not the
+// sphere's inside.
+TEST_F(DeformDepthCubeTest, CappedHolesAreCappedInTheRasterisedPartToo) {
+  core::TriangleMesh sphere = core::MakeSphere(1.0f, 32, 64);
+  for (glm::vec3& p : sphere.positions) p = glm::vec3(p.x, p.z, -p.y);  // poles on +-y
+  for (glm::vec3& n : sphere.normals) n = glm::vec3(n.x, n.z, -n.y);
+  core::TriangleMesh holed = sphere;
+  holed.indices.clear();
+  float rim = 1.0f;  // the lowest y of a removed triangle's corners
+  for (size_t t = 0; t < sphere.triangle_count(); ++t) {
+    const uint32_t* v = &sphere.indices[3 * t];
+    float lowest = 1.0f;
+    for (int k = 0; k < 3; ++k) lowest = std::min(lowest, sphere.positions[v[k]].y);
+    if (lowest > 0.9f) {
+      rim = std::min(rim, lowest);
+      continue;
+    }
+    holed.indices.insert(holed.indices.end(), v, v + 3);
+  }
+  ASSERT_GT(core::FindMeshBoundary(holed).boundary_loops, 0u);
+  DeformObjectOptions options;
+  options.deformation.terms = {core::Deformation{}};                   // a twist
+  options.region = core::Box3d{{-0.6, -0.6, -0.6}, {0.6, -0.2, 0.6}};  // the bottom
+  options.cap_holes = true;
+  const DeformObjectData data =
+      MakeDeformObject(holed, options, "holed sphere", false, &programs());
+  const core::MeshBoundary boundary = core::FindMeshBoundary(data.drawn);
+  EXPECT_EQ(boundary.boundary_edges, 0u);
+  for (size_t i = 0; i < data.drawn.positions.size(); ++i)  // outward, unit normals
+    EXPECT_GT(glm::dot(data.drawn.normals[i], data.drawn.positions[i]), 0.0f) << i;
+
+  // From straight above (normalised: radius 0.5, centre 0), the camera 3 up.
+  render::ViewSetup view;
+  view.cam_from_world = core::CamFromWorldLookAt({0, 3, 0}, {0, 0, 0}, {0, 0, 1});
+  view.clip_from_cam =
+      core::ClipFromCamPerspective(300.0, 300.0, kSize / 2.0, kSize / 2.0, kSize, kSize, 0.5, 10.0);
+  const auto centre_depth = [&](const core::TriangleMesh& drawn, uint32_t* outcome) {
+    render::DeformInputs inputs = data.Inputs();
+    inputs.mesh = &drawn;
+    render::DeformPass pass(programs(), inputs, options.pass);
+    const render::Frame frame = render::RenderFrame(pass, view, kSize, kSize);
+    *outcome = frame.outcome.at(kSize / 2, kSize / 2);
+    return frame.depth.at(kSize / 2, kSize / 2);
+  };
+  uint32_t outcome = 0;
+  const float capped = centre_depth(data.drawn, &outcome);
+  const float cap_plane = 3.0f - 0.5f * rim;  // camera z of the cap (a plane at the rim)
+  std::printf("centre pixel: camera z %.4f, the cap's plane %.4f\n", capped, cap_plane);
+  EXPECT_NEAR(capped, cap_plane, 0.01f);
+  EXPECT_TRUE(outcome & render::kDeformMeshBit);
+  // The mesh as given, open (as drawn before): the hole shows the inside,
+  // down to the deformation box's top face (y = -0.2, camera z 3.2), where
+  // the capped field's solid begins: the two stages disagreed.
+  const float open = centre_depth(data.mesh, &outcome);
+  std::printf("the open mesh drawn instead: camera z %.4f\n", open);
+  EXPECT_GT(open, 3.1f);
   EXPECT_NO_GL_ERROR();
 }
 
