@@ -532,7 +532,8 @@ DeformBenchResult RunDeformBench(render::ProgramCache& programs,
     mesh.Bounds(lo, hi);
     const core::Box3d region = core::Box3d{glm::dvec3(lo), glm::dvec3(hi)}.Grown(0.05);
     core::MeshDistance distance(mesh, m.cap_holes, m.file);
-    const core::TriangleMesh drawn = ibr::DrawnMesh(mesh, distance);  // as ibr deform draws it
+    const std::optional<core::TriangleMesh> capped = ibr::CappedMesh(distance);
+    const core::TriangleMesh& drawn = capped ? *capped : mesh;  // as ibr deform draws it
     std::fprintf(stderr, "bench deform: %s, %zu triangles\n", m.name.c_str(),
                  drawn.triangle_count());
 

@@ -284,7 +284,7 @@ void SampleDeformObject(DeformObjectData& d, const DeformObjectOptions& options,
 struct Implicit {
   core::DistanceField sdf;
   render::DepthCube depth_cube;
-  core::TriangleMesh drawn;  // DrawnMesh
+  std::optional<core::TriangleMesh> capped;  // CappedMesh
   double reach = 0.0;
   double seconds = 0.0;
 };
@@ -303,12 +303,10 @@ Implicit BuildImplicit(const core::TriangleMesh& mesh, const core::Placement& pl
   const core::MeshDistance distance(mesh, options.cap_holes, where);
   const core::Box3d box = placement.ObjectBounds();
   Implicit i;
-  i.drawn = DrawnMesh(mesh, distance);
+  i.capped = CappedMesh(distance);
   if (cube) {
     IBR_CHECK(programs != nullptr);  // the depth cube renders its maps
-    i.depth_cube =
-        MakeDepthCube(*programs, distance.capped_holes() > 0 ? distance.closed_mesh() : mesh,
-                      options.sdf_resolution);
+    i.depth_cube = MakeDepthCube(*programs, i.capped ? *i.capped : mesh, options.sdf_resolution);
   } else {
     core::DistanceFieldOptions sdf_options;
     sdf_options.resolution = options.sdf_resolution;
@@ -327,7 +325,7 @@ Implicit BuildImplicit(const core::TriangleMesh& mesh, const core::Placement& pl
 void SetImplicit(DeformObjectData& d, Implicit i) {
   d.sdf = std::move(i.sdf);
   d.depth_cube = std::move(i.depth_cube);
-  d.drawn = std::move(i.drawn);
+  d.capped = std::move(i.capped);
   d.sdf_reach = i.reach;
   d.sdf_seconds = i.seconds;
   ++d.implicit_builds;
@@ -335,8 +333,8 @@ void SetImplicit(DeformObjectData& d, Implicit i) {
 
 }  // namespace
 
-core::TriangleMesh DrawnMesh(const core::TriangleMesh& mesh, const core::MeshDistance& distance) {
-  if (distance.capped_holes() == 0) return mesh;
+std::optional<core::TriangleMesh> CappedMesh(const core::MeshDistance& distance) {
+  if (distance.capped_holes() == 0) return std::nullopt;
   core::TriangleMesh closed = distance.closed_mesh();
   core::SetAreaWeightedNormals(closed);
   return closed;

@@ -71,8 +71,10 @@ DeformObjectOptions DeformObjectOptionsFrom(const scene::Settings& settings);
 // Everything a render::DeformPass needs (Inputs() refers to the members:
 // keep the object where it is while a pass built from it lives).
 struct DeformObjectData {
-  core::TriangleMesh mesh;           // normalised
-  core::TriangleMesh drawn;          // what the pass rasterises: DrawnMesh(mesh, ...)
+  core::TriangleMesh mesh;  // normalised
+  // CappedMesh of the mesh when --cap-holes filled holes (the pass draws it
+  // instead of `mesh`); empty otherwise.
+  std::optional<core::TriangleMesh> capped;
   glm::dmat4 object_from_norm{1.0};  // centre + longest * normalised
   core::Placement placement;         // the deformation box (normalised units)
   double max_displacement = 0.0;     // normalised units
@@ -87,15 +89,17 @@ struct DeformObjectData {
   // What the frame can hold (normalised units): the mesh and the deformation
   // box grown by the largest displacement.
   core::Box3d norm_bounds;
-  render::DeformInputs Inputs() const { return {&drawn, &sdf, &texture, placement, &depth_cube}; }
+  // The mesh the pass rasterises outside the box.
+  const core::TriangleMesh& Drawn() const { return capped ? *capped : mesh; }
+  render::DeformInputs Inputs() const { return {&Drawn(), &sdf, &texture, placement, &depth_cube}; }
 };
 
-// The mesh the deform pass rasterises outside the box: `mesh` itself, or,
-// where `distance` filled holes (--cap-holes), its closed mesh (welded,
-// holes capped, outward-oriented) with area-weighted normals, so that the
+// Where `distance` filled holes (--cap-holes): its closed mesh (welded, holes
+// capped, outward-oriented) with area-weighted normals, which the deform pass
+// rasterises and the depth cube renders instead of the open mesh, so that the
 // rasterised part and the ray-cast implicit are one closed surface and no
-// hole shows the inside beside a capped field.
-core::TriangleMesh DrawnMesh(const core::TriangleMesh& mesh, const core::MeshDistance& distance);
+// hole shows the inside beside a capped field. Empty when nothing was capped.
+std::optional<core::TriangleMesh> CappedMesh(const core::MeshDistance& distance);
 
 // Normalises `mesh` (InputError naming `where` for a mesh without extent),
 // places the deformation box, builds the implicit (the distance field,

@@ -252,7 +252,7 @@ TEST_F(DeformDepthCubeTest, PeeledSpotAgreesWithTheReferenceWithoutSpecks) {
   EXPECT_NO_GL_ERROR();
 }
 
-// --cap-holes caps the rasterised part too (ibr::DrawnMesh): a sphere with its
+// --cap-holes caps the rasterised part too (ibr::CappedMesh): a sphere with its
 // top cap of triangles removed, capped, its deformation box at the bottom,
 // seen from above: the hole shows the cap at the rim's height, not the
 // sphere's inside.
@@ -280,10 +280,10 @@ TEST_F(DeformDepthCubeTest, CappedHolesAreCappedInTheRasterisedPartToo) {
   options.cap_holes = true;
   const DeformObjectData data =
       MakeDeformObject(holed, options, "holed sphere", false, &programs());
-  const core::MeshBoundary boundary = core::FindMeshBoundary(data.drawn);
+  const core::MeshBoundary boundary = core::FindMeshBoundary(data.Drawn());
   EXPECT_EQ(boundary.boundary_edges, 0u);
-  for (size_t i = 0; i < data.drawn.positions.size(); ++i)  // outward, unit normals
-    EXPECT_GT(glm::dot(data.drawn.normals[i], data.drawn.positions[i]), 0.0f) << i;
+  for (size_t i = 0; i < data.Drawn().positions.size(); ++i)  // outward, unit normals
+    EXPECT_GT(glm::dot(data.Drawn().normals[i], data.Drawn().positions[i]), 0.0f) << i;
 
   // From straight above (normalised: radius 0.5, centre 0), the camera 3 up.
   render::ViewSetup view;
@@ -299,7 +299,7 @@ TEST_F(DeformDepthCubeTest, CappedHolesAreCappedInTheRasterisedPartToo) {
     return frame.depth.at(kSize / 2, kSize / 2);
   };
   uint32_t outcome = 0;
-  const float capped = centre_depth(data.drawn, &outcome);
+  const float capped = centre_depth(data.Drawn(), &outcome);
   const float cap_plane = 3.0f - 0.5f * rim;  // camera z of the cap (a plane at the rim)
   std::printf("centre pixel: camera z %.4f, the cap's plane %.4f\n", capped, cap_plane);
   EXPECT_NEAR(capped, cap_plane, 0.01f);
