@@ -511,7 +511,7 @@ DeformBenchResult RunDeformBench(render::ProgramCache& programs,
 
   DeformBenchResult result{
       Table({"mesh", "triangles", "mode", "series", "region_scale", "area_fraction", "ms", "ray_ms",
-             "samples_per_ray"}),
+             "samples_per_ray", "mesh_ms", "mesh_both_sides_ms"}),
       Table({"mesh", "mode", "weighted_ms", "over_continuous", "slope_ms", "intercept_ms", "r2",
              "ray_weighted_ms", "ray_over_continuous"}),
       Table({"mesh", "resolution", "builder", "series", "seconds", "queries_or_active"}),
@@ -606,7 +606,7 @@ DeformBenchResult RunDeformBench(render::ProgramCache& programs,
     timer.timed_frames = options.quick ? 1 : 5;
     // The mesh stage's time per region scale: the continuous frame minus its
     // ray stage alone (draw_mesh off); the stage does not depend on the mode.
-    std::vector<double> mesh_stage_ms;
+    std::vector<double> mesh_stage_ms, mesh_both_sides_ms;
     double continuous_weighted = 0.0, continuous_ray_weighted = 0.0;
     for (const Mode& mode : modes) {
       const core::DeformationSum sum{{mode.deformation}};
@@ -620,6 +620,12 @@ DeformBenchResult RunDeformBench(render::ProgramCache& programs,
         const double scale = scales[si];
         const core::Placement placement =
             core::Placement::FromRegion(region, glm::dvec3(0.0), scale);
+        // Median ms a frame of the pass with `o`.
+        const auto time_pass = [&](const render::DeformPassOptions& o) {
+          render::DeformPass timed(programs, {&drawn, &sdf, &texture, placement}, o);
+          return render::TimeFrames([&] { render::DrawFrame(target, timed, view); }, timer)
+              .median_ms;
+        };
         render::DeformPass pass(programs, {&drawn, &sdf, &texture, placement}, pass_options);
         const double ms =
             render::TimeFrames([&] { render::DrawFrame(target, pass, view); }, timer).median_ms;
@@ -627,11 +633,19 @@ DeformBenchResult RunDeformBench(render::ProgramCache& programs,
         if (mode.name == "continuous") {
           render::DeformPassOptions ray_only = pass_options;
           ray_only.draw_mesh = false;
-          render::DeformPass ray_pass(programs, {&drawn, &sdf, &texture, placement}, ray_only);
-          const double ray =
-              render::TimeFrames([&] { render::DrawFrame(target, ray_pass, view); }, timer)
-                  .median_ms;
+          const double ray = time_pass(ray_only);
           mesh_stage_ms.push_back(std::max(ms - ray, 0.0));
+          // The same frame drawing both sides of the mesh everywhere
+          // (cull_back_faces off): what the culling saves, same run.
+          render::DeformPassOptions both_sides = pass_options;
+          both_sides.cull_back_faces = false;
+          const double both = time_pass(both_sides);
+          mesh_both_sides_ms.push_back(std::max(both - ray, 0.0));
+          std::fprintf(stderr,
+                       "bench deform: %s mesh stage %.1f ms (back faces culled: %s), both sides "
+                       "%.1f ms\n",
+                       m.name.c_str(), mesh_stage_ms.back(),
+                       pass.last_culled_back_faces() ? "yes" : "no", mesh_both_sides_ms.back());
         }
         const double ray_ms = std::max(ms - mesh_stage_ms[si], 0.0);
         const double area = static_cast<double>(o.rays) / (double(size) * size);
@@ -640,7 +654,8 @@ DeformBenchResult RunDeformBench(render::ProgramCache& programs,
         ray_times.push_back(ray_ms);
         result.frames.AddRow({m.name, std::to_string(drawn.triangle_count()), mode.name,
                               m.name + " " + mode.name, Num(scale, 2), Num(area, 4), Num(ms, 2),
-                              Num(ray_ms, 2), Num(o.mean_samples, 1)});
+                              Num(ray_ms, 2), Num(o.mean_samples, 1), Num(mesh_stage_ms[si], 2),
+                              mode.name == "continuous" ? Num(mesh_both_sides_ms[si], 2) : ""});
         std::fprintf(stderr,
                      "bench deform: %s %s scale %.2f: area %.3f, %.1f ms (ray stage %.1f), "
                      "%.1f samples per ray\n",

@@ -174,7 +174,9 @@ struct DeformBenchOptions {
 
 struct DeformBenchResult {
   // mesh, triangles, mode, series, region_scale, area_fraction, ms, ray_ms
-  // (the frame minus the mesh stage), samples_per_ray
+  // (the frame minus the mesh stage), samples_per_ray, mesh_ms (the mesh
+  // stage at that scale), mesh_both_sides_ms (continuous rows: the mesh stage
+  // with cull_back_faces off, the culling's baseline)
   Table frames;
   // mesh, mode, weighted_ms, over_continuous, slope_ms, intercept_ms, r2,
   // ray_weighted_ms, ray_over_continuous (and one "across meshes" row per mode)

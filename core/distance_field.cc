@@ -1,6 +1,7 @@
 #include "core/distance_field.h"
 
 #include <algorithm>
+#include <array>
 #include <atomic>
 #include <cmath>
 #include <cstdio>
@@ -90,6 +91,46 @@ MeshBoundary FindMeshBoundary(const TriangleMesh& mesh) {
                           boundary_vertices.end());
   for (uint32_t v : boundary_vertices) boundary.boundary_loops += find(v) == v ? 1 : 0;
   return boundary;
+}
+
+bool IsClosedOutward(const TriangleMesh& mesh) {
+  if (mesh.triangle_count() == 0) return false;
+  std::map<std::array<float, 3>, uint32_t> ids;
+  std::vector<uint32_t> weld(mesh.positions.size());
+  for (size_t v = 0; v < mesh.positions.size(); ++v) {
+    const glm::vec3& p = mesh.positions[v];
+    weld[v] = ids.try_emplace({p.x, p.y, p.z}, static_cast<uint32_t>(ids.size())).first->second;
+  }
+  // Directed edge -> its triangle; components by union-find over triangles.
+  std::map<std::pair<uint32_t, uint32_t>, uint32_t> edge_triangle;
+  std::vector<uint32_t> parent(mesh.triangle_count());
+  std::iota(parent.begin(), parent.end(), 0u);
+  const auto find = [&](uint32_t x) {
+    while (parent[x] != x) x = parent[x] = parent[parent[x]];
+    return x;
+  };
+  for (uint32_t t = 0; t < mesh.triangle_count(); ++t) {
+    const uint32_t v[3] = {weld[mesh.indices[3 * t]], weld[mesh.indices[3 * t + 1]],
+                           weld[mesh.indices[3 * t + 2]]};
+    if (v[0] == v[1] || v[1] == v[2] || v[2] == v[0]) return false;
+    for (int e = 0; e < 3; ++e) {
+      if (!edge_triangle.try_emplace({v[e], v[(e + 1) % 3]}, t).second) return false;
+    }
+  }
+  for (const auto& [edge, t] : edge_triangle) {
+    const auto reverse = edge_triangle.find({edge.second, edge.first});
+    if (reverse == edge_triangle.end()) return false;
+    parent[find(t)] = find(reverse->second);
+  }
+  // Six times each component's signed volume (divergence theorem, double).
+  std::map<uint32_t, double> volume;
+  for (uint32_t t = 0; t < mesh.triangle_count(); ++t) {
+    const glm::dvec3 a(mesh.positions[mesh.indices[3 * t]]);
+    const glm::dvec3 b(mesh.positions[mesh.indices[3 * t + 1]]);
+    const glm::dvec3 c(mesh.positions[mesh.indices[3 * t + 2]]);
+    volume[find(t)] += glm::dot(a, glm::cross(b, c));
+  }
+  return std::all_of(volume.begin(), volume.end(), [](const auto& v) { return v.second > 0; });
 }
 
 void DistanceFieldOptions::Check() const {

@@ -49,6 +49,18 @@ struct MeshBoundary {
 };
 MeshBoundary FindMeshBoundary(const TriangleMesh& mesh);
 
+// Whether a rasteriser that culls back faces still draws every pixel a ray
+// from outside the solid meets first: after welding bit-equal positions only
+// (triangles cover a shared edge's pixels exactly once only when their
+// corners are the same floats), every triangle has three distinct corners,
+// every directed edge is used by one triangle and its reverse by one other
+// (closed, edge-manifold, consistently oriented, no T-junction), and every
+// connected component has a positive signed volume (outward normals). Then
+// a ray from outside crosses a front face before any back face, unless the
+// mesh intersects itself into regions of negative winding, which this does
+// not detect.
+bool IsClosedOutward(const TriangleMesh& mesh);
+
 // Exact distance and inside queries against a closed triangle mesh. The mesh
 // is welded (equal positions), repaired and oriented by CGAL's polygon-soup
 // functions; an open mesh is refused with an InputError naming its boundary

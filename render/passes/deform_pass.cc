@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <limits>
 #include <span>
 
 #include "core/error.h"
@@ -302,6 +303,13 @@ DeformPass::DeformPass(ProgramCache& programs, const DeformInputs& inputs,
       to.indices.insert(to.indices.end(), mesh.indices.begin() + 3 * t,
                         mesh.indices.begin() + 3 * t + 3);
     }
+    cull_back_faces_ = core::IsClosedOutward(mesh);
+    mesh_bounds_ = {glm::dvec3(std::numeric_limits<double>::infinity()),
+                    glm::dvec3(-std::numeric_limits<double>::infinity())};
+    for (const glm::vec3& p : mesh.positions) {
+      mesh_bounds_.lo = glm::min(mesh_bounds_.lo, glm::dvec3(p));
+      mesh_bounds_.hi = glm::max(mesh_bounds_.hi, glm::dvec3(p));
+    }
     if (!outside.indices.empty()) mesh_outside_.emplace(outside);
     if (!crossing.indices.empty()) mesh_crossing_.emplace(crossing);
   }
@@ -372,8 +380,44 @@ void DeformPass::UploadDepthCube(const DepthCube& cube) {
   sdf_spacing_ = static_cast<float>(cube.texel);
 }
 
+namespace {
+
+// Whether every corner of `box` is strictly in front of the near plane of
+// clip_from_world (w > 0 and z > -w, GL's clip volume).
+bool InFrontOfNearPlane(const glm::dmat4& clip_from_world, const core::Box3d& box) {
+  for (int c = 0; c < 8; ++c) {
+    const glm::dvec3 corner((c & 1) ? box.hi.x : box.lo.x, (c & 2) ? box.hi.y : box.lo.y,
+                            (c & 4) ? box.hi.z : box.lo.z);
+    const glm::dvec4 v = clip_from_world * glm::dvec4(corner, 1.0);
+    if (!(v.w > 0.0) || !(v.z + v.w > 1e-9 * v.w)) return false;
+  }
+  return true;
+}
+
+// The pixel rectangle (x, y, width, height) holding the unit box's
+// projection through clip_from_box, one pixel of margin, clipped to the
+// target; the whole target when a corner is not in front of the eye.
+glm::ivec4 ScreenFootprint(const glm::dmat4& clip_from_box, int width, int height) {
+  glm::dvec2 lo(std::numeric_limits<double>::infinity()), hi(-lo);
+  for (int c = 0; c < 8; ++c) {
+    const glm::dvec4 v = clip_from_box * glm::dvec4(c & 1, (c >> 1) & 1, (c >> 2) & 1, 1.0);
+    if (!(v.w > 0.0)) return {0, 0, width, height};
+    const glm::dvec2 px = (glm::dvec2(v) / v.w * 0.5 + 0.5) * glm::dvec2(width, height);
+    lo = glm::min(lo, px);
+    hi = glm::max(hi, px);
+  }
+  const glm::ivec2 a =
+      glm::clamp(glm::ivec2(glm::floor(lo)) - 1, glm::ivec2(0), glm::ivec2(width, height));
+  const glm::ivec2 b =
+      glm::clamp(glm::ivec2(glm::ceil(hi)) + 1, glm::ivec2(0), glm::ivec2(width, height));
+  return {a.x, a.y, b.x - a.x, b.y - a.y};
+}
+
+}  // namespace
+
 void DeformPass::Draw(const RenderTarget& target, const ViewSetup& view) {
   BindOutcomeImage(target);  // both stages OR their bits (pass.h)
+  last_culled_back_faces_ = false;
   const glm::mat4 object_from_box(placement_.object_from_box);
   const glm::mat4 box_from_object(placement_.BoxFromObject());
   const std::vector<std::string> view_defines = BitDefines(view.orthographic);
@@ -389,18 +433,53 @@ void DeformPass::Draw(const RenderTarget& target, const ViewSetup& view) {
     UseProgram(target, program, view);
     program.Set("u_box_from_object", box_from_object);
     program.Set("u_base_color", options_.base_color);
-    if (mesh_outside_) {
-      program.Set("u_piece", -1);  // no clipping
-      mesh_outside_->Draw();
-    }
-    if (mesh_crossing_) {
-      for (int i = 0; i < 6; ++i) glEnable(GL_CLIP_DISTANCE0 + i);
-      for (int piece = 0; piece < 6; ++piece) {
-        program.Set("u_piece", piece);
-        glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
-        mesh_crossing_->Draw();
+    const auto draw_mesh = [&] {
+      if (mesh_outside_) {
+        program.Set("u_piece", -1);  // no clipping
+        mesh_outside_->Draw();
       }
-      for (int i = 0; i < 6; ++i) glDisable(GL_CLIP_DISTANCE0 + i);
+      if (mesh_crossing_) {
+        for (int i = 0; i < 6; ++i) glEnable(GL_CLIP_DISTANCE0 + i);
+        for (int piece = 0; piece < 6; ++piece) {
+          program.Set("u_piece", piece);
+          glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
+          mesh_crossing_->Draw();
+        }
+        for (int i = 0; i < 6; ++i) glDisable(GL_CLIP_DISTANCE0 + i);
+      }
+    };
+    // A closed, outward mesh wholly in front of the near plane: each ray
+    // meets a front face before any back face, so back faces are hidden
+    // except where the front face in front of them was removed, inside the
+    // box; they are drawn only in the box's screen footprint (a second draw
+    // culling front faces, scissored). Exact: the same pixels as drawing
+    // both sides everywhere (tests/render/deform_pass_test). Outward faces
+    // wind counter-clockwise on screen iff det(clip_from_world) < 0 (the
+    // projective map's Jacobian has the sign of its matrix's determinant).
+    const glm::dmat4 clip_from_world =
+        glm::dmat4(view.clip_from_cam) * glm::dmat4(view.cam_from_world);
+    last_culled_back_faces_ = options_.cull_back_faces && cull_back_faces_ &&
+                              InFrontOfNearPlane(clip_from_world, mesh_bounds_);
+    if (last_culled_back_faces_) {
+      glFrontFace(glm::determinant(clip_from_world) < 0 ? GL_CCW : GL_CW);
+      glEnable(GL_CULL_FACE);
+      glCullFace(GL_BACK);
+      draw_mesh();
+      const glm::ivec4 rect = ScreenFootprint(clip_from_world * placement_.object_from_box,
+                                              target.width(), target.height());
+      if (rect.z > 0 && rect.w > 0) {
+        glEnable(GL_SCISSOR_TEST);
+        glScissor(rect.x, rect.y, rect.z, rect.w);
+        glCullFace(GL_FRONT);
+        glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
+        draw_mesh();
+        glDisable(GL_SCISSOR_TEST);
+      }
+      glDisable(GL_CULL_FACE);
+      glCullFace(GL_BACK);
+      glFrontFace(GL_CCW);
+    } else {
+      draw_mesh();
     }
   }
 

@@ -135,6 +135,10 @@ struct DeformPassOptions {
   // The implicit the ray stage samples; the inputs must hold it.
   DeformImplicit implicit = DeformImplicit::kSdf;
   bool draw_mesh = true;  // stage 1; off = the box's ray cast alone
+  // Stage 1 culls back faces where that draws the same pixels (a closed,
+  // outward mesh in front of the near plane; DeformPass::Draw); off = both
+  // sides everywhere (the tests' and the bench's baseline).
+  bool cull_back_faces = true;
   glm::vec4 base_color{0.8f, 0.8f, 0.8f, 1.0f};
   glm::vec4 cut_color{0.85f, 0.35f, 0.3f, 1.0f};  // cut faces and the inside of hollow shells
 
@@ -161,6 +165,9 @@ class DeformPass : public Pass {
   std::string_view name() const override { return "deform"; }
   void Draw(const RenderTarget& target, const ViewSetup& view) override;
   const DeformPassOptions& options() const { return options_; }
+  // Whether the last Draw culled stage 1's back faces (cull_back_faces, a
+  // closed outward mesh, wholly in front of the near plane).
+  bool last_culled_back_faces() const { return last_culled_back_faces_; }
 
  private:
   void UploadDepthCube(const DepthCube& cube);
@@ -174,7 +181,11 @@ class DeformPass : public Pass {
   // wholly inside are never drawn.
   std::optional<GpuMesh> mesh_outside_;
   std::optional<GpuMesh> mesh_crossing_;
-  Texture sdf_;  // the 3D field, or the depth cube's 2D array
+  // core::IsClosedOutward of the mesh: stage 1 may cull back faces (Draw).
+  bool cull_back_faces_ = false;
+  bool last_culled_back_faces_ = false;
+  core::Box3d mesh_bounds_;  // object space, of the mesh's vertices
+  Texture sdf_;              // the 3D field, or the depth cube's 2D array
   Texture deformation_;
   Texture deformation_flap_;  // a peel's flap piece (core/deformation.h "Pieces"); empty if none
   // With a flap: each piece's alpha components (DeformationSum::AlphaComponents).

@@ -213,6 +213,47 @@ TEST(DistanceField, BoxWithSplitVerticesIsClosed) {
   EXPECT_NEAR(normal.y, 1.0, 1e-12);  // outward
 }
 
+TEST(DistanceField, ClosedOutwardMeshesAreRecognised) {
+  // Welded (CGAL's closed mesh) and outward: yes.
+  const MeshDistance sphere(MakeSphere(0.5f, 12, 24), false, "sphere");
+  const TriangleMesh closed = sphere.closed_mesh();
+  EXPECT_TRUE(IsClosedOutward(closed));
+  // Split vertices with bit-equal positions (MakeBox's 24 corners): yes.
+  EXPECT_TRUE(IsClosedOutward(MakeBox(glm::vec3(0.5f, 0.3f, 0.4f))));
+  // Two disjoint outward components: yes.
+  TriangleMesh two = closed;
+  for (const glm::vec3& p : closed.positions) two.positions.push_back(p + glm::vec3(2, 0, 0));
+  for (uint32_t i : closed.indices) two.indices.push_back(i + uint32_t(closed.positions.size()));
+  EXPECT_TRUE(IsClosedOutward(two));
+  // Inside out: no.
+  TriangleMesh inverted = closed;
+  for (size_t t = 0; t < inverted.triangle_count(); ++t)
+    std::swap(inverted.indices[3 * t + 1], inverted.indices[3 * t + 2]);
+  EXPECT_FALSE(IsClosedOutward(inverted));
+  // A cavity (an inward component inside): no (its component volume < 0).
+  TriangleMesh cavity = closed;
+  for (const glm::vec3& p : inverted.positions) cavity.positions.push_back(0.5f * p);
+  for (uint32_t i : inverted.indices)
+    cavity.indices.push_back(i + uint32_t(closed.positions.size()));
+  EXPECT_FALSE(IsClosedOutward(cavity));
+  // One triangle flipped (inconsistent orientation), one removed (a hole):
+  // no.
+  TriangleMesh flipped = closed;
+  std::swap(flipped.indices[1], flipped.indices[2]);
+  EXPECT_FALSE(IsClosedOutward(flipped));
+  TriangleMesh open = closed;
+  open.indices.resize(open.indices.size() - 3);
+  EXPECT_FALSE(IsClosedOutward(open));
+  // MakeSphere's seam column repeats with rounding differences: positions
+  // that are not bit-equal leave cracks a rasteriser may show; no.
+  EXPECT_FALSE(IsClosedOutward(MakeSphere(0.5f, 12, 24)));
+  // A degenerate triangle (two equal corners) and the empty mesh: no.
+  TriangleMesh degenerate = closed;
+  degenerate.indices.insert(degenerate.indices.end(), {0, 0, 1});
+  EXPECT_FALSE(IsClosedOutward(degenerate));
+  EXPECT_FALSE(IsClosedOutward(TriangleMesh{}));
+}
+
 TEST(DistanceField, SampleIsTrilinearAndExactOnPlanes) {
   // The distance to a large box face is linear: trilinear interpolation is exact.
   TriangleMesh box = MakeBox(glm::vec3(10.0f));

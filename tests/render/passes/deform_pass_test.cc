@@ -11,6 +11,7 @@
 #include <bit>
 #include <cmath>
 #include <cstdio>
+#include <glm/gtc/matrix_transform.hpp>
 #include <map>
 #include <random>
 
@@ -457,6 +458,96 @@ TEST_F(DeformPassTest, ZeroDeformationCompositeReproducesTheMesh) {
   // Trilinear interpolation of the distance to a curved surface and the
   // mesh's own facets: well under a voxel.
   EXPECT_LT(worst, 0.5 * sdf_.spacing);
+  EXPECT_NO_GL_ERROR();
+}
+
+TEST_F(DeformPassTest, CullingBackFacesDrawsTheSamePixels) {
+  // Stage 1 culls the back faces of a closed, outward mesh and draws them
+  // only in the box's screen footprint (DeformPass::Draw). Against drawing
+  // both sides everywhere, over random boxes, deformations, cuts that open
+  // the mesh and views (mirrored ones, and ones with the near plane in the
+  // mesh, where the pass must not cull): the same colour, camera z, normal
+  // and outcome bits at every pixel.
+  const core::MeshDistance distance(core::MakeTorus(0.4f, 0.18f, 40, 20), false, "torus");
+  Scene scene;
+  scene.mesh = distance.closed_mesh();
+  core::SetAreaWeightedNormals(scene.mesh);  // the back-face count below reads them
+  ASSERT_TRUE(core::IsClosedOutward(scene.mesh));
+  scene.sdf_resolution = 40;
+  scene.deformation_resolution = 32;
+  std::mt19937 rng(71);
+  std::uniform_real_distribution<double> u01(0.0, 1.0);
+  const auto uniform = [&](double lo, double hi) { return lo + (hi - lo) * u01(rng); };
+  const core::DeformationKind kinds[] = {
+      core::DeformationKind::kKnife, core::DeformationKind::kPeel, core::DeformationKind::kTwist};
+  const CutMode cuts[] = {CutMode::kHollow, CutMode::kNone, CutMode::kSolid};
+  int culled = 0, differing = 0, back_face_pixels = 0;
+  const int kConfigs = 30;
+  for (int i = 0; i < kConfigs; ++i) {
+    const core::DeformationKind kind = kinds[i % 3];
+    const double amount = kind == core::DeformationKind::kKnife  ? uniform(0.1, 0.4)
+                          : kind == core::DeformationKind::kPeel ? uniform(1.0, 3.0)
+                                                                 : uniform(0.5, 2.5);
+    scene.deformation.terms = {Make(kind, amount, uniform(0.2, 0.5))};
+    const glm::dvec3 centre(uniform(-0.45, 0.45), uniform(-0.45, 0.45), uniform(-0.15, 0.15));
+    const glm::dvec3 half(uniform(0.08, 0.35), uniform(0.08, 0.35), uniform(0.08, 0.3));
+    scene.placement = core::Placement::FromRegion({centre - half, centre + half});
+    // Mostly outside the torus's bounds; every fifth view close enough for
+    // the near plane (0.1) to cut it.
+    const double theta = uniform(0.0, 2 * M_PI), z = uniform(-0.9, 0.9);
+    const glm::dvec3 direction(std::sqrt(1 - z * z) * std::cos(theta),
+                               std::sqrt(1 - z * z) * std::sin(theta), z);
+    const double range = i % 5 == 4 ? uniform(0.3, 0.7) : uniform(1.2, 2.5);
+    ViewSetup view = MakeView(glm::vec3(range * direction));
+    if (i % 3 == 1)
+      view.cam_from_world = glm::scale(glm::mat4(1.0f), glm::vec3(-1, 1, 1)) *
+                            view.cam_from_world;  // a mirrored camera
+    DeformPassOptions options;
+    options.cut = cuts[(i / 3) % 3];
+    options.cull_back_faces = false;
+    const Frame both = Render(scene, options, view, distance);
+    options.cull_back_faces = true;
+    DeformPass pass(programs(), {&scene.mesh, &sdf_, &texture_, scene.placement}, options);
+    const Frame frame = RenderFrame(pass, view, kSize, kSize);
+    culled += pass.last_culled_back_faces();
+    int differ = 0;
+    const glm::mat3 cam_from_world(view.cam_from_world);
+    for (int y = 0; y < kSize; ++y)
+      for (int x = 0; x < kSize; ++x) {
+        bool same = frame.outcome.at(x, y) == both.outcome.at(x, y) &&
+                    std::bit_cast<uint32_t>(frame.depth.at(x, y)) ==
+                        std::bit_cast<uint32_t>(both.depth.at(x, y));
+        for (int c = 0; c < 4; ++c) same &= frame.color.at(x, y, c) == both.color.at(x, y, c);
+        for (int c = 0; c < 3; ++c) {
+          same &= std::bit_cast<uint32_t>(frame.normal.at(x, y, c)) ==
+                  std::bit_cast<uint32_t>(both.normal.at(x, y, c));
+        }
+        differ += !same;
+        // A back face of the rasterised mesh seen: its normal (camera
+        // frame) points away from the eye along the pixel's ray.
+        if (pass.last_culled_back_faces() && both.Covered(x, y) &&
+            !(both.outcome.at(x, y) & OutcomeBit(RayOutcome::kHit))) {
+          const glm::vec3 n =
+              cam_from_world *
+              glm::vec3(both.normal.at(x, y, 0), both.normal.at(x, y, 1), both.normal.at(x, y, 2));
+          const glm::vec3 ray((x + 0.5 - kSize / 2.0) / g_focal, (y + 0.5 - kSize / 2.0) / g_focal,
+                              1.0);  // as Compare
+          back_face_pixels += glm::dot(n, ray) > 0.05f * glm::length(ray);
+        }
+      }
+    if (differ) std::printf("configuration %d: %d pixels differ\n", i, differ);
+    differing += differ;
+  }
+  std::printf(
+      "back-face culling: %d of %d configurations culled, %d back-face pixels seen in "
+      "them, %d "
+      "pixels differ\n",
+      culled, kConfigs, back_face_pixels, differing);
+  EXPECT_EQ(differing, 0);
+  EXPECT_GE(culled, kConfigs / 2);  // the culling path ran
+  EXPECT_LT(culled, kConfigs);      // and near views did not cull
+  // Back faces were seen through the boxes where the pass culled.
+  EXPECT_GT(back_face_pixels, 50);
   EXPECT_NO_GL_ERROR();
 }
 
