@@ -5,7 +5,8 @@
 //
 // The buffers hold the mesh in VertexCacheOrder: the same triangles (each
 // with its own winding) and the same vertices, reordered for the vertex
-// cache. Nothing may rely on gl_VertexID or gl_PrimitiveID being the mesh's.
+// cache (GpuMesh::Clustered: then regrouped by ClustersOf). Nothing may rely
+// on gl_VertexID or gl_PrimitiveID being the mesh's.
 #pragma once
 
 #include <cstdint>
@@ -36,23 +37,65 @@ struct VertexOrder {
 };
 VertexOrder VertexCacheOrder(const std::vector<uint32_t>& indices, size_t vertex_count);
 
+// A run of a clustered GpuMesh's index buffer (GpuMesh::Clustered):
+// meshoptimizer's meshlets (at most 64 vertices and 124 triangles each) of
+// the cache-ordered triangles, with their bounds in the mesh's frame.
+struct MeshCluster {
+  GLsizei first_index = 0, index_count = 0;
+  glm::vec3 lo{0.0f}, hi{0.0f};  // box of its vertices
+  glm::vec3 center{0.0f};        // bounding sphere
+  float radius = 0.0f;
+  // Every triangle's normal (counter-clockwise winding) is within
+  // acos(cone_cutoff) of cone_axis; cutoff 1 when no cone bounds them.
+  glm::vec3 cone_axis{0.0f};
+  float cone_cutoff = 1.0f;
+  // Whether every triangle faces away from an eye at `eye` (perspective),
+  // or from rays along `direction` (orthographic): meshoptimizer's sphere
+  // form of the cone test, with a margin for float rounding (conservative:
+  // false when in doubt).
+  bool FacesAwayFrom(const glm::dvec3& eye) const;
+  bool FacesAwayAlong(const glm::dvec3& direction) const;
+  // Whether every triangle faces the eye (the same test, axis reversed).
+  bool FacesTowards(const glm::dvec3& eye) const;
+  bool FacesTowardsAlong(const glm::dvec3& direction) const;
+};
+
+// The triangles (`indices`, vertex-cache ordered) regrouped into clusters,
+// each a contiguous run of the returned indices; every triangle kept once
+// with its winding.
+struct ClusterOrder {
+  std::vector<uint32_t> indices;
+  std::vector<MeshCluster> clusters;
+};
+ClusterOrder ClustersOf(const std::vector<uint32_t>& indices,
+                        const std::vector<glm::vec3>& positions);
+
 class GpuMesh {
  public:
   explicit GpuMesh(const core::TriangleMesh& mesh);
+  // With clusters(): the index buffer holds the clusters one after another.
+  static GpuMesh Clustered(const core::TriangleMesh& mesh);
   // Also `vertex_data` (one per vertex) at kVertexDataLocation.
   GpuMesh(const core::TriangleMesh& mesh, const std::vector<glm::vec2>& vertex_data);
   // Issues the indexed draw; binds and unbinds the vertex array.
   void Draw() const;
   GLsizei index_count() const { return index_count_; }
+  // Empty unless Clustered.
+  const std::vector<MeshCluster>& clusters() const { return clusters_; }
+  // Draws the clusters with these indices (ascending; consecutive ones as
+  // one run of a multi-draw).
+  void DrawClusters(const std::vector<uint32_t>& ids) const;
 
  private:
-  GpuMesh(const core::TriangleMesh& mesh, const std::vector<glm::vec2>* vertex_data);
+  GpuMesh(const core::TriangleMesh& mesh, const std::vector<glm::vec2>* vertex_data,
+          bool clustered);
 
   Buffer vertices_;
   Buffer indices_;
   Buffer vertex_data_;  // empty without the extra attribute
   VertexArray vao_;
   GLsizei index_count_ = 0;
+  std::vector<MeshCluster> clusters_;
 };
 
 }  // namespace render

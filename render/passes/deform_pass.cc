@@ -310,7 +310,13 @@ DeformPass::DeformPass(ProgramCache& programs, const DeformInputs& inputs,
       mesh_bounds_.lo = glm::min(mesh_bounds_.lo, glm::dvec3(p));
       mesh_bounds_.hi = glm::max(mesh_bounds_.hi, glm::dvec3(p));
     }
-    if (!outside.indices.empty()) mesh_outside_.emplace(outside);
+    if (!outside.indices.empty()) {
+      if (cull_back_faces_) {
+        mesh_outside_.emplace(GpuMesh::Clustered(outside));
+      } else {
+        mesh_outside_.emplace(outside);
+      }
+    }
     if (!crossing.indices.empty()) mesh_crossing_.emplace(crossing);
   }
   // The unit box as 12 triangles (36 corners, positions in box units).
@@ -394,23 +400,24 @@ bool InFrontOfNearPlane(const glm::dmat4& clip_from_world, const core::Box3d& bo
   return true;
 }
 
-// The pixel rectangle (x, y, width, height) holding the unit box's
-// projection through clip_from_box, one pixel of margin, clipped to the
+// The pixel rectangle (x, y, width, height) holding the projection of the
+// box [lo, hi] through clip_from_local, one pixel of margin, clipped to the
 // target; the whole target when a corner is not in front of the eye.
-glm::ivec4 ScreenFootprint(const glm::dmat4& clip_from_box, int width, int height) {
-  glm::dvec2 lo(std::numeric_limits<double>::infinity()), hi(-lo);
+glm::ivec4 ScreenRect(const glm::dmat4& clip_from_local, const glm::dvec3& lo, const glm::dvec3& hi,
+                      int width, int height) {
+  glm::dvec2 a(std::numeric_limits<double>::infinity()), b(-a);
   for (int c = 0; c < 8; ++c) {
-    const glm::dvec4 v = clip_from_box * glm::dvec4(c & 1, (c >> 1) & 1, (c >> 2) & 1, 1.0);
+    const glm::dvec3 corner((c & 1) ? hi.x : lo.x, (c & 2) ? hi.y : lo.y, (c & 4) ? hi.z : lo.z);
+    const glm::dvec4 v = clip_from_local * glm::dvec4(corner, 1.0);
     if (!(v.w > 0.0)) return {0, 0, width, height};
     const glm::dvec2 px = (glm::dvec2(v) / v.w * 0.5 + 0.5) * glm::dvec2(width, height);
-    lo = glm::min(lo, px);
-    hi = glm::max(hi, px);
+    a = glm::min(a, px);
+    b = glm::max(b, px);
   }
-  const glm::ivec2 a =
-      glm::clamp(glm::ivec2(glm::floor(lo)) - 1, glm::ivec2(0), glm::ivec2(width, height));
-  const glm::ivec2 b =
-      glm::clamp(glm::ivec2(glm::ceil(hi)) + 1, glm::ivec2(0), glm::ivec2(width, height));
-  return {a.x, a.y, b.x - a.x, b.y - a.y};
+  const glm::dvec2 size(width, height);
+  const glm::ivec2 lo_px(glm::clamp(glm::floor(a) - 1.0, glm::dvec2(0.0), size));
+  const glm::ivec2 hi_px(glm::clamp(glm::ceil(b) + 1.0, glm::dvec2(0.0), size));
+  return {lo_px.x, lo_px.y, hi_px.x - lo_px.x, hi_px.y - lo_px.y};
 }
 
 }  // namespace
@@ -418,6 +425,7 @@ glm::ivec4 ScreenFootprint(const glm::dmat4& clip_from_box, int width, int heigh
 void DeformPass::Draw(const RenderTarget& target, const ViewSetup& view) {
   BindOutcomeImage(target);  // both stages OR their bits (pass.h)
   last_culled_back_faces_ = false;
+  last_culled_clusters_ = 0;
   const glm::mat4 object_from_box(placement_.object_from_box);
   const glm::mat4 box_from_object(placement_.BoxFromObject());
   const std::vector<std::string> view_defines = BitDefines(view.orthographic);
@@ -433,53 +441,79 @@ void DeformPass::Draw(const RenderTarget& target, const ViewSetup& view) {
     UseProgram(target, program, view);
     program.Set("u_box_from_object", box_from_object);
     program.Set("u_base_color", options_.base_color);
-    const auto draw_mesh = [&] {
-      if (mesh_outside_) {
-        program.Set("u_piece", -1);  // no clipping
-        mesh_outside_->Draw();
-      }
-      if (mesh_crossing_) {
-        for (int i = 0; i < 6; ++i) glEnable(GL_CLIP_DISTANCE0 + i);
-        for (int piece = 0; piece < 6; ++piece) {
-          program.Set("u_piece", piece);
-          glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
-          mesh_crossing_->Draw();
-        }
-        for (int i = 0; i < 6; ++i) glDisable(GL_CLIP_DISTANCE0 + i);
-      }
-    };
     // A closed, outward mesh wholly in front of the near plane: each ray
     // meets a front face before any back face, so back faces are hidden
-    // except where the front face in front of them was removed, inside the
-    // box; they are drawn only in the box's screen footprint (a second draw
-    // culling front faces, scissored). Exact: the same pixels as drawing
-    // both sides everywhere (tests/render/deform_pass_test). Outward faces
-    // wind counter-clockwise on screen iff det(clip_from_world) < 0 (the
+    // except where the front face before them was removed, inside the box,
+    // i.e. within the box's screen footprint. So the triangles outside the
+    // box are drawn by cluster (their normal cones and screen rectangles):
+    // clusters facing away are drawn only where their rectangle meets the
+    // footprint, scissored to it; clusters meeting the footprint that face
+    // neither way with both sides; the rest with back faces culled. Exact:
+    // the same pixels as drawing both sides everywhere
+    // (tests/render/passes/deform_pass_test). Outward faces wind
+    // counter-clockwise on screen iff det(clip_from_world) < 0 (the
     // projective map's Jacobian has the sign of its matrix's determinant).
     const glm::dmat4 clip_from_world =
         glm::dmat4(view.clip_from_cam) * glm::dmat4(view.cam_from_world);
     last_culled_back_faces_ = options_.cull_back_faces && cull_back_faces_ &&
                               InFrontOfNearPlane(clip_from_world, mesh_bounds_);
-    if (last_culled_back_faces_) {
+    if (mesh_outside_ && last_culled_back_faces_) {
+      const glm::ivec4 footprint =
+          ScreenRect(clip_from_world * placement_.object_from_box, glm::dvec3(0.0), glm::dvec3(1.0),
+                     target.width(), target.height());
+      const glm::dmat4 world_from_clip = glm::inverse(clip_from_world);
+      const auto unproject = [&](double z) {
+        const glm::dvec4 p = world_from_clip * glm::dvec4(0.0, 0.0, z, 1.0);
+        return glm::dvec3(p) / p.w;
+      };
+      const glm::dvec3 eye(glm::inverse(glm::dmat4(view.cam_from_world))[3]);
+      const glm::dvec3 along = unproject(1.0) - unproject(-1.0);  // orthographic rays
+      std::vector<uint32_t> culled, both_sides, away_in_footprint;
+      const std::vector<MeshCluster>& clusters = mesh_outside_->clusters();
+      for (uint32_t i = 0; i < clusters.size(); ++i) {
+        const MeshCluster& c = clusters[i];
+        const glm::ivec4 r = ScreenRect(clip_from_world, glm::dvec3(c.lo), glm::dvec3(c.hi),
+                                        target.width(), target.height());
+        const bool meets_footprint = r.x < footprint.x + footprint.z && footprint.x < r.x + r.z &&
+                                     r.y < footprint.y + footprint.w && footprint.y < r.y + r.w;
+        const bool away = view.orthographic ? c.FacesAwayAlong(along) : c.FacesAwayFrom(eye);
+        const bool towards = view.orthographic ? c.FacesTowardsAlong(along) : c.FacesTowards(eye);
+        if (away) {
+          if (meets_footprint) away_in_footprint.push_back(i);
+        } else if (meets_footprint && !towards) {
+          both_sides.push_back(i);
+        } else {
+          culled.push_back(i);
+        }
+      }
+      last_culled_clusters_ =
+          clusters.size() - culled.size() - both_sides.size() - away_in_footprint.size();
+      program.Set("u_piece", -1);  // no clipping
+      mesh_outside_->DrawClusters(both_sides);
       glFrontFace(glm::determinant(clip_from_world) < 0 ? GL_CCW : GL_CW);
       glEnable(GL_CULL_FACE);
       glCullFace(GL_BACK);
-      draw_mesh();
-      const glm::ivec4 rect = ScreenFootprint(clip_from_world * placement_.object_from_box,
-                                              target.width(), target.height());
-      if (rect.z > 0 && rect.w > 0) {
-        glEnable(GL_SCISSOR_TEST);
-        glScissor(rect.x, rect.y, rect.z, rect.w);
-        glCullFace(GL_FRONT);
-        glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
-        draw_mesh();
-        glDisable(GL_SCISSOR_TEST);
-      }
+      mesh_outside_->DrawClusters(culled);
+      glCullFace(GL_FRONT);
+      glEnable(GL_SCISSOR_TEST);
+      glScissor(footprint.x, footprint.y, footprint.z, footprint.w);
+      mesh_outside_->DrawClusters(away_in_footprint);
+      glDisable(GL_SCISSOR_TEST);
       glDisable(GL_CULL_FACE);
       glCullFace(GL_BACK);
       glFrontFace(GL_CCW);
-    } else {
-      draw_mesh();
+    } else if (mesh_outside_) {
+      program.Set("u_piece", -1);  // no clipping
+      mesh_outside_->Draw();
+    }
+    if (mesh_crossing_) {
+      for (int i = 0; i < 6; ++i) glEnable(GL_CLIP_DISTANCE0 + i);
+      for (int piece = 0; piece < 6; ++piece) {
+        program.Set("u_piece", piece);
+        glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
+        mesh_crossing_->Draw();
+      }
+      for (int i = 0; i < 6; ++i) glDisable(GL_CLIP_DISTANCE0 + i);
     }
   }
 

@@ -168,6 +168,10 @@ class DeformPass : public Pass {
   // Whether the last Draw culled stage 1's back faces (cull_back_faces, a
   // closed outward mesh, wholly in front of the near plane).
   bool last_culled_back_faces() const { return last_culled_back_faces_; }
+  // Clusters of the mesh outside the box the last Draw left out whole (all
+  // of their triangles facing away, their screen rectangle off the box's
+  // footprint).
+  size_t last_culled_clusters() const { return last_culled_clusters_; }
 
  private:
   void UploadDepthCube(const DepthCube& cube);
@@ -181,9 +185,11 @@ class DeformPass : public Pass {
   // wholly inside are never drawn.
   std::optional<GpuMesh> mesh_outside_;
   std::optional<GpuMesh> mesh_crossing_;
-  // core::IsClosedOutward of the mesh: stage 1 may cull back faces (Draw).
+  // core::IsClosedOutward of the mesh: stage 1 may cull back faces (Draw);
+  // then mesh_outside_ is clustered.
   bool cull_back_faces_ = false;
   bool last_culled_back_faces_ = false;
+  size_t last_culled_clusters_ = 0;
   core::Box3d mesh_bounds_;  // object space, of the mesh's vertices
   Texture sdf_;              // the 3D field, or the depth cube's 2D array
   Texture deformation_;

@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <array>
+#include <cstdio>
 #include <deque>
 #include <random>
 #include <vector>
@@ -113,6 +114,75 @@ TEST(VertexCacheOrderTest, EmptyMeshHasNoTriangles) {
   EXPECT_EQ(order.vertex_count, 0u);
 }
 
+TEST(ClustersOfTest, TileTheTrianglesAndBoundThem) {
+  const core::TriangleMesh sphere = core::MakeSphere(0.8f, 48, 96);
+  const VertexOrder order = VertexCacheOrder(sphere.indices, sphere.positions.size());
+  std::vector<glm::vec3> positions(order.vertex_count);
+  for (size_t v = 0; v < sphere.positions.size(); ++v)
+    if (order.new_from_old[v] != VertexOrder::kUnused)
+      positions[order.new_from_old[v]] = sphere.positions[v];
+  const ClusterOrder clusters = ClustersOf(order.indices, positions);
+  std::vector<Triangle> a = Triangles(order.indices), b = Triangles(clusters.indices);
+  for (Triangle& t : a) t = Canonical(t);
+  for (Triangle& t : b) t = Canonical(t);
+  std::sort(a.begin(), a.end());
+  std::sort(b.begin(), b.end());
+  EXPECT_EQ(a, b);  // every triangle once, with its winding
+  GLsizei next = 0;
+  for (const MeshCluster& c : clusters.clusters) {
+    EXPECT_EQ(c.first_index, next);  // contiguous runs, in order
+    EXPECT_GT(c.index_count, 0);
+    EXPECT_LE(c.index_count, 3 * 124);
+    next += c.index_count;
+    for (GLsizei i = c.first_index; i < c.first_index + c.index_count; ++i) {
+      const glm::vec3& p = positions[clusters.indices[i]];
+      EXPECT_TRUE(glm::all(glm::lessThanEqual(c.lo, p)) && glm::all(glm::lessThanEqual(p, c.hi)));
+      EXPECT_LE(glm::length(p - c.center), c.radius * (1 + 1e-5f));
+    }
+  }
+  EXPECT_EQ(next, static_cast<GLsizei>(clusters.indices.size()));
+  EXPECT_GT(clusters.clusters.size(), 50u);
+}
+
+TEST(ClustersOfTest, ConeTestsAreConservative) {
+  // For random eyes (outside and inside the sphere) and view directions:
+  // a cluster said to face away has every triangle facing away, one said to
+  // face the eye every triangle facing it (exactly, in double).
+  const core::TriangleMesh mesh = core::MakeTorus(0.6f, 0.25f, 64, 32);
+  const ClusterOrder clusters = ClustersOf(mesh.indices, mesh.positions);
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  int away = 0, towards = 0, wrong = 0;
+  for (int trial = 0; trial < 200; ++trial) {
+    const glm::dvec3 direction = glm::normalize(glm::dvec3(u(rng), u(rng), u(rng)));
+    const glm::dvec3 eye = -direction * (0.2 + 4.0 * std::abs(u(rng)));
+    const bool orthographic = trial % 4 == 3;
+    for (const MeshCluster& c : clusters.clusters) {
+      const bool a = orthographic ? c.FacesAwayAlong(direction) : c.FacesAwayFrom(eye);
+      const bool t = orthographic ? c.FacesTowardsAlong(direction) : c.FacesTowards(eye);
+      away += a;
+      towards += t;
+      if (!a && !t) continue;
+      for (GLsizei i = c.first_index; i < c.first_index + c.index_count; i += 3) {
+        const glm::dvec3 p0(mesh.positions[clusters.indices[i]]);
+        const glm::dvec3 p1(mesh.positions[clusters.indices[i + 1]]);
+        const glm::dvec3 p2(mesh.positions[clusters.indices[i + 2]]);
+        const glm::dvec3 n = glm::cross(p1 - p0, p2 - p0);
+        if (glm::length(n) == 0.0) continue;
+        for (const glm::dvec3& p : {p0, p1, p2}) {
+          const double facing = glm::dot(n, orthographic ? direction : p - eye);
+          wrong += a ? !(facing > 0) : !(facing < 0);
+        }
+      }
+    }
+  }
+  std::printf("cone tests: %d clusters facing away, %d facing the eye, %d wrong corners\n", away,
+              towards, wrong);
+  EXPECT_EQ(wrong, 0);
+  EXPECT_GT(away, 300);
+  EXPECT_GT(towards, 300);
+}
+
 class GpuMeshTest : public test_support::GlTest {};
 
 TEST_F(GpuMeshTest, DrawsTheSamePictureWhateverTheTriangleOrder) {
@@ -127,15 +197,22 @@ TEST_F(GpuMeshTest, DrawsTheSamePictureWhateverTheTriangleOrder) {
   options.base_color = {0.9f, 0.5f, 0.2f, 1.0f};
   const Frame a = RenderMesh(programs(), GpuMesh(sphere), view, kSize, kSize, options);
   const Frame b = RenderMesh(programs(), GpuMesh(scrambled), view, kSize, kSize, options);
+  // The same triangles grouped into clusters (GpuMesh::Clustered).
+  const Frame c =
+      RenderMesh(programs(), GpuMesh::Clustered(scrambled), view, kSize, kSize, options);
   int covered = 0, colour_off = 0;
   float depth_off = 0.0f;
   for (int y = 0; y < kSize; ++y) {
     for (int x = 0; x < kSize; ++x) {
       covered += a.Covered(x, y);
       ASSERT_EQ(a.Covered(x, y), b.Covered(x, y)) << x << "," << y;
-      for (int c = 0; c < 4; ++c)
-        colour_off = std::max(colour_off, std::abs(a.color.at(x, y, c) - b.color.at(x, y, c)));
-      depth_off = std::max(depth_off, std::abs(a.depth.at(x, y) - b.depth.at(x, y)));
+      ASSERT_EQ(a.Covered(x, y), c.Covered(x, y)) << x << "," << y;
+      for (const Frame* f : {&b, &c}) {
+        for (int k = 0; k < 4; ++k) {
+          colour_off = std::max(colour_off, std::abs(a.color.at(x, y, k) - f->color.at(x, y, k)));
+        }
+        depth_off = std::max(depth_off, std::abs(a.depth.at(x, y) - f->depth.at(x, y)));
+      }
     }
   }
   EXPECT_GT(covered, 3000);

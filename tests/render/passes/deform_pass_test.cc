@@ -468,7 +468,7 @@ TEST_F(DeformPassTest, CullingBackFacesDrawsTheSamePixels) {
   // the mesh and views (mirrored ones, and ones with the near plane in the
   // mesh, where the pass must not cull): the same colour, camera z, normal
   // and outcome bits at every pixel.
-  const core::MeshDistance distance(core::MakeTorus(0.4f, 0.18f, 40, 20), false, "torus");
+  const core::MeshDistance distance(core::MakeTorus(0.4f, 0.18f, 96, 48), false, "torus");
   Scene scene;
   scene.mesh = distance.closed_mesh();
   core::SetAreaWeightedNormals(scene.mesh);  // the back-face count below reads them
@@ -482,6 +482,7 @@ TEST_F(DeformPassTest, CullingBackFacesDrawsTheSamePixels) {
       core::DeformationKind::kKnife, core::DeformationKind::kPeel, core::DeformationKind::kTwist};
   const CutMode cuts[] = {CutMode::kHollow, CutMode::kNone, CutMode::kSolid};
   int culled = 0, differing = 0, back_face_pixels = 0;
+  size_t clusters_left_out = 0;
   const int kConfigs = 30;
   for (int i = 0; i < kConfigs; ++i) {
     const core::DeformationKind kind = kinds[i % 3];
@@ -490,7 +491,7 @@ TEST_F(DeformPassTest, CullingBackFacesDrawsTheSamePixels) {
                                                                  : uniform(0.5, 2.5);
     scene.deformation.terms = {Make(kind, amount, uniform(0.2, 0.5))};
     const glm::dvec3 centre(uniform(-0.45, 0.45), uniform(-0.45, 0.45), uniform(-0.15, 0.15));
-    const glm::dvec3 half(uniform(0.08, 0.35), uniform(0.08, 0.35), uniform(0.08, 0.3));
+    const glm::dvec3 half(uniform(0.05, 0.3), uniform(0.05, 0.3), uniform(0.05, 0.25));
     scene.placement = core::Placement::FromRegion({centre - half, centre + half});
     // Mostly outside the torus's bounds; every fifth view close enough for
     // the near plane (0.1) to cut it.
@@ -510,6 +511,7 @@ TEST_F(DeformPassTest, CullingBackFacesDrawsTheSamePixels) {
     DeformPass pass(programs(), {&scene.mesh, &sdf_, &texture_, scene.placement}, options);
     const Frame frame = RenderFrame(pass, view, kSize, kSize);
     culled += pass.last_culled_back_faces();
+    clusters_left_out += pass.last_culled_clusters();
     int differ = 0;
     const glm::mat3 cam_from_world(view.cam_from_world);
     for (int y = 0; y < kSize; ++y)
@@ -539,13 +541,13 @@ TEST_F(DeformPassTest, CullingBackFacesDrawsTheSamePixels) {
     differing += differ;
   }
   std::printf(
-      "back-face culling: %d of %d configurations culled, %d back-face pixels seen in "
-      "them, %d "
-      "pixels differ\n",
-      culled, kConfigs, back_face_pixels, differing);
+      "back-face culling: %d of %d configurations culled, %zu clusters left out whole, %d "
+      "back-face pixels seen, %d pixels differ\n",
+      culled, kConfigs, clusters_left_out, back_face_pixels, differing);
   EXPECT_EQ(differing, 0);
-  EXPECT_GE(culled, kConfigs / 2);  // the culling path ran
-  EXPECT_LT(culled, kConfigs);      // and near views did not cull
+  EXPECT_GE(culled, kConfigs / 2);   // the culling path ran
+  EXPECT_LT(culled, kConfigs);       // and near views did not cull
+  EXPECT_GT(clusters_left_out, 0u);  // whole back-facing clusters were not drawn
   // Back faces were seen through the boxes where the pass culled.
   EXPECT_GT(back_face_pixels, 50);
   EXPECT_NO_GL_ERROR();
