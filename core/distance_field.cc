@@ -57,6 +57,24 @@ std::vector<uint32_t> WeldVertices(const std::vector<glm::vec3>& positions, doub
   return weld;
 }
 
+namespace {
+
+// Disjoint sets over 0..n-1 (path halving).
+class UnionFind {
+ public:
+  explicit UnionFind(size_t n) : parent_(n) { std::iota(parent_.begin(), parent_.end(), 0u); }
+  uint32_t Find(uint32_t x) {
+    while (parent_[x] != x) x = parent_[x] = parent_[parent_[x]];
+    return x;
+  }
+  void Join(uint32_t a, uint32_t b) { parent_[Find(a)] = Find(b); }
+
+ private:
+  std::vector<uint32_t> parent_;
+};
+
+}  // namespace
+
 MeshBoundary FindMeshBoundary(const TriangleMesh& mesh) {
   std::vector<uint32_t> weld = WeldVertices(mesh.positions);
   std::map<std::pair<uint32_t, uint32_t>, int> edge_uses;
@@ -69,68 +87,78 @@ MeshBoundary FindMeshBoundary(const TriangleMesh& mesh) {
       ++edge_uses[{std::min(a, b), std::max(a, b)}];
     }
   }
-  // Loops = connected components of the boundary edges (union-find).
-  std::vector<uint32_t> parent(mesh.positions.size());
-  std::iota(parent.begin(), parent.end(), 0u);
-  auto find = [&](uint32_t x) {
-    while (parent[x] != x) x = parent[x] = parent[parent[x]];
-    return x;
-  };
+  // Loops = connected components of the boundary edges.
+  UnionFind loops(mesh.positions.size());
   MeshBoundary boundary;
   std::vector<uint32_t> boundary_vertices;
   for (const auto& [edge, uses] : edge_uses) {
     if (uses >= 3) ++boundary.nonmanifold_edges;
     if (uses != 1) continue;
     ++boundary.boundary_edges;
-    parent[find(edge.first)] = find(edge.second);
+    loops.Join(edge.first, edge.second);
     boundary_vertices.push_back(edge.first);
     boundary_vertices.push_back(edge.second);
   }
   std::sort(boundary_vertices.begin(), boundary_vertices.end());
   boundary_vertices.erase(std::unique(boundary_vertices.begin(), boundary_vertices.end()),
                           boundary_vertices.end());
-  for (uint32_t v : boundary_vertices) boundary.boundary_loops += find(v) == v ? 1 : 0;
+  for (uint32_t v : boundary_vertices) boundary.boundary_loops += loops.Find(v) == v ? 1 : 0;
   return boundary;
 }
 
 bool IsClosedOutward(const TriangleMesh& mesh) {
-  if (mesh.triangle_count() == 0) return false;
-  std::map<std::array<float, 3>, uint32_t> ids;
-  std::vector<uint32_t> weld(mesh.positions.size());
-  for (size_t v = 0; v < mesh.positions.size(); ++v) {
+  const size_t n = mesh.triangle_count();
+  if (n == 0) return false;
+  // Weld bit-equal positions: sort the vertices by position, number the
+  // distinct ones (sorted vectors: the pass runs this on every rebuild).
+  std::vector<uint32_t> by_position(mesh.positions.size());
+  std::iota(by_position.begin(), by_position.end(), 0u);
+  const auto key = [&](uint32_t v) {
     const glm::vec3& p = mesh.positions[v];
-    weld[v] = ids.try_emplace({p.x, p.y, p.z}, static_cast<uint32_t>(ids.size())).first->second;
-  }
-  // Directed edge -> its triangle; components by union-find over triangles.
-  std::map<std::pair<uint32_t, uint32_t>, uint32_t> edge_triangle;
-  std::vector<uint32_t> parent(mesh.triangle_count());
-  std::iota(parent.begin(), parent.end(), 0u);
-  const auto find = [&](uint32_t x) {
-    while (parent[x] != x) x = parent[x] = parent[parent[x]];
-    return x;
+    return std::array<float, 3>{p.x, p.y, p.z};
   };
-  for (uint32_t t = 0; t < mesh.triangle_count(); ++t) {
+  std::sort(by_position.begin(), by_position.end(),
+            [&](uint32_t a, uint32_t b) { return key(a) < key(b); });
+  std::vector<uint32_t> weld(mesh.positions.size());
+  uint32_t id = 0;
+  for (size_t k = 0; k < by_position.size(); ++k) {
+    if (k > 0 && key(by_position[k]) != key(by_position[k - 1])) ++id;
+    weld[by_position[k]] = id;
+  }
+  // Directed edges (from << 32 | to) with their triangle, sorted.
+  std::vector<std::pair<uint64_t, uint32_t>> edges;
+  edges.reserve(3 * n);
+  for (uint32_t t = 0; t < n; ++t) {
     const uint32_t v[3] = {weld[mesh.indices[3 * t]], weld[mesh.indices[3 * t + 1]],
                            weld[mesh.indices[3 * t + 2]]};
     if (v[0] == v[1] || v[1] == v[2] || v[2] == v[0]) return false;
-    for (int e = 0; e < 3; ++e) {
-      if (!edge_triangle.try_emplace({v[e], v[(e + 1) % 3]}, t).second) return false;
-    }
+    for (int e = 0; e < 3; ++e) edges.emplace_back(uint64_t{v[e]} << 32 | v[(e + 1) % 3], t);
   }
-  for (const auto& [edge, t] : edge_triangle) {
-    const auto reverse = edge_triangle.find({edge.second, edge.first});
-    if (reverse == edge_triangle.end()) return false;
-    parent[find(t)] = find(reverse->second);
+  std::sort(edges.begin(), edges.end());
+  for (size_t k = 1; k < edges.size(); ++k) {
+    if (edges[k].first == edges[k - 1].first) return false;  // a directed edge used twice
+  }
+  // Every edge's reverse, in a triangle of the same component.
+  UnionFind components(n);
+  for (const auto& [edge, t] : edges) {
+    const uint64_t reverse = edge << 32 | edge >> 32;
+    const auto it =
+        std::lower_bound(edges.begin(), edges.end(), std::pair<uint64_t, uint32_t>{reverse, 0u});
+    if (it == edges.end() || it->first != reverse) return false;
+    components.Join(t, it->second);
   }
   // Six times each component's signed volume (divergence theorem, double).
-  std::map<uint32_t, double> volume;
-  for (uint32_t t = 0; t < mesh.triangle_count(); ++t) {
+  std::vector<double> volume(n, 0.0);
+  for (uint32_t t = 0; t < n; ++t) {
     const glm::dvec3 a(mesh.positions[mesh.indices[3 * t]]);
     const glm::dvec3 b(mesh.positions[mesh.indices[3 * t + 1]]);
     const glm::dvec3 c(mesh.positions[mesh.indices[3 * t + 2]]);
-    volume[find(t)] += glm::dot(a, glm::cross(b, c));
+    volume[components.Find(t)] += glm::dot(a, glm::cross(b, c));
   }
-  return std::all_of(volume.begin(), volume.end(), [](const auto& v) { return v.second > 0; });
+  for (uint32_t t = 0; t < n; ++t) {
+    if (components.Find(t) == t && !(volume[t] > 0)) return false;
+  }
+  return true;
 }
 
 void DistanceFieldOptions::Check() const {

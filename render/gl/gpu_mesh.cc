@@ -170,8 +170,10 @@ GpuMesh::GpuMesh(const core::TriangleMesh& mesh, const std::vector<glm::vec2>* v
 }
 
 void GpuMesh::DrawClusters(const std::vector<uint32_t>& ids) const {
-  std::vector<GLsizei> counts;
-  std::vector<const void*> offsets;
+  std::vector<GLsizei>& counts = run_counts_;
+  std::vector<const void*>& offsets = run_offsets_;
+  counts.clear();
+  offsets.clear();
   for (size_t i = 0; i < ids.size(); ++i) {
     const MeshCluster& c = clusters_.at(ids[i]);
     if (i > 0 && ids[i] == ids[i - 1] + 1) {

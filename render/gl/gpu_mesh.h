@@ -96,6 +96,9 @@ class GpuMesh {
   VertexArray vao_;
   GLsizei index_count_ = 0;
   std::vector<MeshCluster> clusters_;
+  // DrawClusters' multi-draw runs (kept: no allocation a draw once grown).
+  mutable std::vector<GLsizei> run_counts_;
+  mutable std::vector<const void*> run_offsets_;
 };
 
 }  // namespace render

@@ -303,13 +303,10 @@ DeformPass::DeformPass(ProgramCache& programs, const DeformInputs& inputs,
       to.indices.insert(to.indices.end(), mesh.indices.begin() + 3 * t,
                         mesh.indices.begin() + 3 * t + 3);
     }
-    cull_back_faces_ = core::IsClosedOutward(mesh);
-    mesh_bounds_ = {glm::dvec3(std::numeric_limits<double>::infinity()),
-                    glm::dvec3(-std::numeric_limits<double>::infinity())};
-    for (const glm::vec3& p : mesh.positions) {
-      mesh_bounds_.lo = glm::min(mesh_bounds_.lo, glm::dvec3(p));
-      mesh_bounds_.hi = glm::max(mesh_bounds_.hi, glm::dvec3(p));
-    }
+    cull_back_faces_ = options_.cull_back_faces && core::IsClosedOutward(mesh);
+    glm::vec3 lo, hi;
+    mesh.Bounds(lo, hi);
+    mesh_bounds_ = {glm::dvec3(lo), glm::dvec3(hi)};
     if (!outside.indices.empty()) {
       if (cull_back_faces_) {
         mesh_outside_.emplace(GpuMesh::Clustered(outside));
@@ -388,13 +385,16 @@ void DeformPass::UploadDepthCube(const DepthCube& cube) {
 
 namespace {
 
+// Corner c (bit k: hi on axis k) of the box [lo, hi].
+glm::dvec3 BoxCorner(const glm::dvec3& lo, const glm::dvec3& hi, int c) {
+  return {(c & 1) ? hi.x : lo.x, (c & 2) ? hi.y : lo.y, (c & 4) ? hi.z : lo.z};
+}
+
 // Whether every corner of `box` is strictly in front of the near plane of
 // clip_from_world (w > 0 and z > -w, GL's clip volume).
 bool InFrontOfNearPlane(const glm::dmat4& clip_from_world, const core::Box3d& box) {
   for (int c = 0; c < 8; ++c) {
-    const glm::dvec3 corner((c & 1) ? box.hi.x : box.lo.x, (c & 2) ? box.hi.y : box.lo.y,
-                            (c & 4) ? box.hi.z : box.lo.z);
-    const glm::dvec4 v = clip_from_world * glm::dvec4(corner, 1.0);
+    const glm::dvec4 v = clip_from_world * glm::dvec4(BoxCorner(box.lo, box.hi, c), 1.0);
     if (!(v.w > 0.0) || !(v.z + v.w > 1e-9 * v.w)) return false;
   }
   return true;
@@ -407,8 +407,7 @@ glm::ivec4 ScreenRect(const glm::dmat4& clip_from_local, const glm::dvec3& lo, c
                       int width, int height) {
   glm::dvec2 a(std::numeric_limits<double>::infinity()), b(-a);
   for (int c = 0; c < 8; ++c) {
-    const glm::dvec3 corner((c & 1) ? hi.x : lo.x, (c & 2) ? hi.y : lo.y, (c & 4) ? hi.z : lo.z);
-    const glm::dvec4 v = clip_from_local * glm::dvec4(corner, 1.0);
+    const glm::dvec4 v = clip_from_local * glm::dvec4(BoxCorner(lo, hi, c), 1.0);
     if (!(v.w > 0.0)) return {0, 0, width, height};
     const glm::dvec2 px = (glm::dvec2(v) / v.w * 0.5 + 0.5) * glm::dvec2(width, height);
     a = glm::min(a, px);
@@ -455,8 +454,7 @@ void DeformPass::Draw(const RenderTarget& target, const ViewSetup& view) {
     // projective map's Jacobian has the sign of its matrix's determinant).
     const glm::dmat4 clip_from_world =
         glm::dmat4(view.clip_from_cam) * glm::dmat4(view.cam_from_world);
-    last_culled_back_faces_ = options_.cull_back_faces && cull_back_faces_ &&
-                              InFrontOfNearPlane(clip_from_world, mesh_bounds_);
+    last_culled_back_faces_ = cull_back_faces_ && InFrontOfNearPlane(clip_from_world, mesh_bounds_);
     if (mesh_outside_ && last_culled_back_faces_) {
       const glm::ivec4 footprint =
           ScreenRect(clip_from_world * placement_.object_from_box, glm::dvec3(0.0), glm::dvec3(1.0),
@@ -468,7 +466,13 @@ void DeformPass::Draw(const RenderTarget& target, const ViewSetup& view) {
       };
       const glm::dvec3 eye(glm::inverse(glm::dmat4(view.cam_from_world))[3]);
       const glm::dvec3 along = unproject(1.0) - unproject(-1.0);  // orthographic rays
-      std::vector<uint32_t> culled, both_sides, away_in_footprint;
+      // The cluster lists (members: no allocation a frame once grown).
+      std::vector<uint32_t>& culled = culled_ids_;
+      std::vector<uint32_t>& both_sides = both_sides_ids_;
+      std::vector<uint32_t>& away_in_footprint = away_in_footprint_ids_;
+      culled.clear();
+      both_sides.clear();
+      away_in_footprint.clear();
       const std::vector<MeshCluster>& clusters = mesh_outside_->clusters();
       for (uint32_t i = 0; i < clusters.size(); ++i) {
         const MeshCluster& c = clusters[i];

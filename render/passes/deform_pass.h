@@ -185,9 +185,12 @@ class DeformPass : public Pass {
   // wholly inside are never drawn.
   std::optional<GpuMesh> mesh_outside_;
   std::optional<GpuMesh> mesh_crossing_;
-  // core::IsClosedOutward of the mesh: stage 1 may cull back faces (Draw);
-  // then mesh_outside_ is clustered.
+  // options.cull_back_faces and core::IsClosedOutward of the mesh: stage 1
+  // may cull back faces (Draw); then mesh_outside_ is clustered.
   bool cull_back_faces_ = false;
+  // Draw's cluster lists of mesh_outside_: back faces culled, both sides,
+  // facing away but within the box's footprint.
+  std::vector<uint32_t> culled_ids_, both_sides_ids_, away_in_footprint_ids_;
   bool last_culled_back_faces_ = false;
   size_t last_culled_clusters_ = 0;
   core::Box3d mesh_bounds_;  // object space, of the mesh's vertices
