@@ -238,6 +238,16 @@ Table RunVolumeBench(const VolumeBenchOptions& o) {
     const Measured b = TimeVolume(programs, peeled, unsplit, size, timer);
     add("unsplit", e.name, "peel 64^3 (eq. 6+7) unsplit RGBA16 map", 1.0, 64, size, b, p.ms,
         nullptr, std::nan(""));
+    // The brick size of the split (VolumePassOptions::brick_texels; the
+    // default is the "volume" row): finer bricks leave less area to the
+    // displaced shader but cut each slice into more parts.
+    for (const int bricks : {2, 3, 4, 8}) {
+      if (bricks == displaced.brick_texels) continue;
+      render::VolumePassOptions by_bricks = displaced;
+      by_bricks.brick_texels = bricks;
+      add("bricks", e.name, fmt::format("peel 64^3 (eq. 6+7) bricks of {} texels", bricks), 1.0, 64,
+          size, TimeVolume(programs, peeled, by_bricks, size, timer), p.ms, nullptr, std::nan(""));
+    }
     summary.push_back(fmt::format(
         "{:<13} plain {:7.1f} ms  peel {:7.1f} ms  peel/plain {:5.2f}x (support box only "
         "{:5.2f}x, unsplit {:5.2f}x, unsplit RGBA16 map {:5.2f}x)  VTK {}  plain/VTK {}",

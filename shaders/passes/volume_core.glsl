@@ -86,9 +86,9 @@ Displaced VolumeDisplace(vec3 p_prime) {
   return d;
 }
 
-// What the normal needs from the maps (sec. 4.3).
+// What the normal needs from the maps (sec. 4.3), for the gradient g at p.
 struct NormalFrame {
-  mat3 jac;         // d p / d p' (I + A J_D A^-1 chained over maps)
+  vec3 g;           // (d p / d p')^T g, d p / d p' = prod_i (I + A_i J_D,i A_i^-1) (eq. 6, 10)
   float cut_alpha;  // the smallest single mask met (for eq. 7)
   vec3 cut_grad;    // its gradient in p' space
 };
@@ -115,12 +115,35 @@ void MapDerivatives(int i, vec3 u, out mat3 jd, out vec3 ga) {
 }
 #endif
 
-NormalFrame VolumeNormalFrame(Displaced d) {
+#if VOLUME_MAPS > 0
+// (I + A J_D A^-1)^T v = v + A^-T J_D^T A^T v for map i, as three
+// vector-matrix products (v * M = M^T v): a third of the multiply-adds of
+// forming the matrix product and transposing it.
+vec3 MapJacobianTransposeTimes(int i, mat3 jd, vec3 v) {
+  return v + ((v * u_tex_from_map[i]) * jd) * u_map_from_tex_linear[i];
+}
+#endif
+
+// d p / d p' is the product J_0 J_1 ... J_{n-1} of the maps' Jacobians (the
+// last map acts first, eq. 9), so its transpose applies J_0^T first; the cut's
+// gradient d alpha_m / d p' = (J_{m+1} ... J_{n-1})^T A_m^-T grad_u alpha_m
+// for the map m of the smallest mask.
+NormalFrame VolumeNormalFrame(Displaced d, vec3 g) {
   NormalFrame f;
-  f.jac = mat3(1.0);
+  f.g = g;
   f.cut_alpha = 1.0;
   f.cut_grad = vec3(0.0);
-#if VOLUME_MAPS > 0
+#if VOLUME_MAPS == 1
+  if (d.mask[0] >= 0.0) {
+    mat3 jd;
+    vec3 ga;
+    MapDerivatives(0, d.u[0], jd, ga);
+    f.cut_alpha = min(d.mask[0], 1.0);
+    f.cut_grad = d.mask[0] < 1.0 ? ga * u_map_from_tex_linear[0] : vec3(0.0);
+    f.g = MapJacobianTransposeTimes(0, jd, g);
+  }
+#elif VOLUME_MAPS > 1
+  mat3 jac = mat3(1.0);
   for (int i = VOLUME_MAPS - 1; i >= 0; --i) {
     if (d.mask[i] < 0.0) continue;
     mat3 jd;
@@ -128,11 +151,11 @@ NormalFrame VolumeNormalFrame(Displaced d) {
     MapDerivatives(i, d.u[i], jd, ga);
     if (d.mask[i] < f.cut_alpha) {
       f.cut_alpha = d.mask[i];
-      // d alpha / d p' = J_before^T A^-T grad_u alpha.
-      f.cut_grad = transpose(f.jac) * (transpose(u_map_from_tex_linear[i]) * ga);
+      f.cut_grad = transpose(jac) * (ga * u_map_from_tex_linear[i]);
     }
-    f.jac = (mat3(1.0) + u_tex_from_map[i] * jd * u_map_from_tex_linear[i]) * f.jac;
+    jac = (mat3(1.0) + u_tex_from_map[i] * jd * u_map_from_tex_linear[i]) * jac;
   }
+  f.g = transpose(jac) * g;
 #endif
   return f;
 }
@@ -143,9 +166,11 @@ float VolumeDensity(vec3 p) {
   return texture(u_volume, p).r;
 }
 
+// v / |v|, zero where |v| <= 1e-18 (one reciprocal square root: no sqrt
+// and divide per call, up to three calls a sample with eq. 7).
 vec3 SafeNormalize(vec3 v) {
-  float l = length(v);
-  return l > 1e-20 ? v / l : vec3(0.0);
+  float l2 = dot(v, v);
+  return l2 > 1e-36 ? v * inversesqrt(l2) : vec3(0.0);
 }
 
 // Outward unit normal (world) at p for the displaced sample d; zero where
@@ -153,8 +178,8 @@ vec3 SafeNormalize(vec3 v) {
 vec3 VolumeNormal(Displaced d) {
   vec3 g = InUnitCube(d.p) ? texture(u_gradient, d.p).xyz : vec3(0.0);
 #if defined(VOLUME_LIGHT_TRANSFORMED) || defined(VOLUME_LIGHT_BLENDED)
-  NormalFrame f = VolumeNormalFrame(d);
-  g = transpose(f.jac) * g;  // eq. 6: n' = (I + J_D)^T n
+  NormalFrame f = VolumeNormalFrame(d, g);
+  g = f.g;  // eq. 6: n' = (I + J_D)^T n
 #endif
 #if defined(VOLUME_LIGHT_BLENDED)
   // Eq. 7: w (I + J_D)^T n + (1 - w) grad alpha, w = 0 on the cut's 0.5

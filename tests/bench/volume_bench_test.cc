@@ -63,12 +63,16 @@ TEST_F(VolumeBenchTest, QuickRunWritesEveryConfigurationAndThePlots) {
   ASSERT_EQ(columns, expected);
   std::set<std::string> sweeps, volumes;
   std::map<double, double> sampling_error;  // sampling distance -> p95 colour error
-  int rows = 0;
+  int rows = 0, brick_rows = 0;
   while (std::getline(in, line)) {
     const std::vector<std::string> f = Split(line);
     ASSERT_EQ(f.size(), columns.size()) << line;  // a comma in a name would shift the fields
     ++rows;
     sweeps.insert(f[0]);
+    if (f[0] == "bricks") {
+      ++brick_rows;
+      EXPECT_GT(Number(f[10]), 0) << line;  // ratio to plain DVR
+    }
     volumes.insert(f[1]);
     for (int c : {7, 8, 9}) EXPECT_GT(Number(f[c]), 0) << columns[c] << " in: " << line;
     EXPECT_GE(Number(f[6]), 1) << line;  // slices
@@ -84,8 +88,10 @@ TEST_F(VolumeBenchTest, QuickRunWritesEveryConfigurationAndThePlots) {
       EXPECT_TRUE(f[13].empty()) << line;
     }
   }
-  EXPECT_EQ(sweeps, (std::set<std::string>{"volume", "unsplit", "profile", "finest", "sampling",
-                                           "map_size", "area"}));
+  EXPECT_EQ(sweeps, (std::set<std::string>{"volume", "unsplit", "bricks", "profile", "finest",
+                                           "sampling", "map_size", "area"}));
+  // Three brick sizes besides the default's "volume" row, per volume.
+  EXPECT_EQ(brick_rows, 3 * 3);
   // Sampling 4x farther apart than the finest's step costs accuracy; half a
   // voxel apart is nearer the finest (0.25 voxel) than two voxels.
   ASSERT_EQ(sampling_error.size(), 2u);
