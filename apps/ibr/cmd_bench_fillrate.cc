@@ -14,7 +14,8 @@ namespace {
 void AddFillRateBench(CLI::App& app) {
   auto* fill = BenchGroup(app)->add_subcommand(
       "fillrate",
-      "Calibrate fragment throughput: a trivial textured, alpha-tested full-screen pass");
+      "Calibrate fragment throughput: a trivial textured, alpha-tested full-screen pass (2D "
+      "NEAREST, 2D LINEAR), and one 3D LINEAR lookup blended (the floor of a DVR fragment)");
   static render::FillRateOptions options;
   fill->add_option("--size", options.width, "target width = height in pixels")
       ->capture_default_str();
@@ -25,13 +26,19 @@ void AddFillRateBench(CLI::App& app) {
   fill->callback([] {
     options.height = options.width;
     const auto gl = StartBenchGl("ibr bench fillrate", options.width);
-    for (bool linear : {false, true}) {
+    // 2D NEAREST and LINEAR with the alpha test, then the DVR floor (one 3D
+    // LINEAR lookup, blended).
+    for (int variant = 0; variant < 3; ++variant) {
       render::FillRateOptions o = options;
-      o.linear_filter = linear;
+      o.linear_filter = variant > 0;
+      o.volume_fetch = variant == 2;
       const render::FillRate rate = render::MeasureFillRate(gl->programs, o);
-      fmt::print("fill rate ({:7}) {}x{} x {} layers: {:8.2f} ms/frame  {:7.1f} M fragments/s\n",
-                 linear ? "LINEAR" : "NEAREST", o.width, o.height, o.layers_per_frame,
-                 rate.ms_per_frame, rate.fragments_per_second * 1e-6);
+      fmt::print("fill rate ({:14}) {}x{} x {} layers: {:8.2f} ms/frame  {:7.1f} M fragments/s\n",
+                 variant == 0   ? "NEAREST"
+                 : variant == 1 ? "LINEAR"
+                                : "3D LINEAR+blend",
+                 o.width, o.height, o.layers_per_frame, rate.ms_per_frame,
+                 rate.fragments_per_second * 1e-6);
     }
   });
 }

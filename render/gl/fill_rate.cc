@@ -38,27 +38,48 @@ FillRate MeasureFillRate(ProgramCache& programs, const FillRateOptions& options)
   glTextureParameteri(texture.id(), GL_TEXTURE_WRAP_S, GL_REPEAT);
   glTextureParameteri(texture.id(), GL_TEXTURE_WRAP_T, GL_REPEAT);
 
-  const Program& program = programs.Get(
-      {.vertex = "common/fullscreen.vert.glsl", .fragment = "common/fill_rate.frag.glsl"});
+  // volume_fetch: a deterministic 64^3 R16 volume, trilinear.
+  constexpr int kVol = 64;
+  Texture volume;
+  if (options.volume_fetch) {
+    std::vector<uint16_t> voxels(kVol * kVol * kVol);
+    for (size_t i = 0; i < voxels.size(); ++i) voxels[i] = static_cast<uint16_t>(i * 2654435761u);
+    volume = Texture::Create3DWithData(GL_R16, glm::ivec3(kVol), GL_RED, GL_UNSIGNED_SHORT,
+                                       voxels.data());
+    volume.SetLinearFilter();
+  }
+
+  const Program& program =
+      programs.Get({.vertex = "common/fullscreen.vert.glsl",
+                    .fragment = options.volume_fetch ? "common/fill_rate_volume.frag.glsl"
+                                                     : "common/fill_rate.frag.glsl"});
   VertexArray vao = VertexArray::Create();
   target.Bind();
   glDisable(GL_DEPTH_TEST);
   glDisable(GL_STENCIL_TEST);
-  glDisable(GL_BLEND);
+  if (options.volume_fetch) {
+    glEnable(GL_BLEND);
+    glBlendFunc(GL_ONE, GL_ONE_MINUS_SRC_ALPHA);
+  } else {
+    glDisable(GL_BLEND);
+  }
   program.Use();
   glBindVertexArray(vao.id());
-  glBindTextureUnit(0, texture.id());
+  glBindTextureUnit(0, options.volume_fetch ? volume.id() : texture.id());
   const float clear[4] = {0, 0, 0, 0};
   const GLint u_layer = program.Uniform("u_layer");
   auto frame = [&] {
     target.Clear(clear);
     for (int layer = 0; layer < options.layers_per_frame; ++layer) {
-      program.Set(u_layer, static_cast<float>(layer));
+      program.Set(u_layer, options.volume_fetch
+                               ? (layer + 0.5f) / static_cast<float>(options.layers_per_frame)
+                               : static_cast<float>(layer));
       glDrawArrays(GL_TRIANGLES, 0, 3);
     }
   };
   const core::TimingStats stats = TimeFrames(frame, options.timer);
   glBindVertexArray(0);
+  glDisable(GL_BLEND);
   FillRate result;
   result.fragments_per_frame =
       static_cast<double>(options.width) * options.height * options.layers_per_frame;

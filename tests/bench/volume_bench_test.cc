@@ -88,8 +88,8 @@ TEST_F(VolumeBenchTest, QuickRunWritesEveryConfigurationAndThePlots) {
       EXPECT_TRUE(f[13].empty()) << line;
     }
   }
-  EXPECT_EQ(sweeps, (std::set<std::string>{"volume", "unsplit", "bricks", "profile", "finest",
-                                           "sampling", "map_size", "area"}));
+  EXPECT_EQ(sweeps, (std::set<std::string>{"floor", "volume", "unsplit", "bricks", "profile",
+                                           "finest", "sampling", "map_size", "area"}));
   // Three brick sizes besides the default's "volume" row, per volume.
   EXPECT_EQ(brick_rows, 3 * 3);
   // Sampling 4x farther apart than the finest's step costs accuracy; half a
@@ -97,7 +97,7 @@ TEST_F(VolumeBenchTest, QuickRunWritesEveryConfigurationAndThePlots) {
   ASSERT_EQ(sampling_error.size(), 2u);
   EXPECT_GT(sampling_error.at(2.0), 0.0);
   EXPECT_LT(sampling_error.at(0.5), sampling_error.at(2.0));
-  EXPECT_EQ(volumes, (std::set<std::string>{"tooth", "neghip", "bucky"}));
+  EXPECT_EQ(volumes, (std::set<std::string>{"calibration", "tooth", "neghip", "bucky"}));
   EXPECT_GE(rows, 18);
   for (const char* png :
        {"volume_time_vs_area.png", "volume_time_vs_sampling.png", "volume_time_vs_map_size.png"})

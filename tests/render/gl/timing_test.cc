@@ -27,10 +27,14 @@ TEST_F(TimingTest, FillRateIsFiniteAndPositive) {
   options.width = options.height = 64;
   options.layers_per_frame = 8;
   options.timer = {1, 3};
-  const FillRate rate = MeasureFillRate(programs(), options);
-  EXPECT_EQ(rate.fragments_per_frame, 64.0 * 64 * 8);
-  EXPECT_TRUE(std::isfinite(rate.fragments_per_second));
-  EXPECT_GT(rate.fragments_per_second, 0);
+  for (const bool volume_fetch : {false, true}) {
+    options.volume_fetch = volume_fetch;
+    const FillRate rate = MeasureFillRate(programs(), options);
+    EXPECT_EQ(rate.fragments_per_frame, 64.0 * 64 * 8);
+    EXPECT_TRUE(std::isfinite(rate.fragments_per_second));
+    EXPECT_GT(rate.fragments_per_second, 0);
+  }
+  EXPECT_NO_GL_ERROR();
 }
 
 TEST(FillRateOptions, AbsurdOptionsAreRejected) {
