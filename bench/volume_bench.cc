@@ -170,22 +170,26 @@ Table RunVolumeBench(const VolumeBenchOptions& o) {
     fmt::print("{:<10} {:<8} {:<22} {:>6.1f} ms  slices {:>4}  fill {:.3f}\n", sweep, volume,
                variant, m.ms, m.slices, fraction);
   };
-  // The floor of any DVR fragment here: one trilinear 3D lookup and
-  // premultiplied blending, full-screen layers, against the same calibration
-  // (what fill_fraction can reach at best on this machine).
-  {
+  // The floors of a DVR fragment here, full-screen layers against the same
+  // calibration (what fill_fraction can reach at best on this machine): one
+  // trilinear 3D lookup classified by the transfer function, premultiplied
+  // blending (plain DVR), and a map's
+  // trilinear lookup before it, the volume read where it points (displaced
+  // DVR: the least a displaced sample does).
+  using Work = render::FillRateOptions::Work;
+  for (const auto& [work, name] :
+       {std::pair{Work::kVolumeBlend, "3D fetch + transfer function + blend"},
+        std::pair{Work::kDisplacedVolumeBlend,
+                  "map fetch then 3D fetch + transfer function + blend"}}) {
     render::FillRateOptions floor_options = fill_options;
-    floor_options.volume_fetch = true;
+    floor_options.work = work;
     const render::FillRate f = render::MeasureFillRate(programs, floor_options);
     const double fraction = f.fragments_per_second / fill.fragments_per_second;
-    table.AddRow({"floor", "calibration", "one 3D LINEAR fetch + blend", "0", "0",
-                  std::to_string(size), std::to_string(floor_options.layers_per_frame),
-                  Num(f.ms_per_frame, 1), Num(f.fragments_per_frame * 1e-6, 3), Num(fraction, 3),
-                  "", "", "", ""});
-    fmt::print(
-        "DVR floor (one 3D LINEAR fetch + premultiplied blend, {} px): {:.1f} M "
-        "fragments/s, {:.3f} of the calibrated fill rate\n",
-        size, f.fragments_per_second * 1e-6, fraction);
+    table.AddRow({"floor", "calibration", name, "0", "0", std::to_string(size),
+                  std::to_string(floor_options.layers_per_frame), Num(f.ms_per_frame, 1),
+                  Num(f.fragments_per_frame * 1e-6, 3), Num(fraction, 3), "", "", "", ""});
+    fmt::print("DVR floor ({}, {} px): {:.1f} M fragments/s, {:.3f} of the calibrated fill rate\n",
+               name, size, f.fragments_per_second * 1e-6, fraction);
   }
   core::EffectOptions peel;
   peel.effect = core::Effect::kPeel;

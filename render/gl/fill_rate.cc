@@ -1,5 +1,6 @@
 #include "render/gl/fill_rate.h"
 
+#include <cmath>
 #include <vector>
 
 #include "core/error.h"
@@ -38,26 +39,52 @@ FillRate MeasureFillRate(ProgramCache& programs, const FillRateOptions& options)
   glTextureParameteri(texture.id(), GL_TEXTURE_WRAP_S, GL_REPEAT);
   glTextureParameteri(texture.id(), GL_TEXTURE_WRAP_T, GL_REPEAT);
 
-  // volume_fetch: a deterministic 64^3 R16 volume, trilinear.
-  constexpr int kVol = 64;
-  Texture volume;
-  if (options.volume_fetch) {
+  // The volume floors: a deterministic 64^3 R16 volume, a 256-entry
+  // transfer function and a 32^3 RGBA32F map (displacements within +-0.05),
+  // all LINEAR.
+  using Work = FillRateOptions::Work;
+  const bool volume = options.work != Work::kTexture2DAlphaTest;
+  const bool displaced = options.work == Work::kDisplacedVolumeBlend;
+  constexpr int kVol = 64, kMap = 32;
+  Texture volume_texture, map_texture;
+  if (volume) {
     std::vector<uint16_t> voxels(kVol * kVol * kVol);
     for (size_t i = 0; i < voxels.size(); ++i) voxels[i] = static_cast<uint16_t>(i * 2654435761u);
-    volume = Texture::Create3DWithData(GL_R16, glm::ivec3(kVol), GL_RED, GL_UNSIGNED_SHORT,
-                                       voxels.data());
-    volume.SetLinearFilter();
+    volume_texture = Texture::Create3DWithData(GL_R16, glm::ivec3(kVol), GL_RED, GL_UNSIGNED_SHORT,
+                                               voxels.data());
+    volume_texture.SetLinearFilter();
+  }
+  Texture transfer;
+  if (volume) {  // 256 RGBA32F entries, low opacities (as the presets')
+    std::vector<float> table(4 * 256);
+    for (int i = 0; i < 256; ++i) {
+      const float x = i / 255.0f;
+      table[4 * i + 0] = x, table[4 * i + 1] = 1 - x, table[4 * i + 2] = 0.5f;
+      table[4 * i + 3] = 0.05f * x;
+    }
+    transfer = Texture::Create(GL_TEXTURE_1D);
+    glTextureStorage1D(transfer.id(), 1, GL_RGBA32F, 256);
+    glTextureSubImage1D(transfer.id(), 0, 0, 256, GL_RGBA, GL_FLOAT, table.data());
+    transfer.SetLinearFilter();
+  }
+  if (displaced) {
+    std::vector<float> d(4 * kMap * kMap * kMap);
+    for (size_t i = 0; i < d.size(); ++i) d[i] = 0.05f * std::sin(0.37f * static_cast<float>(i));
+    map_texture =
+        Texture::Create3DWithData(GL_RGBA32F, glm::ivec3(kMap), GL_RGBA, GL_FLOAT, d.data());
+    map_texture.SetLinearFilter();
   }
 
-  const Program& program =
-      programs.Get({.vertex = "common/fullscreen.vert.glsl",
-                    .fragment = options.volume_fetch ? "common/fill_rate_volume.frag.glsl"
-                                                     : "common/fill_rate.frag.glsl"});
+  ProgramDesc desc{
+      .vertex = "common/fullscreen.vert.glsl",
+      .fragment = volume ? "common/fill_rate_volume.frag.glsl" : "common/fill_rate.frag.glsl"};
+  if (displaced) desc.defines.push_back("DISPLACED");
+  const Program& program = programs.Get(desc);
   VertexArray vao = VertexArray::Create();
   target.Bind();
   glDisable(GL_DEPTH_TEST);
   glDisable(GL_STENCIL_TEST);
-  if (options.volume_fetch) {
+  if (volume) {
     glEnable(GL_BLEND);
     glBlendFunc(GL_ONE, GL_ONE_MINUS_SRC_ALPHA);
   } else {
@@ -65,15 +92,22 @@ FillRate MeasureFillRate(ProgramCache& programs, const FillRateOptions& options)
   }
   program.Use();
   glBindVertexArray(vao.id());
-  glBindTextureUnit(0, options.volume_fetch ? volume.id() : texture.id());
+  glBindTextureUnit(0, volume ? volume_texture.id() : texture.id());
+  if (volume) {
+    glBindTextureUnit(1, transfer.id());
+    program.Set("u_transfer", 1);
+  }
+  if (displaced) {
+    glBindTextureUnit(2, map_texture.id());
+    program.Set("u_map", 2);
+  }
   const float clear[4] = {0, 0, 0, 0};
   const GLint u_layer = program.Uniform("u_layer");
   auto frame = [&] {
     target.Clear(clear);
     for (int layer = 0; layer < options.layers_per_frame; ++layer) {
-      program.Set(u_layer, options.volume_fetch
-                               ? (layer + 0.5f) / static_cast<float>(options.layers_per_frame)
-                               : static_cast<float>(layer));
+      program.Set(u_layer, volume ? (layer + 0.5f) / static_cast<float>(options.layers_per_frame)
+                                  : static_cast<float>(layer));
       glDrawArrays(GL_TRIANGLES, 0, 3);
     }
   };

@@ -27,8 +27,10 @@ TEST_F(TimingTest, FillRateIsFiniteAndPositive) {
   options.width = options.height = 64;
   options.layers_per_frame = 8;
   options.timer = {1, 3};
-  for (const bool volume_fetch : {false, true}) {
-    options.volume_fetch = volume_fetch;
+  using Work = FillRateOptions::Work;
+  for (const Work work :
+       {Work::kTexture2DAlphaTest, Work::kVolumeBlend, Work::kDisplacedVolumeBlend}) {
+    options.work = work;
     const FillRate rate = MeasureFillRate(programs(), options);
     EXPECT_EQ(rate.fragments_per_frame, 64.0 * 64 * 8);
     EXPECT_TRUE(std::isfinite(rate.fragments_per_second));
