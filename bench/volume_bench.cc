@@ -173,9 +173,8 @@ Table RunVolumeBench(const VolumeBenchOptions& o) {
   // The floors of a DVR fragment here, full-screen layers against the same
   // calibration (what fill_fraction can reach at best on this machine): one
   // trilinear 3D lookup classified by the transfer function, premultiplied
-  // blending (plain DVR), and a map's
-  // trilinear lookup before it, the volume read where it points (displaced
-  // DVR: the least a displaced sample does).
+  // blending (plain DVR), and a map's trilinear lookup before it, the volume
+  // read where it points (displaced DVR: the least a displaced sample does).
   using Work = render::FillRateOptions::Work;
   for (const auto& [work, name] :
        {std::pair{Work::kVolumeBlend, "3D fetch + transfer function + blend"},

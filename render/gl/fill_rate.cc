@@ -4,6 +4,7 @@
 #include <vector>
 
 #include "core/error.h"
+#include "render/gl/gl_state.h"
 #include "render/gl/render_target.h"
 
 namespace render {
@@ -17,12 +18,12 @@ void FillRateOptions::Check() const {
   timer.Check();
 }
 
-FillRate MeasureFillRate(ProgramCache& programs, const FillRateOptions& options) {
-  options.Check();
-  RenderTarget target({options.width, options.height, {GL_RGBA8}, true});
-  // A deterministic 256^2 RGBA texture with alpha > 0 everywhere: the alpha
-  // test never discards, but the compiler cannot know it, so the rasteriser
-  // cannot treat the pass as opaque and skip overdrawn layers.
+namespace {
+
+// The calibration's texture: a deterministic 256^2 RGBA texture with alpha > 0
+// everywhere: the alpha test never discards, but the compiler cannot know it,
+// so the rasteriser cannot treat the pass as opaque and skip overdrawn layers.
+Texture CalibrationTexture(bool linear_filter) {
   constexpr int kTex = 256;
   std::vector<uint8_t> texels(kTex * kTex * 4);
   for (int i = 0; i < kTex * kTex; ++i) {
@@ -33,46 +34,65 @@ FillRate MeasureFillRate(ProgramCache& programs, const FillRateOptions& options)
   }
   Texture texture = Texture::Create2D(GL_RGBA8, kTex, kTex);
   glTextureSubImage2D(texture.id(), 0, 0, 0, kTex, kTex, GL_RGBA, GL_UNSIGNED_BYTE, texels.data());
-  const GLint filter = options.linear_filter ? GL_LINEAR : GL_NEAREST;
+  const GLint filter = linear_filter ? GL_LINEAR : GL_NEAREST;
   glTextureParameteri(texture.id(), GL_TEXTURE_MIN_FILTER, filter);
   glTextureParameteri(texture.id(), GL_TEXTURE_MAG_FILTER, filter);
   glTextureParameteri(texture.id(), GL_TEXTURE_WRAP_S, GL_REPEAT);
   glTextureParameteri(texture.id(), GL_TEXTURE_WRAP_T, GL_REPEAT);
+  return texture;
+}
 
-  // The volume floors: a deterministic 64^3 R16 volume, a 256-entry
-  // transfer function and a 32^3 RGBA32F map (displacements within +-0.05),
-  // all LINEAR.
+// The volume floors' textures, all LINEAR: a deterministic 64^3 R16 volume,
+// a 256-entry RGBA32F transfer function of low opacities (as the presets'),
+// and a 32^3 RGBA32F map of displacements within +-0.05.
+Texture FloorVolume() {
+  constexpr int kVol = 64;
+  std::vector<uint16_t> voxels(kVol * kVol * kVol);
+  for (size_t i = 0; i < voxels.size(); ++i) voxels[i] = static_cast<uint16_t>(i * 2654435761u);
+  Texture t =
+      Texture::Create3DWithData(GL_R16, glm::ivec3(kVol), GL_RED, GL_UNSIGNED_SHORT, voxels.data());
+  t.SetLinearFilter();
+  return t;
+}
+
+Texture FloorTransfer() {
+  constexpr int kEntries = 256;
+  std::vector<glm::vec4> table(kEntries);
+  for (int i = 0; i < kEntries; ++i) {
+    const float x = static_cast<float>(i) / (kEntries - 1);
+    table[i] = {x, 1 - x, 0.5f, 0.05f * x};
+  }
+  Texture t = Texture::Create1DWithData(GL_RGBA32F, kEntries, GL_RGBA, GL_FLOAT, table.data());
+  t.SetLinearFilter();
+  return t;
+}
+
+Texture FloorMap() {
+  constexpr int kMap = 32;
+  std::vector<float> d(4 * kMap * kMap * kMap);
+  for (size_t i = 0; i < d.size(); ++i) d[i] = 0.05f * std::sin(0.37f * static_cast<float>(i));
+  Texture t = Texture::Create3DWithData(GL_RGBA32F, glm::ivec3(kMap), GL_RGBA, GL_FLOAT, d.data());
+  t.SetLinearFilter();
+  return t;
+}
+
+}  // namespace
+
+FillRate MeasureFillRate(ProgramCache& programs, const FillRateOptions& options) {
+  options.Check();
+  RenderTarget target({options.width, options.height, {GL_RGBA8}, true});
   using Work = FillRateOptions::Work;
   const bool volume = options.work != Work::kTexture2DAlphaTest;
   const bool displaced = options.work == Work::kDisplacedVolumeBlend;
-  constexpr int kVol = 64, kMap = 32;
-  Texture volume_texture, map_texture;
+  // Only the textures this work reads, on units 0 (2D texture or volume),
+  // 1 (transfer function) and 2 (map).
+  std::vector<Texture> textures;
   if (volume) {
-    std::vector<uint16_t> voxels(kVol * kVol * kVol);
-    for (size_t i = 0; i < voxels.size(); ++i) voxels[i] = static_cast<uint16_t>(i * 2654435761u);
-    volume_texture = Texture::Create3DWithData(GL_R16, glm::ivec3(kVol), GL_RED, GL_UNSIGNED_SHORT,
-                                               voxels.data());
-    volume_texture.SetLinearFilter();
-  }
-  Texture transfer;
-  if (volume) {  // 256 RGBA32F entries, low opacities (as the presets')
-    std::vector<float> table(4 * 256);
-    for (int i = 0; i < 256; ++i) {
-      const float x = i / 255.0f;
-      table[4 * i + 0] = x, table[4 * i + 1] = 1 - x, table[4 * i + 2] = 0.5f;
-      table[4 * i + 3] = 0.05f * x;
-    }
-    transfer = Texture::Create(GL_TEXTURE_1D);
-    glTextureStorage1D(transfer.id(), 1, GL_RGBA32F, 256);
-    glTextureSubImage1D(transfer.id(), 0, 0, 256, GL_RGBA, GL_FLOAT, table.data());
-    transfer.SetLinearFilter();
-  }
-  if (displaced) {
-    std::vector<float> d(4 * kMap * kMap * kMap);
-    for (size_t i = 0; i < d.size(); ++i) d[i] = 0.05f * std::sin(0.37f * static_cast<float>(i));
-    map_texture =
-        Texture::Create3DWithData(GL_RGBA32F, glm::ivec3(kMap), GL_RGBA, GL_FLOAT, d.data());
-    map_texture.SetLinearFilter();
+    textures.push_back(FloorVolume());
+    textures.push_back(FloorTransfer());
+    if (displaced) textures.push_back(FloorMap());
+  } else {
+    textures.push_back(CalibrationTexture(options.linear_filter));
   }
 
   ProgramDesc desc{
@@ -82,25 +102,20 @@ FillRate MeasureFillRate(ProgramCache& programs, const FillRateOptions& options)
   const Program& program = programs.Get(desc);
   VertexArray vao = VertexArray::Create();
   target.Bind();
-  glDisable(GL_DEPTH_TEST);
-  glDisable(GL_STENCIL_TEST);
-  if (volume) {
-    glEnable(GL_BLEND);
-    glBlendFunc(GL_ONE, GL_ONE_MINUS_SRC_ALPHA);
-  } else {
-    glDisable(GL_BLEND);
-  }
+  // No depth or stencil test; the floors blend premultiplied, as DVR slices.
+  GlState state;
+  state.depth_test = false;
+  state.depth_write = false;
+  if (volume)
+    state.blend = BlendState{GL_ONE, GL_ONE_MINUS_SRC_ALPHA, GL_ONE, GL_ONE_MINUS_SRC_ALPHA};
+  const ScopedGlState scoped(state);
   program.Use();
   glBindVertexArray(vao.id());
-  glBindTextureUnit(0, volume ? volume_texture.id() : texture.id());
-  if (volume) {
-    glBindTextureUnit(1, transfer.id());
-    program.Set("u_transfer", 1);
+  for (size_t unit = 0; unit < textures.size(); ++unit) {
+    glBindTextureUnit(static_cast<GLuint>(unit), textures[unit].id());
   }
-  if (displaced) {
-    glBindTextureUnit(2, map_texture.id());
-    program.Set("u_map", 2);
-  }
+  if (volume) program.Set("u_transfer", 1);
+  if (displaced) program.Set("u_map", 2);
   const float clear[4] = {0, 0, 0, 0};
   const GLint u_layer = program.Uniform("u_layer");
   auto frame = [&] {
@@ -113,7 +128,6 @@ FillRate MeasureFillRate(ProgramCache& programs, const FillRateOptions& options)
   };
   const core::TimingStats stats = TimeFrames(frame, options.timer);
   glBindVertexArray(0);
-  glDisable(GL_BLEND);
   FillRate result;
   result.fragments_per_frame =
       static_cast<double>(options.width) * options.height * options.layers_per_frame;

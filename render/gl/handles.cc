@@ -45,6 +45,16 @@ void DefaultSampling(GLuint id) {
 }
 }  // namespace
 
+Texture Texture::Create1DWithData(GLenum internal_format, int width, GLenum format, GLenum type,
+                                  const void* data) {
+  IBR_CHECK(width > 0);
+  Texture texture = Create(GL_TEXTURE_1D);
+  glTextureStorage1D(texture.id(), 1, internal_format, width);
+  DefaultSampling(texture.id());
+  glTextureSubImage1D(texture.id(), 0, 0, width, format, type, data);
+  return texture;
+}
+
 Texture Texture::Create2D(GLenum internal_format, int width, int height) {
   IBR_CHECK(width > 0 && height > 0);
   Texture texture = Create(GL_TEXTURE_2D);

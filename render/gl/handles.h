@@ -92,6 +92,10 @@ class Texture : public GlHandle<deleters::Texture> {
   // CLAMP_TO_EDGE by default (callers change them as the pass needs).
   static Texture Create2D(GLenum internal_format, int width, int height);
   static Texture Create3D(GLenum internal_format, int width, int height, int depth);
+  // Immutable 1D storage, one level, NEAREST and CLAMP_TO_EDGE, filled from
+  // `data` (`width` texels in `format` and `type`): lookup tables.
+  static Texture Create1DWithData(GLenum internal_format, int width, GLenum format, GLenum type,
+                                  const void* data);
   // Create3D plus one upload of the whole level from `data`: tightly packed
   // texels in `format` and `type` (as glTextureSubImage3D takes them; the
   // unpack alignment is 1 for the upload and restored after).

@@ -67,11 +67,8 @@ Texture UploadMap(const core::StoredDisplacementMap& s, bool as_float) {
 
 Texture UploadTransfer(const core::TransferFunction& tf, int n) {
   const std::vector<glm::vec4> table = tf.Table(n);
-  Texture t = Texture::Create(GL_TEXTURE_1D);
-  glTextureStorage1D(t.id(), 1, GL_RGBA32F, n);
-  glTextureSubImage1D(t.id(), 0, 0, n, GL_RGBA, GL_FLOAT, table.data());
+  Texture t = Texture::Create1DWithData(GL_RGBA32F, n, GL_RGBA, GL_FLOAT, table.data());
   t.SetLinearFilter();
-  glTextureParameteri(t.id(), GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
   return t;
 }
 
