@@ -159,12 +159,13 @@ struct VolumeDrawStats {
 
 class VolumePass : public Pass {
  public:
-  // Plain CPU data in; uploads the volume (R8/R16/R32F), its gradient
-  // (RGBA16F), the maps and the transfer function. world_from_volume maps
-  // texture space to the world (e.g. scale by the extent, centre at 0).
-  // core::InputError when the options need more texture units than the
-  // context's GL_MAX_TEXTURE_IMAGE_UNITS (GL 4.5 guarantees 16; four maps
-  // with precomputed Jacobians use units up to 18).
+  // Plain CPU data in; uploads the volume with its gradient (one RGBA32F
+  // texture: rgb the gradient, a the normalised scalar), the maps and the
+  // transfer function. world_from_volume maps texture space to the world
+  // (e.g. scale by the extent, centre at 0). core::InputError when the
+  // options need more texture units than the context's
+  // GL_MAX_TEXTURE_IMAGE_UNITS (GL 4.5 guarantees 16; four maps with
+  // precomputed Jacobians use 18).
   VolumePass(ProgramCache& programs, const core::Volume& volume,
              const core::TransferFunction& transfer, std::vector<VolumeMapInput> maps,
              const glm::mat4& world_from_volume, const VolumePassOptions& options);
@@ -200,8 +201,9 @@ class VolumePass : public Pass {
   // giving the sampling distance): MakeSlices(world_from_proxy(), ...) with
   // it reproduces the slices drawn.
   SlicingOptions DvrSlicing(const ViewSetup& view) const;
-  // Binds the volume's 3D texture (for probes of the filtering in tests).
-  void BindVolumeTexture(GLuint unit) const { glBindTextureUnit(unit, volume_texture_.id()); }
+  // Binds the volume's 3D texture (rgb: the scalar's gradient, a: the
+  // normalised scalar; for probes of the filtering in tests).
+  void BindSampleTexture(GLuint unit) const { glBindTextureUnit(unit, sample_texture_.id()); }
 
  private:
   void DrawDvr(const RenderTarget& target, const ViewSetup& view);
@@ -225,8 +227,7 @@ class VolumePass : public Pass {
   std::optional<SliceSplitter> splitter_;
   core::Box3 proxy_box_;
   double voxel_world_ = 1;
-  Texture volume_texture_;
-  Texture gradient_texture_;
+  Texture sample_texture_;
   Texture transfer_texture_;
   std::vector<Texture> map_textures_;
   // Per map: J_D columns + grad alpha, 3 each; built when first

@@ -16,10 +16,11 @@ void main() {
   vec3 p_prime = (u_tex_from_proxy * vec4(v_p_in_box, 1.0)).xyz;
   Displaced d = VolumeDisplace(p_prime);
   if (d.alpha < 0.5) discard;  // sec. 4.2: the cut is transparent
-  float s = VolumeDensity(d.p);
+  vec4 sample_at_p = VolumeSample(d.p);  // (gradient, scalar)
+  float s = sample_at_p.a;
   vec4 tf = texture(u_transfer, (s * (u_transfer_size - 1.0) + 0.5) / u_transfer_size);
   // Opacity correction for the slice spacing.
   float a = (1.0 - pow(max(1.0 - tf.a, 0.0), u_opacity_exponent)) * d.alpha;
   if (!(a > 0.0)) discard;  // before the normal (volume_core.glsl: cost order)
-  o_color = vec4(VolumeShade(tf.rgb, d) * a, a);
+  o_color = vec4(VolumeShade(tf.rgb, d, sample_at_p.xyz) * a, a);
 }

@@ -11,7 +11,7 @@ uniform float u_iso;  // normalised scalar
 float RayField(vec3 p_in_box) {
   Displaced d = VolumeDisplace((u_tex_from_proxy * vec4(p_in_box, 1.0)).xyz);
   if (d.alpha < 0.5) return 1.0;
-  return u_iso - VolumeDensity(d.p);
+  return u_iso - VolumeSample(d.p).a;
 }
 
 #include "cores/ray_core.glsl"
@@ -60,7 +60,7 @@ void main() {
   gl_FragDepth = 0.5 * (clip.z / clip.w) + 0.5;
   o_camera_z = p_cam.z;
   Displaced d = VolumeDisplace((u_tex_from_proxy * vec4(res.p, 1.0)).xyz);
-  vec3 n = VolumeNormal(d);
+  vec3 n = VolumeNormal(d, VolumeSample(d.p).xyz);
   o_normal = vec4(n, 0.0);
   o_color = vec4(VolumeShadeWithNormal(vec3(0.92, 0.88, 0.8), n), 1.0);
 }

@@ -135,10 +135,10 @@ TEST_F(GlTest, VolumeFilteringErrorOfLlvmpipeIsMeasured) {
     files[name] = *ShaderSources::Embedded().Find(name);
   files["probe.frag.glsl"] =
       "#version 450 core\nin vec2 v_uv;\nuniform sampler3D u_volume;\nuniform sampler2D "
-      "u_positions;\n"
+      "u_positions;\nuniform int u_channel;\n"
       "layout(location = 0) out vec4 o;\nvoid main() { o = vec4(texture(u_volume, "
       "texelFetch(u_positions, "
-      "ivec2(gl_FragCoord.xy), 0).xyz).r); }\n";
+      "ivec2(gl_FragCoord.xy), 0).xyz)[u_channel]); }\n";
   const ShaderSources sources(files);
   ProgramCache cache(sources);
   const Program& program =
@@ -153,14 +153,16 @@ TEST_F(GlTest, VolumeFilteringErrorOfLlvmpipeIsMeasured) {
   GLuint vao_id = 0;
   glCreateVertexArrays(1, &vao_id);
   const VertexArray vao(vao_id);  // core profile: a draw needs a vertex array
-  // Probes `volume` through the texture bound to unit 0; max and mean error.
-  auto probe = [&](const core::Volume& v, const std::string& label, double bound) {
+  // Probes `volume` through `channel` of the texture bound to unit 0; max
+  // and mean error.
+  auto probe = [&](const core::Volume& v, int channel, const std::string& label, double bound) {
     RenderTarget target(RenderTargetOptions{
         .width = kSize, .height = kSize, .color_formats = {GL_RGBA32F}, .depth_stencil = false});
     target.Bind();
     program.Use();
     glUniform1i(program.Uniform("u_volume"), 0);
     glUniform1i(program.Uniform("u_positions"), 1);
+    glUniform1i(program.Uniform("u_channel"), channel);
     glBindTextureUnit(1, pos.id());
     glDisable(GL_DEPTH_TEST);
     glBindVertexArray(vao.id());
@@ -186,10 +188,11 @@ TEST_F(GlTest, VolumeFilteringErrorOfLlvmpipeIsMeasured) {
   for (core::ScalarType type :
        {core::ScalarType::kUint8, core::ScalarType::kUint16, core::ScalarType::kFloat32}) {
     const core::Volume v = SmoothRandomVolume({17, 9, 13}, type, 3);
-    // The pass's upload (uint8 widened to R16): float-exact filtering.
+    // The pass's upload (the scalar normalised in the alpha of an RGBA32F
+    // texture): float-exact filtering.
     VolumePass pass(programs(), v, core::TransferPreset("ramp"), {}, glm::mat4(1.0f), {});
-    pass.BindVolumeTexture(0);
-    probe(v, fmt::format("pass-{}", core::ScalarTypeName(type)), 1e-5);
+    pass.BindSampleTexture(0);
+    probe(v, 3, fmt::format("pass-{}", core::ScalarTypeName(type)), 1e-5);
     if (type == core::ScalarType::kUint8) {
       // A plain R8 texture: llvmpipe's 8-bit path interpolates with 8-bit
       // weights; measured 6.2e-3 max (1.6/255). Bound: 2/255.
@@ -201,7 +204,7 @@ TEST_F(GlTest, VolumeFilteringErrorOfLlvmpipeIsMeasured) {
       glTextureParameteri(r8.id(), GL_TEXTURE_MIN_FILTER, GL_LINEAR);
       glTextureParameteri(r8.id(), GL_TEXTURE_MAG_FILTER, GL_LINEAR);
       glBindTextureUnit(0, r8.id());
-      probe(v, "R8", 2.0 / 255);
+      probe(v, 0, "R8", 2.0 / 255);
     }
   }
   EXPECT_NO_GL_ERROR();
