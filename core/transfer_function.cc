@@ -42,6 +42,12 @@ std::vector<glm::vec4> TransferFunction::Table(int n) const {
   return table;
 }
 
+std::vector<glm::vec4> OpacityCorrectedTable(std::vector<glm::vec4> table, double exponent) {
+  for (glm::vec4& e : table)
+    e.a = static_cast<float>(1 - std::pow(std::max(1 - static_cast<double>(e.a), 0.0), exponent));
+  return table;
+}
+
 TransferFunction TransferPreset(std::string_view name) {
   TransferFunction tf;
   using P = TransferPoint;

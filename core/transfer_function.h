@@ -31,6 +31,14 @@ struct TransferFunction {
   std::vector<glm::vec4> Table(int n = 256) const;
 };
 
+// `table` with each opacity corrected for a sampling distance of `exponent`
+// reference distances, a' = 1 - (1 - a)^exponent (in double, rounded to
+// float); colours unchanged. What the volume pass uploads for its slice
+// spacing, so a fragment does no pow: the corrected entries are then
+// interpolated linearly, as a GPU's filter does (tables pre-corrected per
+// sampling distance, as VTK's vtkOpenGLVolumeOpacityTable rebuilds its own).
+std::vector<glm::vec4> OpacityCorrectedTable(std::vector<glm::vec4> table, double exponent);
+
 // Built-in presets: "tooth", "neghip", "bucky" (one per shared volume),
 // "ramp" (grey, opacity = s), "empty" (fully transparent).
 TransferFunction TransferPreset(std::string_view name);

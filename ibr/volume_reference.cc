@@ -65,9 +65,10 @@ DvrReferenceImage DvrReference(const core::Volume& volume, const core::TransferF
   const int bits = pass.options().displacement_bits;
   const auto stored = VolumeStoredMaps(maps, bits);
   const auto placed = VolumePlacedMaps(maps, bits, stored);
-  const std::vector<glm::vec4> table = transfer.Table(256);
-  // The pass's exponent, rounded to float as the shader gets it.
-  const double exponent = static_cast<float>(stack.spacing_world / pass.voxel_world());
+  // The pass's table: opacities corrected for its exponent (rounded to float
+  // as the pass rounds it), interpolated linearly after the correction.
+  const std::vector<glm::vec4> table = core::OpacityCorrectedTable(
+      transfer.Table(256), static_cast<float>(stack.spacing_world / pass.voxel_world()));
   // Screen slices are planes of constant camera z, in drawing order (back to front).
   std::vector<double> slice_z;
   for (const render::Slice& slice : stack.slices)
@@ -88,7 +89,7 @@ DvrReferenceImage DvrReference(const core::Volume& volume, const core::TransferF
         const double u = std::clamp(VolumeDensity(volume, d.p), 0.0, 1.0) * 255;
         const int i0 = static_cast<int>(std::floor(u)), i1 = std::min(i0 + 1, 255);
         const glm::dvec4 tf = glm::mix(glm::dvec4(table[i0]), glm::dvec4(table[i1]), u - i0);
-        const double a = (1 - std::pow(std::max(1 - tf.a, 0.0), exponent)) * d.alpha;
+        const double a = tf.a * d.alpha;
         if (!(a > 0)) continue;
         for (int c = 0; c < 3; ++c)
           r.color.at(col, row, c) = tf[c] * a + (1 - a) * r.color.at(col, row, c);

@@ -5,8 +5,9 @@
 // through the maps as the GPU stores them (core::Displace over the stored,
 // dequantised maps, read only inside their core::ActiveBox), the volume
 // sampled trilinearly (core::SampleTrilinear), classified by the transfer
-// function's 256-entry table with linear interpolation, opacity corrected
-// for the slice spacing and composited back to front, premultiplied. Used by
+// function's 256-entry table with its opacities corrected for the slice
+// spacing (core::OpacityCorrectedTable, as the pass uploads it), with linear
+// interpolation, and composited back to front, premultiplied. Used by
 // tests/render/passes/volume_pass_test (the agreement bounds) and the
 // report's gallery (bench/gallery.h). No lighting: compare with a pass built
 // with render::VolumeLighting::kNone.

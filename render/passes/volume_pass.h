@@ -6,8 +6,9 @@
 // (MakeSlices, screen family, back to front); each fragment p' is displaced
 // through every map in one pass (eq. 9, 10), the cut mask discards alpha < 0.5
 // and modulates the rest, the volume is sampled at p = p' + D(p'), classified
-// by the 1D transfer function, opacity corrected for the slice spacing
-// (1 - (1 - a)^(spacing / voxel)) and composited premultiplied
+// by the 1D transfer function, its table's opacities corrected for the slice
+// spacing (1 - (1 - a)^(spacing / voxel), core::OpacityCorrectedTable,
+// re-uploaded when the spacing changes) and composited premultiplied
 // (ONE, ONE_MINUS_SRC_ALPHA). The slices are depth-tested (LESS) against the
 // frame's depth buffer and write no depth, so opaque objects drawn before
 // hide what lies behind them.
@@ -228,6 +229,8 @@ class VolumePass : public Pass {
   core::Box3 proxy_box_;
   double voxel_world_ = 1;
   Texture sample_texture_;
+  std::vector<glm::vec4> transfer_table_;  // core::TransferFunction::Table, uncorrected
+  float transfer_exponent_ = 1;  // the opacity correction transfer_texture_ holds
   Texture transfer_texture_;
   std::vector<Texture> map_textures_;
   // Per map: J_D columns + grad alpha, 3 each; built when first

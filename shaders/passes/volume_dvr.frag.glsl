@@ -6,9 +6,9 @@
 in vec3 v_p_in_box;  // proxy-box coordinates
 in vec3 v_p_in_cam;
 
-uniform sampler1D u_transfer;     // RGBA per reference distance (one voxel), LINEAR
+// RGBA, the opacity corrected for the slice spacing (core::OpacityCorrectedTable), LINEAR
+uniform sampler1D u_transfer;
 uniform float u_transfer_size;    // texels in u_transfer
-uniform float u_opacity_exponent; // slice spacing / reference distance
 
 layout(location = 0) out vec4 o_color;  // premultiplied
 
@@ -19,8 +19,7 @@ void main() {
   vec4 sample_at_p = VolumeSample(d.p);  // (gradient, scalar)
   float s = sample_at_p.a;
   vec4 tf = texture(u_transfer, (s * (u_transfer_size - 1.0) + 0.5) / u_transfer_size);
-  // Opacity correction for the slice spacing.
-  float a = (1.0 - pow(max(1.0 - tf.a, 0.0), u_opacity_exponent)) * d.alpha;
+  float a = tf.a * d.alpha;
   if (!(a > 0.0)) discard;  // before the normal (volume_core.glsl: cost order)
   o_color = vec4(VolumeShade(tf.rgb, d, sample_at_p.xyz) * a, a);
 }

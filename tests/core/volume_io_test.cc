@@ -9,6 +9,7 @@
 #include <sstream>
 
 #include "core/error.h"
+#include "core/transfer_function.h"
 #include "tests/support/gl_test.h"
 
 namespace core {
@@ -256,6 +257,34 @@ TEST(Volume, TrilinearMatchesTheVoxelsAtTheirCentresAndInterpolatesBetween) {
               0.5 * (v.Normalized(1, 1, 1) + v.Normalized(2, 1, 1)), 1e-12);
   // Outside: clamped to the edge voxel.
   EXPECT_NEAR(SampleTrilinear(v, {-3, 0.5 / 4, 0.5 / 3}), v.Normalized(0, 0, 0), 1e-12);
+}
+
+TEST(TransferFunction, OpacityCorrectionComposesLikeTheSamplesItStandsFor) {
+  const std::vector<glm::vec4> table = TransferPreset("tooth").Table(256);
+  // Exponent 1: the table as is; colours are never touched.
+  EXPECT_EQ(OpacityCorrectedTable(table, 1.0), table);
+  for (const double e : {0.25, 0.5, 2.0, 3.7}) {
+    const std::vector<glm::vec4> c = OpacityCorrectedTable(table, e);
+    ASSERT_EQ(c.size(), table.size());
+    for (size_t i = 0; i < table.size(); ++i) {
+      EXPECT_EQ(glm::vec3(c[i]), glm::vec3(table[i]));
+      // 1 - (1 - a)^e: n samples at spacing 1 / n composite to one at
+      // spacing 1, whatever a is (transparent and opaque stay so). Inverted
+      // here, the float rounding of a' grows by up to ~80x near a' = 1.
+      const double a = table[i].a, ac = c[i].a;
+      EXPECT_NEAR(1 - std::pow(1 - ac, 1 / e), a, 1e-5) << i << " exponent " << e;
+      if (a == 0) EXPECT_EQ(ac, 0.0f);
+      if (e > 1 && a > 0 && a < 1) EXPECT_GT(ac, a);
+      if (e < 1 && a > 0 && a < 1) EXPECT_LT(ac, a);
+    }
+  }
+  // Two half-spacing samples of the corrected opacity over-composite to one
+  // full-spacing sample: (1 - a_half)^2 = 1 - a.
+  const std::vector<glm::vec4> half = OpacityCorrectedTable(table, 0.5);
+  for (size_t i = 0; i < table.size(); ++i) {
+    const double t = 1 - half[i].a;
+    EXPECT_NEAR(1 - t * t, table[i].a, 1e-6);
+  }
 }
 
 }  // namespace
