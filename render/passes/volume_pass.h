@@ -57,7 +57,7 @@ VolumeLighting VolumeLightingFromName(std::string_view name);  // none|gradient|
 std::string_view VolumeLightingName(VolumeLighting lighting);
 
 // How J_D (eq. 6) and the mask's gradient (eq. 7) are found per sample:
-// precomputed per map texel (sec. 4.3.1; three RGBA16F textures a map, three
+// precomputed per map texel (sec. 4.3.1; three RGBA32F textures a map, three
 // filtered fetches a sample) or central differences of the map at half a
 // texel (six fetches a sample, no extra memory).
 enum class VolumeJacobian { kPrecomputed, kFiniteDifferences };
@@ -230,7 +230,7 @@ class VolumePass : public Pass {
   double voxel_world_ = 1;
   Texture sample_texture_;
   std::vector<glm::vec4> transfer_table_;  // core::TransferFunction::Table, uncorrected
-  float transfer_exponent_ = 1;  // the opacity correction transfer_texture_ holds
+  float transfer_exponent_ = 1;            // the opacity correction transfer_texture_ holds
   Texture transfer_texture_;
   std::vector<Texture> map_textures_;
   // Per map: J_D columns + grad alpha, 3 each; built when first

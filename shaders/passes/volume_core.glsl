@@ -36,7 +36,7 @@ uniform vec3 u_map_texel[VOLUME_MAPS];       // 1 / dims of each map
 uniform vec3 u_map_active_lo[VOLUME_MAPS];
 uniform vec3 u_map_active_hi[VOLUME_MAPS];
 #ifdef VOLUME_JACOBIAN_PRECOMPUTED
-// Per map, three RGBA16F textures: rgb = column k of J_D (dD/du_k), a =
+// Per map, three RGBA32F textures: rgb = column k of J_D (dD/du_k), a =
 // dalpha/du_k (core::ComputeMapDerivatives), map units. Index 3 i + k.
 uniform sampler3D u_map_derivatives[3 * VOLUME_MAPS];
 #endif
