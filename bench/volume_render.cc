@@ -60,6 +60,11 @@ core::Image8 OverBackground(const core::Image8& premultiplied, const glm::vec3& 
 
 VolumeRenderResult RenderVolume(const VolumeRenderRequest& r) {
   core::Volume volume = core::ReadVolume(r.volume);
+  try {
+    render::CheckVolumeFits(volume.dims, {}, render::Max3dTextureSize());
+  } catch (const core::InputError& e) {
+    core::ThrowFileError("ibr volume", r.volume, "{}", e.what());
+  }
   const ibr::VolumeObjectData scene =
       ibr::MakeVolumeObject(std::move(volume), ibr::TransferForVolume(r.transfer, r.volume),
                             r.effect, r.map_size, r.placement_offset, r.placement_scale);

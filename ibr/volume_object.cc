@@ -160,6 +160,7 @@ LoadedVolume LoadVolumeObject(const scene::Object& o) {
   core::Volume volume;
   try {
     volume = core::ReadVolume(o.volume);
+    render::CheckVolumeFits(volume.dims, {}, render::Max3dTextureSize());
   } catch (const core::InputError& e) {
     throw core::InputError(fmt::format("{}/volume: {}", o.where, e.what()));
   }

@@ -175,6 +175,41 @@ std::string_view VolumeJacobianName(VolumeJacobian jacobian) {
   return jacobian == VolumeJacobian::kPrecomputed ? "precomputed" : "differences";
 }
 
+void CheckVolumeFits(const glm::ivec3& dims, const std::vector<glm::ivec3>& map_dims,
+                     int max_3d_texture_size) {
+  const auto fits = [&](const glm::ivec3& d) {
+    return d.x >= 1 && d.y >= 1 && d.z >= 1 && d.x <= max_3d_texture_size &&
+           d.y <= max_3d_texture_size && d.z <= max_3d_texture_size;
+  };
+  if (!fits(dims)) {
+    core::ThrowInputError("VolumePass",
+                          "a volume of {} x {} x {} voxels; this GL implementation's 3D textures "
+                          "are at most {} a side (GL_MAX_3D_TEXTURE_SIZE)",
+                          dims.x, dims.y, dims.z, max_3d_texture_size);
+  }
+  const int64_t bytes = int64_t{16} * dims.x * dims.y * dims.z;
+  if (bytes > kMaxVolumeTextureBytes) {
+    core::ThrowInputError("VolumePass",
+                          "a volume of {} x {} x {} voxels needs a {} GiB sample texture (16 bytes "
+                          "a voxel), more than the {} GiB allowed",
+                          dims.x, dims.y, dims.z, bytes >> 30, kMaxVolumeTextureBytes >> 30);
+  }
+  for (const glm::ivec3& d : map_dims) {
+    if (!fits(d)) {
+      core::ThrowInputError("VolumePass",
+                            "a displacement map of {} x {} x {} texels; this GL implementation's "
+                            "3D textures are at most {} a side (GL_MAX_3D_TEXTURE_SIZE)",
+                            d.x, d.y, d.z, max_3d_texture_size);
+    }
+  }
+}
+
+int Max3dTextureSize() {
+  GLint size = 0;
+  glGetIntegerv(GL_MAX_3D_TEXTURE_SIZE, &size);
+  return size;
+}
+
 void VolumePassOptions::Check() const {
   if (!std::isfinite(iso_value) || iso_value < 0 || iso_value > 1) {
     core::ThrowInputError("VolumePassOptions", "iso value {} not in [0, 1]", iso_value);
@@ -254,6 +289,9 @@ VolumePass::VolumePass(ProgramCache& programs, const core::Volume& volume,
     core::ThrowInputError("VolumePass", "{} displacement maps, at most {} compose in one pass",
                           maps_.size(), kMaxVolumeMaps);
   }
+  std::vector<glm::ivec3> map_dims;
+  for (const auto& m : maps_) map_dims.push_back(m.map.dims);
+  CheckVolumeFits(volume.dims, map_dims, Max3dTextureSize());
   for (const auto& m : maps_) {
     if (std::abs(glm::determinant(glm::dmat3(m.placement))) < 1e-12) {
       core::ThrowInputError("VolumePass", "a displacement map placement is singular");

@@ -67,6 +67,20 @@ std::string_view VolumeJacobianName(VolumeJacobian jacobian);
 // Most maps one pass composes (eq. 9); a shader variant per count.
 inline constexpr int kMaxVolumeMaps = 4;
 
+// Most bytes of a volume's sample texture (RGBA32F, 16 a voxel, staged on the
+// host before the upload): 8 GiB, 512 M voxels (800^3).
+inline constexpr int64_t kMaxVolumeTextureBytes = int64_t{8} << 30;
+// InputError("VolumePass: ...") unless a volume of `dims` and maps of
+// `map_dims` fit: every side within `max_3d_texture_size` (the context's
+// GL_MAX_3D_TEXTURE_SIZE, 2048 on llvmpipe, where a larger texture is not
+// created and DVR drew nothing without a word) and the sample texture within
+// kMaxVolumeTextureBytes. VolumePass checks it before allocating anything;
+// callers that read files check it first to name the file.
+void CheckVolumeFits(const glm::ivec3& dims, const std::vector<glm::ivec3>& map_dims,
+                     int max_3d_texture_size);
+// GL_MAX_3D_TEXTURE_SIZE of the current context.
+int Max3dTextureSize();
+
 struct VolumePassOptions {
   VolumeMode mode = VolumeMode::kDvr;
   // Iso mode: the iso value on the normalised scalar (what the texture

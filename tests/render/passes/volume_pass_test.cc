@@ -10,6 +10,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <functional>
 #include <glm/gtc/matrix_transform.hpp>
 #include <random>
 #include <sstream>
@@ -1251,6 +1252,50 @@ TEST_F(GlTest, VolumePassRefusesBadInput) {
   EXPECT_THROW(core::ReadTransferFunction(nan_string, "tf.json"), core::InputError);
   std::istringstream ok(R"({"points": [[0, 0, 0, 0, 0], [0.5, 1, 0, 0, 0.2], [1, 1, 1, 1, 1]]})");
   EXPECT_EQ(core::ReadTransferFunction(ok, "tf.json").points.size(), 3u);
+}
+
+// A volume or map the GL cannot hold as a 3D texture is refused with the
+// limit named, before anything is allocated (a side beyond
+// GL_MAX_3D_TEXTURE_SIZE used to draw nothing without a word), and a sample
+// texture beyond kMaxVolumeTextureBytes likewise (checked on dimensions
+// alone: no such volume is made here).
+TEST_F(GlTest, VolumeBeyondTheGlsTextureLimitsIsRefused) {
+  const int limit = Max3dTextureSize();
+  ASSERT_GE(limit, 256);  // GL 4.5 guarantees 2048
+  const auto message = [](const std::function<void()>& f) {
+    try {
+      f();
+    } catch (const core::InputError& e) {
+      return std::string(e.what());
+    }
+    return std::string("no error");
+  };
+  EXPECT_EQ(message([&] { CheckVolumeFits({limit, 2, 2}, {{limit, 1, 1}}, limit); }), "no error");
+  EXPECT_NE(message([&] {
+              CheckVolumeFits({limit + 1, 2, 2}, {}, limit);
+            }).find("GL_MAX_3D_TEXTURE_SIZE"),
+            std::string::npos);
+  EXPECT_NE(message([&] {
+              CheckVolumeFits({4, 4, 4}, {{2, limit + 1, 2}}, limit);
+            }).find("displacement map"),
+            std::string::npos);
+  // 800^3 voxels: 7.6 GiB of texture, allowed; 1024^3: 16 GiB, refused.
+  EXPECT_EQ(message([] { CheckVolumeFits({800, 800, 800}, {}, 4096); }), "no error");
+  EXPECT_NE(message([] {
+              CheckVolumeFits({1024, 1024, 1024}, {}, 4096);
+            }).find("16 GiB"),
+            std::string::npos);
+  EXPECT_NE(message([] {
+              CheckVolumeFits({0, 4, 4}, {}, 4096);
+            }).find("0 x 4 x 4"),
+            std::string::npos);
+  // The pass itself, on a volume one voxel wider than the limit.
+  const core::Volume wide = core::Volume::Zeros({limit + 1, 2, 2}, core::ScalarType::kUint8);
+  EXPECT_NE(message([&] {
+              VolumePass(programs(), wide, core::TransferPreset("ramp"), {}, glm::mat4(1.0f), {});
+            }).find("GL_MAX_3D_TEXTURE_SIZE"),
+            std::string::npos);
+  EXPECT_NO_GL_ERROR();
 }
 
 }  // namespace
