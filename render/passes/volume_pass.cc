@@ -53,9 +53,17 @@ Texture UploadMap(const core::StoredDisplacementMap& s, bool as_float) {
   return t;
 }
 
-// The table the fragments read: opacities corrected for `exponent` (slice
+// The table the fragments read, opacities corrected for `exponent` (slice
 // spacing / voxel), so no fragment computes a pow (about 1 ns of 12 a
-// fragment of the plain unshaded tooth on llvmpipe).
+// fragment of the plain unshaded tooth on llvmpipe). Created once; the
+// spacing changes with the view, and then only the 4 KiB of texels are
+// rewritten in place (WriteTransfer), no new texture object.
+void WriteTransfer(const Texture& texture, const std::vector<glm::vec4>& table, float exponent) {
+  const std::vector<glm::vec4> corrected = core::OpacityCorrectedTable(table, exponent);
+  glTextureSubImage1D(texture.id(), 0, 0, static_cast<GLsizei>(corrected.size()), GL_RGBA, GL_FLOAT,
+                      corrected.data());
+}
+
 Texture UploadTransfer(const std::vector<glm::vec4>& table, float exponent) {
   const std::vector<glm::vec4> corrected = core::OpacityCorrectedTable(table, exponent);
   Texture t = Texture::Create1DWithData(GL_RGBA32F, static_cast<int>(corrected.size()), GL_RGBA,
@@ -569,12 +577,12 @@ void VolumePass::DrawDvr(const RenderTarget& target, const ViewSetup& view) {
   const Program& displaced_program = programs_->Get(desc);
   desc.defines = options_.Defines(0);
   const Program* plain_program = split ? &programs_->Get(desc) : nullptr;
-  // The opacity correction is in the table (rebuilt, 4 KiB, when the
+  // The opacity correction is in the table (rewritten, 4 KiB, when the
   // spacing changes with the view).
   const auto exponent = static_cast<float>(stack.spacing_world / voxel_world_);
   if (exponent != transfer_exponent_) {
     transfer_exponent_ = exponent;
-    transfer_texture_ = UploadTransfer(transfer_table_, transfer_exponent_);
+    WriteTransfer(transfer_texture_, transfer_table_, transfer_exponent_);
   }
   target.Bind();
   for (const Program* program : {&displaced_program, plain_program}) {
