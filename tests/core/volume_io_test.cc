@@ -273,9 +273,15 @@ TEST(TransferFunction, OpacityCorrectionComposesLikeTheSamplesItStandsFor) {
       // here, the float rounding of a' grows by up to ~80x near a' = 1.
       const double a = table[i].a, ac = c[i].a;
       EXPECT_NEAR(1 - std::pow(1 - ac, 1 / e), a, 1e-5) << i << " exponent " << e;
-      if (a == 0) EXPECT_EQ(ac, 0.0f);
-      if (e > 1 && a > 0 && a < 1) EXPECT_GT(ac, a);
-      if (e < 1 && a > 0 && a < 1) EXPECT_LT(ac, a);
+      if (a == 0) {
+        EXPECT_EQ(ac, 0.0f);
+      }
+      if (e > 1 && a > 0 && a < 1) {
+        EXPECT_GT(ac, a);
+      }
+      if (e < 1 && a > 0 && a < 1) {
+        EXPECT_LT(ac, a);
+      }
     }
   }
   // Two half-spacing samples of the corrected opacity over-composite to one
