@@ -276,9 +276,10 @@ Table RunVolumeBench(const VolumeBenchOptions& o) {
         peer.ok ? fmt::format("{:5.2f}x", p.ms / peer.median_ms) : "n/a"));
     if (e.name == "tooth") {
       // Where the time goes (same volume, view and slices; names without
-      // commas, the CSV is not quoted): the per-draw
-      // overhead, the shading, the map lookup alone, eq. 6 without / with
-      // eq. 7, and J_D per sample instead of per texel.
+      // commas, the CSV is not quoted): the per-draw overhead, the
+      // fill-rate floor's work on these slices (against the floor rows'
+      // full-screen layers), the shading, the map lookup alone, eq. 6
+      // without / with eq. 7, and J_D per sample instead of per texel.
       struct Profile {
         const char* variant;
         bool displaced;
@@ -286,14 +287,17 @@ Table RunVolumeBench(const VolumeBenchOptions& o) {
         render::VolumeJacobian jacobian;
         bool per_slice;
         bool support_skip = true;
-        int bits = 16;           // the map's storage
-        bool float_maps = true;  // its texture: dequantised RGBA32F, or UNORM
+        int bits = 16;              // the map's storage
+        bool float_maps = true;     // its texture: dequantised RGBA32F, or UNORM
+        bool floor_shader = false;  // VolumePassOptions::floor_shader
       };
       using L = render::VolumeLighting;
       using J = render::VolumeJacobian;
       for (const Profile& pr : std::vector<Profile>{
                {"plain unshaded", false, L::kNone, J::kPrecomputed, false},
                {"plain one draw per slice", false, L::kGradient, J::kPrecomputed, true},
+               {"plain floor shader", false, L::kNone, J::kPrecomputed, false, true, 16, true,
+                true},
                {"peel unshaded", true, L::kNone, J::kPrecomputed, false},
                {"peel unshaded unsplit", true, L::kNone, J::kPrecomputed, false, false},
                {"peel unshaded unsplit RGBA16 map", true, L::kNone, J::kPrecomputed, false, false,
@@ -313,6 +317,7 @@ Table RunVolumeBench(const VolumeBenchOptions& o) {
         po.support_skip = pr.support_skip;
         po.displacement_bits = pr.bits;
         po.float_map_textures = pr.float_maps;
+        po.floor_shader = pr.floor_shader;
         add("profile", e.name, pr.variant, 1.0, pr.displaced ? 64 : 0, size,
             TimeVolume(programs, pr.displaced ? peeled : bare, po, size, timer), p.ms, nullptr,
             std::nan(""));

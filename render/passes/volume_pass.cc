@@ -241,6 +241,9 @@ void VolumePassOptions::Check() const {
     core::ThrowInputError("VolumePassOptions", "brick size {} texels not in [0, 1024]",
                           brick_texels);
   }
+  if (floor_shader && mode != VolumeMode::kDvr) {
+    core::ThrowInputError("VolumePassOptions", "the floor shader is a DVR shader");
+  }
   ray.Check();
 }
 
@@ -262,6 +265,7 @@ std::vector<std::string> VolumePassOptions::Defines(int map_count) const {
       break;
   }
   if (UsesJacobianTextures()) d.push_back("VOLUME_JACOBIAN_PRECOMPUTED");
+  if (floor_shader) d.push_back("VOLUME_DVR_FLOOR");
   if (mode == VolumeMode::kIso) {
     for (const std::string& r : RayCoreDefines(ray)) d.push_back(r);
   }
@@ -317,6 +321,9 @@ VolumePass::VolumePass(ProgramCache& programs, const core::Volume& volume,
   for (int a = 0; a < 3; ++a)
     voxel_world_ = std::min(voxel_world_, static_cast<double>(glm::length(lin[a])) / dims_[a]);
 
+  if (options_.floor_shader && !maps_.empty()) {
+    core::ThrowInputError("VolumePass", "the floor shader reads no displacement maps");
+  }
   proxy_box_ = VolumeProxyBox(maps_);
   glGetIntegerv(GL_MAX_TEXTURE_IMAGE_UNITS, &max_texture_units_);
 

@@ -106,6 +106,13 @@ struct VolumePassOptions {
   // same pixels, GL keeps primitive order for blending). For the bench's
   // profile of the per-draw overhead only.
   bool draw_per_slice = false;
+  // DVR without maps: each slice fragment does only what the fill-rate
+  // floor's does (render/gl/fill_rate.h, Work::kVolumeBlend): one lookup of
+  // the scalar, the transfer function, premultiplied output; no lighting and
+  // no discard (a transparent fragment blends zero). The picture is plain
+  // unshaded DVR's. For the bench's profile only: the floor's work on the
+  // slices themselves, against the same work on full-screen layers.
+  bool floor_shader = false;
   // DVR with maps: each slice is split on the CPU by the maps' support box
   // (VolumePass::support_box: outside it every map is the identity) into the
   // part inside, drawn by the displaced shader, and up to six parts outside,

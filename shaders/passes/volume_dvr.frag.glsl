@@ -14,6 +14,12 @@ layout(location = 0) out vec4 o_color;  // premultiplied
 
 void main() {
   vec3 p_prime = (u_tex_from_proxy * vec4(v_p_in_box, 1.0)).xyz;
+#ifdef VOLUME_DVR_FLOOR
+  // The fill-rate floor's work (VolumePassOptions::floor_shader; no maps).
+  vec4 floor_tf = texture(u_transfer, (VolumeSample(p_prime).a * (u_transfer_size - 1.0) + 0.5) / u_transfer_size);
+  o_color = vec4(floor_tf.rgb * floor_tf.a, floor_tf.a);
+  return;
+#endif
   Displaced d = VolumeDisplace(p_prime);
   if (d.alpha < 0.5) discard;  // sec. 4.2: the cut is transparent
   vec4 sample_at_p = VolumeSample(d.p);  // (gradient, scalar)

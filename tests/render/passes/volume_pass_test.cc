@@ -249,6 +249,10 @@ TEST_F(GlTest, VolumeDvrAgreesWithTheDoubleReference) {
     Scene s{core::ReadVolume(dat), core::TransferPreset("neghip"), {}, {}};
     s.options.lighting = VolumeLighting::kNone;
     cases.push_back({"neghip plain", s});
+    // The bench's floor profile (no discard, no lighting): the same picture.
+    s.options.floor_shader = true;
+    cases.push_back({"neghip plain floor shader", s});
+    s.options.floor_shader = false;
     s.maps.push_back(PlacedEffect(core::Effect::kPeel, {32, 32, 32}));
     cases.push_back({"neghip peel 16-bit", s});
     // The RGBA16 texture (scale and bias in the shader) instead of the
@@ -1243,6 +1247,17 @@ TEST_F(GlTest, VolumePassRefusesBadInput) {
   EXPECT_THROW(
       VolumePass(programs(), v, core::TransferPreset("ramp"), {nan_map}, glm::mat4(1.0f), {}),
       core::InputError);
+  // The floor shader is plain DVR's: no maps, no iso mode.
+  VolumePassOptions floor_options;
+  floor_options.floor_shader = true;
+  VolumeMapInput identity;
+  identity.map.dims = {1, 1, 1};
+  identity.map.texels = {{0, 0, 0, 1}};
+  EXPECT_THROW(VolumePass(programs(), v, core::TransferPreset("ramp"), {identity}, glm::mat4(1.0f),
+                          floor_options),
+               core::InputError);
+  floor_options.mode = VolumeMode::kIso;
+  EXPECT_THROW(floor_options.Check(), core::InputError);
   core::TransferFunction tf = core::TransferPreset("ramp");
   tf.points[1].rgba.a = std::nan("");
   EXPECT_THROW(VolumePass(programs(), v, tf, {}, glm::mat4(1.0f), {}), core::InputError);
