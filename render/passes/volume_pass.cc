@@ -64,10 +64,11 @@ void WriteTransfer(const Texture& texture, const std::vector<glm::vec4>& table, 
                       corrected.data());
 }
 
-Texture UploadTransfer(const std::vector<glm::vec4>& table, float exponent) {
-  const std::vector<glm::vec4> corrected = core::OpacityCorrectedTable(table, exponent);
-  Texture t = Texture::Create1DWithData(GL_RGBA32F, static_cast<int>(corrected.size()), GL_RGBA,
-                                        GL_FLOAT, corrected.data());
+// The table as is: corrected for an exponent of 1, which leaves it unchanged
+// (the first draw rewrites it for its spacing).
+Texture UploadTransfer(const std::vector<glm::vec4>& table) {
+  Texture t = Texture::Create1DWithData(GL_RGBA32F, static_cast<int>(table.size()), GL_RGBA,
+                                        GL_FLOAT, table.data());
   t.SetLinearFilter();
   return t;
 }
@@ -329,7 +330,7 @@ VolumePass::VolumePass(ProgramCache& programs, const core::Volume& volume,
 
   sample_texture_ = UploadSamples(volume);
   transfer_table_ = transfer.Table(kTransferSize);
-  transfer_texture_ = UploadTransfer(transfer_table_, transfer_exponent_);
+  transfer_texture_ = UploadTransfer(transfer_table_);  // transfer_exponent_ = 1
   SetOptions(options_);
 
   // The unit cube's 12 triangles (iso mode; orientation does not matter, the

@@ -12,20 +12,23 @@ uniform float u_transfer_size;    // texels in u_transfer
 
 layout(location = 0) out vec4 o_color;  // premultiplied
 
+// The transfer function's entry for the normalised scalar s (texel centres
+// at the table's ends).
+vec4 Classify(float s) { return texture(u_transfer, (s * (u_transfer_size - 1.0) + 0.5) / u_transfer_size); }
+
 void main() {
   vec3 p_prime = (u_tex_from_proxy * vec4(v_p_in_box, 1.0)).xyz;
 #ifdef VOLUME_DVR_FLOOR
   // The fill-rate floor's work (VolumePassOptions::floor_shader; no maps).
-  vec4 floor_tf = texture(u_transfer, (VolumeSample(p_prime).a * (u_transfer_size - 1.0) + 0.5) / u_transfer_size);
-  o_color = vec4(floor_tf.rgb * floor_tf.a, floor_tf.a);
-  return;
-#endif
+  vec4 tf = Classify(VolumeSample(p_prime).a);
+  o_color = vec4(tf.rgb * tf.a, tf.a);
+#else
   Displaced d = VolumeDisplace(p_prime);
   if (d.alpha < 0.5) discard;  // sec. 4.2: the cut is transparent
   vec4 sample_at_p = VolumeSample(d.p);  // (gradient, scalar)
-  float s = sample_at_p.a;
-  vec4 tf = texture(u_transfer, (s * (u_transfer_size - 1.0) + 0.5) / u_transfer_size);
+  vec4 tf = Classify(sample_at_p.a);
   float a = tf.a * d.alpha;
   if (!(a > 0.0)) discard;  // before the normal (volume_core.glsl: cost order)
   o_color = vec4(VolumeShade(tf.rgb, d, sample_at_p.xyz) * a, a);
+#endif
 }
