@@ -141,12 +141,15 @@ namespace bench {
 //    two-field search of sec. 5.1.2 without empty-space skipping; cut_skip =
 //    the same with skipping; cut_csg = the solid knife by the CSG field, no
 //    skipping; all with the pass's default skipping by the object's distance
-//    field) and region scale: ms per frame (median) against the deformed
+//    field; paper_continuous, paper_cut, paper_cut_skip = the paper's own
+//    shader: the first three without that skipping, as sec. 6.2 has only the
+//    cut's) and region scale: ms per frame (median) against the deformed
 //    region's relative screen area a (pixels where a ray was cast / all
 //    pixels), and the ray stage's share (the frame minus the mesh stage,
 //    measured per scale as the continuous frame minus its ray stage alone);
 //  - the paper's weighted average sum(a t) / sum(a) per mesh and mode, the
-//    ratios to continuous (frames and ray stages), a least-squares line of ms
+//    ratios to continuous (paper_*: to paper_continuous; frames and ray
+//    stages), a least-squares line of ms
 //    against a with its R^2, and the spread across meshes of the fitted ms at
 //    one area (frames and ray stages);
 //  - the distance-field build time per resolution (ours: exact within the

@@ -31,9 +31,11 @@ Table Correa2006Table(const Table& volume);
 
 // Correa, Silver, Chen 2007, Table 1 (weighted average time of continuous
 // deformations, cuts without and with empty-space skipping): the paper's
-// four models, then ours from `ibr bench deform`'s summary. Columns: source,
-// model, triangles, continuous_ms, cut_over_continuous,
-// cut_skip_over_continuous.
+// four models, then ours from `ibr bench deform`'s summary, then ours with
+// the paper's shader (no skipping by the object's distance; its paper_*
+// modes, over paper_continuous). Columns: source, model, triangles,
+// continuous_ms, cut_over_continuous, cut_skip_over_continuous,
+// cut_csg_over_continuous.
 Table Correa2007Table(const Table& deform_summary, const Table& deform_frames);
 
 // Linear interpolation of y at x over (x, y) points sorted by x, in log-log

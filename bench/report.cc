@@ -96,6 +96,14 @@ std::string Num(double value, int digits) {
   return fmt::format("{:.{}f}", value, digits);
 }
 
+Table Filtered(const Table& t, const std::function<bool(const std::vector<std::string>&)>& keep) {
+  Table out(t.columns());
+  for (const auto& r : t.rows()) {
+    if (keep(r)) out.AddRow(r);
+  }
+  return out;
+}
+
 double CellNumber(const std::string& text) {
   char* end = nullptr;
   const double v = std::strtod(text.c_str(), &end);

@@ -4,6 +4,7 @@
 #pragma once
 
 #include <filesystem>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -30,6 +31,9 @@ class Table {
   std::vector<std::string> columns_;
   std::vector<std::vector<std::string>> rows_;
 };
+
+// The rows of `t` that `keep` accepts, same columns.
+Table Filtered(const Table& t, const std::function<bool(const std::vector<std::string>&)>& keep);
 
 // "1.234" with `digits` decimals; "nan"/"inf" spelled out.
 std::string Num(double value, int digits = 3);

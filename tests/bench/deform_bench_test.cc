@@ -45,8 +45,8 @@ TEST_F(DeformBenchTest, QuickRunMeasuresEveryMeshModeAndScale) {
   options.csv = dir / "deform.csv";
   options.out = dir;
   const DeformBenchResult result = RunDeformBench(programs(), options);
-  // 2 meshes x 4 modes x 2 scales.
-  ASSERT_EQ(result.frames.rows().size(), 16u);
+  // 2 meshes x 7 modes x 2 scales.
+  ASSERT_EQ(result.frames.rows().size(), 28u);
   for (size_t r = 0; r < result.frames.rows().size(); r += 2) {
     const auto& small = result.frames.rows()[r];
     const auto& large = result.frames.rows()[r + 1];
@@ -58,8 +58,17 @@ TEST_F(DeformBenchTest, QuickRunMeasuresEveryMeshModeAndScale) {
               Value(result.frames, small, "area_fraction"))
         << small[0] << " " << small[2];
   }
-  // 2 x 4 summaries and one across-mesh row per mode.
-  EXPECT_EQ(result.summary.rows().size(), 12u);
+  // 2 x 7 summaries and one across-mesh row per mode; each continuous mode
+  // is its own ratios' baseline.
+  EXPECT_EQ(result.summary.rows().size(), 21u);
+  const Table& s = result.summary;
+  for (const auto& row : s.rows()) {
+    const std::string& mode = row[s.Column("mode")];
+    const bool across = row[0].rfind("across meshes", 0) == 0;
+    if (!across && (mode == "continuous" || mode == "paper_continuous")) {
+      EXPECT_EQ(row[s.Column("over_continuous")], "1.000") << row[0] << " " << mode;
+    }
+  }
   // Ours and OpenVDB at two resolutions per mesh.
   ASSERT_EQ(result.sdf.rows().size(), 8u);
   for (const auto& row : result.sdf.rows()) EXPECT_GT(Value(result.sdf, row, "seconds"), 0);
