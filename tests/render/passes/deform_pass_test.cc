@@ -306,6 +306,24 @@ TEST_F(DeformPassTest, SkippingKeepsTheSurfaceAndSavesSamples) {
     options.step_voxels = 0.5f;
     options.skip_object = false;
     const Frame plain = Render(c.scene, options, view, distance);
+    // The cut's skip alone (its alpha from the march's own evaluation; no
+    // fallback lookup where that is stale, a skip of 0 there).
+    if (c.cut != CutMode::kNone) {
+      options.skip_empty = true;
+      const Frame cut_only = Render(c.scene, options, view, distance);
+      const Agreement a_cut = Compare(cut_only, view, reference, c.scene.placement);
+      int cut_differ = 0;
+      for (int y = 0; y < kSize; ++y)
+        for (int x = 0; x < kSize; ++x)
+          cut_differ += GpuClass(plain, x, y) != GpuClass(cut_only, x, y);
+      std::printf(
+          "%s: the cut's skip alone %.2f samples per ray; agreement %d/%d; %d pixels of "
+          "another class\n",
+          c.name.c_str(), MeanSamples(cut_only), a_cut.agree, a_cut.compared, cut_differ);
+      EXPECT_GE(a_cut.agree, 0.995 * a_cut.compared) << c.name;
+      EXPECT_LE(cut_differ, kSize * kSize / 500) << c.name;
+      EXPECT_LT(MeanSamples(cut_only), MeanSamples(plain)) << c.name;
+    }
     options.skip_object = true;
     options.skip_empty = c.cut != CutMode::kNone;
     const Frame skipped = Render(c.scene, options, view, distance);
