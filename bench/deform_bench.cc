@@ -571,27 +571,31 @@ DeformBenchResult RunDeformBench(render::ProgramCache& programs,
     // default skipping by the object's distance field. Then the paper's own
     // shader (paper_*): the same three without that skipping (sec. 6.2 skips
     // by the cut's distance only), each over paper_continuous.
+    // The two deformations' textures, sampled once for the modes that share them.
+    core::Deformation twist;
+    twist.kind = core::DeformationKind::kTwist, twist.amount = 2.0, twist.width = 0.35;
+    const core::Deformation knife = KnifeCut();
+    const core::DeformationTexture twist_texture = core::SampleDeformation({{twist}}, 64);
+    const core::DeformationTexture knife_texture = core::SampleDeformation({{knife}}, 64);
     struct Mode {
       std::string name;
       core::Deformation deformation;
+      const core::DeformationTexture* texture;  // of `deformation`
       core::CutMode cut;
       bool skip;
       bool search;
       bool skip_object;
       std::string baseline;  // the continuous mode its ratios are over
     };
-    core::Deformation twist;
-    twist.kind = core::DeformationKind::kTwist, twist.amount = 2.0, twist.width = 0.35;
-    const core::Deformation knife = KnifeCut();
     const auto none = core::CutMode::kNone, solid = core::CutMode::kSolid;
     const std::vector<Mode> modes = {
-        {"continuous", twist, none, false, false, true, "continuous"},
-        {"cut", knife, solid, false, true, true, "continuous"},
-        {"cut_skip", knife, solid, true, true, true, "continuous"},
-        {"cut_csg", knife, solid, false, false, true, "continuous"},
-        {"paper_continuous", twist, none, false, false, false, "paper_continuous"},
-        {"paper_cut", knife, solid, false, true, false, "paper_continuous"},
-        {"paper_cut_skip", knife, solid, true, true, false, "paper_continuous"}};
+        {"continuous", twist, &twist_texture, none, false, false, true, "continuous"},
+        {"cut", knife, &knife_texture, solid, false, true, true, "continuous"},
+        {"cut_skip", knife, &knife_texture, solid, true, true, true, "continuous"},
+        {"cut_csg", knife, &knife_texture, solid, false, false, true, "continuous"},
+        {"paper_continuous", twist, &twist_texture, none, false, false, false, "paper_continuous"},
+        {"paper_cut", knife, &knife_texture, solid, false, true, false, "paper_continuous"},
+        {"paper_cut_skip", knife, &knife_texture, solid, true, true, false, "paper_continuous"}};
     double grow = 0.0;
     for (const Mode& mode : modes) {
       grow = std::max(grow, core::MaxObjectDisplacement({{mode.deformation}},
@@ -619,8 +623,7 @@ DeformBenchResult RunDeformBench(render::ProgramCache& programs,
     // Each continuous mode's weighted ms (frame, ray stage), for the ratios.
     std::map<std::string, std::pair<double, double>> baseline_weighted;
     for (const Mode& mode : modes) {
-      const core::DeformationSum sum{{mode.deformation}};
-      const core::DeformationTexture texture = core::SampleDeformation(sum, 64);
+      const core::DeformationTexture& texture = *mode.texture;
       render::DeformPassOptions pass_options;
       pass_options.cut = mode.cut;
       pass_options.skip_empty = mode.skip;

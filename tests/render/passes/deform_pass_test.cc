@@ -50,6 +50,14 @@ int GpuClass(const Frame& frame, int x, int y) {
   return (frame.outcome.at(x, y) & kDeformCutFaceBit) ? 2 : 1;
 }
 
+// Pixels where two frames' classes (GpuClass) differ.
+int ClassDiffer(const Frame& a, const Frame& b) {
+  int differ = 0;
+  for (int y = 0; y < kSize; ++y)
+    for (int x = 0; x < kSize; ++x) differ += GpuClass(a, x, y) != GpuClass(b, x, y);
+  return differ;
+}
+
 struct Agreement {
   int compared = 0, agree = 0, band = 0;
   double worst_cut_normal_deg = 0.0;
@@ -312,10 +320,7 @@ TEST_F(DeformPassTest, SkippingKeepsTheSurfaceAndSavesSamples) {
       options.skip_empty = true;
       const Frame cut_only = Render(c.scene, options, view, distance);
       const Agreement a_cut = Compare(cut_only, view, reference, c.scene.placement);
-      int cut_differ = 0;
-      for (int y = 0; y < kSize; ++y)
-        for (int x = 0; x < kSize; ++x)
-          cut_differ += GpuClass(plain, x, y) != GpuClass(cut_only, x, y);
+      const int cut_differ = ClassDiffer(plain, cut_only);
       std::printf(
           "%s: the cut's skip alone %.2f samples per ray; agreement %d/%d; %d pixels of "
           "another class\n",
@@ -329,9 +334,7 @@ TEST_F(DeformPassTest, SkippingKeepsTheSurfaceAndSavesSamples) {
     const Frame skipped = Render(c.scene, options, view, distance);
     const Agreement a_plain = Compare(plain, view, reference, c.scene.placement);
     const Agreement a_skip = Compare(skipped, view, reference, c.scene.placement);
-    int differ = 0;
-    for (int y = 0; y < kSize; ++y)
-      for (int x = 0; x < kSize; ++x) differ += GpuClass(plain, x, y) != GpuClass(skipped, x, y);
+    const int differ = ClassDiffer(plain, skipped);
     const double s_plain = MeanSamples(plain), s_skip = MeanSamples(skipped);
     std::printf(
         "%s: samples per ray %.2f plain, %.2f skipping; agreement %d/%d vs %d/%d; %d pixels of "
