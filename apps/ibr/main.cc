@@ -16,6 +16,7 @@
 #include "apps/ibr/commands.h"
 #include "core/atomic_file.h"
 #include "core/error.h"
+#include "core/memory_budget.h"
 #include "render/gl/program_binary_cache.h"
 
 namespace {
@@ -59,7 +60,14 @@ int main(int argc, char** argv) {
   app.add_option("--log-level", log_level, "trace|debug|info|warn|error|off")
       ->check(CLI::IsMember({"trace", "debug", "info", "warn", "error", "off"}))
       ->capture_default_str();
+  // Every step whose memory grows with the input checks this budget before
+  // allocating (core/memory_budget.h).
+  std::string memory_budget;
+  app.add_option("--memory-budget", memory_budget,
+                 "memory a run may plan to use: 8G, 512M, 25% (default: half of physical "
+                 "memory, or IBR_MEMORY_BUDGET)");
   app.parse_complete_callback([&] {
+    if (!memory_budget.empty()) core::SetMemoryBudget(core::ParseMemorySize(memory_budget));
     spdlog::set_level(spdlog::level::from_str(log_level));
     apps::NoteCommandLineInputs(app);
   });
