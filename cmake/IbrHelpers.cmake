@@ -28,6 +28,7 @@ function(ibr_test module name)
     "IBR_CACHE_DIR=set:off"
     "IBR_SHARED_DATA=set:${IBR_SHARED_DATA_DIR}"
     "IBR_TEST_OUTPUT=set:${CMAKE_BINARY_DIR}/test-output"
+    "IBR_SOURCE_DIR=set:${PROJECT_SOURCE_DIR}"
     "ASAN_OPTIONS=set:detect_leaks=0")
   set_tests_properties(${module}/${name} PROPERTIES
     ENVIRONMENT_MODIFICATION "${env_mod}"

@@ -11,6 +11,7 @@
 #include "capture/dataset.h"
 #include "render/gl/context.h"
 #include "render/gl/shader_program.h"
+#include "scene/scene_keys.h"
 
 namespace apps {
 
@@ -82,8 +83,13 @@ void AddInfoCommand(CLI::App& app) {
                          "Without DIR: the OpenGL context this machine gives (headless EGL); "
                          "with DIR: a summary of the dataset there");
   cmd->add_option("DIR", dir, "dataset directory (optional)");
+  static bool scene_keys = false;
+  cmd->add_flag("--scene-keys", scene_keys,
+                "print every key a scene object takes, per object type (Markdown)");
   cmd->callback([] {
-    if (dir.empty()) {
+    if (scene_keys) {
+      fmt::print("{}", scene::ObjectKeysMarkdown());
+    } else if (dir.empty()) {
       PrintGlInfo();
     } else {
       PrintDataset(dir);
