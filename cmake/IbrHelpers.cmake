@@ -37,7 +37,8 @@ function(ibr_test module name)
     set_property(TEST ${module}/${name} APPEND PROPERTY LABELS gl)
   endif()
   if(ARG_TIMEOUT)
-    # ASan + UBSan (IBR_SANITIZE) run the same work 2-5x slower on llvmpipe.
+    # ASan + UBSan (IBR_SANITIZE) check every memory access, llvmpipe's
+    # rasteriser included, so the same work takes several times as long.
     if(IBR_SANITIZE)
       math(EXPR ARG_TIMEOUT "${ARG_TIMEOUT} * 5")
     endif()
