@@ -358,7 +358,7 @@ namespace {
 
 // The table as a uniform block of the maps rounded up to 64 where it fits
 // (llvmpipe reads a uniform block far faster in the ray loop than a storage
-// buffer: docs/decisions/uniform-block-maps.md; the rounding keeps one
+// buffer: docs/decisions/map-table-storage.md; the rounding keeps one
 // shader variant per 64 maps): its record count, else 0 (a storage buffer).
 int UniformMaps(size_t maps) {
   GLint max_block = 16384;

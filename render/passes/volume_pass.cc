@@ -78,7 +78,7 @@ Texture UploadTransfer(const std::vector<glm::vec4>& table) {
 // three RGBA32F textures: rgb = dD/du_k, a = dalpha/du_k. RGBA32F rather
 // than RGBA16F: llvmpipe filters float texels without a conversion, so the
 // wider texel is the cheaper fetch there, at twice the memory (12 MiB for a
-// 64^3 map; docs/decisions/rgba32f-map-textures.md).
+// 64^3 map; docs/decisions/volume-map-precision.md).
 std::vector<Texture> UploadMapDerivatives(const core::StoredDisplacementMap& s) {
   const core::MapDerivatives d = core::ComputeMapDerivatives(core::DequantizeDisplacementMap(s));
   std::vector<Texture> out;

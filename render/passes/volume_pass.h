@@ -97,7 +97,7 @@ struct VolumePassOptions {
   // memory: llvmpipe filters RGBA8 with 8-bit weights, too coarse for the
   // mask at a sharp cut (tests/render/passes/volume_pass_test), and RGBA16
   // saves memory but no time (ibr bench volume, the RGBA16 rows;
-  // docs/decisions/rgba32f-map-textures.md). Off: the UNORM texture with
+  // docs/decisions/volume-map-precision.md). Off: the UNORM texture with
   // scale and bias in the shader.
   bool float_map_textures = true;
   VolumeLighting lighting = VolumeLighting::kBlended;

@@ -249,7 +249,7 @@ float ObjectSkip(vec3 p, float f) {
 // a true bound, rather than a second warp lookup: llvmpipe runs an if's
 // both sides for every sample, so a fallback lookup would cost every sample,
 // not only the stale ones, a second 3D fetch, more than the skip saves
-// (docs/decisions/cut-skip-stale-alpha.md).
+// (docs/decisions/cut-skip.md).
 float CutSkip(vec3 p) {
   float a = p == g_alpha_p ? g_alpha : 0.0;
   return a > 0.0 ? a / u_alpha_lipschitz : 0.0;
