@@ -41,8 +41,8 @@
 
 namespace capture {
 
-// Limits every dataset obeys (README "## Limits"), checked by Dataset::Check
-// on read (before any image is opened) and on write.
+// Limits every dataset obeys (docs/guide/limits.md, "Datasets"), checked by
+// Dataset::Check on read (before any image is opened) and on write.
 struct DatasetLimits {
   size_t max_views = 4096;
   int64_t max_total_pixels = int64_t{1} << 30;  // over all views' cameras
