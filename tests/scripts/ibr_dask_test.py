@@ -27,10 +27,12 @@ ARGS = None  # parsed command line (set in __main__)
 SLOW = "slow"  # the job whose worker is killed
 # (id, shape, rig, size, views): small captures, and one large enough to be
 # killed half-way (its staging folder exists for seconds).
+# The slow job comes third, so that the worker running it has finished a job
+# before: that job must not run again when the worker dies.
 JOBS = [
-    (SLOW, "sphere", "cube", 256, 6),
     ("box", "box", "cube", 32, 6),
     ("cup", "cup", "ring:2", 32, 2),
+    (SLOW, "sphere", "cube", 256, 6),
     ("mug", "mug", "ring:3", 32, 3),
     ("box-ring", "box", "ring:4", 32, 4),
     ("cup-cube", "cup", "cube", 32, 6),
@@ -135,6 +137,13 @@ class IbrDaskTest(unittest.TestCase):
                       f"{staged[0]} ({time.time() - begin:.1f} s into the batch)", flush=True)
             time.sleep(0.02)
         self.assertIsNotNone(killed_worker, "the slow job never started writing")
+        # Its ibr is told (SIGTERM as its parent dies), removes its staging
+        # folder and exits at once, rather than running on as an orphan.
+        kill_time = time.time()
+        while process_running(killed_ibr) and time.time() < kill_time + 5:
+            time.sleep(0.02)
+        self.assertFalse(process_running(killed_ibr), "the killed worker's ibr still runs")
+        self.assertEqual([e for e in staging_entries(out) if e.startswith(f".{SLOW}.tmp-{killed_ibr}-")], [])
         stdout, stderr = proc.communicate(timeout=BATCH_TIMEOUT)
         print(stdout, flush=True)
         self.assertEqual(proc.returncode, 0, stderr)
@@ -143,7 +152,6 @@ class IbrDaskTest(unittest.TestCase):
         self.assertEqual(sorted(os.listdir(out)), sorted(j[0] for j in JOBS))
         for job_id, _, _, _, views in JOBS:
             self.check_dataset(os.path.join(out, job_id), views)
-        self.assertFalse(process_running(killed_ibr), "the killed worker's ibr still runs")
 
         # The slow job ran twice: first on the killed worker (lost), then again.
         starts = read_starts(self.started)
@@ -159,6 +167,11 @@ class IbrDaskTest(unittest.TestCase):
         attempts = jobs[SLOW]["attempts"]
         self.assertEqual([a["outcome"] for a in attempts], ["lost", "done"], attempts)
         self.assertEqual(attempts[0]["pid"], killed_worker)
+        finished_before = [j["id"] for j in doc["jobs"] if j["id"] != SLOW and j["attempts"][0]["pid"] == killed_worker]
+        self.assertTrue(finished_before, "the killed worker had run no other job")
+        for job in doc["jobs"]:
+            if job["id"] != SLOW:
+                self.assertEqual(len(job["attempts"]), 1, job)  # not run again with its dead worker
         self.assertNotEqual(attempts[1]["pid"], killed_worker)
         self.assertIn(f"retried: {SLOW} attempt 1", stdout)
         retried = sum(len(j["attempts"]) - 1 for j in doc["jobs"])
