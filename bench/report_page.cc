@@ -1,5 +1,4 @@
 #include "bench/report_page.h"
-#include "bench/report_summary.h"
 
 #include <fmt/format.h>
 
@@ -23,6 +22,7 @@
 #include "bench/ncs_bench.h"
 #include "bench/paper_tables.h"
 #include "bench/report.h"
+#include "bench/report_summary.h"
 #include "bench/scene_bench.h"
 #include "bench/tradeoff.h"
 #include "bench/volume_bench.h"

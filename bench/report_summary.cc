@@ -148,9 +148,10 @@ std::optional<SummaryRow> DepthObjectVsTsdf(const fs::path& dir) {
   const std::string rel = "depth_object/depth_object.csv";
   const auto t = Load(dir, rel);
   if (!t) return std::nullopt;
-  const Table ours = Where(
-      *t, {{"object", "bunny"}, {"method", "depth-object ray-skip-subtexel"}, {"slices", "256"},
-           {"size", "512"}});
+  const Table ours = Where(*t, {{"object", "bunny"},
+                                {"method", "depth-object ray-skip-subtexel"},
+                                {"slices", "256"},
+                                {"size", "512"}});
   const Table tsdf = Where(*t, {{"object", "bunny"}, {"method", "open3d tsdf:256"}});
   const auto p95_ours = Values(ours, "p95_depth_error"), p95_tsdf = Values(tsdf, "p95_depth_error");
   const auto ms_ours = Values(ours, "ms_per_frame"), ms_tsdf = Values(tsdf, "ms_per_frame");
@@ -167,13 +168,13 @@ std::optional<SummaryRow> FirstImage(const fs::path& dir) {
   const std::string rel = "depth_object/depth_object_first_image.csv";
   const auto t = Load(dir, rel);
   if (!t) return std::nullopt;
-  const auto cold = Values(Where(*t, {{"method", "depth-object ray-skip-subtexel"}, {"cache", "cold"}}),
-                           "over_tsdf");
-  const auto warm = Values(Where(*t, {{"method", "depth-object ray-skip-subtexel"}, {"cache", "warm"}}),
-                           "over_tsdf");
+  const auto cold = Values(
+      Where(*t, {{"method", "depth-object ray-skip-subtexel"}, {"cache", "cold"}}), "over_tsdf");
+  const auto warm = Values(
+      Where(*t, {{"method", "depth-object ray-skip-subtexel"}, {"cache", "warm"}}), "over_tsdf");
   if (cold.empty() || warm.empty()) return std::nullopt;
   return SummaryRow{"Time to first image, default path, over the TSDF 1/256 pipeline's",
-                    fmt::format("{} with shaders compiled in the run, {} from the program cache",
+                    fmt::format("{}x with shaders compiled in the run, {}x from the program cache",
                                 Num(cold[0], 2), Num(warm[0], 2)),
                     rel};
 }
@@ -240,7 +241,8 @@ std::optional<SummaryRow> VolumeDisplacement(const fs::path& dir) {
   std::string result =
       fmt::format("a peeled volume (eq. 6+7, 64^3 map) costs {}x plain DVR over {} volumes",
                   Range(peel, 2), peel.size());
-  if (!vtk.empty()) result += fmt::format("; plain DVR takes {}x VTK's GPU ray caster", Range(vtk, 2));
+  if (!vtk.empty())
+    result += fmt::format("; plain DVR takes {}x VTK's GPU ray caster", Range(vtk, 2));
   return SummaryRow{"Displaced volume rendering (Correa 2006), 512 px", result, rel};
 }
 
@@ -251,19 +253,20 @@ std::optional<SummaryRow> SceneOverhead(const fs::path& dir) {
   const auto hi = Values(*t, "disabled_over_absent_hi");
   const auto mid = Values(*t, "disabled_over_absent");
   if (hi.empty() || mid.empty()) return std::nullopt;
-  return SummaryRow{"An effect named in a scene but disabled, over the scene without it",
-                    fmt::format("{}x the frame time (medians over {} effects; upper 95 % interval "
-                                "ends <= {})",
-                                Range(mid, 3), mid.size(), Num(*std::max_element(hi.begin(), hi.end()), 3)),
-                    rel};
+  return SummaryRow{
+      "An effect named in a scene but disabled, over the scene without it",
+      fmt::format("{}x the frame time (medians over {} effects; upper 95 % interval "
+                  "ends <= {})",
+                  Range(mid, 3), mid.size(), Num(*std::max_element(hi.begin(), hi.end()), 3)),
+      rel};
 }
 
 }  // namespace
 
 std::vector<SummaryRow> SummaryRows(const fs::path& report_dir) {
   static const std::vector<RowMaker> kRows = {
-      DepthObjectAccuracy, DepthObjectVsTsdf,  FirstImage,    SlicingDisplacement,
-      Ncs,                 DeformCut,          VolumeDisplacement, SceneOverhead};
+      DepthObjectAccuracy, DepthObjectVsTsdf,  FirstImage,   SlicingDisplacement, Ncs,
+      DeformCut,           VolumeDisplacement, SceneOverhead};
   std::vector<SummaryRow> out;
   for (const RowMaker& make : kRows) {
     if (auto row = make(report_dir)) out.push_back(std::move(*row));
@@ -291,8 +294,9 @@ std::string SummaryMarkdown(const std::vector<SummaryRow>& rows) {
 void WriteSummary(const fs::path& dir) {
   const fs::path marker = dir / core::kOutputMarker;
   std::ifstream in(marker);
-  if (!in) core::ThrowFileError("WriteSummary", dir, "not an ibr report folder (no {})",
-                                core::kOutputMarker);
+  if (!in)
+    core::ThrowFileError("WriteSummary", dir, "not an ibr report folder (no {})",
+                         core::kOutputMarker);
   std::vector<std::string> lines;
   for (std::string line; std::getline(in, line);) lines.push_back(line);
   in.close();

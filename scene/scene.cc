@@ -1,5 +1,4 @@
 #include "scene/scene.h"
-#include "scene/scene_keys.h"
 
 #include <fmt/format.h>
 
@@ -11,6 +10,7 @@
 
 #include "core/error.h"
 #include "core/transfer_function.h"
+#include "scene/scene_keys.h"
 
 namespace scene {
 namespace fs = std::filesystem;

@@ -23,8 +23,9 @@ std::vector<KeySpec> DepthObjectKeys() {
       {"slices", "integer or \"auto\"", "auto",
        "slices (slice paths) or ray steps (ray path); auto picks enough for one slice per map "
        "texel"},
-      {"slice_path", "string", "exact", "exact | fast: the stencil path of Kautz-Seidel sec. 4, or "
-                                        "one pass per slice with a combined test"},
+      {"slice_path", "string", "exact",
+       "exact | fast: the stencil path of Kautz-Seidel sec. 4, or "
+       "one pass per slice with a combined test"},
       {"texturing", "string", "vdt",
        "vdt | visibility | none | vdt-paper: view-dependent texturing and its variants"},
       {"robust", "integer", "0", "k: a pixel stays inside when at most k maps reject it"},
@@ -60,32 +61,35 @@ const std::vector<ObjectKindSpec>& ObjectKinds() {
        "the intersection of many depth maps (Kautz-Seidel 2001, sec. 4)", DepthObjectKeys()},
       {"visual-hull", ObjectType::kVisualHull,
        "the intersection of the masks' cones (Kautz-Seidel 2001, sec. 5)", DepthObjectKeys()},
-      {"displaced-mesh", ObjectType::kDisplacedMesh,
+      {"displaced-mesh",
+       ObjectType::kDisplacedMesh,
        "a height map displacing a mesh's surface (Kautz-Seidel 2001, sec. 3; Chen-Chang NCS)",
        {
            Structural("mesh", "object", "(required)",
                       "{\"shape\": \"torus\" | \"plane\" | \"sphere\"} or {\"file\": OBJ/PLY with "
                       "texture coordinates}"),
-           Structural("height", "object", "(required)",
-                      "{\"file\": 8/16-bit PNG or EXR in [0, 1]} or {\"generator\": bumps | noise | "
-                      "bricks | steps | spikes | constant, \"texels\": 256}"),
+           Structural(
+               "height", "object", "(required)",
+               "{\"file\": 8/16-bit PNG or EXR in [0, 1]} or {\"generator\": bumps | noise | "
+               "bricks | steps | spikes | constant, \"texels\": 256}"),
            Structural("texture", "string", "none", "a colour image on the mesh's UVs"),
            {"method", "string", "slices-orthogonal",
             "slices-surface | slices-orthogonal | slices-screen | ncs | relief | pom | crm | "
             "tessellated"},
-           {"max_displacement", "number", "0.15",
-            "height 1 in the mesh's units, in (0, 10]"},
+           {"max_displacement", "number", "0.15", "height 1 in the mesh's units, in (0, 10]"},
            {"tiling", "number", "1", "height-map repeats across UV [0, 1], in (0, 1024]"},
            {"slices", "integer", "64", "slicing methods: slices per face volume (1..4096)"},
            {"steps", "integer", "32", "ray methods: linear-search steps (1..4096)"},
        }},
-      {"mesh", ObjectType::kMesh, "a plain rasterised mesh",
+      {"mesh",
+       ObjectType::kMesh,
+       "a plain rasterised mesh",
        {
-           Structural("mesh", "object", "(required)",
-                      "{\"shape\": NAME} or {\"file\": OBJ/PLY}"),
+           Structural("mesh", "object", "(required)", "{\"shape\": NAME} or {\"file\": OBJ/PLY}"),
            Structural("texture", "string", "none", "a colour image on the mesh's UVs"),
        }},
-      {"volume", ObjectType::kVolume,
+      {"volume",
+       ObjectType::kVolume,
        "direct volume rendering or an iso surface, displaced and cut (Correa, Silver, Chen 2006)",
        {
            Structural("volume", "string", "(one of volume, shared_volume)",
@@ -97,8 +101,9 @@ const std::vector<ObjectKindSpec>& ObjectKinds() {
                       "JSON file"),
            {"effect", "string", "none",
             "none | peel | slices | seam | pull | wave, with optional parameters (see the "
-            "deformations guide)"},
-           {"map_size", "integer", "64", "texels per axis of the effect's displacement map (1..512)"},
+            "volumes guide)"},
+           {"map_size", "integer", "64",
+            "texels per axis of the effect's displacement map (1..512)"},
            {"mode", "string", "dvr", "dvr, or iso:VALUE for the first surface at VALUE"},
            {"spacing", "number", "1", "sampling distance along a ray, in voxels"},
            {"displacement_bits", "integer", "16", "8 | 16 | 32: bits per displacement-map channel"},
@@ -107,7 +112,8 @@ const std::vector<ObjectKindSpec>& ObjectKinds() {
            {"jacobian", "string", "precomputed",
             "precomputed | differences: how the map's Jacobian is found"},
        }},
-      {"deform", ObjectType::kDeform,
+      {"deform",
+       ObjectType::kDeform,
        "a mesh deformed and cut by an inverse displacement (Correa, Silver, Chen 2007)",
        {
            Structural("mesh", "object", "(required)",
@@ -127,7 +133,8 @@ const std::vector<ObjectKindSpec>& ObjectKinds() {
             "tx,ty,tz[,rx,ry,rz[,scale]]: moves the deformation in its box"},
            {"step", "string", "fixed", "fixed | threshold:T | jacobian: the ray's step policy"},
            {"step_voxels", "number", "1", "ray step in distance-field voxels"},
-           {"skip", "bool", "false", "skip empty space by the cut's distance (Correa 2007, sec. 6.2)"},
+           {"skip", "bool", "false",
+            "skip empty space by the cut's distance (Correa 2007, sec. 6.2)"},
            {"skip_object", "bool", "true", "skip empty space by the object's distance field"},
            {"solid", "string", "csg", "csg | search: how a solid cut finds its surface"},
            {"resolution", "integer", "128", "distance-field voxels per axis (8..512)"},

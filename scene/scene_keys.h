@@ -22,11 +22,11 @@ struct KeySpec {
   std::string_view type;           // "string", "integer", "number", "bool", "object", ...
   std::string_view default_value;  // as a user would write it; "" = required or none
   std::string_view help;           // meaning, unit and allowed values
-  bool effect = true;  // an effect option (kept as scene::Settings) or a structural key
+  bool effect = true;              // an effect option (kept as scene::Settings) or a structural key
 };
 
 struct ObjectKindSpec {
-  std::string_view name;    // the "type" value
+  std::string_view name;  // the "type" value
   ObjectType type;
   std::string_view source;  // the paper section it implements, or what it is
   std::vector<KeySpec> keys;

@@ -54,7 +54,7 @@ def lay_stand_ins(folder, shared, ibr):
 def main():
     args = [a for a in sys.argv[1:] if not a.startswith("--")]
     keep = "--keep" in sys.argv
-    readme, bin_dir, shared = args
+    readme, bin_dir, shared = (os.path.abspath(a) for a in args)
     ibr = os.path.join(bin_dir, "ibr")
     with open(readme) as f:
         blocks = sh_blocks(f.read())

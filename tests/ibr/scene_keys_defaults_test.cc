@@ -3,6 +3,7 @@
 // and the enum and number defaults give the same options as no key at all.
 #include <gtest/gtest.h>
 
+#include <nlohmann/json.hpp>
 #include <string>
 
 #include "ibr/deform_object.h"
@@ -23,9 +24,13 @@ std::string Default(std::string_view kind, std::string_view key) {
   return "";
 }
 
+// The default as a scene file would hold it: a JSON number or bool where
+// the text is one, else a string.
 scene::Settings One(std::string_view key, const std::string& value) {
   scene::Settings s;
-  s.Set(std::string(key), value, std::string(key));
+  nlohmann::json v = nlohmann::json::parse(value, nullptr, /*allow_exceptions=*/false);
+  if (v.is_discarded() || v.is_object() || v.is_array()) v = value;
+  s.Set(std::string(key), v, std::string(key));
   return s;
 }
 
@@ -71,11 +76,13 @@ TEST(SceneKeysDefaults, DefaultsEqualWhatTheParsersDoWithoutTheKey) {
   EXPECT_EQ(Default("depth-object", "robust"), std::to_string(d.robust_k));
   EXPECT_EQ(Default("depth-object", "refine_steps"), std::to_string(d.refine_steps));
   EXPECT_EQ(Default("depth-object", "max_maps"), std::to_string(d.max_maps));
-  EXPECT_EQ(Default("depth-object", "outside"), d.outside == OutsidePolicy::kPass ? "pass" : "fail");
+  EXPECT_EQ(Default("depth-object", "outside"),
+            d.outside == OutsidePolicy::kPass ? "pass" : "fail");
 
   const DisplacedMeshOptions m = DisplacedMeshOptionsFrom({});
   EXPECT_EQ(Default("displaced-mesh", "method"), DisplacementMethodName(m.method));
-  EXPECT_EQ(std::stod(Default("displaced-mesh", "max_displacement")), m.max_displacement);
+  EXPECT_FLOAT_EQ(static_cast<float>(std::stod(Default("displaced-mesh", "max_displacement"))),
+                  m.max_displacement);
   EXPECT_EQ(std::stod(Default("displaced-mesh", "tiling")), m.tiling);
   EXPECT_EQ(Default("displaced-mesh", "slices"), std::to_string(m.slices));
   EXPECT_EQ(Default("displaced-mesh", "steps"), std::to_string(m.steps));

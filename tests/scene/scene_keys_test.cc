@@ -81,8 +81,8 @@ TEST(SceneKeys, TheReaderTakesTheTablesEffectKeysAndRefusesOthers) {
     for (const KeySpec& k : kind.keys) {
       if (k.effect) EXPECT_TRUE(s.objects[0].settings.Has(std::string(k.key))) << k.key;
     }
-    std::stringstream bad("{\"version\": 1, \"cameras\": {\"orbit\": {}}, \"objects\": [" +
-                          object + ", \"no_such_key\": 1}]}");
+    std::stringstream bad("{\"version\": 1, \"cameras\": {\"orbit\": {}}, \"objects\": [" + object +
+                          ", \"no_such_key\": 1}]}");
     try {
       ReadScene(bad, "t.json", options);
       FAIL() << kind.name;
