@@ -294,6 +294,28 @@ TEST_F(RealCapturesCliTest, SparseOnlyImportSaysItCannotRenderAndRenderAgrees) {
   EXPECT_FALSE(fs::exists(dir_ / "maupertuis_render"));
 }
 
+// The new flags' bad values: one error line, no output.
+TEST_F(RealCapturesCliTest, BadUpArcAndMasksGiveOneErrorLine) {
+  const fs::path out = dir_ / "bad";
+  const std::string cup = Quote(dir_ / "cup");
+  for (const std::string& args :
+       {"render " + cup + " --orbit 2 --up w", "render " + cup + " --orbit 2 --up 0,0,0",
+        "render " + cup + " --orbit 2 --up 1,2", "render " + cup + " --orbit 2 --arc 0",
+        "render " + cup + " --orbit 2 --arc 400",
+        "render " + cup + " --cameras " + cup + " --arc 30",
+        "render " + cup + " --cameras " + cup + " --up y",
+        "render " + cup + " --cameras " + Quote(dir_ / "no_such.json"),
+        "import colmap " + Quote(kReal / "maupertuis") + " --masks " + Quote(dir_ / "no_masks"),
+        "import colmap " + Quote(kReal / "maupertuis") + " --bounds-percentile 60"}) {
+    fs::remove_all(out);
+    const auto r = RunCommand(IbrBinary() + " " + args + " --out " + Quote(out));
+    EXPECT_NE(r.exit_code, 0) << args;
+    EXPECT_EQ(test_support::CountLines(r.err), 1) << args << ": " << r.err;
+    EXPECT_NE(r.err.find("ibr: error:"), std::string::npos) << args << ": " << r.err;
+    EXPECT_FALSE(fs::exists(out)) << args;
+  }
+}
+
 TEST_F(RealCapturesCliTest, RenderTakesTheRayPathByDefault) {
   for (const std::string name : {"default", "ray"}) {
     fs::remove_all(dir_ / ("path_" + name));
