@@ -26,9 +26,14 @@ namespace {
 std::vector<NamedView> NovelViews(const std::filesystem::path& path, int size,
                                   const capture::Dataset& dataset) {
   bool scene_file = false;
+  if (!std::filesystem::exists(path)) {
+    core::ThrowFileError("ibr render", path,
+                         "--cameras: does not exist (a dataset folder, a cameras-only "
+                         "dataset.json or a scene file)");
+  }
   if (!std::filesystem::is_directory(path)) {
     std::ifstream in(path, std::ios::binary);
-    if (!in) core::ThrowFileError("ibr render", path, "cannot open --cameras");
+    if (!in) core::ThrowFileError("ibr render", path, "--cameras: cannot open");
     const nlohmann::json j = nlohmann::json::parse(in, nullptr, /*allow_exceptions=*/false);
     scene_file = j.is_object() && !j.contains("format") && j.contains("cameras");
   }
