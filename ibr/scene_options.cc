@@ -125,7 +125,7 @@ scene::Settings SettingsFromFlags(const DepthObjectFlags& f) {
   s.Set("slice_path", f.slice_path, "--slice-path");
   s.Set("robust", f.robust, "--robust");
   s.Set("texturing", f.texturing, "--texturing");
-  s.Set("outside", f.outside, "--outside");
+  if (!f.outside.empty()) s.Set("outside", f.outside, "--outside");
   s.Set("invalid_depth", f.invalid_depth, "--invalid-depth");
   s.Set("max_maps", f.max_maps, "--max-maps");
   if (!f.depth_lookup.empty()) s.Set("depth_lookup", f.depth_lookup, "--depth-lookup");

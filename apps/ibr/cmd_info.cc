@@ -9,6 +9,7 @@
 
 #include "apps/ibr/commands.h"
 #include "capture/dataset.h"
+#include "capture/depth_scale.h"
 #include "render/gl/context.h"
 #include "render/gl/shader_program.h"
 #include "scene/scene_keys.h"
@@ -50,6 +51,17 @@ void PrintDataset(const std::filesystem::path& dir) {
                d.bounds->max.z);
   } else {
     fmt::print("bounds    unknown\n");
+  }
+  const capture::UpChoice up = capture::DefaultUp(d);
+  fmt::print("up        ({:.3f}, {:.3f}, {:.3f}) from {}\n", up.up.x, up.up.y, up.up.z, up.source);
+  if (with_depth > 0) {
+    const capture::DepthScaleReport scale = capture::CheckDepthScale(d);
+    fmt::print("depth     median {:.4g} {} over {} view(s){}\n", scale.median, d.depth_units,
+               scale.views,
+               scale.agreement >= 0 ? fmt::format("; {:.0f} % of samples agree between {} pair(s)",
+                                                  100 * scale.agreement, scale.pairs)
+                                    : "");
+    if (!scale.warning.empty()) fmt::print("warning   {}\n", scale.warning);
   }
   // Depth range and coverage of the first view with depth, as a sanity figure.
   for (size_t i = 0; i < d.views.size(); ++i) {
