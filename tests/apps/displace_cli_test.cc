@@ -22,7 +22,7 @@ using test_support::RunCommand;
 
 const fs::path kReal = fs::path(IBR_REAL_DATA_DIR) / "displace";
 
-std::string Quote(const fs::path& p) { return "'" + p.string() + "'"; }
+std::string Quote(const fs::path& p) { return fmt::format("'{}'", p.string()); }
 
 // Spot stands on y = min (--up y).
 std::string Spot(const std::string& up = "y") {
