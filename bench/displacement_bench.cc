@@ -22,34 +22,10 @@ namespace fs = std::filesystem;
 
 render::ViewSetup OrbitView(const core::TriangleMesh& base, float max_displacement,
                             double elevation_deg, double azimuth_deg, int size_px) {
-  if (!(elevation_deg >= -90 && elevation_deg <= 90) || !std::isfinite(azimuth_deg)) {
-    core::ThrowInputError("OrbitView", "elevation {} outside [-90, 90] or azimuth {} not finite",
-                          elevation_deg, azimuth_deg);
-  }
-  if (size_px < 1) core::ThrowInputError("OrbitView", "size {} px must be >= 1", size_px);
-  glm::vec3 lo, hi;
-  base.Bounds(lo, hi);
-  const glm::vec3 centre = 0.5f * (lo + hi);
-  const float radius = 0.5f * glm::length(hi - lo) + max_displacement;
-  constexpr double kHalfFov = 20.0 * std::numbers::pi / 180.0;
-  const double distance = radius / std::sin(kHalfFov);
-  const double el = elevation_deg * std::numbers::pi / 180.0,
-               az = azimuth_deg * std::numbers::pi / 180.0;
-  const glm::vec3 horizontal(static_cast<float>(std::cos(az)), static_cast<float>(std::sin(az)),
-                             0.0f);
-  const glm::vec3 to_eye = static_cast<float>(std::cos(el)) * horizontal +
-                           glm::vec3(0, 0, static_cast<float>(std::sin(el)));
-  // The camera's up: perpendicular to the view, towards +z (away from the eye at a top view).
-  const glm::vec3 up = -static_cast<float>(std::sin(el)) * horizontal +
-                       glm::vec3(0, 0, static_cast<float>(std::cos(el)));
-  render::ViewSetup view;
-  view.cam_from_world =
-      core::CamFromWorldLookAt(centre + static_cast<float>(distance) * to_eye, centre, up);
-  const double f = size_px / (2.0 * std::tan(kHalfFov));
-  view.clip_from_cam = core::ClipFromCamPerspective(
-      f, f, size_px / 2.0, size_px / 2.0, size_px, size_px, std::max(0.01, distance - 1.5 * radius),
-      distance + 1.5 * radius);
-  return view;
+  ibr::DisplacementOrbit orbit;  // 40 degrees, +z up, framed
+  orbit.elevation_deg = elevation_deg;
+  orbit.azimuth_deg = azimuth_deg;
+  return ibr::DisplacementOrbitView(base, max_displacement, orbit, size_px);
 }
 
 void DisplacementBenchOptions::Check() const {

@@ -1,5 +1,7 @@
 #include "core/heightfield.h"
 
+#include <fmt/format.h>
+
 #include <algorithm>
 #include <cmath>
 #include <map>
@@ -7,6 +9,7 @@
 #include <random>
 
 #include "core/error.h"
+#include "core/memory_budget.h"
 
 namespace core {
 
@@ -185,8 +188,19 @@ TriangleMesh TessellateDisplaced(const TriangleMesh& base, const ImageF& height,
     ThrowInputError("TessellateDisplaced", "height map must be a non-empty 1-channel image");
   }
   const int s = options.subdivisions;
-  TriangleMesh out;
   const size_t per_triangle = static_cast<size_t>(s + 1) * (s + 2) / 2;
+  // Position, normal and uv per vertex; three 32-bit indices per triangle.
+  const std::uint64_t vertices = base.triangle_count() * per_triangle;
+  const std::uint64_t triangles = base.triangle_count() * static_cast<std::uint64_t>(s) * s;
+  if (vertices > 0xffffffffull) {
+    ThrowInputError("TessellateDisplaced", "{} vertices exceed 32-bit indices", vertices);
+  }
+  CheckMemory(vertices * (2 * sizeof(glm::vec3) + sizeof(glm::vec2)) + triangles * 12,
+              "TessellateDisplaced",
+              fmt::format("the tessellation of {} triangles at {} subdivisions per edge ({} "
+                          "triangles)",
+                          base.triangle_count(), s, triangles));
+  TriangleMesh out;
   out.positions.reserve(base.triangle_count() * per_triangle);
   for (size_t t = 0; t < base.triangle_count(); ++t) {
     const uint32_t ia = base.indices[3 * t], ib = base.indices[3 * t + 1],

@@ -4,11 +4,13 @@
 
 #include <algorithm>
 #include <cmath>
+#include <numbers>
 #include <optional>
 
 #include "capture/synthetic.h"
 #include "core/error.h"
 #include "core/image_io.h"
+#include "core/projection.h"
 #include "render/gl/gpu_mesh.h"
 #include "render/passes/relief_surface_pass.h"
 
@@ -66,6 +68,10 @@ void DisplacedMeshOptions::Check() const {
   }
   if (!(tiling > 0 && tiling <= 1024))
     core::ThrowInputError("DisplacedMeshOptions", "tiling {} outside (0, 1024]", tiling);
+  if (!(texture_tiling > 0 && texture_tiling <= 1024)) {
+    core::ThrowInputError("DisplacedMeshOptions", "texture tiling {} outside (0, 1024]",
+                          texture_tiling);
+  }
   if (slices < 1 || slices > 4096)
     core::ThrowInputError("DisplacedMeshOptions", "slices {} outside 1..4096", slices);
   if (steps < 1 || steps > 4096)
@@ -127,36 +133,78 @@ core::TriangleMesh ReadDisplacementBase(const std::filesystem::path& path) {
   return std::move(scene.mesh);
 }
 
-core::ImageF DisplacementTexels(const DisplacedMeshData& data) {
-  core::ImageF texels = render::MakeDisplacementTexels(data.height);
-  if (data.color.empty()) return texels;
-  const core::Image8& c = data.color;
-  const int w = texels.width(), h = texels.height();
-  for (int y = 0; y < h; ++y) {
-    for (int x = 0; x < w; ++x) {
-      // Bilinear at the texel centre, clamped (pixel centres at +0.5).
-      const float u = (x + 0.5f) / w * c.width() - 0.5f, v = (y + 0.5f) / h * c.height() - 0.5f;
-      const int x0 = std::clamp(static_cast<int>(std::floor(u)), 0, c.width() - 1);
-      const int y0 = std::clamp(static_cast<int>(std::floor(v)), 0, c.height() - 1);
-      const int x1 = std::min(x0 + 1, c.width() - 1), y1 = std::min(y0 + 1, c.height() - 1);
-      const float fx = std::clamp(u - std::floor(u), 0.0f, 1.0f),
-                  fy = std::clamp(v - std::floor(v), 0.0f, 1.0f);
-      for (int k = 0; k < 3; ++k) {
-        const int ck = std::min(k, c.channels() - 1);
-        const float top = (1 - fx) * c.at(x0, y0, ck) + fx * c.at(x1, y0, ck);
-        const float bottom = (1 - fx) * c.at(x0, y1, ck) + fx * c.at(x1, y1, ck);
-        texels.at(x, y, k) = ((1 - fy) * top + fy * bottom) / 255.0f;
-      }
-    }
+void DisplacementOrbit::Check() const {
+  constexpr const char* kWhere = "DisplacementOrbit";
+  if (!(elevation_deg >= -90 && elevation_deg <= 90) || !std::isfinite(azimuth_deg)) {
+    core::ThrowInputError(kWhere, "elevation {} outside [-90, 90] or azimuth {} not finite",
+                          elevation_deg, azimuth_deg);
   }
-  return texels;
+  if (!(distance >= 0) || !std::isfinite(distance)) {
+    core::ThrowInputError(kWhere, "distance {} must be finite and >= 0 (0 = framed)", distance);
+  }
+  if (!(fov_deg > 0 && fov_deg < 180))
+    core::ThrowInputError(kWhere, "field of view {} degrees outside (0, 180)", fov_deg);
+  if (!(glm::length(up) > 0.5f)) core::ThrowInputError(kWhere, "the up axis must be a unit axis");
+}
+
+glm::vec3 UpAxisFromName(const std::string& name, std::string_view where) {
+  const bool negative = name.size() == 2 && name[0] == '-';
+  const std::string axis = negative ? name.substr(1) : name;
+  glm::vec3 up(0);
+  if (axis == "x") up.x = 1;
+  if (axis == "y") up.y = 1;
+  if (axis == "z") up.z = 1;
+  if (axis.size() != 1 || up == glm::vec3(0)) {
+    core::ThrowInputError(where, "up axis '{}' is none of x, y, z, -x, -y, -z", name);
+  }
+  return negative ? -up : up;
+}
+
+render::ViewSetup DisplacementOrbitView(const core::TriangleMesh& base, float max_displacement,
+                                        const DisplacementOrbit& orbit, int size_px) {
+  orbit.Check();
+  if (size_px < 1)
+    core::ThrowInputError("DisplacementOrbitView", "size {} px must be >= 1", size_px);
+  glm::vec3 lo, hi;
+  base.Bounds(lo, hi);
+  const glm::vec3 centre = 0.5f * (lo + hi);
+  const float radius = 0.5f * glm::length(hi - lo) + max_displacement;
+  const double half_fov = 0.5 * orbit.fov_deg * std::numbers::pi / 180.0;
+  const double distance = orbit.distance > 0 ? orbit.distance : radius / std::sin(half_fov);
+  // A right-handed frame around `up`: h1 the next axis after up's, h2 = up x h1
+  // (up z: h1 x, h2 y, the orbit every earlier version used).
+  const glm::vec3 up = glm::normalize(orbit.up);
+  const int axis = std::abs(up.x) > 0.5f ? 0 : std::abs(up.y) > 0.5f ? 1 : 2;
+  glm::vec3 h1(0);
+  h1[(axis + 1) % 3] = 1;
+  const glm::vec3 h2 = glm::cross(up, h1);
+  const double el = orbit.elevation_deg * std::numbers::pi / 180.0,
+               az = orbit.azimuth_deg * std::numbers::pi / 180.0;
+  const glm::vec3 horizontal =
+      static_cast<float>(std::cos(az)) * h1 + static_cast<float>(std::sin(az)) * h2;
+  const glm::vec3 to_eye =
+      static_cast<float>(std::cos(el)) * horizontal + static_cast<float>(std::sin(el)) * up;
+  // The camera's up: perpendicular to the view, towards `up` (away from the eye at a top view).
+  const glm::vec3 cam_up =
+      -static_cast<float>(std::sin(el)) * horizontal + static_cast<float>(std::cos(el)) * up;
+  render::ViewSetup view;
+  view.cam_from_world =
+      core::CamFromWorldLookAt(centre + static_cast<float>(distance) * to_eye, centre, cam_up);
+  const double f = size_px / (2.0 * std::tan(half_fov));
+  // Near at most 1.5 radii in front of the centre, never at or behind the
+  // eye (an eye inside the bounds sees from 1/1000 of its distance on).
+  view.clip_from_cam = core::ClipFromCamPerspective(
+      f, f, size_px / 2.0, size_px / 2.0, size_px, size_px,
+      std::max(1e-3 * distance, distance - 1.5 * radius), distance + 1.5 * radius);
+  return view;
 }
 
 struct DisplacedMeshRenderer::Impl {
   // What the pass draws from (declared before the pass, destroyed after it).
-  std::optional<render::Texture> texture;  // RGBA: colour + height (slicing, tessellated)
+  std::optional<render::Texture> texture;  // RGBA: slope colour + height (slicing, tessellated)
+  std::optional<render::Texture> color;    // the user's colour texture, if any
   std::optional<render::GpuMesh> tessellated;
-  size_t tessellated_triangles = 0;
+  std::optional<render::GroundTruthPlan> plan;
   std::unique_ptr<render::Pass> pass;
   render::DisplacementPass* slices = nullptr;  // `pass` when it slices (for its counts)
   std::optional<render::RenderTarget> target;  // Draw()'s own frame target
@@ -177,14 +225,16 @@ DisplacedMeshRenderer::DisplacedMeshRenderer(render::ProgramCache& programs,
   }
   Impl& s = *impl_;
   const DisplacementMethod m = options_.method;
+  // The tessellated truth is planned (and refused or limited by the memory
+  // budget) before any texture or mesh is made.
+  if (m == DisplacementMethod::kTessellated) {
+    s.plan = render::PlanDisplacedGroundTruth(
+        data.base, std::max(data.height.width(), data.height.height()), options_.tiling);
+  }
+  if (!data.color.empty()) s.color.emplace(render::UploadColorTexture(data.color));
+  const render::Texture* color = s.color ? &*s.color : nullptr;
   if (m == DisplacementMethod::kNcs || m == DisplacementMethod::kRelief ||
       m == DisplacementMethod::kPom || m == DisplacementMethod::kCrm) {
-    if (!data.color.empty()) {
-      core::ThrowInputError("DisplacedMeshRenderer",
-                            "method {} shades with the base colour: a colour texture is "
-                            "not built in this version (use a slicing method or tessellated)",
-                            DisplacementMethodName(m));
-    }
     render::ReliefGeometryOptions geometry;
     geometry.max_displacement = options_.max_displacement;
     render::DetectPeriodicAxes(data.base, geometry.tangent_maps.wrap_u,
@@ -192,11 +242,16 @@ DisplacedMeshRenderer::DisplacedMeshRenderer(render::ProgramCache& programs,
     render::ReliefSurfaceOptions o;
     o.method = render::ReliefMethodFromName(DisplacementMethodName(m));
     o.tiling = options_.tiling;
+    o.color_tiling = options_.texture_tiling;
+    o.shade = options_.shade || !color;
     o.steps = options_.steps;
-    s.pass = std::make_unique<render::ReliefSurface>(programs, data.base, data.height, geometry, o);
+    auto relief =
+        std::make_unique<render::ReliefSurface>(programs, data.base, data.height, geometry, o);
+    relief->SetColorTexture(color);
+    s.pass = std::move(relief);
     return;
   }
-  s.texture.emplace(render::UploadDisplacementTexture(DisplacementTexels(data)));
+  s.texture.emplace(render::UploadDisplacementTexture(render::MakeDisplacementTexels(data.height)));
   if (IsSlicing(m)) {
     render::DisplacementPassOptions o;
     o.slicing.family =
@@ -206,18 +261,23 @@ DisplacedMeshRenderer::DisplacedMeshRenderer(render::ProgramCache& programs,
     o.slicing.count = options_.slices;
     o.max_displacement = options_.max_displacement;
     o.tiling = options_.tiling;
+    o.color = color;
+    o.color_tiling = options_.texture_tiling;
+    o.shade = options_.shade;
     auto slices = std::make_unique<render::DisplacementPass>(programs, data.base, *s.texture, o);
     s.slices = slices.get();
     s.pass = std::move(slices);
     return;
   }
-  const core::TriangleMesh mesh = render::MakeDisplacedGroundTruth(
-      data.base, data.height, options_.max_displacement, options_.tiling);
-  s.tessellated_triangles = mesh.triangle_count();
-  s.tessellated.emplace(mesh);
+  // With a colour texture: its colour at the mesh's uvs, lit by the
+  // tessellation's own normals; without: the slope colours at the tiled uvs,
+  // unlit, as the slicing passes show them.
+  s.tessellated.emplace(render::MakeDisplacedGroundTruth(
+      data.base, data.height, options_.max_displacement, options_.tiling, *s.plan,
+      color ? options_.texture_tiling : options_.tiling));
   render::MeshPassOptions o;
-  o.texture = &*s.texture;
-  o.shade = false;  // the texture's colour, as the slicing passes show it
+  o.texture = color ? color : &*s.texture;
+  o.shade = color != nullptr && options_.shade;
   s.pass = std::make_unique<render::MeshPass>(programs, *s.tessellated, o);
 }
 
@@ -244,8 +304,12 @@ std::string DisplacedMeshRenderer::Detail() const {
     const auto& st = s.slices->last_stats();
     return fmt::format("{} volumes, {} slices, {} triangles", st.volumes, st.slices, st.triangles);
   }
-  if (s.tessellated) return fmt::format("{} triangles", s.tessellated_triangles);
+  if (s.plan) return fmt::format("{} triangles", s.plan->triangles);
   return fmt::format("{} steps", options_.steps);
+}
+
+const render::GroundTruthPlan* DisplacedMeshRenderer::truth_plan() const {
+  return impl_->plan ? &*impl_->plan : nullptr;
 }
 
 }  // namespace ibr

@@ -9,6 +9,7 @@
 #include <filesystem>
 #include <memory>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "core/heightfield.h"
@@ -42,8 +43,16 @@ struct DisplacedMeshOptions {
   DisplacementMethod method = DisplacementMethod::kSlicesOrthogonal;
   float max_displacement = 0.15f;  // scene units for height 1 (the torus tube radius is 0.4)
   float tiling = 1.0f;             // height map repeats across uv [0, 1]
-  int slices = 64;                 // slicing methods: slices per face volume
-  int steps = 32;  // ray methods: linear-search steps (render::ReliefSurfaceOptions)
+  // The colour texture (DisplacedMeshData::color) repeats this many times
+  // across uv [0, 1]: 1 keeps it where the mesh's uvs put it, whatever the
+  // height map's `tiling`.
+  float texture_tiling = 1.0f;
+  // Light the colour texture with the displaced normal (head light); off:
+  // its plain colour (to compare where the texture lands, unconfounded by
+  // each method's normals). Without a colour texture nothing changes.
+  bool shade = true;
+  int slices = 64;  // slicing methods: slices per face volume
+  int steps = 32;   // ray methods: linear-search steps (render::ReliefSurfaceOptions)
   void Check() const;
 };
 
@@ -51,8 +60,11 @@ struct DisplacedMeshOptions {
 struct DisplacedMeshData {
   core::TriangleMesh base;  // normals + uvs, world space
   core::ImageF height;      // 1 channel, [0, 1] (1 = max_displacement)
-  core::Image8
-      color;  // optional RGBA8 colour texture (any size); empty = colour from the height's slopes
+  // Optional colour texture (1-4 channels, any size) at the mesh's uvs; every
+  // method shades it with the head light and the displaced normal. Empty =
+  // colour from the height's slopes (slicing, tessellated) or a grey albedo
+  // (ray methods).
+  core::Image8 color;
 };
 
 // Built-in base meshes: "torus" (the paper's 625-polygon donut, R 1, r 0.4),
@@ -68,10 +80,23 @@ core::ImageF ReadHeightMap(const std::filesystem::path& path);
 // A user's mesh (OBJ/PLY through assimp): needs texture coordinates.
 core::TriangleMesh ReadDisplacementBase(const std::filesystem::path& path);
 
-// The displacement texture's texels: RGB = `color` resampled (bilinear) to the
-// height map's size, or the slope colouring of render::MakeDisplacementTexels;
-// A = height.
-core::ImageF DisplacementTexels(const DisplacedMeshData& data);
+// An orbit camera around a displaced mesh for `ibr displace`: the eye at
+// `distance` from the centre of the bounds (0 = frame the bounds grown by
+// max_displacement), `elevation_deg` above the plane perpendicular to `up`,
+// `azimuth_deg` around `up` (0 along the first horizontal axis: x for up z,
+// z for up y, y for up x), a `fov_deg` square perspective frame of `size_px`.
+struct DisplacementOrbit {
+  double elevation_deg = 35;
+  double azimuth_deg = -60;
+  double distance = 0;  // scene units from the centre; 0 = framed
+  double fov_deg = 40;  // full field of view
+  glm::vec3 up{0, 0, 1};
+  void Check() const;
+};
+render::ViewSetup DisplacementOrbitView(const core::TriangleMesh& base, float max_displacement,
+                                        const DisplacementOrbit& orbit, int size_px);
+// "x", "y", "z", "-x", "-y", "-z" (InputError naming `where` otherwise).
+glm::vec3 UpAxisFromName(const std::string& name, std::string_view where);
 
 // A displaced mesh on the GPU: uploads once and holds the method's
 // render::Pass (render::DisplacementPass, render::ReliefSurface or, for the
@@ -95,6 +120,9 @@ class DisplacedMeshRenderer {
   render::Frame Read() const;
   // One line about the last Draw of the pass (counts).
   std::string Detail() const;
+  // The tessellated truth's plan (subdivisions, size, what the budget
+  // limited); null for the other methods.
+  const render::GroundTruthPlan* truth_plan() const;
   const DisplacedMeshOptions& options() const { return options_; }
 
  private:

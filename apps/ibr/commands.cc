@@ -103,8 +103,8 @@ void CheckSubcommandNames(const CLI::App& app, int argc, const char* const* argv
     const std::string token = argv[i];
     if (token == "--") return;
     if (!token.empty() && token[0] == '-') {
-      // The root's only valued option; every group's other options are flags.
-      if (current == &app && token == "--log-level") ++i;
+      // The root's valued options; every group's other options are flags.
+      if (current == &app && (token == "--log-level" || token == "--memory-budget")) ++i;
       continue;
     }
     std::vector<const CLI::App*> subs =

@@ -1,5 +1,7 @@
 #include "render/passes/displacement_pass.h"
 
+#include <fmt/format.h>
+
 #include <algorithm>
 #include <cmath>
 #include <glm/gtc/type_ptr.hpp>
@@ -7,6 +9,7 @@
 #include "core/check.h"
 #include "core/error.h"
 #include "core/heightfield.h"
+#include "core/memory_budget.h"
 
 namespace render {
 
@@ -26,6 +29,8 @@ core::ImageF MakeDisplacementTexels(const core::ImageF& height, float relief) {
       core::ThrowInputError("MakeDisplacementTexels", "height {} outside [0, 1]", v);
     }
   }
+  core::CheckMemory(static_cast<std::uint64_t>(w) * h * 4 * sizeof(float), "MakeDisplacementTexels",
+                    fmt::format("the {}x{} displacement texels", w, h));
   auto at = [&](int x, int y) { return height.at((x + w) % w, (y + h) % h); };
   const glm::vec3 light = glm::normalize(glm::vec3(-0.45f, -0.55f, 0.7f));
   const glm::vec3 low(0.30f, 0.20f, 0.13f), high(0.95f, 0.86f, 0.62f);
@@ -59,6 +64,11 @@ Texture UploadDisplacementTexture(const core::ImageF& rgba,
     core::ThrowInputError("UploadDisplacementTexture",
                           "texels must be a non-empty 4-channel image");
   }
+  // The GL copy (llvmpipe keeps it in system memory) and the RGBA8 staging bytes.
+  const std::uint64_t texels = static_cast<std::uint64_t>(rgba.width()) * rgba.height();
+  core::CheckMemory(texels * (options.internal_format == GL_RGBA8 ? 8 : 16),
+                    "UploadDisplacementTexture",
+                    fmt::format("the {}x{} displacement texture", rgba.width(), rgba.height()));
   // Rows go up in GL texture space, but the lookup is by uv with row 0 at
   // v = 0 both here and in the ground truth's SampleHeight*, so the image is
   // uploaded as is (texel (x, y) at uv ((x + 0.5) / w, (y + 0.5) / h)).
@@ -81,6 +91,34 @@ Texture UploadDisplacementTexture(const core::ImageF& rgba,
   glTextureParameteri(texture.id(), GL_TEXTURE_MAG_FILTER, filter);
   glTextureParameteri(texture.id(), GL_TEXTURE_WRAP_S, GL_REPEAT);
   glTextureParameteri(texture.id(), GL_TEXTURE_WRAP_T, GL_REPEAT);
+  return texture;
+}
+
+Texture UploadColorTexture(const core::Image8& image) {
+  if (image.empty() || image.channels() < 1 || image.channels() > 4) {
+    core::ThrowInputError("UploadColorTexture", "a colour texture needs 1-4 channels, not {}",
+                          image.channels());
+  }
+  const std::uint64_t texels = static_cast<std::uint64_t>(image.width()) * image.height();
+  core::CheckMemory(texels * 8, "UploadColorTexture",  // RGBA8 staging + the GL copy
+                    fmt::format("the {}x{} colour texture", image.width(), image.height()));
+  std::vector<uint8_t> rgba(texels * 4);
+  const int c = image.channels();
+  for (std::uint64_t p = 0; p < texels; ++p) {
+    const uint8_t* in = image.data() + p * c;
+    uint8_t* out = rgba.data() + p * 4;
+    // Grey (+ alpha) spreads to RGB; a missing alpha is opaque.
+    for (int k = 0; k < 3; ++k) out[k] = in[c >= 3 ? k : 0];
+    out[3] = c == 2 ? in[1] : c == 4 ? in[3] : 255;
+  }
+  Texture texture = Texture::Create2D(GL_RGBA8, image.width(), image.height());
+  glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
+  glTextureSubImage2D(texture.id(), 0, 0, 0, image.width(), image.height(), GL_RGBA,
+                      GL_UNSIGNED_BYTE, rgba.data());
+  for (GLenum p : {GL_TEXTURE_MIN_FILTER, GL_TEXTURE_MAG_FILTER})
+    glTextureParameteri(texture.id(), p, GL_LINEAR);
+  for (GLenum p : {GL_TEXTURE_WRAP_S, GL_TEXTURE_WRAP_T})
+    glTextureParameteri(texture.id(), p, GL_REPEAT);
   return texture;
 }
 
@@ -188,10 +226,19 @@ void DisplacementPassOptions::Check() const {
   if (!(tiling > 0) || !(tiling <= 1024)) {
     core::ThrowInputError("DisplacementPassOptions", "tiling {} outside (0, 1024]", tiling);
   }
+  if (!(color_tiling > 0) || !(color_tiling <= 1024)) {
+    core::ThrowInputError("DisplacementPassOptions", "colour tiling {} outside (0, 1024]",
+                          color_tiling);
+  }
 }
 
-std::vector<std::string> DisplacementPassOptions::Defines() const {
+std::vector<std::string> DisplacementPassOptions::Defines(bool orthographic) const {
   std::vector<std::string> defines;
+  if (color) {
+    defines.push_back("COLOR_TEXTURE");
+    if (shade) defines.push_back("SHADED");
+    if (orthographic) defines.push_back("ORTHOGRAPHIC");  // the head light's direction
+  }
   if (slicing.family == SliceFamily::kSurfaceAligned) defines.push_back("SURFACE_ALIGNED");
   if (slicing.family == SliceFamily::kScreen && slicing.full_size_screen_slices) {
     defines.push_back("FULL_SIZE_SLICES");
@@ -266,13 +313,18 @@ void DisplacementPass::Draw(const RenderTarget& target, const ViewSetup& view) {
 
   const Program& program = programs_->Get({.vertex = "passes/displacement.vert.glsl",
                                            .fragment = "passes/displacement.frag.glsl",
-                                           .defines = options_.Defines()});
+                                           .defines = options_.Defines(view.orthographic)});
   UseProgram(target, program, view);
   program.Set("u_max_displacement", options_.max_displacement);
   program.Set("u_tiling", options_.tiling);
   program.Set("u_displacement", 0);
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, volume_data_.id());
   glBindTextureUnit(0, displacement_->id());
+  if (options_.color) {
+    program.Set("u_color_tiling", options_.color_tiling);
+    program.Set("u_color", 1);
+    glBindTextureUnit(1, options_.color->id());
+  }
   Query query;
   const bool count = count_fragments_ && epoxy_has_gl_extension("GL_ARB_pipeline_statistics_query");
   if (count) {
@@ -293,15 +345,43 @@ void DisplacementPass::Draw(const RenderTarget& target, const ViewSetup& view) {
 
 // ---- the ground truth ----
 
-core::TriangleMesh MakeDisplacedGroundTruth(const core::TriangleMesh& base,
-                                            const core::ImageF& height, float max_displacement,
-                                            float tiling) {
-  base.Validate("MakeDisplacedGroundTruth");
-  if (base.uvs.empty() || height.empty()) {
-    core::ThrowInputError("MakeDisplacedGroundTruth",
-                          "needs a base mesh with uvs and a non-empty height map");
+// Per vertex: the CPU mesh's position, normal and uv (32 B), GpuMesh's remap
+// entry and interleaved copy (36 B), the driver's buffer (32 B) and
+// meshoptimizer's cache-optimiser state (about 24 B). Per triangle: three
+// indices in the CPU mesh, the optimiser's reordered and remapped copies,
+// GpuMesh's copy and the driver's buffer (5 x 12 B) and the optimiser's
+// adjacency (about 24 B). An overestimate: some of these are freed before
+// the next is made.
+constexpr std::uint64_t kTruthBytesPerVertex = 128;
+constexpr std::uint64_t kTruthBytesPerTriangle = 84;
+
+std::uint64_t GroundTruthBytes(std::uint64_t faces, int subdivisions) {
+  const std::uint64_t s = static_cast<std::uint64_t>(subdivisions);
+  return faces * ((s + 1) * (s + 2) / 2 * kTruthBytesPerVertex + s * s * kTruthBytesPerTriangle);
+}
+
+std::string GroundTruthPlan::Describe() const {
+  std::string line = fmt::format(
+      "{} subdivisions per face edge ({} faces, {} triangles, {}), a subdivided edge spans up to "
+      "{:.2f} height texels",
+      subdivisions, faces, triangles, core::FormatBytes(bytes), texels_per_edge);
+  if (limited()) {
+    line += fmt::format("; the memory budget ({}) limits it from {}",
+                        core::FormatBytes(core::MemoryBudgetBytes()), wanted_subdivisions);
   }
-  const float texels = static_cast<float>(std::max(height.width(), height.height()));
+  if (span_texels > static_cast<float>(kMaxGroundTruthSubdivisions)) {
+    line += fmt::format("; one texel per edge would need {:.0f} (over the cap of {})",
+                        std::ceil(span_texels), kMaxGroundTruthSubdivisions);
+  }
+  return line;
+}
+
+GroundTruthPlan PlanDisplacedGroundTruth(const core::TriangleMesh& base, int texels, float tiling) {
+  base.Validate("PlanDisplacedGroundTruth");
+  if (base.uvs.empty() || texels < 1 || !(tiling > 0)) {
+    core::ThrowInputError("PlanDisplacedGroundTruth",
+                          "needs a base mesh with uvs, a height map and tiling > 0");
+  }
   float longest_uv_edge = 0;
   for (size_t t = 0; t < base.triangle_count(); ++t) {
     for (int k = 0; k < 3; ++k) {
@@ -310,14 +390,75 @@ core::TriangleMesh MakeDisplacedGroundTruth(const core::TriangleMesh& base,
       longest_uv_edge = std::max(longest_uv_edge, glm::length(b - a));
     }
   }
+  GroundTruthPlan plan;
+  plan.faces = static_cast<int>(base.triangle_count());
+  const double span_texels = static_cast<double>(longest_uv_edge) * tiling * texels;
+  plan.wanted_subdivisions = static_cast<int>(
+      std::clamp(std::ceil(span_texels), 1.0, static_cast<double>(kMaxGroundTruthSubdivisions)));
+  const std::uint64_t faces = base.triangle_count();
+  // Also within what one indexed draw addresses: 32-bit indices and a
+  // GLsizei index count.
+  auto fits = [&](int s) {
+    const std::uint64_t triangles = faces * s * s;
+    const std::uint64_t vertices = faces * (s + 1) * (s + 2) / 2;
+    return 3 * triangles <= 0x7fffffffull && vertices <= 0xffffffffull &&
+           core::FitsMemory(GroundTruthBytes(faces, s));
+  };
+  int s = plan.wanted_subdivisions;
+  if (!fits(s)) {
+    int lo = 1, hi = s;  // fits(lo) unless even one subdivision does not fit
+    while (lo + 1 < hi) {
+      const int mid = (lo + hi) / 2;
+      (fits(mid) ? lo : hi) = mid;
+    }
+    s = lo;
+  }
+  plan.subdivisions = s;
+  plan.triangles = faces * s * s;
+  plan.vertices = faces * (s + 1) * (s + 2) / 2;
+  plan.bytes = GroundTruthBytes(faces, s);
+  plan.span_texels = static_cast<float>(span_texels);
+  plan.texels_per_edge = static_cast<float>(span_texels / s);
+  if (3 * plan.triangles > 0x7fffffffull) {
+    core::ThrowInputError("PlanDisplacedGroundTruth",
+                          "the tessellated truth of {} faces has more triangles than one draw "
+                          "can address ({})",
+                          faces, plan.triangles);
+  }
+  core::CheckMemory(plan.bytes, "PlanDisplacedGroundTruth",
+                    fmt::format("the tessellated truth ({} faces at {} subdivision per edge, {} "
+                                "triangles)",
+                                faces, s, plan.triangles));
+  return plan;
+}
+
+core::TriangleMesh MakeDisplacedGroundTruth(const core::TriangleMesh& base,
+                                            const core::ImageF& height, float max_displacement,
+                                            float tiling) {
+  if (height.empty()) {
+    core::ThrowInputError("MakeDisplacedGroundTruth", "needs a non-empty height map");
+  }
+  return MakeDisplacedGroundTruth(
+      base, height, max_displacement, tiling,
+      PlanDisplacedGroundTruth(base, std::max(height.width(), height.height()), tiling), tiling);
+}
+
+core::TriangleMesh MakeDisplacedGroundTruth(const core::TriangleMesh& base,
+                                            const core::ImageF& height, float max_displacement,
+                                            float tiling, const GroundTruthPlan& plan,
+                                            float uv_scale) {
+  base.Validate("MakeDisplacedGroundTruth");
+  if (base.uvs.empty() || height.empty()) {
+    core::ThrowInputError("MakeDisplacedGroundTruth",
+                          "needs a base mesh with uvs and a non-empty height map");
+  }
   core::DisplacedMeshOptions options;
   options.max_displacement = max_displacement;
   options.tiling = tiling;
-  options.subdivisions =
-      std::clamp(static_cast<int>(std::ceil(longest_uv_edge * tiling * texels)), 1, 512);
+  options.subdivisions = plan.subdivisions;
   options.bilinear = true;
   core::TriangleMesh mesh = core::TessellateDisplaced(base, height, options);
-  for (glm::vec2& uv : mesh.uvs) uv *= tiling;
+  for (glm::vec2& uv : mesh.uvs) uv *= uv_scale;
   return mesh;
 }
 

@@ -16,6 +16,7 @@
 // (MakeDisplacedGroundTruth + RenderMesh); normals are 0 (not computed).
 #pragma once
 
+#include <cstdint>
 #include <glm/glm.hpp>
 #include <string>
 #include <vector>
@@ -47,8 +48,14 @@ struct DisplacementTextureOptions {
 };
 
 // Uploads RGBA texels (4-channel float image, values in [0, 1]), REPEAT wrap.
+// The upload's bytes are checked against the memory budget first.
 Texture UploadDisplacementTexture(const core::ImageF& rgba,
                                   const DisplacementTextureOptions& options = {});
+
+// A user's colour texture (1-4 channels: grey, grey + alpha, RGB, RGBA) as
+// RGBA8, bilinear, REPEAT wrap, rows uploaded as stored (row 0 at v = 0, the
+// image convention of the loaders' uvs). Checked against the memory budget.
+Texture UploadColorTexture(const core::Image8& image);
 
 // ---- per-face displacement volumes ----
 
@@ -88,9 +95,17 @@ struct DisplacementPassOptions {
   SlicingOptions slicing;
   float max_displacement = 0.1f;  // scene units for height 1.0; > 0
   float tiling = 1.0f;            // the texture repeats `tiling` times across uv [0, 1]
+  // Optional colour texture (UploadColorTexture; the caller keeps it alive):
+  // looked up at the mesh's uv * color_tiling, NOT at the height map's
+  // tiling, and lit by the head light with the displaced surface's normal.
+  // Null: the displacement texture's RGB, unlit (its slope colouring is lit
+  // already).
+  const Texture* color = nullptr;
+  float color_tiling = 1.0f;  // colour texture repeats across uv [0, 1]
+  bool shade = true;          // light the colour texture (off: its plain colour)
   void Check() const;
   // The shader variant these options need (the one place options become #defines).
-  std::vector<std::string> Defines() const;
+  std::vector<std::string> Defines(bool orthographic = false) const;
 };
 
 // Counts of the last Draw(), for fill-rate accounting.
@@ -135,13 +150,47 @@ class DisplacementPass final : public Pass {
 
 // ---- the ground truth (seed 002's "ground truth model") ----
 
-// `base` tessellated at the texture's resolution (every face subdivided so
-// its triangles are about one height texel wide, at most 512 per edge) and
+// How finely the ground truth is tessellated, decided before anything is
+// allocated. Every face gets the same number of subdivisions per edge (so
+// neighbouring faces sample their shared edge at the same points: no
+// cracks). The rule asks for about one height texel per subdivided edge on
+// the face with the longest uv edge, at most kMaxGroundTruthSubdivisions;
+// when the whole tessellation (the CPU mesh plus its GPU upload) would not fit
+// the memory budget, the count is lowered until it does, and a triangle
+// then spans `texels_per_edge` > 1 height texels (coarser truth).
+inline constexpr int kMaxGroundTruthSubdivisions = 512;
+struct GroundTruthPlan {
+  int faces = 0;
+  int wanted_subdivisions = 1;  // the rule's count per edge
+  int subdivisions = 1;         // the count that fits (<= wanted)
+  std::uint64_t vertices = 0;   // of the tessellated mesh
+  std::uint64_t triangles = 0;
+  std::uint64_t bytes = 0;    // CPU mesh + GPU upload, estimated
+  float span_texels = 0;      // height texels along the longest uv edge of a face
+  float texels_per_edge = 0;  // ... and along its subdivided edges (span / subdivisions)
+  bool limited() const { return subdivisions < wanted_subdivisions; }
+  std::string Describe() const;  // one line for the user
+};
+// Bytes the tessellated truth of `faces` faces at `subdivisions` per edge
+// needs: the CPU mesh (core::TessellateDisplaced), GpuMesh's reordered copy
+// and the driver's buffers (llvmpipe keeps them in system memory).
+std::uint64_t GroundTruthBytes(std::uint64_t faces, int subdivisions);
+// The plan for `base` with a `texels`-wide height map repeated `tiling`
+// times, under core::MemoryBudgetBytes(). InputError (core::CheckMemory's
+// line) when even one subdivision per edge does not fit.
+GroundTruthPlan PlanDisplacedGroundTruth(const core::TriangleMesh& base, int texels, float tiling);
+
+// `base` tessellated by `plan` (default: PlanDisplacedGroundTruth) and
 // displaced along interpolated normals by bilinear heights; uvs are
-// multiplied by `tiling`, so render::DrawMesh with the displacement texture
-// (TEXTURED, shade off) shows the same colours as the pass.
+// multiplied by `uv_scale` (default: `tiling`, so render::DrawMesh with the
+// displacement texture (TEXTURED, shade off) shows the same colours as the
+// pass; a colour texture at the mesh's own uvs wants its own tiling).
 core::TriangleMesh MakeDisplacedGroundTruth(const core::TriangleMesh& base,
                                             const core::ImageF& height, float max_displacement,
                                             float tiling);
+core::TriangleMesh MakeDisplacedGroundTruth(const core::TriangleMesh& base,
+                                            const core::ImageF& height, float max_displacement,
+                                            float tiling, const GroundTruthPlan& plan,
+                                            float uv_scale);
 
 }  // namespace render

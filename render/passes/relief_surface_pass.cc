@@ -1,5 +1,7 @@
 #include "render/passes/relief_surface_pass.h"
 
+#include <fmt/format.h>
+
 #include <algorithm>
 #include <cmath>
 #include <glm/gtc/type_ptr.hpp>
@@ -7,6 +9,7 @@
 #include <vector>
 
 #include "core/error.h"
+#include "core/memory_budget.h"
 #include "core/surface_quadric.h"
 
 namespace render {
@@ -55,6 +58,10 @@ void ReliefSurfaceOptions::Check() const {
     core::ThrowInputError("ReliefSurfaceOptions", "pom_min_steps {} < 1", pom_min_steps);
   if (!std::isfinite(tiling) || tiling <= 0 || tiling > 1024) {
     core::ThrowInputError("ReliefSurfaceOptions", "tiling {} outside (0, 1024]", tiling);
+  }
+  if (!std::isfinite(color_tiling) || color_tiling <= 0 || color_tiling > 1024) {
+    core::ThrowInputError("ReliefSurfaceOptions", "colour tiling {} outside (0, 1024]",
+                          color_tiling);
   }
   if (!(min_view_cos > 0 && min_view_cos <= 1)) {
     core::ThrowInputError("ReliefSurfaceOptions", "min_view_cos {} outside (0, 1]", min_view_cos);
@@ -113,6 +120,9 @@ Texture UploadHeight(const core::ImageF& height, bool bilinear) {
     if (!(v >= 0.0f && v <= 1.0f))
       core::ThrowInputError("ReliefSurface", "height {} outside [0, 1]", v);
   }
+  core::CheckMemory(static_cast<std::uint64_t>(height.width()) * height.height() * sizeof(float),
+                    "ReliefSurface",
+                    fmt::format("the {}x{} height texture", height.width(), height.height()));
   Texture tex = Texture::Create2D(GL_R32F, height.width(), height.height());
   // Row y of the image is v = (y + 0.5) / n (core::MakeHeightMap), which is
   // GL's texel row y: upload unflipped.
@@ -146,7 +156,8 @@ ReliefSurface::ReliefSurface(ProgramCache& programs, const core::TriangleMesh& b
       maps_(RenderTangentMaps(programs, base, options.tangent_maps, frames)) {}
 
 std::vector<std::string> ReliefSurfaceOptions::Defines(const ReliefGeometryOptions& geometry,
-                                                       bool orthographic) const {
+                                                       bool orthographic,
+                                                       bool color_texture) const {
   std::vector<std::string> defines = RayCoreDefines(RayCore());
   switch (method) {
     case ReliefMethod::kNcs:
@@ -164,6 +175,7 @@ std::vector<std::string> ReliefSurfaceOptions::Defines(const ReliefGeometryOptio
   }
   if (orthographic) defines.push_back("ORTHOGRAPHIC");
   if (shade) defines.push_back("SHADED");
+  if (color_texture) defines.push_back("COLOR_TEXTURE");
   if (geometry.tangent_maps.wrap_u) defines.push_back("WRAP_U");
   if (geometry.tangent_maps.wrap_v) defines.push_back("WRAP_V");
   if (mark_early_termination && method == ReliefMethod::kNcs)
@@ -188,7 +200,7 @@ void ReliefSurface::Draw(const RenderTarget& target, const ViewSetup& view) {
   const Program& program =
       programs_->Get({.vertex = "passes/relief_surface.vert.glsl",
                       .fragment = "passes/relief_surface.frag.glsl",
-                      .defines = options.Defines(geometry_, view.orthographic)});
+                      .defines = options.Defines(geometry_, view.orthographic, color_ != nullptr)});
 
   const glm::mat4 cam_from_object = view.cam_from_world * options.world_from_object;
   const glm::mat4 object_from_cam = glm::inverse(cam_from_object);
@@ -219,6 +231,11 @@ void ReliefSurface::Draw(const RenderTarget& target, const ViewSetup& view) {
   glBindTextureUnit(0, height_.id());
   glBindTextureUnit(1, maps_.normal_map.id());
   glBindTextureUnit(2, maps_.tangent_map.id());
+  if (color_) {
+    program.Set("u_color", 3);
+    program.Set("u_color_tiling", options.color_tiling);
+    glBindTextureUnit(3, color_->id());
+  }
   BindOutcomeImage(target);  // every ray ORs its outcome, discarded ones too
   shell_.Draw();
 }

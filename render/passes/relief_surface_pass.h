@@ -97,13 +97,18 @@ struct ReliefSurfaceOptions {
   // NCS: paint early-terminated fragments red instead of discarding them
   // (the paper's Figure 7); off for measurements.
   bool mark_early_termination = false;
-  glm::vec4 base_color{0.8f, 0.8f, 0.8f, 1.0f};
+  glm::vec4 base_color{0.8f, 0.8f, 0.8f, 1.0f};  // albedo without a colour texture
+  // A colour texture given to the surface (ReliefSurface::SetColorTexture)
+  // repeats this many times across uv [0, 1], independent of `tiling`.
+  float color_tiling = 1.0f;
   bool shade = true;  // Lambert head light as render::DrawMesh, with the displaced normal
   glm::mat4 world_from_object{1.0f};
   void Check() const;
   RayCoreOptions RayCore() const;
-  // The shader variant (the one place these options become #defines).
-  std::vector<std::string> Defines(const ReliefGeometryOptions& geometry, bool orthographic) const;
+  // The shader variant (the one place these options become #defines);
+  // `color_texture`: the surface has a colour texture (COLOR_TEXTURE).
+  std::vector<std::string> Defines(const ReliefGeometryOptions& geometry, bool orthographic,
+                                   bool color_texture = false) const;
 };
 
 // A displaced object on the GPU: the shell mesh (with CRM's per-vertex
@@ -127,6 +132,12 @@ class ReliefSurface final : public Pass {
   // SetOptions + RenderFrame.
   Frame Render(const ViewSetup& view, int width, int height, const ReliefSurfaceOptions& options);
 
+  // The albedo every method shades with: the texture (render::
+  // UploadColorTexture; the caller keeps it alive, null = base_color) at the
+  // hit's uv * options().color_tiling. A scene without one never compiles
+  // the lookup.
+  void SetColorTexture(const Texture* color) { color_ = color; }
+
   const TangentMaps& tangent_maps() const { return maps_; }
   const ReliefGeometryOptions& geometry() const { return geometry_; }
 
@@ -143,6 +154,7 @@ class ReliefSurface final : public Pass {
   GpuMesh shell_;
   Texture height_;
   TangentMaps maps_;
+  const Texture* color_ = nullptr;
 };
 
 // The outer shell: base + max_displacement * N at every vertex, same uvs and normals.

@@ -1,5 +1,7 @@
 #include "render/passes/tangent_maps.h"
 
+#include <fmt/format.h>
+
 #include <cmath>
 #include <cstddef>
 #include <map>
@@ -7,6 +9,7 @@
 #include <tuple>
 
 #include "core/error.h"
+#include "core/memory_budget.h"
 #include "render/gl/render_target.h"
 
 namespace render {
@@ -157,6 +160,9 @@ TangentMaps RenderTangentMaps(ProgramCache& programs, const core::TriangleMesh& 
                               const TangentMapOptions& options, const TangentFrames& frames) {
   options.Check();
   IBR_CHECK(frames.tangents.size() == mesh.positions.size());
+  // Two RGBA32F maps in the driver's memory (llvmpipe: system memory).
+  core::CheckMemory(2ull * options.size * options.size * 4 * sizeof(float), "RenderTangentMaps",
+                    fmt::format("the two {}x{} tangent-space maps", options.size, options.size));
   std::vector<MapVertex> vertices(mesh.positions.size());
   for (size_t k = 0; k < vertices.size(); ++k) {
     vertices[k] = {mesh.uvs[k], glm::normalize(mesh.normals[k]),

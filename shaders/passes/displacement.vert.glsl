@@ -6,7 +6,10 @@
 // volume is the face extruded along the normalised interpolated vertex
 // normals (sec. 3, Figure 2), so the map is evaluated here, per vertex.
 // Variants: SURFACE_ALIGNED (h_alpha constant per slice, passed flat so it is
-// exact), FULL_SIZE_SLICES (pass the triangle flag for the fragment mask).
+// exact), FULL_SIZE_SLICES (pass the triangle flag for the fragment mask),
+// COLOR_TEXTURE (the colour texture's uv and what the fragment shader needs
+// for the displaced surface's normal: the interpolated base normal and the
+// face's surface gradients of u and v).
 #include "cores/slicing_core.glsl"
 
 layout(location = 0) in vec3 a_position;  // box coordinates
@@ -36,6 +39,13 @@ flat out float v_h_alpha;
 #ifdef FULL_SIZE_SLICES
 flat out int v_triangle;
 #endif
+#ifdef COLOR_TEXTURE
+uniform float u_color_tiling;  // colour texture repeats across uv [0, 1]
+out vec2 v_color_uv;
+out vec3 v_normal_world;      // unit base normal, interpolated
+flat out vec3 v_grad_u;       // surface gradient of u on the face: du per world unit
+flat out vec3 v_grad_v;
+#endif
 
 void main() {
   DisplacementVolume vol = u_volumes.volumes[a_volume];
@@ -53,6 +63,20 @@ void main() {
 #endif
 #ifdef FULL_SIZE_SLICES
   v_triangle = vol.uv2_triangle.z > 0.5 ? 1 : 0;
+#endif
+#ifdef COLOR_TEXTURE
+  v_color_uv = uv * u_color_tiling;
+  v_normal_world = n;
+  // grad u = a e1 + b e2 in the face plane with (grad u . e1, grad u . e2) =
+  // (du1, du2): the 2x2 Gram system of the edges (likewise v).
+  vec3 e1 = vol.p[1].xyz - vol.p[0].xyz, e2 = vol.p[2].xyz - vol.p[0].xyz;
+  vec2 w1 = vol.uv01.zw - vol.uv01.xy, w2 = vol.uv2_triangle.xy - vol.uv01.xy;
+  float g11 = dot(e1, e1), g12 = dot(e1, e2), g22 = dot(e2, e2);
+  float det = g11 * g22 - g12 * g12;
+  mat2 inv = det > 0.0 ? mat2(g22, -g12, -g12, g11) / det : mat2(0.0);
+  vec2 au = inv * vec2(w1.x, w2.x), av = inv * vec2(w1.y, w2.y);
+  v_grad_u = au.x * e1 + au.y * e2;
+  v_grad_v = av.x * e1 + av.y * e2;
 #endif
   gl_Position = SliceVertexWorld(p_in_world, v_p_in_cam);
 }

@@ -6,7 +6,9 @@
 // Variants: METHOD_NCS (Chen-Chang Algorithm 2) | METHOD_RELIEF [POC05] |
 // METHOD_POM [Tat06] | METHOD_CRM (curved relief mapping [OP05]);
 // ORTHOGRAPHIC; SHADED; WRAP_U / WRAP_V (periodic parameterisation); MARK_EARLY_TERMINATION (NCS: red instead of discard,
-// the paper's Figure 7); plus render::RayCoreDefines().
+// the paper's Figure 7); COLOR_TEXTURE (albedo from u_color at the hit's uv
+// times u_color_tiling: the mesh's own uvs, not the height map's tiling);
+// plus render::RayCoreDefines().
 #include "common/shading.glsl"
 
 in vec3 v_p_in_object;
@@ -24,6 +26,10 @@ uniform float u_min_view_cos;       // caps the flat path length l
 uniform int u_steps;                // NCS num_step / relief linear steps / POM max samples
 uniform int u_pom_min_steps;
 uniform vec4 u_base_color;
+#ifdef COLOR_TEXTURE
+uniform sampler2D u_color;          // RGBA8, REPEAT
+uniform float u_color_tiling;       // colour texture repeats per uv unit
+#endif
 uniform sampler2D u_height;         // R32F, REPEAT
 uniform sampler2D u_normal_map;     // xyz = N, w = S_binormal (Algorithm 1)
 uniform sampler2D u_tangent_map;    // xyz = T, w = handedness * S_tangent
@@ -198,7 +204,11 @@ void main() {
   vec3 n_object = normalize(f.n - u_max_displacement * (f.s_t * h_u * f.t + f.s_b * h_v * f.b));
   vec3 n_world = normalize(u_world_normal_from_object * n_object);
 
+#ifdef COLOR_TEXTURE
+  vec3 color = texture(u_color, res.p.xy * u_color_tiling).rgb;
+#else
   vec3 color = u_base_color.rgb;
+#endif
 #ifdef SHADED
   color = HeadLight(color, normalize(mat3(u_cam_from_object) * n_object), p_in_cam.xyz);
 #endif

@@ -120,5 +120,158 @@ TEST_F(DisplacedMeshTest, UsersMeshAndHeightMapMatchTheBuiltIn) {
   EXPECT_NO_GL_ERROR();
 }
 
+// A 64x64 colour texture of four quadrants (red, green, blue, yellow by uv).
+core::Image8 QuadrantTexture() {
+  core::Image8 t(64, 64, 3);
+  const uint8_t colors[4][3] = {{220, 20, 20}, {20, 220, 20}, {20, 20, 220}, {220, 220, 20}};
+  for (int y = 0; y < 64; ++y) {
+    for (int x = 0; x < 64; ++x) {
+      const int q = (x >= 32 ? 1 : 0) + (y >= 32 ? 2 : 0);
+      for (int k = 0; k < 3; ++k) t.at(x, y, k) = colors[q][k];
+    }
+  }
+  return t;
+}
+
+// The quadrant a lit pixel shows: lighting scales RGB by one factor, so the
+// chromaticity decides (nearest of the four); -1 where empty.
+int QuadrantOf(const core::Image8& c, int x, int y) {
+  if (c.at(x, y, 3) != 255) return -1;
+  const float r = c.at(x, y, 0), g = c.at(x, y, 1), b = c.at(x, y, 2);
+  const float sum = std::max(1.0f, r + g + b);
+  const glm::vec3 chroma(r / sum, g / sum, b / sum);
+  const glm::vec3 refs[4] = {{220, 20, 20}, {20, 220, 20}, {20, 20, 220}, {220, 220, 20}};
+  int best = 0;
+  float best_d = 1e9f;
+  for (int q = 0; q < 4; ++q) {
+    const glm::vec3 ref = refs[q] / (refs[q].x + refs[q].y + refs[q].z);
+    const float d = glm::length(chroma - ref);
+    if (d < best_d) best_d = d, best = q;
+  }
+  return best;
+}
+
+// Sign changes of camera z about its mean along the middle row: twice the
+// height map's periods across the plane.
+int DepthCrossings(const render::Frame& f) {
+  const int y = f.depth.height() / 2;
+  double sum = 0;
+  int n = 0;
+  for (int x = 0; x < f.depth.width(); ++x) {
+    if (f.Covered(x, y)) sum += f.depth.at(x, y), ++n;
+  }
+  const double mean = n > 0 ? sum / n : 0;
+  int crossings = 0, last = 0;
+  for (int x = 0; x < f.depth.width(); ++x) {
+    if (!f.Covered(x, y)) continue;
+    const double d = f.depth.at(x, y) - mean;
+    const int sign = d > 1e-6 ? 1 : d < -1e-6 ? -1 : 0;
+    if (sign != 0 && last != 0 && sign != last) ++crossings;
+    if (sign != 0) last = sign;
+  }
+  return crossings;
+}
+
+// --tiling repeats the height map, not the colour texture: every method (the
+// slicing families, the four ray methods and the tessellated truth) shows
+// the same quadrant at the same pixel with tiling 1 and 4 while the depth's
+// period shrinks about fourfold; texture_tiling 2 does move the colours.
+TEST_F(DisplacedMeshTest, TilingRepeatsHeightsButTheColourTextureKeepsTheMeshUvs) {
+  DisplacedMeshData data;
+  data.base = DisplacementBaseMesh("plane");
+  data.height = DisplacementHeightMap(core::HeightPattern::kBumps, 64, 0.2f);
+  data.color = QuadrantTexture();
+  const int size = 96;
+  DisplacementOrbit top;
+  top.elevation_deg = 90;
+  const float md = 0.1f;
+  const render::ViewSetup view = DisplacementOrbitView(data.base, md, top, size);
+  for (const std::string& name : DisplacementMethodNames()) {
+    DisplacedMeshOptions o;
+    o.method = DisplacementMethodFromName(name);
+    o.max_displacement = md;
+    o.slices = 32;
+    auto render = [&](float tiling, float texture_tiling) {
+      o.tiling = tiling;
+      o.texture_tiling = texture_tiling;
+      DisplacedMeshRenderer r(programs(), data, o);
+      r.Draw(view, size, size);
+      return r.Read();
+    };
+    const render::Frame t1 = render(1, 1), t4 = render(4, 1), moved = render(1, 2);
+    int samples = 0, same = 0, same_moved = 0;
+    int counts[4] = {0, 0, 0, 0};
+    double brightness_change = 0;  // mean |R+G+B difference| where the quadrant is the same
+    for (int y = 4; y < size; y += 4) {
+      for (int x = 4; x < size; x += 4) {
+        const int a = QuadrantOf(t1.color, x, y), b = QuadrantOf(t4.color, x, y);
+        if (a < 0 || b < 0) continue;
+        ++samples;
+        ++counts[a];
+        same += a == b;
+        same_moved += a == QuadrantOf(moved.color, x, y);
+        if (a == b) {
+          int d = 0;
+          for (int k = 0; k < 3; ++k) d += t1.color.at(x, y, k) - t4.color.at(x, y, k);
+          brightness_change += std::abs(d);
+        }
+      }
+    }
+    brightness_change /= std::max(1, same);
+    ASSERT_GT(samples, 150) << name;
+    // Parallax shifts a pixel's uv by less than the bumps' height: only pixels
+    // near the quadrant borders may change.
+    EXPECT_GT(same, 0.9 * samples) << name;
+    EXPECT_LT(same_moved, 0.6 * samples) << name;  // the texture itself tiles when asked
+    for (int q = 0; q < 4; ++q) EXPECT_GT(counts[q], samples / 8) << name << " quadrant " << q;
+    const int c1 = DepthCrossings(t1), c4 = DepthCrossings(t4);
+    EXPECT_GE(c1, 2) << name;
+    EXPECT_GE(2 * c4, 5 * c1) << name << ": " << c1 << " vs " << c4;  // about 4x, >= 2.5x
+    if (same <= 0.9 * samples || 2 * c4 < 5 * c1) {
+      test_support::WriteDebugImage(name + "_t1.png", t1.color);
+      test_support::WriteDebugImage(name + "_t4.png", t4.color);
+    }
+    // The colour is lit with the displaced normal: other bumps, other shading
+    // inside the surface, not only at its outline.
+    EXPECT_GT(brightness_change, 20.0) << name;
+    fmt::print(
+        "{}: {} of {} samples keep their quadrant, depth crossings {} -> {}, mean brightness "
+        "change {:.1f} / 765\n",
+        name, same, samples, c1, c4, brightness_change);
+  }
+  EXPECT_NO_GL_ERROR();
+}
+
+// The orbit's --up: the same mesh turned so that y is up, seen with up y,
+// gives the image of the original seen with up z.
+TEST_F(DisplacedMeshTest, UpAxisTurnsTheOrbit) {
+  DisplacedMeshData z_up;
+  z_up.base = DisplacementBaseMesh("torus");
+  z_up.height = DisplacementHeightMap(core::HeightPattern::kBumps, 32, 0.1f);
+  DisplacedMeshData y_up = z_up;
+  // (x, y, z) -> (y, z, x): z's role goes to y, x's to z, y's to x, so the
+  // orbit frame (h1, h2, up) = (x, y, z) maps to (z, x, y), the frame for up y.
+  for (glm::vec3& p : y_up.base.positions) p = glm::vec3(p.y, p.z, p.x);
+  for (glm::vec3& n : y_up.base.normals) n = glm::vec3(n.y, n.z, n.x);
+  DisplacementOrbit orbit;
+  const render::ViewSetup vz = DisplacementOrbitView(z_up.base, 0.1f, orbit, 96);
+  orbit.up = UpAxisFromName("y", "test");
+  const render::ViewSetup vy = DisplacementOrbitView(y_up.base, 0.1f, orbit, 96);
+  DisplacedMeshOptions o;
+  o.method = DisplacementMethod::kTessellated;
+  o.max_displacement = 0.1f;
+  DisplacedMeshRenderer a(programs(), z_up, o), b(programs(), y_up, o);
+  a.Draw(vz, 96, 96);
+  b.Draw(vy, 96, 96);
+  const render::Frame fa = a.Read(), fb = b.Read();
+  const core::ViewMetrics d = core::CompareFrames(fb.color, fb.depth, fa.color, fa.depth);
+  EXPECT_GT(d.truth_pixels, 1000);
+  EXPECT_GT(d.iou, 0.999);
+  EXPECT_LT(d.depth.p95, 1e-4);
+  EXPECT_THROW(UpAxisFromName("w", "test"), core::InputError);
+  EXPECT_THROW(UpAxisFromName("--y", "test"), core::InputError);
+  EXPECT_NO_GL_ERROR();
+}
+
 }  // namespace
 }  // namespace ibr

@@ -10,7 +10,10 @@
 #include <numbers>
 
 #include "core/displacement_error.h"
+#include "core/error.h"
 #include "core/heightfield.h"
+#include "core/memory_budget.h"
+#include "core/mesh.h"
 #include "core/projection.h"
 #include "render/gl/gpu_mesh.h"
 #include "render/passes/displacement_pass.h"
@@ -429,6 +432,61 @@ TEST_F(DisplacementTest, FullSizeScreenSlicesDrawTheSamePixelsWithMoreFragments)
     }
   }
   EXPECT_NO_GL_ERROR();
+}
+
+}  // namespace
+}  // namespace render
+
+namespace render {
+namespace {
+
+// The tessellated truth is planned before anything is allocated: the plan's
+// counts are the tessellation's exactly, the rule's subdivisions are kept
+// when the budget allows them, and otherwise the largest count that fits is
+// chosen (one more would not fit) or, when not even one fits, one line names
+// the budget.
+TEST(GroundTruthPlanTest, CountsExactlyAndFitsTheBudget) {
+  const core::TriangleMesh torus = core::MakeTorus(1.0f, 0.4f, 25, 25);
+  core::HeightMapOptions h;
+  h.size = 32;
+  const core::ImageF height = core::MakeHeightMap(h);
+
+  core::SetMemoryBudget(std::uint64_t{1} << 40);
+  const GroundTruthPlan ample = PlanDisplacedGroundTruth(torus, 32, 2.0f);
+  // The torus's longest uv edge is the diagonal of a 1/25 x 1/25 cell:
+  // sqrt(2) / 25 * 2 tilings * 32 texels = 3.62 -> 4.
+  EXPECT_EQ(ample.wanted_subdivisions, 4);
+  EXPECT_EQ(ample.subdivisions, 4);
+  EXPECT_FALSE(ample.limited());
+  const core::TriangleMesh mesh = MakeDisplacedGroundTruth(torus, height, 0.1f, 2.0f, ample, 2.0f);
+  EXPECT_EQ(mesh.positions.size(), ample.vertices);
+  EXPECT_EQ(mesh.triangle_count(), ample.triangles);
+  EXPECT_EQ(ample.triangles, torus.triangle_count() * 16);
+  EXPECT_LE(ample.texels_per_edge, 1.0f);
+
+  // 512 per edge over 1250 faces: far over a 64 MiB budget.
+  const std::uint64_t budget = 64ull << 20;
+  core::SetMemoryBudget(budget);
+  const GroundTruthPlan limited = PlanDisplacedGroundTruth(torus, 4096, 8.0f);
+  EXPECT_EQ(limited.wanted_subdivisions, kMaxGroundTruthSubdivisions);
+  EXPECT_TRUE(limited.limited());
+  EXPECT_LE(limited.bytes, budget);
+  EXPECT_GT(GroundTruthBytes(torus.triangle_count(), limited.subdivisions + 1), budget);
+  EXPECT_GT(limited.texels_per_edge, 1.0f);
+  EXPECT_NE(limited.Describe().find("memory budget"), std::string::npos) << limited.Describe();
+
+  core::SetMemoryBudget(std::uint64_t{16} << 10);  // not even one subdivision per face
+  try {
+    PlanDisplacedGroundTruth(torus, 32, 2.0f);
+    ADD_FAILURE() << "no error";
+  } catch (const core::InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("memory budget"), std::string::npos) << e.what();
+  }
+  // The CPU tessellation checks its own allocation too (callers without a plan).
+  core::DisplacedMeshOptions dm;
+  dm.subdivisions = 1024;
+  EXPECT_THROW(core::TessellateDisplaced(torus, height, dm), core::InputError);
+  core::SetMemoryBudget(std::nullopt);
 }
 
 }  // namespace
