@@ -74,6 +74,11 @@ void RunRender(const RenderCommandOptions& o) {
       programs, job, o.out, [](const std::string& line) { fmt::print("render: {}\n", line); });
   if (stats.depth_error) {
     const core::ErrorStats& e = *stats.depth_error;
+    // Every view was checked (core::CheckMeasurable); an empty pool is never printed as NaN.
+    if (e.count == 0 || stats.iou.empty()) {
+      core::ThrowInputError("ibr render", "--truth-mesh '{}': no pixel to measure in any view",
+                            o.truth_mesh.string());
+    }
     fmt::print(
         "render: vs {}: silhouette IoU mean {:.4f} / worst {:.4f}; depth error mean {:.5f} / p95 "
         "{:.5f} of the mesh's largest extent\n",
