@@ -23,7 +23,7 @@ void DatasetRenderJob::Check() const {
   constexpr const char* kWhere = "ibr render";
   if (cameras.empty() == (orbit <= 0))
     core::ThrowInputError(kWhere, "give exactly one of --cameras OTHER_DATASET or --orbit N");
-  // The upper bound: render::CheckFrameSize (GL limits, frame budget) per view.
+  // The upper bound: render::CheckFrameSize (GL limits, memory budget) per view.
   if (size < 0) core::ThrowInputError(kWhere, "--size {} is negative", size);
   options.Check();
 }

@@ -574,11 +574,11 @@ std::vector<Case> Corpus() {
       "mesh has no extent");
   // A frame over the memory budget (--memory-budget, before the subcommand).
   add("render_size_over_budget",
-      fixed("--memory-budget 1536M render CUBE --orbit 1 --size 9000 --out OUT"),
+      fixed("--memory-budget=1536M render CUBE --orbit 1 --size 9000 --out OUT"),
       "--size: a 9000x9000 frame (48 bytes per pixel with its readback) needs 3.62 GiB, over the "
       "memory budget of 1.50 GiB");
   add("capture_size_over_budget",
-      fixed("--memory-budget 1536M capture --shape sphere --size 8200 --out OUT"),
+      fixed("--memory-budget=1536M capture --shape sphere --size 8200 --out OUT"),
       "--size: a 8200x8200 frame (48 bytes per pixel with its readback) needs 3.01 GiB, over the "
       "memory budget of 1.50 GiB");
   add("render_size_not_integer", fixed("render " + cube + " --orbit 1 --size 64.5 --out OUT"),
@@ -697,21 +697,28 @@ std::vector<Case> Corpus() {
   add("displace_tiling_zero", fixed("displace --tiling 0 --out /tmp/ibr-never.png"), "tiling");
   add("demo_size_tiny", fixed("demo --size 3 --out OUT"), "--size");
   // --size of every other command through the one frame-size check.
-  add("displace_size_over_budget", fixed("displace --size 9000 --out /tmp/ibr-never.png"),
-      "--size: a 9000x9000 frame needs 1853.9 MiB");
+  add("displace_size_over_budget",
+      fixed("--memory-budget=1536M displace --size 9000 --out /tmp/ibr-never.png"),
+      "--size: a 9000x9000 frame (48 bytes per pixel with its readback) needs 3.62 GiB, over the "
+      "memory budget of 1.50 GiB");
   add("demo_size_huge", fixed("demo --size 20000 --out OUT"),
       "--size: a 20000x20000 frame is larger than");
   add("deform_size_over_budget",
-      fixed("deform /nonexistent-ibr.obj --size 9000 --out /tmp/ibr-never.png"),
-      "--size: a 9000x9000 frame needs 1853.9 MiB");
+      fixed(
+          "--memory-budget=1536M deform /nonexistent-ibr.obj --size 9000 --out /tmp/ibr-never.png"),
+      "--size: a 9000x9000 frame (48 bytes per pixel with its readback) needs 3.62 GiB, over the "
+      "memory budget of 1.50 GiB");
   add("volume_size_huge", fixed("volume /nonexistent-ibr.nrrd --size 20000 --out OUT"),
       "--size: a 20000x20000 frame is larger than");
-  add("bench_fillrate_size_over_budget", fixed("bench fillrate --size 9000"),
-      "--size: a 9000x9000 frame needs 1853.9 MiB");
+  add("bench_fillrate_size_over_budget", fixed("--memory-budget=1536M bench fillrate --size 9000"),
+      "--size: a 9000x9000 frame (48 bytes per pixel with its readback) needs 3.62 GiB, over the "
+      "memory budget of 1.50 GiB");
   add("bench_ncs_size_huge", fixed("bench ncs --csv OUT --size 20000"),
       "--size: a 20000x20000 frame is larger than");
-  add("bench_scene_size_over_budget", fixed("bench scene --csv OUT --size 9000"),
-      "--size: a 9000x9000 frame needs 1853.9 MiB");
+  add("bench_scene_size_over_budget",
+      fixed("--memory-budget=1536M bench scene --csv OUT --size 9000"),
+      "--size: a 9000x9000 frame (48 bytes per pixel with its readback) needs 3.62 GiB, over the "
+      "memory budget of 1.50 GiB");
   add("bench_volume_size_huge", fixed("bench volume --csv OUT --size 20000"),
       "--size: a 20000x20000 frame is larger than");
   add("bench_depth_object_sizes_huge", fixed("bench depth-object --csv OUT --sizes 128 20000"),

@@ -145,6 +145,24 @@ TEST(MeshCli, EmptyCaptureAndEmptyRenderMetricsAreErrors) {
   EXPECT_FALSE(fs::exists(dir / "R"));
 }
 
+TEST(MeshCli, CaptureOverTheMemoryBudgetIsRefusedBeforeRendering) {
+  const fs::path dir = Scratch("mesh_cli_capture_budget");
+  // 1024 px: the frame check (48 B/px, 48 MiB) fits 60 MiB, the capture's
+  // peak (frame, readback and written images, 68 B/px, plus the sphere's
+  // 131k vertices) does not.
+  const auto r =
+      RunCommand("IBR_MEMORY_BUDGET=60M " + IbrBinary() +
+                 " capture --shape sphere --rig ring:3 --size 1024 --out " + Quote(dir / "D"));
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_EQ(CountPrefixed(r.err, "ibr: error:"), 1) << r.err;
+  EXPECT_NE(r.err.find("ibr: error: ibr capture: a capture of 'shape:sphere' at 1024x1024 px (3 "
+                       "views, one at a time) needs"),
+            std::string::npos)
+      << r.err;
+  EXPECT_NE(r.err.find("over the memory budget of 60.0 MiB"), std::string::npos) << r.err;
+  EXPECT_FALSE(fs::exists(dir / "D"));
+}
+
 TEST(MeshCli, WindowsTexturePathsAndAMissingTextureAreWarningsAndTextureOverrides) {
   const fs::path dir = Scratch("mesh_cli_spider");
   // assimp's test/models/OBJ/spider.obj: its MTL names ".\wal67ar_small.jpg"
