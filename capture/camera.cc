@@ -122,10 +122,18 @@ void Camera::Check(std::string_view where) const {
     core::ThrowInputError(where, "camera model {} needs {} parameters ({}), got {}",
                           CameraModelName(model), n, CameraModelParamOrder(model), params.size());
   }
-  if (width <= 0 || height <= 0 || width > core::kMaxImageSide || height > core::kMaxImageSide ||
-      int64_t{width} * height > core::kMaxImagePixels) {
-    core::ThrowInputError(where, "camera size {}x{} is not in 1..{} a side and at most {} pixels",
-                          width, height, core::kMaxImageSide, core::kMaxImagePixels);
+  // Only the sides are bounded here (by the largest image ibr reads): a
+  // camera's pixel count is bounded where its images are allocated, by the
+  // memory budget (core::CheckMemory), and where they become textures or
+  // frames, by the GL limits (render::CheckFrameSize), each naming its reason.
+  if (width <= 0 || height <= 0) {
+    core::ThrowInputError(where, "camera size {}x{} is empty", width, height);
+  }
+  if (width > core::kMaxImageSide || height > core::kMaxImageSide) {
+    core::ThrowInputError(where,
+                          "camera size {}x{}: a side above {} pixels, the largest image ibr "
+                          "reads (the GL_MAX_TEXTURE_SIZE of Mesa and most GPUs)",
+                          width, height, core::kMaxImageSide);
   }
   for (size_t i = 0; i < params.size(); ++i) {
     if (!std::isfinite(params[i])) {

@@ -4,55 +4,141 @@
 #include <assimp/postprocess.h>
 #include <assimp/scene.h>
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 #include <spdlog/spdlog.h>
 
 #include <algorithm>
 #include <assimp/Importer.hpp>
+#include <cctype>
 #include <charconv>
 #include <chrono>
 #include <cmath>
+#include <fstream>
 #include <numbers>
 #include <optional>
 
 #include "core/check.h"
 #include "core/error.h"
 #include "core/image_io.h"
+#include "core/memory_budget.h"
+#include "core/ply_io.h"
 #include "core/projection.h"
 #include "render/gl/gpu_mesh.h"
 #include "render/passes/mesh_pass.h"
+#include "render/passes/pass.h"
 
 namespace capture {
 namespace fs = std::filesystem;
 
 // ---------------------------------------------------------------- meshes ----
 
-SceneMesh LoadSceneMesh(const fs::path& path, const fs::path& texture_path) {
-  constexpr const char* kWhere = "LoadSceneMesh";
-  if (fs::is_directory(path)) core::ThrowFileError(kWhere, path, "is a folder, not a mesh file");
-  if (!fs::exists(path)) core::ThrowFileError(kWhere, path, "file does not exist");
-  if (!fs::is_regular_file(path)) core::ThrowFileError(kWhere, path, "not a regular file");
+namespace {
+
+constexpr const char* kLoadWhere = "LoadSceneMesh";
+
+// A mesh as a file gives it, before textures: per-vertex normals and uvs
+// (uvs (0, 0) where the file has none), the textures its materials name in
+// the order the file uses them.
+struct FileMesh {
+  core::TriangleMesh mesh;
+  bool has_uvs = false;
+  std::vector<std::string> material_textures;
+};
+
+// The triangles an OBJ's face lines declare: a face of k >= 3 corners gives
+// k - 2 (points and lines give none). Also counts the corners, for the memory
+// estimate. Reads the text once, line by line.
+struct ObjCounts {
+  uint64_t triangles = 0;
+  uint64_t corners = 0;
+  uint64_t face_lines = 0;
+};
+
+ObjCounts CountObjFaces(const fs::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  ObjCounts counts;
+  std::string line;
+  while (std::getline(in, line)) {
+    size_t i = line.find_first_not_of(" \t");
+    if (i == std::string::npos || line[i] != 'f' || i + 1 >= line.size() ||
+        (line[i + 1] != ' ' && line[i + 1] != '\t')) {
+      continue;
+    }
+    uint64_t k = 0;
+    for (i += 1; i < line.size();) {
+      while (i < line.size() && std::isspace(static_cast<unsigned char>(line[i]))) ++i;
+      if (i >= line.size() || line[i] == '#') break;
+      ++k;
+      while (i < line.size() && !std::isspace(static_cast<unsigned char>(line[i]))) ++i;
+    }
+    ++counts.face_lines;
+    counts.corners += k;
+    if (k >= 3) counts.triangles += k - 2;
+  }
+  return counts;
+}
+
+std::string Lowercase(std::string s) {
+  std::transform(s.begin(), s.end(), s.begin(),
+                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  return s;
+}
+
+FileMesh LoadPly(const fs::path& path) {
+  core::PlyMesh ply = core::ReadPly(path);
+  FileMesh out;
+  out.mesh = std::move(ply.mesh);
+  out.has_uvs = !out.mesh.uvs.empty();
+  // The image convention (row 0 at the top), as assimp's aiProcess_FlipUVs.
+  for (glm::vec2& uv : out.mesh.uvs) uv.y = 1.0f - uv.y;
+  if (!out.has_uvs) out.mesh.uvs.assign(out.mesh.positions.size(), glm::vec2(0));
+  if (out.mesh.normals.empty()) core::SetAreaWeightedNormals(out.mesh);
+  if (!ply.texture_file.empty()) out.material_textures.push_back(ply.texture_file);
+  if (ply.strips > 0) {
+    spdlog::info("{}: '{}': {} triangles from {} triangle strips ({} zero-area joins dropped)",
+                 kLoadWhere, path.string(), ply.strip_triangles, ply.strips,
+                 ply.dropped_degenerate);
+  }
+  return out;
+}
+
+FileMesh LoadWithAssimp(const fs::path& path) {
+  const std::string extension = Lowercase(path.extension().string());
+  const uint64_t file_bytes = fs::file_size(path);
+  // assimp's importer holds the file, its own per-corner copy of positions,
+  // normals and uvs (3 floats each) and faces, and post-processing copies: an
+  // estimate of 4x the file plus 96 bytes per corner where corners are known
+  // (OBJ), else 16x the file (binary formats are denser than their meshes).
+  std::optional<ObjCounts> obj;
+  if (extension == ".obj") obj = CountObjFaces(path);
+  const uint64_t estimate = obj ? 4 * file_bytes + 96 * obj->corners : 16 * file_bytes;
+  core::CheckMemory(estimate, fmt::format("{}: '{}'", kLoadWhere, path.string()),
+                    obj ? fmt::format("loading the mesh ({} face corners)", obj->corners)
+                        : std::string("loading the mesh"));
   Assimp::Importer importer;
   const aiScene* scene = importer.ReadFile(
       path.string(), aiProcess_Triangulate | aiProcess_JoinIdenticalVertices |
                          aiProcess_GenSmoothNormals | aiProcess_PreTransformVertices |
                          aiProcess_FlipUVs | aiProcess_SortByPType);
   if (!scene || !scene->mRootNode || scene->mNumMeshes == 0) {
-    core::ThrowFileError(kWhere, path, "cannot load mesh: {}", importer.GetErrorString());
+    core::ThrowFileError(kLoadWhere, path, "cannot load mesh: {}", importer.GetErrorString());
   }
-  SceneMesh out;
-  out.source = path.string();
-  bool all_uvs = true;
-  std::string material_texture;
+  FileMesh out;
+  out.has_uvs = true;
   for (unsigned m = 0; m < scene->mNumMeshes; ++m) {
     const aiMesh* mesh = scene->mMeshes[m];
     if (!(mesh->mPrimitiveTypes & aiPrimitiveType_TRIANGLE)) continue;
-    all_uvs = all_uvs && mesh->HasTextureCoords(0);
-    if (material_texture.empty() && mesh->mMaterialIndex < scene->mNumMaterials) {
+    out.has_uvs = out.has_uvs && mesh->HasTextureCoords(0);
+    if (mesh->mMaterialIndex < scene->mNumMaterials) {
       aiString tex;
       if (scene->mMaterials[mesh->mMaterialIndex]->GetTexture(aiTextureType_DIFFUSE, 0, &tex) ==
               AI_SUCCESS &&
           tex.length > 0 && tex.C_Str()[0] != '*') {
-        material_texture = tex.C_Str();
+        const std::string name = tex.C_Str();
+        if (std::find(out.material_textures.begin(), out.material_textures.end(), name) ==
+            out.material_textures.end()) {
+          out.material_textures.push_back(name);
+        }
       }
     }
     const uint32_t base = static_cast<uint32_t>(out.mesh.positions.size());
@@ -73,12 +159,114 @@ SceneMesh LoadSceneMesh(const fs::path& path, const fs::path& texture_path) {
       for (int k = 0; k < 3; ++k) out.mesh.indices.push_back(base + face.mIndices[k]);
     }
   }
-  if (out.mesh.indices.empty()) core::ThrowFileError(kWhere, path, "no triangles");
+  if (out.mesh.indices.empty()) core::ThrowFileError(kLoadWhere, path, "no triangles");
+  // What the file declares against what was loaded: a face lost by the
+  // importer is a wrong picture of the object, never a quiet success.
+  if (obj && obj->triangles != out.mesh.triangle_count()) {
+    core::ThrowFileError(kLoadWhere, path,
+                         "its {} face lines declare {} triangles, the importer loaded {}: the "
+                         "file is malformed or not read right",
+                         obj->face_lines, obj->triangles, out.mesh.triangle_count());
+  }
   // Degenerate normals (isolated vertices): any unit vector keeps GL happy.
   for (auto& n : out.mesh.normals) {
     const float len = glm::length(n);
     n = std::isfinite(len) && len > 0 ? n / len : glm::vec3(0, 0, 1);
   }
+  return out;
+}
+
+// A texture path as a material writes it, made usable here: backslashes
+// (Windows exporters: ".\x.jpg") become separators, a leading "./" goes.
+fs::path NormaliseTexturePath(std::string name) {
+  std::replace(name.begin(), name.end(), '\\', '/');
+  while (name.rfind("./", 0) == 0) name.erase(0, 2);
+  return fs::path(name);
+}
+
+// RGBA8 from any 8-bit image.
+core::Image8 ToRgba(const core::Image8& image) {
+  core::Image8 rgba(image.width(), image.height(), 4, 255);
+  for (int y = 0; y < image.height(); ++y) {
+    for (int x = 0; x < image.width(); ++x) {
+      for (int c = 0; c < 3; ++c) {
+        rgba.at(x, y, c) = image.at(x, y, image.channels() >= 3 ? c : 0);
+      }
+    }
+  }
+  return rgba;
+}
+
+// The texture of a mesh without --texture: each material texture in turn
+// (as written, then its file name beside the mesh), else "<stem>_texture.png",
+// "<stem>.png", "<stem>.jpg" beside the mesh. A material texture that cannot
+// be read is a warning (the geometry is still right); finding nothing is
+// logged with every path tried.
+core::Image8 FindTexture(const fs::path& path, const FileMesh& file) {
+  const fs::path dir = path.parent_path();
+  std::vector<std::string> tried;
+  core::Image8 found;
+  std::string found_name;
+  for (const std::string& name : file.material_textures) {
+    const fs::path relative = NormaliseTexturePath(name);
+    std::vector<fs::path> candidates = {dir / relative};
+    if (relative.has_parent_path()) candidates.push_back(dir / relative.filename());
+    bool loaded = false;
+    for (const fs::path& candidate : candidates) {
+      tried.push_back(candidate.string());
+      if (!fs::exists(candidate)) continue;
+      try {
+        core::Image8 image = core::ReadImage<uint8_t>(candidate);
+        if (found.empty()) {
+          found = ToRgba(image);
+          found_name = candidate.string();
+        }
+        loaded = true;
+        break;
+      } catch (const core::InputError& e) {
+        spdlog::warn("{}: '{}': material texture '{}' is unreadable ({}); not used", kLoadWhere,
+                     path.string(), candidate.string(), e.what());
+        loaded = true;  // warned already
+        break;
+      }
+    }
+    if (!loaded) {
+      std::string paths;
+      for (const fs::path& c : candidates)
+        paths += (paths.empty() ? "'" : ", '") + c.string() + "'";
+      spdlog::warn("{}: '{}': material texture '{}' not found (tried {}); not used", kLoadWhere,
+                   path.string(), name, paths);
+    }
+  }
+  if (!found.empty()) {
+    if (file.material_textures.size() > 1) {
+      spdlog::warn("{}: '{}': {} material textures; only '{}' is used, for the whole mesh",
+                   kLoadWhere, path.string(), file.material_textures.size(), found_name);
+    }
+    return found;
+  }
+  for (const char* suffix : {"_texture.png", ".png", ".jpg"}) {
+    const fs::path guess = dir / (path.stem().string() + suffix);
+    tried.push_back(guess.string());
+    if (fs::exists(guess)) return ToRgba(core::ReadImage<uint8_t>(guess));
+  }
+  spdlog::info("{}: '{}': no texture found (tried '{}'); untextured", kLoadWhere, path.string(),
+               fmt::join(tried, "', '"));
+  return {};
+}
+
+}  // namespace
+
+SceneMesh LoadSceneMesh(const fs::path& path, const fs::path& texture_path, MeshTextures textures) {
+  constexpr const char* kWhere = kLoadWhere;
+  if (fs::is_directory(path)) core::ThrowFileError(kWhere, path, "is a folder, not a mesh file");
+  if (!fs::exists(path)) core::ThrowFileError(kWhere, path, "file does not exist");
+  if (!fs::is_regular_file(path)) core::ThrowFileError(kWhere, path, "not a regular file");
+  FileMesh file =
+      Lowercase(path.extension().string()) == ".ply" ? LoadPly(path) : LoadWithAssimp(path);
+  SceneMesh out;
+  out.source = path.string();
+  out.mesh = std::move(file.mesh);
   out.mesh.Validate(fmt::format("{}: '{}'", kWhere, path.string()));
   // Captures and --truth-mesh frame the mesh by its bounds: they must be a
   // box the float renderer can resolve (dataset.h's limits).
@@ -97,29 +285,18 @@ SceneMesh LoadSceneMesh(const fs::path& path, const fs::path& texture_path) {
   CheckBounds({bounds.centre() - pad, bounds.centre() + pad},
               fmt::format("{}: '{}'", kWhere, path.string()));
 
-  fs::path tex = texture_path;
-  if (tex.empty() && !material_texture.empty()) tex = path.parent_path() / material_texture;
-  if (tex.empty()) {
-    const fs::path guess = path.parent_path() / (path.stem().string() + "_texture.png");
-    if (fs::exists(guess)) tex = guess;
-  }
-  if (!tex.empty()) {
-    if (!all_uvs) {
+  if (textures == MeshTextures::kSkip) return out;
+  if (!texture_path.empty()) {
+    // Named by the user: it must load, and it wins over the materials'.
+    if (!file.has_uvs) {
       spdlog::warn("{}: '{}' has no UVs; texture '{}' ignored", kWhere, path.string(),
-                   tex.string());
+                   texture_path.string());
     } else {
-      core::Image8 image = core::ReadImage<uint8_t>(tex);
-      // To RGBA.
-      out.texture = core::Image8(image.width(), image.height(), 4, 255);
-      for (int y = 0; y < image.height(); ++y) {
-        for (int x = 0; x < image.width(); ++x) {
-          for (int c = 0; c < 3; ++c) {
-            out.texture.at(x, y, c) = image.at(x, y, image.channels() >= 3 ? c : 0);
-          }
-        }
-      }
+      out.texture = ToRgba(core::ReadImage<uint8_t>(texture_path));
     }
+    return out;
   }
+  if (file.has_uvs) out.texture = FindTexture(path, file);
   return out;
 }
 
@@ -493,26 +670,58 @@ CapturedView RenderView(render::ProgramCache& programs, const SceneMesh& scene, 
   return out;
 }
 
+uint64_t CaptureBytes(const SceneMesh& scene, const CaptureOptions& options) {
+  // Per pixel: the frame target on the GPU (llvmpipe keeps it in system
+  // memory), its readback (RGBA8 4 + camera z 4 + normal 3 floats 12), the
+  // captured view (colour 3 + depth 4 + mask 1 + normal 12) and the backdrop's
+  // colour (4). Views are written one at a time, so one view's worth is held.
+  const uint64_t pixels = uint64_t(options.size) * uint64_t(options.size);
+  const uint64_t per_pixel = uint64_t(render::FrameBytesPerPixel()) + 20 + 20 + 4;
+  // The mesh on the GPU (position, normal, uv, indices) and its texture.
+  const uint64_t mesh = scene.mesh.positions.size() * 32 + scene.mesh.indices.size() * 4 +
+                        scene.texture.pixel_count() * 4;
+  return pixels * per_pixel + mesh;
+}
+
 Dataset CaptureDataset(render::ProgramCache& programs, const SceneMesh& scene,
                        const CaptureOptions& options, const fs::path& out,
                        const std::function<void(int, int, const std::string&)>& progress) {
   options.Check();
   const Bounds bounds = MeshBounds(scene.mesh);
   const std::vector<RigView> views = MakeRig(RigSpec::Parse(options.rig), bounds, options);
+  core::CheckMemory(CaptureBytes(scene, options), "ibr capture",
+                    fmt::format("a capture of '{}' at {}x{} px ({} views, one at a time)",
+                                scene.source, options.size, options.size, views.size()));
   const GpuScene gpu(scene);
   std::optional<Backdrop> backdrop;
   if (options.background == "noise") backdrop.emplace();
   const BackdropPlacement place = PlaceBackdrop(bounds, views, options.up);
   DatasetWriter writer(out);
+  size_t covered_views = 0;
   writer.SetBounds(bounds);
   for (size_t i = 0; i < views.size(); ++i) {
     const RigView& view = views[i];
     CapturedView captured = Render(programs, gpu, view, options);
     if (backdrop) Composite(captured, RenderBackdrop(programs, *backdrop, place, view));
+    int64_t covered = 0;
+    for (uint8_t m : captured.mask.values()) covered += m != 0;
+    if (covered == 0) {
+      spdlog::warn("capture: view {} of '{}' is empty (the mesh covers no pixel)", view.name,
+                   scene.source);
+    }
+    covered_views += covered > 0;
     const int camera_id = writer.AddCamera(view.camera);
     writer.AddView(view.name, camera_id, view.cam_from_world, captured.color, captured.depth,
                    captured.mask, captured.normal);
     if (progress) progress(static_cast<int>(i) + 1, static_cast<int>(views.size()), view.name);
+  }
+  // Nothing seen from any camera: the mesh or the rig is wrong, and a dataset
+  // of empty views would only render as nothing later.
+  if (covered_views == 0) {
+    core::ThrowInputError("ibr capture",
+                          "every one of the {} views of '{}' is empty: the mesh covers no pixel "
+                          "from any camera ({} triangles)",
+                          views.size(), scene.source, scene.mesh.triangle_count());
   }
   writer.Commit();
   return writer.dataset();

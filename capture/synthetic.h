@@ -27,12 +27,26 @@ struct SceneMesh {
   std::string source;    // file path or "shape:NAME", for messages and info
 };
 
-// Loads OBJ/PLY/... through assimp (triangulated, smooth normals generated
-// where missing, v flipped to the image convention). Textured when the mesh
-// has UVs and a texture is found: `texture` if given, else the material's
-// diffuse texture, else "<stem>_texture.png" beside the mesh (Spot's layout).
+// What a load does with textures: kLoad finds the mesh's texture (below),
+// kSkip loads geometry only (--truth-mesh, distance truths) and says nothing
+// about textures.
+enum class MeshTextures { kLoad, kSkip };
+
+// Loads a mesh file: PLY through core/ply_io.h (faces and triangle strips,
+// element counts checked), OBJ/STL/... through assimp (triangulated, an OBJ's
+// triangle count checked against its face lines). Smooth normals are made
+// where missing, v flipped to the image convention. Memory is checked against
+// the budget (core/memory_budget.h) before the file is read.
+// Textured when the mesh has UVs and a texture is found: `texture` if given
+// (it must load; it overrides the materials'), else the first readable
+// material texture (Windows paths such as ".\x.jpg" normalised, then its file
+// name beside the mesh), else "<stem>_texture.png", "<stem>.png" or
+// "<stem>.jpg" beside the mesh (Spot's layout). A material texture that is
+// missing or unreadable is a warning naming the mesh and the paths tried,
+// never an error: the geometry is right without it.
 SceneMesh LoadSceneMesh(const std::filesystem::path& path,
-                        const std::filesystem::path& texture = {});
+                        const std::filesystem::path& texture = {},
+                        MeshTextures textures = MeshTextures::kLoad);
 
 // Analytic shapes: "sphere" (radius 1), "torus" (R 1, r 0.4, around z), "box"
 // (half extents 1, 0.7, 0.5), "cup" (radius 1, height 1.2, wall 0.12, opens
@@ -101,8 +115,14 @@ struct CapturedView {
 CapturedView RenderView(render::ProgramCache& programs, const SceneMesh& scene, const RigView& view,
                         const CaptureOptions& options);
 
+// The memory a capture holds at its peak (one view in flight: frame target,
+// readback and the written images, plus the mesh and texture), in bytes.
+uint64_t CaptureBytes(const SceneMesh& scene, const CaptureOptions& options);
+
 // Renders every rig view and writes the dataset to `out` (staged: nothing is
-// left on failure). `progress(i, n, name)` is called after each view.
+// left on failure). `progress(i, n, name)` is called after each view. Checks
+// CaptureBytes against the memory budget first; InputError when every view
+// is empty (the mesh covers no pixel from any camera).
 Dataset CaptureDataset(render::ProgramCache& programs, const SceneMesh& scene,
                        const CaptureOptions& options, const std::filesystem::path& out,
                        const std::function<void(int, int, const std::string&)>& progress = {});

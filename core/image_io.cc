@@ -11,6 +11,7 @@
 
 #include "core/atomic_file.h"
 #include "core/error.h"
+#include "core/memory_budget.h"
 
 namespace core {
 namespace fs = std::filesystem;
@@ -120,13 +121,19 @@ std::unique_ptr<OIIO::ImageInput> OpenInput(const fs::path& path, std::string_vi
                    spec.height, spec.depth, spec.nchannels);
   }
   if (spec.width > kMaxImageSide || spec.height > kMaxImageSide ||
-      int64_t{spec.width} * spec.height > kMaxImagePixels || spec.nchannels > kMaxImageChannels) {
-    ThrowFileError(
-        where, path,
-        "image is {}x{} with {} channels; the limit is {} pixels a side, {} pixels and {} "
-        "channels",
-        spec.width, spec.height, spec.nchannels, kMaxImageSide, kMaxImagePixels, kMaxImageChannels);
+      spec.nchannels > kMaxImageChannels) {
+    ThrowFileError(where, path,
+                   "image is {}x{} with {} channels; the limit is {} pixels a side and {} channels",
+                   spec.width, spec.height, spec.nchannels, kMaxImageSide, kMaxImageChannels);
   }
+  // The decoded pixels in the file's type and in the caller's (up to 4-byte
+  // floats) at once: checked before any is decoded, so a header claiming a
+  // huge image is refused by the budget, not by the allocator.
+  const uint64_t values = uint64_t(spec.width) * uint64_t(spec.height) * uint64_t(spec.nchannels);
+  CheckMemory(values * (spec.format.size() + sizeof(float)),
+              fmt::format("{}: '{}'", where, path.string()),
+              fmt::format("decoding a {}x{} image with {} channels", spec.width, spec.height,
+                          spec.nchannels));
   if (expected == "png") {
     if (const std::string problem = PngStructureProblem(path); !problem.empty()) {
       ThrowFileError(where, path, "{}", problem);

@@ -12,10 +12,9 @@ namespace core {
 
 // Limits every image read obeys (docs/guide/limits.md, "Images"), checked
 // from the header before any pixel is decoded: 16384 is the GL texture size
-// limit of Mesa and most GPUs; 2^26 pixels (8192 x 8192) keeps one float RGB
-// image under 1 GiB.
+// limit of Mesa and most GPUs. The pixel count is bounded by the memory budget
+// (core/memory_budget.h), checked on the decoded size before decoding.
 inline constexpr int kMaxImageSide = 16384;
-inline constexpr int64_t kMaxImagePixels = int64_t{1} << 26;
 inline constexpr int kMaxImageChannels = 4;
 
 // Reads any image OpenImageIO understands (a .png/.jpg/.exr/.tif must hold

@@ -5,6 +5,7 @@
 #include <limits>
 
 #include "core/check.h"
+#include "core/error.h"
 
 namespace core {
 namespace {
@@ -119,6 +120,37 @@ ViewMetrics CompareFrames(const Image8& color, const ImageF& depth, const Image8
                           const ImageF& truth_depth, double depth_unit) {
   return CompareView(CoverageFromAlpha(color), depth, CoverageFromAlpha(truth_color), truth_depth,
                      depth_unit);
+}
+
+void CheckMeasurable(int64_t rendered_pixels, int64_t truth_pixels, int64_t both_pixels,
+                     std::string_view where, std::string_view view) {
+  if (both_pixels > 0) return;
+  if (rendered_pixels == 0 && truth_pixels == 0) {
+    ThrowInputError(where,
+                    "view '{}': the rendering and the truth are both empty: no silhouette IoU or "
+                    "depth error can be measured (is the object in this camera's view?)",
+                    view);
+  }
+  if (truth_pixels == 0) {
+    ThrowInputError(where,
+                    "view '{}': the truth is empty while the rendering covers {} pixels: no "
+                    "depth error can be measured (is the truth in the same frame?)",
+                    view, rendered_pixels);
+  }
+  if (rendered_pixels == 0) {
+    ThrowInputError(where,
+                    "view '{}': the rendering is empty while the truth covers {} pixels: nothing "
+                    "was drawn, no depth error can be measured",
+                    view, truth_pixels);
+  }
+  ThrowInputError(where,
+                  "view '{}': the rendering ({} pixels) and the truth ({} pixels) share no "
+                  "pixel: no depth error can be measured",
+                  view, rendered_pixels, truth_pixels);
+}
+
+void CheckMeasurable(const ViewMetrics& metrics, std::string_view where, std::string_view view) {
+  CheckMeasurable(metrics.rendered_pixels, metrics.truth_pixels, metrics.both_pixels, where, view);
 }
 
 PooledMetrics Pool(const std::vector<ViewMetrics>& views) {

@@ -16,6 +16,7 @@
 #pragma once
 
 #include <cstdint>
+#include <string_view>
 #include <vector>
 
 #include "core/image.h"
@@ -70,6 +71,15 @@ ViewMetrics CompareDepth(const ImageF& depth, const ImageF& truth_depth, double 
 // Frames drawn by the passes: coverage = alpha 255 of the RGBA8 colours.
 ViewMetrics CompareFrames(const Image8& color, const ImageF& depth, const Image8& truth_color,
                           const ImageF& truth_depth, double depth_unit = 1.0);
+
+// The rule for reporting a view's accuracy: the rendering and the truth must
+// share at least one covered pixel. Otherwise its IoU compares an empty
+// silhouette (0, or 1 for two empty ones) and its depth error is over no
+// pixel (NaN): numbers that would only hide that nothing was drawn. Throws
+// InputError("where: view 'VIEW': ...") saying which side is empty.
+void CheckMeasurable(int64_t rendered_pixels, int64_t truth_pixels, int64_t both_pixels,
+                     std::string_view where, std::string_view view);
+void CheckMeasurable(const ViewMetrics& metrics, std::string_view where, std::string_view view);
 
 // Over several views: IoU mean and worst view, depth errors pooled over every
 // pixel of every view (not a mean of per-view means).

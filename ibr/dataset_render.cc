@@ -11,6 +11,8 @@
 #include "capture/dataset.h"
 #include "capture/synthetic.h"
 #include "core/error.h"
+#include "core/memory_budget.h"
+#include "core/metrics.h"
 #include "core/timing.h"
 #include "ibr/dataset_maps.h"
 #include "ibr/demo_scene.h"
@@ -51,7 +53,7 @@ void DatasetRenderJob::Check() const {
   constexpr const char* kWhere = "ibr render";
   if (cameras.empty() == (orbit <= 0))
     core::ThrowInputError(kWhere, "give exactly one of --cameras OTHER_DATASET or --orbit N");
-  // The upper bound: render::CheckFrameSize (GL limits, frame budget) per view.
+  // The upper bound: render::CheckFrameSize (GL limits, memory budget) per view.
   if (size < 0) core::ThrowInputError(kWhere, "--size {} is negative", size);
   if (!(arc_deg > 0 && arc_deg <= 360))
     core::ThrowInputError(kWhere, "--arc {} degrees outside (0, 360]", arc_deg);
@@ -60,6 +62,33 @@ void DatasetRenderJob::Check() const {
     core::ThrowInputError(kWhere, "--up goes with --orbit N (--cameras name their own poses)");
   options.Check();
 }
+
+namespace {
+
+// Every map becomes textures (at most GL_MAX_TEXTURE_SIZE a side) and is held
+// on the CPU and the GPU at once: colour 3 + depth 4 + mask 1 bytes per
+// pixel as images, RGBA8 4 + R32F 4 + R8 1 as textures. Both are checked from
+// the manifest, before any image is read, each refusal naming its reason.
+void CheckMapsFit(const capture::Dataset& dataset, const render::GlSizeLimits& limits) {
+  constexpr uint64_t kBytesPerPixel = 3 + 4 + 1 + 4 + 4 + 1;
+  const std::string where = fmt::format("ibr render: '{}'", dataset.root.string());
+  uint64_t bytes = 0;
+  for (const capture::DatasetView& v : dataset.views) {
+    const capture::Camera& c = dataset.camera(v);
+    if (c.width > limits.max_texture_size || c.height > limits.max_texture_size) {
+      core::ThrowInputError(where,
+                            "view '{}': a {}x{} map is larger than this GL implementation's "
+                            "textures, at most {} a side (GL_MAX_TEXTURE_SIZE)",
+                            v.name, c.width, c.height, limits.max_texture_size);
+    }
+    bytes += uint64_t(c.width) * uint64_t(c.height) * kBytesPerPixel;
+  }
+  core::CheckMemory(bytes, where,
+                    fmt::format("its {} maps ({} bytes per pixel as images and textures)",
+                                dataset.views.size(), kBytesPerPixel));
+}
+
+}  // namespace
 
 DatasetRenderStats RenderDatasetToDataset(render::ProgramCache& programs,
                                           const DatasetRenderJob& job,
@@ -102,6 +131,7 @@ DatasetRenderStats RenderDatasetToDataset(render::ProgramCache& programs,
   } else {
     render::CheckFrameSize("ibr render", "--size", orbit.size, orbit.size);
   }
+  CheckMapsFit(dataset, render::QueryGlSizeLimits());
   MapSet maps = MapsFromDataset(dataset);
   if (job.cameras.empty()) views = OrbitViews(maps, orbit);
   if (views.empty()) core::ThrowInputError("ibr render", "no cameras to render from");
@@ -123,7 +153,7 @@ DatasetRenderStats RenderDatasetToDataset(render::ProgramCache& programs,
   std::optional<capture::SceneMesh> truth;
   double edge = 1;
   if (!job.truth_mesh.empty()) {
-    truth = capture::LoadSceneMesh(job.truth_mesh);
+    truth = capture::LoadSceneMesh(job.truth_mesh, {}, capture::MeshTextures::kSkip);
     glm::vec3 lo, hi;
     truth->mesh.Bounds(lo, hi);
     edge = std::max({hi.x - lo.x, hi.y - lo.y, hi.z - lo.z});
@@ -149,6 +179,9 @@ DatasetRenderStats RenderDatasetToDataset(render::ProgramCache& programs,
     std::string accuracy;
     if (truth) {
       const MeshAccuracy a = CompareToMesh(programs, *truth, v.view, frame.depth, edge);
+      core::CheckMeasurable(
+          a.rendered_pixels, a.truth_pixels, static_cast<int64_t>(a.depth_errors.size()),
+          fmt::format("ibr render --truth-mesh '{}'", job.truth_mesh.string()), v.name);
       errors.insert(errors.end(), a.depth_errors.begin(), a.depth_errors.end());
       stats.iou.push_back(a.iou);
       accuracy = fmt::format(", vs mesh IoU {:.4f}", a.iou);

@@ -39,6 +39,8 @@ MeshAccuracy CompareToMesh(render::ProgramCache& programs, const capture::SceneM
   MeshAccuracy a;
   const core::ViewMetrics accuracy = core::CompareDepth(depth, truth.depth, edge);
   a.iou = accuracy.iou;
+  a.rendered_pixels = accuracy.rendered_pixels;
+  a.truth_pixels = accuracy.truth_pixels;
   a.depth_errors.assign(accuracy.depth_errors.begin(), accuracy.depth_errors.end());
   a.truth = core::Image8(truth.color.width(), truth.color.height(), 4, 255);
   for (int y = 0; y < truth.color.height(); ++y) {

@@ -46,6 +46,8 @@ struct DepthObjectDemoResult {
 // capture::RenderView, the capture's own rasteriser).
 struct MeshAccuracy {
   double iou = 1;                    // silhouette
+  int64_t rendered_pixels = 0;       // covered in the rendering
+  int64_t truth_pixels = 0;          // covered by the mesh
   std::vector<double> depth_errors;  // |depth - true depth| / edge over pixels both cover
   core::Image8 truth;                // RGBA8 true colour, alpha 0 where empty
 };

@@ -82,6 +82,11 @@ void RunRender(const RenderCommandOptions& o) {
       programs, job, o.out, [](const std::string& line) { fmt::print("render: {}\n", line); });
   if (stats.depth_error) {
     const core::ErrorStats& e = *stats.depth_error;
+    // Every view was checked (core::CheckMeasurable); an empty pool is never printed as NaN.
+    if (e.count == 0 || stats.iou.empty()) {
+      core::ThrowInputError("ibr render", "--truth-mesh '{}': no pixel to measure in any view",
+                            o.truth_mesh.string());
+    }
     // A mean above the p95: a few large errors dominate; the max says how large.
     const std::string tail =
         e.mean > e.p95 ? fmt::format(" / max {:.5f} (heavy tail: the mean exceeds the p95)", e.max)

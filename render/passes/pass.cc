@@ -1,6 +1,11 @@
 #include "render/passes/pass.h"
 
+#include <fmt/format.h>
+
+#include <cstdint>
+
 #include "core/error.h"
+#include "core/memory_budget.h"
 
 namespace render {
 
@@ -33,17 +38,15 @@ void CheckFrameSize(std::string_view where, std::string_view flag, int width, in
                           limits.max_renderbuffer_size, limits.max_texture_size,
                           limits.max_viewport_width, limits.max_viewport_height);
   }
-  // Pixels first (at most 2^62), so the product with bytes per pixel cannot overflow.
-  const int64_t pixels = int64_t{width} * height;
-  if (pixels > kFrameMemoryBudgetBytes / FrameBytesPerPixel()) {
-    const double bytes = static_cast<double>(pixels) * static_cast<double>(FrameBytesPerPixel());
-    constexpr double kMiB = 1024.0 * 1024.0;
-    core::ThrowInputError(where,
-                          "{}: a {}x{} frame needs {:.1f} MiB ({} bytes per pixel), over the "
-                          "frame budget of {:.0f} MiB",
-                          flag, width, height, bytes / kMiB, FrameBytesPerPixel(),
-                          kFrameMemoryBudgetBytes / kMiB);
-  }
+  // The target (llvmpipe keeps it in system memory) and as much again for its
+  // readback and the images written from it. Pixels first (at most 2^62),
+  // then bytes, saturating: no overflow.
+  const auto pixels = static_cast<uint64_t>(int64_t{width} * height);
+  const auto per_pixel = 2 * static_cast<uint64_t>(FrameBytesPerPixel());
+  const uint64_t bytes = pixels > UINT64_MAX / per_pixel ? UINT64_MAX : pixels * per_pixel;
+  core::CheckMemory(bytes, where,
+                    fmt::format("{}: a {}x{} frame ({} bytes per pixel with its readback)", flag,
+                                width, height, per_pixel));
 }
 
 void CheckFrameSize(std::string_view where, std::string_view flag, int width, int height,

@@ -52,12 +52,6 @@ void BindOutcomeImage(const RenderTarget& target, GLuint unit = 0);
 // D24S8 depth/stencil buffer holding window depth (the compositing test).
 RenderTargetOptions FrameTargetOptions(int width, int height);
 
-// The frame size budget (docs/guide/limits.md, "Frame size"): the estimated GPU memory of one
-// frame target, FrameBytesPerPixel() x pixels, may not exceed 1.5 GiB, which
-// is 2^26 pixels (8192 x 8192, the largest image ibr reads) at 24 bytes per
-// pixel. A command holds a few frame-sized buffers besides (readback, the
-// pass's own targets, output images), so its peak is a small multiple of it.
-inline constexpr int64_t kFrameMemoryBudgetBytes = int64_t{3} << 29;
 // Bytes per pixel of a FrameTargetOptions target (colour 4 + camera z 4 +
 // normal 8 + outcome 4 + depth/stencil 4 = 24).
 int64_t FrameBytesPerPixel();
@@ -65,7 +59,9 @@ int64_t FrameBytesPerPixel();
 // The one check of every frame size a user asks for (`--size` of every
 // command), before anything of that size is allocated: both sides in
 // 1..`limits` (GL_MAX_RENDERBUFFER_SIZE, GL_MAX_TEXTURE_SIZE,
-// GL_MAX_VIEWPORT_DIMS) and the estimate within kFrameMemoryBudgetBytes.
+// GL_MAX_VIEWPORT_DIMS) and the frame's estimate, 2 x FrameBytesPerPixel() x
+// pixels (the target and its readback), within the memory budget
+// (core::CheckMemory, --memory-budget).
 // Throws core::InputError("where: flag: ...") naming the requested size and
 // the limit it breaks. The second form queries the current context's limits.
 // `min_side`: the command's smallest useful side (below it: "below the minimum").

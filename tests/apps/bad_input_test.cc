@@ -36,6 +36,7 @@
 #include "core/image.h"
 #include "core/image_io.h"
 #include "tests/support/gl_test.h"
+#include "tests/support/png_claimed_size.h"
 #include "tests/support/run_command.h"
 
 extern char** environ;
@@ -45,14 +46,9 @@ namespace fs = std::filesystem;
 using nlohmann::json;
 using test_support::CountLines;
 using test_support::IbrBinary;
+using test_support::PngWithClaimedSize;
+using test_support::Quote;
 using test_support::RunCommand;
-
-std::string Quote(const fs::path& p) {
-  std::string quoted(1, '\'');
-  quoted += p.string();
-  quoted += '\'';
-  return quoted;
-}
 
 std::string Slurp(const fs::path& p) {
   std::ifstream in(p, std::ios::binary);
@@ -116,24 +112,6 @@ void DatasetWith(const fs::path& dir, const std::function<void(json&)>& edit,
   json j = json::parse(Slurp(dir / "dataset.json"));
   edit(j);
   Spit(dir / "dataset.json", j.dump(1));
-}
-
-// A PNG's IHDR patched to `width` x `height` (CRC recomputed): the header
-// claims a huge image, the file is tiny.
-std::string PngWithClaimedSize(const std::string& png, uint32_t width, uint32_t height) {
-  std::string out = png;
-  auto put32 = [&](size_t at, uint32_t v) {
-    for (int k = 0; k < 4; ++k) out[at + k] = static_cast<char>((v >> (24 - 8 * k)) & 0xff);
-  };
-  put32(16, width);
-  put32(20, height);
-  uint32_t crc = 0xffffffffu;  // CRC-32 over chunk type + data (bytes 12..28)
-  for (size_t i = 12; i < 29; ++i) {
-    crc ^= static_cast<unsigned char>(out[i]);
-    for (int k = 0; k < 8; ++k) crc = (crc >> 1) ^ (0xedb88320u & (0u - (crc & 1u)));
-  }
-  put32(29, crc ^ 0xffffffffu);
-  return out;
 }
 
 // ---- The corpus --------------------------------------------------------------
@@ -511,13 +489,13 @@ std::vector<Case> Corpus() {
       },
       "image is 8x8, camera 1 is 32x32");
   file_case(
-      "color_claims_16000px",
+      "color_claims_16385px",
       [](const fs::path& d) {
         const json j = json::parse(Slurp(d / "dataset.json"));
         const fs::path p = d / j["views"][0]["color"].get<std::string>();
-        Spit(p, PngWithClaimedSize(Slurp(p), 16000, 16000));
+        Spit(p, PngWithClaimedSize(Slurp(p), 16385, 16000));
       },
-      "the limit is 16384 pixels a side, 67108864 pixels");
+      "the limit is 16384 pixels a side and 4 channels");
   file_case(
       "color_is_text",
       [](const fs::path& d) {
@@ -577,9 +555,6 @@ std::vector<Case> Corpus() {
            {"orbit_and_cameras", "--orbit 2 --cameras " + cube, "give exactly one of --cameras"},
            {"size_huge", "--orbit 1 --size 100000",
             "--size: a 100000x100000 frame is larger than this GL implementation's largest"},
-           {"size_over_budget", "--orbit 1 --size 9000",
-            "--size: a 9000x9000 frame needs 1853.9 MiB (24 bytes per pixel), over the frame "
-            "budget of 1536 MiB"},
            {"cameras_size_huge", "--cameras RING --size 20000",
             "--size: a 20000x20000 frame is larger than"},
            {"size_negative", "--orbit 1 --size -3", "--size -3"},
@@ -597,6 +572,15 @@ std::vector<Case> Corpus() {
                Quote(dir / "point.obj") + " --out " + Quote(out);
       },
       "mesh has no extent");
+  // A frame over the memory budget (--memory-budget, before the subcommand).
+  add("render_size_over_budget",
+      fixed("--memory-budget=1536M render CUBE --orbit 1 --size 9000 --out OUT"),
+      "--size: a 9000x9000 frame (48 bytes per pixel with its readback) needs 3.62 GiB, over the "
+      "memory budget of 1.50 GiB");
+  add("capture_size_over_budget",
+      fixed("--memory-budget=1536M capture --shape sphere --size 8200 --out OUT"),
+      "--size: a 8200x8200 frame (48 bytes per pixel with its readback) needs 3.01 GiB, over the "
+      "memory budget of 1.50 GiB");
   add("render_size_not_integer", fixed("render " + cube + " --orbit 1 --size 64.5 --out OUT"),
       "--size", kCli);
 
@@ -607,10 +591,6 @@ std::vector<Case> Corpus() {
            {"size_64_5", "--shape sphere --size 64.5", "--size", kCli},
            {"size_huge", "--shape sphere --size 100000",
             "--size: a 100000x100000 frame is larger than this GL implementation's largest", 1},
-           {"size_over_budget", "--shape sphere --size 8200",
-            "--size: a 8200x8200 frame needs 1539.0 MiB (24 bytes per pixel), over the frame "
-            "budget of 1536 MiB",
-            1},
            {"rig_bogus", "--shape sphere --rig bogus", "bogus", 1},
            {"rig_ring_zero", "--shape sphere --rig ring:0", "ring:0", 1},
            {"rig_sphere_huge", "--shape sphere --rig sphere:100000", "sphere:100000", 1},
@@ -717,21 +697,28 @@ std::vector<Case> Corpus() {
   add("displace_tiling_zero", fixed("displace --tiling 0 --out /tmp/ibr-never.png"), "tiling");
   add("demo_size_tiny", fixed("demo --size 3 --out OUT"), "--size");
   // --size of every other command through the one frame-size check.
-  add("displace_size_over_budget", fixed("displace --size 9000 --out /tmp/ibr-never.png"),
-      "--size: a 9000x9000 frame needs 1853.9 MiB");
+  add("displace_size_over_budget",
+      fixed("--memory-budget=1536M displace --size 9000 --out /tmp/ibr-never.png"),
+      "--size: a 9000x9000 frame (48 bytes per pixel with its readback) needs 3.62 GiB, over the "
+      "memory budget of 1.50 GiB");
   add("demo_size_huge", fixed("demo --size 20000 --out OUT"),
       "--size: a 20000x20000 frame is larger than");
   add("deform_size_over_budget",
-      fixed("deform /nonexistent-ibr.obj --size 9000 --out /tmp/ibr-never.png"),
-      "--size: a 9000x9000 frame needs 1853.9 MiB");
+      fixed(
+          "--memory-budget=1536M deform /nonexistent-ibr.obj --size 9000 --out /tmp/ibr-never.png"),
+      "--size: a 9000x9000 frame (48 bytes per pixel with its readback) needs 3.62 GiB, over the "
+      "memory budget of 1.50 GiB");
   add("volume_size_huge", fixed("volume /nonexistent-ibr.nrrd --size 20000 --out OUT"),
       "--size: a 20000x20000 frame is larger than");
-  add("bench_fillrate_size_over_budget", fixed("bench fillrate --size 9000"),
-      "--size: a 9000x9000 frame needs 1853.9 MiB");
+  add("bench_fillrate_size_over_budget", fixed("--memory-budget=1536M bench fillrate --size 9000"),
+      "--size: a 9000x9000 frame (48 bytes per pixel with its readback) needs 3.62 GiB, over the "
+      "memory budget of 1.50 GiB");
   add("bench_ncs_size_huge", fixed("bench ncs --csv OUT --size 20000"),
       "--size: a 20000x20000 frame is larger than");
-  add("bench_scene_size_over_budget", fixed("bench scene --csv OUT --size 9000"),
-      "--size: a 9000x9000 frame needs 1853.9 MiB");
+  add("bench_scene_size_over_budget",
+      fixed("--memory-budget=1536M bench scene --csv OUT --size 9000"),
+      "--size: a 9000x9000 frame (48 bytes per pixel with its readback) needs 3.62 GiB, over the "
+      "memory budget of 1.50 GiB");
   add("bench_volume_size_huge", fixed("bench volume --csv OUT --size 20000"),
       "--size: a 20000x20000 frame is larger than");
   add("bench_depth_object_sizes_huge", fixed("bench depth-object --csv OUT --sizes 128 20000"),

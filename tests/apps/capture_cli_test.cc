@@ -21,22 +21,9 @@ namespace {
 namespace fs = std::filesystem;
 using test_support::CountLines;
 using test_support::IbrBinary;
+using test_support::Quote;
 using test_support::RunCommand;
-
-std::string Quote(const fs::path& p) {
-  std::string quoted(1, '\'');  // built piecewise: GCC 12's -Wrestrict misfires on "'" + s
-  quoted += p.string();
-  quoted += '\'';
-  return quoted;
-}
-
-// A fresh directory for one test's files.
-fs::path Scratch(const std::string& name) {
-  const fs::path dir = test_support::TestOutputDir() / name;
-  fs::remove_all(dir);
-  fs::create_directories(dir);
-  return dir;
-}
+using test_support::Scratch;
 
 TEST(CaptureCli, CubeCaptureOfSphereThenInfoSummarisesSixViews) {
   const fs::path dir = Scratch("cube_info");

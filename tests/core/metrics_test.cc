@@ -6,6 +6,8 @@
 #include <cmath>
 #include <limits>
 
+#include "tests/support/input_error.h"
+
 namespace core {
 namespace {
 
@@ -145,6 +147,31 @@ TEST(Psnr, HandComputedMseOverTheMask) {
   Image8 c1(1, 1, 1, 1), c2(1, 1, 1, 0);
   EXPECT_EQ(BothCovered(c1, c2).at(0, 0), 0);
   EXPECT_EQ(BothCovered(c1, c1).at(0, 0), 1);
+}
+
+TEST(CheckMeasurable, AViewWithoutSharedPixelsIsAnErrorNamingItsEmptySide) {
+  // Depth images, 0 = empty: one pixel at (0, 0), another at (3, 3).
+  const ImageF empty(4, 4, 1);
+  ImageF a(4, 4, 1), b(4, 4, 1);
+  a.at(0, 0) = 1.0f;
+  b.at(3, 3) = 2.0f;
+  auto error = [](const ImageF& rendered, const ImageF& truth) {
+    return test_support::InputErrorOf(
+        [&] { CheckMeasurable(CompareDepth(rendered, truth), "ibr test", "v1"); });
+  };
+  EXPECT_EQ(error(a, a), "");  // one shared pixel: IoU 1, depth error 0
+  EXPECT_EQ(error(empty, empty),
+            "ibr test: view 'v1': the rendering and the truth are both empty: no silhouette IoU "
+            "or depth error can be measured (is the object in this camera's view?)");
+  EXPECT_EQ(error(a, empty),
+            "ibr test: view 'v1': the truth is empty while the rendering covers 1 pixels: no "
+            "depth error can be measured (is the truth in the same frame?)");
+  EXPECT_EQ(error(empty, b),
+            "ibr test: view 'v1': the rendering is empty while the truth covers 1 pixels: "
+            "nothing was drawn, no depth error can be measured");
+  EXPECT_EQ(error(a, b),
+            "ibr test: view 'v1': the rendering (1 pixels) and the truth (1 pixels) share no "
+            "pixel: no depth error can be measured");
 }
 
 }  // namespace

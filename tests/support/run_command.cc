@@ -9,6 +9,8 @@
 #include <fstream>
 #include <sstream>
 
+#include "tests/support/gl_test.h"
+
 namespace test_support {
 
 namespace {
@@ -44,6 +46,20 @@ int CountLines(const std::string& text) {
 std::string IbrBinary() {
   const char* path = std::getenv("IBR_BINARY");
   return path ? path : "ibr";
+}
+
+std::string Quote(const std::filesystem::path& p) {
+  std::string quoted(1, '\'');  // built piecewise: GCC 12's -Wrestrict misfires on "'" + s
+  quoted += p.string();
+  quoted += '\'';
+  return quoted;
+}
+
+std::filesystem::path Scratch(const std::string& name) {
+  const std::filesystem::path dir = TestOutputDir() / name;
+  std::filesystem::remove_all(dir);
+  std::filesystem::create_directories(dir);
+  return dir;
 }
 
 }  // namespace test_support

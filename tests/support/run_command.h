@@ -1,6 +1,7 @@
 // Runs a shell command for CLI tests, capturing exit code, stdout and stderr.
 #pragma once
 
+#include <filesystem>
 #include <string>
 
 namespace test_support {
@@ -18,5 +19,11 @@ int CountLines(const std::string& text);
 
 // The `ibr` binary under test (IBR_BINARY, set by ctest).
 std::string IbrBinary();
+
+// `p` in single quotes, for a shell command line.
+std::string Quote(const std::filesystem::path& p);
+
+// A fresh, empty directory TestOutputDir()/name for one test's files.
+std::filesystem::path Scratch(const std::string& name);
 
 }  // namespace test_support

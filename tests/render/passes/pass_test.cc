@@ -16,6 +16,7 @@
 
 #include "core/error.h"
 #include "core/heightfield.h"
+#include "core/memory_budget.h"
 #include "core/mesh.h"
 #include "core/projection.h"
 #include "render/gl/gl_state.h"
@@ -241,17 +242,26 @@ TEST(FrameSize, BytesPerPixelIsTheSumOfTheFrameAttachments) {
   EXPECT_EQ(TargetBytesPerPixel(colour_only), 4);
 }
 
-TEST(FrameSize, MemoryBudgetAdmitsExactly8192Squared) {
-  // Limits far above the budget, so only the memory estimate decides.
+TEST(FrameSize, MemoryBudgetDecidesBeyondTheGlLimits) {
+  // Limits far above any budget, so only the memory estimate decides: 48
+  // bytes per pixel (the 24-byte target and its readback). A budget of
+  // 3 GiB admits 2^26 pixels exactly.
   const GlSizeLimits big{1 << 20, 1 << 20, 1 << 20, 1 << 20};
-  EXPECT_EQ(FrameSizeError(8192, 8192, big), "");   // 2^26 px x 24 B = 1536 MiB, the budget
+  core::SetMemoryBudget(uint64_t{3} << 30);
+  EXPECT_EQ(FrameSizeError(8192, 8192, big), "");   // 2^26 px x 48 B = 3 GiB, the budget
   EXPECT_EQ(FrameSizeError(16384, 4096, big), "");  // the same pixel count, another shape
   EXPECT_EQ(FrameSizeError(8193, 8192, big),
-            "ibr test: --size: a 8193x8192 frame needs 1536.2 MiB (24 bytes per pixel), over the "
-            "frame budget of 1536 MiB");
+            "ibr test: --size: a 8193x8192 frame (48 bytes per pixel with its readback) needs "
+            "3.00 GiB, over the memory budget of 3.00 GiB (set --memory-budget or "
+            "IBR_MEMORY_BUDGET to change it)");
+  // The size of issue 34's refused dataset: the budget is the reason, and says so.
   EXPECT_EQ(FrameSizeError(12000, 12000, big),
-            "ibr test: --size: a 12000x12000 frame needs 3295.9 MiB (24 bytes per pixel), over the "
-            "frame budget of 1536 MiB");
+            "ibr test: --size: a 12000x12000 frame (48 bytes per pixel with its readback) needs "
+            "6.44 GiB, over the memory budget of 3.00 GiB (set --memory-budget or "
+            "IBR_MEMORY_BUDGET to change it)");
+  core::SetMemoryBudget(uint64_t{8} << 30);
+  EXPECT_EQ(FrameSizeError(12000, 12000, big), "");
+  core::SetMemoryBudget(std::nullopt);
   // No overflow at the largest ints.
   EXPECT_NE(FrameSizeError(INT32_MAX, INT32_MAX, {INT32_MAX, INT32_MAX, INT32_MAX, INT32_MAX}), "");
 }
