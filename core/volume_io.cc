@@ -29,9 +29,17 @@ namespace {
 
 namespace fs = std::filesystem;
 
-constexpr size_t kMaxHeaderLine = 4096;         // characters in one header line
-constexpr size_t kMaxHeaderBytes = 65536;       // characters in a whole header
-constexpr size_t kReadChunk = size_t{1} << 24;  // 16 MiB: largest step of a chunked read
+constexpr size_t kMaxHeaderLine = 4096;          // characters in one header line
+constexpr size_t kMaxHeaderBytes = 65536;        // characters in a whole header
+constexpr size_t kReadChunk = size_t{1} << 24;   // 16 MiB: largest step of a chunked read
+constexpr size_t kFirstChunk = size_t{1} << 16;  // 64 KiB: the first step
+
+// The next step of a read that has `have` of `total` bytes: doubling from
+// kFirstChunk up to kReadChunk, so a short or compressed stream whose header
+// claims a large volume allocates at most twice what it actually holds.
+size_t NextChunk(size_t have, size_t total) {
+  return std::min(total - have, std::clamp(have, kFirstChunk, kReadChunk));
+}
 
 std::string_view Trim(std::string_view s) {
   const auto first = s.find_first_not_of(" \t\r");
@@ -144,7 +152,7 @@ std::vector<uint8_t> ReadExactly(std::istream& in, size_t expected, bool exact,
   if (remaining >= 0) out.reserve(expected);
   while (out.size() < expected) {
     const size_t old = out.size();
-    const size_t n = std::min(kReadChunk, expected - old);
+    const size_t n = NextChunk(old, expected);
     out.resize(old + n);
     in.read(reinterpret_cast<char*>(out.data() + old), static_cast<std::streamsize>(n));
     const auto got = static_cast<size_t>(in.gcount());
@@ -314,7 +322,7 @@ std::vector<uint8_t> ReadDecoded(Decoder& d, size_t count, int64_t byte_skip,
     }
     while (out.size() < count) {
       const size_t old = out.size();
-      const size_t n = std::min(kReadChunk, count - old);
+      const size_t n = NextChunk(old, count);
       out.resize(old + n);
       const size_t got = d.Read(out.data() + old, n);
       if (got < n)
@@ -329,11 +337,12 @@ std::vector<uint8_t> ReadDecoded(Decoder& d, size_t count, int64_t byte_skip,
   size_t total = 0;
   for (;;) {
     const size_t old = out.size();
-    out.resize(old + kReadChunk);
-    const size_t got = d.Read(out.data() + old, kReadChunk);
+    const size_t step = std::clamp(old, kFirstChunk, kReadChunk);
+    out.resize(old + step);
+    const size_t got = d.Read(out.data() + old, step);
     out.resize(old + got);
     total += got;
-    if (got < kReadChunk) break;
+    if (got < step) break;
     if (out.size() > 2 * count + kReadChunk)
       out.erase(out.begin(), out.end() - static_cast<std::ptrdiff_t>(count));
   }
@@ -911,7 +920,7 @@ Volume ReadNiftiFrom(Decoder& d, std::string_view name) {
   v.type = type;
   while (v.bytes.size() < bytes) {
     const size_t old = v.bytes.size();
-    const size_t n = std::min(kReadChunk, bytes - old);
+    const size_t n = NextChunk(old, bytes);
     v.bytes.resize(old + n);
     const size_t got = d.Read(v.bytes.data() + old, n);
     if (got < n)

@@ -267,6 +267,37 @@ TEST_F(VolumeCliTest, TwelveBitScanIsNotBlackByDefault) {
   EXPECT_GT(covered, box / 3);
 }
 
+// Non-cubic voxels render at their true shape: pyradiomics' breast MRI
+// (45 x 120 x 21 voxels of 0.664 x 0.664 x 2.1 mm) drawn opaque, seen along
+// +x from the orbit's eye (azimuth 0, elevation 0: image right = y, up = z).
+// The silhouette is the box's near face, y : z = 79.7 : 44.1 mm = 1.807
+// (voxel counts alone would give 120 : 21 = 5.7).
+TEST_F(VolumeCliTest, NonCubicVoxelsRenderAtTheirTrueShape) {
+  const fs::path opaque = dir_ / "opaque.json";
+  std::ofstream(opaque) << R"({"units": "data", "points": [[0, 1, 1, 1, 1]]})";
+  const fs::path out = dir_ / "breast.png";
+  const auto r =
+      Volume((RealVolumes() / "mri_pyradiomics_breast1.nrrd").string() + " --transfer " +
+             opaque.string() + " --azimuth 0 --elevation 0 --size 192 --out " + out.string());
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const core::Image8 image = core::ReadImage<uint8_t>(out);
+  int x0 = image.width(), x1 = -1, y0 = image.height(), y1 = -1;
+  for (int y = 0; y < image.height(); ++y)
+    for (int x = 0; x < image.width(); ++x) {
+      int diff = 0;
+      for (int c = 0; c < 3; ++c) diff += std::abs(image.at(x, y, c) - image.at(0, 0, c));
+      if (diff <= 6) continue;
+      x0 = std::min(x0, x), x1 = std::max(x1, x), y0 = std::min(y0, y), y1 = std::max(y1, y);
+    }
+  ASSERT_GE(x1, x0);
+  const double width = x1 - x0 + 1, height = y1 - y0 + 1;
+  const double expected = (120 * 0.664062) / (21 * 2.1);
+  std::printf("breast MRI silhouette %.0f x %.0f px: ratio %.3f, true shape %.3f\n", width, height,
+              width / height, expected);
+  // One pixel of rounding at each edge of a ~130 x 73 px silhouette.
+  EXPECT_NEAR(width / height, expected, expected * (2 / width + 2 / height));
+}
+
 TEST_F(VolumeCliTest, InfoPrintsTypeSizeSpacingRangeAndPercentiles) {
   const auto r =
       test_support::RunCommand(test_support::IbrBinary() + " --log-level error info " +
