@@ -311,8 +311,8 @@ std::vector<uint8_t> ReadDecoded(Decoder& d, size_t count, int64_t byte_skip,
                                  std::string_view where, std::string_view name) {
   std::vector<uint8_t> out;
   if (byte_skip >= 0) {
-    std::vector<uint8_t> scratch(
-        static_cast<size_t>(std::min<int64_t>(std::max<int64_t>(byte_skip, 1), int64_t{1} << 20)));
+    std::vector<uint8_t> scratch(static_cast<size_t>(
+        std::min<int64_t>(std::max<int64_t>(byte_skip, 1), static_cast<int64_t>(kFirstChunk))));
     for (int64_t left = byte_skip; left > 0;) {
       const size_t n = d.Read(scratch.data(), static_cast<size_t>(std::min<int64_t>(
                                                   left, static_cast<int64_t>(scratch.size()))));
@@ -905,8 +905,9 @@ Volume ReadNiftiFrom(Decoder& d, std::string_view name) {
   }
   // Extensions between the header and the data are skipped; bytes after the
   // voxels (padding some writers leave) are ignored.
-  std::vector<uint8_t> skip(static_cast<size_t>(std::min<int64_t>(
-      std::max<int64_t>(info.vox_offset - info.header_bytes, 1), int64_t{1} << 20)));
+  std::vector<uint8_t> skip(static_cast<size_t>(
+      std::min<int64_t>(std::max<int64_t>(info.vox_offset - info.header_bytes, 1),
+                        static_cast<int64_t>(kFirstChunk))));
   for (int64_t left = info.vox_offset - info.header_bytes; left > 0;) {
     const size_t n =
         d.Read(skip.data(),
