@@ -22,6 +22,7 @@
 #include "bench/ncs_bench.h"
 #include "bench/paper_tables.h"
 #include "bench/report.h"
+#include "bench/report_summary.h"
 #include "bench/scene_bench.h"
 #include "bench/tradeoff.h"
 #include "bench/volume_bench.h"
@@ -743,6 +744,11 @@ ReportResult WriteReport(const ReportOptions& options) {
   for (const ReportStep& s : result.steps) timings.AddRow({s.name, mode, Num(s.seconds, 1)});
   timings.WriteCsv(dir / "report_timings.csv");
   core::AtomicWriteStream(dir / "report.md", [&](std::ostream& out) { out << page.Markdown(); });
+  // The headline rows README.md links; a run that made none writes none.
+  if (const std::vector<SummaryRow> rows = SummaryRows(dir); !rows.empty()) {
+    core::AtomicWriteStream(dir / "summary.md",
+                            [&](std::ostream& out) { out << SummaryMarkdown(rows); });
+  }
   const std::string html = page.Html(dir);
   core::AtomicWriteStream(dir / "report.html", [&](std::ostream& out) { out << html; });
   staged.Commit();

@@ -1,7 +1,8 @@
 // Cameras: intrinsics (COLMAP's camera models with their parameter orders, plus
 // an orthographic camera) and rigid poses. CPU-only, no GL.
 //
-// Conventions (ARCHITECTURE.md, "Cameras and datasets"):
+// Conventions (ARCHITECTURE.md, "Cameras and datasets"; for users:
+// docs/guide/importing.md, "Axes, frames and units in one place"):
 // - Pose: `cam_from_world` maps world points into the camera frame,
 //   p_in_cam = R * p_in_world + t (COLMAP's images.txt pose).
 // - Camera frame: x right, y down, z forward (OpenCV/COLMAP).
@@ -57,8 +58,8 @@ int CameraModelParamCount(CameraModel model);
 // "fx, fy, cx, cy, k1, k2, p1, p2" (COLMAP's order strings).
 std::string_view CameraModelParamOrder(CameraModel model);
 
-// Ranges every camera obeys (README "## Limits"), beyond the image size limits
-// of core/image_io.h. Span = image size / focal length: at unit depth for a
+// Ranges every camera obeys (docs/guide/limits.md, "Cameras"), beyond the
+// image size limits of core/image_io.h. Span = image size / focal length: at unit depth for a
 // perspective camera (2 tan(fov/2): 1e-4 is a 0.006 degree field of view,
 // 1e3 is 179.9 degrees), in scene units for an orthographic one.
 struct CameraLimits {

@@ -2,6 +2,7 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <cmath>
 #include <fstream>
 
@@ -27,6 +28,31 @@ void ColmapImportOptions::Check() const {
     core::ThrowInputError("ColmapImportOptions", "input type '{}' is not geometric or photometric",
                           input_type);
   }
+  if (!(bounds_percentile >= 0 && bounds_percentile < 50)) {
+    core::ThrowInputError("ColmapImportOptions", "bounds percentile {} outside [0, 50)",
+                          bounds_percentile);
+  }
+  if (!(bounds_margin >= 0 && bounds_margin <= 10)) {
+    core::ThrowInputError("ColmapImportOptions", "bounds margin {} outside [0, 10]", bounds_margin);
+  }
+}
+
+Bounds RobustBounds(const std::vector<glm::dvec3>& points, double percentile, double margin) {
+  if (points.empty()) core::ThrowInputError("RobustBounds", "no points");
+  Bounds b;
+  std::vector<double> axis(points.size());
+  for (int k = 0; k < 3; ++k) {
+    for (size_t i = 0; i < points.size(); ++i) axis[i] = points[i][k];
+    std::sort(axis.begin(), axis.end());
+    const size_t n = axis.size();
+    // Nearest-rank percentiles; the extremes below 20 points.
+    const size_t lo = n < 20 ? 0 : static_cast<size_t>(std::floor(percentile / 100 * (n - 1)));
+    const size_t hi = n < 20 ? n - 1 : n - 1 - lo;
+    const double side = axis[hi] - axis[lo];
+    b.min[k] = axis[lo] - margin * side;
+    b.max[k] = axis[hi] + margin * side;
+  }
+  return b;
 }
 
 namespace {
@@ -204,21 +230,27 @@ fs::path FindSparseDir(const fs::path& source) {
       "no COLMAP model (cameras.bin/.txt) in sparse/0, sparse/ or the folder itself");
 }
 
-Bounds PointBounds(const colmap::SparseModel& model) {
-  Bounds b{glm::dvec3(INFINITY), glm::dvec3(-INFINITY)};
-  for (const auto& [id, p] : model.points3D) {
-    const glm::dvec3 x(p.xyz[0], p.xyz[1], p.xyz[2]);
-    b.min = glm::min(b.min, x);
-    b.max = glm::max(b.max, x);
+// The mask of photo `name` in `dir`: NAME.png (COLMAP's ImageReader.mask_path
+// convention), NAME, or NAME's stem + ".png"; empty path when none exists.
+fs::path FindMask(const fs::path& dir, const std::string& name) {
+  for (const fs::path& candidate :
+       {dir / (name + ".png"), dir / name, dir / fs::path(name).replace_extension(".png")}) {
+    if (fs::is_regular_file(candidate)) return candidate;
   }
-  return b;
+  return {};
+}
+
+std::string FormatBox(const Bounds& b) {
+  return fmt::format("min ({:.4g}, {:.4g}, {:.4g}) max ({:.4g}, {:.4g}, {:.4g})", b.min.x, b.min.y,
+                     b.min.z, b.max.x, b.max.y, b.max.z);
 }
 
 }  // namespace
 
 Dataset ImportColmap(const fs::path& source, const fs::path& out,
                      const ColmapImportOptions& options,
-                     const std::function<void(int, int)>& progress) {
+                     const std::function<void(int, int)>& progress,
+                     const std::function<void(const std::string&)>& note) {
   constexpr const char* kWhere = "ImportColmap";
   options.Check();
   if (!fs::is_directory(source)) core::ThrowFileError(kWhere, source, "not a directory");
@@ -230,6 +262,15 @@ Dataset ImportColmap(const fs::path& source, const fs::path& out,
   const fs::path images_dir = options.images.empty() ? source / "images" : options.images;
   if (!fs::is_directory(images_dir))
     core::ThrowFileError(kWhere, images_dir, "image folder does not exist");
+  if (!options.masks.empty() && dense) {
+    core::ThrowFileError(kWhere, options.masks,
+                         "--masks is for sparse models: a dense workspace's masks are its valid "
+                         "depth");
+  }
+  if (!options.masks.empty() && !fs::is_directory(options.masks))
+    core::ThrowFileError(kWhere, options.masks, "mask folder does not exist");
+  // Dense workspaces without sparse points: the box from sampled depth.
+  std::vector<glm::dvec3> depth_points;
 
   // Image order: fusion.cfg order for dense workspaces when present, else by name.
   std::vector<const colmap::Image*> order;
@@ -283,6 +324,18 @@ Dataset ImportColmap(const fs::path& source, const fs::path& out,
         if (!Valid(d)) d = 0;  // COLMAP writes 0 (or negative) for invalid
         mask.data()[p] = d > 0 ? 255 : 0;
       }
+      if (model.points3D.empty()) {
+        // At most about 2 million samples over every view (48 MB).
+        const double pixels = static_cast<double>(camera.width) * camera.height * order.size();
+        const int step = std::max(8, static_cast<int>(std::ceil(std::sqrt(pixels / 2e6))));
+        const Rigid3 world_from_cam = im.cam_from_world().Inverse();
+        for (int row = 0; row < camera.height; row += step) {
+          for (int col = 0; col < camera.width; col += step) {
+            const float d = depth.at(col, row);
+            if (d > 0) depth_points.push_back(world_from_cam * camera.UnprojectPixel(col, row, d));
+          }
+        }
+      }
       const fs::path normal_path =
           source / "stereo/normal_maps" / fmt::format("{}.{}.bin", im.name, options.input_type);
       if (fs::exists(normal_path)) {
@@ -311,6 +364,21 @@ Dataset ImportColmap(const fs::path& source, const fs::path& out,
       // Sparse: same pixel convention; remove distortion with OpenCV.
       camera = UndistortedCamera(colmap_cam);
       color = UndistortImage(colmap_cam, color);
+      if (!options.masks.empty()) {
+        const fs::path mask_path = FindMask(options.masks, im.name);
+        if (mask_path.empty()) {
+          core::ThrowFileError(kWhere, options.masks,
+                               "no mask for '{}' (looked for {}.png, {}, {})", im.name, im.name,
+                               im.name, fs::path(im.name).replace_extension(".png").string());
+        }
+        core::Image8 m = core::ReadImage<uint8_t>(mask_path, 1);
+        if (m.width() != colmap_cam.width || m.height() != colmap_cam.height) {
+          core::ThrowFileError(kWhere, mask_path, "mask is {}x{}, its photo {}x{}", m.width(),
+                               m.height(), colmap_cam.width, colmap_cam.height);
+        }
+        mask = UndistortImage(colmap_cam, m);
+        for (uint8_t& v : mask.values()) v = v > 127 ? 255 : 0;
+      }
     }
     if (!camera_ids.contains(im.camera_id)) camera_ids[im.camera_id] = writer.AddCamera(camera);
     std::string name = fs::path(im.name).replace_extension().string();
@@ -319,8 +387,52 @@ Dataset ImportColmap(const fs::path& source, const fs::path& out,
     writer.AddView(name, camera_ids[im.camera_id], im.cam_from_world(), color, depth, mask, normal);
     if (progress) progress(static_cast<int>(k) + 1, static_cast<int>(order.size()));
   }
-  if (!model.points3D.empty()) writer.SetBounds(PointBounds(model));
+  std::vector<glm::dvec3> points;
+  for (const auto& [id, p] : model.points3D) points.emplace_back(p.xyz[0], p.xyz[1], p.xyz[2]);
+  const char* from = "sparse points";
+  if (points.empty()) {
+    points = std::move(depth_points);
+    from = "depth samples";
+  }
+  const auto say = [&](const std::string& line) {
+    if (note) note(line);
+  };
+  if (!points.empty()) {
+    const Bounds box = RobustBounds(points, options.bounds_percentile, options.bounds_margin);
+    const Bounds all = RobustBounds(points, 0, 0);
+    const glm::dvec3 e = box.extent(), ea = all.extent();
+    const double ratio = std::max({ea.x / e.x, ea.y / e.y, ea.z / e.z});
+    say(
+        fmt::format("bounds {} from {:g}-{:g} % of {} {} per axis, +{:g} % margin (every point: "
+                    "{}, up to {:.3g}x a side)",
+                    FormatBox(box), options.bounds_percentile, 100 - options.bounds_percentile,
+                    points.size(), from, 100 * options.bounds_margin, FormatBox(all), ratio));
+    writer.SetBounds(box);
+  } else {
+    say("bounds: none (the model has no 3D points): give the object's box in dataset.json "
+        "\"bounds\" before rendering");
+  }
+  writer.SetUp(MeanCameraUp(writer.dataset()).value_or(glm::dvec3(0, 1, 0)));
+  const glm::dvec3 up = *writer.dataset().up;
+  say(fmt::format("up ({:.3f}, {:.3f}, {:.3f}) from the cameras (x axes level, image y down)", up.x,
+                  up.y, up.z));
   writer.Commit();
+  if (dense) {
+    say("renders as a depth object (ibr render/view DATASET) or, from the valid-depth masks, a "
+        "visual hull (--method visual-hull)");
+  } else if (!options.masks.empty()) {
+    say("renders as a visual hull (ibr render/view DATASET --method visual-hull); no depth, so "
+        "no depth object");
+  } else {
+    say(fmt::format(
+        "sparse model only: {} views with poses and colour but no depth and no masks, so neither "
+        "a depth object (needs depth) nor a visual hull (needs masks) can be rendered from it; "
+        "its cameras serve as novel views (ibr render OTHER --cameras DATASET). To render it: run "
+        "COLMAP's dense steps (image_undistorter, patch_match_stereo, which needs CUDA) and import "
+        "the workspace (ibr import colmap WS), or import again with --masks DIR (a silhouette per "
+        "photo, NAME.png, > 127 = object)",
+        writer.dataset().views.size()));
+  }
   return writer.dataset();
 }
 

@@ -44,16 +44,37 @@ void ExportColmapWorkspace(const Dataset& dataset, const std::filesystem::path& 
 struct ColmapImportOptions {
   std::string input_type = "geometric";  // dense maps: "geometric" or "photometric"
   std::filesystem::path images;          // sparse import: image folder (default SRC/images)
+  // Sparse import: silhouettes, one 8-bit image per photo (> 127 = object),
+  // found as COLMAP's ImageReader.mask_path names them (NAME.png for photo
+  // NAME), or NAME itself, or NAME's stem + ".png". Empty: no masks.
+  std::filesystem::path masks;
+  // The box spans this percentile and 100 minus it of the points per axis
+  // (sparse points, else sampled dense depth): SfM models hold stray points
+  // far from the object (one made a box 34x the object), which a min/max
+  // box would swallow. 1 % of 1000 points drops 10 per side and axis.
+  double bounds_percentile = 1;
+  double bounds_margin = 0.05;  // added on every side, fraction of each side's length
   void Check() const;
 };
+
+// The box of `points` from per-axis percentiles (RobustBounds: lo..100-lo),
+// widened by `margin` of each side; with fewer than 20 points the min/max
+// box (percentiles of so few are the extremes anyway). InputError when empty.
+Bounds RobustBounds(const std::vector<glm::dvec3>& points, double percentile, double margin);
 
 // A dense workspace (WS/stereo/depth_maps exists) becomes a dataset with
 // depth (0 where colmap wrote <= 0), normals (world frame) when the normal
 // maps exist, masks = valid depth. A sparse model (SRC/sparse/0, SRC/sparse
 // or SRC itself) with images becomes a dataset with poses and undistorted
-// colour, no depth. Returns the dataset written to `out`.
+// colour, no depth (masks with options.masks). Either way the dataset's
+// "up" is MeanCameraUp (COLMAP's cameras are y down) and its
+// bounds are RobustBounds of the sparse points (dense: of the depth maps when
+// the model has none). `note` gets lines for the user: the box and where it
+// came from, what the dataset can be rendered as and, when nothing, how to
+// add depth or masks. Returns the dataset written to `out`.
 Dataset ImportColmap(const std::filesystem::path& source, const std::filesystem::path& out,
                      const ColmapImportOptions& options = {},
-                     const std::function<void(int, int)>& progress = {});
+                     const std::function<void(int, int)>& progress = {},
+                     const std::function<void(const std::string&)>& note = {});
 
 }  // namespace capture

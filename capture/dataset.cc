@@ -110,7 +110,7 @@ glm::dvec3 GetVec3(const json& j, const char* key, const std::string& where,
 
 }  // namespace
 
-void Dataset::Check(std::string_view where) const {
+void Dataset::Check(std::string_view where, bool images) const {
   for (const auto& [id, camera] : cameras) {
     camera.Check(fmt::format("{}: camera {}", where, id));
     if (camera.distorted()) {
@@ -148,13 +148,18 @@ void Dataset::Check(std::string_view where) const {
                               kDatasetLimits.max_total_pixels, view.name);
       }
     }
-    if (!SafeRelativePath(view.color))
+    if ((images || !view.color.empty()) && !SafeRelativePath(view.color))
       core::ThrowInputError(ctx, "bad color path '{}'", view.color);
     for (const std::string* p : {&view.depth, &view.mask, &view.normal}) {
       if (!p->empty() && !SafeRelativePath(*p)) core::ThrowInputError(ctx, "bad path '{}'", *p);
     }
   }
   if (bounds) CheckBounds(*bounds, where);
+  if (up && !(std::isfinite(up->x) && std::isfinite(up->y) && std::isfinite(up->z) &&
+              std::abs(glm::length(*up) - 1) < 1e-6)) {
+    core::ThrowInputError(where, "up ({}, {}, {}) is not a finite unit vector", up->x, up->y,
+                          up->z);
+  }
 }
 
 void CheckBounds(const Bounds& bounds, std::string_view where) {
@@ -317,6 +322,13 @@ Dataset ReadManifest(std::istream& in, const std::string& name, const DatasetUse
     const json& b = j.at("bounds");
     dataset.bounds = Bounds{GetVec3(b, "min", where, "bounds"), GetVec3(b, "max", where, "bounds")};
   }
+  if (j.contains("up") && !j.at("up").is_null()) {
+    const glm::dvec3 up = GetVec3(j, "up", where, "manifest");
+    const double length = glm::length(up);
+    if (!(std::isfinite(length) && length > 1e-9))
+      core::ThrowInputError(where, "\"up\" ({}, {}, {}) is zero or not finite", up.x, up.y, up.z);
+    dataset.up = up / length;
+  }
   const json cameras = Get<json>(j, "cameras", where, "manifest");
   if (!cameras.is_array()) core::ThrowInputError(where, "\"cameras\" is not an array");
   for (size_t i = 0; i < cameras.size(); ++i) {
@@ -347,13 +359,14 @@ Dataset ReadManifest(std::istream& in, const std::string& name, const DatasetUse
       for (int c = 0; c < 3; ++c) view.cam_from_world.rotation[c][r] = m[r][c];
       view.cam_from_world.translation[r] = m[r][3];
     }
-    view.color = Get<std::string>(v, "color", where, ctx);
+    view.color = use.cameras_only ? OptionalString(v, "color", where, ctx)
+                                  : Get<std::string>(v, "color", where, ctx);
     view.depth = OptionalString(v, "depth", where, ctx);
     view.mask = OptionalString(v, "mask", where, ctx);
     view.normal = OptionalString(v, "normal", where, ctx);
     dataset.views.push_back(std::move(view));
   }
-  dataset.Check(where);
+  dataset.Check(where, !use.cameras_only);
   return dataset;
 }
 
@@ -368,6 +381,7 @@ void WriteManifest(std::ostream& out, const Dataset& dataset) {
     const auto& b = *dataset.bounds;
     j["bounds"] = {{"min", {b.min.x, b.min.y, b.min.z}}, {"max", {b.max.x, b.max.y, b.max.z}}};
   }
+  if (dataset.up) j["up"] = {dataset.up->x, dataset.up->y, dataset.up->z};
   json cameras = json::array();
   for (const auto& [id, c] : dataset.cameras) {
     cameras.push_back({{"id", id},
@@ -384,8 +398,8 @@ void WriteManifest(std::ostream& out, const Dataset& dataset) {
       const auto& R = v.cam_from_world.rotation;
       m.push_back({R[0][r], R[1][r], R[2][r], v.cam_from_world.translation[r]});
     }
-    json jv = {
-        {"name", v.name}, {"camera", v.camera_id}, {"cam_from_world", m}, {"color", v.color}};
+    json jv = {{"name", v.name}, {"camera", v.camera_id}, {"cam_from_world", m}};
+    if (!v.color.empty()) jv["color"] = v.color;
     if (!v.depth.empty()) jv["depth"] = v.depth;
     if (!v.mask.empty()) jv["mask"] = v.mask;
     if (!v.normal.empty()) jv["normal"] = v.normal;
@@ -403,7 +417,7 @@ Dataset ReadDataset(const fs::path& dir, bool check_pixels, const DatasetUse& us
   if (!in) core::ThrowFileError("ReadDataset", manifest, "cannot open (missing dataset.json?)");
   Dataset dataset = ReadManifest(in, manifest.string(), use);
   dataset.root = dir;
-  for (size_t i = 0; i < dataset.views.size(); ++i) {
+  for (size_t i = 0; i < dataset.views.size() && !use.cameras_only; ++i) {
     const DatasetView& view = dataset.views[i];
     const Camera& camera = dataset.camera(view);
     for (const std::string* rel : {&view.color, &view.depth, &view.mask, &view.normal}) {
@@ -424,6 +438,63 @@ Dataset ReadDataset(const fs::path& dir, bool check_pixels, const DatasetUse& us
     }
   }
   return dataset;
+}
+
+Dataset ReadCameras(const fs::path& path) {
+  const DatasetUse use{.purpose = "", .cameras_only = true};
+  if (fs::is_directory(path)) return ReadDataset(path, false, use);
+  std::ifstream in(path, std::ios::binary);
+  if (!in) core::ThrowFileError("ReadCameras", path, "cannot open (a dataset folder or its JSON)");
+  Dataset dataset = ReadManifest(in, path.string(), use);
+  dataset.root = path.parent_path();
+  return dataset;
+}
+
+std::optional<glm::dvec3> MeanCameraUp(const Dataset& dataset) {
+  glm::dvec3 sum(0.0);
+  glm::dmat3 xx(0.0);  // sum of x x^T over the cameras' x axes
+  for (const DatasetView& v : dataset.views) {
+    // Rows 0 and 1 of cam_from_world's rotation: the camera's x and y axes in world.
+    const glm::dmat3& r = v.cam_from_world.rotation;
+    const glm::dvec3 x(r[0][0], r[1][0], r[2][0]);
+    sum -= glm::dvec3(r[0][1], r[1][1], r[2][1]);
+    xx += glm::outerProduct(x, x);
+  }
+  const double length = glm::length(sum);
+  // Less than a tenth of the views' count: the cameras are rolled every way.
+  if (!(length > 0.1 * static_cast<double>(dataset.views.size()))) return std::nullopt;
+  // Level cameras hold x across up, tilted ones too (their y leans with the
+  // tilt, so views looking down from one side lean their mean -y toward
+  // them): up is the direction least along every x, the smallest
+  // eigenvector of sum x x^T, found by inverse iteration from -(mean y),
+  // which also picks the answer where x leaves it free (one view: -y itself).
+  const double eps = 1e-9 * (xx[0][0] + xx[1][1] + xx[2][2]) + 1e-12;
+  const glm::dmat3 inverse = glm::inverse(xx + eps * glm::dmat3(1.0));
+  glm::dvec3 up = sum / length;
+  for (int i = 0; i < 50; ++i) up = glm::normalize(inverse * up);
+  if (glm::dot(up, sum) < 0) up = -up;
+  for (int k = 0; k < 3; ++k) {
+    if (std::abs(up[k]) > std::cos(5.0 * M_PI / 180.0)) {
+      const double sign = up[k] > 0 ? 1.0 : -1.0;
+      up = glm::dvec3(0.0);
+      up[k] = sign;
+    }
+  }
+  return up;
+}
+
+UpChoice DefaultUp(const Dataset& dataset) {
+  if (dataset.up) return {*dataset.up, "dataset.json \"up\""};
+  if (const auto mean = MeanCameraUp(dataset)) return {*mean, "the input cameras' mean up"};
+  return {{0, 1, 0}, "+y (the input cameras are rolled every way)"};
+}
+
+void DatasetWriter::SetUp(const glm::dvec3& up) {
+  const double length = glm::length(up);
+  if (!(std::isfinite(length) && length > 1e-9))
+    core::ThrowInputError("DatasetWriter::SetUp", "up ({}, {}, {}) is zero or not finite", up.x,
+                          up.y, up.z);
+  dataset_.up = up / length;
 }
 
 DatasetWriter::DatasetWriter(const fs::path& dir) : staged_(dir) { dataset_.root = staged_.path(); }

@@ -14,6 +14,9 @@
 //   "depth": {"kind": "camera_z", "units": "m" | "scene units", "invalid": "0 or non-finite"},
 //   "normal_frame": "world",
 //   "bounds": {"min": [x, y, z], "max": [x, y, z]},        // optional, world frame
+//   "up": [x, y, z],     // optional: the world's up direction (unit), written by the
+//                        // importers of y-down cameras (COLMAP, RGB-D, Middlebury)
+//                        // from the cameras (MeanCameraUp); orbits turn around it
 //   "cameras": [{"id": 1, "model": "PINHOLE", "width": 640, "height": 480,
 //                "params": [fx, fy, cx, cy]}],              // params in COLMAP order
 //   "views": [{"name": "view_000", "camera": 1,
@@ -21,6 +24,8 @@
 //              "color": "color/view_000.png", "depth": "depth/view_000.exr",   // depth optional
 //              "mask": "mask/view_000.png", "normal": "normal/view_000.exr"}]  // both optional
 // }
+// A cameras-only file (novel views for `ibr render --cameras`) is the same
+// manifest whose views name no images (ReadCameras).
 // Cameras use the sparse pixel convention (pixel centre at +0.5). Dataset
 // cameras are undistorted (PINHOLE, SIMPLE_PINHOLE or ORTHOGRAPHIC): importers
 // undistort images first.
@@ -41,8 +46,8 @@
 
 namespace capture {
 
-// Limits every dataset obeys (README "## Limits"), checked by Dataset::Check
-// on read (before any image is opened) and on write.
+// Limits every dataset obeys (docs/guide/limits.md, "Datasets"), checked by
+// Dataset::Check on read (before any image is opened) and on write.
 struct DatasetLimits {
   size_t max_views = 4096;
   int64_t max_total_pixels = int64_t{1} << 30;  // over all views' cameras
@@ -78,12 +83,16 @@ struct Dataset {
   std::vector<DatasetView> views;
   std::string depth_units = "scene units";  // "m" for metric data
   std::optional<Bounds> bounds;
+  // The world's up direction (unit), when the source says or implies it
+  // (importers of y-down cameras); absent: DefaultUp derives it.
+  std::optional<glm::dvec3> up;
   std::filesystem::path root;  // directory the relative paths are relative to (not serialised)
 
   const Camera& camera(const DatasetView& view) const { return cameras.at(view.camera_id); }
   // Throws core::InputError ("where: ...") naming the first inconsistency:
   // bad camera, unknown camera id, invalid pose, duplicate name, unsafe path.
-  void Check(std::string_view where) const;
+  // `images` false: views may name no colour image (a cameras-only file).
+  void Check(std::string_view where, bool images = true) const;
 
   // Loading one view's images; each validates the file against the view's
   // camera (size, channels, finite/non-negative values) and throws
@@ -94,7 +103,7 @@ struct Dataset {
   core::ImageF LoadNormal(size_t view) const;  // 3 channels
   bool operator==(const Dataset& other) const {
     return cameras == other.cameras && views == other.views && depth_units == other.depth_units &&
-           bounds == other.bounds;
+           bounds == other.bounds && up == other.up;
   }
 };
 
@@ -104,6 +113,8 @@ struct Dataset {
 struct DatasetUse {
   size_t max_views = kDatasetLimits.max_views;
   std::string purpose;  // named in the error ("maps of one depth object"); empty = none
+  // Cameras only: views need not name images, and named images are not opened.
+  bool cameras_only = false;
 };
 
 // The manifest alone, through streams (`name` is used in messages).
@@ -130,6 +141,7 @@ class DatasetWriter {
                const core::Image8& color, const core::ImageF& depth, const core::Image8& mask,
                const core::ImageF& normal);
   void SetBounds(const Bounds& bounds) { dataset_.bounds = bounds; }
+  void SetUp(const glm::dvec3& up);  // normalised; InputError unless finite and non-zero
   void SetDepthUnits(const std::string& units) { dataset_.depth_units = units; }
   const Dataset& dataset() const { return dataset_; }
   // Checks the dataset, writes dataset.json, renames into place.
@@ -139,6 +151,27 @@ class DatasetWriter {
   core::StagedDirectory staged_;
   Dataset dataset_;
 };
+
+// The cameras (and poses) of a dataset directory or of a manifest file
+// (DIR/dataset.json or any FILE.json in the manifest's format) whose views
+// may name no images: novel views for a render.
+Dataset ReadCameras(const std::filesystem::path& path);
+
+// The world's up as the cameras imply it, for cameras whose image y points
+// down (every camera here, camera.h) held roughly upright: the direction
+// least along every camera's x axis (upright cameras hold x level, whatever
+// their tilt), nearest -(mean of the y axes), which settles what the x axes
+// leave free (one view: its -y). Within 5 degrees of a world axis it snaps
+// to that axis. nullopt when the mean y vanishes (cameras rolled every way).
+std::optional<glm::dvec3> MeanCameraUp(const Dataset& dataset);
+
+// The up direction an orbit around the dataset uses by default and where it
+// came from: dataset.json's "up", else MeanCameraUp, else +y.
+struct UpChoice {
+  glm::dvec3 up{0, 1, 0};
+  std::string source;  // "dataset.json \"up\"", "the input cameras' mean up", "+y (default)"
+};
+UpChoice DefaultUp(const Dataset& dataset);
 
 // InputError("where: bounds ...") unless finite, min <= max, within
 // kDatasetLimits.max_coordinate and every side at least min_extent and

@@ -10,6 +10,7 @@
 #include <optional>
 #include <sstream>
 
+#include "capture/depth_scale.h"
 #include "core/error.h"
 #include "core/image_io.h"
 
@@ -62,6 +63,16 @@ std::vector<double> ParseNumbers(const std::string& line, const std::string& whe
     v.push_back(x);
   }
   return v;
+}
+
+// The writer's "up" from its cameras (y down in every importer's source).
+void SetMeanUp(DatasetWriter& writer, const std::function<void(const std::string&)>& note) {
+  const glm::dvec3 up = MeanCameraUp(writer.dataset()).value_or(glm::dvec3(0, -1, 0));
+  writer.SetUp(up);
+  if (note) {
+    note(fmt::format("up ({:.3f}, {:.3f}, {:.3f}) from the cameras (x axes level, image y down)",
+                     up.x, up.y, up.z));
+  }
 }
 
 }  // namespace
@@ -171,7 +182,8 @@ std::optional<Bounds> ReadMiddleburyBounds(std::istream& in, const std::string& 
 
 Dataset ImportRedwood(const fs::path& source, const fs::path& out,
                       const RedwoodImportOptions& options,
-                      const std::function<void(int, int)>& progress) {
+                      const std::function<void(int, int)>& progress,
+                      const std::function<void(const std::string&)>& note) {
   constexpr const char* kWhere = "ImportRedwood";
   options.Check();
   if (!fs::is_directory(source)) core::ThrowFileError(kWhere, source, "not a directory");
@@ -228,7 +240,22 @@ Dataset ImportRedwood(const fs::path& source, const fs::path& out,
   if (!(lo.x <= hi.x))
     core::ThrowFileError(kWhere, source / "depth", "no valid depth pixel in any frame");
   writer.SetBounds({lo, hi});
+  SetMeanUp(writer, note);
   writer.Commit();
+  const DepthScaleReport scale = CheckDepthScale(writer.dataset());
+  if (note && !scale.warning.empty()) {
+    note(scale.suggested_factor > 0
+             ? fmt::format("warning: {} (import with --depth-scale {:g} instead of {:g})",
+                           scale.warning, options.depth_scale / scale.suggested_factor,
+                           options.depth_scale)
+             : fmt::format("warning: {} (is --depth-scale {:g} the sensor's units per metre?)",
+                           scale.warning, options.depth_scale));
+  } else if (note) {
+    note(fmt::format("depth: median {:.3g} m over {} frame(s){}", scale.median, scale.views,
+                     scale.agreement >= 0 ? fmt::format(", {:.0f} % of samples agree between views",
+                                                        100 * scale.agreement)
+                                          : ""));
+  }
   return writer.dataset();
 }
 
@@ -335,6 +362,7 @@ Dataset ImportMiddlebury(const fs::path& source, const fs::path& out,
                    {});
     if (progress) progress(static_cast<int>(i) + 1, static_cast<int>(views.size()));
   }
+  SetMeanUp(writer, {});
   writer.Commit();
   return writer.dataset();
 }

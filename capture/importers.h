@@ -14,14 +14,18 @@ namespace capture {
 // (uint16, millimetres, 0 = invalid), trajectory.log (Redwood .log: "i j n"
 // then a 4x4 world_from_cam per frame), camera_primesense.json (Open3D
 // intrinsics, column-major K, integer pixel centres: cx + 0.5 here).
-// Depth is written in metres; mask = valid depth.
+// Depth is written in metres; mask = valid depth; "up" = MeanCameraUp
+// (sensor images are y down). `note` gets lines for the user:
+// the up direction and, when CheckDepthScale finds the depths implausible,
+// its warning with the --depth-scale that would fix it.
 struct RedwoodImportOptions {
-  double depth_scale = 1000;  // depth file units per metre (Redwood: mm)
+  double depth_scale = 1000;  // depth file units per metre (Redwood: mm; TUM RGB-D: 5000)
   void Check() const;
 };
 Dataset ImportRedwood(const std::filesystem::path& source, const std::filesystem::path& out,
                       const RedwoodImportOptions& options = {},
-                      const std::function<void(int, int)>& progress = {});
+                      const std::function<void(int, int)>& progress = {},
+                      const std::function<void(const std::string&)>& note = {});
 
 // Middlebury templeSparseRing / dinoSparseRing: *_par.txt lines
 // "name k11..k33 r11..r33 t1 t2 t3" (P = K [R t], cam_from_world = (R, t),
@@ -33,6 +37,7 @@ Dataset ImportRedwood(const std::filesystem::path& source, const std::filesystem
 // tests/capture/importers_test.cc).
 // Masks (Seitz et al. 2006's silhouettes recipe, OpenCV): grey > threshold,
 // then `dilate_iterations` 3x3 dilations and `erode_iterations` erosions.
+// "up" = MeanCameraUp, as for the other importers.
 struct MiddleburyImportOptions {
   double threshold = 0.19;  // of full scale on the grey image (the README's value)
   int dilate_iterations = 10;

@@ -28,6 +28,7 @@ function(ibr_test module name)
     "IBR_CACHE_DIR=set:off"
     "IBR_SHARED_DATA=set:${IBR_SHARED_DATA_DIR}"
     "IBR_TEST_OUTPUT=set:${CMAKE_BINARY_DIR}/test-output"
+    "IBR_SOURCE_DIR=set:${PROJECT_SOURCE_DIR}"
     "ASAN_OPTIONS=set:detect_leaks=0")
   set_tests_properties(${module}/${name} PROPERTIES
     ENVIRONMENT_MODIFICATION "${env_mod}"
@@ -36,7 +37,8 @@ function(ibr_test module name)
     set_property(TEST ${module}/${name} APPEND PROPERTY LABELS gl)
   endif()
   if(ARG_TIMEOUT)
-    # ASan + UBSan (IBR_SANITIZE) run the same work 2-5x slower on llvmpipe.
+    # ASan + UBSan (IBR_SANITIZE) check every memory access, llvmpipe's
+    # rasteriser included, so the same work takes several times as long.
     if(IBR_SANITIZE)
       math(EXPR ARG_TIMEOUT "${ARG_TIMEOUT} * 5")
     endif()

@@ -1,5 +1,5 @@
-// Invariant checks: the "broken invariant" error channel (see ARCHITECTURE.md).
-// A failed CHECK prints the expression, both operands and the location, then
+// Invariant checks: the "broken invariant" error channel (ARCHITECTURE.md,
+// "Error channels"). A failed CHECK prints the expression, both operands and the location, then
 // aborts. Bad *input* never reaches a CHECK: it raises core::InputError.
 #pragma once
 

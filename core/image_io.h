@@ -10,9 +10,10 @@
 
 namespace core {
 
-// Limits every image read obeys, checked from the header before any pixel is
-// decoded (README "## Limits"): 16384 is the GL texture size limit of Mesa and
-// most GPUs; 2^26 pixels (8192 x 8192) keeps one float RGB image under 1 GiB.
+// Limits every image read obeys (docs/guide/limits.md, "Images"), checked
+// from the header before any pixel is decoded: 16384 is the GL texture size
+// limit of Mesa and most GPUs; 2^26 pixels (8192 x 8192) keeps one float RGB
+// image under 1 GiB.
 inline constexpr int kMaxImageSide = 16384;
 inline constexpr int64_t kMaxImagePixels = int64_t{1} << 26;
 inline constexpr int kMaxImageChannels = 4;

@@ -64,7 +64,8 @@ std::string FormatBytes(std::uint64_t bytes) {
   const double b = static_cast<double>(bytes);
   if (b >= 1024.0 * 1024.0 * 1024.0 * 1024.0)
     return fmt::format("{:.2f} TiB", b / (1024.0 * 1024.0 * 1024.0 * 1024.0));
-  if (b >= 1024.0 * 1024.0 * 1024.0) return fmt::format("{:.2f} GiB", b / (1024.0 * 1024.0 * 1024.0));
+  if (b >= 1024.0 * 1024.0 * 1024.0)
+    return fmt::format("{:.2f} GiB", b / (1024.0 * 1024.0 * 1024.0));
   if (b >= 1024.0 * 1024.0) return fmt::format("{:.1f} MiB", b / (1024.0 * 1024.0));
   if (b >= 1024.0) return fmt::format("{:.1f} KiB", b / 1024.0);
   return fmt::format("{} B", bytes);
@@ -88,9 +89,10 @@ std::uint64_t MemoryBudgetBytes() {
     const std::uint64_t physical = PhysicalMemoryBytes();
     // Unknown physical memory: a budget that refuses nothing a 64-bit
     // allocator could serve is still bounded by RLIMIT_AS below.
-    budget = physical > 0 ? static_cast<std::uint64_t>(kDefaultMemoryFraction *
-                                                       static_cast<double>(physical))
-                          : (std::uint64_t{1} << 40);
+    budget =
+        physical > 0
+            ? static_cast<std::uint64_t>(kDefaultMemoryFraction * static_cast<double>(physical))
+            : (std::uint64_t{1} << 40);
   }
   // An address-space limit (ulimit -v) counts mappings, not residency: the
   // binary, its libraries and the GL driver already take some of it, so keep

@@ -1,5 +1,7 @@
 #include "ibr/dataset_maps.h"
 
+#include <fmt/format.h>
+
 #include <algorithm>
 
 #include "core/error.h"
@@ -38,16 +40,22 @@ capture::Dataset ReadMapDataset(const std::filesystem::path& dir) {
       dir, false, {kMaxMaps, "maps of one depth object or visual hull (ibr::kMaxMaps)"});
 }
 
-MapSet MapsFromDataset(const capture::Dataset& dataset, double padding) {
-  const std::string where = "MapsFromDataset: '" + dataset.root.string() + "'";
-  if (!dataset.bounds)
-    core::ThrowInputError(where, "the dataset has no bounds (dataset.json \"bounds\")");
+glm::dmat4 DatasetBox(const capture::Dataset& dataset, double padding) {
+  if (!dataset.bounds) {
+    core::ThrowInputError("MapsFromDataset: '" + dataset.root.string() + "'",
+                          "the dataset has no bounds (dataset.json \"bounds\")");
+  }
   const capture::Bounds& b = *dataset.bounds;
   const glm::dvec3 ext = b.extent();
   const double pad = padding * std::max({ext.x, ext.y, ext.z});
+  return BoxFromBounds(b.min - pad, b.max + pad);
+}
+
+MapSet MapsFromDataset(const capture::Dataset& dataset, double padding) {
+  const std::string where = "MapsFromDataset: '" + dataset.root.string() + "'";
   MapSet set;
   set.source = dataset.root.string();
-  set.world_from_box = BoxFromBounds(b.min - pad, b.max + pad);
+  set.world_from_box = DatasetBox(dataset, padding);
   for (size_t i = 0; i < dataset.views.size(); ++i) {
     const capture::DatasetView& v = dataset.views[i];
     ImageMap m;
@@ -61,6 +69,55 @@ MapSet MapsFromDataset(const capture::Dataset& dataset, double padding) {
   }
   set.Check(where);
   return set;
+}
+
+double UnseenBoxFraction(const MapSet& maps) {
+  constexpr int kGrid = 16;
+  int64_t unseen = 0;
+  for (int i = 0; i < kGrid * kGrid * kGrid; ++i) {
+    const glm::dvec4 u((i % kGrid + 0.5) / kGrid, ((i / kGrid) % kGrid + 0.5) / kGrid,
+                       (i / (kGrid * kGrid) + 0.5) / kGrid, 1.0);
+    const glm::dvec4 p = maps.world_from_box * u;
+    bool seen = false;
+    for (const ImageMap& m : maps.maps) {
+      const glm::dvec3 q(m.cam_from_world * p);
+      const MapCamera& c = m.camera;
+      double col = 0, row = 0;
+      if (c.orthographic) {
+        col = c.fx * q.x + c.cx;
+        row = c.fy * q.y + c.cy;
+      } else {
+        if (!(q.z > 0)) continue;
+        col = c.fx * q.x / q.z + c.cx;
+        row = c.fy * q.y / q.z + c.cy;
+      }
+      if (col >= 0 && row >= 0 && col < c.width && row < c.height) {
+        seen = true;
+        break;
+      }
+    }
+    unseen += !seen;
+  }
+  return static_cast<double>(unseen) / (kGrid * kGrid * kGrid);
+}
+
+OutsideChoice ChooseOutsidePolicy(const MapSet& maps) {
+  OutsideChoice choice;
+  choice.unseen = UnseenBoxFraction(maps);
+  if (choice.unseen > kMaxUnseenForPass) {
+    choice.policy = OutsidePolicy::kFail;
+    choice.reason = fmt::format(
+        "outside fail: {:.0f} % of the box is seen by no input view (one view, or views from one "
+        "side); --outside pass would fill it with a grey block, so only what every view sees is "
+        "kept (--outside pass to keep the unseen part)",
+        100 * choice.unseen);
+  } else {
+    choice.reason = fmt::format(
+        "outside pass: the views see {:.0f} % of the box; a view does not carve what it did not "
+        "see (--outside fail keeps only what every view sees)",
+        100 * (1 - choice.unseen));
+  }
+  return choice;
 }
 
 std::vector<ViewCamera> ViewsFromDataset(const capture::Dataset& dataset) {

@@ -19,12 +19,22 @@
 namespace ibr {
 
 struct DatasetRenderJob {
-  std::filesystem::path dataset;     // the maps
-  std::filesystem::path cameras;     // render from this dataset's cameras, or
-  int orbit = 0;                     // N views on a turntable orbit (exactly one of the two)
-  int size = 0;                      // output width; 0: the cameras' own, orbit 512
+  std::filesystem::path dataset;  // the maps
+  // Render from these cameras: a dataset folder or manifest (images not
+  // needed: capture::ReadCameras), or a scene file's "cameras"; or
+  std::filesystem::path cameras;
+  int orbit = 0;  // N views on a turntable orbit (exactly one of the two)
+  int size = 0;   // output width; 0: the cameras' own, orbit 512
+  // Orbit axis; nullopt: capture::DefaultUp of the dataset (its "up", else
+  // the input cameras' mean up), printed.
+  std::optional<glm::dvec3> up;
+  // Orbit: the azimuth span (degrees), centred on the input views' mean
+  // direction; 360 = the full turntable.
+  double arc_deg = 360;
   std::filesystem::path truth_mesh;  // optional: accuracy against this mesh
   DepthObjectOptions options;
+  // options.outside was not given: ChooseOutsidePolicy decides (printed).
+  bool outside_auto = false;
   void Check() const;  // core::InputError naming the flag
 };
 

@@ -324,7 +324,8 @@ FrameParams PrepareFrame(const MapSet& maps, const ViewCamera& view,
   // View-dependent weights over every map (sec. 4.2, ibr/view_weights.h), not
   // only the active ones: a hull's active set swaps a map for its opposite
   // where the view crosses a face plane, and weights over the three active
-  // maps alone then jumped there (the swapped map held ~14 %); over all maps
+  // maps alone then jumped there (the swapped map still held a visible share
+  // of the weight); over all maps
   // the swapping pair both sit at the 4th-smallest angle, weight 0. The map
   // loop blends the active maps' share (the resolve divides by its sum).
   std::vector<glm::dvec3> dirs;
@@ -356,8 +357,9 @@ struct DepthObjectRenderer::SkipTexture {
 namespace {
 
 // The table as a uniform block of the maps rounded up to 64 where it fits
-// (llvmpipe reads it 5x faster in the ray loop than a storage buffer): its
-// record count, else 0 (a storage buffer).
+// (llvmpipe reads a uniform block far faster in the ray loop than a storage
+// buffer: docs/decisions/map-table-storage.md; the rounding keeps one
+// shader variant per 64 maps): its record count, else 0 (a storage buffer).
 int UniformMaps(size_t maps) {
   GLint max_block = 16384;
   glGetIntegerv(GL_MAX_UNIFORM_BLOCK_SIZE, &max_block);

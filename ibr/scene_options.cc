@@ -65,10 +65,12 @@ DepthObjectOptions DepthObjectOptionsFrom(const scene::Settings& s) {
   if (o.refine_steps < 0 || o.refine_steps > 64) {
     s.Fail("refine_steps", fmt::format("{} refine steps outside 0..64", o.refine_steps));
   }
-  // Sub-texel depth where it applies (ray-path depth objects): `ibr bench
-  // depth-object` measures it better than nearest texels on every object at
-  // every step count (p95 depth error and silhouette IoU; about 1.8x the time
-  // of the same step count). The slice passes test nearest texels only.
+  // Sub-texel depth where it applies (ray-path depth objects): nearest texels
+  // leave a staircase a texel deep along slopes, which `ibr bench
+  // depth-object` shows in p95 depth error and silhouette IoU; the sub-texel
+  // lookup removes it at the price of more work a sample, which accuracy is
+  // worth as the default (docs/decisions/subtexel-depth.md). The slice passes
+  // test nearest texels only.
   const bool subtexel_applies = o.method == Method::kDepthObject && o.slicing == Slicing::kRay;
   const std::string lookup =
       Named(s, "depth_lookup", subtexel_applies ? "subtexel" : "nearest", [](const std::string& t) {
@@ -123,7 +125,7 @@ scene::Settings SettingsFromFlags(const DepthObjectFlags& f) {
   s.Set("slice_path", f.slice_path, "--slice-path");
   s.Set("robust", f.robust, "--robust");
   s.Set("texturing", f.texturing, "--texturing");
-  s.Set("outside", f.outside, "--outside");
+  if (!f.outside.empty()) s.Set("outside", f.outside, "--outside");
   s.Set("invalid_depth", f.invalid_depth, "--invalid-depth");
   s.Set("max_maps", f.max_maps, "--max-maps");
   if (!f.depth_lookup.empty()) s.Set("depth_lookup", f.depth_lookup, "--depth-lookup");

@@ -253,34 +253,7 @@ LoadedScene LoadScene(render::ProgramCache& programs, const scene::Scene& s) {
     core::ThrowInputError("LoadScene", "'{}': every object is disabled: nothing to render", s.name);
   }
   loaded.bounds = SceneBounds(loaded.objects);
-  const scene::Cameras& c = s.cameras;
-  switch (c.kind) {
-    case scene::Cameras::Kind::kOrbit: {
-      OrbitOptions orbit;
-      orbit.count = c.orbit_count;
-      orbit.size = c.orbit_size;
-      orbit.elevation_deg = c.orbit_elevation_deg;
-      orbit.fov_deg = c.orbit_fov_deg;
-      orbit.up = c.orbit_up;
-      loaded.views = OrbitViews(BoxFromBounds(loaded.bounds.min, loaded.bounds.max), orbit);
-      break;
-    }
-    case scene::Cameras::Kind::kDataset: {
-      loaded.views = NamedViewsFromDataset(capture::ReadDataset(c.dataset), c.dataset_size);
-      break;
-    }
-    case scene::Cameras::Kind::kList:
-      for (const scene::ExplicitCamera& e : c.list) {
-        NamedView v;
-        v.name = e.name;
-        v.view.camera = e.orthographic
-                            ? MapCamera::Orthographic(e.width, e.height, e.fx, e.fy, e.cx, e.cy)
-                            : MapCamera::Pinhole(e.width, e.height, e.fx, e.fy, e.cx, e.cy);
-        v.view.cam_from_world = e.cam_from_world;
-        loaded.views.push_back(v);
-      }
-      break;
-  }
+  loaded.views = SceneCameraViews(s.cameras, BoxFromBounds(loaded.bounds.min, loaded.bounds.max));
   // Every frame size the scene asks for, before any frame target exists.
   for (const NamedView& v : loaded.views) {
     render::CheckFrameSize("LoadScene", fmt::format("'{}' /cameras: view '{}'", s.name, v.name),

@@ -5,6 +5,8 @@
 #include <algorithm>
 #include <climits>
 #include <cmath>
+#include <sstream>
+#include <utility>
 
 #include "core/error.h"
 #include "core/projection.h"
@@ -23,6 +25,78 @@ void OrbitOptions::Check() const {
     core::ThrowInputError("OrbitOptions", "elevation {} outside (-89.9, 89.9)", elevation_deg);
   }
   if (!(glm::length(up) > 0)) core::ThrowInputError("OrbitOptions", "up axis is zero");
+  if (!(arc_deg > 0 && arc_deg <= 360))
+    core::ThrowInputError("OrbitOptions", "arc {} degrees outside (0, 360]", arc_deg);
+}
+
+glm::dvec3 ParseUp(const std::string& text, const std::string& where) {
+  static const std::pair<const char*, glm::dvec3> kAxes[] = {
+      {"x", {1, 0, 0}},   {"y", {0, 1, 0}},   {"z", {0, 0, 1}},
+      {"-x", {-1, 0, 0}}, {"-y", {0, -1, 0}}, {"-z", {0, 0, -1}}};
+  for (const auto& [name, axis] : kAxes)
+    if (text == name) return axis;
+  std::string spaced = text;
+  std::replace(spaced.begin(), spaced.end(), ',', ' ');
+  std::istringstream in(spaced);
+  std::vector<double> v;
+  for (std::string token; in >> token;) {
+    size_t used = 0;
+    double x = 0;
+    try {
+      x = std::stod(token, &used);
+    } catch (const std::exception&) {
+      used = 0;
+    }
+    if (used != token.size() || !std::isfinite(x)) {
+      core::ThrowInputError(where, "'{}' is not x, y, z, -x, -y, -z or three numbers", text);
+    }
+    v.push_back(x);
+  }
+  if (v.size() != 3)
+    core::ThrowInputError(where, "'{}' is not x, y, z, -x, -y, -z or three numbers", text);
+  const glm::dvec3 up(v[0], v[1], v[2]);
+  if (!(glm::length(up) > 1e-12)) core::ThrowInputError(where, "up '{}' is the zero vector", text);
+  return glm::normalize(up);
+}
+
+std::vector<NamedView> SceneCameraViews(const scene::Cameras& c, const glm::dmat4& world_from_box) {
+  std::vector<NamedView> views;
+  switch (c.kind) {
+    case scene::Cameras::Kind::kOrbit: {
+      OrbitOptions orbit;
+      orbit.count = c.orbit_count;
+      orbit.size = c.orbit_size;
+      orbit.elevation_deg = c.orbit_elevation_deg;
+      orbit.fov_deg = c.orbit_fov_deg;
+      orbit.up = c.orbit_up;
+      views = OrbitViews(world_from_box, orbit);
+      break;
+    }
+    case scene::Cameras::Kind::kDataset:
+      views = NamedViewsFromDataset(capture::ReadCameras(c.dataset), c.dataset_size);
+      break;
+    case scene::Cameras::Kind::kList:
+      for (const scene::ExplicitCamera& e : c.list) {
+        NamedView v;
+        v.name = e.name;
+        v.view.camera = e.orthographic
+                            ? MapCamera::Orthographic(e.width, e.height, e.fx, e.fy, e.cx, e.cy)
+                            : MapCamera::Pinhole(e.width, e.height, e.fx, e.fy, e.cx, e.cy);
+        v.view.cam_from_world = e.cam_from_world;
+        views.push_back(v);
+      }
+      break;
+  }
+  return views;
+}
+
+glm::dvec3 MeanViewDirection(const std::vector<ViewCamera>& views) {
+  glm::dvec3 sum(0.0);
+  // Row 2 of cam_from_world's rotation: the camera's z axis in world.
+  for (const ViewCamera& v : views)
+    sum += glm::dvec3(v.cam_from_world[0][2], v.cam_from_world[1][2], v.cam_from_world[2][2]);
+  const double length = glm::length(sum);
+  return length > 1e-9 ? sum / length : glm::dvec3(0.0);
 }
 
 std::vector<NamedView> OrbitViews(const MapSet& maps, const OrbitOptions& options) {
@@ -40,6 +114,9 @@ std::vector<NamedView> OrbitViews(const glm::dmat4& world_from_box, const OrbitO
   const glm::dvec3 up = glm::normalize(options.up);
   glm::dvec3 a = glm::cross(up, glm::dvec3(1, 0, 0));
   if (glm::length(a) < 1e-6) a = glm::cross(up, glm::dvec3(0, 1, 0));
+  // An arc is centred on `towards` across up.
+  const glm::dvec3 towards = options.towards - glm::dot(options.towards, up) * up;
+  if (options.arc_deg < 360 && glm::length(towards) > 1e-9) a = towards;
   a = glm::normalize(a);
   const glm::dvec3 b = glm::cross(a, up);
   const double half_fov = options.fov_deg * M_PI / 360;
@@ -48,7 +125,11 @@ std::vector<NamedView> OrbitViews(const glm::dmat4& world_from_box, const OrbitO
   const double el = options.elevation_deg * M_PI / 180;
   std::vector<NamedView> views;
   for (int i = 0; i < options.count; ++i) {
-    const double az = 2 * M_PI * i / options.count;
+    const double arc = options.arc_deg * M_PI / 180;
+    const double az = options.arc_deg >= 360 ? 2 * M_PI * i / options.count
+                      : options.count == 1
+                          ? 0.0
+                          : arc * (static_cast<double>(i) / (options.count - 1) - 0.5);
     const glm::dvec3 dir = std::cos(el) * (std::cos(az) * a + std::sin(az) * b) + std::sin(el) * up;
     const glm::dvec3 eye = centre + distance * dir;
     NamedView v;

@@ -12,6 +12,7 @@
 #include "capture/synthetic.h"
 #include "ibr/image_maps.h"
 #include "render/passes/mesh_pass.h"
+#include "scene/scene.h"
 
 namespace ibr {
 
@@ -26,15 +27,38 @@ struct OrbitOptions {
   glm::dvec3 up{0, 1, 0};     // turntable axis (OBJ meshes are y-up; capture's default)
   double elevation_deg = 20;  // camera height above the box centre's horizontal plane
   double fov_deg = 40;        // full field of view; the distance frames the box's bounding sphere
+  // Azimuth span in degrees: 360 = the full circle (count views, none
+  // repeated); less = `count` views from one end of the arc to the other,
+  // centred on `towards`.
+  double arc_deg = 360;
+  // With an arc: the direction from the box centre towards the arc's middle
+  // camera (only its part across `up` counts). Zero: the first axis across up.
+  glm::dvec3 towards{0.0};
   void Check() const;
 };
 
-// `count` pinhole views on a circle around the box centre, looking at it,
-// named "orbit_000", ...
+// `count` pinhole views on a circle (or arc) around the box centre, looking
+// at it, named "orbit_000", ...; each camera's image y points along -up, so
+// `up` is at the top of every image.
 std::vector<NamedView> OrbitViews(const MapSet& maps, const OrbitOptions& options);
 
 // The same turntable around any box: [0,1]^3 -> world (affine).
 std::vector<NamedView> OrbitViews(const glm::dmat4& world_from_box, const OrbitOptions& options);
+
+// An up direction as a user types it: "x", "y", "z", "-x", "-y", "-z", or
+// three numbers ("0,-1,0" or "0 -1 0"); normalised. InputError naming
+// `where` otherwise (zero, not finite, not three numbers).
+glm::dvec3 ParseUp(const std::string& text, const std::string& where);
+
+// The views a scene file's "cameras" names (scene/scene.h): an orbit around
+// `world_from_box`, a dataset's cameras (capture::ReadCameras: images not
+// needed) resized to its width, or the explicit list.
+std::vector<NamedView> SceneCameraViews(const scene::Cameras& cameras,
+                                        const glm::dmat4& world_from_box);
+
+// The mean viewing direction of `views` (unit, world; the cameras' z axes),
+// for an arc around the input views; zero when they cancel out.
+glm::dvec3 MeanViewDirection(const std::vector<ViewCamera>& views);
 
 // Conversions between camera types (the one place they happen).
 capture::Camera CaptureCamera(const MapCamera& camera);

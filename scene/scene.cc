@@ -10,6 +10,7 @@
 
 #include "core/error.h"
 #include "core/transfer_function.h"
+#include "scene/scene_keys.h"
 
 namespace scene {
 namespace fs = std::filesystem;
@@ -318,39 +319,22 @@ class Reader {
     Object o;
     o.where = Where(p);
     const std::string type = String(j["type"], p / "type");
-    static const std::set<std::string> kCommon = {"type", "name", "enabled", "transform"};
-    std::set<std::string> structural, effect_keys;
-    if (type == "depth-object" || type == "visual-hull") {
-      o.type = type == "depth-object" ? ObjectType::kDepthObject : ObjectType::kVisualHull;
-      structural = {"images"};
-      effect_keys = {"slicing",       "slices",       "texturing",  "robust",   "outside",
-                     "invalid_depth", "refine_steps", "slice_path", "max_maps", "depth_lookup"};
-    } else if (type == "displaced-mesh") {
-      o.type = ObjectType::kDisplacedMesh;
-      structural = {"mesh", "height", "texture"};
-      effect_keys = {"method", "max_displacement", "tiling", "slices", "steps"};
-    } else if (type == "mesh") {
-      o.type = ObjectType::kMesh;
-      structural = {"mesh", "texture"};
-    } else if (type == "volume") {
-      o.type = ObjectType::kVolume;
-      structural = {"volume", "shared_volume", "transfer"};
-      effect_keys = {"effect",   "map_size", "mode", "spacing", "displacement_bits",
-                     "lighting", "jacobian"};
-    } else if (type == "deform") {
-      o.type = ObjectType::kDeform;
-      structural = {"mesh"};
-      effect_keys = {"deformation", "amount",   "width",       "cut",         "region",
-                     "placement",   "step",     "skip",        "step_voxels", "resolution",
-                     "cap_holes",   "implicit", "skip_object", "solid"};
-    } else {
-      Fail(p / "type", fmt::format("unknown object type '{}' (depth-object, visual-hull, "
-                                   "displaced-mesh, mesh, volume, deform)",
-                                   type));
+    // The keys this type takes come from one table (scene/scene_keys.h),
+    // which the guide and `ibr info --scene-keys` print.
+    const ObjectKindSpec* kind = FindObjectKind(type);
+    if (kind == nullptr) {
+      std::string names;
+      for (const ObjectKindSpec& k : ObjectKinds())
+        names += (names.empty() ? "" : ", ") + std::string(k.name);
+      Fail(p / "type", fmt::format("unknown object type '{}' ({})", type, names));
     }
-    std::set<std::string> allowed = kCommon;
-    allowed.insert(structural.begin(), structural.end());
-    allowed.insert(effect_keys.begin(), effect_keys.end());
+    o.type = kind->type;
+    std::set<std::string> structural, effect_keys, allowed;
+    for (const KeySpec& k : CommonObjectKeys()) allowed.insert(std::string(k.key));
+    for (const KeySpec& k : kind->keys) {
+      (k.effect ? effect_keys : structural).insert(std::string(k.key));
+      allowed.insert(std::string(k.key));
+    }
     Keys(j, p, allowed);
 
     o.name = j.contains("name") ? String(j["name"], p / "name") : fmt::format("object_{}", index);

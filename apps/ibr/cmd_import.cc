@@ -21,6 +21,8 @@ struct ImportCommandOptions {
 };
 
 void Progress(int i, int n) { spdlog::info("import: view {}/{}", i, n); }
+// What the importer says about its result (box, up, depth scale, what renders).
+void Note(const std::string& line) { fmt::print("import: {}\n", line); }
 
 void Report(const char* kind, const capture::Dataset& d, const std::filesystem::path& out) {
   fmt::print("import {}: {} views -> {}\n", kind, d.views.size(),
@@ -43,15 +45,24 @@ void AddImportCommand(CLI::App& app) {
       ->capture_default_str();
   colmap->add_option("--images", o.colmap.images,
                      "sparse import: image folder (default SRC/images)");
-  colmap->callback(
-      [] { Report("colmap", capture::ImportColmap(o.source, o.out, o.colmap, Progress), o.out); });
+  colmap->add_option("--masks", o.colmap.masks,
+                     "sparse import: silhouettes, NAME.png per photo NAME (> 127 = object)");
+  colmap
+      ->add_option("--bounds-percentile", o.colmap.bounds_percentile,
+                   "the box spans this percentile and 100 minus it of the points per axis")
+      ->capture_default_str();
+  colmap->callback([] {
+    Report("colmap", capture::ImportColmap(o.source, o.out, o.colmap, Progress, Note), o.out);
+  });
   auto* redwood = cmd->add_subcommand(
       "redwood", "Redwood RGB-D frames (trajectory.log, camera_primesense.json)");
   common(redwood);
-  redwood->add_option("--depth-scale", o.redwood.depth_scale, "depth units per metre")
+  redwood
+      ->add_option("--depth-scale", o.redwood.depth_scale,
+                   "depth units per metre (Redwood 1000, TUM RGB-D 5000)")
       ->capture_default_str();
   redwood->callback([] {
-    Report("redwood", capture::ImportRedwood(o.source, o.out, o.redwood, Progress), o.out);
+    Report("redwood", capture::ImportRedwood(o.source, o.out, o.redwood, Progress, Note), o.out);
   });
   auto* middlebury = cmd->add_subcommand(
       "middlebury", "Middlebury multi-view ring (*_par.txt), masks by threshold");

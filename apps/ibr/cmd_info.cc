@@ -10,9 +10,11 @@
 
 #include "apps/ibr/commands.h"
 #include "capture/dataset.h"
+#include "capture/depth_scale.h"
 #include "core/volume_io.h"
 #include "render/gl/context.h"
 #include "render/gl/shader_program.h"
+#include "scene/scene_keys.h"
 
 namespace apps {
 
@@ -51,6 +53,17 @@ void PrintDataset(const std::filesystem::path& dir) {
                d.bounds->max.z);
   } else {
     fmt::print("bounds    unknown\n");
+  }
+  const capture::UpChoice up = capture::DefaultUp(d);
+  fmt::print("up        ({:.3f}, {:.3f}, {:.3f}) from {}\n", up.up.x, up.up.y, up.up.z, up.source);
+  if (with_depth > 0) {
+    const capture::DepthScaleReport scale = capture::CheckDepthScale(d);
+    fmt::print("depth     median {:.4g} {} over {} view(s){}\n", scale.median, d.depth_units,
+               scale.views,
+               scale.agreement >= 0 ? fmt::format("; {:.0f} % of samples agree between {} pair(s)",
+                                                  100 * scale.agreement, scale.pairs)
+                                    : "");
+    if (!scale.warning.empty()) fmt::print("warning   {}\n", scale.warning);
   }
   // Depth range and coverage of the first view with depth, as a sanity figure.
   for (size_t i = 0; i < d.views.size(); ++i) {
@@ -115,8 +128,13 @@ void AddInfoCommand(CLI::App& app) {
                          ".nhdr, .nii, .nii.gz or a DICOM folder): its type, size, spacing, data "
                          "range and percentiles");
   cmd->add_option("DIR", dir, "dataset directory or volume (optional)");
+  static bool scene_keys = false;
+  cmd->add_flag("--scene-keys", scene_keys,
+                "print every key a scene object takes, per object type (Markdown)");
   cmd->callback([] {
-    if (dir.empty()) {
+    if (scene_keys) {
+      fmt::print("{}", scene::ObjectKeysMarkdown());
+    } else if (dir.empty()) {
       PrintGlInfo();
     } else if (IsVolume(dir)) {
       PrintVolume(dir);

@@ -24,16 +24,18 @@
 #include "ibr/dataset_maps.h"
 #include "ibr/depth_object.h"
 #include "ibr/scene_renderer.h"
+#include "ibr/views.h"
 #include "render/gl/shader_program.h"
 
 namespace apps {
 namespace {
 
 struct ViewCommandOptions {
-  ViewCommandOptions() { flags.slicing = "ray"; }  // the fastest path (empty-space skipping)
   std::filesystem::path dataset;
   ibr::DepthObjectFlags flags;
   std::string window = "960x720";
+  std::string up;  // empty: a dataset's own (capture::DefaultUp), a scene's +y
+  bool no_panel = false;
   viewer::ViewerOptions viewer;
 };
 
@@ -348,14 +350,26 @@ void RunView(ViewCommandOptions& o) {
   }
   o.viewer.width = w;
   o.viewer.height = h;
+  o.viewer.panel = !o.no_panel;
+  if (!o.up.empty()) o.viewer.up = glm::vec3(ibr::ParseUp(o.up, "--up"));
   o.viewer.Check();
   if (o.dataset.extension() == ".json") return RunSceneView(o);
   // Validate everything before a window opens.
-  const ibr::DepthObjectOptions options =
-      ibr::DepthObjectOptionsFrom(ibr::SettingsFromFlags(o.flags));
+  ibr::DepthObjectOptions options = ibr::DepthObjectOptionsFrom(ibr::SettingsFromFlags(o.flags));
   // The map limit is checked on the manifest, before any image is read.
   const capture::Dataset dataset = ibr::ReadMapDataset(o.dataset);
+  if (o.up.empty()) {
+    const capture::UpChoice up = capture::DefaultUp(dataset);
+    o.viewer.up = glm::vec3(up.up);
+    fmt::print("view: up ({:.3f}, {:.3f}, {:.3f}) from {} (--up to change)\n", up.up.x, up.up.y,
+               up.up.z, up.source);
+  }
   ibr::MapSet maps = ibr::MapsFromDataset(dataset);
+  if (o.flags.outside.empty()) {
+    const ibr::OutsideChoice choice = ibr::ChooseOutsidePolicy(maps);
+    options.outside = choice.policy;
+    fmt::print("view: {}\n", choice.reason);
+  }
   const std::string name = o.dataset.filename().empty()
                                ? o.dataset.parent_path().filename().string()
                                : o.dataset.filename().string();
@@ -384,8 +398,11 @@ void AddViewCommand(CLI::App& app) {
                   "render --frames frames, save the window to this PNG and exit (no interaction)");
   cmd->add_option("--frames", o.viewer.frames, "frames before the screenshot")
       ->capture_default_str();
-  cmd->add_option("--up", o.viewer.up, "the world's up axis: x, y, z, -x, -y, -z")
-      ->capture_default_str();
+  cmd->add_option("--up", o.up,
+                  "the world's up: x, y, z, -x, -y, -z or 'X,Y,Z' (default: a dataset's "
+                  "\"up\", else its cameras' mean up; a scene's +y)");
+  cmd->add_flag("--no-panel", o.no_panel,
+                "hide the control panel (screenshots of the object alone)");
   cmd->add_option("--coarse", o.viewer.coarse_factor,
                   "resolution divisor while the mouse drags (1 = off)")
       ->capture_default_str();

@@ -58,8 +58,9 @@ void AddDepthObjectFlags(CLI::App* cmd, ibr::DepthObjectFlags& f) {
       ->capture_default_str();
   cmd->add_option("--texturing", f.texturing, "vdt | visibility | none | vdt-paper")
       ->capture_default_str();
-  cmd->add_option("--outside", f.outside, "points outside a map's image: pass | fail")
-      ->capture_default_str();
+  cmd->add_option("--outside", f.outside,
+                  "points outside a map's image: pass | fail (default: fail when part of the box "
+                  "is seen by no view, else pass; printed)");
   cmd->add_option("--invalid-depth", f.invalid_depth,
                   "depth 0 inside the mask: empty | no-constraint")
       ->capture_default_str();

@@ -35,17 +35,9 @@ void ViewerOptions::Check() const {
   if (coarse_factor < 1 || coarse_factor > 8) {
     core::ThrowInputError("ViewerOptions", "coarse factor {} outside 1..8", coarse_factor);
   }
-  UpAxisFromName(up);
-}
-
-glm::vec3 UpAxisFromName(const std::string& name) {
-  const bool minus = !name.empty() && name[0] == '-';
-  const std::string axis = minus ? name.substr(1) : name;
-  const float sign = minus ? -1.0f : 1.0f;
-  if (axis == "x") return {sign, 0, 0};
-  if (axis == "y") return {0, sign, 0};
-  if (axis == "z") return {0, 0, sign};
-  core::ThrowInputError("ViewerOptions", "up axis '{}' is not one of x, y, z, -x, -y, -z", name);
+  if (!(std::abs(glm::length(up) - 1.0f) < 1e-4f))
+    core::ThrowInputError("ViewerOptions", "up ({}, {}, {}) is not a unit vector", up.x, up.y,
+                          up.z);
 }
 
 FrameCamera OrbitCamera(glm::vec3 centre, float radius, float azimuth_degrees,
@@ -137,7 +129,7 @@ void Run(const SceneFactory& make_scene, const ViewerOptions& options) {
   ImGui_ImplGlfw_InitForOpenGL(window, true);
   ImGui_ImplOpenGL3_Init("#version 330 core");
 
-  const glm::vec3 up = UpAxisFromName(options.up);
+  const glm::vec3 up = options.up;
   OrbitState orbit;
   orbit.azimuth = options.azimuth_degrees;
   orbit.elevation = options.elevation_degrees;
@@ -199,22 +191,24 @@ void Run(const SceneFactory& make_scene, const ViewerOptions& options) {
     ImGui_ImplOpenGL3_NewFrame();
     ImGui_ImplGlfw_NewFrame();
     ImGui::NewFrame();
-    ImGui::SetNextWindowPos(ImVec2(10, 10), ImGuiCond_FirstUseEver);
-    ImGui::SetNextWindowSize(ImVec2(400, 0), ImGuiCond_FirstUseEver);
-    ImGui::Begin(scene.Title().c_str());
-    const core::TimingStats stats = core::Summarize({frame_ms.begin(), frame_ms.end()});
-    ImGui::Text("frame %.1f ms (median of %d), %dx%d%s", stats.median_ms, stats.samples,
-                camera.width, camera.height, scale > 1 ? " (coarse while dragging)" : "");
-    const std::string status = scene.Status();
-    if (!status.empty()) ImGui::TextUnformatted(status.c_str());
-    if (!error.empty()) ImGui::TextColored(ImVec4(1, 0.4f, 0.4f, 1), "%s", error.c_str());
-    ImGui::Separator();
-    ImGui::SliderFloat("azimuth", &orbit.azimuth, -180, 180);
-    ImGui::SliderFloat("elevation", &orbit.elevation, -89, 89);
-    ImGui::SliderFloat("distance", &orbit.distance_scale, 0.2f, 5.0f);
-    ImGui::Separator();
-    scene.DrawControls();
-    ImGui::End();
+    if (options.panel) {
+      ImGui::SetNextWindowPos(ImVec2(10, 10), ImGuiCond_FirstUseEver);
+      ImGui::SetNextWindowSize(ImVec2(400, 0), ImGuiCond_FirstUseEver);
+      ImGui::Begin(scene.Title().c_str());
+      const core::TimingStats stats = core::Summarize({frame_ms.begin(), frame_ms.end()});
+      ImGui::Text("frame %.1f ms (median of %d), %dx%d%s", stats.median_ms, stats.samples,
+                  camera.width, camera.height, scale > 1 ? " (coarse while dragging)" : "");
+      const std::string status = scene.Status();
+      if (!status.empty()) ImGui::TextUnformatted(status.c_str());
+      if (!error.empty()) ImGui::TextColored(ImVec4(1, 0.4f, 0.4f, 1), "%s", error.c_str());
+      ImGui::Separator();
+      ImGui::SliderFloat("azimuth", &orbit.azimuth, -180, 180);
+      ImGui::SliderFloat("elevation", &orbit.elevation, -89, 89);
+      ImGui::SliderFloat("distance", &orbit.distance_scale, 0.2f, 5.0f);
+      ImGui::Separator();
+      scene.DrawControls();
+      ImGui::End();
+    }
     ImGui::Render();
     ImGui_ImplOpenGL3_RenderDrawData(ImGui::GetDrawData());
 

@@ -52,9 +52,12 @@ struct ViewerOptions {
   int frames = 3;
   float azimuth_degrees = 30.0f;  // initial orbit
   float elevation_degrees = 20.0f;
-  // The world's up axis, the orbit's pole: "x", "y", "z", "-x", "-y", "-z".
-  // y: the synthetic rigs and most meshes; z for z-up scans.
-  std::string up = "y";
+  // The world's up direction, the orbit's pole (unit). +y: the synthetic
+  // rigs and most meshes; `ibr view` takes a dataset's own (capture::DefaultUp).
+  glm::vec3 up{0, 1, 0};
+  // Draw the control panel. Off: the window shows the object alone (for
+  // screenshots; the mouse still orbits).
+  bool panel = true;
   // While the mouse drags (and for the first frames), frames render at
   // 1 / coarse_factor of the window's resolution and are scaled up; the full
   // frame follows when the mouse stops. 1 = always full resolution.
@@ -74,7 +77,5 @@ void Run(const SceneFactory& make_scene, const ViewerOptions& options);
 FrameCamera OrbitCamera(glm::vec3 centre, float radius, float azimuth_degrees,
                         float elevation_degrees, float distance_scale, float fov_y_degrees,
                         int width, int height, glm::vec3 up = {0, 1, 0});
-// "x", "y", "z", "-x", "-y", "-z" -> unit axis (InputError otherwise).
-glm::vec3 UpAxisFromName(const std::string& name);
 
 }  // namespace viewer

@@ -26,9 +26,10 @@ inline constexpr GLuint kVertexDataLocation = 3;
 // Triangles reordered for the post-transform vertex cache
 // (meshopt_optimizeVertexCache), vertices renumbered in order of first use
 // (meshopt_optimizeVertexFetchRemap) so that nearby triangles read nearby
-// indices. Through a 16-entry FIFO cache model the Stanford bunny's file
-// order shades 2.08 vertices a triangle, this order 0.68; on llvmpipe its
-// 512 px render took 24.9 -> 20.1 ms a frame.
+// indices. A mesh file's own order often reuses few cached vertices, so
+// each triangle re-shades most of its corners; this order lets
+// neighbouring triangles share them, and llvmpipe's vertex stage and a GPU's
+// post-transform cache both profit (docs/decisions/vertex-cache-order.md).
 struct VertexOrder {
   std::vector<uint32_t> indices;       // the triangles, in new vertex numbers
   std::vector<uint32_t> new_from_old;  // per input vertex; kUnused if no triangle uses it

@@ -123,9 +123,10 @@ struct DeformPassOptions {
   // Solid and thick cuts by the paper's two-field search (sec. 5.1.2: a
   // surface hit inside the cut is rejected and the march looks for the cut's
   // boundary inside the body) instead of the CSG field max(body, A). Same
-  // surface; the search is a little slower here (2-5 % more samples per ray,
-  // 1.04-1.13x the time in `ibr bench deform`), the CSG field can miss sharp
-  // cuts' slivers thinner than a step.
+  // surface; the search takes a few more samples per ray (a rejected hit
+  // restarts the march on the second field) and a little more time, while
+  // the CSG field can miss sharp cuts' slivers thinner than a step
+  // (docs/decisions/solid-cut-search.md).
   bool solid_search = false;
   // Empty-space skipping by the object's distance field (sdf implicit only;
   // the depth cube is no distance bound): the march advances by at least

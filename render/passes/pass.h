@@ -52,7 +52,7 @@ void BindOutcomeImage(const RenderTarget& target, GLuint unit = 0);
 // D24S8 depth/stencil buffer holding window depth (the compositing test).
 RenderTargetOptions FrameTargetOptions(int width, int height);
 
-// The frame size budget (README "Limits"): the estimated GPU memory of one
+// The frame size budget (docs/guide/limits.md, "Frame size"): the estimated GPU memory of one
 // frame target, FrameBytesPerPixel() x pixels, may not exceed 1.5 GiB, which
 // is 2^26 pixels (8192 x 8192, the largest image ibr reads) at 24 bytes per
 // pixel. A command holds a few frame-sized buffers besides (readback, the

@@ -171,7 +171,7 @@ TangentMaps RenderTangentMaps(ProgramCache& programs, const core::TriangleMesh& 
   VertexArray vao = VertexArray::Create();
   glVertexArrayVertexBuffer(vao.id(), 0, vbo.id(), 0, sizeof(MapVertex));
   glVertexArrayElementBuffer(vao.id(), ibo.id());
-  // The attribute convention (ARCHITECTURE.md): 1 normal, 2 uv; 3-4 the frame.
+  // The attribute convention (ARCHITECTURE.md, "Conventions"): 1 normal, 2 uv; 3-4 the frame.
   const GLuint locations[] = {2, 1, 3, 4};
   const GLint sizes[] = {2, 3, 4, 1};
   const GLuint offsets[] = {offsetof(MapVertex, uv), offsetof(MapVertex, normal),

@@ -18,13 +18,13 @@ namespace {
 
 // The scalar and its gradient in one RGBA32F texture (rgb: the gradient per
 // unit texture coordinate, core::GradientAtVoxel; a: the normalised scalar),
-// so a shaded sample is one trilinear fetch, not two: the plain shaded tooth
-// at 512 px 90 -> 74 ms a frame on llvmpipe against an R16 scalar texture
-// beside an RGBA32F gradient one, the unshaded one 56 -> 63 ms (the ablation
-// Fig. 4 (a) reads the wider texel), and two bytes a voxel less. Float
+// so a shaded sample is one trilinear fetch, not two (on llvmpipe a fetch's
+// fixed cost outweighs its texel width), and two bytes a voxel less. The
+// price: the unshaded ablation Fig. 4 (a) reads the wider texel for its
+// scalar alone (docs/decisions/volume-scalar-gradient-texture.md). Float
 // filtering: within ~1e-6 of a double trilinear filter
-// (tests/render/passes/volume_pass_test.cc); llvmpipe filters 8-bit textures
-// with 8-bit weights (measured 6.2e-3 of the range).
+// (tests/render/passes/volume_pass_test.cc), where llvmpipe filters 8-bit
+// textures with 8-bit weights, far coarser.
 Texture UploadSamples(const core::Volume& v) {
   // The RGBA32F texels here and the driver's copy of them (llvmpipe keeps
   // textures in system memory).
@@ -60,8 +60,9 @@ Texture UploadMap(const core::StoredDisplacementMap& s, bool as_float) {
 }
 
 // The table the fragments read, opacities corrected for `exponent` (slice
-// spacing / voxel), so no fragment computes a pow (about 1 ns of 12 a
-// fragment of the plain unshaded tooth on llvmpipe). Created once; the
+// spacing / voxel), so no fragment computes a pow (a measurable share of a
+// plain unshaded fragment's work: docs/decisions/volume-fragment-cost.md).
+// Created once; the
 // spacing changes with the view, and then only the 4 KiB of texels are
 // rewritten in place (WriteTransfer), no new texture object.
 void WriteTransfer(const Texture& texture, const std::vector<glm::vec4>& table, float exponent) {
@@ -81,10 +82,9 @@ Texture UploadTransfer(const std::vector<glm::vec4>& table) {
 
 // J_D's columns and grad alpha of the map as the GPU sees it (dequantised),
 // three RGBA32F textures: rgb = dD/du_k, a = dalpha/du_k. RGBA32F rather
-// than RGBA16F: llvmpipe filters float texels without a conversion (the
-// unsplit peeled tooth at 512 px, eq. 6 and eq. 6+7, alternated twice:
-// 29.4-31.2 ns a fragment with RGBA16F, 27.6-29.4 with RGBA32F), at twice
-// the memory (12 MiB for a 64^3 map).
+// than RGBA16F: llvmpipe filters float texels without a conversion, so the
+// wider texel is the cheaper fetch there, at twice the memory (12 MiB for a
+// 64^3 map; docs/decisions/volume-map-precision.md).
 std::vector<Texture> UploadMapDerivatives(const core::StoredDisplacementMap& s) {
   const core::MapDerivatives d = core::ComputeMapDerivatives(core::DequantizeDisplacementMap(s));
   std::vector<Texture> out;

@@ -94,10 +94,11 @@ struct VolumePassOptions {
   int displacement_bits = 16;
   // 8/16-bit maps go to the GPU dequantised as RGBA32F (the stored values,
   // scaled and biased once on the CPU) at two or four times the texture
-  // memory: llvmpipe filters RGBA8 with 8-bit weights (75/255 off the double
-  // reference at the peel's cut, tests/render/passes/volume_pass_test), and
-  // RGBA16 filters no faster than RGBA32F (ibr bench volume, the RGBA16
-  // rows). Off: the UNORM texture with scale and bias in the shader.
+  // memory: llvmpipe filters RGBA8 with 8-bit weights, too coarse for the
+  // mask at a sharp cut (tests/render/passes/volume_pass_test), and RGBA16
+  // saves memory but no time (ibr bench volume, the RGBA16 rows;
+  // docs/decisions/volume-map-precision.md). Off: the UNORM texture with
+  // scale and bias in the shader.
   bool float_map_textures = true;
   VolumeLighting lighting = VolumeLighting::kBlended;
   // Precomputed by default: the cheaper per sample (ibr bench volume).
@@ -129,8 +130,10 @@ struct VolumePassOptions {
   // maps too, bricks it cuts away entirely (alpha < 0.5 at every sample) are
   // not drawn, the rest displaced. 0: the support box only. Several maps
   // compose (eq. 9: only the last reads p' itself), so they are split by the
-  // support box only. 3 by `ibr bench volume`'s brick rows (sizes 2, 3, 4
-  // and 8 on the four volumes: 3 the fastest or within noise of it).
+  // support box only. Smaller bricks hug the cut more closely but add parts
+  // (draws and T-junction seams), larger ones displace more identity texels;
+  // 3 is the size `ibr bench volume`'s brick rows (2, 3, 4, 8) favour
+  // (docs/decisions/brick-splitting.md).
   int brick_texels = 3;
   // Direction TOWARDS the light, world frame (normalised on use). Default:
   // from above (+z), as in Fig. 4.

@@ -247,10 +247,9 @@ float ObjectSkip(vec3 p, float f) {
 // p; where p is not the last point evaluated (a hollow cut's first sample
 // after a rejected hit: the refinement evaluated since) the skip is 0, always
 // a true bound, rather than a second warp lookup: llvmpipe runs an if's
-// both sides for every sample, so a fallback lookup would cost each sample a
-// second 3D fetch (with it, `ibr bench deform`'s cut_skip took 1.05-1.20x the
-// weighted time of its cut without skipping at the same samples per ray,
-// 1.13-1.30x with every mode run without the object's skip).
+// both sides for every sample, so a fallback lookup would cost every sample,
+// not only the stale ones, a second 3D fetch, more than the skip saves
+// (docs/decisions/cut-skip.md).
 float CutSkip(vec3 p) {
   float a = p == g_alpha_p ? g_alpha : 0.0;
   return a > 0.0 ? a / u_alpha_lipschitz : 0.0;

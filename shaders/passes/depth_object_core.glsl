@@ -39,8 +39,9 @@ struct MapRecord {
 };
 
 // MAPS_IN_STORAGE_BUFFER: more maps than a uniform block holds; else a
-// uniform block of MAX_MAPS records (llvmpipe reads those 5x faster in the
-// ray loop).
+// uniform block of MAX_MAPS records (llvmpipe reads a uniform block far
+// faster than a storage buffer in the ray loop:
+// docs/decisions/map-table-storage.md).
 #ifdef MAPS_IN_STORAGE_BUFFER
 layout(std430, binding = 0) readonly buffer DepthObjectMaps {
   MapRecord u_maps[];

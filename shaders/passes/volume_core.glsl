@@ -13,9 +13,9 @@
 // Jacobian (VolumeNormalFrame) is evaluated after the mask and the transfer
 // function have kept the sample, so where a GPU skips a branch no lane takes,
 // cut or transparent samples do not pay for the normal. llvmpipe does not:
-// a discard or an if only masks lanes, and the code after it runs anyway
-// (the peeled tooth at 512 px with an all-transparent transfer function:
-// 180 ms a frame, with the tooth preset 185).
+// a discard or an if only masks lanes, and the code after it runs anyway, so
+// there the order saves next to nothing
+// (docs/decisions/volume-fragment-cost.md).
 
 // rgb: the scalar's gradient per unit texture coordinate, a: the normalised
 // scalar (one fetch for both); LINEAR, CLAMP_TO_EDGE.
@@ -69,9 +69,10 @@ bool InUnitCube(vec3 u) { return all(greaterThanEqual(u, vec3(0.0))) && all(less
 // map acts first (eq. 9); outside its cube, and outside the part of it that
 // moves anything (core::ActiveBox), a map is the identity. The map is read
 // everywhere and the identity selected outside that box, without a branch:
-// on llvmpipe a branch around the fetch cost more than the fetch (the peeled
-// tooth at 512 px, every slice fragment displaced, unlit: 27 ns a fragment
-// with the branch, 18 without).
+// llvmpipe masks lanes rather than branching, so a branch around the fetch
+// adds its own cost and saves no fetch (docs/decisions/volume-fragment-cost.md).
+// Whole regions outside the box are skipped on the CPU instead
+// (VolumePassOptions::support_skip).
 Displaced VolumeDisplace(vec3 p_prime) {
   Displaced d;
   d.p = p_prime;
@@ -133,8 +134,9 @@ vec3 MapJacobianTransposeTimes(int i, mat3 jd, vec3 v) {
 // last map acts first, eq. 9), so its transpose applies J_0^T first; the cut's
 // gradient d alpha_m / d p' = (J_{m+1} ... J_{n-1})^T A_m^-T grad_u alpha_m
 // for the map m of the smallest mask. One map: the vector form above; several:
-// the chained matrix (a vector form keeping every map's J_D in an array ran
-// slower on llvmpipe: the peeled tooth at 512 px, 156-201 vs 127-153 ms).
+// the chained matrix (a vector form has to keep every map's J_D in an array
+// until J_0^T is applied, and on llvmpipe that array cost more than the
+// multiply-adds it saves: docs/decisions/volume-fragment-cost.md).
 NormalFrame VolumeNormalFrame(Displaced d, vec3 g) {
   NormalFrame f;
   f.g = g;

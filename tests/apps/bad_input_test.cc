@@ -583,7 +583,7 @@ std::vector<Case> Corpus() {
            {"cameras_size_huge", "--cameras RING --size 20000",
             "--size: a 20000x20000 frame is larger than"},
            {"size_negative", "--orbit 1 --size -3", "--size -3"},
-           {"cameras_missing", "--cameras /nonexistent-ibr", "not a directory"},
+           {"cameras_missing", "--cameras /nonexistent-ibr", "--cameras: does not exist"},
            {"truth_mesh_missing", "--orbit 1 --size 16 --truth-mesh /nonexistent-ibr.obj",
             "file does not exist"},
        }) {

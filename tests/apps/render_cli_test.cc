@@ -78,7 +78,8 @@ TEST_F(RenderCliTest, RendersAPerspectiveDatasetFromACubeRigsCameras) {
   fs::remove_all(out);
   const auto r = test_support::RunCommand(test_support::IbrBinary() + " render " + ring.string() +
                                           " --cameras " + (dir_ / "sphere").string() +
-                                          " --size 32 --out " + out.string());
+                                          " --slicing orthogonal --outside pass --size 32 --out " +
+                                          out.string());
   ASSERT_EQ(r.exit_code, 0) << r.err;
   const capture::Dataset rendered = capture::ReadDataset(out, /*check_pixels=*/true);
   ASSERT_EQ(rendered.views.size(), 6u);

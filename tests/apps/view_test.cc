@@ -65,6 +65,30 @@ TEST_F(ViewTest, ScreenshotShowsTheObjectAndThePanel) {
   EXPECT_GT(image.at(60, 18, 2), image.at(60, 18, 0) + 40);
 }
 
+// --no-panel: the same screenshot without the control panel: the panel's
+// corner shows the background, the sphere is still drawn.
+TEST_F(ViewTest, ScreenshotWithoutThePanel) {
+  if (std::system("command -v xvfb-run > /dev/null 2>&1") != 0)
+    GTEST_SKIP() << "xvfb-run is not installed";
+  const fs::path shot = test_support::TestOutputDir() / "view_no_panel.png";
+  const auto r = RunCommand("xvfb-run -a -s '-screen 0 1024x768x24' " + IbrBinary() + " view '" +
+                            (*dir_ / "sphere").string() +
+                            "' --window 800x600 --frames 2 --azimuth 10 --no-panel --screenshot '" +
+                            shot.string() + "'");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const core::Image8 image = core::ReadImage<uint8_t>(shot);
+  ASSERT_EQ(image.width(), 800);
+  int bright = 0;
+  for (int y = 300; y < 340; ++y)
+    for (int x = 380; x < 420; ++x) bright += image.at(x, y, 1) > 80;
+  EXPECT_GT(bright, 40 * 40 * 9 / 10);
+  // Where the panel's title bar and text were: background only (0.12 * 255 = 31).
+  int background = 0;
+  for (int y = 10; y < 60; ++y)
+    for (int x = 20; x < 200; ++x) background += std::abs(image.at(x, y, 1) - 31) <= 2;
+  EXPECT_EQ(background, 50 * 180);
+}
+
 // `ibr view SCENE.json`: a scene with a deform object (a knife-cut sphere,
 // left) and a DVR volume (a ball of density, right) through
 // ibr::SceneRenderer; both show, the gap between them is background, and the

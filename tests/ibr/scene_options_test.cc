@@ -63,6 +63,22 @@ TEST(SceneOptions, DepthLookupDefaultsToSubtexelWhereItApplies) {
   }
 }
 
+// `ibr render DATASET` and `ibr view DATASET` share one flag set: the ray
+// path by default (sub-texel depth with it); --outside unset, for the
+// command to choose from the cameras' coverage (ibr::ChooseOutsidePolicy).
+TEST(SceneOptions, CommandLineDefaultsAreTheRayPath) {
+  const DepthObjectFlags flags;
+  EXPECT_EQ(flags.slicing, "ray");
+  EXPECT_TRUE(flags.outside.empty());
+  const DepthObjectOptions o = DepthObjectOptionsFrom(SettingsFromFlags(flags));
+  EXPECT_EQ(o.slicing, Slicing::kRay);
+  EXPECT_TRUE(o.subtexel_depth);
+  EXPECT_EQ(SettingsFromFlags(flags).Find("outside"), nullptr) << "not set: the command decides";
+  DepthObjectFlags fail = flags;
+  fail.outside = "fail";
+  EXPECT_EQ(DepthObjectOptionsFrom(SettingsFromFlags(fail)).outside, OutsidePolicy::kFail);
+}
+
 TEST(BuiltinScenes, BadDefinitionsNameTheScene) {
   // Scene files (scene/scene.h) that the reader or the built-in rules refuse.
   const char* bad[] = {

@@ -220,7 +220,7 @@ TEST_F(PassTest, UniformLocationsAreCachedAtLinkAndMatchGl) {
   EXPECT_NO_GL_ERROR();
 }
 
-// ---- The frame size check (README "Limits") ---------------------------------
+// ---- The frame size check (docs/guide/limits.md, "Frame size") -------------
 
 // The error line CheckFrameSize throws, or "" when the size is accepted.
 std::string FrameSizeError(int width, int height, const GlSizeLimits& limits) {
