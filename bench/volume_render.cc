@@ -65,9 +65,11 @@ VolumeRenderResult RenderVolume(const VolumeRenderRequest& r) {
   } catch (const core::InputError& e) {
     core::ThrowFileError("ibr volume", r.volume, "{}", e.what());
   }
-  const ibr::VolumeObjectData scene =
-      ibr::MakeVolumeObject(std::move(volume), ibr::TransferForVolume(r.transfer, r.volume),
-                            r.effect, r.map_size, r.placement_offset, r.placement_scale);
+  const core::TransferFunction transfer = ibr::TransferForVolume(r.transfer, r.volume, &volume);
+  const ibr::VolumeObjectData scene = ibr::MakeVolumeObject(
+      std::move(volume), transfer, r.effect, r.map_size, r.placement_offset, r.placement_scale);
+  render::VolumePassOptions pass_options = r.pass;
+  if (r.iso_value) ibr::SetIsoValue(scene, *r.iso_value, pass_options, "ibr volume --mode");
   // The frame budget and the GL limits: render::CheckFrameSize (ibr volume).
   if (r.size < 16 || r.size > 16384)
     core::ThrowInputError("ibr volume", "--size {} not in [16, 16384]", r.size);
@@ -112,7 +114,7 @@ VolumeRenderResult RenderVolume(const VolumeRenderRequest& r) {
   }
   render::ProgramCache programs;
   render::VolumePass pass(programs, scene.volume, scene.transfer, scene.maps,
-                          scene.world_from_volume, r.pass);
+                          scene.world_from_volume, pass_options);
   VolumeRenderResult result;
   result.proxy_lo = pass.proxy_box().lo;
   result.proxy_hi = pass.proxy_box().hi;

@@ -27,6 +27,9 @@ struct VolumeRenderRequest {
   glm::dvec3 placement_offset{0.0};
   glm::dvec3 placement_scale{1.0};
   render::VolumePassOptions pass;
+  // Iso mode: the iso value in the volume's stored units (ibr::SetIsoValue
+  // sets pass.iso_value from it once the volume is read).
+  std::optional<double> iso_value;
   std::string
       transfer;    // preset or JSON file; empty: the preset named like the volume, else "ramp"
   int size = 512;  // pixels (orbit views)

@@ -1,10 +1,13 @@
 #include "core/transfer_function.h"
 
+#include <fmt/ranges.h>
+
 #include <algorithm>
 #include <cmath>
 #include <fstream>
 #include <nlohmann/json.hpp>
 
+#include "core/check.h"
 #include "core/error.h"
 
 namespace core {
@@ -13,7 +16,11 @@ void TransferFunction::Check(std::string_view where) const {
   if (points.empty()) ThrowInputError(where, "transfer function has no points");
   for (size_t i = 0; i < points.size(); ++i) {
     const auto& p = points[i];
-    for (double v : {p.s, p.rgba.r, p.rgba.g, p.rgba.b, p.rgba.a}) {
+    if (!std::isfinite(p.s) || (units == TransferUnits::kNormalized && (p.s < 0 || p.s > 1))) {
+      ThrowInputError(where, "transfer point {}: s {} is not {}", i, p.s,
+                      units == TransferUnits::kNormalized ? "in [0, 1]" : "finite");
+    }
+    for (double v : {p.rgba.r, p.rgba.g, p.rgba.b, p.rgba.a}) {
       if (!std::isfinite(v) || v < 0 || v > 1) {
         ThrowInputError(where, "transfer point {}: value {} is not in [0, 1]", i, v);
       }
@@ -36,6 +43,7 @@ glm::dvec4 TransferFunction::Evaluate(double s) const {
 }
 
 std::vector<glm::vec4> TransferFunction::Table(int n) const {
+  IBR_CHECK(units == TransferUnits::kNormalized);  // NormalizedTransfer first
   std::vector<glm::vec4> table(static_cast<size_t>(n));
   for (int i = 0; i < n; ++i)
     table[static_cast<size_t>(i)] = glm::vec4(Evaluate(static_cast<double>(i) / (n - 1)));
@@ -46,6 +54,32 @@ std::vector<glm::vec4> OpacityCorrectedTable(std::vector<glm::vec4> table, doubl
   for (glm::vec4& e : table)
     e.a = static_cast<float>(1 - std::pow(std::max(1 - static_cast<double>(e.a), 0.0), exponent));
   return table;
+}
+
+TransferFunction NormalizedTransfer(const TransferFunction& tf, const glm::dvec2& range) {
+  if (tf.units == TransferUnits::kNormalized) return tf;
+  IBR_CHECK(range.y > range.x);
+  const auto to_s = [&](double value) { return (value - range.x) / (range.y - range.x); };
+  TransferFunction out;
+  // The stored-unit function is linear between points and the map to s is
+  // linear, so evaluating at the ends and keeping the points inside is exact.
+  out.points.push_back({0.0, tf.Evaluate(range.x)});
+  for (const TransferPoint& p : tf.points) {
+    const double s = to_s(p.s);
+    if (s > 0 && s < 1) out.points.push_back({s, p.rgba});
+  }
+  out.points.push_back({1.0, tf.Evaluate(range.y)});
+  return out;
+}
+
+TransferFunction WindowTransfer(double lo, double hi) {
+  if (!(hi > lo)) hi = lo + 1;
+  TransferFunction tf;
+  tf.units = TransferUnits::kData;
+  // White throughout: the opacity ramp alone carries the window (a grey
+  // colour ramp as well would darken the low end twice).
+  tf.points = {TransferPoint{lo, {1, 1, 1, 0}}, TransferPoint{hi, {1, 1, 1, 1}}};
+  return tf;
 }
 
 TransferFunction TransferPreset(std::string_view name) {
@@ -91,6 +125,16 @@ TransferFunction ReadTransferFunction(std::istream& in, std::string_view name) {
     ThrowInputError(where, "expected {{\"points\": [[s, r, g, b, a], ...]}}");
   }
   TransferFunction tf;
+  if (j.contains("units")) {
+    const auto& u = j["units"];
+    if (u == "data") {
+      tf.units = TransferUnits::kData;
+    } else if (u == "normalized") {
+      tf.units = TransferUnits::kNormalized;
+    } else {
+      ThrowInputError(where, "units {}: expected \"normalized\" or \"data\"", u.dump());
+    }
+  }
   for (const auto& p : j["points"]) {
     if (!p.is_array() || p.size() != 5)
       ThrowInputError(where, "each point must be [s, r, g, b, a]");
@@ -112,6 +156,9 @@ TransferFunction ReadTransferFunction(std::istream& in, std::string_view name) {
 }
 
 TransferFunction ReadTransferFunction(const std::filesystem::path& path) {
+  std::error_code ec;
+  if (!std::filesystem::is_regular_file(path, ec))
+    ThrowFileError("ReadTransferFunction", path, "no such file");
   std::ifstream in(path);
   if (!in) ThrowFileError("ReadTransferFunction", path, "cannot open");
   return ReadTransferFunction(in, path.string());
@@ -121,6 +168,11 @@ TransferFunction TransferFromPresetOrFile(const std::string& preset_or_path) {
   const auto names = TransferPresetNames();
   if (std::find(names.begin(), names.end(), preset_or_path) != names.end())
     return TransferPreset(preset_or_path);
+  std::error_code ec;
+  if (!std::filesystem::exists(preset_or_path, ec)) {
+    ThrowInputError("transfer function", "'{}' is neither a preset ({}) nor a JSON file",
+                    preset_or_path, fmt::join(names, ", "));
+  }
   return ReadTransferFunction(std::filesystem::path(preset_or_path));
 }
 

@@ -1,5 +1,6 @@
 #include "core/volume_io.h"
 
+#include <bzlib.h>
 #include <fmt/format.h>
 #include <zlib.h>
 
@@ -10,21 +11,35 @@
 #include <cstring>
 #include <fstream>
 #include <istream>
+#include <limits>
 #include <map>
+#include <memory>
 #include <ostream>
 #include <sstream>
 
 #include "core/atomic_file.h"
 #include "core/error.h"
 
+// The official NIfTI-1/2 header layouts (nifticlib).
+#include <nifti/nifti1.h>
+#include <nifti/nifti2.h>
+
 namespace core {
 namespace {
 
 namespace fs = std::filesystem;
 
-constexpr size_t kMaxHeaderLine = 4096;         // characters in one header line
-constexpr size_t kMaxHeaderBytes = 65536;       // characters in a whole header
-constexpr size_t kReadChunk = size_t{1} << 24;  // 16 MiB: largest step of a chunked read
+constexpr size_t kMaxHeaderLine = 4096;          // characters in one header line
+constexpr size_t kMaxHeaderBytes = 65536;        // characters in a whole header
+constexpr size_t kReadChunk = size_t{1} << 24;   // 16 MiB: largest step of a chunked read
+constexpr size_t kFirstChunk = size_t{1} << 16;  // 64 KiB: the first step
+
+// The next step of a read that has `have` of `total` bytes: doubling from
+// kFirstChunk up to kReadChunk, so a short or compressed stream whose header
+// claims a large volume allocates at most twice what it actually holds.
+size_t NextChunk(size_t have, size_t total) {
+  return std::min(total - have, std::clamp(have, kFirstChunk, kReadChunk));
+}
 
 std::string_view Trim(std::string_view s) {
   const auto first = s.find_first_not_of(" \t\r");
@@ -137,7 +152,7 @@ std::vector<uint8_t> ReadExactly(std::istream& in, size_t expected, bool exact,
   if (remaining >= 0) out.reserve(expected);
   while (out.size() < expected) {
     const size_t old = out.size();
-    const size_t n = std::min(kReadChunk, expected - old);
+    const size_t n = NextChunk(old, expected);
     out.resize(old + n);
     in.read(reinterpret_cast<char*>(out.data() + old), static_cast<std::streamsize>(n));
     const auto got = static_cast<size_t>(in.gcount());
@@ -166,59 +181,174 @@ std::ifstream OpenBinary(const fs::path& path, std::string_view where) {
   return in;
 }
 
-// ---- gzip (zlib) ----
+// ---- decoders: raw, gzip (zlib), bzip2 (libbz2) ----
 
-std::vector<uint8_t> Gunzip(std::istream& in, size_t expected, std::string_view where,
-                            std::string_view name) {
-  z_stream z{};
-  // 15 + 32: a zlib or gzip header, detected automatically.
-  if (inflateInit2(&z, 15 + 32) != Z_OK) ThrowFileError(where, name, "zlib: inflateInit2 failed");
-  std::vector<uint8_t> out;
-  std::vector<char> input(size_t{1} << 16);
-  int status = Z_OK;
-  bool input_done = false;
-  try {
-    while (status != Z_STREAM_END) {
-      if (z.avail_in == 0 && !input_done) {
-        in.read(input.data(), static_cast<std::streamsize>(input.size()));
-        z.next_in = reinterpret_cast<Bytef*>(input.data());
-        z.avail_in = static_cast<uInt>(in.gcount());
-        if (z.avail_in == 0) input_done = true;
+// A source of decoded data bytes.
+class Decoder {
+ public:
+  virtual ~Decoder() = default;
+  // Up to n decoded bytes into out; fewer only at the end of the data.
+  // Corrupt or truncated compressed data: InputError.
+  virtual size_t Read(uint8_t* out, size_t n) = 0;
+};
+
+class RawDecoder final : public Decoder {
+ public:
+  explicit RawDecoder(std::istream& in) : in_(in) {}
+  size_t Read(uint8_t* out, size_t n) override {
+    in_.read(reinterpret_cast<char*>(out), static_cast<std::streamsize>(n));
+    return static_cast<size_t>(in_.gcount());
+  }
+
+ private:
+  std::istream& in_;
+};
+
+// The compressed input, read in blocks.
+class InputBlocks {
+ public:
+  explicit InputBlocks(std::istream& in) : in_(in), block_(size_t{1} << 16) {}
+  // Refills when the previous block is used up; false at the end of input.
+  bool Next(const char*& data, size_t& size) {
+    in_.read(block_.data(), static_cast<std::streamsize>(block_.size()));
+    size = static_cast<size_t>(in_.gcount());
+    data = block_.data();
+    return size > 0;
+  }
+
+ private:
+  std::istream& in_;
+  std::vector<char> block_;
+};
+
+class GzipDecoder final : public Decoder {
+ public:
+  GzipDecoder(std::istream& in, std::string_view where, std::string_view name)
+      : input_(in), where_(where), name_(name) {
+    // 15 + 32: a zlib or gzip header, detected automatically.
+    if (inflateInit2(&z_, 15 + 32) != Z_OK) ThrowFileError(where_, name_, "zlib: init failed");
+  }
+  ~GzipDecoder() override { inflateEnd(&z_); }
+  size_t Read(uint8_t* out, size_t n) override {
+    size_t produced = 0;
+    while (produced < n && !ended_) {
+      if (z_.avail_in == 0 && !input_done_) {
+        const char* data;
+        size_t size;
+        input_done_ = !input_.Next(data, size);
+        z_.next_in = reinterpret_cast<Bytef*>(const_cast<char*>(data));
+        z_.avail_in = static_cast<uInt>(size);
       }
-      if (out.size() == expected) {
-        // All voxels are in; the stream must end here (a one-byte probe tells).
-        uint8_t probe;
-        z.next_out = &probe;
-        z.avail_out = 1;
-        status = inflate(&z, Z_NO_FLUSH);
-        if (z.avail_out == 0)
-          ThrowFileError(where, name, "gzip data longer than the {} bytes the header says",
-                         expected);
-      } else {
-        const size_t old = out.size();
-        const size_t n = std::min(kReadChunk, expected - old);
-        out.resize(old + n);
-        z.next_out = out.data() + old;
-        z.avail_out = static_cast<uInt>(n);
-        status = inflate(&z, Z_NO_FLUSH);
-        out.resize(old + n - z.avail_out);
-      }
-      if (status == Z_BUF_ERROR && input_done) {
-        ThrowFileError(where, name, "truncated gzip data: {} of {} bytes", out.size(), expected);
-      }
-      if (status != Z_OK && status != Z_STREAM_END && status != Z_BUF_ERROR) {
-        ThrowFileError(where, name, "corrupt gzip data ({})", z.msg ? z.msg : "zlib error");
+      const auto room = static_cast<uInt>(std::min<size_t>(n - produced, size_t{1} << 30));
+      z_.next_out = out + produced;
+      z_.avail_out = room;
+      const int status = inflate(&z_, Z_NO_FLUSH);
+      produced += room - z_.avail_out;
+      if (status == Z_STREAM_END) {
+        ended_ = true;
+      } else if (status == Z_BUF_ERROR || (status == Z_OK && room == z_.avail_out)) {
+        if (input_done_ && z_.avail_in == 0)
+          ThrowFileError(where_, name_, "truncated gzip data (ends before its end marker)");
+      } else if (status != Z_OK) {
+        ThrowFileError(where_, name_, "corrupt gzip data ({})", z_.msg ? z_.msg : "zlib error");
       }
     }
-  } catch (...) {
-    inflateEnd(&z);
-    throw;
+    return produced;
   }
-  inflateEnd(&z);
-  if (out.size() != expected) {
-    ThrowFileError(where, name, "short gzip data: {} bytes, the header says {}", out.size(),
-                   expected);
+
+ private:
+  InputBlocks input_;
+  z_stream z_{};
+  bool input_done_ = false, ended_ = false;
+  std::string where_, name_;
+};
+
+class Bzip2Decoder final : public Decoder {
+ public:
+  Bzip2Decoder(std::istream& in, std::string_view where, std::string_view name)
+      : input_(in), where_(where), name_(name) {
+    if (BZ2_bzDecompressInit(&b_, 0, 0) != BZ_OK)
+      ThrowFileError(where_, name_, "bzip2: init failed");
   }
+  ~Bzip2Decoder() override { BZ2_bzDecompressEnd(&b_); }
+  size_t Read(uint8_t* out, size_t n) override {
+    size_t produced = 0;
+    while (produced < n && !ended_) {
+      if (b_.avail_in == 0 && !input_done_) {
+        const char* data;
+        size_t size;
+        input_done_ = !input_.Next(data, size);
+        b_.next_in = const_cast<char*>(data);
+        b_.avail_in = static_cast<unsigned>(size);
+      }
+      const auto room = static_cast<unsigned>(std::min<size_t>(n - produced, size_t{1} << 30));
+      b_.next_out = reinterpret_cast<char*>(out + produced);
+      b_.avail_out = room;
+      const int status = BZ2_bzDecompress(&b_);
+      produced += room - b_.avail_out;
+      if (status == BZ_STREAM_END) {
+        ended_ = true;
+      } else if (status != BZ_OK) {
+        ThrowFileError(where_, name_, "corrupt bzip2 data (libbz2 error {})", status);
+      } else if (room == b_.avail_out && input_done_ && b_.avail_in == 0) {
+        ThrowFileError(where_, name_, "truncated bzip2 data (ends before its end marker)");
+      }
+    }
+    return produced;
+  }
+
+ private:
+  InputBlocks input_;
+  bz_stream b_{};
+  bool input_done_ = false, ended_ = false;
+  std::string where_, name_;
+};
+
+// `count` decoded bytes after `byte_skip` decoded bytes (-1: the last `count`
+// bytes of the data); more data after them is an error. Allocates no more
+// than the bytes actually decoded plus one chunk (twice `count` for -1).
+std::vector<uint8_t> ReadDecoded(Decoder& d, size_t count, int64_t byte_skip,
+                                 std::string_view where, std::string_view name) {
+  std::vector<uint8_t> out;
+  if (byte_skip >= 0) {
+    std::vector<uint8_t> scratch(static_cast<size_t>(
+        std::min<int64_t>(std::max<int64_t>(byte_skip, 1), static_cast<int64_t>(kFirstChunk))));
+    for (int64_t left = byte_skip; left > 0;) {
+      const size_t n = d.Read(scratch.data(), static_cast<size_t>(std::min<int64_t>(
+                                                  left, static_cast<int64_t>(scratch.size()))));
+      if (n == 0)
+        ThrowFileError(where, name, "byte skip {} is past the end of the data", byte_skip);
+      left -= static_cast<int64_t>(n);
+    }
+    while (out.size() < count) {
+      const size_t old = out.size();
+      const size_t n = NextChunk(old, count);
+      out.resize(old + n);
+      const size_t got = d.Read(out.data() + old, n);
+      if (got < n)
+        ThrowFileError(where, name, "short data: {} bytes, the header says {}", old + got, count);
+    }
+    uint8_t probe;
+    if (d.Read(&probe, 1) != 0)
+      ThrowFileError(where, name, "more data than the {} bytes the header says", count);
+    return out;
+  }
+  // byte skip -1: keep a window of the last bytes decoded.
+  size_t total = 0;
+  for (;;) {
+    const size_t old = out.size();
+    const size_t step = std::clamp(old, kFirstChunk, kReadChunk);
+    out.resize(old + step);
+    const size_t got = d.Read(out.data() + old, step);
+    out.resize(old + got);
+    total += got;
+    if (got < step) break;
+    if (out.size() > 2 * count + kReadChunk)
+      out.erase(out.begin(), out.end() - static_cast<std::ptrdiff_t>(count));
+  }
+  if (out.size() < count)
+    ThrowFileError(where, name, "short data: {} bytes, the header says {}", total, count);
+  out.erase(out.begin(), out.end() - static_cast<std::ptrdiff_t>(count));
   return out;
 }
 
@@ -258,27 +388,64 @@ std::string_view QVisFormatName(ScalarType type) {
       return "USHORT";
     case ScalarType::kFloat32:
       return "FLOAT";
+    default:
+      ThrowInputError("WriteQVis", "QVis holds uint8, uint16 or float32, not {} (write NRRD)",
+                      ScalarTypeName(type));
   }
-  return "";
+}
+
+std::string_view NrrdTypeName(ScalarType type) {
+  switch (type) {
+    case ScalarType::kFloat32:
+      return "float";
+    case ScalarType::kFloat64:
+      return "double";
+    default:
+      return ScalarTypeName(type);  // uint8, int16, ...: NRRD's own names
+  }
 }
 
 // ---- NRRD ----
 
+enum class Encoding { kRaw, kGzip, kBzip2 };
+
 ScalarType ParseNrrdType(std::string_view value, std::string_view where, std::string_view name) {
+  // The type names of the NRRD specification (NRRD0005, "type:").
   static const std::map<std::string_view, ScalarType> kTypes = {
+      {"signed char", ScalarType::kInt8},
+      {"int8", ScalarType::kInt8},
+      {"int8_t", ScalarType::kInt8},
       {"uchar", ScalarType::kUint8},
       {"unsigned char", ScalarType::kUint8},
       {"uint8", ScalarType::kUint8},
       {"uint8_t", ScalarType::kUint8},
+      {"short", ScalarType::kInt16},
+      {"short int", ScalarType::kInt16},
+      {"signed short", ScalarType::kInt16},
+      {"signed short int", ScalarType::kInt16},
+      {"int16", ScalarType::kInt16},
+      {"int16_t", ScalarType::kInt16},
       {"ushort", ScalarType::kUint16},
       {"unsigned short", ScalarType::kUint16},
       {"unsigned short int", ScalarType::kUint16},
       {"uint16", ScalarType::kUint16},
       {"uint16_t", ScalarType::kUint16},
-      {"float", ScalarType::kFloat32}};
+      {"int", ScalarType::kInt32},
+      {"signed int", ScalarType::kInt32},
+      {"int32", ScalarType::kInt32},
+      {"int32_t", ScalarType::kInt32},
+      {"uint", ScalarType::kUint32},
+      {"unsigned int", ScalarType::kUint32},
+      {"uint32", ScalarType::kUint32},
+      {"uint32_t", ScalarType::kUint32},
+      {"float", ScalarType::kFloat32},
+      {"double", ScalarType::kFloat64}};
   const auto it = kTypes.find(value);
   if (it == kTypes.end()) {
-    ThrowFileError(where, name, "type '{}' is not supported (uint8, uint16 or float)", value);
+    ThrowFileError(where, name,
+                   "type '{}' is not supported ((u)int8/16/32, float or double; 64-bit integers "
+                   "and 'block' are not)",
+                   value);
   }
   return it->second;
 }
@@ -306,13 +473,60 @@ double ParseDirectionLength(std::string_view word, std::string_view where, std::
   return std::sqrt(sum);
 }
 
+// At most this many detached data files (one per slice of the largest
+// accepted extent).
+constexpr int64_t kMaxDataFiles = kMaxVolumeExtent;
+
+// "slice%03d.raw" with one integer: the %d conversion with optional flags
+// and width; "%%" is a literal percent. Anything else is refused.
+std::string FormatDataFileName(std::string_view pattern, int64_t index, std::string_view where,
+                               std::string_view name) {
+  std::string out;
+  int conversions = 0;
+  for (size_t i = 0; i < pattern.size(); ++i) {
+    if (pattern[i] != '%') {
+      out.push_back(pattern[i]);
+      continue;
+    }
+    if (i + 1 < pattern.size() && pattern[i + 1] == '%') {
+      out.push_back('%');
+      ++i;
+      continue;
+    }
+    size_t j = i + 1;
+    bool zero = false;
+    while (j < pattern.size() &&
+           (pattern[j] == '0' || pattern[j] == '-' || pattern[j] == '+' || pattern[j] == ' ')) {
+      zero |= pattern[j] == '0';
+      ++j;
+    }
+    int width = 0;
+    while (j < pattern.size() && pattern[j] >= '0' && pattern[j] <= '9' && width < 100)
+      width = width * 10 + (pattern[j++] - '0');
+    if (j >= pattern.size() || (pattern[j] != 'd' && pattern[j] != 'i' && pattern[j] != 'u') ||
+        ++conversions > 1) {
+      ThrowFileError(where, name, "data file pattern '{}': expected one %d conversion", pattern);
+    }
+    out += zero ? fmt::format("{:0{}d}", index, width) : fmt::format("{:{}d}", index, width);
+    i = j;
+  }
+  if (conversions != 1)
+    ThrowFileError(where, name, "data file pattern '{}': expected one %d conversion", pattern);
+  return out;
+}
+
 struct NrrdHeader {
   glm::ivec3 dims{0};
   glm::dvec3 spacing{1.0};
   ScalarType type = ScalarType::kUint8;
-  NrrdEncoding encoding = NrrdEncoding::kRaw;
+  Encoding encoding = Encoding::kRaw;
   bool big_endian = false;
-  std::string data_file;  // detached data; empty when attached
+  int64_t line_skip = 0;  // lines of each data file skipped before decoding
+  int64_t byte_skip = 0;  // decoded bytes skipped after them; -1: the data ends the file
+  // Detached data, in order (names relative to the header); empty when
+  // attached.
+  std::vector<std::string> data_files;
+  int subdim = 0;  // dimension of each data file's part; 0: 3 for one file, 2 for several
 };
 
 NrrdHeader ReadNrrdHeader(std::istream& in, std::string_view name) {
@@ -328,10 +542,18 @@ NrrdHeader ReadNrrdHeader(std::istream& in, std::string_view name) {
   }
   NrrdHeader h;
   bool have_type = false, have_dimension = false, have_sizes = false, have_encoding = false;
-  bool have_spacings = false;
+  bool have_spacings = false, list = false;
   while (ReadHeaderLine(in, line, header_bytes, where, name)) {
     std::string_view l = line;
     if (!l.empty() && l.back() == '\r') l.remove_suffix(1);
+    if (list) {
+      // "data file: LIST": every further line names one data file.
+      if (l.empty()) break;
+      if (static_cast<int64_t>(h.data_files.size()) >= kMaxDataFiles)
+        ThrowFileError(where, name, "more than {} data files", kMaxDataFiles);
+      h.data_files.emplace_back(Trim(l));
+      continue;
+    }
     if (l.empty()) break;  // end of header; attached data follows
     if (l.front() == '#') continue;
     if (l.find(":=") != std::string_view::npos && l.find(":=") < l.find(": "))
@@ -353,11 +575,13 @@ NrrdHeader ReadNrrdHeader(std::istream& in, std::string_view name) {
       have_sizes = true;
     } else if (field == "encoding") {
       if (value == "raw") {
-        h.encoding = NrrdEncoding::kRaw;
+        h.encoding = Encoding::kRaw;
       } else if (value == "gzip" || value == "gz") {
-        h.encoding = NrrdEncoding::kGzip;
+        h.encoding = Encoding::kGzip;
+      } else if (value == "bzip2" || value == "bz2") {
+        h.encoding = Encoding::kBzip2;
       } else {
-        ThrowFileError(where, name, "encoding '{}' is not supported (raw or gzip)", value);
+        ThrowFileError(where, name, "encoding '{}' is not supported (raw, gzip or bzip2)", value);
       }
       have_encoding = true;
     } else if (field == "endian") {
@@ -380,6 +604,9 @@ NrrdHeader ReadNrrdHeader(std::istream& in, std::string_view name) {
       }
       have_spacings = true;
     } else if (field == "space directions") {
+      // The voxel's edge vectors: their lengths are the spacings (the
+      // orientation in patient space is not kept: the box is rendered
+      // axis-aligned at its true size).
       const auto words = SplitWords(value);
       if (words.size() != 3)
         ThrowFileError(where, name, "space directions: expected 3 vectors, got '{}'", value);
@@ -390,14 +617,44 @@ NrrdHeader ReadNrrdHeader(std::istream& in, std::string_view name) {
         }
       }
     } else if (field == "data file" || field == "datafile") {
-      if (value.empty() || SplitWords(value).size() != 1) {
-        ThrowFileError(where, name, "data file '{}': only one detached file is supported", value);
+      const auto words = SplitWords(value);
+      if (words.empty()) ThrowFileError(where, name, "data file: no file named");
+      if (words[0] == "LIST") {
+        // "LIST [subdim]": the file names are the remaining header lines.
+        if (words.size() > 2) ThrowFileError(where, name, "data file: '{}' after LIST", value);
+        if (words.size() == 2) h.subdim = ParseInt(words[1], "data file subdim", where, name);
+        list = true;
+      } else if (words.size() == 1) {
+        h.data_files.emplace_back(words[0]);
+      } else if (words.size() == 4 || words.size() == 5) {
+        // "FORMAT MIN MAX STEP [subdim]": the files FORMAT % i for i = MIN,
+        // MIN + STEP, ... up to MAX.
+        const int64_t min = ParseInt(words[1], "data file min", where, name);
+        const int64_t max = ParseInt(words[2], "data file max", where, name);
+        const int64_t step = ParseInt(words[3], "data file step", where, name);
+        if (words.size() == 5) h.subdim = ParseInt(words[4], "data file subdim", where, name);
+        if (step == 0 || (max - min) / step < 0 || (max - min) % step != 0) {
+          ThrowFileError(where, name, "data file: {} to {} in steps of {} is not a range", min, max,
+                         step);
+        }
+        const int64_t count = (max - min) / step + 1;
+        if (count > kMaxDataFiles)
+          ThrowFileError(where, name, "{} data files, more than {}", count, kMaxDataFiles);
+        for (int64_t i = 0; i < count; ++i)
+          h.data_files.push_back(FormatDataFileName(words[0], min + i * step, where, name));
+      } else {
+        ThrowFileError(where, name,
+                       "data file '{}': expected one file, 'LIST [subdim]' or 'FORMAT MIN MAX "
+                       "STEP [subdim]'",
+                       value);
       }
-      h.data_file = std::string(value);
-    } else if (field == "line skip" || field == "lineskip" || field == "byte skip" ||
-               field == "byteskip") {
-      if (ParseInt(value, field, where, name) != 0)
-        ThrowFileError(where, name, "'{}' is not supported", field);
+    } else if (field == "line skip" || field == "lineskip") {
+      h.line_skip = ParseInt(value, field, where, name);
+      if (h.line_skip < 0) ThrowFileError(where, name, "line skip {} is negative", h.line_skip);
+    } else if (field == "byte skip" || field == "byteskip") {
+      h.byte_skip = ParseInt(value, field, where, name);
+      if (h.byte_skip < -1)
+        ThrowFileError(where, name, "byte skip {} (>= 0, or -1 for data at the end)", h.byte_skip);
     }
     // Other fields (kinds, centers, space, space origin, content, ...) do not
     // change the voxels or their spacing.
@@ -405,22 +662,279 @@ NrrdHeader ReadNrrdHeader(std::istream& in, std::string_view name) {
   if (!have_type || !have_dimension || !have_sizes || !have_encoding) {
     ThrowFileError(where, name, "header lacks a required field (type, dimension, sizes, encoding)");
   }
+  if (list && h.data_files.empty()) ThrowFileError(where, name, "data file: LIST names no file");
   CheckedVolumeBytes(fmt::format("ReadNrrd: '{}'", name), h.dims, h.type);
   CheckSpacing(h.spacing, where, name);
+  if (!h.data_files.empty()) {
+    // Each file holds one equal part: the first `subdim` axes' worth of voxels.
+    const int subdim = h.subdim != 0 ? h.subdim : (h.data_files.size() == 1 ? 3 : 2);
+    if (subdim < 1 || subdim > 3)
+      ThrowFileError(where, name, "data file subdim {} (1..3 for a 3D volume)", subdim);
+    int64_t per_file = 1, parts = 1;
+    for (int a = 0; a < 3; ++a) (a < subdim ? per_file : parts) *= h.dims[a];
+    if (parts != static_cast<int64_t>(h.data_files.size())) {
+      ThrowFileError(where, name,
+                     "{} data files, the sizes {} {} {} make {} parts of {} dimension(s)",
+                     h.data_files.size(), h.dims.x, h.dims.y, h.dims.z, parts, subdim);
+    }
+    h.subdim = subdim;
+  }
   return h;
 }
 
-Volume ReadNrrdData(std::istream& data, const NrrdHeader& h, std::string_view name) {
+// Skips `lines` lines of `in` (before any decoding, as NRRD's "line skip").
+void SkipLines(std::istream& in, int64_t lines, std::string_view where, std::string_view name) {
+  for (int64_t i = 0; i < lines; ++i) {
+    in.ignore(std::numeric_limits<std::streamsize>::max(), '\n');
+    if (in.eof()) ThrowFileError(where, name, "line skip {} is past the end of the file", lines);
+  }
+}
+
+// One data file's (or the attached data's) `count` bytes.
+std::vector<uint8_t> ReadNrrdPart(std::istream& in, const NrrdHeader& h, size_t count,
+                                  std::string_view name) {
   constexpr std::string_view where = "ReadNrrd";
+  SkipLines(in, h.line_skip, where, name);
+  if (h.encoding == Encoding::kRaw) {
+    if (h.byte_skip == -1) {
+      // The data are the file's last bytes (after a header of another format).
+      const std::streamoff remaining = RemainingBytes(in);
+      if (remaining < 0) ThrowFileError(where, name, "byte skip -1 needs a seekable file");
+      if (static_cast<size_t>(remaining) < count)
+        ThrowFileError(where, name, "short data: {} bytes, the header says {}", remaining, count);
+      in.seekg(static_cast<std::streamoff>(remaining) - static_cast<std::streamoff>(count),
+               std::ios::cur);
+    } else if (h.byte_skip > 0) {
+      in.ignore(h.byte_skip);
+      if (in.gcount() != h.byte_skip)
+        ThrowFileError(where, name, "byte skip {} is past the end of the file", h.byte_skip);
+    }
+    return ReadExactly(in, count, /*exact=*/true, where, name);
+  }
+  std::unique_ptr<Decoder> decoder;
+  if (h.encoding == Encoding::kGzip) {
+    decoder = std::make_unique<GzipDecoder>(in, where, name);
+  } else {
+    decoder = std::make_unique<Bzip2Decoder>(in, where, name);
+  }
+  return ReadDecoded(*decoder, count, h.byte_skip, where, name);
+}
+
+// The voxels of `h`, read part by part through `open_part(i)` (the stream
+// and the name of part i); endianness swapped to native.
+template <class OpenPart>
+Volume ReadNrrdData(const NrrdHeader& h, size_t parts, OpenPart&& open_part,
+                    std::string_view header_name) {
   Volume v;
   v.dims = h.dims;
   v.spacing = h.spacing;
   v.type = h.type;
-  const size_t bytes = CheckedVolumeBytes(where, h.dims, h.type);
-  v.bytes = h.encoding == NrrdEncoding::kRaw ? ReadExactly(data, bytes, /*exact=*/true, where, name)
-                                             : Gunzip(data, bytes, where, name);
+  const size_t bytes =
+      CheckedVolumeBytes(fmt::format("ReadNrrd: '{}'", header_name), h.dims, h.type);
+  const size_t per_part = bytes / parts;
+  for (size_t i = 0; i < parts; ++i) {
+    auto [stream, name] = open_part(i);
+    std::vector<uint8_t> part = ReadNrrdPart(*stream, h, per_part, name);
+    if (parts == 1) {
+      v.bytes = std::move(part);
+    } else {
+      if (i == 0) v.bytes.reserve(bytes);
+      v.bytes.insert(v.bytes.end(), part.begin(), part.end());
+    }
+  }
   if (h.big_endian) SwapBytes(v.bytes, BytesPerScalar(h.type));
+  v.FitNormalization();
   return v;
+}
+
+// ---- NIfTI-1 / NIfTI-2 ----
+
+template <class T>
+void SwapValue(T& v) {
+  auto* b = reinterpret_cast<uint8_t*>(&v);
+  std::reverse(b, b + sizeof(T));
+}
+
+// A NIfTI datatype code (nifti1.h DT_*) -> our type; others refused.
+ScalarType NiftiType(int code, std::string_view where, std::string_view name) {
+  switch (code) {
+    case DT_UINT8:
+      return ScalarType::kUint8;
+    case DT_INT8:
+      return ScalarType::kInt8;
+    case DT_INT16:
+      return ScalarType::kInt16;
+    case DT_UINT16:
+      return ScalarType::kUint16;
+    case DT_INT32:
+      return ScalarType::kInt32;
+    case DT_UINT32:
+      return ScalarType::kUint32;
+    case DT_FLOAT32:
+      return ScalarType::kFloat32;
+    case DT_FLOAT64:
+      return ScalarType::kFloat64;
+    default:
+      ThrowFileError(where, name,
+                     "NIfTI datatype {} is not supported ((u)int8/16/32, float32 or float64; "
+                     "RGB, complex and 64-bit integers are not)",
+                     code);
+  }
+}
+
+// What the readers need from either header version.
+struct NiftiInfo {
+  int64_t dim[8] = {};
+  double pixdim[8] = {};
+  int datatype = 0, bitpix = 0;
+  int64_t vox_offset = 0;
+  double scl_slope = 0, scl_inter = 0;
+  bool swap = false;
+  int header_bytes = 0;
+};
+
+// The fields the reader uses from either header layout (nifti_1_header or
+// nifti_2_header: same names, wider types in NIfTI-2), byte-swapped when the
+// file's order is not ours. `single` is the single-file magic, `pair` the
+// .hdr/.img one.
+template <class Header>
+void CopyNiftiFields(const uint8_t* raw, const char* single, const char* pair, NiftiInfo& info,
+                     std::string_view name) {
+  constexpr std::string_view where = "ReadNifti";
+  Header h;
+  std::memcpy(&h, raw, sizeof h);
+  if (std::memcmp(h.magic, single, 4) != 0) {
+    if (std::memcmp(h.magic, pair, 4) == 0)
+      ThrowFileError(where, name, "a .hdr/.img pair (magic '{}'): only single-file .nii", pair);
+    ThrowFileError(where, name, "not a NIfTI file (magic is not '{}')", single);
+  }
+  const auto fix = [&](auto& v) {
+    if (info.swap) SwapValue(v);
+  };
+  for (int i = 0; i < 8; ++i) {
+    fix(h.dim[i]);
+    fix(h.pixdim[i]);
+    info.dim[i] = h.dim[i];
+    info.pixdim[i] = h.pixdim[i];
+  }
+  fix(h.datatype);
+  fix(h.bitpix);
+  fix(h.vox_offset);
+  fix(h.scl_slope);
+  fix(h.scl_inter);
+  info.datatype = h.datatype;
+  info.bitpix = h.bitpix;
+  // NIfTI-1 stores the offset as a float.
+  if (!std::isfinite(static_cast<double>(h.vox_offset)) || h.vox_offset < 0 ||
+      static_cast<double>(h.vox_offset) > 1e12) {
+    ThrowFileError(where, name, "vox_offset {} is not a file offset",
+                   static_cast<double>(h.vox_offset));
+  }
+  info.vox_offset = static_cast<int64_t>(h.vox_offset);
+  info.scl_slope = h.scl_slope;
+  info.scl_inter = h.scl_inter;
+}
+
+NiftiInfo ReadNiftiHeader(Decoder& d, std::string_view name) {
+  constexpr std::string_view where = "ReadNifti";
+  std::array<uint8_t, sizeof(nifti_2_header)> raw{};
+  if (d.Read(raw.data(), 4) != 4) ThrowFileError(where, name, "not a NIfTI file (too short)");
+  int32_t sizeof_hdr;
+  std::memcpy(&sizeof_hdr, raw.data(), 4);
+  NiftiInfo info;
+  int32_t swapped = sizeof_hdr;
+  SwapValue(swapped);
+  if (sizeof_hdr == 348 || sizeof_hdr == 540) {
+    info.swap = false;
+  } else if (swapped == 348 || swapped == 540) {
+    info.swap = true;
+    sizeof_hdr = swapped;
+  } else {
+    ThrowFileError(where, name, "not a NIfTI file (header size {}, expected 348 or 540)",
+                   sizeof_hdr);
+  }
+  info.header_bytes = sizeof_hdr;
+  if (d.Read(raw.data() + 4, static_cast<size_t>(sizeof_hdr - 4)) !=
+      static_cast<size_t>(sizeof_hdr - 4)) {
+    ThrowFileError(where, name, "truncated NIfTI header");
+  }
+  if (sizeof_hdr == 348) {
+    CopyNiftiFields<nifti_1_header>(raw.data(), "n+1", "ni1", info, name);
+  } else {
+    CopyNiftiFields<nifti_2_header>(raw.data(), "n+2", "ni2", info, name);
+  }
+  return info;
+}
+
+Volume ReadNiftiFrom(Decoder& d, std::string_view name) {
+  constexpr std::string_view where = "ReadNifti";
+  const NiftiInfo info = ReadNiftiHeader(d, name);
+  const int64_t rank = info.dim[0];
+  if (rank < 1 || rank > 7) ThrowFileError(where, name, "dim[0] = {} (1..7)", rank);
+  for (int i = 4; i <= rank; ++i) {
+    if (info.dim[i] != 1) {
+      ThrowFileError(where, name,
+                     "{}D data ({} along axis {}): only 3D volumes are read (extract one volume "
+                     "first)",
+                     rank, info.dim[i], i);
+    }
+  }
+  glm::ivec3 dims(1);
+  glm::dvec3 spacing(1.0);
+  for (int a = 0; a < 3 && a < rank; ++a) {
+    const int64_t n = info.dim[a + 1];
+    if (n < 1 || n > kMaxVolumeExtent)
+      ThrowFileError(where, name, "dim[{}] = {}: each extent must be in [1, {}]", a + 1, n,
+                     kMaxVolumeExtent);
+    dims[a] = static_cast<int>(n);
+    // pixdim may carry the sign of a flip (the orientation is in the
+    // q/s-form, which the axis-aligned box does not use); 0 means unknown.
+    const double p = std::abs(info.pixdim[a + 1]);
+    spacing[a] = p > 0 ? p : 1.0;
+  }
+  const ScalarType type = NiftiType(info.datatype, where, name);
+  if (info.bitpix != 8 * BytesPerScalar(type)) {
+    ThrowFileError(where, name, "bitpix {} does not match datatype {} ({} bits)", info.bitpix,
+                   ScalarTypeName(type), 8 * BytesPerScalar(type));
+  }
+  CheckSpacing(spacing, where, name);
+  const size_t bytes = CheckedVolumeBytes(fmt::format("ReadNifti: '{}'", name), dims, type);
+  if (info.vox_offset < info.header_bytes) {
+    ThrowFileError(where, name, "vox_offset {} is inside the {}-byte header", info.vox_offset,
+                   info.header_bytes);
+  }
+  // Extensions between the header and the data are skipped; bytes after the
+  // voxels (padding some writers leave) are ignored.
+  std::vector<uint8_t> skip(static_cast<size_t>(
+      std::min<int64_t>(std::max<int64_t>(info.vox_offset - info.header_bytes, 1),
+                        static_cast<int64_t>(kFirstChunk))));
+  for (int64_t left = info.vox_offset - info.header_bytes; left > 0;) {
+    const size_t n =
+        d.Read(skip.data(),
+               static_cast<size_t>(std::min<int64_t>(left, static_cast<int64_t>(skip.size()))));
+    if (n == 0) ThrowFileError(where, name, "vox_offset {} is past the end", info.vox_offset);
+    left -= static_cast<int64_t>(n);
+  }
+  Volume v;
+  v.dims = dims;
+  v.spacing = spacing;
+  v.type = type;
+  while (v.bytes.size() < bytes) {
+    const size_t old = v.bytes.size();
+    const size_t n = NextChunk(old, bytes);
+    v.bytes.resize(old + n);
+    const size_t got = d.Read(v.bytes.data() + old, n);
+    if (got < n)
+      ThrowFileError(where, name, "short data: {} bytes, the header says {}", old + got, bytes);
+  }
+  if (info.swap) SwapBytes(v.bytes, BytesPerScalar(type));
+  ApplyLinearScale(v, info.scl_slope, info.scl_inter);
+  v.FitNormalization();
+  return v;
+}
+
+bool EndsWith(std::string_view s, std::string_view suffix) {
+  return s.size() >= suffix.size() && s.substr(s.size() - suffix.size()) == suffix;
 }
 
 }  // namespace
@@ -480,6 +994,7 @@ Volume ReadQVisRaw(std::istream& raw, const QVisHeader& header, std::string_view
   v.type = header.type;
   v.bytes = ReadExactly(raw, CheckedVolumeBytes("ReadQVis", header.dims, header.type),
                         /*exact=*/true, "ReadQVis", name);
+  v.FitNormalization();
   return v;
 }
 
@@ -514,20 +1029,30 @@ void WriteQVis(const fs::path& dat_path, const Volume& volume) {
 
 Volume ReadNrrd(std::istream& in, std::string_view name) {
   const NrrdHeader h = ReadNrrdHeader(in, name);
-  if (!h.data_file.empty()) {
+  if (!h.data_files.empty()) {
     ThrowFileError("ReadNrrd", name, "detached data file '{}' cannot be read from a stream",
-                   h.data_file);
+                   h.data_files.front());
   }
-  return ReadNrrdData(in, h, name);
+  return ReadNrrdData(
+      h, 1, [&](size_t) { return std::pair(&in, std::string(name)); }, name);
 }
 
 Volume ReadNrrd(const fs::path& path) {
   auto in = OpenBinary(path, "ReadNrrd");
   const NrrdHeader h = ReadNrrdHeader(in, path.string());
-  if (h.data_file.empty()) return ReadNrrdData(in, h, path.string());
-  const fs::path data_path = path.parent_path() / h.data_file;
-  auto data = OpenBinary(data_path, "ReadNrrd");
-  return ReadNrrdData(data, h, data_path.string());
+  if (h.data_files.empty()) {
+    return ReadNrrdData(
+        h, 1, [&](size_t) { return std::pair(&in, path.string()); }, path.string());
+  }
+  std::ifstream data;
+  return ReadNrrdData(
+      h, h.data_files.size(),
+      [&](size_t i) {
+        const fs::path data_path = path.parent_path() / h.data_files[i];
+        data = OpenBinary(data_path, "ReadNrrd");
+        return std::pair(static_cast<std::istream*>(&data), data_path.string());
+      },
+      path.string());
 }
 
 void WriteNrrd(std::ostream& out, const Volume& volume, NrrdEncoding encoding) {
@@ -535,11 +1060,8 @@ void WriteNrrd(std::ostream& out, const Volume& volume, NrrdEncoding encoding) {
       "NRRD0004\n# written by ibr\ntype: {}\ndimension: 3\nsizes: {} {} {}\nspacings: {} {} "
       "{}\nendian: "
       "little\nencoding: {}\n\n",
-      volume.type == ScalarType::kUint8    ? "uint8"
-      : volume.type == ScalarType::kUint16 ? "uint16"
-                                           : "float",
-      volume.dims.x, volume.dims.y, volume.dims.z, volume.spacing.x, volume.spacing.y,
-      volume.spacing.z, encoding == NrrdEncoding::kRaw ? "raw" : "gzip");
+      NrrdTypeName(volume.type), volume.dims.x, volume.dims.y, volume.dims.z, volume.spacing.x,
+      volume.spacing.y, volume.spacing.z, encoding == NrrdEncoding::kRaw ? "raw" : "gzip");
   if (encoding == NrrdEncoding::kRaw) {
     out.write(reinterpret_cast<const char*>(volume.bytes.data()),
               static_cast<std::streamsize>(volume.bytes.size()));
@@ -552,11 +1074,33 @@ void WriteNrrd(const fs::path& path, const Volume& volume, NrrdEncoding encoding
   AtomicWriteStream(path, [&](std::ostream& out) { WriteNrrd(out, volume, encoding); });
 }
 
+Volume ReadNifti(std::istream& in, std::string_view name) {
+  // .nii.gz: the whole file is one gzip stream (magic 1f 8b).
+  const int c0 = in.peek();
+  if (c0 == 0x1f) {
+    GzipDecoder gz(in, "ReadNifti", name);
+    return ReadNiftiFrom(gz, name);
+  }
+  RawDecoder raw(in);
+  return ReadNiftiFrom(raw, name);
+}
+
+Volume ReadNifti(const fs::path& path) {
+  auto in = OpenBinary(path, "ReadNifti");
+  return ReadNifti(in, path.string());
+}
+
 Volume ReadVolume(const fs::path& path) {
+  const std::string file = path.filename().string();
   const std::string ext = path.extension().string();
   if (ext == ".dat") return ReadQVis(path);
   if (ext == ".nrrd" || ext == ".nhdr") return ReadNrrd(path);
-  ThrowFileError("ReadVolume", path, "unknown volume format '{}' (.dat for QVis, .nrrd or .nhdr)",
+  if (EndsWith(file, ".nii") || EndsWith(file, ".nii.gz")) return ReadNifti(path);
+  std::error_code ec;
+  if (fs::is_directory(path, ec)) return ReadDicomSeries(path);
+  ThrowFileError("ReadVolume", path,
+                 "unknown volume format '{}' (.dat for QVis, .nrrd or .nhdr, .nii or .nii.gz, or "
+                 "a folder of DICOM slices)",
                  ext);
 }
 

@@ -1,6 +1,9 @@
 // Volume files: the QVis pair (a text .dat header + a headerless .raw, the
-// format of the Open SciVis / VolVis collections) and NRRD (teem's format, raw
-// or gzip encoding, attached or detached data).
+// format of the Open SciVis / VolVis collections), NRRD (teem's format: raw,
+// gzip or bzip2; attached data or detached in one file, a list or a %d
+// pattern of files), NIfTI-1/2 (.nii, .nii.gz) and DICOM series (a folder of
+// slices, through GDCM). Every reader returns the values in the file's own
+// units (NIfTI scl_* and DICOM Rescale* applied) with FitNormalization done.
 //
 // Every reader checks the header (extents, type, spacing) and the size of the
 // data against it BEFORE allocating the volume; data is read in bounded chunks
@@ -43,11 +46,16 @@ void WriteQVisRaw(std::ostream& raw, const Volume& volume);
 void WriteQVis(const std::filesystem::path& dat_path, const Volume& volume);
 
 // ---- NRRD ----
-// Reads NRRD0001..NRRD0005 with dimension 3, type (u)int8/uint16/float (and
-// their aliases), encoding raw | gzip, endian little | big, spacing from
-// "spacings" or the lengths of "space directions" (1 where absent). Data is
-// attached (after the blank line) or, for the path overload only, in a
-// detached "data file" beside the header.
+// Reads NRRD0001..NRRD0005 with dimension 3, every type but 64-bit integers
+// and block (all the spec's aliases), encoding raw | gzip | bzip2, endian
+// little | big, spacing from "spacings" or the lengths of "space directions"
+// (1 where absent; the directions' orientation is not kept), "line skip" and
+// "byte skip" (-1: the data end the file). Data is attached (after the blank
+// line) or, for the path overload only, detached: "data file: NAME", "data
+// file: LIST [SUBDIM]" (the remaining header lines name the files) or "data
+// file: FORMAT MIN MAX STEP [SUBDIM]" (FORMAT with one %d); each file holds
+// an equal part (SUBDIM axes; default 3 for one file, 2 for several), line
+// and byte skip apply to each.
 Volume ReadNrrd(std::istream& in, std::string_view name);
 Volume ReadNrrd(const std::filesystem::path& path);
 
@@ -55,7 +63,22 @@ enum class NrrdEncoding { kRaw, kGzip };
 void WriteNrrd(std::ostream& out, const Volume& volume, NrrdEncoding encoding);
 void WriteNrrd(const std::filesystem::path& path, const Volume& volume, NrrdEncoding encoding);
 
-// By extension: .dat (QVis) or .nrrd / .nhdr (NRRD).
+// ---- NIfTI-1 / NIfTI-2 ----
+// Single-file .nii, plain or gzip-compressed (.nii.gz, detected by the gzip
+// magic), either byte order; datatypes (u)int8/16/32, float32, float64; 3D
+// (higher dimensions only with extent 1). Spacing = |pixdim[1..3]| (the
+// q/s-form orientation is not kept); scl_slope / scl_inter applied.
+Volume ReadNifti(std::istream& in, std::string_view name);
+Volume ReadNifti(const std::filesystem::path& path);
+
+// ---- DICOM ----
+// The slices in `dir` (files without an Image Position are left out; one
+// series only), ordered along the slice normal; spacing from PixelSpacing
+// and the slices' positions; RescaleSlope / RescaleIntercept applied.
+Volume ReadDicomSeries(const std::filesystem::path& dir);
+
+// By name: .dat (QVis), .nrrd / .nhdr (NRRD), .nii / .nii.gz (NIfTI), a
+// folder (DICOM series).
 Volume ReadVolume(const std::filesystem::path& path);
 
 }  // namespace core

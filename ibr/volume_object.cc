@@ -14,7 +14,8 @@
 namespace ibr {
 
 core::TransferFunction TransferForVolume(const std::string& name,
-                                         const std::filesystem::path& volume_path) {
+                                         const std::filesystem::path& volume_path,
+                                         const core::Volume* volume) {
   if (!name.empty()) return core::TransferFromPresetOrFile(name);
   std::string stem = volume_path.filename().string();
   std::transform(stem.begin(), stem.end(), stem.begin(),
@@ -22,7 +23,16 @@ core::TransferFunction TransferForVolume(const std::string& name,
   for (const char* preset : {"tooth", "neghip", "bucky"}) {
     if (stem.rfind(preset, 0) == 0) return core::TransferPreset(preset);
   }
-  return core::TransferPreset("ramp");
+  if (volume == nullptr) return core::TransferPreset("ramp");
+  const core::VolumeStats st = core::ComputeVolumeStats(*volume);
+  // The 50th..99th percentile window: the upper half of the values, so the
+  // most common value (air in a CT, the background of a scan) stays
+  // transparent instead of fogging long rays, and outliers (metal, padding)
+  // do not squeeze the data into a sliver. Narrower distributions fall back
+  // to the 1st..99th percentiles, then to the whole range.
+  if (st.p99 > st.p50) return core::WindowTransfer(st.p50, st.p99);
+  if (st.p99 > st.p1) return core::WindowTransfer(st.p1, st.p99);
+  return core::WindowTransfer(st.min, st.max);
 }
 
 namespace {
@@ -48,7 +58,8 @@ VolumeObjectData MakeVolumeObject(core::Volume volume, const core::TransferFunct
                                   const glm::dvec3& placement_scale, const std::string& where) {
   VolumeObjectData s;
   s.volume = std::move(volume);
-  s.transfer = transfer;
+  s.stats = core::ComputeVolumeStats(s.volume);
+  s.transfer = core::NormalizedTransfer(transfer, s.volume.NormalizationRange());
   const glm::vec3 extent(s.volume.Extent());
   s.world_from_volume = glm::scale(glm::translate(glm::mat4(1.0f), -0.5f * extent), extent);
   s.radius = 0.5 * glm::length(s.volume.Extent());
@@ -96,25 +107,37 @@ VolumeObjectChange UpdateVolumeObject(VolumeObjectData& data,
   return change;
 }
 
-void ApplyVolumeMode(const std::string& mode, render::VolumePassOptions& options,
-                     const std::string& where) {
+std::optional<double> ApplyVolumeMode(const std::string& mode, render::VolumePassOptions& options,
+                                      const std::string& where) {
   if (mode == "dvr") {
     options.mode = render::VolumeMode::kDvr;
-    return;
+    return std::nullopt;
   }
   if (mode.rfind("iso:", 0) == 0) {
     try {
       size_t used = 0;
       const double v = std::stod(mode.substr(4), &used);
-      if (used == mode.size() - 4 && std::isfinite(v) && v >= 0 && v <= 1) {
+      if (used == mode.size() - 4 && std::isfinite(v)) {
         options.mode = render::VolumeMode::kIso;
-        options.iso_value = v;
-        return;
+        return v;
       }
     } catch (const std::exception&) {
     }
   }
-  core::ThrowInputError(where, "'{}': expected dvr or iso:VALUE (VALUE in [0, 1])", mode);
+  core::ThrowInputError(where, "'{}': expected dvr or iso:VALUE (VALUE in the volume's units)",
+                        mode);
+}
+
+void SetIsoValue(const VolumeObjectData& data, double value, render::VolumePassOptions& options,
+                 const std::string& where) {
+  const core::VolumeStats& st = data.stats;
+  if (!(value >= st.min && value <= st.max)) {
+    core::ThrowInputError(where,
+                          "iso value {} is outside the data range [{}, {}] (percentiles 1/50/99: "
+                          "{} / {} / {})",
+                          value, st.min, st.max, st.p1, st.p50, st.p99);
+  }
+  options.iso_value = data.volume.ToNormalized(value);
 }
 
 VolumeObjectOptions VolumeObjectOptionsFrom(const scene::Settings& s) {
@@ -140,7 +163,7 @@ VolumeObjectOptions VolumeObjectOptionsFrom(const scene::Settings& s) {
     }
   };
   const std::string mode = s.GetString("mode", "dvr");
-  fail_as("mode", [&] { ApplyVolumeMode(mode, o.pass, "mode"); });
+  fail_as("mode", [&] { o.iso_value = ApplyVolumeMode(mode, o.pass, "mode"); });
   o.pass.sampling_distance_voxels = s.GetDouble("spacing", o.pass.sampling_distance_voxels);
   o.pass.displacement_bits = s.GetInt("displacement_bits", o.pass.displacement_bits);
   const std::string lighting =
@@ -167,13 +190,17 @@ LoadedVolume LoadVolumeObject(const scene::Object& o) {
   core::TransferFunction transfer;
   const scene::Setting* t = o.settings.Find("transfer");
   try {
-    transfer = TransferForVolume(t ? t->value.get<std::string>() : "", o.volume);
+    transfer = TransferForVolume(t ? t->value.get<std::string>() : "", o.volume, &volume);
   } catch (const core::InputError& e) {
     throw core::InputError(fmt::format("{}: {}", t ? t->where : o.where, e.what()));
   }
   l.data = MakeVolumeObject(std::move(volume), transfer, l.options.effect, l.options.map_size,
                             glm::dvec3(0.0), glm::dvec3(1.0), o.where);
   l.data.world_from_volume = glm::mat4(o.world_from_object) * l.data.world_from_volume;
+  if (l.options.iso_value) {
+    const scene::Setting* m = o.settings.Find("mode");
+    SetIsoValue(l.data, *l.options.iso_value, l.options.pass, m ? m->where : o.where);
+  }
   return l;
 }
 

@@ -21,7 +21,8 @@ namespace ibr {
 // Everything a render::VolumePass needs.
 struct VolumeObjectData {
   core::Volume volume;
-  core::TransferFunction transfer;
+  core::VolumeStats stats;          // of the volume's stored values (iso range, info)
+  core::TransferFunction transfer;  // normalised (core::NormalizedTransfer)
   std::vector<render::VolumeMapInput> maps;
   // Volume texture space -> world: extent-scaled, centred at the origin (the
   // object frame of a scene's volume object, before its transform).
@@ -32,6 +33,8 @@ struct VolumeObjectData {
   glm::dmat4 map_placement{1.0};
 };
 
+// `transfer` may be in stored units (core::TransferUnits::kData): it is
+// converted with the volume's normalisation range.
 // The effect sampled on a map_size grid (thin along axes it does not vary
 // on), placed by translate-then-scale into the volume's texture space
 // (eq. 10's M). InputError naming `where` on a bad size or placement.
@@ -43,13 +46,23 @@ VolumeObjectData MakeVolumeObject(core::Volume volume, const core::TransferFunct
                                   const std::string& where = "ibr volume");
 
 // The transfer function `name` (preset or file) or, when empty, the preset
-// whose name starts the volume's file name (tooth, neghip, bucky), else "ramp".
+// whose name starts the volume's file name (tooth, neghip, bucky), else a
+// grey ramp over the volume's 50th..99th percentile window in stored units
+// (core::WindowTransfer; "ramp" when no volume is given).
 core::TransferFunction TransferForVolume(const std::string& name,
-                                         const std::filesystem::path& volume_path);
+                                         const std::filesystem::path& volume_path,
+                                         const core::Volume* volume = nullptr);
 
-// "dvr" or "iso:VALUE" into options.mode / iso_value; InputError naming `where`.
-void ApplyVolumeMode(const std::string& mode, render::VolumePassOptions& options,
-                     const std::string& where);
+// "dvr" or "iso:VALUE" into options.mode; returns VALUE (the volume's stored
+// units, e.g. HU) for iso, to be set with SetIsoValue once the volume is
+// known. InputError naming `where`.
+std::optional<double> ApplyVolumeMode(const std::string& mode, render::VolumePassOptions& options,
+                                      const std::string& where);
+// options.iso_value (the pass's normalised scalar) from `value` in stored
+// units; InputError naming `where` and the data range when `value` is
+// outside it (an iso surface there would be empty).
+void SetIsoValue(const VolumeObjectData& data, double value, render::VolumePassOptions& options,
+                 const std::string& where);
 
 // A scene's volume object settings (scene/scene.h: effect, map_size, mode,
 // spacing, displacement_bits, lighting, jacobian), errors naming the file and
@@ -58,6 +71,7 @@ struct VolumeObjectOptions {
   std::optional<core::EffectOptions> effect;  // none: plain DVR / iso
   int map_size = 64;                          // texels per axis of the effect's map
   render::VolumePassOptions pass;
+  std::optional<double> iso_value;  // "iso:VALUE" in stored units; LoadVolumeObject sets pass's
   // InputError on bad values: the effect's and the pass's Check(), a map size
   // outside 1..512.
   void Check() const;

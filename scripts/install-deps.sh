@@ -34,6 +34,11 @@ PACKAGES=(
   libcgal-dev python3-openvdb
   # gzip-encoded NRRD volumes (core/volume_io.cc)
   zlib1g-dev
+  # bzip2-encoded NRRD volumes and the NIfTI-1/2 header layouts (core/volume_io.cc);
+  # DICOM series through GDCM (core/volume_dicom.cc)
+  libbz2-dev libnifti2-dev libgdcm-dev
+  # regenerates tests/data/real/volumes/ct_slices (make_ct_slices.py)
+  python3-nibabel
   # the VTK volume-rendering peer (bench/vtk_volume_peer.py: vtkGPUVolumeRayCastMapper under xvfb-run)
   python3-vtk9
   # scripts/ibr-dask: batches of ibr jobs on Dask distributed (local cluster or a scheduler)

@@ -1,5 +1,6 @@
 // `ibr info`: what this machine's GL gives us. `ibr info DIR`: a readable
-// summary of a dataset (cameras, views, depth, bounds).
+// summary of a dataset (cameras, views, depth, bounds). `ibr info VOLUME`: a
+// volume file's type, size, spacing, data range and percentiles.
 #include <fmt/format.h>
 
 #include <cmath>
@@ -10,6 +11,7 @@
 #include "apps/ibr/commands.h"
 #include "capture/dataset.h"
 #include "capture/depth_scale.h"
+#include "core/volume_io.h"
 #include "render/gl/context.h"
 #include "render/gl/shader_program.h"
 #include "scene/scene_keys.h"
@@ -88,13 +90,44 @@ void PrintDataset(const std::filesystem::path& dir) {
   }
 }
 
+// A volume file or a DICOM folder (a dataset folder holds a manifest).
+bool IsVolume(const std::filesystem::path& path) {
+  const std::string name = path.filename().string();
+  for (const char* ext : {".dat", ".nrrd", ".nhdr", ".nii", ".nii.gz"}) {
+    const std::string e = ext;
+    if (name.size() > e.size() && name.compare(name.size() - e.size(), e.size(), e) == 0)
+      return true;
+  }
+  return std::filesystem::is_directory(path) && !std::filesystem::exists(path / "dataset.json");
+}
+
+void PrintVolume(const std::filesystem::path& path) {
+  const core::Volume v = core::ReadVolume(path);
+  const core::VolumeStats st = core::ComputeVolumeStats(v);
+  const glm::dvec3 extent = v.Extent();
+  fmt::print("volume    {}\n", std::filesystem::absolute(path).string());
+  fmt::print("type      {}\n", core::ScalarTypeName(v.type));
+  fmt::print("size      {} x {} x {} voxels ({} bytes)\n", v.dims.x, v.dims.y, v.dims.z,
+             v.bytes.size());
+  fmt::print("spacing   {:.6g} x {:.6g} x {:.6g} (file units, e.g. mm)\n", v.spacing.x, v.spacing.y,
+             v.spacing.z);
+  fmt::print("extent    {:.6g} x {:.6g} x {:.6g}\n", extent.x, extent.y, extent.z);
+  fmt::print("range     {:.6g} .. {:.6g} ({} finite voxels, {} NaN/Inf)\n", st.min, st.max,
+             st.finite, st.non_finite);
+  fmt::print("percentiles 1 / 50 / 99: {:.6g} / {:.6g} / {:.6g}\n", st.p1, st.p50, st.p99);
+  const glm::dvec2 n = v.NormalizationRange();
+  fmt::print("texture   stored values {:.6g} .. {:.6g} map to 0 .. 1\n", n.x, n.y);
+}
+
 void AddInfoCommand(CLI::App& app) {
   static std::filesystem::path dir;
   auto* cmd =
       app.add_subcommand("info",
                          "Without DIR: the OpenGL context this machine gives (headless EGL); "
-                         "with DIR: a summary of the dataset there");
-  cmd->add_option("DIR", dir, "dataset directory (optional)");
+                         "with DIR: a summary of the dataset there; with a volume (.dat, .nrrd, "
+                         ".nhdr, .nii, .nii.gz or a DICOM folder): its type, size, spacing, data "
+                         "range and percentiles");
+  cmd->add_option("DIR", dir, "dataset directory or volume (optional)");
   static bool scene_keys = false;
   cmd->add_flag("--scene-keys", scene_keys,
                 "print every key a scene object takes, per object type (Markdown)");
@@ -103,6 +136,8 @@ void AddInfoCommand(CLI::App& app) {
       fmt::print("{}", scene::ObjectKeysMarkdown());
     } else if (dir.empty()) {
       PrintGlInfo();
+    } else if (IsVolume(dir)) {
+      PrintVolume(dir);
     } else {
       PrintDataset(dir);
     }

@@ -33,7 +33,7 @@ void RunVolume(VolumeCommandOptions& o) {
     o.params.Check();
     r.effect = o.params;
   }
-  ibr::ApplyVolumeMode(o.mode, r.pass, std::string(kWhere) + " --mode");
+  r.iso_value = ibr::ApplyVolumeMode(o.mode, r.pass, std::string(kWhere) + " --mode");
   r.pass.lighting = render::VolumeLightingFromName(o.lighting);
   if (!o.placement.empty()) {
     if (o.placement.size() != 6)
@@ -61,7 +61,9 @@ void AddVolumeCommand(CLI::App& app) {
   auto* cmd = app.add_subcommand(
       "volume", "Render a volume with a discontinuous displacement (Correa et al. 2006)");
   auto& r = o.request;
-  cmd->add_option("volume", r.volume, "QVis .dat or NRRD .nrrd/.nhdr")->required();
+  cmd->add_option("volume", r.volume,
+                  "QVis .dat, NRRD .nrrd/.nhdr, NIfTI .nii/.nii.gz or a DICOM folder")
+      ->required();
   cmd->add_option("--effect", o.effect, "none|peel|slices|seam|pull|wave")->capture_default_str();
   cmd->add_option("--peel-angle", o.params.peel_angle_deg, "peel: degrees")->capture_default_str();
   cmd->add_option("--peel-thickness", o.params.peel_thickness, "peel: layer thickness, map units")
@@ -88,13 +90,16 @@ void AddVolumeCommand(CLI::App& app) {
       ->capture_default_str();
   cmd->add_option("--placement", o.placement, "map cube in volume texture space: tx ty tz sx sy sz")
       ->expected(6);
-  cmd->add_option("--mode", o.mode, "dvr | iso:VALUE (normalised scalar)")->capture_default_str();
+  cmd->add_option("--mode", o.mode, "dvr | iso:VALUE (in the volume's own units, e.g. HU)")
+      ->capture_default_str();
   cmd->add_option("--lighting", o.lighting, "none|gradient|transformed|blended (Fig. 4 a-d)")
       ->capture_default_str();
   cmd->add_option("--spacing", r.pass.sampling_distance_voxels, "sampling distance, voxels")
       ->capture_default_str();
   cmd->add_option("--transfer", r.transfer,
-                  "preset (tooth, neghip, bucky, ramp, empty) or JSON file");
+                  "preset (tooth, neghip, bucky, ramp, empty) or JSON file (\"units\": "
+                  "\"data\" for points in the volume's units); default: the preset named like "
+                  "the volume, else a ramp over its 1st-99th percentile window");
   cmd->add_option("--displacement-bits", r.pass.displacement_bits, "8 | 16 | 32")
       ->capture_default_str();
   cmd->add_flag("!--no-support-skip", r.pass.support_skip,

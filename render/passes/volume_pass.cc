@@ -10,6 +10,7 @@
 
 #include "core/check.h"
 #include "core/error.h"
+#include "core/memory_budget.h"
 #include "render/gl/gl_state.h"
 
 namespace render {
@@ -25,6 +26,11 @@ namespace {
 // (tests/render/passes/volume_pass_test.cc), where llvmpipe filters 8-bit
 // textures with 8-bit weights, far coarser.
 Texture UploadSamples(const core::Volume& v) {
+  // The RGBA32F texels here and the driver's copy of them (llvmpipe keeps
+  // textures in system memory).
+  core::CheckMemory(
+      v.voxel_count() * 2 * sizeof(glm::vec4), "VolumePass",
+      fmt::format("the {} x {} x {} volume's sample texture", v.dims.x, v.dims.y, v.dims.z));
   std::vector<glm::vec4> g(v.voxel_count());
   for (int z = 0; z < v.dims.z; ++z)
     for (int y = 0; y < v.dims.y; ++y)

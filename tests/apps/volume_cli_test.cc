@@ -1,10 +1,13 @@
 // `ibr volume` end to end: QVis and NRRD volumes with each effect, DVR and
-// iso, written as PNG; bad input (short raw file, absurd header sizes, NaN in
+// iso, written as PNG; real CT / MRI files (tests/data/real/volumes) in their
+// own units; bad input (short raw file, absurd header sizes, NaN in
 // a transfer function, unknown effect, ...) gives one error line, a non-zero
 // exit and no output file.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <string>
@@ -69,7 +72,7 @@ TEST_F(VolumeCliTest, RendersEveryEffectAndMode) {
            dat + " --effect peel --brick-texels 0",
            dat + " --effect seam --brick-texels 2 --no-support-skip",
            dat + " --effect slices --displacement-bits 8 --lighting transformed",
-           dat + " --effect seam --mode iso:0.3 --lighting blended",
+           dat + " --effect seam --mode iso:76 --lighting blended",  // stored units (uint8)
            nrrd + " --effect pull --map-size 32 --spacing 0.5",
            nrrd + " --effect wave --displacement-bits 32 --placement 0.1 0.1 0 0.8 0.8 1",
        }) {
@@ -117,9 +120,10 @@ TEST_F(VolumeCliTest, BadInputGivesOneErrorLineAndNoOutput) {
       {(dir_ / "absent.dat").string(), "absent.dat"},
       {ball + " --transfer " + nan_tf.string(), "nan_tf.json"},
       {ball + " --transfer " + unsorted_tf.string(), "unsorted_tf.json"},
-      {ball + " --transfer nosuchpreset", "nosuchpreset"},
+      {ball + " --transfer nosuchpreset", "neither a preset (tooth, neghip, bucky, ramp, empty)"},
       {ball + " --effect melt", "melt"},
-      {ball + " --mode iso:2", "iso:2"},
+      {ball + " --mode iso:300", "iso value 300 is outside the data range [0, 235]"},
+      {ball + " --mode iso:nan", "iso:nan"},
       {ball + " --mode fog", "fog"},
       {ball + " --lighting spot", "spot"},
       {ball + " --displacement-bits 12", "12"},
@@ -145,6 +149,170 @@ TEST_F(VolumeCliTest, BadInputGivesOneErrorLineAndNoOutput) {
       EXPECT_EQ(e.path().filename().string().find("bad.png"), std::string::npos)
           << c.args << ": left " << e.path();
   }
+}
+
+fs::path RealVolumes() { return fs::path(IBR_REAL_DATA_DIR) / "volumes"; }
+
+core::Image8 RenderOk(const std::string& args, const fs::path& out) {
+  fs::remove(out);
+  const auto r =
+      test_support::RunCommand(test_support::IbrBinary() + " --log-level error volume " + args +
+                               " --size 96 --azimuth 30 --elevation 20 --out " + out.string());
+  EXPECT_EQ(r.exit_code, 0) << args << "\n" << r.err;
+  if (r.exit_code != 0) return core::Image8(1, 1, 4);
+  return core::ReadImage<uint8_t>(out);
+}
+
+// Pixels the volume's box covers: the volume drawn with every value opaque
+// white (a transfer function in data units with one point).
+// Mean grey level (0..255) of the covered pixels.
+double CoveredGrey(const core::Image8& image) {
+  double sum = 0;
+  int n = 0;
+  for (int y = 0; y < image.height(); ++y)
+    for (int x = 0; x < image.width(); ++x) {
+      int diff = 0;
+      for (int c = 0; c < 3; ++c) diff += std::abs(image.at(x, y, c) - image.at(0, 0, c));
+      if (diff <= 6) continue;
+      sum += (image.at(x, y, 0) + image.at(x, y, 1) + image.at(x, y, 2)) / 3.0;
+      ++n;
+    }
+  return n ? sum / n : 0;
+}
+
+int Footprint(const std::string& volume, const fs::path& dir) {
+  const fs::path opaque = dir / "opaque.json";
+  std::ofstream(opaque) << R"({"units": "data", "points": [[0, 1, 1, 1, 1]]})";
+  return Covered(RenderOk(volume + " --transfer " + opaque.string(), dir / "footprint.png"));
+}
+
+// A real signed 16-bit CT (HU): DVR with the default transfer function (a
+// ramp over its 50th..99th percentile window, -91..188 HU) is not black, and
+// iso surfaces at values in HU draw (skin at -300 wraps bone at 300); an iso
+// value outside the data range is refused naming the range.
+TEST_F(VolumeCliTest, RealCtRendersByDefaultDvrAndAsAnIsoSurfaceInHu) {
+  const std::string ct = (RealVolumes() / "ct_totalseg_example_ct_sm.nii.gz").string();
+  const int box = Footprint(ct, dir_);
+  const core::Image8 dvr = RenderOk(ct, dir_ / "ct_dvr.png");
+  const core::Image8 bone = RenderOk(ct + " --mode iso:300", dir_ / "ct_iso300.png");
+  const core::Image8 skin = RenderOk(ct + " --mode iso:-300", dir_ / "ct_iso-300.png");
+  const int dvr_covered = Covered(dvr), bone_covered = Covered(bone), skin_covered = Covered(skin);
+  std::printf(
+      "CT: box %d px; default DVR %d px (mean grey %.1f); iso 300 HU %d px; iso -300 HU %d px\n",
+      box, dvr_covered, CoveredGrey(dvr), bone_covered, skin_covered);
+  // The body fills most of the CT's box (the air around it is transparent
+  // by default); before signed types and the data-range window, nothing.
+  EXPECT_GT(dvr_covered, box / 2);
+  EXPECT_GT(CoveredGrey(dvr), 64);  // a quarter of full white: not near-black
+  EXPECT_GT(skin_covered, box / 2);
+  // Bone (1 % of the voxels are above 188 HU) draws, inside the skin.
+  EXPECT_GT(bone_covered, 0);
+  EXPECT_LT(bone_covered, skin_covered);
+  const auto r = Volume(ct + " --mode iso:5000 --size 32 --out " + (dir_ / "x.png").string());
+  EXPECT_NE(r.exit_code, 0);
+  EXPECT_NE(r.err.find("iso value 5000 is outside the data range [-1100, 1207]"), std::string::npos)
+      << r.err;
+  EXPECT_EQ(test_support::CountLines(r.err), 1) << r.err;
+}
+
+// A real DICOM CT series (20 slices, 12 bits stored + intercept -> HU,
+// 0.98 x 0.98 x 2 mm) renders by DVR with the default transfer function and
+// as a bone iso surface.
+TEST_F(VolumeCliTest, RealDicomSeriesRendersInHu) {
+  const std::string dicom = (RealVolumes() / "ct_dicom_totalseg").string();
+  const int box = Footprint(dicom, dir_);
+  const core::Image8 dvr = RenderOk(dicom, dir_ / "dicom_dvr.png");
+  const core::Image8 bone = RenderOk(dicom + " --mode iso:300", dir_ / "dicom_iso.png");
+  std::printf("DICOM CT: box %d px; default DVR %d px; iso 300 HU %d px\n", box, Covered(dvr),
+              Covered(bone));
+  // The body within the scanner's circular field of view: a good part of
+  // the square slab.
+  EXPECT_GT(Covered(dvr), box / 4);
+  EXPECT_GT(Covered(bone), 0);
+  EXPECT_LT(Covered(bone), Covered(dvr));
+}
+
+// The same CT split into one gzip NRRD file per slice (a %03d pattern and a
+// LIST) renders the same image as the NIfTI it came from.
+TEST_F(VolumeCliTest, SlicePerFileNrrdRendersLikeItsSource) {
+  const core::Image8 nifti =
+      RenderOk((RealVolumes() / "ct_totalseg_example_ct_sm.nii.gz").string() + " --mode iso:300",
+               dir_ / "src.png");
+  for (const char* header : {"ct_slices_pattern.nhdr", "ct_slices_list.nhdr"}) {
+    const core::Image8 slices =
+        RenderOk((RealVolumes() / header).string() + " --mode iso:300", dir_ / "slices.png");
+    EXPECT_GT(Covered(slices), 0) << header;
+    EXPECT_TRUE(slices == nifti) << header << ": differs from the NIfTI render";
+  }
+}
+
+// A 12-bit scan in 16 bits (values 0..4095 of 65535): with no transfer
+// function named, the default window makes it visible.
+TEST_F(VolumeCliTest, TwelveBitScanIsNotBlackByDefault) {
+  const int n = 24;
+  core::Volume v = core::Volume::Zeros({n, n, n}, core::ScalarType::kUint16);
+  for (int z = 0; z < n; ++z)
+    for (int y = 0; y < n; ++y)
+      for (int x = 0; x < n; ++x) {
+        const double r = std::hypot(x + 0.5 - n / 2.0, y + 0.5 - n / 2.0, z + 0.5 - n / 2.0);
+        v.SetValue(x, y, z, std::clamp(4095 * (1 - r / (0.45 * n)), 0.0, 4095.0));
+      }
+  core::WriteNrrd(dir_ / "scan12.nrrd", v, core::NrrdEncoding::kGzip);
+  const std::string scan = (dir_ / "scan12.nrrd").string();
+  const int box = Footprint(scan, dir_);
+  const int covered = Covered(RenderOk(scan, dir_ / "scan12.png"));
+  std::printf("12-bit ball, default transfer: %d px of its box's %d\n", covered, box);
+  // The ball's disc is pi * 0.45^2 / 1 of the box's square face, about 60 %
+  // (less from 20 degrees above, the box's top adds to its footprint).
+  EXPECT_GT(covered, box / 3);
+}
+
+// Non-cubic voxels render at their true shape: pyradiomics' breast MRI
+// (45 x 120 x 21 voxels of 0.664 x 0.664 x 2.1 mm) drawn opaque, seen along
+// +x from the orbit's eye (azimuth 0, elevation 0: image right = y, up = z).
+// The silhouette is the box's near face, y : z = 79.7 : 44.1 mm = 1.807
+// (voxel counts alone would give 120 : 21 = 5.7).
+TEST_F(VolumeCliTest, NonCubicVoxelsRenderAtTheirTrueShape) {
+  const fs::path opaque = dir_ / "opaque.json";
+  std::ofstream(opaque) << R"({"units": "data", "points": [[0, 1, 1, 1, 1]]})";
+  const fs::path out = dir_ / "breast.png";
+  const auto r =
+      Volume((RealVolumes() / "mri_pyradiomics_breast1.nrrd").string() + " --transfer " +
+             opaque.string() + " --azimuth 0 --elevation 0 --size 192 --out " + out.string());
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const core::Image8 image = core::ReadImage<uint8_t>(out);
+  int x0 = image.width(), x1 = -1, y0 = image.height(), y1 = -1;
+  for (int y = 0; y < image.height(); ++y)
+    for (int x = 0; x < image.width(); ++x) {
+      int diff = 0;
+      for (int c = 0; c < 3; ++c) diff += std::abs(image.at(x, y, c) - image.at(0, 0, c));
+      if (diff <= 6) continue;
+      x0 = std::min(x0, x), x1 = std::max(x1, x), y0 = std::min(y0, y), y1 = std::max(y1, y);
+    }
+  ASSERT_GE(x1, x0);
+  const double width = x1 - x0 + 1, height = y1 - y0 + 1;
+  const double expected = (120 * 0.664062) / (21 * 2.1);
+  std::printf("breast MRI silhouette %.0f x %.0f px: ratio %.3f, true shape %.3f\n", width, height,
+              width / height, expected);
+  // One pixel of rounding at each edge of a ~130 x 73 px silhouette.
+  EXPECT_NEAR(width / height, expected, expected * (2 / width + 2 / height));
+}
+
+TEST_F(VolumeCliTest, InfoPrintsTypeSizeSpacingRangeAndPercentiles) {
+  const auto r =
+      test_support::RunCommand(test_support::IbrBinary() + " --log-level error info " +
+                               (RealVolumes() / "ct_totalseg_example_ct_sm.nii.gz").string());
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  for (const char* expect :
+       {"type      int16", "size      122 x 101 x 30 voxels", "spacing   3 x 3 x 3",
+        "range     -1100 .. 1207", "percentiles 1 / 50 / 99: -1013 / -91 / 188"}) {
+    EXPECT_NE(r.out.find(expect), std::string::npos) << expect << "\n" << r.out;
+  }
+  const auto mri =
+      test_support::RunCommand(test_support::IbrBinary() + " --log-level error info " +
+                               (RealVolumes() / "mri_pyradiomics_breast1.nrrd").string());
+  ASSERT_EQ(mri.exit_code, 0) << mri.err;
+  EXPECT_NE(mri.out.find("spacing   0.664062 x 0.664062 x 2.1"), std::string::npos) << mri.out;
 }
 
 }  // namespace

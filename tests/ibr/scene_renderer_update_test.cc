@@ -276,11 +276,12 @@ TEST_F(SceneRendererVolumeUpdateTest, LightingChangesThePassOptionsAlone) {
   EXPECT_GT(Drawn(after), 500);
   EXPECT_GT(Difference(before.color, after.color).first, 50) << "blended vs gradient lighting";
 
-  // The mode: iso at 0.5 (the pass's name follows).
+  // The mode: iso at 0.5 normalised, 127.5 in the uint8 ball's stored units
+  // (the pass's name follows).
   options.pass.mode = render::VolumeMode::kIso;
   renderer.UpdateVolume(loaded, 0, options);
   EXPECT_EQ(renderer.PassNames(), std::vector<std::string>{"volume:iso"});
-  LoadedScene iso = LoadScene(programs(), Ball(R"(, "lighting": "gradient", "mode": "iso:0.5")"));
+  LoadedScene iso = LoadScene(programs(), Ball(R"(, "lighting": "gradient", "mode": "iso:127.5")"));
   SceneRenderer iso_renderer(programs(), iso);
   EXPECT_EQ(renderer.Render(loaded.views.front().view).color,
             iso_renderer.Render(iso.views.front().view).color);

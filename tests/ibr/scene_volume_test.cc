@@ -167,7 +167,7 @@ TEST_F(SceneVolumeTest, DvrVolumeCompositesWithOpaqueMeshesByDepth) {
 
 TEST_F(SceneVolumeTest, IsoVolumeIsOpaqueAndWritesDepth) {
   const std::string iso =
-      R"({"name": "block", "type": "volume", "volume": "block.dat", "mode": "iso:0.5",)"
+      R"({"name": "block", "type": "volume", "volume": "block.dat", "mode": "iso:1",)"
       R"( "lighting": "none", "transform": {"scale": 0.0625}})";
   const SceneFrame f = Render({iso, kFront});
   EXPECT_EQ(passes_, (std::vector<std::string>{"volume:iso", "mesh"}));
