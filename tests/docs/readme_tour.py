@@ -24,7 +24,7 @@ def sh_blocks(text):
     return [m.group(1) for m in re.finditer(r"^```sh\n(.*?)^```", text, re.S | re.M)]
 
 
-def lay_stand_ins(folder, shared, ibr):
+def lay_stand_ins(folder, shared, source, ibr):
     """A user's own files, as the README's own-data blocks name them."""
     meshes = os.path.join(shared, "meshes")
     shutil.copy(os.path.join(meshes, "spot.obj"), os.path.join(folder, "mesh.obj"))
@@ -33,14 +33,10 @@ def lay_stand_ins(folder, shared, ibr):
     subprocess.run(["oiiotool", "--pattern", "noise:type=uniform:min=0:max=1", "256x256", "1",
                     "--blur", "5x5", "-d", "uint8", "-o", os.path.join(folder, "height.png")],
                    check=True)
-    volumes = os.path.join(shared, "volumes")
-    for ext in ("dat", "raw"):
-        shutil.copy(os.path.join(volumes, "tooth_103x94x161_uint8." + ext),
-                    os.path.join(folder, "scan." + ext))
-    with open(os.path.join(folder, "scan.dat")) as f:
-        dat = f.read().replace("tooth_103x94x161_uint8.raw", "scan.raw")
-    with open(os.path.join(folder, "scan.dat"), "w") as f:
-        f.write(dat)
+    # A real signed 16-bit CT (tests/data/real/volumes/README.md says whose).
+    shutil.copy(os.path.join(source, "tests", "data", "real", "volumes",
+                             "ct_totalseg_example_ct_sm.nii.gz"),
+                os.path.join(folder, "scan.nii.gz"))
     shutil.copytree(os.path.join(shared, "rgbd", "redwood5"), os.path.join(folder, "redwood"))
     # A COLMAP dense workspace, as `colmap image_undistorter` + stereo would leave it.
     ring = os.path.join(tempfile.mkdtemp(dir=folder), "ring")
@@ -65,7 +61,7 @@ def main():
     env = dict(os.environ, PATH=bin_dir + os.pathsep + os.environ["PATH"])
     failed = 0
     try:
-        lay_stand_ins(folder, shared, ibr)
+        lay_stand_ins(folder, shared, os.path.dirname(readme), ibr)
         for i, block in enumerate(blocks, 1):
             start = time.time()
             run = subprocess.run(["bash", "-euo", "pipefail", "-c", block], cwd=folder, env=env,
