@@ -50,7 +50,9 @@ TEST(SceneKeysDefaults, EveryWrittenDefaultParses) {
         case scene::ObjectType::kDepthObject:
         case scene::ObjectType::kVisualHull:
           // Sub-texel depth applies to depth objects on the ray path only.
-          if (k.key != "depth_lookup") EXPECT_NO_THROW(DepthObjectOptionsFrom(s));
+          if (k.key != "depth_lookup") {
+            EXPECT_NO_THROW(DepthObjectOptionsFrom(s));
+          }
           break;
         case scene::ObjectType::kDisplacedMesh:
           EXPECT_NO_THROW(DisplacedMeshOptionsFrom(s));

@@ -79,7 +79,9 @@ TEST(SceneKeys, TheReaderTakesTheTablesEffectKeysAndRefusesOthers) {
     const Scene s = ReadScene(in, "t.json", options);
     ASSERT_EQ(s.objects.size(), 1u);
     for (const KeySpec& k : kind.keys) {
-      if (k.effect) EXPECT_TRUE(s.objects[0].settings.Has(std::string(k.key))) << k.key;
+      if (k.effect) {
+        EXPECT_TRUE(s.objects[0].settings.Has(std::string(k.key))) << k.key;
+      }
     }
     std::stringstream bad("{\"version\": 1, \"cameras\": {\"orbit\": {}}, \"objects\": [" + object +
                           ", \"no_such_key\": 1}]}");
