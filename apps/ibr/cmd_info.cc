@@ -11,6 +11,7 @@
 #include "apps/ibr/commands.h"
 #include "capture/dataset.h"
 #include "capture/depth_scale.h"
+#include "core/error.h"
 #include "core/volume_io.h"
 #include "render/gl/context.h"
 #include "render/gl/shader_program.h"
@@ -136,6 +137,15 @@ void AddInfoCommand(CLI::App& app) {
       fmt::print("{}", scene::ObjectKeysMarkdown());
     } else if (dir.empty()) {
       PrintGlInfo();
+    } else if (IsVolume(dir) && std::filesystem::is_directory(dir)) {
+      // A folder without a manifest: a DICOM series, or a dataset missing its dataset.json.
+      try {
+        PrintVolume(dir);
+      } catch (const core::InputError& e) {
+        core::ThrowFileError("ibr info", dir,
+                             "no dataset.json (not a dataset) and not a DICOM series ({})",
+                             e.what());
+      }
     } else if (IsVolume(dir)) {
       PrintVolume(dir);
     } else {
