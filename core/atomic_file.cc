@@ -2,6 +2,7 @@
 
 #include <dirent.h>
 #include <fcntl.h>
+#include <pthread.h>
 #include <sys/stat.h>
 #include <unistd.h>
 
@@ -87,8 +88,19 @@ void RemoveTreeAt(int dirfd, const char* name, int depth) {
 }
 
 std::atomic<int> g_handling_signal{0};
+pthread_t g_main_thread;
+std::atomic<bool> g_main_thread_known{false};
 
 extern "C" void CleanupOnSignal(int sig) {
+  // A kill or Ctrl-C may land on any thread (a GL driver's workers too) while
+  // the main thread goes on writing into the staging folders: removing them
+  // from here would race those writes. The main thread takes the signal over,
+  // so nothing is written while they are removed. An abort stays on the
+  // thread that aborts, which cannot return.
+  if (sig != SIGABRT && g_main_thread_known.load(std::memory_order_acquire) &&
+      !pthread_equal(pthread_self(), g_main_thread) && pthread_kill(g_main_thread, sig) == 0) {
+    return;
+  }
   if (g_handling_signal.exchange(1) == 0) {
     for (CleanupSlot& slot : g_cleanup) {
       if (slot.state.load(std::memory_order_acquire) == 2) RemoveTreeAt(AT_FDCWD, slot.path, 0);
@@ -243,6 +255,8 @@ void RemoveStaleStaging(const fs::path& path) {
 }
 
 void InstallCleanupSignalHandlers() {
+  g_main_thread = pthread_self();
+  g_main_thread_known.store(true, std::memory_order_release);
   struct sigaction action = {};
   action.sa_handler = CleanupOnSignal;
   sigemptyset(&action.sa_mask);

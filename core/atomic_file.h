@@ -53,6 +53,8 @@ void RemoveStaleStaging(const std::filesystem::path& path);
 // SIGINT, SIGTERM, SIGHUP and SIGABRT remove every live staging path (with
 // async-signal-safe calls only) and then re-raise the signal with its default
 // action, so the exit status still says which signal ended the process.
+// Call it from the thread that writes the outputs (main): a signal another
+// thread receives is handed to that thread.
 void InstallCleanupSignalHandlers();
 
 // Calls write(tmp_path) and renames tmp_path to `path` if it returns without

@@ -1,5 +1,6 @@
 #include "core/atomic_file.h"
 
+#include <fmt/format.h>
 #include <gtest/gtest.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -8,6 +9,7 @@
 #include <cstdlib>
 #include <fstream>
 #include <set>
+#include <thread>
 
 #include "core/error.h"
 #include "tests/support/gl_test.h"
@@ -264,6 +266,45 @@ void ExpectSignalRemovesStaging(int sig) {
   EXPECT_TRUE(WIFSIGNALED(status));
   EXPECT_EQ(WTERMSIG(status), sig);
   EXPECT_EQ(Entries(root), std::set<std::string>{}) << "left behind by signal " << sig;
+  for (int fd : {ready[0], ready[1], go[0], go[1]}) ::close(fd);
+}
+
+// A process-directed signal may land on a thread other than the one writing
+// (a GL driver's worker): the main thread, still creating files in the
+// staging folder, must not leave any behind. The signal is sent to a helper
+// thread while the main thread writes as fast as it can.
+TEST(StagedDirectory, SignalOnAnotherThreadWhileMainWritesRemovesStaging) {
+  const auto root = test_support::TestOutputDir();
+  int ready[2], go[2];
+  ASSERT_EQ(::pipe(ready), 0);
+  ASSERT_EQ(::pipe(go), 0);
+  const pid_t child = ::fork();
+  ASSERT_GE(child, 0);
+  if (child == 0) {
+    InstallCleanupSignalHandlers();
+    StagedDirectory staged(root / "out");
+    std::thread helper([&] {
+      char go_byte = 0;
+      (void)!::read(go[0], &go_byte, 1);
+      ::pthread_kill(::pthread_self(), SIGTERM);
+      for (;;) ::pause();
+    });
+    for (long i = 0;; ++i) {
+      std::ofstream(staged.path() / fmt::format("f{}", i % 4096)) << i;
+      if (i == 64) (void)!::write(ready[1], "r", 1);
+    }
+  }
+  char byte = 0;
+  ASSERT_EQ(::read(ready[0], &byte, 1), 1);
+  EXPECT_GT(Entries(root).size(), 0u);
+  ASSERT_EQ(::write(go[1], "g", 1), 1);
+  int status = 0;
+  ASSERT_EQ(::waitpid(child, &status, 0), child);
+  EXPECT_TRUE(WIFSIGNALED(status));
+  if (WIFSIGNALED(status)) {
+    EXPECT_EQ(WTERMSIG(status), SIGTERM);
+  }
+  EXPECT_EQ(Entries(root), std::set<std::string>{}) << "left behind by a signal on another thread";
   for (int fd : {ready[0], ready[1], go[0], go[1]}) ::close(fd);
 }
 
