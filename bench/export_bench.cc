@@ -109,9 +109,10 @@ ExportBenchResult RunExportBench(render::ProgramCache& programs, const ExportBen
             method, res, stats.total_s(), stats.field_s, stats.extract_s, stats.refine_s,
             stats.colour_s, c.a_to_b_p95, c.b_to_a_p95);
       }
-      if (res == options.resolutions.front()) {
+      if (res == options.resolutions.front() && object == options.objects.front()) {
         // CGAL's surface mesher on the same field, facets about a voxel in
-        // size and within a tenth of a voxel of the surface.
+        // size and within a tenth of a voxel of the surface: once (the
+        // first object, the coarsest resolution), its time is minutes.
         ibr::MeshExportOptions mo;
         mo.voxel_size = voxel;
         const auto field = ibr::MakeObjectField(maps, mo, ibr::kBandVoxels * voxel);

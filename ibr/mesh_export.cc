@@ -214,6 +214,7 @@ Grid MakeGrid(const MapSet& maps, double voxel) {
   for (int a = 0; a < 3; ++a) {
     const int cells = static_cast<int>(std::ceil((hi[a] - lo[a]) / voxel));
     g.dims[a] = cells + 3;
+    g.dims[a] += 1 - g.dims[a] % 2;  // odd: the even samples (FillField's coarse pass) span it
     g.origin[a] = 0.5 * (lo[a] + hi[a]) - 0.5 * (g.dims[a] - 1) * voxel;
   }
   return g;
@@ -225,6 +226,47 @@ double VoxelOf(const MapSet& maps, const MeshExportOptions& options) {
   for (int a = 0; a < 3; ++a)
     edge = std::max(edge, glm::length(glm::dvec3(maps.world_from_box[a])));
   return edge / options.resolution;
+}
+
+// The field on every sample of `g`, in two passes: first the samples with
+// even indices, then each other sample only where the even samples around
+// it (its 2x2x2 cell of them) are not all clamped to the same side of the
+// band; elsewhere it takes their value. Only the narrow band is evaluated
+// densely; a part thinner than two voxels that no even sample reaches can
+// be missed, as a grid of half the resolution would miss it.
+template <typename At>
+void FillField(const ObjectField& field, const Grid& g, float band, const At& at) {
+  auto eval = [&](int i, int j, int k) {
+    at(i, j, k) = static_cast<float>(field(g.origin + g.h * glm::dvec3(i, j, k)));
+  };
+  tbb::parallel_for(tbb::blocked_range<int>(0, (g.dims.x + 1) / 2), [&](const auto& r) {
+    for (int i = 2 * r.begin(); i < 2 * r.end(); i += 2) {
+      for (int j = 0; j < g.dims.y; j += 2) {
+        for (int k = 0; k < g.dims.z; k += 2) eval(i, j, k);
+      }
+    }
+  });
+  tbb::parallel_for(tbb::blocked_range<int>(0, g.dims.x), [&](const auto& r) {
+    for (int i = r.begin(); i != r.end(); ++i) {
+      for (int j = 0; j < g.dims.y; ++j) {
+        for (int k = 0; k < g.dims.z; ++k) {
+          if (i % 2 == 0 && j % 2 == 0 && k % 2 == 0) continue;
+          const int i0 = i & ~1, j0 = j & ~1, k0 = k & ~1;
+          const int i1 = i % 2 ? i0 + 2 : i0, j1 = j % 2 ? j0 + 2 : j0, k1 = k % 2 ? k0 + 2 : k0;
+          const float first = at(i0, j0, k0);
+          bool saturated = std::abs(first) >= band;
+          for (int c = 1; c < 8 && saturated; ++c) {
+            saturated = at(c & 1 ? i1 : i0, c & 2 ? j1 : j0, c & 4 ? k1 : k0) == first;
+          }
+          if (saturated) {
+            at(i, j, k) = first;
+          } else {
+            eval(i, j, k);
+          }
+        }
+      }
+    }
+  });
 }
 
 // The colour one map gives point p: the fraction of its bilinear footprint
@@ -422,15 +464,8 @@ ColouredMesh ExtractObjectMesh(const MapSet& maps, const MeshExportOptions& opti
                                 openvdb::Coord(g.dims.x - 1, g.dims.y - 1, g.dims.z - 1));
   openvdb::tools::Dense<float, openvdb::tools::LayoutZYX> dense(bbox, static_cast<float>(band));
   float* data = dense.data();
-  tbb::parallel_for(tbb::blocked_range<int>(0, g.dims.x), [&](const tbb::blocked_range<int>& r) {
-    for (int i = r.begin(); i != r.end(); ++i) {
-      for (int j = 0; j < g.dims.y; ++j) {
-        for (int k = 0; k < g.dims.z; ++k) {
-          const glm::dvec3 p = g.origin + g.h * glm::dvec3(i, j, k);
-          data[dense.coordToOffset(openvdb::Coord(i, j, k))] = static_cast<float>(field(p));
-        }
-      }
-    }
+  FillField(field, g, static_cast<float>(band), [&](int i, int j, int k) -> float& {
+    return data[dense.coordToOffset(openvdb::Coord(i, j, k))];
   });
   st.field_s = Seconds(t0);
 

@@ -61,8 +61,9 @@ struct MeshExportOptions {
   bool subtexel_depth = true;
   float subtexel_edge = 4.0f;  // texel widths, as DepthObjectOptions::subtexel_edge
   // Bisection steps moving each vertex onto the zero set (0 = volumeToMesh's
-  // interpolated vertex): 10 halve a two-voxel bracket to 1/512 voxel.
-  int refine_steps = 10;
+  // interpolated vertex): 8 narrow a bracket of one or two voxels to 1/128
+  // of a voxel, then the field is interpolated linearly within it.
+  int refine_steps = 8;
   MeshColouring colouring = MeshColouring::kViewDependent;
   void Check() const;
 };
