@@ -4,6 +4,8 @@
 
 #include <bit>
 #include <cstring>
+#include <fstream>
+#include <string>
 
 #include "core/atomic_file.h"
 #include "core/check.h"
@@ -144,10 +146,26 @@ void WriteMeshFile(const std::filesystem::path& path, const TriangleMesh& mesh,
   std::filesystem::path mtl = path;
   mtl.replace_extension(".mtl");
   CheckNotAnInput("WriteMeshFile", mtl);
-  // The material first: an OBJ never names a material file that is missing.
-  AtomicWriteStream(mtl, [&](std::ostream& out) { WriteObjMaterial(out); });
-  AtomicWriteStream(
-      path, [&](std::ostream& out) { WriteObjMesh(out, mesh, colours, mtl.filename().string()); });
+  // A material file beside the OBJ that ibr did not write is the user's.
+  if (std::filesystem::exists(mtl)) {
+    std::ifstream in(mtl);
+    std::string first;
+    std::getline(in, first);
+    if (first.rfind("# written by ibr", 0) != 0) {
+      ThrowFileError("WriteMeshFile", mtl,
+                     "exists and was not written by ibr; the OBJ's material file would replace "
+                     "it: choose another name");
+    }
+  }
+  // The material is written once the OBJ's text is complete, just before
+  // the OBJ is renamed into place: a failed write leaves neither, and an OBJ
+  // never names a material file that is missing.
+  AtomicWriteStream(path, [&](std::ostream& out) {
+    WriteObjMesh(out, mesh, colours, mtl.filename().string());
+    out.flush();
+    if (!out) ThrowFileError("WriteMeshFile", path, "could not be written");
+    AtomicWriteStream(mtl, [&](std::ostream& m) { WriteObjMaterial(m); });
+  });
 }
 
 }  // namespace core

@@ -32,7 +32,9 @@ TEST_F(ExportBenchTest, QuickRunMeasuresEveryMethod) {
     }
     EXPECT_LT(CellNumber(row[t.Column("to_truth_p95")]), 0.01) << method;
     EXPECT_LT(CellNumber(row[t.Column("from_truth_p95")]), 0.01) << method;
-    if (method.rfind("ibr ", 0) == 0) EXPECT_EQ(row[t.Column("closed_outward")], "1") << method;
+    if (method.rfind("ibr ", 0) == 0) {
+      EXPECT_EQ(row[t.Column("closed_outward")], "1") << method;
+    }
   }
 }
 

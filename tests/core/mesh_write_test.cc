@@ -9,6 +9,7 @@
 #include <gtest/gtest.h>
 
 #include <filesystem>
+#include <fstream>
 #include <numbers>
 #include <sstream>
 
@@ -70,6 +71,15 @@ TEST(MeshWrite, BadPathsAreRefusedWithoutAFile) {
   EXPECT_TRUE(std::filesystem::is_empty(dir));
   WriteMeshFile(dir / "a.obj", box, {});
   EXPECT_TRUE(std::filesystem::exists(dir / "a.mtl"));
+  WriteMeshFile(dir / "a.obj", box, {});  // its own material file is replaced
+  // A material file of the user's beside the OBJ is never replaced.
+  { std::ofstream(dir / "b.mtl") << "newmtl mine\n"; }
+  EXPECT_THROW(WriteMeshFile(dir / "b.obj", box, {}), InputError);
+  EXPECT_FALSE(std::filesystem::exists(dir / "b.obj"));
+  std::ifstream mine(dir / "b.mtl");
+  std::string line;
+  std::getline(mine, line);
+  EXPECT_EQ(line, "newmtl mine");
   std::filesystem::remove_all(dir);
 }
 
