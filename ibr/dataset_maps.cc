@@ -81,17 +81,8 @@ double UnseenBoxFraction(const MapSet& maps) {
     bool seen = false;
     for (const ImageMap& m : maps.maps) {
       const glm::dvec3 q(m.cam_from_world * p);
-      const MapCamera& c = m.camera;
       double col = 0, row = 0;
-      if (c.orthographic) {
-        col = c.fx * q.x + c.cx;
-        row = c.fy * q.y + c.cy;
-      } else {
-        if (!(q.z > 0)) continue;
-        col = c.fx * q.x / q.z + c.cx;
-        row = c.fy * q.y / q.z + c.cy;
-      }
-      if (col >= 0 && row >= 0 && col < c.width && row < c.height) {
+      if (m.camera.Project(q, col, row) && m.camera.InImage(col, row)) {
         seen = true;
         break;
       }

@@ -28,6 +28,20 @@ struct MapCamera {
   }
   // Throws core::InputError ("where: ...") unless sizes and scales are positive and finite.
   void Check(const std::string& where) const;
+  // Image coordinates (u, v) of camera point q; false when a pinhole sees q
+  // behind it (q.z <= 0).
+  bool Project(const glm::dvec3& q, double& u, double& v) const {
+    if (orthographic) {
+      u = fx * q.x + cx;
+      v = fy * q.y + cy;
+      return true;
+    }
+    if (!(q.z > 0)) return false;
+    u = fx * q.x / q.z + cx;
+    v = fy * q.y / q.z + cy;
+    return true;
+  }
+  bool InImage(double u, double v) const { return u >= 0 && u < width && v >= 0 && v < height; }
 };
 
 // One registered input image ("displacement map" in the paper's terms).

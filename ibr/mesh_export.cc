@@ -53,16 +53,7 @@ Lookup Project(const FieldMap& m, const glm::dvec3& p) {
   Lookup l;
   l.q = glm::dvec3(m.cam_from_world * glm::dvec4(p, 1.0));
   const MapCamera& c = m.map->camera;
-  bool in_front = true;
-  if (c.orthographic) {
-    l.u = c.fx * l.q.x + c.cx;
-    l.v = c.fy * l.q.y + c.cy;
-  } else {
-    in_front = l.q.z > 0;
-    l.u = c.fx * l.q.x / l.q.z + c.cx;
-    l.v = c.fy * l.q.y / l.q.z + c.cy;
-  }
-  l.inside = in_front && l.u >= 0 && l.u < c.width && l.v >= 0 && l.v < c.height;
+  l.inside = c.Project(l.q, l.u, l.v) && c.InImage(l.u, l.v);
   return l;
 }
 
