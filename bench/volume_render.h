@@ -20,7 +20,7 @@
 namespace bench {
 
 struct VolumeRenderRequest {
-  std::filesystem::path volume;               // .dat (QVis) or .nrrd/.nhdr
+  std::filesystem::path volume;               // core::ReadVolume: QVis, NRRD, NIfTI, DICOM folder
   std::optional<core::EffectOptions> effect;  // none: plain DVR / iso
   int map_size = 64;  // texels per axis of the effect's map (Table 2: 32-128)
   // Where the map's unit cube sits in the volume's texture space: translate

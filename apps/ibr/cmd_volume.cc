@@ -1,4 +1,4 @@
-// `ibr volume VOLUME`: a QVis/NRRD volume with one discontinuous displacement
+// `ibr volume VOLUME`: a QVis/NRRD/NIfTI/DICOM volume with one discontinuous displacement
 // effect (Correa, Silver, Chen 2006) rendered by DVR or as an isosurface.
 // Flags -> bench::VolumeRenderRequest -> bench::RenderVolume -> one line.
 #include <fmt/format.h>
