@@ -22,7 +22,7 @@ namespace fs = std::filesystem;
 
 render::ViewSetup OrbitView(const core::TriangleMesh& base, float max_displacement,
                             double elevation_deg, double azimuth_deg, int size_px) {
-  ibr::DisplacementOrbit orbit;  // 40 degrees, +z up, framed
+  ibr::OrbitCamera orbit;  // 40 degrees, +z up, framed
   orbit.elevation_deg = elevation_deg;
   orbit.azimuth_deg = azimuth_deg;
   return ibr::DisplacementOrbitView(base, max_displacement, orbit, size_px);

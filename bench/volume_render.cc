@@ -20,19 +20,11 @@ namespace bench {
 
 render::ViewSetup VolumeOrbitView(double azimuth_deg, double elevation_deg, double distance,
                                   int size, double radius) {
-  const double el = glm::radians(elevation_deg), az = glm::radians(azimuth_deg);
-  const glm::vec3 horizontal(static_cast<float>(std::cos(az)), static_cast<float>(std::sin(az)), 0);
-  const glm::vec3 to_eye = static_cast<float>(std::cos(el)) * horizontal +
-                           glm::vec3(0, 0, static_cast<float>(std::sin(el)));
-  const glm::vec3 up = -static_cast<float>(std::sin(el)) * horizontal +
-                       glm::vec3(0, 0, static_cast<float>(std::cos(el)));
-  render::ViewSetup v;
-  v.cam_from_world = core::CamFromWorldLookAt(static_cast<float>(distance) * to_eye, {0, 0, 0}, up);
-  const double f = 1.2 * size;
-  v.clip_from_cam = core::ClipFromCamPerspective(f, f, size / 2.0, size / 2.0, size, size,
-                                                 std::max(1e-3 * radius, distance - 2 * radius),
-                                                 distance + 2 * radius);
-  return v;
+  ibr::OrbitCamera orbit{.elevation_deg = elevation_deg,
+                         .azimuth_deg = azimuth_deg,
+                         .distance = distance,
+                         .fov_deg = glm::degrees(2 * std::atan(1 / 2.4))};  // focal 1.2 size
+  return ibr::OrbitCameraView(glm::vec3(0), static_cast<float>(radius), orbit, size);
 }
 
 core::ImageF DrawVolumeFloat(render::VolumePass& pass, const render::ViewSetup& view, int size) {
@@ -65,7 +57,11 @@ VolumeRenderResult RenderVolume(const VolumeRenderRequest& r) {
   } catch (const core::InputError& e) {
     core::ThrowFileError("ibr volume", r.volume, "{}", e.what());
   }
-  const core::TransferFunction transfer = ibr::TransferForVolume(r.transfer, r.volume, &volume);
+  const core::TransferFunction transfer =
+      r.window_level ? ibr::WindowLevelTransfer(r.window_level->x, r.window_level->y,
+                                                core::ComputeVolumeStats(volume),
+                                                "ibr volume --window/--level")
+                     : ibr::TransferForVolume(r.transfer, r.volume, &volume);
   const ibr::VolumeObjectData scene = ibr::MakeVolumeObject(
       std::move(volume), transfer, r.effect, r.map_size, r.placement_offset, r.placement_scale);
   render::VolumePassOptions pass_options = r.pass;
@@ -81,8 +77,7 @@ VolumeRenderResult RenderVolume(const VolumeRenderRequest& r) {
   std::vector<Shot> shots;
   if (r.cameras.empty()) {
     shots.push_back(
-        {"",
-         VolumeOrbitView(r.azimuth_deg, r.elevation_deg, 3.2 * scene.radius, r.size, scene.radius),
+        {"", ibr::OrbitCameraView(glm::vec3(0), static_cast<float>(scene.radius), r.orbit, r.size),
          r.size, r.size});
   } else {
     const capture::Dataset dataset = capture::ReadDataset(r.cameras);

@@ -13,13 +13,14 @@
 #include "core/transfer_function.h"
 #include "core/volume.h"
 #include "core/volume_displacement.h"
+#include "ibr/views.h"
 #include "ibr/volume_object.h"
 #include "render/passes/volume_pass.h"
 
 namespace bench {
 
 struct VolumeRenderRequest {
-  std::filesystem::path volume;               // .dat (QVis) or .nrrd/.nhdr
+  std::filesystem::path volume;               // core::ReadVolume: QVis, NRRD, NIfTI, DICOM folder
   std::optional<core::EffectOptions> effect;  // none: plain DVR / iso
   int map_size = 64;  // texels per axis of the effect's map (Table 2: 32-128)
   // Where the map's unit cube sits in the volume's texture space: translate
@@ -31,9 +32,14 @@ struct VolumeRenderRequest {
   // sets pass.iso_value from it once the volume is read).
   std::optional<double> iso_value;
   std::string
-      transfer;    // preset or JSON file; empty: the preset named like the volume, else "ramp"
+      transfer;  // preset or JSON file; empty: the preset named like the volume, else "ramp"
+  // Instead of `transfer`: window width and level (centre) in stored units
+  // (ibr::WindowLevelTransfer).
+  std::optional<glm::dvec2> window_level;
   int size = 512;  // pixels (orbit views)
-  double azimuth_deg = 30, elevation_deg = 20;
+  // The orbit view (ibr::OrbitCameraView around the volume's bounding
+  // sphere): +z up, as the light (the paper's Fig. 4); 30 degrees round, 20 up.
+  ibr::OrbitCamera orbit{.elevation_deg = 20, .azimuth_deg = 30};
   std::filesystem::path cameras;  // a dataset directory: one image per camera (else one orbit view)
   std::filesystem::path out;      // FILE.png (one view) or DIR (one PNG per camera)
 };
@@ -45,7 +51,8 @@ struct VolumeRenderResult {
   glm::dvec3 proxy_lo{0.0}, proxy_hi{1.0};
 };
 
-// A perspective view orbiting the origin at `distance`, z up, focal 1.2 size.
+// A perspective view orbiting the origin at `distance`, z up, focal 1.2 size
+// (ibr::OrbitCameraView): the bench's and gallery's fixed framing.
 render::ViewSetup VolumeOrbitView(double azimuth_deg, double elevation_deg, double distance,
                                   int size, double radius);
 

@@ -17,6 +17,7 @@
 #include <numbers>
 #include <optional>
 
+#include "capture/mesh_counts.h"
 #include "core/check.h"
 #include "core/error.h"
 #include "core/image_io.h"
@@ -45,39 +46,6 @@ struct FileMesh {
   std::vector<std::string> material_textures;
 };
 
-// The triangles an OBJ's face lines declare: a face of k >= 3 corners gives
-// k - 2 (points and lines give none). Also counts the corners, for the memory
-// estimate. Reads the text once, line by line.
-struct ObjCounts {
-  uint64_t triangles = 0;
-  uint64_t corners = 0;
-  uint64_t face_lines = 0;
-};
-
-ObjCounts CountObjFaces(const fs::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  ObjCounts counts;
-  std::string line;
-  while (std::getline(in, line)) {
-    size_t i = line.find_first_not_of(" \t");
-    if (i == std::string::npos || line[i] != 'f' || i + 1 >= line.size() ||
-        (line[i + 1] != ' ' && line[i + 1] != '\t')) {
-      continue;
-    }
-    uint64_t k = 0;
-    for (i += 1; i < line.size();) {
-      while (i < line.size() && std::isspace(static_cast<unsigned char>(line[i]))) ++i;
-      if (i >= line.size() || line[i] == '#') break;
-      ++k;
-      while (i < line.size() && !std::isspace(static_cast<unsigned char>(line[i]))) ++i;
-    }
-    ++counts.face_lines;
-    counts.corners += k;
-    if (k >= 3) counts.triangles += k - 2;
-  }
-  return counts;
-}
-
 std::string Lowercase(std::string s) {
   std::transform(s.begin(), s.end(), s.begin(),
                  [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
@@ -105,16 +73,21 @@ FileMesh LoadPly(const fs::path& path) {
 FileMesh LoadWithAssimp(const fs::path& path) {
   const std::string extension = Lowercase(path.extension().string());
   const uint64_t file_bytes = fs::file_size(path);
+  // What the file declares (OBJ face lines, an OFF header, an STL count or
+  // facets), counted first: a file that contradicts itself is refused here.
+  std::optional<DeclaredFaces> declared;
+  {
+    std::ifstream in(path, std::ios::binary);
+    declared = CountDeclaredFaces(in, extension, path.string());
+  }
   // assimp's importer holds the file, its own per-corner copy of positions,
   // normals and uvs (3 floats each) and faces, and post-processing copies: an
   // estimate of 4x the file plus 96 bytes per corner where corners are known
-  // (OBJ), else 16x the file (binary formats are denser than their meshes).
-  std::optional<ObjCounts> obj;
-  if (extension == ".obj") obj = CountObjFaces(path);
-  const uint64_t estimate = obj ? 4 * file_bytes + 96 * obj->corners : 16 * file_bytes;
+  // (OBJ, OFF, STL), else 16x the file (binary formats are denser than their meshes).
+  const uint64_t estimate = declared ? 4 * file_bytes + 96 * declared->corners : 16 * file_bytes;
   core::CheckMemory(estimate, fmt::format("{}: '{}'", kLoadWhere, path.string()),
-                    obj ? fmt::format("loading the mesh ({} face corners)", obj->corners)
-                        : std::string("loading the mesh"));
+                    declared ? fmt::format("loading the mesh ({} face corners)", declared->corners)
+                             : std::string("loading the mesh"));
   Assimp::Importer importer;
   const aiScene* scene = importer.ReadFile(
       path.string(), aiProcess_Triangulate | aiProcess_JoinIdenticalVertices |
@@ -162,11 +135,11 @@ FileMesh LoadWithAssimp(const fs::path& path) {
   if (out.mesh.indices.empty()) core::ThrowFileError(kLoadWhere, path, "no triangles");
   // What the file declares against what was loaded: a face lost by the
   // importer is a wrong picture of the object, never a quiet success.
-  if (obj && obj->triangles != out.mesh.triangle_count()) {
+  if (declared && declared->triangles != out.mesh.triangle_count()) {
     core::ThrowFileError(kLoadWhere, path,
-                         "its {} face lines declare {} triangles, the importer loaded {}: the "
-                         "file is malformed or not read right",
-                         obj->face_lines, obj->triangles, out.mesh.triangle_count());
+                         "{} declare {} triangles, the importer loaded {}: the file is "
+                         "malformed or not read right",
+                         declared->what, declared->triangles, out.mesh.triangle_count());
   }
   // Degenerate normals (isolated vertices): any unit vector keeps GL happy.
   for (auto& n : out.mesh.normals) {

@@ -33,8 +33,9 @@ struct SceneMesh {
 enum class MeshTextures { kLoad, kSkip };
 
 // Loads a mesh file: PLY through core/ply_io.h (faces and triangle strips,
-// element counts checked), OBJ/STL/... through assimp (triangulated, an OBJ's
-// triangle count checked against its face lines). Smooth normals are made
+// element counts checked), OBJ/OFF/STL/... through assimp (triangulated; for
+// OBJ, OFF and STL the triangle count checked against what the file declares,
+// capture/mesh_counts.h, a truncated file refused). Smooth normals are made
 // where missing, v flipped to the image convention. Memory is checked against
 // the budget (core/memory_budget.h) before the file is read.
 // Textured when the mesh has UVs and a texture is found: `texture` if given

@@ -1,5 +1,7 @@
 #include "core/metrics.h"
 
+#include <fmt/format.h>
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -65,6 +67,11 @@ ErrorStats SummarizeErrors(std::vector<double> errors) {
   s.max = *std::max_element(errors.begin(), errors.end());
   s.p95 = Percentile(std::move(errors), 0.95);
   return s;
+}
+
+std::string HeavyTailNote(const ErrorStats& stats, int digits) {
+  if (!(stats.mean > stats.p95)) return "";
+  return fmt::format(" / max {:.{}f} (heavy tail: the mean exceeds the p95)", stats.max, digits);
 }
 
 Image8 CoverageFromAlpha(const Image8& rgba) {

@@ -16,6 +16,7 @@
 #pragma once
 
 #include <cstdint>
+#include <string>
 #include <string_view>
 #include <vector>
 
@@ -44,6 +45,11 @@ struct ErrorStats {
   double mean = 0, p95 = 0, max = 0;
 };
 ErrorStats SummarizeErrors(std::vector<double> errors);
+// What an error line prints after "mean M / p95 P": when the mean exceeds
+// the p95 (a few large errors dominate the mean, which the p95 alone would
+// hide), " / max X (heavy tail: the mean exceeds the p95)" with `digits`
+// after the point; else "".
+std::string HeavyTailNote(const ErrorStats& stats, int digits);
 
 // 1 where alpha == 255 (RGBA input), 0 elsewhere.
 Image8 CoverageFromAlpha(const Image8& rgba);

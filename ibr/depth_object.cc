@@ -75,8 +75,10 @@ void DepthObjectOptions::Check() const {
   }
   if (robust_k < 0)
     core::ThrowInputError("DepthObjectOptions", "robust k {} is negative", robust_k);
-  if (refine_steps < 0 || refine_steps > 32) {
-    core::ThrowInputError("DepthObjectOptions", "refine steps {} outside 0..32", refine_steps);
+  // The ray core's range: both the ray path and the resolve pass refine with it.
+  if (refine_steps < 0 || refine_steps > render::kMaxRayRefineSteps) {
+    core::ThrowInputError("DepthObjectOptions", "refine steps {} outside 0..{}", refine_steps,
+                          render::kMaxRayRefineSteps);
   }
   if (skip_grid < 0 || skip_grid > 255) {
     core::ThrowInputError("DepthObjectOptions", "skip grid {} outside 0..255", skip_grid);

@@ -110,6 +110,7 @@ struct DepthObjectOptions {
   // the slice that finished it and the slice before (the same map tests), for
   // the output depth and the texturing; 0 = the slice position itself (the
   // paper's result). The stencil/colour accumulation is unaffected.
+  // 0..render::kMaxRayRefineSteps (the ray core refines).
   int refine_steps = 6;
   // kRay: empty-space skipping (ibr/empty_space.h): voxels per box axis of
   // the occupancy grid built from the maps (once per method and active map

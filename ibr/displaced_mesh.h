@@ -15,6 +15,7 @@
 #include "core/heightfield.h"
 #include "core/image.h"
 #include "core/mesh.h"
+#include "ibr/views.h"
 #include "render/gl/shader_program.h"
 #include "render/passes/displacement_pass.h"
 #include "render/passes/mesh_pass.h"
@@ -80,23 +81,10 @@ core::ImageF ReadHeightMap(const std::filesystem::path& path);
 // A user's mesh (OBJ/PLY through assimp): needs texture coordinates.
 core::TriangleMesh ReadDisplacementBase(const std::filesystem::path& path);
 
-// An orbit camera around a displaced mesh for `ibr displace`: the eye at
-// `distance` from the centre of the bounds (0 = frame the bounds grown by
-// max_displacement), `elevation_deg` above the plane perpendicular to `up`,
-// `azimuth_deg` around `up` (0 along the first horizontal axis: x for up z,
-// z for up y, y for up x), a `fov_deg` square perspective frame of `size_px`.
-struct DisplacementOrbit {
-  double elevation_deg = 35;
-  double azimuth_deg = -60;
-  double distance = 0;  // scene units from the centre; 0 = framed
-  double fov_deg = 40;  // full field of view
-  glm::vec3 up{0, 0, 1};
-  void Check() const;
-};
+// The orbit camera (ibr/views.h, OrbitCameraView) of `ibr displace` around a
+// displaced mesh: the bounds of `base` grown by max_displacement framed.
 render::ViewSetup DisplacementOrbitView(const core::TriangleMesh& base, float max_displacement,
-                                        const DisplacementOrbit& orbit, int size_px);
-// "x", "y", "z", "-x", "-y", "-z" (InputError naming `where` otherwise).
-glm::vec3 UpAxisFromName(const std::string& name, std::string_view where);
+                                        const OrbitCamera& orbit, int size_px);
 
 // A displaced mesh on the GPU: uploads once and holds the method's
 // render::Pass (render::DisplacementPass, render::ReliefSurface or, for the

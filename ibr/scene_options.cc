@@ -1,6 +1,7 @@
 #include "ibr/scene_options.h"
 
 #include "core/error.h"
+#include "render/cores/ray_core.h"
 
 namespace ibr {
 namespace {
@@ -62,8 +63,9 @@ DepthObjectOptions DepthObjectOptionsFrom(const scene::Settings& s) {
     s.Fail("max_maps", fmt::format("{} maps outside 0..{} (0 = all)", o.max_maps, kMaxMaps));
   }
   o.refine_steps = s.GetInt("refine_steps", o.refine_steps);
-  if (o.refine_steps < 0 || o.refine_steps > 64) {
-    s.Fail("refine_steps", fmt::format("{} refine steps outside 0..64", o.refine_steps));
+  if (o.refine_steps < 0 || o.refine_steps > render::kMaxRayRefineSteps) {
+    s.Fail("refine_steps", fmt::format("{} refine steps outside 0..{}", o.refine_steps,
+                                       render::kMaxRayRefineSteps));
   }
   // Sub-texel depth where it applies (ray-path depth objects): nearest texels
   // leave a staircase a texel deep along slopes, which `ibr bench

@@ -59,6 +59,68 @@ glm::dvec3 ParseUp(const std::string& text, const std::string& where) {
   return glm::normalize(up);
 }
 
+void OrbitCamera::Check() const {
+  constexpr const char* kWhere = "OrbitCamera";
+  if (!(elevation_deg >= -90 && elevation_deg <= 90) || !std::isfinite(azimuth_deg)) {
+    core::ThrowInputError(kWhere, "elevation {} outside [-90, 90] or azimuth {} not finite",
+                          elevation_deg, azimuth_deg);
+  }
+  if (!(distance >= 0) || !std::isfinite(distance)) {
+    core::ThrowInputError(kWhere, "distance {} must be finite and >= 0 (0 = framed)", distance);
+  }
+  if (!(fov_deg > 0 && fov_deg < 180))
+    core::ThrowInputError(kWhere, "field of view {} degrees outside (0, 180)", fov_deg);
+  if (!(glm::length(up) > 0.5f)) core::ThrowInputError(kWhere, "the up axis must be a unit axis");
+}
+
+glm::vec3 UpAxisFromName(const std::string& name, std::string_view where) {
+  const bool negative = name.size() == 2 && name[0] == '-';
+  const std::string axis = negative ? name.substr(1) : name;
+  glm::vec3 up(0);
+  if (axis == "x") up.x = 1;
+  if (axis == "y") up.y = 1;
+  if (axis == "z") up.z = 1;
+  if (axis.size() != 1 || up == glm::vec3(0)) {
+    core::ThrowInputError(where, "up axis '{}' is none of x, y, z, -x, -y, -z", name);
+  }
+  return negative ? -up : up;
+}
+
+render::ViewSetup OrbitCameraView(const glm::vec3& centre, float radius, const OrbitCamera& orbit,
+                                  int size_px) {
+  orbit.Check();
+  if (size_px < 1) core::ThrowInputError("OrbitCameraView", "size {} px must be >= 1", size_px);
+  if (!(radius > 0) || !std::isfinite(radius))
+    core::ThrowInputError("OrbitCameraView", "radius {} must be finite and > 0", radius);
+  const double half_fov = 0.5 * orbit.fov_deg * M_PI / 180.0;
+  const double distance = orbit.distance > 0 ? orbit.distance : radius / std::sin(half_fov);
+  // A right-handed frame around `up`: h1 the next axis after up's, h2 = up x h1
+  // (up z: h1 x, h2 y, the orbit every earlier version used).
+  const glm::vec3 up = glm::normalize(orbit.up);
+  const int axis = std::abs(up.x) > 0.5f ? 0 : std::abs(up.y) > 0.5f ? 1 : 2;
+  glm::vec3 h1(0);
+  h1[(axis + 1) % 3] = 1;
+  const glm::vec3 h2 = glm::cross(up, h1);
+  const double el = orbit.elevation_deg * M_PI / 180.0, az = orbit.azimuth_deg * M_PI / 180.0;
+  const glm::vec3 horizontal =
+      static_cast<float>(std::cos(az)) * h1 + static_cast<float>(std::sin(az)) * h2;
+  const glm::vec3 to_eye =
+      static_cast<float>(std::cos(el)) * horizontal + static_cast<float>(std::sin(el)) * up;
+  // The camera's up: perpendicular to the view, towards `up` (away from the eye at a top view).
+  const glm::vec3 cam_up =
+      -static_cast<float>(std::sin(el)) * horizontal + static_cast<float>(std::cos(el)) * up;
+  render::ViewSetup view;
+  view.cam_from_world =
+      core::CamFromWorldLookAt(centre + static_cast<float>(distance) * to_eye, centre, cam_up);
+  const double f = size_px / (2.0 * std::tan(half_fov));
+  // Near at most 1.5 radii in front of the centre, never at or behind the
+  // eye (an eye inside the sphere sees from 1/1000 of its distance on).
+  view.clip_from_cam = core::ClipFromCamPerspective(
+      f, f, size_px / 2.0, size_px / 2.0, size_px, size_px,
+      std::max(1e-3 * distance, distance - 1.5 * radius), distance + 1.5 * radius);
+  return view;
+}
+
 std::vector<NamedView> SceneCameraViews(const scene::Cameras& c, const glm::dmat4& world_from_box) {
   std::vector<NamedView> views;
   switch (c.kind) {

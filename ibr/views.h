@@ -6,6 +6,7 @@
 #pragma once
 
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "capture/dataset.h"
@@ -49,6 +50,26 @@ std::vector<NamedView> OrbitViews(const glm::dmat4& world_from_box, const OrbitO
 // three numbers ("0,-1,0" or "0 -1 0"); normalised. InputError naming
 // `where` otherwise (zero, not finite, not three numbers).
 glm::dvec3 ParseUp(const std::string& text, const std::string& where);
+
+// One camera orbiting a sphere (`centre`, `radius`, world units), for the
+// single image of `ibr displace` and `ibr volume`: the eye at `distance` from
+// the centre (0 = framed: the sphere just fills the field of view),
+// `elevation_deg` above the plane perpendicular to `up`, `azimuth_deg` around
+// `up` (0 along the first horizontal axis: x for up z, z for up y, y for up
+// x), a `fov_deg` square perspective frame; `up` is at the top of the image.
+struct OrbitCamera {
+  double elevation_deg = 35;
+  double azimuth_deg = -60;
+  double distance = 0;  // world units from the centre; 0 = framed
+  double fov_deg = 40;  // full field of view
+  glm::vec3 up{0, 0, 1};
+  void Check() const;
+};
+render::ViewSetup OrbitCameraView(const glm::vec3& centre, float radius, const OrbitCamera& orbit,
+                                  int size_px);
+// An axis-aligned up as `--up` of `ibr displace` and `ibr volume` takes it:
+// "x", "y", "z", "-x", "-y", "-z" (InputError naming `where` otherwise).
+glm::vec3 UpAxisFromName(const std::string& name, std::string_view where);
 
 // The views a scene file's "cameras" names (scene/scene.h): an orbit around
 // `world_from_box`, a dataset's cameras (capture::ReadCameras: images not

@@ -1,6 +1,7 @@
 #include "ibr/volume_object.h"
 
 #include <fmt/format.h>
+#include <spdlog/spdlog.h>
 
 #include <algorithm>
 #include <cctype>
@@ -33,6 +34,32 @@ core::TransferFunction TransferForVolume(const std::string& name,
   if (st.p99 > st.p50) return core::WindowTransfer(st.p50, st.p99);
   if (st.p99 > st.p1) return core::WindowTransfer(st.p1, st.p99);
   return core::WindowTransfer(st.min, st.max);
+}
+
+core::TransferFunction WindowLevelTransfer(double width, double level,
+                                           const core::VolumeStats& stats,
+                                           const std::string& where) {
+  if (!(width > 0) || !std::isfinite(width) || !std::isfinite(level)) {
+    core::ThrowInputError(where,
+                          "window {} / level {}: the width must be finite and > 0 and the "
+                          "level finite",
+                          width, level);
+  }
+  const double lo = level - 0.5 * width, hi = level + 0.5 * width;
+  if (lo >= stats.max) {
+    core::ThrowInputError(where,
+                          "window [{}, {}] starts at or above the data maximum {} (range [{}, "
+                          "{}], percentiles 1/50/99: {} / {} / {}): every voxel would be "
+                          "transparent",
+                          lo, hi, stats.max, stats.min, stats.max, stats.p1, stats.p50, stats.p99);
+  }
+  if (hi <= stats.min) {
+    spdlog::warn(
+        "{}: window [{}, {}] ends at or below the data minimum {}: every voxel is opaque, "
+        "the image is the volume's box",
+        where, lo, hi, stats.min);
+  }
+  return core::WindowTransfer(lo, hi);
 }
 
 namespace {
@@ -139,6 +166,12 @@ void SetIsoValue(const VolumeObjectData& data, double value, render::VolumePassO
                           value, st.min, st.max, st.p1, st.p50, st.p99);
   }
   options.iso_value = data.volume.ToNormalized(value);
+}
+
+double IsoValueInDataUnits(const VolumeObjectData& data, const VolumeObjectOptions& options) {
+  const double value =
+      options.iso_value ? *options.iso_value : data.volume.FromNormalized(options.pass.iso_value);
+  return std::clamp(value, data.stats.min, data.stats.max);
 }
 
 VolumeObjectOptions VolumeObjectOptionsFrom(const scene::Settings& s) {

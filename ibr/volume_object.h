@@ -53,6 +53,18 @@ core::TransferFunction TransferForVolume(const std::string& name,
                                          const std::filesystem::path& volume_path,
                                          const core::Volume* volume = nullptr);
 
+// Radiology's window/level in the volume's stored units (e.g. width 400,
+// level 40 for soft tissue in HU): a white ramp transparent at level -
+// width/2 and opaque at level + width/2 (core::WindowTransfer; values above
+// the window opaque, below it transparent). InputError naming `where` when
+// width is not finite and > 0, level is not finite, or the window starts at
+// or above the data maximum (every voxel transparent: nothing would draw). A
+// window ending at or below the data minimum makes every voxel opaque (the
+// volume's box): a warning, not an error.
+core::TransferFunction WindowLevelTransfer(double width, double level,
+                                           const core::VolumeStats& stats,
+                                           const std::string& where);
+
 // "dvr" or "iso:VALUE" into options.mode; returns VALUE (the volume's stored
 // units, e.g. HU) for iso, to be set with SetIsoValue once the volume is
 // known. InputError naming `where`.
@@ -76,6 +88,12 @@ struct VolumeObjectOptions {
   // outside 1..512.
   void Check() const;
 };
+
+// The iso value `options` draws, in the volume's stored units (what a user
+// types and the viewer's slider shows): the value given (options.iso_value),
+// else the pass's normalised iso value mapped back
+// (core::Volume::FromNormalized), within the data range.
+double IsoValueInDataUnits(const VolumeObjectData& data, const VolumeObjectOptions& options);
 
 // What changing a volume object's options invalidated (UpdateVolumeObject).
 struct VolumeObjectChange {

@@ -33,7 +33,8 @@ std::vector<KeySpec> DepthObjectKeys() {
        "pass | fail: what a map says about points outside its view frustum"},
       {"invalid_depth", "string", "empty",
        "empty | no-constraint: what a map texel without depth says"},
-      {"refine_steps", "integer", "6", "bisection steps refining a ray hit (0..64)"},
+      {"refine_steps", "integer", "6",
+       "bisection steps refining a ray hit (0..64, the ray core's range)"},
       {"max_maps", "integer", "0", "the nearest N maps per frame (0 = all)"},
       {"depth_lookup", "string", "subtexel on the ray path, else nearest",
        "subtexel | nearest: depth between map texels, or the nearest texel"},
@@ -93,12 +94,15 @@ const std::vector<ObjectKindSpec>& ObjectKinds() {
        "direct volume rendering or an iso surface, displaced and cut (Correa, Silver, Chen 2006)",
        {
            Structural("volume", "string", "(one of volume, shared_volume)",
-                      "a volume file (QVis .dat or NRRD .nrrd/.nhdr), relative to the scene"),
+                      "a volume file (QVis .dat, NRRD .nrrd/.nhdr, NIfTI .nii/.nii.gz) or a "
+                      "DICOM series folder, relative to the scene"),
            Structural("shared_volume", "string", "(one of volume, shared_volume)",
                       "a volume under the shared data folder"),
-           Structural("transfer", "string", "the preset named like the volume file, else ramp",
+           Structural("transfer", "string",
+                      "the preset named like the volume file, else a white ramp from the 50th "
+                      "to the 99th percentile",
                       "a preset name (tooth, neghip, bucky, ramp, empty) or a transfer-function "
-                      "JSON file"),
+                      "JSON file (\"units\": \"data\" for points in the volume's units)"),
            {"effect", "string", "none",
             "none | peel | slices | seam | pull | wave, with optional parameters (see the "
             "volumes guide)"},

@@ -149,7 +149,7 @@ void RunDisplace(const DisplaceOptions& o) {
   options.shade = !o.unlit;
   options.slices = o.slices;
   options.Check();
-  ibr::DisplacementOrbit orbit;
+  ibr::OrbitCamera orbit;
   orbit.elevation_deg = o.elevation;
   orbit.azimuth_deg = o.azimuth;
   orbit.distance = o.distance;

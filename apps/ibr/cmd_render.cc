@@ -88,9 +88,7 @@ void RunRender(const RenderCommandOptions& o) {
                             o.truth_mesh.string());
     }
     // A mean above the p95: a few large errors dominate; the max says how large.
-    const std::string tail =
-        e.mean > e.p95 ? fmt::format(" / max {:.5f} (heavy tail: the mean exceeds the p95)", e.max)
-                       : "";
+    const std::string tail = core::HeavyTailNote(e, 5);
     fmt::print(
         "render: vs {}: silhouette IoU mean {:.4f} / worst {:.4f}; depth error mean {:.5f} / p95 "
         "{:.5f}{} of the mesh's largest extent\n",

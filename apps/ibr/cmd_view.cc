@@ -330,8 +330,19 @@ class SceneFileScene : public viewer::Scene {
     changed |=
         ComboOf("mode", pass.mode, {render::VolumeMode::kDvr, render::VolumeMode::kIso},
                 [](render::VolumeMode m) { return m == render::VolumeMode::kDvr ? "dvr" : "iso"; });
-    if (pass.mode == render::VolumeMode::kIso)
-      changed |= SliderDouble("iso value", pass.iso_value, 0, 1, "%.3f");
+    if (pass.mode == render::VolumeMode::kIso) {
+      // In the volume's own units (e.g. HU), over its data range, as
+      // `iso:VALUE` is typed; the pass gets the normalised value.
+      const ibr::VolumeObjectData& data = *loaded_.objects[index].volume;
+      double iso = ibr::IsoValueInDataUnits(data, o);
+      if (SliderDouble("iso value (data units)", iso, static_cast<float>(data.stats.min),
+                       static_cast<float>(data.stats.max), "%.5g")) {
+        iso = std::clamp(iso, data.stats.min, data.stats.max);  // float rounding at the ends
+        ibr::SetIsoValue(data, iso, pass, "iso value");
+        o.iso_value = iso;
+        changed = true;
+      }
+    }
     changed |= SliderDouble("spacing (voxels)", pass.sampling_distance_voxels, 0.25f, 4, "%.2f");
     if (changed) {
       renderer_.UpdateVolume(loaded_, index, o);

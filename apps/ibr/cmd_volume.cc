@@ -1,15 +1,17 @@
-// `ibr volume VOLUME`: a QVis/NRRD volume with one discontinuous displacement
+// `ibr volume VOLUME`: a QVis/NRRD/NIfTI/DICOM volume with one discontinuous displacement
 // effect (Correa, Silver, Chen 2006) rendered by DVR or as an isosurface.
 // Flags -> bench::VolumeRenderRequest -> bench::RenderVolume -> one line.
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>
 
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "apps/ibr/commands.h"
 #include "bench/volume_render.h"
 #include "core/error.h"
+#include "ibr/views.h"
 #include "render/gl/context.h"
 #include "render/passes/pass.h"
 
@@ -23,6 +25,8 @@ struct VolumeCommandOptions {
   std::string lighting = "blended";
   std::vector<double> placement;  // tx ty tz sx sy sz
   core::EffectOptions params;
+  std::string up = "z";
+  std::optional<double> window, level;  // the volume's stored units (e.g. HU)
 };
 
 void RunVolume(VolumeCommandOptions& o) {
@@ -41,6 +45,9 @@ void RunVolume(VolumeCommandOptions& o) {
     r.placement_offset = {o.placement[0], o.placement[1], o.placement[2]};
     r.placement_scale = {o.placement[3], o.placement[4], o.placement[5]};
   }
+  r.orbit.up = ibr::UpAxisFromName(o.up, std::string(kWhere) + " --up");
+  r.orbit.Check();
+  if (o.window) r.window_level = glm::dvec2(*o.window, *o.level);
   r.pass.Check();
   auto context = render::HeadlessContext::Create();
   // --size is the orbit view's; --cameras views are checked view by view.
@@ -110,10 +117,19 @@ void AddVolumeCommand(CLI::App& app) {
       ->capture_default_str();
   cmd->add_option("--spacing", r.pass.sampling_distance_voxels, "sampling distance, voxels")
       ->capture_default_str();
-  cmd->add_option("--transfer", r.transfer,
-                  "preset (tooth, neghip, bucky, ramp, empty) or JSON file (\"units\": "
-                  "\"data\" for points in the volume's units); default: the preset named like "
-                  "the volume, else a ramp over its 1st-99th percentile window");
+  auto* transfer = cmd->add_option(
+      "--transfer", r.transfer,
+      "preset (tooth, neghip, bucky, ramp, empty) or JSON file (\"units\": \"data\" for "
+      "points in the volume's units); default: the preset named like the volume, else a white "
+      "ramp transparent at its 50th and opaque at its 99th percentile");
+  auto* window = cmd->add_option("--window", o.window,
+                                 "DVR window width in the volume's units (e.g. 400 HU): a white "
+                                 "ramp over [level - width/2, level + width/2], transparent "
+                                 "below, opaque above (instead of --transfer)");
+  auto* level =
+      cmd->add_option("--level", o.level, "DVR window centre in the volume's units (e.g. 40 HU)");
+  window->needs(level)->excludes(transfer);
+  level->needs(window)->excludes(transfer);
   cmd->add_option("--displacement-bits", r.pass.displacement_bits, "8 | 16 | 32")
       ->capture_default_str();
   cmd->add_flag("!--no-support-skip", r.pass.support_skip,
@@ -126,8 +142,18 @@ void AddVolumeCommand(CLI::App& app) {
       ->capture_default_str();
   cmd->add_option("--size", r.size, "image width = height, pixels (orbit view)")
       ->capture_default_str();
-  cmd->add_option("--azimuth", r.azimuth_deg, "degrees around +z")->capture_default_str();
-  cmd->add_option("--elevation", r.elevation_deg, "degrees above the xy plane")
+  cmd->add_option("--azimuth", r.orbit.azimuth_deg, "degrees around --up")->capture_default_str();
+  cmd->add_option("--elevation", r.orbit.elevation_deg,
+                  "degrees above the plane perpendicular to --up (90 = top view)")
+      ->capture_default_str();
+  cmd->add_option("--distance", r.orbit.distance,
+                  "camera distance from the volume's centre in its units, e.g. mm (0 = frame "
+                  "the volume)")
+      ->capture_default_str();
+  cmd->add_option("--fov", r.orbit.fov_deg, "field of view, degrees")->capture_default_str();
+  cmd->add_option("--up", o.up,
+                  "the volume axis at the top of the image: x, y, z, -x, -y, -z (z, the slice "
+                  "axis: head up for an axial CT or MRI series)")
       ->capture_default_str();
   cmd->add_option("--cameras", r.cameras,
                   "render from this dataset's cameras (one PNG per view into --out DIR)");

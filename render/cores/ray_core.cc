@@ -46,8 +46,9 @@ void RayCoreOptions::Check() const {
   if (max_steps < 1 || max_steps > 65536) {
     core::ThrowInputError("RayCoreOptions", "max_steps {} outside 1..65536", max_steps);
   }
-  if (refine_steps < 0 || refine_steps > 64) {
-    core::ThrowInputError("RayCoreOptions", "refine_steps {} outside 0..64", refine_steps);
+  if (refine_steps < 0 || refine_steps > kMaxRayRefineSteps) {
+    core::ThrowInputError("RayCoreOptions", "refine_steps {} outside 0..{}", refine_steps,
+                          kMaxRayRefineSteps);
   }
   if (!std::isfinite(threshold) || threshold < 0) {
     core::ThrowInputError("RayCoreOptions", "threshold {} must be finite and >= 0", threshold);

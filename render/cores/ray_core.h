@@ -50,6 +50,11 @@ enum class RayRefinement {
   kSecant,     // one intersection with the linear approximation (POM [Tat06])
 };
 
+// The most bisection steps a ray-core refinement takes (RayCoreOptions,
+// and every option that feeds it: depth objects' refine_steps, scene key
+// `refine_steps`): past ~24 a float crossing no longer moves.
+inline constexpr int kMaxRayRefineSteps = 64;
+
 struct RayCoreOptions {
   // Linear-search samples per ray; a ray still inside its domain after them
   // is an early termination. 64 is relief mapping's usual budget.

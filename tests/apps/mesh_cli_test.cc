@@ -6,10 +6,13 @@
 // and a missing texture captures with warnings, and `--texture` overrides.
 #include <gtest/gtest.h>
 
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <regex>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include "capture/dataset.h"
 #include "core/image_io.h"
@@ -109,6 +112,63 @@ TEST(MeshCli, LyingFaceCountIsRefusedInOneLine) {
             std::string::npos)
       << r.err;
   EXPECT_FALSE(fs::exists(dir / "D"));
+}
+
+// OFF and STL (assimp's test models): the whole files load with the
+// triangles they declare (Cube.off: 6 quads = 12; Spider_binary.stl: its
+// header's 1368, the triangles of the same spider as spider.obj;
+// sphereWithHole.stl: 285 facets); a truncated copy of each is refused in one
+// line naming the file, where assimp alone loads the truncated OFF and ASCII
+// STL as smaller objects with exit 0.
+TEST(MeshCli, OffAndStlCountsAreCheckedAndTruncatedFilesRefused) {
+  const fs::path dir = Scratch("mesh_cli_counts");
+  const auto capture = [&](const fs::path& mesh) {
+    return RunCommand(IbrBinary() + " capture --mesh " + Quote(mesh) +
+                      " --rig cube --size 32 --out " + Quote(dir / "D"));
+  };
+  for (const auto& [file, triangles] : std::vector<std::pair<std::string, int>>{
+           {"Cube.off", 12}, {"Spider_binary.stl", 1368}, {"sphereWithHole.stl", 285}}) {
+    fs::remove_all(dir / "D");
+    const auto r = capture(kReal / file);
+    EXPECT_EQ(r.exit_code, 0) << file << "\n" << r.err;
+    EXPECT_NE(r.err.find(file + " (" + std::to_string(triangles) + " triangles"), std::string::npos)
+        << file << "\n"
+        << r.err;
+  }
+  const auto read = [](const fs::path& p) {
+    std::ifstream in(p, std::ios::binary);
+    return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  };
+  // The first `n` lines of `text`.
+  const auto lines = [](const std::string& text, int n) {
+    size_t at = 0;
+    for (int i = 0; i < n; ++i) at = text.find('\n', at) + 1;
+    return text.substr(0, at);
+  };
+  const std::string cube = read(kReal / "Cube.off"), sphere = read(kReal / "sphereWithHole.stl");
+  // Line 1 `solid`, then 7 lines a facet: 1000 lines end inside facet 143,
+  // 701 lines right after facet 100's `endfacet` (no `endsolid`).
+  Spit(dir / "cube_cut.off", lines(cube, 2 + 8 + 4));
+  Spit(dir / "spider_cut.stl", read(kReal / "Spider_binary.stl").substr(0, 84 + 50 * 1000));
+  Spit(dir / "sphere_cut_in_facet.stl", lines(sphere, 1000));
+  Spit(dir / "sphere_cut_after_facet.stl", lines(sphere, 701));
+  for (const auto& [file, expect] : std::vector<std::pair<std::string, std::string>>{
+           {"cube_cut.off", "the OFF header declares 6 faces, the file holds 4 (truncated?)"},
+           {"spider_cut.stl",
+            "the binary STL header declares 1368 triangles (68484 bytes), the file has 50084 "
+            "bytes (truncated)"},
+           {"sphere_cut_in_facet.stl", "ASCII STL ends inside facet 143 after 142 facets"},
+           {"sphere_cut_after_facet.stl", "ASCII STL ends inside a solid after 100 facets"}}) {
+    fs::remove_all(dir / "D");
+    const auto r = capture(dir / file);
+    std::printf("%s: %s", file.c_str(), r.err.c_str());
+    EXPECT_EQ(r.exit_code, 1) << file;
+    EXPECT_EQ(CountLines(r.err), 1) << r.err;
+    EXPECT_EQ(r.err.rfind("ibr: error: ", 0), 0u) << r.err;
+    EXPECT_NE(r.err.find(file), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find(expect), std::string::npos) << r.err;
+    EXPECT_FALSE(fs::exists(dir / "D")) << file;
+  }
 }
 
 TEST(MeshCli, EmptyCaptureAndEmptyRenderMetricsAreErrors) {

@@ -335,6 +335,155 @@ TEST_F(VolumeCliTest, NonCubicVoxelsRenderAtTheirTrueShape) {
   EXPECT_NEAR(width / height, expected, expected * (2 / width + 2 / height));
 }
 
+// The covered pixels' centroid and bounding box (pixels differing from the
+// corner's background).
+struct Footprint2d {
+  int count = 0;
+  double cx = 0, cy = 0;
+  int x0 = 1 << 30, x1 = -1, y0 = 1 << 30, y1 = -1;
+};
+Footprint2d Measure(const core::Image8& image) {
+  Footprint2d f;
+  for (int y = 0; y < image.height(); ++y)
+    for (int x = 0; x < image.width(); ++x) {
+      int diff = 0;
+      for (int c = 0; c < 3; ++c) diff += std::abs(image.at(x, y, c) - image.at(0, 0, c));
+      if (diff <= 6) continue;
+      ++f.count;
+      f.cx += x + 0.5, f.cy += y + 0.5;
+      f.x0 = std::min(f.x0, x), f.x1 = std::max(f.x1, x), f.y0 = std::min(f.y0, y);
+      f.y1 = std::max(f.y1, y);
+    }
+  if (f.count > 0) f.cx /= f.count, f.cy /= f.count;
+  return f;
+}
+
+// --up, --distance, --fov (ibr::OrbitCameraView, shared with ibr displace).
+// A 24^3 volume, empty but for an opaque blob at the top (+z) of its box,
+// seen from azimuth 0, elevation 0: with --up z the blob is at the top of the
+// image (above the centre row); with --up x the orbit's frame turns (h1 = y,
+// h2 = z), the eye is on +y with x up, so +z is image right. And the box of
+// a uniform volume seen face on from --distance 100 with --fov 30 is
+// f * 24 / (100 - 12) px wide, f = 64 / tan(15 deg).
+TEST_F(VolumeCliTest, UpDistanceAndFovPlaceTheViewAnalytically) {
+  const int n = 24;
+  core::Volume v = core::Volume::Zeros({n, n, n}, core::ScalarType::kUint8);
+  for (int z = 0; z < n; ++z)
+    for (int y = 0; y < n; ++y)
+      for (int x = 0; x < n; ++x) {
+        const double r = std::hypot(x + 0.5 - n / 2.0, y + 0.5 - n / 2.0, z + 0.5 - 20.0);
+        v.SetValue(x, y, z, r < 3.5 ? 255 : 0);
+      }
+  core::WriteNrrd(dir_ / "blob.nrrd", v, core::NrrdEncoding::kRaw);
+  const fs::path opaque = dir_ / "blob_tf.json";
+  std::ofstream(opaque) << R"({"units": "data", "points": [[100, 1, 1, 1, 0], [101, 1, 1, 1, 1]]})";
+  const auto render = [&](const std::string& args) {
+    const fs::path out = dir_ / "up.png";
+    fs::remove(out);
+    const auto r = Volume((dir_ / "blob.nrrd").string() + " --transfer " + opaque.string() +
+                          " --azimuth 0 --elevation 0 --lighting none --size 128 " + args +
+                          " --out " + out.string());
+    EXPECT_EQ(r.exit_code, 0) << args << "\n" << r.err;
+    return r.exit_code == 0 ? Measure(core::ReadImage<uint8_t>(out)) : Footprint2d{};
+  };
+  const Footprint2d z_up = render("--up z"), x_up = render("--up x"), minus_z = render("--up -z");
+  std::printf(
+      "blob at +z: --up z centroid (%.1f, %.1f); --up x (%.1f, %.1f); --up -z (%.1f, %.1f)"
+      " of a 128 px image\n",
+      z_up.cx, z_up.cy, x_up.cx, x_up.cy, minus_z.cx, minus_z.cy);
+  // The blob's centre is 8 voxels above the box centre: 8 / 24 of the box's
+  // height, well off the image centre (64) on the side named.
+  ASSERT_GT(z_up.count, 0);
+  EXPECT_LT(z_up.cy, 64 - 10);
+  EXPECT_NEAR(z_up.cx, 64, 1.5);
+  ASSERT_GT(x_up.count, 0);
+  EXPECT_GT(x_up.cx, 64 + 10);
+  EXPECT_NEAR(x_up.cy, 64, 1.5);
+  ASSERT_GT(minus_z.count, 0);
+  EXPECT_GT(minus_z.cy, 64 + 10);  // upside down: the blob at the bottom
+  // Distance and field of view: an opaque uniform cube.
+  core::Volume cube = core::Volume::Zeros({n, n, n}, core::ScalarType::kUint8);
+  for (int z = 0; z < n; ++z)
+    for (int y = 0; y < n; ++y)
+      for (int x = 0; x < n; ++x) cube.SetValue(x, y, z, 200);
+  core::WriteNrrd(dir_ / "blob.nrrd", cube, core::NrrdEncoding::kRaw);
+  const Footprint2d face = render("--distance 100 --fov 30");
+  const double expected = 64 / std::tan(15 * M_PI / 180) * 24 / (100 - 12);
+  std::printf("cube face from 100 units, fov 30: %d x %d px, expected %.1f\n",
+              face.x1 - face.x0 + 1, face.y1 - face.y0 + 1, expected);
+  EXPECT_NEAR(face.x1 - face.x0 + 1, expected, 1.5);  // a pixel of rounding at each edge
+  EXPECT_NEAR(face.y1 - face.y0 + 1, expected, 1.5);
+  for (const char* bad : {"--up w", "--up 0,0,1", "--fov 0", "--fov 180", "--distance -1"}) {
+    const auto r = Volume((dir_ / "blob.nrrd").string() + " " + bad + " --size 32 --out " +
+                          (dir_ / "bad_up.png").string());
+    EXPECT_NE(r.exit_code, 0) << bad;
+    EXPECT_EQ(test_support::CountLines(r.err), 1) << bad << ": " << r.err;
+    EXPECT_FALSE(fs::exists(dir_ / "bad_up.png")) << bad;
+  }
+}
+
+// Window/level in HU on the real signed 16-bit CT (range -1100..1207,
+// percentiles 1/50/99: -1013 / -91 / 188): the window is the white ramp over
+// [L - W/2, L + W/2], so (a) the default's 50th..99th window typed as W 279
+// L 48.5 gives the default image, (b) W 400 L 40 gives the image of the same
+// ramp written as a data-unit transfer file, (c) a bone window (W 1000 L 700:
+// 200..1200 HU) draws less than the soft-tissue one and something, (d) a
+// window below the data minimum makes every voxel opaque (the box, with a
+// warning) and (e) one above the maximum, or a width <= 0 or NaN, is refused.
+TEST_F(VolumeCliTest, WindowLevelInHuOnARealCt) {
+  const std::string ct = (RealVolumes() / "ct_totalseg_example_ct_sm.nii.gz").string();
+  const core::Image8 by_default = RenderOk(ct, dir_ / "wl_default.png");
+  const core::Image8 same_window = RenderOk(ct + " --window 279 --level 48.5", dir_ / "wl_a.png");
+  EXPECT_TRUE(same_window == by_default) << "W 279 L 48.5 is the default window";
+  const fs::path soft_tf = dir_ / "soft_tf.json";
+  std::ofstream(soft_tf)
+      << R"({"units": "data", "points": [[-160, 1, 1, 1, 0], [240, 1, 1, 1, 1]]})";
+  const core::Image8 soft = RenderOk(ct + " --window 400 --level 40", dir_ / "wl_soft.png");
+  const core::Image8 soft_file =
+      RenderOk(ct + " --transfer " + soft_tf.string(), dir_ / "wl_b.png");
+  EXPECT_TRUE(soft == soft_file) << "W 400 L 40 is the ramp over -160..240 HU";
+  const core::Image8 bone = RenderOk(ct + " --window 1000 --level 700", dir_ / "wl_bone.png");
+  const int box = Footprint(ct, dir_);
+  const core::Image8 below = RenderOk(ct + " --window 100 --level -1200", dir_ / "wl_below.png");
+  std::printf(
+      "CT window/level: soft W400 L40 %d px (mean grey %.1f), bone W1000 L700 %d px (mean "
+      "grey %.1f), below the minimum %d px, box %d px\n",
+      Covered(soft), CoveredGrey(soft), Covered(bone), CoveredGrey(bone), Covered(below), box);
+  EXPECT_GT(Covered(soft), box / 2);  // the body
+  EXPECT_GT(Covered(bone), 0);
+  EXPECT_LT(Covered(bone), Covered(soft));
+  EXPECT_FALSE(bone == soft);
+  EXPECT_EQ(Covered(below), box);
+  const auto warned = test_support::RunCommand(test_support::IbrBinary() + " volume " + ct +
+                                               " --window 100 --level -1200 --size 32 --out " +
+                                               (dir_ / "wl_warn.png").string());
+  EXPECT_EQ(warned.exit_code, 0) << warned.err;
+  EXPECT_NE(warned.err.find("ends at or below the data minimum -1100: every voxel is opaque"),
+            std::string::npos)
+      << warned.err;
+  struct Case {
+    std::string args, expect;
+  };
+  for (const Case& c : std::vector<Case>{
+           {"--window 100 --level 1300",
+            "window [1250, 1350] starts at or above the data maximum 1207 (range [-1100, 1207]"},
+           {"--window 0 --level 40", "the width must be finite and > 0"},
+           {"--window -400 --level 40", "the width must be finite and > 0"},
+           {"--window nan --level 40", "nan"},
+           {"--window 400 --level nan", "nan"},
+           {"--window 400", "--level"},
+           {"--window 400 --level 40 --transfer ramp", "--transfer"},
+       }) {
+    const fs::path out = dir_ / "wl_bad.png";
+    fs::remove(out);
+    const auto r = Volume(ct + " " + c.args + " --size 32 --out " + out.string());
+    EXPECT_NE(r.exit_code, 0) << c.args;
+    EXPECT_EQ(test_support::CountLines(r.err), 1) << c.args << ": " << r.err;
+    EXPECT_NE(r.err.find(c.expect), std::string::npos) << c.args << ": " << r.err;
+    EXPECT_FALSE(fs::exists(out)) << c.args;
+  }
+}
+
 TEST_F(VolumeCliTest, InfoPrintsTypeSizeSpacingRangeAndPercentiles) {
   const auto r =
       test_support::RunCommand(test_support::IbrBinary() + " --log-level error info " +

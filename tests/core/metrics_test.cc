@@ -4,7 +4,10 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
 #include <limits>
+#include <string>
+#include <vector>
 
 #include "tests/support/input_error.h"
 
@@ -70,6 +73,23 @@ TEST(SummarizeErrors, MeanP95MaxAndEmptyIsNaN) {
   const ErrorStats e = SummarizeErrors({});
   EXPECT_EQ(e.count, 0);
   EXPECT_TRUE(std::isnan(e.mean) && std::isnan(e.p95) && std::isnan(e.max));
+}
+
+// 96 small errors and 4 large ones (a few pixels on the wrong surface):
+// the mean, 0.04096, is above the p95 (the 95th smallest, 0.001), so the
+// line says why and prints the max; a light tail prints nothing extra.
+TEST(HeavyTailNote, SaysWhyAndPrintsTheMaxWhenTheMeanExceedsTheP95) {
+  std::vector<double> errors(96, 0.001);
+  errors.insert(errors.end(), 4, 1.0);
+  const ErrorStats heavy = SummarizeErrors(errors);
+  EXPECT_DOUBLE_EQ(heavy.mean, (96 * 0.001 + 4) / 100);
+  EXPECT_EQ(heavy.p95, 0.001);
+  EXPECT_GT(heavy.mean, heavy.p95);
+  const std::string line = HeavyTailNote(heavy, 5);
+  std::printf("heavy tail: mean %.5f p95 %.5f ->%s\n", heavy.mean, heavy.p95, line.c_str());
+  EXPECT_EQ(line, " / max 1.00000 (heavy tail: the mean exceeds the p95)");
+  EXPECT_EQ(HeavyTailNote(SummarizeErrors({0.5, 0.25, 1.0, 0.25}), 3), "");  // mean 0.5 < p95 1
+  EXPECT_EQ(HeavyTailNote(SummarizeErrors({}), 3), "");                      // NaN: no claim
 }
 
 // 4 x 1 images: rendered covers pixels 0,1,2; truth covers 1,2,3.

@@ -16,6 +16,7 @@
 
 #include "core/memory_budget.h"
 #include "tests/support/input_error.h"
+#include "tests/support/mutate.h"
 
 namespace core {
 namespace {
@@ -198,20 +199,7 @@ TEST(Ply, ArbitraryBytesGiveInputErrorsOnly) {
   int ok = 0, refused = 0;
   for (int i = 0; i < 4000; ++i) {
     std::string s = seeds[i % seeds.size()];
-    const int edits = 1 + static_cast<int>(rng() % 4);
-    for (int e = 0; e < edits && !s.empty(); ++e) {
-      const size_t at = rng() % s.size();
-      switch (rng() % 3) {
-        case 0:
-          s[at] = static_cast<char>(rng());
-          break;
-        case 1:
-          s.erase(at, 1 + rng() % 8);
-          break;
-        default:
-          s.insert(at, 1, "0123456789 -\n"[rng() % 13]);
-      }
-    }
+    test_support::MutateBytes(s, rng);
     std::istringstream in(s);
     try {
       ReadPly(in, "fuzz.ply");

@@ -182,7 +182,7 @@ TEST_F(DisplacedMeshTest, TilingRepeatsHeightsButTheColourTextureKeepsTheMeshUvs
   data.height = DisplacementHeightMap(core::HeightPattern::kBumps, 64, 0.2f);
   data.color = QuadrantTexture();
   const int size = 96;
-  DisplacementOrbit top;
+  OrbitCamera top;
   top.elevation_deg = 90;
   const float md = 0.1f;
   const render::ViewSetup view = DisplacementOrbitView(data.base, md, top, size);
@@ -253,7 +253,7 @@ TEST_F(DisplacedMeshTest, UpAxisTurnsTheOrbit) {
   // orbit frame (h1, h2, up) = (x, y, z) maps to (z, x, y), the frame for up y.
   for (glm::vec3& p : y_up.base.positions) p = glm::vec3(p.y, p.z, p.x);
   for (glm::vec3& n : y_up.base.normals) n = glm::vec3(n.y, n.z, n.x);
-  DisplacementOrbit orbit;
+  OrbitCamera orbit;
   const render::ViewSetup vz = DisplacementOrbitView(z_up.base, 0.1f, orbit, 96);
   orbit.up = UpAxisFromName("y", "test");
   const render::ViewSetup vy = DisplacementOrbitView(y_up.base, 0.1f, orbit, 96);

@@ -6,9 +6,11 @@
 #include <nlohmann/json.hpp>
 #include <string>
 
+#include "core/error.h"
 #include "ibr/deform_object.h"
 #include "ibr/scene_options.h"
 #include "ibr/volume_object.h"
+#include "render/cores/ray_core.h"
 #include "scene/scene_keys.h"
 
 namespace ibr {
@@ -103,6 +105,32 @@ TEST(SceneKeysDefaults, DefaultsEqualWhatTheParsersDoWithoutTheKey) {
   EXPECT_EQ(Default("deform", "skip_object"), f.pass.skip_object ? "true" : "false");
   EXPECT_EQ(Default("deform", "cap_holes"), f.cap_holes ? "true" : "false");
   EXPECT_EQ(Default("deform", "solid"), f.pass.solid_search ? "search" : "csg");
+}
+
+// refine_steps has one range, the ray core's: the key's help names it, the
+// scene parser and DepthObjectOptions::Check accept its ends and refuse one past.
+TEST(SceneKeysDefaults, RefineStepsHaveOneRange) {
+  const int max = render::kMaxRayRefineSteps;
+  const scene::ObjectKindSpec* kind = scene::FindObjectKind("depth-object");
+  ASSERT_NE(kind, nullptr);
+  std::string help;
+  for (const scene::KeySpec& k : kind->keys)
+    if (k.key == "refine_steps") help = std::string(k.help);
+  EXPECT_NE(help.find("(0.." + std::to_string(max)), std::string::npos) << help;
+  for (const int steps : {0, max}) {
+    DepthObjectOptions o;
+    EXPECT_NO_THROW(o = DepthObjectOptionsFrom(One("refine_steps", std::to_string(steps))));
+    EXPECT_EQ(o.refine_steps, steps);
+    EXPECT_NO_THROW(o.Check());
+  }
+  for (const int steps : {-1, max + 1}) {
+    EXPECT_THROW(DepthObjectOptionsFrom(One("refine_steps", std::to_string(steps))),
+                 core::InputError)
+        << steps;
+    DepthObjectOptions o;
+    o.refine_steps = steps;
+    EXPECT_THROW(o.Check(), core::InputError) << steps;
+  }
 }
 
 }  // namespace
