@@ -28,8 +28,17 @@ perspective capture of the same object (ibr capture --rig sphere:N) for the
 peer. Our cameras put pixel centres at +0.5, Open3D's at integer
 coordinates: cx, cy are shifted by -0.5.
 
+Orthographic maps (the cube rig), with --orthographic far-pinhole: each
+becomes a pinhole camera on its axis FAR_FACTOR (1000) bounds edges behind its
+image plane, its depth shifted by that distance and its focal length chosen
+so the scale is the orthographic one at the bounds' centre: the rays then
+deviate from parallel by at most edge / 2000 radians, a lateral error of
+1/4000 of an edge at the box faces (a sixteenth of a voxel at 256 voxels an
+edge), so Open3D's TSDF integrates the very maps our export reads.
+
 Usage: /usr/bin/python3 open3d_peer.py DATASET --out DIR
            [--methods tsdf:128,tsdf:256,carve-depth:128,...]
+           [--orthographic skip|far-pinhole]
 Exit status 1 with one line "open3d_peer: ..." on stderr for bad input.
 """
 
@@ -78,7 +87,10 @@ def read_png(path, o3d):
     return array
 
 
-def load_dataset(root, o3d):
+FAR_FACTOR = 1000.0
+
+
+def load_dataset(root, o3d, orthographic="skip"):
     manifest_path = os.path.join(root, "dataset.json")
     try:
         with open(manifest_path) as f:
@@ -97,10 +109,23 @@ def load_dataset(root, o3d):
         if cam is None:
             fail(f"'{manifest_path}': view {v['name']} names unknown camera {v['camera']}")
         model, p = cam["model"], cam["params"]
+        shift = 0.0  # far-pinhole: depth offset of the camera behind the image plane
+        cam_from_world = np.eye(4)
+        cam_from_world[:3, :] = np.asarray(v["cam_from_world"], dtype=np.float64)
         if model == "ORTHOGRAPHIC":
-            skipped += 1
-            continue
-        if model == "PINHOLE":
+            if orthographic != "far-pinhole" or not bounds:
+                skipped += 1
+                continue
+            sx, sy, cx, cy = p
+            lo_b = np.asarray(bounds["min"], dtype=np.float64)
+            hi_b = np.asarray(bounds["max"], dtype=np.float64)
+            shift = FAR_FACTOR * float(np.max(hi_b - lo_b))
+            z_ref = float((cam_from_world @ np.append(0.5 * (lo_b + hi_b), 1.0))[2])
+            fx, fy = sx * (shift + z_ref), sy * (shift + z_ref)
+            move = np.eye(4)
+            move[2, 3] = shift
+            cam_from_world = move @ cam_from_world
+        elif model == "PINHOLE":
             fx, fy, cx, cy = p
         elif model == "SIMPLE_PINHOLE":
             fx, cx, cy = p
@@ -109,8 +134,7 @@ def load_dataset(root, o3d):
             fail(f"'{manifest_path}': camera {cam['id']} is {model}; undistorted pinhole cameras only")
         w, h = int(cam["width"]), int(cam["height"])
         intrinsic = o3d.camera.PinholeCameraIntrinsic(w, h, fx, fy, cx - 0.5, cy - 0.5)
-        extrinsic = np.eye(4)
-        extrinsic[:3, :] = np.asarray(v["cam_from_world"], dtype=np.float64)
+        extrinsic = cam_from_world
         params = o3d.camera.PinholeCameraParameters()
         params.intrinsic = intrinsic
         params.extrinsic = extrinsic
@@ -121,6 +145,8 @@ def load_dataset(root, o3d):
                 fail(f"{v['depth']}: {depth.shape[1]}x{depth.shape[0]}, camera says {w}x{h}")
             depth[~np.isfinite(depth)] = 0
             depth[depth < 0] = 0
+            if shift:
+                depth[depth > 0] += shift
             view["depth"] = depth
         if v.get("color"):
             color = read_png(os.path.join(root, v["color"]), o3d)
@@ -250,6 +276,7 @@ def main(argv):
     parser.add_argument("dataset")
     parser.add_argument("--out", required=True)
     parser.add_argument("--methods", default="tsdf:128,tsdf:256,carve-depth:128,carve-silhouette:128")
+    parser.add_argument("--orthographic", choices=("skip", "far-pinhole"), default="skip")
     args = parser.parse_args(argv)
     methods = []
     for item in args.methods.split(","):
@@ -268,7 +295,7 @@ def main(argv):
     o3d.utility.set_verbosity_level(o3d.utility.VerbosityLevel.Error)
     import_s = time.perf_counter() - t_import
     t_read = time.perf_counter()
-    views, lo, hi, skipped = load_dataset(args.dataset, o3d)
+    views, lo, hi, skipped = load_dataset(args.dataset, o3d, args.orthographic)
     read_s = time.perf_counter() - t_read
     os.makedirs(args.out, exist_ok=True)
     report = {"open3d": o3d.__version__, "dataset": os.path.abspath(args.dataset), "views": len(views),

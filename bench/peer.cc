@@ -135,9 +135,10 @@ Open3dRun RunOpen3dPeer(const std::filesystem::path& dataset, const Open3dPeerOp
   std::string methods;
   for (const std::string& m : options.methods) methods += (methods.empty() ? "" : ",") + m;
   const std::string command =
-      fmt::format("{} {} {} --out {} --methods {} 2>&1", ShellQuote(options.python.string()),
-                  ShellQuote(script.string()), ShellQuote(dataset.string()),
-                  ShellQuote(options.work_dir.string()), ShellQuote(methods));
+      fmt::format("{} {} {} --out {} --methods {} --orthographic {} 2>&1",
+                  ShellQuote(options.python.string()), ShellQuote(script.string()),
+                  ShellQuote(dataset.string()), ShellQuote(options.work_dir.string()),
+                  ShellQuote(methods), options.far_pinhole ? "far-pinhole" : "skip");
   core::Stopwatch watch;
   FILE* pipe = popen(command.c_str(), "r");
   if (!pipe) core::ThrowInputError(kWhere, "cannot run '{}'", command);

@@ -98,6 +98,10 @@ struct Open3dPeerOptions {
   std::vector<std::string> methods = {"tsdf:128", "tsdf:256", "carve-depth:128",
                                       "carve-silhouette:128"};
   std::filesystem::path work_dir;  // required: PLYs and peer.json are written here
+  // Orthographic maps (cube rig) as far pinhole cameras (open3d_peer.py
+  // --orthographic far-pinhole); false: skipped, as Open3D has no
+  // orthographic camera.
+  bool far_pinhole = false;
   void Check() const;
 };
 

@@ -44,6 +44,10 @@ void Table::AddRow(std::vector<std::string> values) {
   rows_.push_back(std::move(values));
 }
 
+bool Table::HasColumn(const std::string& name) const {
+  return std::find(columns_.begin(), columns_.end(), name) != columns_.end();
+}
+
 int Table::Column(const std::string& name) const {
   auto it = std::find(columns_.begin(), columns_.end(), name);
   IBR_CHECK(it != columns_.end());

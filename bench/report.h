@@ -22,6 +22,7 @@ class Table {
   const std::vector<std::vector<std::string>>& rows() const { return rows_; }
   // Column index by name (CHECK-fails for an unknown name).
   int Column(const std::string& name) const;
+  bool HasColumn(const std::string& name) const;
   // Aligned text for the terminal.
   std::string Format() const;
   // Atomic CSV write (header + rows).

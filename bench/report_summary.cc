@@ -87,8 +87,7 @@ std::optional<Table> Load(const fs::path& dir, const std::string& rel) {
 Table Where(const Table& t, const std::vector<std::pair<std::string, std::string>>& equal) {
   std::vector<std::pair<int, std::string>> index;
   for (const auto& [column, value] : equal) {
-    const auto& c = t.columns();
-    if (std::find(c.begin(), c.end(), column) == c.end()) return Table(t.columns());
+    if (!t.HasColumn(column)) return Table(t.columns());
     index.emplace_back(t.Column(column), value);
   }
   return Filtered(t, [&](const std::vector<std::string>& r) {
@@ -99,8 +98,7 @@ Table Where(const Table& t, const std::vector<std::pair<std::string, std::string
 
 // The finite numbers of one column.
 std::vector<double> Values(const Table& t, const std::string& column) {
-  const auto& c = t.columns();
-  if (std::find(c.begin(), c.end(), column) == c.end()) return {};
+  if (!t.HasColumn(column)) return {};
   std::vector<double> out;
   const int i = t.Column(column);
   for (const auto& r : t.rows()) {

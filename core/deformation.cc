@@ -111,7 +111,40 @@ void Deformation::Check() const {
                         width);
       }
       break;
+    case DeformationKind::kClip:
+    case DeformationKind::kCutaway:
+      if (amount < 0 || amount > 1) {
+        ThrowInputError("Deformation", "{}: position {} must be in [0, 1] (box units)",
+                        DeformationKindName(kind), amount);
+      }
+      break;
+    case DeformationKind::kWedge:
+      if (!(amount > 0) || amount > M_PI || width < 0 || width > 1) {
+        ThrowInputError("Deformation", "wedge: angle {} must be in (0, pi] and bottom {} in [0, 1]",
+                        amount, width);
+      }
+      break;
   }
+}
+
+double CutAwayAlpha(DeformationKind kind, double amount, double width, const glm::dvec3& u) {
+  switch (kind) {
+    case DeformationKind::kClip:
+      return u.z - amount;
+    case DeformationKind::kCutaway:
+      return std::min({u.x - amount, u.y - amount, u.z - amount});
+    case DeformationKind::kWedge: {
+      // Its two faces are the half-planes through the axis at +-amount/2
+      // from +x; unit normals, so each term is a distance.
+      const double h = 0.5 * amount;
+      const glm::dvec2 v = glm::dvec2(u) - kAxis;
+      return std::min({std::sin(h) * v.x + std::cos(h) * v.y, std::sin(h) * v.x - std::cos(h) * v.y,
+                       u.z - width});
+    }
+    default:
+      break;
+  }
+  ThrowInputError("CutAwayAlpha", "{} is not a cut-away", DeformationKindName(kind));
 }
 
 glm::dvec4 Deformation::Evaluate(const glm::dvec3& u) const {
@@ -168,6 +201,10 @@ glm::dvec4 Deformation::Evaluate(const glm::dvec3& u) const {
       if (PeelSlab(*this, q) >= 0) return {q - u, -1.0};
       return {0.0, 0.0, 0.0, std::max(PeelSlab(*this, u), -1.0)};
     }
+    case DeformationKind::kClip:
+    case DeformationKind::kCutaway:
+    case DeformationKind::kWedge:
+      return {0.0, 0.0, 0.0, CutAwayAlpha(kind, amount, width, u)};
   }
   return {0, 0, 0, -1};
 }
@@ -203,6 +240,10 @@ glm::dvec3 Deformation::Forward(const glm::dvec3& u) const {
     }
     case DeformationKind::kPeel:
       return PeelSlab(*this, u) >= 0 ? PeelRotate(*this, u, amount) : u;
+    case DeformationKind::kClip:
+    case DeformationKind::kCutaway:
+    case DeformationKind::kWedge:
+      return u;
     case DeformationKind::kPull:
       break;
   }

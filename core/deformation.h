@@ -16,6 +16,13 @@
 //          the whole box in y that turns about the hinge x = 0.5 (like the
 //          knife, the region is placed with its y faces beyond the object)
 //          and is clipped where it leaves the box through the top or x = 0
+//   clip, cutaway, wedge  D = 0 everywhere; their cut reaches every face
+//          but the bottom, so the box must enclose the object (the default
+//          region does) or the cut stops at the box where the mesh is drawn
+//
+// Cut-aways (clip, cutaway, wedge) move nothing: material is removed where
+// A > 0, A a signed distance in box units (1-Lipschitz, so the cut's skip
+// bound holds). The same functions cut volumes (core/volume_displacement.h).
 //
 // Pieces. A peel's inverse displacement jumps at the turned flap's faces
 // (two pre-images meet there), and a sampled D interpolated across the jump
@@ -36,11 +43,12 @@
 
 namespace core {
 
-enum class DeformationKind { kTwist, kBend, kPull, kKnife, kPeel };
+enum class DeformationKind { kTwist, kBend, kPull, kKnife, kPeel, kClip, kCutaway, kWedge };
 inline constexpr EnumName<DeformationKind> kDeformationKindNames[] = {
-    {DeformationKind::kTwist, "twist"}, {DeformationKind::kBend, "bend"},
-    {DeformationKind::kPull, "pull"},   {DeformationKind::kKnife, "knife"},
-    {DeformationKind::kPeel, "peel"},
+    {DeformationKind::kTwist, "twist"},     {DeformationKind::kBend, "bend"},
+    {DeformationKind::kPull, "pull"},       {DeformationKind::kKnife, "knife"},
+    {DeformationKind::kPeel, "peel"},       {DeformationKind::kClip, "clip"},
+    {DeformationKind::kCutaway, "cutaway"}, {DeformationKind::kWedge, "wedge"},
 };
 static_assert(EnumNamesUnique(kDeformationKindNames));
 DeformationKind DeformationKindFromName(const std::string& name);  // InputError if unknown
@@ -52,14 +60,18 @@ struct Deformation {
   // bend: total bend angle (radians) over z in [0, 1], bending towards +x (Barr 1984);
   // pull: amplitude (box units) of the Gaussian pull along +z (Fig. 3: 0.5);
   // knife: opening width (box units) of the cut at the top face;
-  // peel: angle (radians, [0, pi]) the flap is turned back by (pi: flat, face down).
+  // peel: angle (radians, [0, pi]) the flap is turned back by (pi: flat, face down);
+  // clip: height of the clip plane ([0, 1]; above it is removed);
+  // cutaway: the removed corner box's low corner on each axis ([0, 1]);
+  // wedge: opening angle (radians, (0, pi]) about the axis x = y = 0.5, centred on +x.
   double amount = 1.0;
   // twist: radius (box units) inside which the twist is rigid; it falls to 0 at 0.5;
   // pull: Gaussian width sigma (box units; Fig. 3 analogue: 0.03);
   // knife: depth of the cut from the top face (box units);
   // peel: thickness T of the flap (box units, (0, 0.5]): the layer
   //   1 - 2T <= z <= 1 - T, x >= 0.5, turns about the line x = 0.5, z = 1 - T;
-  // bend: unused.
+  // wedge: the wedge's bottom height ([0, 1]; it reaches the top face);
+  // bend, clip, cutaway: unused.
   double width = 0.3;
 
   void Check() const;  // InputError on NaN/inf or out-of-range values
@@ -69,12 +81,23 @@ struct Deformation {
   bool HasForward() const { return kind != DeformationKind::kPull; }
   // The forward map T(u) (T^-1(T(u)) = u): twist, bend and knife only.
   glm::dvec3 Forward(const glm::dvec3& u) const;
-  bool HasCut() const { return kind == DeformationKind::kKnife || kind == DeformationKind::kPeel; }
+  bool HasCut() const {
+    return kind == DeformationKind::kKnife || kind == DeformationKind::kPeel || IsCutAway();
+  }
+  bool IsCutAway() const {
+    return kind == DeformationKind::kClip || kind == DeformationKind::kCutaway ||
+           kind == DeformationKind::kWedge;
+  }
   // (D, A) of one piece (see "Pieces" above): piece 0 = the rest, piece 1 =
   // the peel's flap (A = its mask). Both continuous in u. Terms other than
   // the peel are the same in both pieces (Evaluate).
   glm::dvec4 EvaluatePiece(const glm::dvec3& u, int piece) const;
 };
+
+// A cut-away's alpha at u (box units, > 0 where material is removed): clip
+// u.z - amount; cutaway min over axes of u - amount; wedge the minimum of the
+// distances to its two half-planes and u.z - width. `kind` must be a cut-away.
+double CutAwayAlpha(DeformationKind kind, double amount, double width, const glm::dvec3& u);
 
 // How a cut alpha is rendered (sec. 5): no cut, hollow thin shell (hits in
 // the cut discarded), solid (eq. 6: the cut reveals a new face), thick shell

@@ -6,6 +6,7 @@
 #include <numbers>
 
 #include "core/check.h"
+#include "core/deformation.h"
 #include "core/error.h"
 #include "core/summed_volume.h"
 
@@ -73,6 +74,10 @@ void EffectOptions::Check() const {
   CheckFinite(pull_sigma, "pull sigma");
   CheckFinite(wave_amplitude, "wave amplitude");
   CheckFinite(wave_frequency, "wave frequency");
+  CheckFinite(clip_height, "clip height");
+  CheckFinite(cutaway_corner, "cutaway corner");
+  CheckFinite(wedge_angle_deg, "wedge angle");
+  CheckFinite(wedge_bottom, "wedge bottom");
   if (peel_thickness <= 0 || peel_thickness > 1)
     ThrowInputError("EffectOptions", "peel thickness {} not in (0, 1]", peel_thickness);
   if (std::abs(peel_angle_deg) > 360)
@@ -89,7 +94,34 @@ void EffectOptions::Check() const {
   if (pull_sigma <= 0) ThrowInputError("EffectOptions", "pull sigma {} must be > 0", pull_sigma);
   if (std::abs(wave_amplitude) > 1)
     ThrowInputError("EffectOptions", "wave amplitude {} not in [-1, 1]", wave_amplitude);
+  if (clip_height < 0 || clip_height > 1)
+    ThrowInputError("EffectOptions", "clip height {} not in [0, 1]", clip_height);
+  if (cutaway_corner < 0 || cutaway_corner > 1)
+    ThrowInputError("EffectOptions", "cutaway corner {} not in [0, 1]", cutaway_corner);
+  if (!(wedge_angle_deg > 0) || wedge_angle_deg > 180)
+    ThrowInputError("EffectOptions", "wedge angle {} not in (0, 180]", wedge_angle_deg);
+  if (wedge_bottom < 0 || wedge_bottom > 1)
+    ThrowInputError("EffectOptions", "wedge bottom {} not in [0, 1]", wedge_bottom);
 }
+
+namespace {
+// The cut-away's alpha as a deformation box (> 0: removed).
+double CutAway(const EffectOptions& o, const glm::dvec3& u) {
+  switch (o.effect) {
+    case Effect::kClip:
+      return CutAwayAlpha(DeformationKind::kClip, o.clip_height, 0.0, u);
+    case Effect::kCutaway:
+      return CutAwayAlpha(DeformationKind::kCutaway, o.cutaway_corner, 0.0, u);
+    case Effect::kWedge:
+      return CutAwayAlpha(DeformationKind::kWedge, o.wedge_angle_deg * kPi / 180, o.wedge_bottom,
+                          u);
+    default:
+      break;
+  }
+  IBR_CHECK(false);
+  return -1.0;
+}
+}  // namespace
 
 glm::dvec4 EvaluateEffect(const EffectOptions& o, const glm::dvec3& u) {
   switch (o.effect) {
@@ -135,6 +167,10 @@ glm::dvec4 EvaluateEffect(const EffectOptions& o, const glm::dvec3& u) {
     }
     case Effect::kWave:
       return {0, 0, o.wave_amplitude * std::sin(2 * kPi * o.wave_frequency * u.x), 1};
+    case Effect::kClip:
+    case Effect::kCutaway:
+    case Effect::kWedge:
+      return {0, 0, 0, CutAway(o, u) > 0 ? 0 : 1};
   }
   return {0, 0, 0, 1};
 }
@@ -155,6 +191,10 @@ glm::dvec3 ForwardEffect(const EffectOptions& o, const glm::dvec3& p) {
       const double shift = SeamShift(o, p.z);
       return {p.x + (p.x >= 0.5 ? shift : -shift), p.y, p.z};
     }
+    case Effect::kClip:
+    case Effect::kCutaway:
+    case Effect::kWedge:
+      return p;  // nothing moves
     case Effect::kPull:
     case Effect::kWave:
       break;  // continuous maps: no closed-form forward map needed here

@@ -45,10 +45,11 @@ struct DisplacementMap {
 // returns (D, alpha) at a map-space point u, alpha 1 or 0 (sharp; smoothing
 // happens on the grid), D continuous everywhere (the pseudo-inverse where
 // alpha = 0).
-enum class Effect { kPeel, kSlices, kSeam, kPull, kWave };
+enum class Effect { kPeel, kSlices, kSeam, kPull, kWave, kClip, kCutaway, kWedge };
 inline constexpr EnumName<Effect> kEffectNames[] = {
-    {Effect::kPeel, "peel"}, {Effect::kSlices, "slices"}, {Effect::kSeam, "seam"},
-    {Effect::kPull, "pull"}, {Effect::kWave, "wave"},
+    {Effect::kPeel, "peel"},       {Effect::kSlices, "slices"}, {Effect::kSeam, "seam"},
+    {Effect::kPull, "pull"},       {Effect::kWave, "wave"},     {Effect::kClip, "clip"},
+    {Effect::kCutaway, "cutaway"}, {Effect::kWedge, "wedge"},
 };
 static_assert(EnumNamesUnique(kEffectNames));
 std::string_view EffectName(Effect effect);
@@ -80,6 +81,12 @@ struct EffectOptions {
   // Wave: D = (0, 0, amplitude sin(2 pi frequency x)), continuous, no cut.
   double wave_amplitude = 0.05;  // map units
   double wave_frequency = 2;     // periods across the map
+  // Cut-aways (core/deformation.h's clip, cutaway, wedge: the same cuts a
+  // mesh takes): nothing moves (D = 0), material is removed.
+  double clip_height = 0.5;     // clip: above this z is removed, map units
+  double cutaway_corner = 0.5;  // cutaway: the corner x, y, z > this is removed, map units
+  double wedge_angle_deg = 90;  // wedge: opening about x = y = 0.5, centred on +x, (0, 180]
+  double wedge_bottom = 0;      // wedge: it reaches from this z to the top, map units
 
   void Check() const;  // InputError on NaN/Inf or out-of-range values
   bool operator==(const EffectOptions&) const = default;

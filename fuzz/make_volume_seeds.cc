@@ -20,6 +20,7 @@
 #include <vector>
 
 #include "core/volume_io.h"
+#include "tests/support/nifti_bytes.h"
 
 int main(int argc, char** argv) {
   namespace fs = std::filesystem;
@@ -104,27 +105,13 @@ int main(int argc, char** argv) {
   // NIfTI: NIfTI-1 (348-byte header at nifti1.h offsets) and NIfTI-2 (540).
   fs::create_directories(root / "nifti");
   const auto nifti1 = [&](bool big_endian, float slope) {
-    std::string h(352, '\0');
-    const auto put = [&](size_t offset, auto value) {
-      std::memcpy(h.data() + offset, &value, sizeof value);
-      if (big_endian)
-        std::reverse(h.begin() + static_cast<std::ptrdiff_t>(offset),
-                     h.begin() + static_cast<std::ptrdiff_t>(offset + sizeof value));
-    };
-    put(0, int32_t{348});
-    const int16_t dim[8] = {3, 2, 2, 1, 1, 1, 1, 1};
-    for (int i = 0; i < 8; ++i) put(40 + 2 * i, dim[i]);
-    put(70, int16_t{4});
-    put(72, int16_t{16});
-    for (int i = 0; i < 8; ++i) put(76 + 4 * i, i == 3 ? 2.5f : 1.0f);
-    put(108, 352.0f);
-    put(112, slope);
-    put(116, -1024.0f);
-    std::memcpy(h.data() + 344, "n+1\0", 4);
-    std::string data = voxels;
-    if (big_endian)
-      for (size_t i = 0; i < data.size(); i += 2) std::swap(data[i], data[i + 1]);
-    return h + data;
+    test_support::NiftiFields f;
+    f.dims = {2, 2, 1};
+    f.pixdim = {1.0, 1.0, 2.5};
+    f.slope = slope;
+    f.inter = -1024.0;
+    f.big_endian = big_endian;
+    return test_support::Nifti1Bytes(f, voxels);
   };
   std::ofstream(root / "nifti" / "n1", std::ios::binary) << nifti1(false, 1.0f);
   std::ofstream(root / "nifti" / "n1-big", std::ios::binary) << nifti1(true, 1.0f);
@@ -144,21 +131,10 @@ int main(int argc, char** argv) {
     deflateEnd(&z);
   }
   {
-    std::string h(544, '\0');
-    const auto put = [&](size_t offset, auto value) {
-      std::memcpy(h.data() + offset, &value, sizeof value);
-    };
-    put(0, int32_t{540});
-    std::memcpy(h.data() + 4, "n+2\0\r\n\032\n", 8);
-    put(12, int16_t{4});
-    put(14, int16_t{16});
-    const int64_t dim[8] = {3, 2, 2, 1, 1, 1, 1, 1};
-    for (int i = 0; i < 8; ++i) put(16 + 8 * i, dim[i]);
-    for (int i = 0; i < 8; ++i) put(104 + 8 * i, 1.0);
-    put(168, int64_t{544});
-    put(176, 1.0);
-    put(184, -1024.0);
-    std::ofstream(root / "nifti" / "n2", std::ios::binary) << h + voxels;
+    test_support::NiftiFields f;
+    f.dims = {2, 2, 1};
+    f.inter = -1024.0;
+    std::ofstream(root / "nifti" / "n2", std::ios::binary) << test_support::Nifti2Bytes(f, voxels);
   }
   fs::create_directories(root / "transfer_function");
   const char* transfer[] = {

@@ -87,6 +87,13 @@ void SetDeformationDefaults(core::Deformation& d) {
     case core::DeformationKind::kPeel:
       d.amount = 2.4, d.width = 0.15;
       break;
+    case core::DeformationKind::kClip:
+    case core::DeformationKind::kCutaway:
+      d.amount = 0.5, d.width = 0.0;
+      break;
+    case core::DeformationKind::kWedge:
+      d.amount = M_PI / 2, d.width = 0.0;
+      break;
   }
 }
 

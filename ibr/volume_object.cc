@@ -47,6 +47,7 @@ render::VolumeMapInput SampleEffectMap(const core::EffectOptions& effect, int ma
   if (effect.effect == core::Effect::kSlices || effect.effect == core::Effect::kWave ||
       effect.effect == core::Effect::kPeel || effect.effect == core::Effect::kSeam)
     dims.y = std::min(map_size, 4);
+  if (effect.effect == core::Effect::kClip) dims.x = dims.y = std::min(map_size, 4);
   return {core::SampleEffect(effect, dims, 2), placement};
 }
 

@@ -121,7 +121,8 @@ const std::vector<ObjectKindSpec>& ObjectKinds() {
                       "{\"shape\": NAME} or {\"file\": F} or {\"shared_mesh\": REL}; closed, or "
                       "cap_holes"),
            {"deformation", "string", "twist",
-            "twist | bend | pull | knife | peel, or a comma list (summed)"},
+            "twist | bend | pull | knife | peel | clip | cutaway | wedge, or a comma list "
+            "(summed)"},
            {"amount", "number or list", "per deformation",
             "strength of each deformation (comma list for several)"},
            {"width", "number or list", "per deformation",

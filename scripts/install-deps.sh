@@ -41,6 +41,8 @@ PACKAGES=(
   python3-nibabel
   # the VTK volume-rendering peer (bench/vtk_volume_peer.py: vtkGPUVolumeRayCastMapper under xvfb-run)
   python3-vtk9
+  # meshes of depth objects and hulls: OpenVDB's volumeToMesh (ibr/mesh_export.cc, ibr export mesh)
+  libopenvdb-dev
   # scripts/ibr-dask: batches of ibr jobs on Dask distributed (local cluster or a scheduler)
   python3-distributed
 )

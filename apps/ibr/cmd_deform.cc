@@ -107,14 +107,16 @@ void AddDeformCommand(CLI::App& app) {
   cmd->add_option("mesh", f.mesh, "mesh file (OBJ/PLY/...), normalised to the unit cube")
       ->required();
   cmd->add_flag("--cap-holes", f.cap_holes, "fill the boundary loops of an open mesh");
-  cmd->add_option("--deformation", f.deformations, "twist|bend|pull|knife|peel (repeat to sum)")
+  cmd->add_option("--deformation", f.deformations,
+                  "twist|bend|pull|knife|peel|clip|cutaway|wedge (repeat to sum)")
       ->delimiter(',');
   cmd->add_option("--amount", f.amounts,
-                  "per deformation: twist/bend/peel angle (rad), pull amplitude, knife opening")
+                  "per deformation: twist/bend/peel/wedge angle (rad), pull amplitude, knife "
+                  "opening, clip plane height, cutaway corner (box units)")
       ->delimiter(',');
   cmd->add_option("--width", f.widths,
-                  "per deformation: twist rigid radius, pull sigma, knife depth, peel thickness "
-                  "(box units)")
+                  "per deformation: twist rigid radius, pull sigma, knife depth, peel thickness, "
+                  "wedge bottom (box units)")
       ->delimiter(',');
   cmd->add_option("--cut", f.cut, "none|hollow|solid|thick:T")->capture_default_str();
   cmd->add_option("--region", f.region,

@@ -157,6 +157,11 @@ DeformationRanges RangesOf(core::DeformationKind kind) {
       return {0.01f, 0.5f, 0.05f, 1.0f};
     case core::DeformationKind::kPeel:
       return {0.0f, 3.14f, 0.02f, 0.5f};
+    case core::DeformationKind::kClip:
+    case core::DeformationKind::kCutaway:
+      return {0.0f, 1.0f, 0.0f, 0.0f};
+    case core::DeformationKind::kWedge:
+      return {0.05f, 3.14f, 0.0f, 1.0f};
   }
   return {0, 1, 0, 1};
 }
@@ -303,6 +308,15 @@ class SceneFileScene : public viewer::Scene {
           break;
         case core::Effect::kWave:
           changed |= SliderDouble("wave amplitude", e.wave_amplitude, -0.2f, 0.2f, "%.3f");
+          break;
+        case core::Effect::kClip:
+          changed |= SliderDouble("clip height", e.clip_height, 0, 1, "%.3f");
+          break;
+        case core::Effect::kCutaway:
+          changed |= SliderDouble("cutaway corner", e.cutaway_corner, 0, 1, "%.3f");
+          break;
+        case core::Effect::kWedge:
+          changed |= SliderDouble("wedge angle (deg)", e.wedge_angle_deg, 1, 180, "%.1f");
           break;
       }
     } else {

@@ -64,7 +64,10 @@ void AddVolumeCommand(CLI::App& app) {
   cmd->add_option("volume", r.volume,
                   "QVis .dat, NRRD .nrrd/.nhdr, NIfTI .nii/.nii.gz or a DICOM folder")
       ->required();
-  cmd->add_option("--effect", o.effect, "none|peel|slices|seam|pull|wave")->capture_default_str();
+  cmd->add_option("--deformation,--effect", o.effect,
+                  "none|peel|slices|seam|pull|wave|clip|cutaway|wedge (clip, cutaway and wedge "
+                  "cut meshes too: ibr deform --deformation)")
+      ->capture_default_str();
   cmd->add_option("--peel-angle", o.params.peel_angle_deg, "peel: degrees")->capture_default_str();
   cmd->add_option("--peel-thickness", o.params.peel_thickness, "peel: layer thickness, map units")
       ->capture_default_str();
@@ -85,6 +88,17 @@ void AddVolumeCommand(CLI::App& app) {
   cmd->add_option("--wave-amplitude", o.params.wave_amplitude, "wave: amplitude, map units")
       ->capture_default_str();
   cmd->add_option("--wave-frequency", o.params.wave_frequency, "wave: periods across the map")
+      ->capture_default_str();
+  cmd->add_option("--clip-height", o.params.clip_height,
+                  "clip: z above which is removed, map units")
+      ->capture_default_str();
+  cmd->add_option("--cutaway-corner", o.params.cutaway_corner,
+                  "cutaway: the corner x, y, z above this is removed, map units")
+      ->capture_default_str();
+  cmd->add_option("--wedge-angle", o.params.wedge_angle_deg,
+                  "wedge: opening in degrees about the map's vertical axis, centred on +x")
+      ->capture_default_str();
+  cmd->add_option("--wedge-bottom", o.params.wedge_bottom, "wedge: its lowest z, map units")
       ->capture_default_str();
   cmd->add_option("--map-size", r.map_size, "displacement map texels per axis")
       ->capture_default_str();

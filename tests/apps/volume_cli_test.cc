@@ -90,6 +90,41 @@ TEST_F(VolumeCliTest, RendersEveryEffectAndMode) {
   }
 }
 
+// The cut-aways the mesh deformations share (--deformation clip|cutaway|
+// wedge) each remove part of the ball; a clip above the map (height 1)
+// removes nothing.
+TEST_F(VolumeCliTest, CutAwaysChangeThePictureAndAClipAboveRemovesNothing) {
+  const std::string dat = (dir_ / "ball.dat").string();
+  const auto render = [&](const std::string& args, const std::string& name) {
+    const fs::path out = dir_ / name;
+    const auto r = Volume(dat + " --mode iso:100 " + args +
+                          " --size 128 --azimuth 30 --elevation 25 --out " + out.string());
+    EXPECT_EQ(r.exit_code, 0) << args << "\n" << r.err;
+    return core::ReadImage<uint8_t>(out);
+  };
+  const auto differing = [](const core::Image8& a, const core::Image8& b) {
+    int n = 0;
+    for (int y = 0; y < a.height(); ++y)
+      for (int x = 0; x < a.width(); ++x) {
+        int diff = 0;
+        for (int c = 0; c < 3; ++c) diff += std::abs(a.at(x, y, c) - b.at(x, y, c));
+        n += diff > 24;
+      }
+    return n;
+  };
+  const core::Image8 none = render("--deformation none", "cut_none.png");
+  const int ball = Covered(none);
+  ASSERT_GT(ball, 500);
+  for (const std::string cut : {"clip", "cutaway", "wedge"}) {
+    const core::Image8 image = render("--deformation " + cut, "cut_" + cut + ".png");
+    const int changed = differing(image, none);
+    std::printf("%s: %d of the ball's %d pixels changed\n", cut.c_str(), changed, ball);
+    EXPECT_GT(changed, ball / 20) << cut;
+  }
+  const core::Image8 above = render("--deformation clip --clip-height 1", "cut_above.png");
+  EXPECT_LE(differing(above, none), ball / 100);
+}
+
 TEST_F(VolumeCliTest, BadInputGivesOneErrorLineAndNoOutput) {
   // Broken inputs.
   const fs::path short_dat = dir_ / "short.dat";
@@ -122,6 +157,8 @@ TEST_F(VolumeCliTest, BadInputGivesOneErrorLineAndNoOutput) {
       {ball + " --transfer " + unsorted_tf.string(), "unsorted_tf.json"},
       {ball + " --transfer nosuchpreset", "neither a preset (tooth, neghip, bucky, ramp, empty)"},
       {ball + " --effect melt", "melt"},
+      {ball + " --deformation wedge --wedge-angle 0", "wedge angle"},
+      {ball + " --deformation clip --clip-height 1.5", "clip height"},
       {ball + " --mode iso:300", "iso value 300 is outside the data range [0, 235]"},
       {ball + " --mode iso:nan", "iso:nan"},
       {ball + " --mode fog", "fog"},

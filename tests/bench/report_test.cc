@@ -35,6 +35,13 @@ TEST(Report, CsvHasHeaderAndRows) {
   EXPECT_NE(SampleTable().Format().find("orthogonal"), std::string::npos);
 }
 
+TEST(Report, HasColumnNamesExactlyTheColumns) {
+  const Table t = SampleTable();
+  for (const std::string& c : t.columns()) EXPECT_TRUE(t.HasColumn(c)) << c;
+  EXPECT_FALSE(t.HasColumn("p95"));
+  EXPECT_FALSE(t.HasColumn(""));
+}
+
 TEST(Report, CsvQuotesCellsWithCommasQuotesAndLineBreaks) {
   const auto path = test_support::TestOutputDir() / "q.csv";
   Table t({"variant", "note"});

@@ -8,6 +8,7 @@
 #include <csignal>
 #include <cstdlib>
 #include <fstream>
+#include <functional>
 #include <set>
 #include <thread>
 
@@ -225,12 +226,15 @@ TEST(StagedDirectory, StaleStagingOfDeadProcessesIsRemovedLiveOnesKept) {
   for (const fs::path& p : {live, other, not_staging}) EXPECT_TRUE(fs::exists(p)) << p;
 }
 
-// A child process stages an output and waits; `sig` must remove the staging
-// folder and still end the child by that signal.
-void ExpectSignalRemovesStaging(int sig) {
+// Forks a child that runs `body(root, ready_fd, go_fd)`: it stages output
+// under `root`, writes a byte to ready_fd when mid-write and, if it ends
+// itself, waits for a byte on go_fd first (or its end races the parent's
+// look). The parent checks something is staged, then kills the child with
+// `sig` or (kill = false) lets it go; the child must end by `sig` and leave
+// nothing under `root`.
+void ExpectSignalLeavesNothing(int sig, bool kill,
+                               const std::function<void(const fs::path&, int, int)>& body) {
   const auto root = test_support::TestOutputDir();
-  // ready: the child is mid-write; go: the parent has looked (the child may
-  // abort only then, or its handler races the parent's directory scan).
   int ready[2], go[2];
   ASSERT_EQ(::pipe(ready), 0);
   ASSERT_EQ(::pipe(go), 0);
@@ -238,35 +242,45 @@ void ExpectSignalRemovesStaging(int sig) {
   ASSERT_GE(child, 0);
   if (child == 0) {
     InstallCleanupSignalHandlers();
-    StagedDirectory staged(root / "out");
-    fs::create_directories(staged.path() / "color");
-    std::ofstream(staged.path() / "color" / "v0.png") << "png";
-    AtomicWriteStream(staged.path() / "dataset.json", [&](std::ostream& o) {
-      o << "{";
-      (void)!::write(ready[1], "r", 1);
-      if (sig == SIGABRT) {
-        char go_byte = 0;
-        (void)!::read(go[0], &go_byte, 1);
-        std::abort();
-      }
-      for (;;) ::pause();
-    });
+    body(root, ready[1], go[0]);
     ::_exit(0);
   }
   char byte = 0;
   ASSERT_EQ(::read(ready[0], &byte, 1), 1);
   EXPECT_GT(Entries(root).size(), 0u);
-  if (sig == SIGABRT) {
-    ASSERT_EQ(::write(go[1], "g", 1), 1);
-  } else {
+  if (kill) {
     ::kill(child, sig);
+  } else {
+    ASSERT_EQ(::write(go[1], "g", 1), 1);
   }
   int status = 0;
   ASSERT_EQ(::waitpid(child, &status, 0), child);
   EXPECT_TRUE(WIFSIGNALED(status));
-  EXPECT_EQ(WTERMSIG(status), sig);
+  if (WIFSIGNALED(status)) {
+    EXPECT_EQ(WTERMSIG(status), sig);
+  }
   EXPECT_EQ(Entries(root), std::set<std::string>{}) << "left behind by signal " << sig;
   for (int fd : {ready[0], ready[1], go[0], go[1]}) ::close(fd);
+}
+
+// A child stages a folder and a file in it and waits; `sig` must remove the
+// staging folder and still end the child by that signal.
+void ExpectSignalRemovesStaging(int sig) {
+  ExpectSignalLeavesNothing(sig, sig != SIGABRT, [sig](const fs::path& root, int ready, int go) {
+    StagedDirectory staged(root / "out");
+    fs::create_directories(staged.path() / "color");
+    std::ofstream(staged.path() / "color" / "v0.png") << "png";
+    AtomicWriteStream(staged.path() / "dataset.json", [&](std::ostream& o) {
+      o << "{";
+      (void)!::write(ready, "r", 1);
+      if (sig == SIGABRT) {
+        char go_byte = 0;
+        (void)!::read(go, &go_byte, 1);
+        std::abort();
+      }
+      for (;;) ::pause();
+    });
+  });
 }
 
 // A process-directed signal may land on a thread other than the one writing
@@ -274,38 +288,19 @@ void ExpectSignalRemovesStaging(int sig) {
 // staging folder, must not leave any behind. The signal is sent to a helper
 // thread while the main thread writes as fast as it can.
 TEST(StagedDirectory, SignalOnAnotherThreadWhileMainWritesRemovesStaging) {
-  const auto root = test_support::TestOutputDir();
-  int ready[2], go[2];
-  ASSERT_EQ(::pipe(ready), 0);
-  ASSERT_EQ(::pipe(go), 0);
-  const pid_t child = ::fork();
-  ASSERT_GE(child, 0);
-  if (child == 0) {
-    InstallCleanupSignalHandlers();
+  ExpectSignalLeavesNothing(SIGTERM, false, [](const fs::path& root, int ready, int go) {
     StagedDirectory staged(root / "out");
-    std::thread helper([&] {
+    std::thread helper([go] {
       char go_byte = 0;
-      (void)!::read(go[0], &go_byte, 1);
+      (void)!::read(go, &go_byte, 1);
       ::pthread_kill(::pthread_self(), SIGTERM);
       for (;;) ::pause();
     });
     for (long i = 0;; ++i) {
       std::ofstream(staged.path() / fmt::format("f{}", i % 4096)) << i;
-      if (i == 64) (void)!::write(ready[1], "r", 1);
+      if (i == 64) (void)!::write(ready, "r", 1);
     }
-  }
-  char byte = 0;
-  ASSERT_EQ(::read(ready[0], &byte, 1), 1);
-  EXPECT_GT(Entries(root).size(), 0u);
-  ASSERT_EQ(::write(go[1], "g", 1), 1);
-  int status = 0;
-  ASSERT_EQ(::waitpid(child, &status, 0), child);
-  EXPECT_TRUE(WIFSIGNALED(status));
-  if (WIFSIGNALED(status)) {
-    EXPECT_EQ(WTERMSIG(status), SIGTERM);
-  }
-  EXPECT_EQ(Entries(root), std::set<std::string>{}) << "left behind by a signal on another thread";
-  for (int fd : {ready[0], ready[1], go[0], go[1]}) ::close(fd);
+  });
 }
 
 TEST(StagedDirectory, SigintRemovesStaging) { ExpectSignalRemovesStaging(SIGINT); }

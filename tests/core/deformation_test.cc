@@ -259,6 +259,43 @@ TEST(Deformation, AlphaComponentsRebuildTheAlphaAndInterpolateExactly) {
   }
 }
 
+// Cut-aways move nothing and their alpha is the signed distance (box units)
+// to the removed region's nearest face where one face is nearest.
+TEST(Deformation, CutAwaysAreDistancesAndMoveNothing) {
+  Deformation clip{DeformationKind::kClip, 0.6, 0.0};
+  Deformation corner{DeformationKind::kCutaway, 0.5, 0.0};
+  Deformation wedge{DeformationKind::kWedge, M_PI / 2, 0.2};
+  EXPECT_EQ(clip.Evaluate({0.3, 0.9, 0.75}), glm::dvec4(0, 0, 0, 0.75 - 0.6));
+  EXPECT_NEAR(clip.Evaluate({0.3, 0.9, 0.4}).w, -0.2, 1e-15);
+  EXPECT_NEAR(corner.Evaluate({0.9, 0.8, 0.6}).w, 0.1, 1e-15);   // nearest face z = 0.5
+  EXPECT_NEAR(corner.Evaluate({0.9, 0.2, 0.9}).w, -0.3, 1e-15);  // y below the corner
+  // The wedge: +x inside (distance to its faces at +-45 degrees), -x and +y outside.
+  EXPECT_NEAR(wedge.Evaluate({0.9, 0.5, 0.8}).w, 0.4 * std::sqrt(0.5), 1e-12);
+  EXPECT_LT(wedge.Evaluate({0.1, 0.5, 0.8}).w, 0.0);
+  EXPECT_NEAR(wedge.Evaluate({0.5, 0.9, 0.8}).w, -0.4 * std::sqrt(0.5), 1e-12);
+  EXPECT_NEAR(wedge.Evaluate({0.9, 0.5, 0.1}).w, -0.1, 1e-12);  // below its bottom
+  // A half-space at pi: x > 0.5.
+  Deformation half{DeformationKind::kWedge, M_PI, 0.0};
+  EXPECT_NEAR(half.Evaluate({0.7, 0.1, 0.5}).w, 0.2, 1e-12);
+  for (const Deformation& d : {clip, corner, wedge}) {
+    EXPECT_TRUE(d.HasCut());
+    EXPECT_TRUE(d.HasForward());
+    EXPECT_EQ(d.Forward({0.3, 0.7, 0.2}), glm::dvec3(0.3, 0.7, 0.2));
+    EXPECT_EQ(DeformationKindFromName(DeformationKindName(d.kind)), d.kind);
+    std::mt19937 rng(5);
+    std::uniform_real_distribution<double> u01(0, 1);
+    for (int i = 0; i < 200; ++i) {
+      const glm::dvec3 a(u01(rng), u01(rng), u01(rng)), b(u01(rng), u01(rng), u01(rng));
+      EXPECT_EQ(glm::dvec3(d.Evaluate(a)), glm::dvec3(0.0));
+      // 1-Lipschitz: the cut's skip bound holds.
+      EXPECT_LE(std::abs(d.Evaluate(a).w - d.Evaluate(b).w), glm::length(a - b) + 1e-12);
+    }
+  }
+  EXPECT_THROW((Deformation{DeformationKind::kClip, 1.5, 0.0}.Check()), InputError);
+  EXPECT_THROW((Deformation{DeformationKind::kWedge, 0.0, 0.0}.Check()), InputError);
+  EXPECT_THROW((Deformation{DeformationKind::kWedge, 1.0, -0.1}.Check()), InputError);
+}
+
 TEST(Deformation, SumAddsDisplacementsAndTakesTheLargestAlpha) {
   DeformationSum sum{
       {Make(DeformationKind::kTwist, 1.0, 0.3), Make(DeformationKind::kKnife, 0.2, 0.5)}};

@@ -67,7 +67,7 @@ TEST(EnumNames, CoreTables) {
   } catch (const InputError& e) {
     EXPECT_STREQ(e.what(),
                  "DeformationKindFromName: unknown deformation 'squash' (twist, bend, "
-                 "pull, knife, peel)");
+                 "pull, knife, peel, clip, cutaway, wedge)");
   }
 }
 

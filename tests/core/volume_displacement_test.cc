@@ -279,8 +279,8 @@ TEST(VolumeDisplacement, MapBricksHoldWhatEverySampleInThemReads) {
   std::mt19937 rng(3);
   std::uniform_real_distribution<double> u01(0, 1);
   int counts[3] = {0, 0, 0};
-  for (Effect effect :
-       {Effect::kPeel, Effect::kSlices, Effect::kSeam, Effect::kPull, Effect::kWave}) {
+  for (Effect effect : {Effect::kPeel, Effect::kSlices, Effect::kSeam, Effect::kPull, Effect::kWave,
+                        Effect::kClip, Effect::kCutaway, Effect::kWedge}) {
     EffectOptions o;
     o.effect = effect;
     for (const int n : {32, 64}) {
@@ -347,6 +347,30 @@ TEST(VolumeDisplacement, ProxyBoxHoldsTheObjectAndThePlacedMaps) {
   const Box3 box = ProxyBox({glm::dvec3(0), glm::dvec3(1)}, {{&pull, m}});
   EXPECT_EQ(box.lo, glm::dvec3(0));
   EXPECT_EQ(box.hi, glm::dvec3(1.5, 1, 1));
+}
+
+// The cut-aways on volumes: the same regions as the mesh deformations of
+// the same names (core::CutAwayAlpha), nothing moved, alpha 0 inside.
+TEST(VolumeDisplacement, CutAwaysRemoveTheirRegionAndMoveNothing) {
+  EffectOptions o;
+  o.effect = Effect::kClip;
+  o.clip_height = 0.7;
+  EXPECT_EQ(EvaluateEffect(o, {0.2, 0.4, 0.8}), glm::dvec4(0, 0, 0, 0));
+  EXPECT_EQ(EvaluateEffect(o, {0.2, 0.4, 0.6}), glm::dvec4(0, 0, 0, 1));
+  o.effect = Effect::kCutaway;
+  EXPECT_EQ(EvaluateEffect(o, {0.6, 0.6, 0.6}).w, 0);
+  EXPECT_EQ(EvaluateEffect(o, {0.6, 0.4, 0.6}).w, 1);
+  o.effect = Effect::kWedge;
+  o.wedge_angle_deg = 60;
+  EXPECT_EQ(EvaluateEffect(o, {0.9, 0.55, 0.5}).w, 0);  // 7 degrees off +x
+  EXPECT_EQ(EvaluateEffect(o, {0.6, 0.7, 0.5}).w, 1);   // 63 degrees off +x
+  EXPECT_EQ(ForwardEffect(o, {0.9, 0.55, 0.5}), glm::dvec3(0.9, 0.55, 0.5));
+  EXPECT_EQ(ParseEffect("wedge"), Effect::kWedge);
+  o.wedge_angle_deg = 200;
+  EXPECT_THROW(o.Check(), InputError);
+  o = {};
+  o.cutaway_corner = -0.1;
+  EXPECT_THROW(o.Check(), InputError);
 }
 
 TEST(VolumeDisplacement, BadOptionsAreInputErrors) {

@@ -14,6 +14,7 @@
 #include "core/error.h"
 #include "core/transfer_function.h"
 #include "tests/support/gl_test.h"
+#include "tests/support/nifti_bytes.h"
 
 namespace core {
 namespace {
@@ -489,53 +490,28 @@ TEST(VolumeIo, RealNonCubicMriKeepsItsSpacingAndExtent) {
   EXPECT_EQ(v.Value(44, 119, 20), 49);
 }
 
-// A NIfTI-1 header (nifti1.h offsets) for `dims` int16 voxels at vox_offset
-// 352, scaled by slope/inter.
+// NIfTI-1 / NIfTI-2 files of `dims` voxels (int16 unless told), scaled by
+// slope/inter; NIfTI-1 with a flipped y spacing (|pixdim| is kept).
 std::string Nifti1(const glm::ivec3& dims, float slope, float inter, const std::string& data,
                    int16_t datatype = 4, int16_t bitpix = 16, int16_t rank = 3) {
-  std::string h(352, '\0');
-  const auto put = [&](size_t offset, auto value) {
-    std::memcpy(h.data() + offset, &value, sizeof value);
-  };
-  put(0, int32_t{348});
-  const int16_t dim[8] = {rank,
-                          static_cast<int16_t>(dims.x),
-                          static_cast<int16_t>(dims.y),
-                          static_cast<int16_t>(dims.z),
-                          1,
-                          1,
-                          1,
-                          1};
-  for (int i = 0; i < 8; ++i) put(40 + 2 * i, dim[i]);
-  put(70, datatype);
-  put(72, bitpix);
-  const float pixdim[8] = {1, 0.5f, -0.75f, 2, 1, 1, 1, 1};  // a flipped y: |pixdim| is kept
-  for (int i = 0; i < 8; ++i) put(76 + 4 * i, pixdim[i]);
-  put(108, 352.0f);
-  put(112, slope);
-  put(116, inter);
-  std::memcpy(h.data() + 344, "n+1\0", 4);
-  return h + data;
+  test_support::NiftiFields f;
+  f.dims = {dims.x, dims.y, dims.z};
+  f.rank = rank;
+  f.datatype = datatype;
+  f.bitpix = bitpix;
+  f.pixdim = {0.5, -0.75, 2.0};
+  f.slope = slope;
+  f.inter = inter;
+  return test_support::Nifti1Bytes(f, data);
 }
 
-// The NIfTI-2 layout (nifti2.h offsets), int16 at vox_offset 544.
 std::string Nifti2(const glm::ivec3& dims, double slope, double inter, const std::string& data) {
-  std::string h(544, '\0');
-  const auto put = [&](size_t offset, auto value) {
-    std::memcpy(h.data() + offset, &value, sizeof value);
-  };
-  put(0, int32_t{540});
-  std::memcpy(h.data() + 4, "n+2\0\r\n\032\n", 8);
-  put(12, int16_t{4});
-  put(14, int16_t{16});
-  const int64_t dim[8] = {3, dims.x, dims.y, dims.z, 1, 1, 1, 1};
-  for (int i = 0; i < 8; ++i) put(16 + 8 * i, dim[i]);
-  const double pixdim[8] = {1, 0.5, 0.75, 2, 1, 1, 1, 1};
-  for (int i = 0; i < 8; ++i) put(104 + 8 * i, pixdim[i]);
-  put(168, int64_t{544});
-  put(176, slope);
-  put(184, inter);
-  return h + data;
+  test_support::NiftiFields f;
+  f.dims = {dims.x, dims.y, dims.z};
+  f.pixdim = {0.5, 0.75, 2.0};
+  f.slope = slope;
+  f.inter = inter;
+  return test_support::Nifti2Bytes(f, data);
 }
 
 // A real CT series (TotalSegmentator's example DICOM: 20 JPEG 2000 slices,

@@ -6,6 +6,7 @@
 #include "core/error.h"
 #include "ibr/depth_object.h"
 #include "ibr/displaced_mesh.h"
+#include "ibr/mesh_export.h"
 #include "tests/support/enum_table_checks.h"
 
 namespace ibr {
@@ -32,6 +33,9 @@ TEST(IbrEnumNames, EveryTable) {
         return core::EnumFromName(kInvalidDepthPolicyNames, n, "t", "policy");
       },
       [](InvalidDepthPolicy p) { return core::EnumToName(kInvalidDepthPolicyNames, p); }, "policy");
+  ExpectEnumTable(
+      kMeshColouringNames, MeshColouringFromName,
+      [](MeshColouring c) { return core::EnumToName(kMeshColouringNames, c); }, "colouring");
   const std::vector<std::string> names = DisplacementMethodNames();
   ASSERT_EQ(names.size(), std::size(kDisplacementMethodNames));
   for (size_t i = 0; i < names.size(); ++i) EXPECT_EQ(names[i], kDisplacementMethodNames[i].name);
