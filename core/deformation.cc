@@ -60,62 +60,18 @@ glm::dvec3 PeelRotate(const Deformation& d, const glm::dvec3& u, double a) {
 }  // namespace
 
 DeformationKind DeformationKindFromName(const std::string& name) {
-  if (name == "twist") return DeformationKind::kTwist;
-  if (name == "bend") return DeformationKind::kBend;
-  if (name == "pull") return DeformationKind::kPull;
-  if (name == "knife") return DeformationKind::kKnife;
-  if (name == "peel") return DeformationKind::kPeel;
-  if (name == "clip") return DeformationKind::kClip;
-  if (name == "cutaway") return DeformationKind::kCutaway;
-  if (name == "wedge") return DeformationKind::kWedge;
-  ThrowInputError("DeformationKindFromName",
-                  "unknown deformation '{}' (twist, bend, pull, knife, peel, clip, cutaway, wedge)",
-                  name);
+  return EnumFromName(kDeformationKindNames, name, "DeformationKindFromName", "deformation");
 }
 
 std::string DeformationKindName(DeformationKind kind) {
-  switch (kind) {
-    case DeformationKind::kTwist:
-      return "twist";
-    case DeformationKind::kBend:
-      return "bend";
-    case DeformationKind::kPull:
-      return "pull";
-    case DeformationKind::kKnife:
-      return "knife";
-    case DeformationKind::kPeel:
-      return "peel";
-    case DeformationKind::kClip:
-      return "clip";
-    case DeformationKind::kCutaway:
-      return "cutaway";
-    case DeformationKind::kWedge:
-      return "wedge";
-  }
-  return "unknown";
+  return std::string(EnumToName(kDeformationKindNames, kind));
 }
 
 CutMode CutModeFromName(const std::string& name) {
-  if (name == "none") return CutMode::kNone;
-  if (name == "hollow") return CutMode::kHollow;
-  if (name == "solid") return CutMode::kSolid;
-  if (name == "thick") return CutMode::kThick;
-  ThrowInputError("CutModeFromName", "unknown cut '{}' (none, hollow, solid, thick:T)", name);
+  return EnumFromName(kCutModeNames, name, "CutModeFromName", "cut");
 }
 
-std::string CutModeName(CutMode mode) {
-  switch (mode) {
-    case CutMode::kNone:
-      return "none";
-    case CutMode::kHollow:
-      return "hollow";
-    case CutMode::kSolid:
-      return "solid";
-    case CutMode::kThick:
-      return "thick";
-  }
-  return "unknown";
-}
+std::string CutModeName(CutMode mode) { return std::string(EnumToName(kCutModeNames, mode)); }
 
 void Deformation::Check() const {
   if (!std::isfinite(amount) || !std::isfinite(width)) {

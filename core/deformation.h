@@ -39,10 +39,18 @@
 #include <vector>
 
 #include "core/distance_field.h"
+#include "core/enum_names.h"
 
 namespace core {
 
 enum class DeformationKind { kTwist, kBend, kPull, kKnife, kPeel, kClip, kCutaway, kWedge };
+inline constexpr EnumName<DeformationKind> kDeformationKindNames[] = {
+    {DeformationKind::kTwist, "twist"},     {DeformationKind::kBend, "bend"},
+    {DeformationKind::kPull, "pull"},       {DeformationKind::kKnife, "knife"},
+    {DeformationKind::kPeel, "peel"},       {DeformationKind::kClip, "clip"},
+    {DeformationKind::kCutaway, "cutaway"}, {DeformationKind::kWedge, "wedge"},
+};
+static_assert(EnumNamesUnique(kDeformationKindNames));
 DeformationKind DeformationKindFromName(const std::string& name);  // InputError if unknown
 std::string DeformationKindName(DeformationKind kind);
 
@@ -95,6 +103,14 @@ double CutAwayAlpha(DeformationKind kind, double amount, double width, const glm
 // the cut discarded), solid (eq. 6: the cut reveals a new face), thick shell
 // of thickness T (eq. 7).
 enum class CutMode { kNone, kHollow, kSolid, kThick };
+// "thick" is written "thick:T" where a cut is parsed (the caller splits T off).
+inline constexpr EnumName<CutMode> kCutModeNames[] = {
+    {CutMode::kNone, "none"},
+    {CutMode::kHollow, "hollow"},
+    {CutMode::kSolid, "solid"},
+    {CutMode::kThick, "thick", "thick:T"},
+};
+static_assert(EnumNamesUnique(kCutModeNames));
 // "none", "hollow", "solid", "thick" (InputError otherwise).
 CutMode CutModeFromName(const std::string& name);
 std::string CutModeName(CutMode mode);

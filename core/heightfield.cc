@@ -4,7 +4,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <map>
 #include <numbers>
 #include <random>
 
@@ -14,14 +13,6 @@
 namespace core {
 
 namespace {
-const std::map<std::string, HeightPattern>& PatternNames() {
-  static const std::map<std::string, HeightPattern> names = {
-      {"constant", HeightPattern::kConstant}, {"bumps", HeightPattern::kBumps},
-      {"noise", HeightPattern::kNoise},       {"bricks", HeightPattern::kBricks},
-      {"steps", HeightPattern::kSteps},       {"spikes", HeightPattern::kSpikes}};
-  return names;
-}
-
 // Value noise on a periodic lattice of `cells` cells, smooth-step interpolated.
 float PeriodicValueNoise(const std::vector<float>& lattice, int cells, float x, float y) {
   const float fx = std::floor(x), fy = std::floor(y);
@@ -40,21 +31,11 @@ float PeriodicValueNoise(const std::vector<float>& lattice, int cells, float x, 
 }  // namespace
 
 HeightPattern HeightPatternFromName(const std::string& name) {
-  auto it = PatternNames().find(name);
-  if (it == PatternNames().end()) {
-    ThrowInputError("HeightPatternFromName",
-                    "unknown height pattern '{}' (constant, bumps, noise, "
-                    "bricks, steps, spikes)",
-                    name);
-  }
-  return it->second;
+  return EnumFromName(kHeightPatternNames, name, "HeightPatternFromName", "height pattern");
 }
 
 std::string HeightPatternName(HeightPattern pattern) {
-  for (const auto& [name, p] : PatternNames()) {
-    if (p == pattern) return name;
-  }
-  return "unknown";
+  return std::string(EnumToName(kHeightPatternNames, pattern));
 }
 
 void HeightMapOptions::Check() const {

@@ -8,6 +8,7 @@
 #include <glm/glm.hpp>
 #include <string>
 
+#include "core/enum_names.h"
 #include "core/image.h"
 #include "core/mesh.h"
 
@@ -22,6 +23,12 @@ enum class HeightPattern {
   kSpikes,    // thin isolated spikes (1-3 texels wide) on a flat base
 };
 
+inline constexpr EnumName<HeightPattern> kHeightPatternNames[] = {
+    {HeightPattern::kConstant, "constant"}, {HeightPattern::kBumps, "bumps"},
+    {HeightPattern::kNoise, "noise"},       {HeightPattern::kBricks, "bricks"},
+    {HeightPattern::kSteps, "steps"},       {HeightPattern::kSpikes, "spikes"},
+};
+static_assert(EnumNamesUnique(kHeightPatternNames));
 // "constant", "bumps", ... ; throws InputError for an unknown name.
 HeightPattern HeightPatternFromName(const std::string& name);
 std::string HeightPatternName(HeightPattern pattern);

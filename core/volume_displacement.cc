@@ -56,36 +56,10 @@ float DisplacementMap::MaxAbsDisplacement() const {
   return m;
 }
 
-std::string_view EffectName(Effect effect) {
-  switch (effect) {
-    case Effect::kPeel:
-      return "peel";
-    case Effect::kSlices:
-      return "slices";
-    case Effect::kSeam:
-      return "seam";
-    case Effect::kPull:
-      return "pull";
-    case Effect::kWave:
-      return "wave";
-    case Effect::kClip:
-      return "clip";
-    case Effect::kCutaway:
-      return "cutaway";
-    case Effect::kWedge:
-      return "wedge";
-  }
-  return "";
-}
+std::string_view EffectName(Effect effect) { return EnumToName(kEffectNames, effect); }
 
 Effect ParseEffect(std::string_view name) {
-  for (Effect e : {Effect::kPeel, Effect::kSlices, Effect::kSeam, Effect::kPull, Effect::kWave,
-                   Effect::kClip, Effect::kCutaway, Effect::kWedge}) {
-    if (EffectName(e) == name) return e;
-  }
-  ThrowInputError("ParseEffect",
-                  "unknown effect '{}' (peel, slices, seam, pull, wave, clip, cutaway, wedge)",
-                  name);
+  return EnumFromName(kEffectNames, name, "ParseEffect", "effect");
 }
 
 void EffectOptions::Check() const {

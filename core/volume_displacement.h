@@ -22,6 +22,8 @@
 #include <string_view>
 #include <vector>
 
+#include "core/enum_names.h"
+
 namespace core {
 
 // An inverse displacement map sampled at texel centres (i + 0.5) / n of its
@@ -44,6 +46,12 @@ struct DisplacementMap {
 // happens on the grid), D continuous everywhere (the pseudo-inverse where
 // alpha = 0).
 enum class Effect { kPeel, kSlices, kSeam, kPull, kWave, kClip, kCutaway, kWedge };
+inline constexpr EnumName<Effect> kEffectNames[] = {
+    {Effect::kPeel, "peel"},       {Effect::kSlices, "slices"}, {Effect::kSeam, "seam"},
+    {Effect::kPull, "pull"},       {Effect::kWave, "wave"},     {Effect::kClip, "clip"},
+    {Effect::kCutaway, "cutaway"}, {Effect::kWedge, "wedge"},
+};
+static_assert(EnumNamesUnique(kEffectNames));
 std::string_view EffectName(Effect effect);
 Effect ParseEffect(std::string_view name);  // InputError on an unknown name
 

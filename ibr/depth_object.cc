@@ -10,6 +10,7 @@
 #include "core/check.h"
 #include "core/error.h"
 #include "core/projection.h"
+#include "ibr/depth_object_uniforms.h"
 #include "ibr/empty_space.h"
 #include "ibr/view_weights.h"
 #include "render/cores/ray_core.h"
@@ -20,23 +21,13 @@ namespace ibr {
 // ---- names and options ----
 
 Method MethodFromName(const std::string& name) {
-  if (name == "depth-object") return Method::kDepthObject;
-  if (name == "visual-hull") return Method::kVisualHull;
-  core::ThrowInputError("MethodFromName", "unknown method '{}' (depth-object, visual-hull)", name);
+  return core::EnumFromName(kMethodNames, name, "MethodFromName", "method");
 }
 Slicing SlicingFromName(const std::string& name) {
-  if (name == "orthogonal") return Slicing::kOrthogonal;
-  if (name == "screen") return Slicing::kScreen;
-  if (name == "ray") return Slicing::kRay;
-  core::ThrowInputError("SlicingFromName", "unknown slicing '{}' (orthogonal, screen, ray)", name);
+  return core::EnumFromName(kSlicingNames, name, "SlicingFromName", "slicing");
 }
 Texturing TexturingFromName(const std::string& name) {
-  if (name == "vdt") return Texturing::kViewDependent;
-  if (name == "visibility") return Texturing::kVisibility;
-  if (name == "none") return Texturing::kNone;
-  if (name == "vdt-paper") return Texturing::kPaperBlend;
-  core::ThrowInputError("TexturingFromName",
-                        "unknown texturing '{}' (vdt, visibility, none, vdt-paper)", name);
+  return core::EnumFromName(kTexturingNames, name, "TexturingFromName", "texturing");
 }
 int SliceCountFromName(const std::string& name) {
   if (name == "auto") return DepthObjectOptions::kAutoSlices;
@@ -56,18 +47,9 @@ int SliceCountFromName(const std::string& name) {
 std::string SliceCountName(int slices) {
   return slices == DepthObjectOptions::kAutoSlices ? "auto" : std::to_string(slices);
 }
-std::string MethodName(Method m) {
-  return m == Method::kDepthObject ? "depth-object" : "visual-hull";
-}
-std::string SlicingName(Slicing s) {
-  return s == Slicing::kOrthogonal ? "orthogonal" : s == Slicing::kScreen ? "screen" : "ray";
-}
-std::string TexturingName(Texturing t) {
-  return t == Texturing::kViewDependent ? "vdt"
-         : t == Texturing::kVisibility  ? "visibility"
-         : t == Texturing::kPaperBlend  ? "vdt-paper"
-                                        : "none";
-}
+std::string MethodName(Method m) { return std::string(core::EnumToName(kMethodNames, m)); }
+std::string SlicingName(Slicing s) { return std::string(core::EnumToName(kSlicingNames, s)); }
+std::string TexturingName(Texturing t) { return std::string(core::EnumToName(kTexturingNames, t)); }
 
 void DepthObjectOptions::Check() const {
   if (slices != kAutoSlices && (slices < 1 || slices > 16384)) {
@@ -601,21 +583,24 @@ void DepthObjectRenderer::UploadFrame(const FrameParams& frame) {
                        strided_.data());
 }
 
-void DepthObjectRenderer::SetCommonUniforms(const render::Program& p, const FrameParams& frame,
-                                            bool slices) const {
+const DepthObjectUniforms& DepthObjectRenderer::SetCommonUniforms(const render::Program& p,
+                                                                  const FrameParams& frame,
+                                                                  bool slices) const {
   p.Use();
-  p.Set("u_depth_maps", 0);
-  p.Set("u_color_maps", 2);
-  p.Set("u_map_count", static_cast<int>(frame.maps.size()));
-  p.Set("u_active_count", static_cast<int>(frame.active.size()));
-  p.Set("u_view_ray", frame.view_ray);
-  p.Set("u_view_height", frame.view_height);
-  p.Set("u_inv255", frame.inv255);
+  const auto& u = p.Typed<DepthObjectUniforms>();
+  u.depth_maps.Set(0);
+  u.color_maps.Set(2);
+  u.map_count.Set(static_cast<int>(frame.maps.size()));
+  u.active_count.Set(static_cast<int>(frame.active.size()));
+  u.view_ray.Set(frame.view_ray);
+  u.view_height.Set(frame.view_height);
+  u.inv255.Set(frame.inv255);
   if (slices) {
-    p.Set("u_world_from_box", glm::mat4(frame.world_from_box));
-    p.Set("u_cam_from_world", glm::mat4(frame.cam_from_world));
-    p.Set("u_clip_from_cam", glm::mat4(frame.clip_from_cam));
+    u.world_from_box.Set(glm::mat4(frame.world_from_box));
+    u.cam_from_world.Set(glm::mat4(frame.cam_from_world));
+    u.clip_from_cam.Set(glm::mat4(frame.clip_from_cam));
   }
+  return u;
 }
 
 void DepthObjectRenderer::BindFrame(const FrameParams& frame, const DepthObjectOptions& options,
@@ -641,9 +626,7 @@ void DepthObjectRenderer::DrawSlices(const FrameParams& frame, const DepthObject
   const render::Program& pass = programs_->Get({.vertex = "cores/slice.vert.glsl",
                                                 .fragment = "passes/depth_object.frag.glsl",
                                                 .defines = Defines(frame, options)});
-  SetCommonUniforms(pass, frame, true);
-  const GLint u_slice_plane = pass.Uniform("u_slice_plane");
-  const GLint u_clear_pass = pass.Uniform("u_clear_pass");
+  const DepthObjectUniforms& u = SetCommonUniforms(pass, frame, true);
 
   // Step 1: clear the frame buffer, no depth test.
   accum.Bind();
@@ -664,8 +647,8 @@ void DepthObjectRenderer::DrawSlices(const FrameParams& frame, const DepthObject
   const int required = frame.required;
   for (int s = 0; s < slice_buffer_.size(); ++s) {
     // Step 2(a): every base polygon (map) in turn, accumulating colour.
-    pass.Set(u_slice_plane, frame.planes[s]);
-    pass.Set(u_clear_pass, 0);
+    u.slice_plane.Set(frame.planes[s]);
+    u.clear_pass.Set(0);
     glBlendFunci(0, GL_ONE, GL_ONE);
     glStencilOp(GL_KEEP, GL_KEEP, GL_INCR);
     for (int j = 0; j < n; ++j) {
@@ -685,7 +668,7 @@ void DepthObjectRenderer::DrawSlices(const FrameParams& frame, const DepthObject
       slice_buffer_.DrawSlice(s);  // (a)ii, with the alpha test (discard)
     }
     // Steps (c)-(f): clear colour and stencil where the count falls short.
-    pass.Set(u_clear_pass, 1);
+    u.clear_pass.Set(1);
     glBlendFunci(0, GL_ZERO, GL_ZERO);
     if (!frame.robust) {
       glStencilMask(0xFF);
@@ -746,17 +729,17 @@ void DepthObjectRenderer::DrawRay(const FrameParams& frame, const DepthObjectOpt
   const render::Program& program = programs_->Get({.vertex = "common/fullscreen.vert.glsl",
                                                    .fragment = "passes/depth_object_ray.frag.glsl",
                                                    .defines = defines});
-  SetCommonUniforms(program, frame, false);
+  const DepthObjectUniforms& u = SetCommonUniforms(program, frame, false);
   render::SetRayCoreUniforms(program, ray);
   const glm::mat4 box_from_cam = glm::inverse(frame.cam_from_world * frame.world_from_box);
-  program.Set("u_box_from_cam", glm::mat4(box_from_cam));
-  program.Set("u_required", frame.required);
-  program.Set("u_ray_step", frame.stack.spacing_world);
-  if (options.subtexel_depth) program.Set("u_subtexel_edge", options.subtexel_edge);
+  u.box_from_cam.Set(glm::mat4(box_from_cam));
+  u.required.Set(frame.required);
+  u.ray_step.Set(frame.stack.spacing_world);
+  if (options.subtexel_depth) u.subtexel_edge.Set(options.subtexel_edge);
   if (skip) {
     glBindTextureUnit(5, skip->grid.id());
-    program.Set("u_skip_grid", 5);
-    program.Set("u_skip_resolution", skip->resolution);
+    u.skip_grid.Set(5);
+    u.skip_resolution.Set(skip->resolution);
   }
   accum.Bind();
   DrawFullScreenPass();
@@ -793,24 +776,24 @@ void DepthObjectRenderer::Resolve(const FrameParams& frame, const DepthObjectOpt
       programs_->Get({.vertex = "common/fullscreen.vert.glsl",
                       .fragment = "passes/depth_object_resolve.frag.glsl",
                       .defines = defines});
-  SetCommonUniforms(resolve, frame, false);
+  const DepthObjectUniforms& u = SetCommonUniforms(resolve, frame, false);
   glBindTextureUnit(3, accum.color(0).id());
   glBindTextureUnit(4, accum.color(1).id());
-  resolve.Set("u_accum_color", 3);
-  resolve.Set("u_accum_depth", 4);
-  resolve.Set("u_background", options.background);
-  resolve.Set("u_visibility_tolerance", frame.visibility_tolerance);
+  u.accum_color.Set(3);
+  u.accum_depth.Set(4);
+  u.background.Set(options.background);
+  u.visibility_tolerance.Set(frame.visibility_tolerance);
   render::SetRayCoreUniforms(resolve, ray);
-  resolve.Set("u_refine", refine ? 1 : 0);
+  u.refine.Set(refine ? 1 : 0);
   if (refine) {
-    resolve.Set("u_plane0", frame.planes[0]);
+    u.plane0.Set(frame.planes[0]);
     // Box-axis planes are 1/n apart in box units; screen planes spacing_world
     // apart in camera z (their normals are those units' gradients).
-    resolve.Set("u_plane_step",
-                frame.stack.axis >= 0 ? frame.stack.spacing_in_box : frame.stack.spacing_world);
+    u.plane_step.Set(frame.stack.axis >= 0 ? frame.stack.spacing_in_box
+                                           : frame.stack.spacing_world);
   }
-  resolve.Set("u_required", frame.required);
-  if (frame_clip_from_cam) resolve.Set("u_clip_from_cam", glm::mat4(*frame_clip_from_cam));
+  u.required.Set(frame.required);
+  if (frame_clip_from_cam) u.clip_from_cam.Set(glm::mat4(*frame_clip_from_cam));
   DrawFullScreenPass(frame_clip_from_cam != nullptr);
 }
 
@@ -903,8 +886,7 @@ std::vector<core::Image8> DepthObjectRenderer::SliceCoverage(const FrameParams& 
   const render::Program& p = programs_->Get({.vertex = "cores/slice.vert.glsl",
                                              .fragment = "passes/depth_object.frag.glsl",
                                              .defines = Defines(frame, o)});
-  SetCommonUniforms(p, frame, true);
-  p.Set("u_clear_pass", 1);
+  SetCommonUniforms(p, frame, true).clear_pass.Set(1);
   slice_buffer_.Upload(frame.stack);
   std::vector<core::Image8> coverage;
   const float zero[4] = {0, 0, 0, 0};

@@ -15,6 +15,7 @@
 #include <string>
 #include <vector>
 
+#include "core/enum_names.h"
 #include "core/image.h"
 #include "ibr/image_maps.h"
 #include "render/cores/slice_buffer.h"
@@ -23,6 +24,8 @@
 #include "render/gl/shader_program.h"
 
 namespace ibr {
+
+struct DepthObjectUniforms;  // ibr/depth_object_uniforms.h
 
 enum class Method {
   kDepthObject,  // intersection of the regions behind each map's depth (sec. 4)
@@ -55,6 +58,38 @@ enum class InvalidDepthPolicy {
   kEmpty,         // the paper's convention: displacement 0 is never drawn (sec. 3.2)
   kNoConstraint,  // a hole in a sensor / MVS map carves nothing
 };
+
+inline constexpr core::EnumName<Method> kMethodNames[] = {
+    {Method::kDepthObject, "depth-object"},
+    {Method::kVisualHull, "visual-hull"},
+};
+inline constexpr core::EnumName<Slicing> kSlicingNames[] = {
+    {Slicing::kOrthogonal, "orthogonal"},
+    {Slicing::kScreen, "screen"},
+    {Slicing::kRay, "ray"},
+};
+inline constexpr core::EnumName<SlicePath> kSlicePathNames[] = {
+    {SlicePath::kExact, "exact"},
+    {SlicePath::kFast, "fast"},
+};
+inline constexpr core::EnumName<Texturing> kTexturingNames[] = {
+    {Texturing::kViewDependent, "vdt"},
+    {Texturing::kVisibility, "visibility"},
+    {Texturing::kNone, "none"},
+    {Texturing::kPaperBlend, "vdt-paper"},
+};
+inline constexpr core::EnumName<OutsidePolicy> kOutsidePolicyNames[] = {
+    {OutsidePolicy::kPass, "pass"},
+    {OutsidePolicy::kFail, "fail"},
+};
+inline constexpr core::EnumName<InvalidDepthPolicy> kInvalidDepthPolicyNames[] = {
+    {InvalidDepthPolicy::kEmpty, "empty"},
+    {InvalidDepthPolicy::kNoConstraint, "no-constraint"},
+};
+static_assert(core::EnumNamesUnique(kMethodNames) && core::EnumNamesUnique(kSlicingNames) &&
+              core::EnumNamesUnique(kSlicePathNames) && core::EnumNamesUnique(kTexturingNames) &&
+              core::EnumNamesUnique(kOutsidePolicyNames) &&
+              core::EnumNamesUnique(kInvalidDepthPolicyNames));
 
 Method MethodFromName(const std::string& name);    // "depth-object", "visual-hull"
 Slicing SlicingFromName(const std::string& name);  // "orthogonal", "screen", "ray"
@@ -286,8 +321,10 @@ class DepthObjectRenderer {
   // and binds the method's map tables: the start of every map pass.
   void BindFrame(const FrameParams& frame, const DepthObjectOptions& options,
                  const render::RenderTarget& accum);
-  void SetCommonUniforms(const render::Program& program, const FrameParams& frame,
-                         bool slices) const;
+  // Makes `program` current, sets the uniforms every depth-object program
+  // reads (and the slicing core's when `slices`); returns its typed uniforms.
+  const DepthObjectUniforms& SetCommonUniforms(const render::Program& program,
+                                               const FrameParams& frame, bool slices) const;
   const render::RenderTarget& Accum(int width, int height);
   void DrawFullScreenPass(bool depth_test = false) const;
   void Accumulate(const FrameParams& frame, const DepthObjectOptions& options);

@@ -36,17 +36,16 @@
 #include "core/check.h"
 #include "core/error.h"
 #include "ibr/depth_object.h"
+#include "ibr/depth_object_uniforms.h"
 #include "render/gl/gl_state.h"
 
 namespace ibr {
 
 SlicePath SlicePathFromName(const std::string& name) {
-  if (name == "exact") return SlicePath::kExact;
-  if (name == "fast") return SlicePath::kFast;
-  core::ThrowInputError("SlicePathFromName", "unknown slice path '{}' (exact, fast)", name);
+  return core::EnumFromName(kSlicePathNames, name, "SlicePathFromName", "slice path");
 }
 
-std::string SlicePathName(SlicePath p) { return p == SlicePath::kExact ? "exact" : "fast"; }
+std::string SlicePathName(SlicePath p) { return std::string(core::EnumToName(kSlicePathNames, p)); }
 
 namespace {
 
@@ -94,8 +93,7 @@ void DepthObjectRenderer::DrawSlicesFast(const FrameParams& frame,
   const render::Program& pass = programs_->Get({.vertex = "passes/depth_object_fast.vert.glsl",
                                                 .fragment = "passes/depth_object_fast.frag.glsl",
                                                 .defines = defines});
-  SetCommonUniforms(pass, frame, true);
-  pass.Set("u_required", frame.required);
+  SetCommonUniforms(pass, frame, true).required.Set(frame.required);
 
   // One stack per slice: the slicing core's buffer tags each vertex with its
   // stack (a_volume), which is the slice index the shader reads its plane by.

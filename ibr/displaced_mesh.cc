@@ -17,21 +17,6 @@
 namespace ibr {
 namespace {
 
-struct MethodEntry {
-  DisplacementMethod method;
-  const char* name;
-};
-constexpr MethodEntry kMethods[] = {
-    {DisplacementMethod::kSlicesSurface, "slices-surface"},
-    {DisplacementMethod::kSlicesOrthogonal, "slices-orthogonal"},
-    {DisplacementMethod::kSlicesScreen, "slices-screen"},
-    {DisplacementMethod::kNcs, "ncs"},
-    {DisplacementMethod::kRelief, "relief"},
-    {DisplacementMethod::kPom, "pom"},
-    {DisplacementMethod::kCrm, "crm"},
-    {DisplacementMethod::kTessellated, "tessellated"},
-};
-
 bool IsSlicing(DisplacementMethod m) {
   return m == DisplacementMethod::kSlicesSurface || m == DisplacementMethod::kSlicesOrthogonal ||
          m == DisplacementMethod::kSlicesScreen;
@@ -40,24 +25,16 @@ bool IsSlicing(DisplacementMethod m) {
 }  // namespace
 
 DisplacementMethod DisplacementMethodFromName(const std::string& name) {
-  for (const MethodEntry& m : kMethods) {
-    if (name == m.name) return m.method;
-  }
-  std::string names;
-  for (const std::string& n : DisplacementMethodNames()) names += (names.empty() ? "" : ", ") + n;
-  core::ThrowInputError("DisplacementMethodFromName", "unknown method '{}' ({})", name, names);
+  return core::EnumFromName(kDisplacementMethodNames, name, "DisplacementMethodFromName", "method");
 }
 
 std::string DisplacementMethodName(DisplacementMethod method) {
-  for (const MethodEntry& m : kMethods) {
-    if (method == m.method) return m.name;
-  }
-  return "?";
+  return std::string(core::EnumToName(kDisplacementMethodNames, method));
 }
 
 std::vector<std::string> DisplacementMethodNames() {
   std::vector<std::string> names;
-  for (const MethodEntry& m : kMethods) names.emplace_back(m.name);
+  for (const auto& m : kDisplacementMethodNames) names.emplace_back(m.name);
   return names;
 }
 

@@ -12,6 +12,7 @@
 #include <string_view>
 #include <vector>
 
+#include "core/enum_names.h"
 #include "core/heightfield.h"
 #include "core/image.h"
 #include "core/mesh.h"
@@ -33,6 +34,17 @@ enum class DisplacementMethod {
   kCrm,
   kTessellated
 };
+inline constexpr core::EnumName<DisplacementMethod> kDisplacementMethodNames[] = {
+    {DisplacementMethod::kSlicesSurface, "slices-surface"},
+    {DisplacementMethod::kSlicesOrthogonal, "slices-orthogonal"},
+    {DisplacementMethod::kSlicesScreen, "slices-screen"},
+    {DisplacementMethod::kNcs, "ncs"},
+    {DisplacementMethod::kRelief, "relief"},
+    {DisplacementMethod::kPom, "pom"},
+    {DisplacementMethod::kCrm, "crm"},
+    {DisplacementMethod::kTessellated, "tessellated"},
+};
+static_assert(core::EnumNamesUnique(kDisplacementMethodNames));
 // "slices-surface", "slices-orthogonal", "slices-screen", "ncs", "relief", "pom", "crm",
 // "tessellated".
 DisplacementMethod DisplacementMethodFromName(

@@ -393,9 +393,7 @@ std::function<double(const glm::dvec3&)> MakeObjectField(const MapSet& maps,
 }
 
 MeshColouring MeshColouringFromName(const std::string& name) {
-  if (name == "vdt") return MeshColouring::kViewDependent;
-  if (name == "none") return MeshColouring::kNone;
-  core::ThrowInputError("--colour", "unknown colouring '{}' (vdt, none)", name);
+  return core::EnumFromName(kMeshColouringNames, name, "--colour", "colouring");
 }
 
 void MeshExportOptions::Check() const {

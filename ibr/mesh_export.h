@@ -31,6 +31,7 @@
 #include <string>
 #include <vector>
 
+#include "core/enum_names.h"
 #include "core/mesh.h"
 #include "ibr/depth_object.h"
 #include "ibr/image_maps.h"
@@ -41,6 +42,11 @@ enum class MeshColouring {
   kViewDependent,  // the renderer's VDT with visibility (default)
   kNone,           // no colours written
 };
+inline constexpr core::EnumName<MeshColouring> kMeshColouringNames[] = {
+    {MeshColouring::kViewDependent, "vdt"},
+    {MeshColouring::kNone, "none"},
+};
+static_assert(core::EnumNamesUnique(kMeshColouringNames));
 MeshColouring MeshColouringFromName(const std::string& name);  // "vdt", "none"
 
 struct MeshExportOptions {

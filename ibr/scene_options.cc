@@ -87,14 +87,10 @@ DepthObjectOptions DepthObjectOptionsFrom(const scene::Settings& s) {
   }
   o.subtexel_depth = lookup == "subtexel";
   o.outside = Named(s, "outside", "pass", [](const std::string& t) {
-    if (t != "pass" && t != "fail")
-      core::ThrowInputError("outside", "unknown policy '{}' (pass, fail)", t);
-    return t == "pass" ? OutsidePolicy::kPass : OutsidePolicy::kFail;
+    return core::EnumFromName(kOutsidePolicyNames, t, "outside", "policy");
   });
   o.invalid_depth = Named(s, "invalid_depth", "empty", [](const std::string& t) {
-    if (t != "empty" && t != "no-constraint")
-      core::ThrowInputError("invalid_depth", "unknown policy '{}' (empty, no-constraint)", t);
-    return t == "empty" ? InvalidDepthPolicy::kEmpty : InvalidDepthPolicy::kNoConstraint;
+    return core::EnumFromName(kInvalidDepthPolicyNames, t, "invalid_depth", "policy");
   });
   CheckNamed(o, s);
   return o;

@@ -5,41 +5,20 @@
 #include <cmath>
 
 #include "core/error.h"
+#include "render/gl/uniform.h"
 
 namespace render {
 
 std::string RayOutcomeName(RayOutcome outcome) {
-  switch (outcome) {
-    case RayOutcome::kNone:
-      return "none";
-    case RayOutcome::kHit:
-      return "hit";
-    case RayOutcome::kExited:
-      return "exited";
-    case RayOutcome::kEarlyTermination:
-      return "early_termination";
-  }
-  return "unknown";
+  return std::string(core::EnumToName(kRayOutcomeNames, outcome));
 }
 
 RayStepPolicy RayStepPolicyFromName(const std::string& name) {
-  if (name == "fixed") return RayStepPolicy::kFixed;
-  if (name == "threshold") return RayStepPolicy::kThreshold;
-  if (name == "jacobian") return RayStepPolicy::kJacobian;
-  core::ThrowInputError("RayStepPolicyFromName",
-                        "unknown step policy '{}' (fixed, threshold, jacobian)", name);
+  return core::EnumFromName(kRayStepPolicyNames, name, "RayStepPolicyFromName", "step policy");
 }
 
 std::string RayStepPolicyName(RayStepPolicy policy) {
-  switch (policy) {
-    case RayStepPolicy::kFixed:
-      return "fixed";
-    case RayStepPolicy::kThreshold:
-      return "threshold";
-    case RayStepPolicy::kJacobian:
-      return "jacobian";
-  }
-  return "unknown";
+  return std::string(core::EnumToName(kRayStepPolicyNames, policy));
 }
 
 void RayCoreOptions::Check() const {
@@ -82,12 +61,30 @@ std::vector<std::string> RayCoreDefines(const RayCoreOptions& options) {
   return defines;
 }
 
+namespace {
+
+// The u_ray_* uniforms of shaders/cores/ray_core.glsl.
+struct RayCoreUniforms {
+  explicit RayCoreUniforms(const Program& p)
+      : max_steps(p, "u_ray_max_steps"),
+        refine_steps(p, "u_ray_refine_steps"),
+        threshold(p, "u_ray_threshold"),
+        fine_step_scale(p, "u_ray_fine_step_scale") {}
+  Uniform<int> max_steps;
+  Uniform<int> refine_steps;
+  Uniform<float> threshold;
+  Uniform<float> fine_step_scale;
+};
+
+}  // namespace
+
 void SetRayCoreUniforms(const Program& program, const RayCoreOptions& options) {
   options.Check();
-  program.Set("u_ray_max_steps", options.max_steps);
-  program.Set("u_ray_refine_steps", options.refine_steps);
-  program.Set("u_ray_threshold", options.threshold);
-  program.Set("u_ray_fine_step_scale", options.fine_step_scale);
+  const auto& u = program.Typed<RayCoreUniforms>();
+  u.max_steps.Set(options.max_steps);
+  u.refine_steps.Set(options.refine_steps);
+  u.threshold.Set(options.threshold);
+  u.fine_step_scale.Set(options.fine_step_scale);
 }
 
 }  // namespace render

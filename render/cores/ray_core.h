@@ -17,6 +17,7 @@
 #include <string>
 #include <vector>
 
+#include "core/enum_names.h"
 #include "render/gl/handles.h"
 
 namespace render {
@@ -29,6 +30,13 @@ enum class RayOutcome : int {
   kExited = 2,            // left the domain (box exit, above the shell, off the chart)
   kEarlyTermination = 3,  // ran out of steps while still inside the domain (Chen-Chang sec. 5)
 };
+inline constexpr core::EnumName<RayOutcome> kRayOutcomeNames[] = {
+    {RayOutcome::kNone, "none"},
+    {RayOutcome::kHit, "hit"},
+    {RayOutcome::kExited, "exited"},
+    {RayOutcome::kEarlyTermination, "early_termination"},
+};
+static_assert(core::EnumNamesUnique(kRayOutcomeNames));
 std::string RayOutcomeName(RayOutcome outcome);
 
 // The bit of a frame's outcome (render/passes/pass.h) set when any ray at the
@@ -41,6 +49,12 @@ enum class RayStepPolicy {
   kThreshold,  // steps times fine_step_scale where |field| < threshold (Hadwiger et al. 2005)
   kJacobian,   // step / |J_{T^-1} v| (Correa 2007 eq. 4); the includer supplies RayJacobian
 };
+inline constexpr core::EnumName<RayStepPolicy> kRayStepPolicyNames[] = {
+    {RayStepPolicy::kFixed, "fixed"},
+    {RayStepPolicy::kThreshold, "threshold"},
+    {RayStepPolicy::kJacobian, "jacobian"},
+};
+static_assert(core::EnumNamesUnique(kRayStepPolicyNames));
 // "fixed", "threshold", "jacobian" (InputError otherwise).
 RayStepPolicy RayStepPolicyFromName(const std::string& name);
 std::string RayStepPolicyName(RayStepPolicy policy);

@@ -11,23 +11,11 @@
 namespace render {
 
 SliceFamily SliceFamilyFromName(const std::string& name) {
-  if (name == "surface" || name == "surface-aligned") return SliceFamily::kSurfaceAligned;
-  if (name == "orthogonal") return SliceFamily::kOrthogonal;
-  if (name == "screen") return SliceFamily::kScreen;
-  core::ThrowInputError("SliceFamilyFromName",
-                        "unknown slicing family '{}' (surface, orthogonal, screen)", name);
+  return core::EnumFromName(kSliceFamilyNames, name, "SliceFamilyFromName", "slicing family");
 }
 
 std::string SliceFamilyName(SliceFamily family) {
-  switch (family) {
-    case SliceFamily::kSurfaceAligned:
-      return "surface";
-    case SliceFamily::kOrthogonal:
-      return "orthogonal";
-    case SliceFamily::kScreen:
-      return "screen";
-  }
-  return "unknown";
+  return std::string(core::EnumToName(kSliceFamilyNames, family));
 }
 
 void SlicingOptions::Check() const {

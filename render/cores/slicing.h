@@ -17,6 +17,8 @@
 #include <string>
 #include <vector>
 
+#include "core/enum_names.h"
+
 namespace render {
 
 enum class SliceFamily {
@@ -27,7 +29,14 @@ enum class SliceFamily {
 
 enum class SliceOrder { kFrontToBack, kBackToFront };
 
-// "surface", "orthogonal", "screen" (InputError otherwise).
+inline constexpr core::EnumName<SliceFamily> kSliceFamilyNames[] = {
+    {SliceFamily::kSurfaceAligned, "surface"},
+    {SliceFamily::kOrthogonal, "orthogonal"},
+    {SliceFamily::kScreen, "screen"},
+    {SliceFamily::kSurfaceAligned, "surface-aligned"},  // alias
+};
+static_assert(core::EnumNamesUnique(kSliceFamilyNames));
+// "surface" (or "surface-aligned"), "orthogonal", "screen" (InputError otherwise).
 SliceFamily SliceFamilyFromName(const std::string& name);
 std::string SliceFamilyName(SliceFamily family);
 

@@ -6,8 +6,22 @@
 #include "core/error.h"
 #include "render/gl/gl_state.h"
 #include "render/gl/render_target.h"
+#include "render/gl/uniform.h"
 
 namespace render {
+
+namespace {
+
+// shaders/common/fill_rate*.frag.glsl.
+struct FillRateUniforms {
+  explicit FillRateUniforms(const Program& p)
+      : layer(p, "u_layer"), transfer(p, "u_transfer"), map(p, "u_map") {}
+  Uniform<float> layer;   // the floor's layer (volume: its texture coordinate)
+  Uniform<int> transfer;  // texture unit of the transfer function
+  Uniform<int> map;       // texture unit of the displacement map
+};
+
+}  // namespace
 
 void FillRateOptions::Check() const {
   if (width < 1 || height < 1 || width > 16384 || height > 16384 || layers_per_frame < 1 ||
@@ -114,15 +128,15 @@ FillRate MeasureFillRate(ProgramCache& programs, const FillRateOptions& options)
   for (size_t unit = 0; unit < textures.size(); ++unit) {
     glBindTextureUnit(static_cast<GLuint>(unit), textures[unit].id());
   }
-  if (volume) program.Set("u_transfer", 1);
-  if (displaced) program.Set("u_map", 2);
+  const auto& u = program.Typed<FillRateUniforms>();
+  if (volume) u.transfer.Set(1);
+  if (displaced) u.map.Set(2);
   const float clear[4] = {0, 0, 0, 0};
-  const GLint u_layer = program.Uniform("u_layer");
   auto frame = [&] {
     target.Clear(clear);
     for (int layer = 0; layer < options.layers_per_frame; ++layer) {
-      program.Set(u_layer, volume ? (layer + 0.5f) / static_cast<float>(options.layers_per_frame)
-                                  : static_cast<float>(layer));
+      u.layer.Set(volume ? (layer + 0.5f) / static_cast<float>(options.layers_per_frame)
+                         : static_cast<float>(layer));
       glDrawArrays(GL_TRIANGLES, 0, 3);
     }
   };

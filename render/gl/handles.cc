@@ -5,6 +5,7 @@
 #include <cstring>
 
 #include "core/check.h"
+#include "render/gl/uniform.h"
 
 namespace render {
 
@@ -119,6 +120,7 @@ Query Query::Create(GLenum target) {
 
 void Program::CacheUniforms() {
   locations_.clear();
+  typed_.clear();
   GLint count = 0;
   glGetProgramInterfaceiv(id(), GL_UNIFORM, GL_ACTIVE_RESOURCES, &count);
   std::string name;
@@ -148,39 +150,37 @@ GLint Program::Uniform(std::string_view name) const {
   return location;
 }
 
-void Program::Set(std::string_view n, int v) const { glProgramUniform1i(id(), Uniform(n), v); }
+void Program::Set(std::string_view n, int v) const { uniform_detail::Set(id(), Uniform(n), v); }
 void Program::Set(std::string_view n, unsigned v) const {
-  glProgramUniform1ui(id(), Uniform(n), v);
+  uniform_detail::Set(id(), Uniform(n), v);
 }
-void Program::Set(std::string_view n, float v) const { glProgramUniform1f(id(), Uniform(n), v); }
+void Program::Set(std::string_view n, float v) const { uniform_detail::Set(id(), Uniform(n), v); }
 void Program::Set(std::string_view n, const glm::vec2& v) const {
-  glProgramUniform2fv(id(), Uniform(n), 1, &v[0]);
+  uniform_detail::Set(id(), Uniform(n), v);
 }
 void Program::Set(std::string_view n, const glm::vec3& v) const {
-  glProgramUniform3fv(id(), Uniform(n), 1, &v[0]);
+  uniform_detail::Set(id(), Uniform(n), v);
 }
 void Program::Set(std::string_view n, const glm::vec4& v) const {
-  glProgramUniform4fv(id(), Uniform(n), 1, &v[0]);
+  uniform_detail::Set(id(), Uniform(n), v);
 }
 void Program::Set(std::string_view n, const glm::ivec2& v) const {
-  glProgramUniform2iv(id(), Uniform(n), 1, &v[0]);
+  uniform_detail::Set(id(), Uniform(n), v);
 }
 void Program::Set(std::string_view n, const glm::ivec3& v) const {
-  glProgramUniform3iv(id(), Uniform(n), 1, &v[0]);
+  uniform_detail::Set(id(), Uniform(n), v);
 }
 void Program::Set(std::string_view n, const glm::mat3& v) const {
-  glProgramUniformMatrix3fv(id(), Uniform(n), 1, GL_FALSE, &v[0][0]);
+  uniform_detail::Set(id(), Uniform(n), v);
 }
 void Program::Set(std::string_view n, const glm::mat4& v) const {
-  glProgramUniformMatrix4fv(id(), Uniform(n), 1, GL_FALSE, &v[0][0]);
+  uniform_detail::Set(id(), Uniform(n), v);
 }
 void Program::Set(std::string_view n, std::span<const glm::vec4> v) const {
-  glProgramUniform4fv(id(), Uniform(n), static_cast<GLsizei>(v.size()),
-                      v.empty() ? nullptr : &v[0][0]);
+  uniform_detail::Set(id(), Uniform(n), v);
 }
 void Program::Set(std::string_view n, std::span<const glm::mat4> v) const {
-  glProgramUniformMatrix4fv(id(), Uniform(n), static_cast<GLsizei>(v.size()), GL_FALSE,
-                            v.empty() ? nullptr : &v[0][0][0]);
+  uniform_detail::Set(id(), Uniform(n), v);
 }
 
 }  // namespace render

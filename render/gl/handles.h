@@ -6,9 +6,12 @@
 
 #include <cstdint>
 #include <glm/glm.hpp>
+#include <memory>
 #include <span>
 #include <string>
 #include <string_view>
+#include <typeindex>
+#include <typeinfo>
 #include <unordered_map>
 #include <utility>
 
@@ -143,9 +146,11 @@ class Shader : public GlHandle<deleters::Shader> {
 };
 
 // A linked program with its uniform locations, looked up once at link
-// (CacheUniforms, called by BuildProgram) and set through typed setters
-// (glProgramUniform*, so no glUseProgram is needed to set them), as Magnum's
-// shaders cache every location in their constructor.
+// (CacheUniforms, called by BuildProgram), as Magnum's shaders cache every
+// location in their constructor. Code outside render/gl sets uniforms only
+// through a typed struct of Uniform<T> handles (render/gl/uniform.h) that
+// Typed<T>() builds once per linked program; the by-name setters below are
+// render/gl's own plumbing (and what the typed handles are tested against).
 class Program : public GlHandle<deleters::Program> {
  public:
   using GlHandle::GlHandle;
@@ -153,14 +158,27 @@ class Program : public GlHandle<deleters::Program> {
   Program(Program&&) noexcept = default;
   Program& operator=(Program&&) noexcept = default;
   // Reads every active uniform's location (array elements beyond [0] are
-  // resolved once on first use). Called once after a successful link.
+  // resolved once on first use). Called once after a successful link; drops
+  // the typed structs built for an earlier link.
   void CacheUniforms();
   // Uniform location by name, -1 if the linker removed it (not an error: a
   // variant may not use it). No GL call once cached.
   GLint Uniform(std::string_view name) const;
   void Use() const { glUseProgram(id()); }
 
-  // Typed setters; a uniform the variant does not have (-1) is ignored.
+  // The typed uniform struct T of this program (T has a constructor
+  // `explicit T(const Program&)` that looks up its Uniform<> handles), built
+  // on the first call and kept with the program: every later call, from any
+  // pass, is a hash lookup by type, with no name lookup and no GL call.
+  template <typename T>
+  const T& Typed() const {
+    std::shared_ptr<const void>& slot = typed_[std::type_index(typeid(T))];
+    if (!slot) slot = std::make_shared<const T>(*this);
+    return *static_cast<const T*>(slot.get());
+  }
+
+  // By-name setters (render/gl only); a uniform the variant does not have
+  // (-1) is ignored.
   void Set(std::string_view name, int value) const;
   void Set(std::string_view name, unsigned value) const;
   void Set(std::string_view name, float value) const;
@@ -173,17 +191,12 @@ class Program : public GlHandle<deleters::Program> {
   void Set(std::string_view name, const glm::mat4& value) const;
   void Set(std::string_view name, std::span<const glm::vec4> values) const;
   void Set(std::string_view name, std::span<const glm::mat4> values) const;
-  // The same by a location from Uniform(), for loops that set one uniform many
-  // times a frame (the slice loop): no name lookup per call.
-  void Set(GLint location, int value) const { glProgramUniform1i(id(), location, value); }
-  void Set(GLint location, float value) const { glProgramUniform1f(id(), location, value); }
-  void Set(GLint location, const glm::vec4& value) const {
-    glProgramUniform4fv(id(), location, 1, &value[0]);
-  }
 
  private:
   // name -> location; mutable because array elements are memoised lazily.
   mutable std::unordered_map<std::string, GLint> locations_;
+  // Typed<T>() structs by T; mutable because they are built on first use.
+  mutable std::unordered_map<std::type_index, std::shared_ptr<const void>> typed_;
 };
 
 }  // namespace render

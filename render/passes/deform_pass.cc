@@ -10,17 +10,16 @@
 
 #include "core/error.h"
 #include "core/projection.h"
+#include "render/gl/uniform.h"
 
 namespace render {
 
 DeformImplicit DeformImplicitFromName(const std::string& name) {
-  if (name == "sdf") return DeformImplicit::kSdf;
-  if (name == "depth-cube") return DeformImplicit::kDepthCube;
-  core::ThrowInputError("DeformPass", "implicit '{}' is not sdf or depth-cube", name);
+  return core::EnumFromName(kDeformImplicitNames, name, "DeformImplicitFromName", "implicit");
 }
 
 std::string DeformImplicitName(DeformImplicit implicit) {
-  return implicit == DeformImplicit::kDepthCube ? "depth-cube" : "sdf";
+  return std::string(core::EnumToName(kDeformImplicitNames, implicit));
 }
 
 void DepthCube::Check(const std::string& where) const {
@@ -419,6 +418,66 @@ glm::ivec4 ScreenRect(const glm::dmat4& clip_from_local, const glm::dvec3& lo, c
   return {lo_px.x, lo_px.y, hi_px.x - lo_px.x, hi_px.y - lo_px.y};
 }
 
+// Stage 1: shaders/passes/deform_mesh.vert.glsl + deform.frag.glsl (MESH_STAGE).
+struct DeformMeshUniforms {
+  explicit DeformMeshUniforms(const Program& p)
+      : box_from_object(p, "u_box_from_object"),
+        base_color(p, "u_base_color"),
+        piece(p, "u_piece") {}
+  Uniform<glm::mat4> box_from_object;
+  Uniform<glm::vec4> base_color;
+  Uniform<int> piece;  // which of the box complement's six pieces; -1: no clipping
+};
+
+// Stage 2: shaders/passes/deform_box.vert.glsl + deform.frag.glsl.
+struct DeformBoxUniforms {
+  explicit DeformBoxUniforms(const Program& p)
+      : world_from_cam(p, "u_world_from_cam"),
+        clip_z(p, "u_clip_z"),
+        object_from_box(p, "u_object_from_box"),
+        box_from_object(p, "u_box_from_object"),
+        cube_from_object(p, "u_cube_from_object"),
+        sdf_origin(p, "u_sdf_origin"),
+        sdf_size(p, "u_sdf_size"),
+        sdf_spacing(p, "u_sdf_spacing"),
+        deform_resolution(p, "u_deform_resolution"),
+        step(p, "u_step"),
+        thickness(p, "u_thickness"),
+        alpha_lipschitz(p, "u_alpha_lipschitz"),
+        warp_skip_cap(p, "u_warp_skip_cap"),
+        warp_lipschitz(p, "u_warp_lipschitz"),
+        sdf_margin(p, "u_sdf_margin"),
+        base_color(p, "u_base_color"),
+        cut_color(p, "u_cut_color"),
+        sdf(p, "u_sdf"),
+        deformation(p, "u_deformation"),
+        deformation_flap(p, "u_deformation_flap"),
+        alpha_components(p, "u_alpha_components"),
+        alpha_components_flap(p, "u_alpha_components_flap") {}
+  Uniform<glm::mat4> world_from_cam;
+  Uniform<glm::vec2> clip_z;
+  Uniform<glm::mat4> object_from_box;
+  Uniform<glm::mat4> box_from_object;
+  UniformArray<glm::mat4> cube_from_object;  // depth cube only
+  Uniform<glm::vec3> sdf_origin;             // distance field only
+  Uniform<glm::vec3> sdf_size;               // distance field only
+  Uniform<float> sdf_spacing;
+  Uniform<float> deform_resolution;
+  Uniform<float> step;
+  Uniform<float> thickness;
+  Uniform<float> alpha_lipschitz;
+  Uniform<float> warp_skip_cap;
+  Uniform<int> warp_lipschitz;  // texture units: this and the samplers below
+  Uniform<float> sdf_margin;
+  Uniform<glm::vec4> base_color;
+  Uniform<glm::vec4> cut_color;
+  Uniform<int> sdf;
+  Uniform<int> deformation;
+  Uniform<int> deformation_flap;
+  Uniform<int> alpha_components;
+  Uniform<int> alpha_components_flap;
+};
+
 }  // namespace
 
 void DeformPass::Draw(const RenderTarget& target, const ViewSetup& view) {
@@ -438,8 +497,9 @@ void DeformPass::Draw(const RenderTarget& target, const ViewSetup& view) {
     desc.defines.push_back("MESH_STAGE");
     const Program& program = programs_.Get(desc);
     UseProgram(target, program, view);
-    program.Set("u_box_from_object", box_from_object);
-    program.Set("u_base_color", options_.base_color);
+    const auto& u = program.Typed<DeformMeshUniforms>();
+    u.box_from_object.Set(box_from_object);
+    u.base_color.Set(options_.base_color);
     // A closed, outward mesh wholly in front of the near plane: each ray
     // meets a front face before any back face, so back faces are hidden
     // except where the front face before them was removed, inside the box,
@@ -492,7 +552,7 @@ void DeformPass::Draw(const RenderTarget& target, const ViewSetup& view) {
       }
       last_culled_clusters_ =
           clusters.size() - culled.size() - both_sides.size() - away_in_footprint.size();
-      program.Set("u_piece", -1);  // no clipping
+      u.piece.Set(-1);  // no clipping
       mesh_outside_->DrawClusters(both_sides);
       glFrontFace(glm::determinant(clip_from_world) < 0 ? GL_CCW : GL_CW);
       glEnable(GL_CULL_FACE);
@@ -507,13 +567,13 @@ void DeformPass::Draw(const RenderTarget& target, const ViewSetup& view) {
       glCullFace(GL_BACK);
       glFrontFace(GL_CCW);
     } else if (mesh_outside_) {
-      program.Set("u_piece", -1);  // no clipping
+      u.piece.Set(-1);  // no clipping
       mesh_outside_->Draw();
     }
     if (mesh_crossing_) {
       for (int i = 0; i < 6; ++i) glEnable(GL_CLIP_DISTANCE0 + i);
       for (int piece = 0; piece < 6; ++piece) {
-        program.Set("u_piece", piece);
+        u.piece.Set(piece);
         glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
         mesh_crossing_->Draw();
       }
@@ -531,37 +591,38 @@ void DeformPass::Draw(const RenderTarget& target, const ViewSetup& view) {
   const Program& program = programs_.Get(desc);
   UseProgram(target, program, view);
   SetRayCoreUniforms(program, options_.RayCore());
-  program.Set("u_world_from_cam", glm::inverse(view.cam_from_world));
-  program.Set("u_clip_z", glm::vec2(core::ClipRangeZ(view.clip_from_cam)));
-  program.Set("u_object_from_box", object_from_box);
-  program.Set("u_box_from_object", box_from_object);
+  const auto& u = program.Typed<DeformBoxUniforms>();
+  u.world_from_cam.Set(glm::inverse(view.cam_from_world));
+  u.clip_z.Set(glm::vec2(core::ClipRangeZ(view.clip_from_cam)));
+  u.object_from_box.Set(object_from_box);
+  u.box_from_object.Set(box_from_object);
   if (options_.implicit == DeformImplicit::kDepthCube) {
-    program.Set("u_cube_from_object", std::span<const glm::mat4>(cube_from_object_));
+    u.cube_from_object.Set(cube_from_object_);
   } else {
-    program.Set("u_sdf_origin", sdf_origin_);
-    program.Set("u_sdf_size", glm::vec3(sdf_size_));
+    u.sdf_origin.Set(sdf_origin_);
+    u.sdf_size.Set(glm::vec3(sdf_size_));
   }
-  program.Set("u_sdf_spacing", sdf_spacing_);
-  program.Set("u_deform_resolution", static_cast<float>(deformation_resolution_));
-  program.Set("u_step", options_.step_voxels * sdf_spacing_);
-  program.Set("u_thickness", options_.thickness);
-  program.Set("u_alpha_lipschitz", alpha_lipschitz_);
-  program.Set("u_warp_skip_cap", warp_skip_cap_);
-  program.Set("u_warp_lipschitz", 3);
+  u.sdf_spacing.Set(sdf_spacing_);
+  u.deform_resolution.Set(static_cast<float>(deformation_resolution_));
+  u.step.Set(options_.step_voxels * sdf_spacing_);
+  u.thickness.Set(options_.thickness);
+  u.alpha_lipschitz.Set(alpha_lipschitz_);
+  u.warp_skip_cap.Set(warp_skip_cap_);
+  u.warp_lipschitz.Set(3);
   glBindTextureUnit(3, warp_lipschitz_.id());
-  program.Set("u_sdf_margin", sdf_margin_);
-  program.Set("u_base_color", options_.base_color);
-  program.Set("u_cut_color", options_.cut_color);
-  program.Set("u_sdf", 0);
-  program.Set("u_deformation", 1);
+  u.sdf_margin.Set(sdf_margin_);
+  u.base_color.Set(options_.base_color);
+  u.cut_color.Set(options_.cut_color);
+  u.sdf.Set(0);
+  u.deformation.Set(1);
   glBindTextureUnit(0, sdf_.id());
   glBindTextureUnit(1, deformation_.id());
   if (flap) {
-    program.Set("u_deformation_flap", 2);
+    u.deformation_flap.Set(2);
     glBindTextureUnit(2, deformation_flap_.id());
-    program.Set("u_alpha_components", 4);
+    u.alpha_components.Set(4);
     glBindTextureUnit(4, alpha_components_.id());
-    program.Set("u_alpha_components_flap", 5);
+    u.alpha_components_flap.Set(5);
     glBindTextureUnit(5, alpha_components_flap_.id());
   }
   // The box's triangles face inwards: the far faces are front-facing (for a

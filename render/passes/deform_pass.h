@@ -39,6 +39,7 @@
 
 #include "core/deformation.h"
 #include "core/distance_field.h"
+#include "core/enum_names.h"
 #include "core/image.h"
 #include "core/mesh.h"
 #include "render/cores/ray_core.h"
@@ -60,6 +61,11 @@ enum class DeformImplicit {
   kSdf,        // the mesh's signed distance field (core::DistanceField)
   kDepthCube,  // the depth-map cube of Correa 2007 sec. 6.1 (DepthCube)
 };
+inline constexpr core::EnumName<DeformImplicit> kDeformImplicitNames[] = {
+    {DeformImplicit::kSdf, "sdf"},
+    {DeformImplicit::kDepthCube, "depth-cube"},
+};
+static_assert(core::EnumNamesUnique(kDeformImplicitNames));
 // "sdf", "depth-cube" (InputError naming the value otherwise).
 DeformImplicit DeformImplicitFromName(const std::string& name);
 std::string DeformImplicitName(DeformImplicit implicit);

@@ -10,6 +10,7 @@
 #include "core/error.h"
 #include "core/heightfield.h"
 #include "core/memory_budget.h"
+#include "render/gl/uniform.h"
 
 namespace render {
 
@@ -258,6 +259,21 @@ struct GpuVolume {
 };
 static_assert(sizeof(GpuVolume) == 9 * 16);
 
+// shaders/passes/displacement.{vert,frag}.glsl.
+struct DisplacementUniforms {
+  explicit DisplacementUniforms(const Program& p)
+      : max_displacement(p, "u_max_displacement"),
+        tiling(p, "u_tiling"),
+        displacement(p, "u_displacement"),
+        color_tiling(p, "u_color_tiling"),
+        color(p, "u_color") {}
+  Uniform<float> max_displacement;
+  Uniform<float> tiling;
+  Uniform<int> displacement;  // texture unit
+  Uniform<float> color_tiling;
+  Uniform<int> color;  // texture unit
+};
+
 }  // namespace
 
 DisplacementPass::DisplacementPass(ProgramCache& programs, const core::TriangleMesh& base,
@@ -315,14 +331,15 @@ void DisplacementPass::Draw(const RenderTarget& target, const ViewSetup& view) {
                                            .fragment = "passes/displacement.frag.glsl",
                                            .defines = options_.Defines(view.orthographic)});
   UseProgram(target, program, view);
-  program.Set("u_max_displacement", options_.max_displacement);
-  program.Set("u_tiling", options_.tiling);
-  program.Set("u_displacement", 0);
+  const auto& u = program.Typed<DisplacementUniforms>();
+  u.max_displacement.Set(options_.max_displacement);
+  u.tiling.Set(options_.tiling);
+  u.displacement.Set(0);
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, volume_data_.id());
   glBindTextureUnit(0, displacement_->id());
   if (options_.color) {
-    program.Set("u_color_tiling", options_.color_tiling);
-    program.Set("u_color", 1);
+    u.color_tiling.Set(options_.color_tiling);
+    u.color.Set(1);
     glBindTextureUnit(1, options_.color->id());
   }
   Query query;

@@ -3,8 +3,21 @@
 #include <cmath>
 
 #include "core/error.h"
+#include "render/gl/uniform.h"
 
 namespace render {
+
+namespace {
+
+// shaders/passes/mesh.{vert,frag}.glsl.
+struct MeshUniforms {
+  explicit MeshUniforms(const Program& p)
+      : world_from_object(p, "u_world_from_object"), base_color(p, "u_base_color") {}
+  Uniform<glm::mat4> world_from_object;
+  Uniform<glm::vec4> base_color;
+};
+
+}  // namespace
 
 void MeshPassOptions::Check() const {
   for (int i = 0; i < 4; ++i) {
@@ -36,8 +49,9 @@ void MeshPass::Draw(const RenderTarget& target, const ViewSetup& view) {
                                            .fragment = "passes/mesh.frag.glsl",
                                            .defines = options_.Defines(view.orthographic)});
   UseProgram(target, program, view);
-  program.Set("u_world_from_object", options_.world_from_object);
-  program.Set("u_base_color", options_.base_color);
+  const auto& u = program.Typed<MeshUniforms>();
+  u.world_from_object.Set(options_.world_from_object);
+  u.base_color.Set(options_.base_color);
   if (options_.texture) glBindTextureUnit(0, options_.texture->id());
   mesh_->Draw();
 }

@@ -6,8 +6,21 @@
 
 #include "core/error.h"
 #include "core/memory_budget.h"
+#include "render/gl/uniform.h"
 
 namespace render {
+
+namespace {
+
+// The view uniforms every pass's vertex stage may read.
+struct ViewUniforms {
+  explicit ViewUniforms(const Program& p)
+      : cam_from_world(p, "u_cam_from_world"), clip_from_cam(p, "u_clip_from_cam") {}
+  Uniform<glm::mat4> cam_from_world;
+  Uniform<glm::mat4> clip_from_cam;
+};
+
+}  // namespace
 
 RenderTargetOptions FrameTargetOptions(int width, int height) {
   RenderTargetOptions options;
@@ -57,8 +70,9 @@ void CheckFrameSize(std::string_view where, std::string_view flag, int width, in
 void UseProgram(const RenderTarget& target, const Program& program, const ViewSetup& view) {
   target.Bind();
   program.Use();
-  program.Set("u_cam_from_world", view.cam_from_world);
-  program.Set("u_clip_from_cam", view.clip_from_cam);
+  const auto& u = program.Typed<ViewUniforms>();
+  u.cam_from_world.Set(view.cam_from_world);
+  u.clip_from_cam.Set(view.clip_from_cam);
 }
 
 void BeginFrame(const RenderTarget& target) {

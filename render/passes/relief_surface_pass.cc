@@ -11,30 +11,16 @@
 #include "core/error.h"
 #include "core/memory_budget.h"
 #include "core/surface_quadric.h"
+#include "render/gl/uniform.h"
 
 namespace render {
 
 ReliefMethod ReliefMethodFromName(const std::string& name) {
-  if (name == "ncs") return ReliefMethod::kNcs;
-  if (name == "relief") return ReliefMethod::kRelief;
-  if (name == "pom") return ReliefMethod::kPom;
-  if (name == "crm") return ReliefMethod::kCrm;
-  core::ThrowInputError("ReliefMethodFromName", "unknown method '{}' (ncs, relief, pom, crm)",
-                        name);
+  return core::EnumFromName(kReliefMethodNames, name, "ReliefMethodFromName", "method");
 }
 
 std::string ReliefMethodName(ReliefMethod method) {
-  switch (method) {
-    case ReliefMethod::kNcs:
-      return "ncs";
-    case ReliefMethod::kRelief:
-      return "relief";
-    case ReliefMethod::kPom:
-      return "pom";
-    case ReliefMethod::kCrm:
-      return "crm";
-  }
-  return "unknown";
+  return std::string(core::EnumToName(kReliefMethodNames, method));
 }
 
 void ReliefGeometryOptions::Check() const {
@@ -135,6 +121,46 @@ Texture UploadHeight(const core::ImageF& height, bool bilinear) {
   glTextureParameteri(tex.id(), GL_TEXTURE_WRAP_T, GL_REPEAT);
   return tex;
 }
+
+// shaders/passes/relief_surface.{vert,frag}.glsl.
+struct ReliefUniforms {
+  explicit ReliefUniforms(const Program& p)
+      : cam_from_object(p, "u_cam_from_object"),
+        clip_from_cam(p, "u_clip_from_cam"),
+        world_normal_from_object(p, "u_world_normal_from_object"),
+        eye_in_object(p, "u_eye_in_object"),
+        view_dir_in_object(p, "u_view_dir_in_object"),
+        max_displacement(p, "u_max_displacement"),
+        tiling(p, "u_tiling"),
+        step_enlargement(p, "u_step_enlargement"),
+        min_view_cos(p, "u_min_view_cos"),
+        steps(p, "u_steps"),
+        pom_min_steps(p, "u_pom_min_steps"),
+        base_color(p, "u_base_color"),
+        height(p, "u_height"),
+        normal_map(p, "u_normal_map"),
+        tangent_map(p, "u_tangent_map"),
+        color(p, "u_color"),
+        color_tiling(p, "u_color_tiling") {}
+  Uniform<glm::mat4> cam_from_object;
+  Uniform<glm::mat4> clip_from_cam;
+  Uniform<glm::mat3> world_normal_from_object;
+  Uniform<glm::vec3> eye_in_object;
+  Uniform<glm::vec3> view_dir_in_object;
+  Uniform<float> max_displacement;
+  Uniform<float> tiling;
+  Uniform<float> step_enlargement;
+  Uniform<float> min_view_cos;
+  Uniform<int> steps;
+  Uniform<int> pom_min_steps;
+  Uniform<glm::vec4> base_color;
+  Uniform<int> height;  // texture units from here on
+  Uniform<int> normal_map;
+  Uniform<int> tangent_map;
+  Uniform<int> color;
+  Uniform<float> color_tiling;
+};
+
 }  // namespace
 
 ReliefSurface::ReliefSurface(ProgramCache& programs, const core::TriangleMesh& base,
@@ -213,27 +239,28 @@ void ReliefSurface::Draw(const RenderTarget& target, const ViewSetup& view) {
   target.Bind();
   program.Use();
   SetRayCoreUniforms(program, core);
-  program.Set("u_cam_from_object", cam_from_object);
-  program.Set("u_clip_from_cam", view.clip_from_cam);
-  program.Set("u_world_normal_from_object", world_normal_from_object);
-  program.Set("u_eye_in_object", eye_in_object);
-  program.Set("u_view_dir_in_object", view_dir_in_object);
-  program.Set("u_max_displacement", geometry_.max_displacement);
-  program.Set("u_tiling", options.tiling);
-  program.Set("u_step_enlargement", options.step_enlargement);
-  program.Set("u_min_view_cos", options.min_view_cos);
-  program.Set("u_steps", options.steps);
-  program.Set("u_pom_min_steps", std::min(options.pom_min_steps, options.steps));
-  program.Set("u_base_color", options.base_color);
-  program.Set("u_height", 0);
-  program.Set("u_normal_map", 1);
-  program.Set("u_tangent_map", 2);
+  const auto& u = program.Typed<ReliefUniforms>();
+  u.cam_from_object.Set(cam_from_object);
+  u.clip_from_cam.Set(view.clip_from_cam);
+  u.world_normal_from_object.Set(world_normal_from_object);
+  u.eye_in_object.Set(eye_in_object);
+  u.view_dir_in_object.Set(view_dir_in_object);
+  u.max_displacement.Set(geometry_.max_displacement);
+  u.tiling.Set(options.tiling);
+  u.step_enlargement.Set(options.step_enlargement);
+  u.min_view_cos.Set(options.min_view_cos);
+  u.steps.Set(options.steps);
+  u.pom_min_steps.Set(std::min(options.pom_min_steps, options.steps));
+  u.base_color.Set(options.base_color);
+  u.height.Set(0);
+  u.normal_map.Set(1);
+  u.tangent_map.Set(2);
   glBindTextureUnit(0, height_.id());
   glBindTextureUnit(1, maps_.normal_map.id());
   glBindTextureUnit(2, maps_.tangent_map.id());
   if (color_) {
-    program.Set("u_color", 3);
-    program.Set("u_color_tiling", options.color_tiling);
+    u.color.Set(3);
+    u.color_tiling.Set(options.color_tiling);
     glBindTextureUnit(3, color_->id());
   }
   BindOutcomeImage(target);  // every ray ORs its outcome, discarded ones too

@@ -44,6 +44,7 @@
 #include <string>
 #include <vector>
 
+#include "core/enum_names.h"
 #include "core/image.h"
 #include "core/mesh.h"
 #include "render/cores/ray_core.h"
@@ -57,6 +58,13 @@
 namespace render {
 
 enum class ReliefMethod { kNcs, kRelief, kPom, kCrm };
+inline constexpr core::EnumName<ReliefMethod> kReliefMethodNames[] = {
+    {ReliefMethod::kNcs, "ncs"},
+    {ReliefMethod::kRelief, "relief"},
+    {ReliefMethod::kPom, "pom"},
+    {ReliefMethod::kCrm, "crm"},
+};
+static_assert(core::EnumNamesUnique(kReliefMethodNames));
 // "ncs", "relief", "pom", "crm" (InputError otherwise).
 ReliefMethod ReliefMethodFromName(const std::string& name);
 std::string ReliefMethodName(ReliefMethod method);

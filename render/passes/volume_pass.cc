@@ -12,6 +12,7 @@
 #include "core/error.h"
 #include "core/memory_budget.h"
 #include "render/gl/gl_state.h"
+#include "render/gl/uniform.h"
 
 namespace render {
 namespace {
@@ -99,33 +100,78 @@ std::vector<Texture> UploadMapDerivatives(const core::StoredDisplacementMap& s) 
   return out;
 }
 
-// Uniform names of map i, formatted once for every draw (not ~11 fmt::format
-// calls a map per draw).
-struct MapUniformNames {
-  std::string map, map_from_tex, tex_from_map, map_from_tex_linear, scale, texel, active_lo,
-      active_hi;
-  std::array<std::string, 3> derivatives;  // u_map_derivatives[3 i + k]
+// Map i's uniforms in shaders/passes/volume_core.glsl (element i of each
+// array; the derivatives are elements 3 i + k).
+struct VolumeMapUniforms {
+  VolumeMapUniforms() = default;
+  VolumeMapUniforms(const Program& p, size_t i)
+      : map(p, fmt::format("u_maps[{}]", i)),
+        map_from_tex(p, fmt::format("u_map_from_tex[{}]", i)),
+        tex_from_map(p, fmt::format("u_tex_from_map[{}]", i)),
+        map_from_tex_linear(p, fmt::format("u_map_from_tex_linear[{}]", i)),
+        scale(p, fmt::format("u_map_scale[{}]", i)),
+        texel(p, fmt::format("u_map_texel[{}]", i)),
+        active_lo(p, fmt::format("u_map_active_lo[{}]", i)),
+        active_hi(p, fmt::format("u_map_active_hi[{}]", i)) {
+    for (size_t k = 0; k < 3; ++k)
+      derivatives[k] = Uniform<int>(p, fmt::format("u_map_derivatives[{}]", 3 * i + k));
+  }
+  Uniform<int> map;  // texture unit
+  Uniform<glm::mat4> map_from_tex;
+  Uniform<glm::mat3> tex_from_map;
+  Uniform<glm::mat3> map_from_tex_linear;
+  Uniform<float> scale;
+  Uniform<glm::vec3> texel;
+  Uniform<glm::vec3> active_lo;
+  Uniform<glm::vec3> active_hi;
+  std::array<Uniform<int>, 3> derivatives;  // texture units
 };
 
-const std::array<MapUniformNames, kMaxVolumeMaps>& MapUniforms() {
-  static const std::array<MapUniformNames, kMaxVolumeMaps> names = [] {
-    std::array<MapUniformNames, kMaxVolumeMaps> n;
-    for (size_t i = 0; i < n.size(); ++i) {
-      n[i].map = fmt::format("u_maps[{}]", i);
-      n[i].map_from_tex = fmt::format("u_map_from_tex[{}]", i);
-      n[i].tex_from_map = fmt::format("u_tex_from_map[{}]", i);
-      n[i].map_from_tex_linear = fmt::format("u_map_from_tex_linear[{}]", i);
-      n[i].scale = fmt::format("u_map_scale[{}]", i);
-      n[i].texel = fmt::format("u_map_texel[{}]", i);
-      n[i].active_lo = fmt::format("u_map_active_lo[{}]", i);
-      n[i].active_hi = fmt::format("u_map_active_hi[{}]", i);
-      for (size_t k = 0; k < 3; ++k)
-        n[i].derivatives[k] = fmt::format("u_map_derivatives[{}]", 3 * i + k);
-    }
-    return n;
-  }();
-  return names;
-}
+// shaders/cores/slicing_core.glsl, passes/volume_core.glsl, volume_dvr.frag.glsl
+// and volume_iso.frag.glsl: one struct for the DVR and iso programs (each
+// lacks the other's uniforms, which stay inactive handles).
+struct VolumeUniforms {
+  explicit VolumeUniforms(const Program& p)
+      : world_from_box(p, "u_world_from_box"),
+        cam_from_world(p, "u_cam_from_world"),
+        clip_from_cam(p, "u_clip_from_cam"),
+        tex_from_proxy(p, "u_tex_from_proxy"),
+        normal_world_from_tex(p, "u_normal_world_from_tex"),
+        light_dir_world(p, "u_light_dir_world"),
+        ambient(p, "u_ambient"),
+        samples(p, "u_samples"),
+        transfer(p, "u_transfer"),
+        transfer_size(p, "u_transfer_size"),
+        iso(p, "u_iso"),
+        orthographic(p, "u_orthographic"),
+        eye_in_box(p, "u_eye_in_box"),
+        view_dir_in_box(p, "u_view_dir_in_box"),
+        box_from_world_linear(p, "u_box_from_world_linear"),
+        cam_from_box(p, "u_cam_from_box"),
+        step_world(p, "u_step_world") {
+    for (size_t i = 0; i < maps.size(); ++i) maps[i] = VolumeMapUniforms(p, i);
+  }
+  Uniform<glm::mat4> world_from_box;
+  Uniform<glm::mat4> cam_from_world;
+  Uniform<glm::mat4> clip_from_cam;
+  Uniform<glm::mat4> tex_from_proxy;
+  Uniform<glm::mat3> normal_world_from_tex;
+  Uniform<glm::vec3> light_dir_world;
+  Uniform<float> ambient;
+  Uniform<int> samples;   // texture unit
+  Uniform<int> transfer;  // texture unit
+  std::array<VolumeMapUniforms, kMaxVolumeMaps> maps;
+  // DVR
+  Uniform<float> transfer_size;
+  // Iso-surface
+  Uniform<float> iso;
+  Uniform<int> orthographic;  // GLSL bool
+  Uniform<glm::vec3> eye_in_box;
+  Uniform<glm::vec3> view_dir_in_box;
+  Uniform<glm::mat4> box_from_world_linear;
+  Uniform<glm::mat4> cam_from_box;
+  Uniform<float> step_world;
+};
 
 // Texture units: 0 samples (gradient and scalar), 1 transfer function,
 // 2 + i map i, 2 + kMaxVolumeMaps + 3 i + k derivative k of map i.
@@ -156,38 +202,19 @@ core::Box3 SupportBox(const std::vector<VolumeMapInput>& maps,
 }  // namespace
 
 VolumeLighting VolumeLightingFromName(std::string_view name) {
-  for (VolumeLighting l : {VolumeLighting::kNone, VolumeLighting::kGradient,
-                           VolumeLighting::kTransformed, VolumeLighting::kBlended}) {
-    if (VolumeLightingName(l) == name) return l;
-  }
-  core::ThrowInputError("VolumeLightingFromName",
-                        "unknown lighting '{}' (none, gradient, transformed, blended)", name);
+  return core::EnumFromName(kVolumeLightingNames, name, "VolumeLightingFromName", "lighting");
 }
 
 std::string_view VolumeLightingName(VolumeLighting lighting) {
-  switch (lighting) {
-    case VolumeLighting::kNone:
-      return "none";
-    case VolumeLighting::kGradient:
-      return "gradient";
-    case VolumeLighting::kTransformed:
-      return "transformed";
-    case VolumeLighting::kBlended:
-      return "blended";
-  }
-  return "";
+  return core::EnumToName(kVolumeLightingNames, lighting);
 }
 
 VolumeJacobian VolumeJacobianFromName(std::string_view name) {
-  for (VolumeJacobian j : {VolumeJacobian::kPrecomputed, VolumeJacobian::kFiniteDifferences}) {
-    if (VolumeJacobianName(j) == name) return j;
-  }
-  core::ThrowInputError("VolumeJacobianFromName",
-                        "unknown Jacobian '{}' (precomputed, differences)", name);
+  return core::EnumFromName(kVolumeJacobianNames, name, "VolumeJacobianFromName", "Jacobian");
 }
 
 std::string_view VolumeJacobianName(VolumeJacobian jacobian) {
-  return jacobian == VolumeJacobian::kPrecomputed ? "precomputed" : "differences";
+  return core::EnumToName(kVolumeJacobianNames, jacobian);
 }
 
 void CheckVolumeFits(const glm::ivec3& dims, const std::vector<glm::ivec3>& map_dims,
@@ -441,35 +468,35 @@ glm::mat4 VolumePass::world_from_proxy() const {
 }
 
 void VolumePass::SetCommonUniforms(const Program& program, const ViewSetup& view) const {
-  program.Set("u_world_from_box", world_from_proxy());
-  program.Set("u_cam_from_world", view.cam_from_world);
-  program.Set("u_clip_from_cam", view.clip_from_cam);
-  program.Set("u_tex_from_proxy", TexFromProxy(proxy_box_));
-  program.Set("u_normal_world_from_tex",
-              glm::transpose(glm::inverse(glm::mat3(world_from_volume_))));
-  program.Set("u_light_dir_world", glm::normalize(options_.light_dir_world));
-  program.Set("u_ambient", options_.ambient);
-  program.Set("u_samples", 0);
-  program.Set("u_transfer", 1);
+  const auto& u = program.Typed<VolumeUniforms>();
+  u.world_from_box.Set(world_from_proxy());
+  u.cam_from_world.Set(view.cam_from_world);
+  u.clip_from_cam.Set(view.clip_from_cam);
+  u.tex_from_proxy.Set(TexFromProxy(proxy_box_));
+  u.normal_world_from_tex.Set(glm::transpose(glm::inverse(glm::mat3(world_from_volume_))));
+  u.light_dir_world.Set(glm::normalize(options_.light_dir_world));
+  u.ambient.Set(options_.ambient);
+  u.samples.Set(0);
+  u.transfer.Set(1);
   glBindTextureUnit(0, sample_texture_.id());
   glBindTextureUnit(1, transfer_texture_.id());
   for (size_t i = 0; i < maps_.size(); ++i) {
-    const MapUniformNames& names = MapUniforms()[i];
+    const VolumeMapUniforms& m = u.maps[i];
     const glm::mat3 a(glm::mat4(maps_[i].placement));
     const int unit = kFirstMapUnit + static_cast<int>(i);
-    program.Set(names.map, unit);
-    program.Set(names.map_from_tex, glm::mat4(glm::inverse(maps_[i].placement)));
-    program.Set(names.tex_from_map, a);
-    program.Set(names.map_from_tex_linear, glm::inverse(a));
-    program.Set(names.scale, stored_[i].scale);
-    program.Set(names.texel, 1.0f / glm::vec3(maps_[i].map.dims));
-    program.Set(names.active_lo, glm::vec3(active_[i].lo));
-    program.Set(names.active_hi, glm::vec3(active_[i].hi));
+    m.map.Set(unit);
+    m.map_from_tex.Set(glm::mat4(glm::inverse(maps_[i].placement)));
+    m.tex_from_map.Set(a);
+    m.map_from_tex_linear.Set(glm::inverse(a));
+    m.scale.Set(stored_[i].scale);
+    m.texel.Set(1.0f / glm::vec3(maps_[i].map.dims));
+    m.active_lo.Set(glm::vec3(active_[i].lo));
+    m.active_hi.Set(glm::vec3(active_[i].hi));
     glBindTextureUnit(static_cast<GLuint>(unit), map_textures_[i].id());
     if (options_.UsesJacobianTextures()) {
       for (size_t k = 0; k < 3; ++k) {
         const auto derivative_unit = static_cast<int>(kFirstDerivativeUnit + 3 * i + k);
-        program.Set(names.derivatives[k], derivative_unit);
+        m.derivatives[k].Set(derivative_unit);
         glBindTextureUnit(static_cast<GLuint>(derivative_unit),
                           derivative_textures_[3 * i + k].id());
       }
@@ -602,7 +629,7 @@ void VolumePass::DrawDvr(const RenderTarget& target, const ViewSetup& view) {
   for (const Program* program : {&displaced_program, plain_program}) {
     if (!program) continue;
     SetCommonUniforms(*program, view);
-    program->Set("u_transfer_size", static_cast<float>(kTransferSize));
+    program->Typed<VolumeUniforms>().transfer_size.Set(static_cast<float>(kTransferSize));
   }
 
   // Translucent slices: depth-tested against what is in the frame, no depth
@@ -645,18 +672,19 @@ void VolumePass::DrawIso(const RenderTarget& target, const ViewSetup& view) {
   program.Use();
   SetCommonUniforms(program, view);
   SetRayCoreUniforms(program, options_.ray);
-  program.Set("u_iso", static_cast<float>(options_.iso_value));
-  program.Set("u_orthographic", view.orthographic ? 1 : 0);
+  const auto& u = program.Typed<VolumeUniforms>();
+  u.iso.Set(static_cast<float>(options_.iso_value));
+  u.orthographic.Set(view.orthographic ? 1 : 0);
   const glm::mat4 world_from_cam = glm::inverse(view.cam_from_world);
   const glm::vec3 eye_world(world_from_cam[3]);
   const glm::vec3 forward_world = glm::normalize(glm::vec3(world_from_cam[2]));
-  program.Set("u_eye_in_box", glm::vec3(box_from_world * glm::vec4(eye_world, 1.0f)));
-  program.Set("u_view_dir_in_box", glm::vec3(box_from_world * glm::vec4(forward_world, 0.0f)));
+  u.eye_in_box.Set(glm::vec3(box_from_world * glm::vec4(eye_world, 1.0f)));
+  u.view_dir_in_box.Set(glm::vec3(box_from_world * glm::vec4(forward_world, 0.0f)));
   glm::mat4 linear = box_from_world;
   linear[3] = glm::vec4(0, 0, 0, 1);
-  program.Set("u_box_from_world_linear", linear);
-  program.Set("u_cam_from_box", view.cam_from_world * world_from_box);
-  program.Set("u_step_world", static_cast<float>(options_.sampling_distance_voxels * voxel_world_));
+  u.box_from_world_linear.Set(linear);
+  u.cam_from_box.Set(view.cam_from_world * world_from_box);
+  u.step_world.Set(static_cast<float>(options_.sampling_distance_voxels * voxel_world_));
   const ScopedGlState scoped(GlState{});  // depth test LESS with writes (gl_FragDepth)
   BindOutcomeImage(target);               // every ray ORs its outcome, discarded ones too
   glBindVertexArray(box_vao_.id());

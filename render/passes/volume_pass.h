@@ -34,6 +34,7 @@
 #include <string_view>
 #include <vector>
 
+#include "core/enum_names.h"
 #include "core/transfer_function.h"
 #include "core/volume.h"
 #include "core/volume_displacement.h"
@@ -53,6 +54,13 @@ enum class VolumeMode { kDvr, kIso };
 // (c) transformed by (I + J_D)^T (eq. 6), (d) (c) blended with the cut
 // mask's gradient at discontinuities (eq. 7).
 enum class VolumeLighting { kNone, kGradient, kTransformed, kBlended };
+inline constexpr core::EnumName<VolumeLighting> kVolumeLightingNames[] = {
+    {VolumeLighting::kNone, "none"},
+    {VolumeLighting::kGradient, "gradient"},
+    {VolumeLighting::kTransformed, "transformed"},
+    {VolumeLighting::kBlended, "blended"},
+};
+static_assert(core::EnumNamesUnique(kVolumeLightingNames));
 VolumeLighting VolumeLightingFromName(std::string_view name);  // none|gradient|transformed|blended
 std::string_view VolumeLightingName(VolumeLighting lighting);
 
@@ -61,6 +69,11 @@ std::string_view VolumeLightingName(VolumeLighting lighting);
 // filtered fetches a sample) or central differences of the map at half a
 // texel (six fetches a sample, no extra memory).
 enum class VolumeJacobian { kPrecomputed, kFiniteDifferences };
+inline constexpr core::EnumName<VolumeJacobian> kVolumeJacobianNames[] = {
+    {VolumeJacobian::kPrecomputed, "precomputed"},
+    {VolumeJacobian::kFiniteDifferences, "differences"},
+};
+static_assert(core::EnumNamesUnique(kVolumeJacobianNames));
 VolumeJacobian VolumeJacobianFromName(std::string_view name);  // precomputed|differences
 std::string_view VolumeJacobianName(VolumeJacobian jacobian);
 
