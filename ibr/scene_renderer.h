@@ -113,10 +113,15 @@ class SceneRenderer {
   // matches a scene loaded with the options the object ends with
   // (scene.objects[index].deform_options; their sdf_reach says how far the
   // field kept reaches). InputError (nothing changed) on invalid options.
-  DeformObjectChange UpdateDeform(LoadedScene& scene, size_t index, DeformObjectOptions options);
+  // `defer_reach` (the viewer while a parameter moves): a field the new
+  // displacement outgrows is kept (ibr::UpdateDeformObject), the match above
+  // then holds only after an update without it.
+  DeformObjectChange UpdateDeform(LoadedScene& scene, size_t index, DeformObjectOptions options,
+                                  bool defer_reach = false);
   // The same for a volume object (ibr::UpdateVolumeObject): pass options go
   // to render::VolumePass::SetOptions (no volume upload); effect or map-size
-  // changes resample the map and build the pass anew.
+  // changes resample the map and hand it to render::VolumePass::SetMaps (the
+  // volume's texture is kept).
   VolumeObjectChange UpdateVolume(LoadedScene& scene, size_t index,
                                   const VolumeObjectOptions& options);
   // Times object `index`'s pass was built (1 after the constructor).

@@ -241,7 +241,7 @@ bool SceneFileScene::DragParameter(double t) {
       // Clamped: lo + t (hi - lo) may round past hi, which Check rejects.
       d.amount = std::clamp(r.amount_lo + t * (r.amount_hi - r.amount_lo),
                             static_cast<double>(r.amount_lo), static_cast<double>(r.amount_hi));
-      renderer_.UpdateDeform(loaded_, i, o);
+      UpdateDeformWhileMoving(i, o);
       return true;
     }
     if (object.type == scene::ObjectType::kVolume && object.volume_options.effect) {
@@ -254,6 +254,22 @@ bool SceneFileScene::DragParameter(double t) {
     }
   }
   return false;
+}
+
+void SceneFileScene::UpdateDeformWhileMoving(size_t index,
+                                             const ibr::DeformObjectOptions& options) {
+  if (renderer_.UpdateDeform(loaded_, index, options, /*defer_reach=*/true).implicit_deferred &&
+      std::find(unsettled_.begin(), unsettled_.end(), index) == unsettled_.end()) {
+    unsettled_.push_back(index);
+  }
+}
+
+void SceneFileScene::Settle() {
+  // Emptied first: a failed rebuild is not retried every frame (the error
+  // shows in the panel).
+  const std::vector<size_t> pending = std::move(unsettled_);
+  unsettled_.clear();
+  for (size_t i : pending) renderer_.UpdateDeform(loaded_, i, loaded_.objects[i].deform_options);
 }
 
 std::string SceneFileScene::Status() const {
@@ -310,7 +326,7 @@ bool SceneFileScene::DeformControls(size_t index) {
                 data.sdf_seconds);
   }
   if (changed) {
-    renderer_.UpdateDeform(loaded_, index, o);
+    UpdateDeformWhileMoving(index, o);
     error_.clear();
   }
   return changed;

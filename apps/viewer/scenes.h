@@ -48,6 +48,8 @@ class SceneFileScene : public Scene {
   // The first deform object's first deformation amount, else the first
   // volume effect's main parameter, over its slider's range.
   bool DragParameter(double t) override;
+  // Rebuilds the distance fields moving updates kept short.
+  void Settle() override;
 
   // The scene as loaded and edited so far (ibr::RenderSceneToDataset of it
   // renders what `ibr render` renders for a file with these options).
@@ -57,13 +59,17 @@ class SceneFileScene : public Scene {
  private:
   bool DeformControls(size_t index);
   bool VolumeControls(size_t index);
+  // A deform object's new options while moving: a field the displacement
+  // outgrows is rebuilt only in Settle.
+  void UpdateDeformWhileMoving(size_t index, const ibr::DeformObjectOptions& options);
 
   std::string title_;
   render::ProgramCache programs_;
   ibr::LoadedScene loaded_;
   ibr::SceneRenderer renderer_;
   std::vector<std::string> objects_;
-  std::string error_;  // the last rejected change
+  std::string error_;              // the last rejected change
+  std::vector<size_t> unsettled_;  // deform objects whose field a drag outgrew
   glm::vec3 centre_{0};
   float radius_ = 1;
 };

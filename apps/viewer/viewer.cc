@@ -334,6 +334,7 @@ void Run(const SceneFactory& make_scene, const ViewerOptions& options, const Vie
       glFinish();
       core::Stopwatch watch;
       try {
+        if (!moving) scene.Settle();
         shown = &scene.Render(camera);
         glFinish();
         error.clear();

@@ -54,6 +54,9 @@ class Scene {
   // parameter to fraction `t` in [0, 1] of its slider's range. False when the
   // scene has none (nothing changed).
   virtual bool DragParameter(double /*t*/) { return false; }
+  // Before an exact frame: finishes what changes while moving left
+  // approximate (e.g. a distance field whose reach a drag outgrew).
+  virtual void Settle() {}
 };
 
 struct ViewerOptions {
