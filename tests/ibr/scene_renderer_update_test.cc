@@ -78,7 +78,20 @@ int Drawn(const SceneFrame& f) {
   return n;
 }
 
-class SceneRendererUpdateTest : public test_support::GlTest {};
+class SceneRendererUpdateTest : public test_support::GlTest {
+ protected:
+  // `after`, a frame of `loaded` updated to a solid knife of amount 0.4,
+  // equals a fresh build of the options the update ended with.
+  void ExpectFreshBuildOfAmount04(const LoadedScene& loaded, const SceneFrame& after) {
+    LoadedScene fresh = LoadScene(programs(), Parse(Knife(R"(, "cut": "solid", "amount": 0.4)")));
+    fresh.objects[0].deform = std::make_shared<DeformObjectData>(MakeDeformObject(
+        capture::MakeShapeScene("torus").mesh, loaded.objects[0].deform_options, "torus"));
+    SceneRenderer fresh_renderer(programs(), fresh);
+    const SceneFrame expected = fresh_renderer.Render(fresh.views.front().view);
+    EXPECT_EQ(after.color, expected.color);
+    EXPECT_EQ(after.depth, expected.depth);
+  }
+};
 
 // The amount of a knife cut, smaller: the deformation texture is resampled,
 // the distance field kept (built once), and the frame equals a scene loaded
@@ -158,15 +171,7 @@ TEST_F(SceneRendererUpdateTest, DeformAmountBeyondTheFieldsReachRebuildsIt) {
   const DeformObjectData& d = *loaded.objects[0].deform;
   EXPECT_EQ(d.implicit_builds, 2);
   EXPECT_NEAR(d.sdf_reach, 1.5 * d.max_displacement, 1e-12);
-  const SceneFrame after = renderer.Render(loaded.views.front().view);
-
-  LoadedScene fresh = LoadScene(programs(), Parse(Knife(R"(, "cut": "solid", "amount": 0.4)")));
-  fresh.objects[0].deform = std::make_shared<DeformObjectData>(MakeDeformObject(
-      capture::MakeShapeScene("torus").mesh, loaded.objects[0].deform_options, "torus"));
-  SceneRenderer fresh_renderer(programs(), fresh);
-  const SceneFrame expected = fresh_renderer.Render(fresh.views.front().view);
-  EXPECT_EQ(after.color, expected.color);
-  EXPECT_EQ(after.depth, expected.depth);
+  ExpectFreshBuildOfAmount04(loaded, renderer.Render(loaded.views.front().view));
 }
 
 // Deferred (the viewer while a slider moves): the same outgrown reach keeps
@@ -194,15 +199,7 @@ TEST_F(SceneRendererUpdateTest, DeferredReachKeepsTheFieldUntilTheNextUpdate) {
   const DeformObjectData& d = *loaded.objects[0].deform;
   EXPECT_EQ(d.implicit_builds, 2);
   EXPECT_NEAR(d.sdf_reach, 1.5 * d.max_displacement, 1e-12);
-  const SceneFrame after = renderer.Render(loaded.views.front().view);
-
-  LoadedScene fresh = LoadScene(programs(), Parse(Knife(R"(, "cut": "solid", "amount": 0.4)")));
-  fresh.objects[0].deform = std::make_shared<DeformObjectData>(MakeDeformObject(
-      capture::MakeShapeScene("torus").mesh, loaded.objects[0].deform_options, "torus"));
-  SceneRenderer fresh_renderer(programs(), fresh);
-  const SceneFrame expected = fresh_renderer.Render(fresh.views.front().view);
-  EXPECT_EQ(after.color, expected.color);
-  EXPECT_EQ(after.depth, expected.depth);
+  ExpectFreshBuildOfAmount04(loaded, renderer.Render(loaded.views.front().view));
 }
 
 // The cut mode alone: no data rebuilt, and the frame equals a plain fresh
