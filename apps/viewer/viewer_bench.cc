@@ -273,6 +273,14 @@ bench::Table RunViewerBench(const ViewerBenchOptions& options) {
       options.shared_data.empty() ? capture::DefaultSharedDataDir() : options.shared_data;
   const std::filesystem::path scratch =
       std::filesystem::temp_directory_path() / fmt::format("ibr-bench-viewer-{}", ::getpid());
+  // The renders `exact_equals_render` compares with, removed on every exit.
+  struct RemovedOnExit {
+    std::filesystem::path path;
+    ~RemovedOnExit() {
+      std::error_code ignored;
+      std::filesystem::remove_all(path, ignored);
+    }
+  } scratch_guard{scratch};
   bench::Table table({"scene", "motion", "width", "height", "motion_fps", "motion_frame_ms_p95",
                       "mean_divisor", "seconds_to_exact", "exact_render_ms", "exact_equals_render",
                       "differing_pixels", "psnr_motion_db", "load_avg_1min"});
@@ -309,7 +317,6 @@ bench::Table RunViewerBench(const ViewerBenchOptions& options) {
                     bench::Num(load, 2)});
     }
   }
-  std::filesystem::remove_all(scratch);
   fmt::print("{}", table.Format());
   table.WriteCsv(options.csv);
   const std::filesystem::path out =
