@@ -363,7 +363,7 @@ DeformObjectChange SceneRenderer::UpdateDeform(LoadedScene& scene, size_t index,
 }
 
 VolumeObjectChange SceneRenderer::UpdateVolume(LoadedScene& scene, size_t index,
-                                               const VolumeObjectOptions& options) {
+                                               const VolumeObjectOptions& options, bool preview) {
   IBR_CHECK_LT(index, scene.objects.size());
   IBR_CHECK_EQ(scene.objects.size(), passes_.size());
   LoadedObject& l = scene.objects[index];
@@ -373,7 +373,9 @@ VolumeObjectChange SceneRenderer::UpdateVolume(LoadedScene& scene, size_t index,
   VolumeObjectData maps_only;
   maps_only.maps = l.volume->maps;
   maps_only.map_placement = l.volume->map_placement;
-  const VolumeObjectChange change = UpdateVolumeObject(maps_only, l.volume_options, options, where);
+  maps_only.preview_maps = l.volume->preview_maps;
+  const VolumeObjectChange change =
+      UpdateVolumeObject(maps_only, l.volume_options, options, where, preview);
   if (!change.Any()) return change;
   ObjectPass& p = *passes_[index];
   if (change.maps) {
@@ -387,6 +389,7 @@ VolumeObjectChange SceneRenderer::UpdateVolume(LoadedScene& scene, size_t index,
     }
     auto data = std::make_shared<VolumeObjectData>(*l.volume);
     data->maps = std::move(maps_only.maps);
+    data->preview_maps = maps_only.preview_maps;
     l.volume = std::move(data);
     l.volume_options = options;
     l.bounds = BoxBounds(WorldFromProxy(*l.volume));

@@ -122,8 +122,9 @@ class SceneRenderer {
   // to render::VolumePass::SetOptions (no volume upload); effect or map-size
   // changes resample the map and hand it to render::VolumePass::SetMaps (the
   // volume's texture is kept).
+  // `preview`: ibr::UpdateVolumeObject's (a rougher peel map while moving).
   VolumeObjectChange UpdateVolume(LoadedScene& scene, size_t index,
-                                  const VolumeObjectOptions& options);
+                                  const VolumeObjectOptions& options, bool preview = false);
   // Times object `index`'s pass was built (1 after the constructor).
   int PassBuilds(size_t index) const;
 

@@ -249,7 +249,7 @@ bool SceneFileScene::DragParameter(double t) {
       const EffectSlider s = EffectSliderOf(*o.effect);
       *s.value = std::clamp(s.lo + t * (s.hi - s.lo), static_cast<double>(s.lo),
                             static_cast<double>(s.hi));
-      renderer_.UpdateVolume(loaded_, i, o);
+      renderer_.UpdateVolume(loaded_, i, o, /*preview=*/true);
       return true;
     }
   }
@@ -270,6 +270,11 @@ void SceneFileScene::Settle() {
   const std::vector<size_t> pending = std::move(unsettled_);
   unsettled_.clear();
   for (size_t i : pending) renderer_.UpdateDeform(loaded_, i, loaded_.objects[i].deform_options);
+  for (size_t i = 0; i < loaded_.objects.size(); ++i) {
+    const ibr::LoadedObject& o = loaded_.objects[i];
+    if (o.type == scene::ObjectType::kVolume && o.volume->preview_maps)
+      renderer_.UpdateVolume(loaded_, i, o.volume_options);
+  }
 }
 
 std::string SceneFileScene::Status() const {
@@ -367,7 +372,7 @@ bool SceneFileScene::VolumeControls(size_t index) {
   }
   changed |= SliderDouble("spacing (voxels)", pass.sampling_distance_voxels, 0.25f, 4, "%.2f");
   if (changed) {
-    renderer_.UpdateVolume(loaded_, index, o);
+    renderer_.UpdateVolume(loaded_, index, o, /*preview=*/true);
     error_.clear();
   }
   return changed;

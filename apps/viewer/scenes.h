@@ -48,7 +48,8 @@ class SceneFileScene : public Scene {
   // The first deform object's first deformation amount, else the first
   // volume effect's main parameter, over its slider's range.
   bool DragParameter(double t) override;
-  // Rebuilds the distance fields moving updates kept short.
+  // Rebuilds the distance fields moving updates kept short and resamples
+  // the preview maps of volumes.
   void Settle() override;
 
   // The scene as loaded and edited so far (ibr::RenderSceneToDataset of it

@@ -350,5 +350,30 @@ TEST_F(SceneRendererVolumeUpdateTest, PeelAngleResamplesTheMap) {
   EXPECT_EQ(renderer.Render(loaded.views.front().view).color, first.color);
 }
 
+// A preview (the viewer while the angle moves): the peel map is filled with
+// fewer iterations (marked preview_maps); updating the same options without
+// it resamples the map, and the frame equals a renderer built fresh.
+TEST_F(SceneRendererVolumeUpdateTest, PreviewPeelMapIsResampledByTheNextUpdate) {
+  LoadedScene loaded = LoadScene(programs(), Ball(""));
+  SceneRenderer renderer(programs(), loaded);
+  VolumeObjectOptions options = loaded.objects[0].volume_options;
+  ASSERT_TRUE(options.effect.has_value());
+  options.effect->peel_angle_deg = 90;
+  EXPECT_TRUE(renderer.UpdateVolume(loaded, 0, options, /*preview=*/true).maps);
+  EXPECT_TRUE(loaded.objects[0].volume->preview_maps);
+  const auto preview_texels = loaded.objects[0].volume->maps.at(0).map.texels;
+
+  const VolumeObjectChange settled = renderer.UpdateVolume(loaded, 0, options);
+  EXPECT_TRUE(settled.maps);
+  EXPECT_FALSE(loaded.objects[0].volume->preview_maps);
+  EXPECT_NE(loaded.objects[0].volume->maps.at(0).map.texels, preview_texels)
+      << "the preview's fill is rougher";
+  const SceneFrame after = renderer.Render(loaded.views.front().view);
+  SceneRenderer fresh(programs(), loaded);
+  EXPECT_EQ(fresh.Render(loaded.views.front().view).color, after.color);
+  // Nothing left to settle: the same options change nothing.
+  EXPECT_FALSE(renderer.UpdateVolume(loaded, 0, options).Any());
+}
+
 }  // namespace
 }  // namespace ibr
