@@ -6,6 +6,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <ctime>
 #include <fstream>
 #include <functional>
@@ -21,6 +22,7 @@
 #include "bench/kautz_seidel_experiments.h"
 #include "bench/ncs_bench.h"
 #include "bench/paper_tables.h"
+#include "bench/peer.h"
 #include "bench/report.h"
 #include "bench/report_summary.h"
 #include "bench/scene_bench.h"
@@ -375,6 +377,33 @@ std::vector<std::string> FrontLines(const TradeoffFamily& family) {
   return lines;
 }
 
+// `ibr bench viewer` in a child under `xvfb-run -a` (the viewer needs a
+// window; the bench library does not link the optional viewer). nullopt
+// with the reason in `note` when the binary is not `ibr`, xvfb-run is
+// missing or the child fails.
+std::optional<Table> RunViewerBenchChild(const fs::path& out, bool quick, std::string& note) {
+  const fs::path self = fs::read_symlink("/proc/self/exe");
+  if (self.filename() != "ibr") {
+    note = "only the ibr binary runs it";
+    return std::nullopt;
+  }
+  if (std::system("command -v xvfb-run > /dev/null 2>&1") != 0) {
+    note = "xvfb-run is not installed (scripts/install-deps.sh)";
+    return std::nullopt;
+  }
+  const fs::path csv = out / "viewer.csv";
+  const std::string command = fmt::format(
+      "xvfb-run -a -s '-screen 0 1280x1024x24' {} --log-level warn bench viewer "
+      "--csv {} --out {}{} > {} 2>&1",
+      ShellQuote(self.string()), ShellQuote(csv.string()), ShellQuote(out.string()),
+      quick ? " --quick" : "", ShellQuote((out / "viewer.log").string()));
+  if (std::system(command.c_str()) != 0 || !fs::exists(csv)) {
+    note = fmt::format("`{}` failed (see viewer/viewer.log)", command);
+    return std::nullopt;
+  }
+  return ReadCsv(csv);
+}
+
 }  // namespace
 
 ReportResult WriteReport(const ReportOptions& options) {
@@ -403,6 +432,8 @@ ReportResult WriteReport(const ReportOptions& options) {
   std::optional<DeformBenchResult> deform;
   std::optional<Table> volume;
   std::optional<SceneBenchResult> scene;
+  std::optional<Table> viewer;
+  std::string viewer_note;  // why the viewer bench did not run
   std::vector<GalleryEntry> gallery;
 
   struct Step {
@@ -476,6 +507,11 @@ ReportResult WriteReport(const ReportOptions& options) {
          scene = RunSceneBench(o);
          fs::create_directories(dir / "scene");
          WriteSceneBench(*scene, dir / "scene" / "scene.csv", dir / "scene");
+       }},
+      {"viewer",
+       [&] {
+         fs::create_directories(dir / "viewer");
+         viewer = RunViewerBenchChild(dir / "viewer", options.quick, viewer_note);
        }},
       {"gallery",
        [&] {
@@ -704,6 +740,24 @@ ReportResult WriteReport(const ReportOptions& options) {
   page.Image("scene/scene_bench_disabled.png",
              "the effect disabled: ratios to absent with their 95 % intervals");
   page.AddTable(scene->table);
+
+  page.Heading("Interactive viewing (no paper)");
+  page.Text(
+      "`ibr view` in a real window under Xvfb (`ibr bench viewer`): a scripted orbit and a "
+      "scripted parameter drag per scene. While anything moves, frames render at a reduced "
+      "resolution (`mean_divisor`: window size over frame size, adapted to a frame-time aim) "
+      "and are scaled up; `motion_fps` counts whole frames (render, panel, buffer swap). At "
+      "rest the exact frame follows: `seconds_to_exact` from the last moving frame to it shown, "
+      "`exact_equals_render` whether it equals, pixel for pixel, what `ibr render` writes from "
+      "the same camera for the scene as edited. `psnr_motion_db`: the moving frames as shown "
+      "against the exact frames of their cameras. `load_avg_1min`: the machine's load when the "
+      "scene started (other work shares the CPU). Data: `viewer/viewer.csv`.");
+  if (viewer) {
+    page.Image("viewer/viewer_motion.png", "moving frames: frame rate and PSNR against exact");
+    page.AddTable(*viewer);
+  } else {
+    page.Text("Not run: " + viewer_note);
+  }
 
   page.Heading("Gallery: hard views beside their truth");
   page.Text(

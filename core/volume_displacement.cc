@@ -204,7 +204,7 @@ glm::dvec3 ForwardEffect(const EffectOptions& o, const glm::dvec3& p) {
 }
 
 DisplacementMap SampleEffect(const EffectOptions& options, const glm::ivec3& dims,
-                             int smooth_alpha_passes) {
+                             int smooth_alpha_passes, int fill_iterations) {
   options.Check();
   IBR_CHECK(dims.x > 0 && dims.y > 0 && dims.z > 0);
   DisplacementMap map;
@@ -220,7 +220,7 @@ DisplacementMap SampleEffect(const EffectOptions& options, const glm::ivec3& dim
         // Only the peel lacks an analytic pseudo-inverse.
         if (options.effect == Effect::kPeel && e.w == 0) valid[map.Index(x, y, z)] = false;
       }
-  if (options.effect == Effect::kPeel) FillPseudoInverse(map, valid);
+  if (options.effect == Effect::kPeel) FillPseudoInverse(map, valid, fill_iterations);
   // Binomial smoothing of alpha along each axis (clamped at the faces).
   for (int pass = 0; pass < smooth_alpha_passes; ++pass) {
     for (int axis = 0; axis < 3; ++axis) {

@@ -102,9 +102,11 @@ glm::dvec3 ForwardEffect(const EffectOptions& options, const glm::dvec3& p);
 // analytic pseudo-inverse is used when the effect has one (slices, seam);
 // the peel's is the harmonic fill of FillPseudoInverse. `smooth_alpha_passes`
 // binomial [1 2 1]/4 passes along each axis soften the mask for the normal
-// blending of eq. 7 (the 0.5 contour stays at the cut).
+// blending of eq. 7 (the 0.5 contour stays at the cut). `fill_iterations`:
+// FillPseudoInverse's (fewer: a rougher fill, for a preview while a
+// parameter moves).
 DisplacementMap SampleEffect(const EffectOptions& options, const glm::ivec3& dims,
-                             int smooth_alpha_passes = 1);
+                             int smooth_alpha_passes = 1, int fill_iterations = 200);
 
 // Sec. 4.1: the continuous pseudo-inverse where no pre-image exists. Texels
 // with `valid` false take the harmonic (Laplace) fill of D from the valid

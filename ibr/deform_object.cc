@@ -369,7 +369,7 @@ DeformObjectData MakeDeformObject(core::TriangleMesh mesh, const DeformObjectOpt
 DeformObjectChange UpdateDeformObject(DeformObjectData& data,
                                       const DeformObjectOptions& old_options,
                                       DeformObjectOptions& options, const std::string& where,
-                                      render::ProgramCache* programs) {
+                                      render::ProgramCache* programs, bool defer_reach) {
   try {
     options.Check();
   } catch (const core::InputError& e) {
@@ -393,7 +393,13 @@ DeformObjectChange UpdateDeformObject(DeformObjectData& data,
   next.max_displacement = data.max_displacement;
   if (change.deformation) SampleDeformObject(next, options, NormMeshBounds(data.mesh));
   // A field that does not reach as far as the new deformation needs.
-  if (!cube && data.sdf_reach < next.max_displacement) change.implicit = true;
+  if (!cube && data.sdf_reach < next.max_displacement) {
+    if (defer_reach && !change.implicit) {
+      change.implicit_deferred = true;
+    } else {
+      change.implicit = true;
+    }
+  }
   std::optional<double> reach = options.sdf_reach;
   if (!cube && !change.implicit) {
     reach = data.sdf_reach;  // the field kept: the options make the same data

@@ -115,6 +115,10 @@ struct DeformObjectChange {
   bool deformation = false;  // the deformation texture was resampled (and the
                              // largest displacement and norm_bounds recomputed)
   bool pass = false;         // the pass options differ (shader defines, uniforms)
+  // The new displacement outgrew the field's reach but, asked to defer, the
+  // field was kept (a moving frame of the viewer): the data differs from
+  // MakeDeformObject(options) until an update without deferral rebuilds it.
+  bool implicit_deferred = false;
   bool Any() const { return implicit || deformation || pass; }
 };
 
@@ -129,11 +133,14 @@ struct DeformObjectChange {
 // field's reach goes into options.sdf_reach, as does a rebuilt one's, so
 // MakeDeformObject(options) makes the same data. Cut, step and skip options
 // change the pass alone. options.Check() first (InputError naming `where`);
-// on any error nothing changes.
+// on any error nothing changes. `defer_reach`: a field the displacement
+// outgrows is kept (change.implicit_deferred) unless something else asks for
+// a rebuild; the same update without it then rebuilds the field.
 DeformObjectChange UpdateDeformObject(DeformObjectData& data,
                                       const DeformObjectOptions& old_options,
                                       DeformObjectOptions& options, const std::string& where,
-                                      render::ProgramCache* programs = nullptr);
+                                      render::ProgramCache* programs = nullptr,
+                                      bool defer_reach = false);
 
 // The depth-map cube (Correa 2007 sec. 6.1, render::DepthCube) of `mesh`:
 // the six orthographic maps of the cube rig of `ibr capture` (CaptureMaps,

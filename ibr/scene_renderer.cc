@@ -338,7 +338,7 @@ SceneRenderer::SceneRenderer(render::ProgramCache& programs, const LoadedScene& 
 }
 
 DeformObjectChange SceneRenderer::UpdateDeform(LoadedScene& scene, size_t index,
-                                               DeformObjectOptions options) {
+                                               DeformObjectOptions options, bool defer_reach) {
   IBR_CHECK_LT(index, scene.objects.size());
   IBR_CHECK_EQ(scene.objects.size(), passes_.size());
   LoadedObject& l = scene.objects[index];
@@ -346,7 +346,7 @@ DeformObjectChange SceneRenderer::UpdateDeform(LoadedScene& scene, size_t index,
   // A copy, changed aside: the old data stays valid until the new pass exists.
   auto data = std::make_shared<DeformObjectData>(*l.deform);
   const DeformObjectChange change = UpdateDeformObject(
-      *data, l.deform_options, options, fmt::format("object '{}'", l.name), programs_);
+      *data, l.deform_options, options, fmt::format("object '{}'", l.name), programs_, defer_reach);
   if (!change.Any()) return change;
   l.deform = std::move(data);
   l.deform_options = options;
@@ -363,7 +363,7 @@ DeformObjectChange SceneRenderer::UpdateDeform(LoadedScene& scene, size_t index,
 }
 
 VolumeObjectChange SceneRenderer::UpdateVolume(LoadedScene& scene, size_t index,
-                                               const VolumeObjectOptions& options) {
+                                               const VolumeObjectOptions& options, bool preview) {
   IBR_CHECK_LT(index, scene.objects.size());
   IBR_CHECK_EQ(scene.objects.size(), passes_.size());
   LoadedObject& l = scene.objects[index];
@@ -373,22 +373,28 @@ VolumeObjectChange SceneRenderer::UpdateVolume(LoadedScene& scene, size_t index,
   VolumeObjectData maps_only;
   maps_only.maps = l.volume->maps;
   maps_only.map_placement = l.volume->map_placement;
-  const VolumeObjectChange change = UpdateVolumeObject(maps_only, l.volume_options, options, where);
+  maps_only.preview_maps = l.volume->preview_maps;
+  const VolumeObjectChange change =
+      UpdateVolumeObject(maps_only, l.volume_options, options, where, preview);
   if (!change.Any()) return change;
   ObjectPass& p = *passes_[index];
   if (change.maps) {
+    // The volume's texture stays: only the maps are stored and uploaded
+    // anew (what a drag of the effect's parameter changes), then the options.
+    try {
+      p.volume->SetMaps(maps_only.maps);
+      p.volume->SetOptions(options.pass);
+    } catch (const core::InputError& e) {
+      throw core::InputError(fmt::format("{}: {}", where, e.what()));
+    }
     auto data = std::make_shared<VolumeObjectData>(*l.volume);
     data->maps = std::move(maps_only.maps);
+    data->preview_maps = maps_only.preview_maps;
     l.volume = std::move(data);
     l.volume_options = options;
     l.bounds = BoxBounds(WorldFromProxy(*l.volume));
     scene.bounds = SceneBounds(scene.objects);
     bounds_ = scene.bounds;
-    p.volume.reset();
-    p.volume.emplace(*programs_, l.volume->volume, l.volume->transfer, l.volume->maps,
-                     l.volume->world_from_volume, options.pass);
-    p.pass = &*p.volume;
-    ++p.builds;
   } else {
     try {
       p.volume->SetOptions(options.pass);

@@ -113,12 +113,18 @@ class SceneRenderer {
   // matches a scene loaded with the options the object ends with
   // (scene.objects[index].deform_options; their sdf_reach says how far the
   // field kept reaches). InputError (nothing changed) on invalid options.
-  DeformObjectChange UpdateDeform(LoadedScene& scene, size_t index, DeformObjectOptions options);
+  // `defer_reach` (the viewer while a parameter moves): a field the new
+  // displacement outgrows is kept (ibr::UpdateDeformObject), the match above
+  // then holds only after an update without it.
+  DeformObjectChange UpdateDeform(LoadedScene& scene, size_t index, DeformObjectOptions options,
+                                  bool defer_reach = false);
   // The same for a volume object (ibr::UpdateVolumeObject): pass options go
   // to render::VolumePass::SetOptions (no volume upload); effect or map-size
-  // changes resample the map and build the pass anew.
+  // changes resample the map and hand it to render::VolumePass::SetMaps (the
+  // volume's texture is kept).
+  // `preview`: ibr::UpdateVolumeObject's (a rougher peel map while moving).
   VolumeObjectChange UpdateVolume(LoadedScene& scene, size_t index,
-                                  const VolumeObjectOptions& options);
+                                  const VolumeObjectOptions& options, bool preview = false);
   // Times object `index`'s pass was built (1 after the constructor).
   int PassBuilds(size_t index) const;
 

@@ -31,6 +31,9 @@ struct VolumeObjectData {
   // The effect map's unit cube -> volume texture space (eq. 10's M), kept
   // for resampling the map with other effect options (UpdateVolumeObject).
   glm::dmat4 map_placement{1.0};
+  // The maps were sampled as a preview (UpdateVolumeObject's `preview`: a
+  // rougher peel fill); the next update without it resamples them.
+  bool preview_maps = false;
 };
 
 // `transfer` may be in stored units (core::TransferUnits::kData): it is
@@ -106,10 +109,13 @@ struct VolumeObjectChange {
 // effect or map-size changes resample the map (milliseconds for 64^3); the
 // pass options (mode, iso value, spacing, lighting, Jacobian, bits) touch no
 // data here, the caller hands them to the pass. options.Check() first
-// (InputError naming `where`); on an error nothing changes.
+// (InputError naming `where`); on an error nothing changes. `preview` (the
+// viewer while a parameter moves): a peel's map is filled with fewer
+// iterations (data.preview_maps); an update without it resamples the map.
 VolumeObjectChange UpdateVolumeObject(VolumeObjectData& data,
                                       const VolumeObjectOptions& old_options,
-                                      const VolumeObjectOptions& options, const std::string& where);
+                                      const VolumeObjectOptions& options, const std::string& where,
+                                      bool preview = false);
 VolumeObjectOptions VolumeObjectOptionsFrom(const scene::Settings& settings);
 
 // A scene's volume object: reads the volume and the transfer function, samples

@@ -2,7 +2,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <deque>
+#include <optional>
 #include <vector>
 
 #define GLFW_INCLUDE_NONE
@@ -13,6 +15,8 @@
 #include <imgui.h>
 #include <spdlog/spdlog.h>
 
+#include "capture/dataset.h"
+#include "core/atomic_file.h"
 #include "core/error.h"
 #include "core/image_io.h"
 #include "core/projection.h"
@@ -21,6 +25,11 @@
 #include "render/gl/gl.h"
 
 namespace viewer {
+namespace {
+// The largest divisor while moving: beyond it an object a few hundred pixels
+// wide is a few dozen samples across.
+constexpr int kMaxDivisor = 8;
+}  // namespace
 
 void ViewerOptions::Check() const {
   if (width < 64 || height < 64 || width > 8192 || height > 8192) {
@@ -32,9 +41,16 @@ void ViewerOptions::Check() const {
   }
   if (frames < 1 || frames > 100000)
     core::ThrowInputError("ViewerOptions", "frames {} outside 1..100000", frames);
-  if (coarse_factor < 1 || coarse_factor > 8) {
-    core::ThrowInputError("ViewerOptions", "coarse factor {} outside 1..8", coarse_factor);
+  if (coarse_factor < 0 || coarse_factor > kMaxDivisor) {
+    core::ThrowInputError("ViewerOptions", "coarse factor {} outside 0..{} (0 = adaptive)",
+                          coarse_factor, kMaxDivisor);
   }
+  if (!(motion_frame_ms >= 5 && motion_frame_ms <= 1000)) {
+    core::ThrowInputError("ViewerOptions", "motion frame time {} ms outside 5..1000",
+                          motion_frame_ms);
+  }
+  if ((!frame_out.empty() || !camera_out.empty()) && screenshot.empty())
+    core::ThrowInputError("ViewerOptions", "the frame and camera outputs go with a screenshot");
   if (!(std::abs(glm::length(up) - 1.0f) < 1e-4f))
     core::ThrowInputError("ViewerOptions", "up ({}, {}, {}) is not a unit vector", up.x, up.y,
                           up.z);
@@ -69,6 +85,20 @@ FrameCamera OrbitCamera(glm::vec3 centre, float radius, float azimuth_degrees,
   return camera;
 }
 
+capture::Dataset CamerasOf(const FrameCamera& camera) {
+  capture::Dataset cameras;
+  cameras.cameras[1] = capture::Camera::Pinhole(camera.width, camera.height, camera.fx, camera.fy,
+                                                camera.cx, camera.cy);
+  capture::DatasetView view;
+  view.name = "view";
+  view.camera_id = 1;
+  const glm::dmat4 m(camera.cam_from_world);
+  view.cam_from_world.rotation = glm::dmat3(m);
+  view.cam_from_world.translation = glm::dvec3(m[3]);
+  cameras.views.push_back(view);
+  return cameras;
+}
+
 namespace {
 
 struct GlfwSession {
@@ -89,9 +119,100 @@ struct OrbitState {
   double last_x = 0, last_y = 0;
 };
 
+// What a frame shows: the orbit pose and the window size.
+struct ViewKey {
+  float azimuth = 0, elevation = 0, distance_scale = 0;
+  int width = 0, height = 0;
+  bool operator==(const ViewKey&) const = default;
+};
+
+// The divisor of moving frames. Render time is modelled as proportional to
+// the pixel count (a ray or slice per pixel dominates), so the divisor that
+// fits a budget scales with the square root of the time ratio; the budget of
+// the render is the frame budget less what the rest of a frame (panel, swap)
+// took. Quarter steps keep the target size from changing every frame.
+struct ProgressiveState {
+  double divisor = 2;
+  double overhead_ms = 5;  // frame time outside Scene::Render, smoothed
+  ViewKey key;
+  bool has_key = false;
+  bool exact_shown = false;
+
+  double RenderBudget(double frame_budget_ms) const {
+    return std::max(frame_budget_ms - overhead_ms, 0.25 * frame_budget_ms);
+  }
+  static double Quantised(double divisor) {
+    return std::clamp(std::ceil(divisor * 4.0) / 4.0, 1.0, static_cast<double>(kMaxDivisor));
+  }
+  // After a full-resolution frame: the divisor its time predicts.
+  void StartFrom(double render_ms, double frame_budget_ms) {
+    divisor = Quantised(std::sqrt(std::max(render_ms, 1e-3) / RenderBudget(frame_budget_ms)));
+  }
+  // After a moving frame drawn at `used`: move towards the divisor its time
+  // predicts, halfway (one slow frame on a shared CPU does not halve the
+  // resolution).
+  void Adapt(double used, double render_ms, double frame_ms, double frame_budget_ms) {
+    overhead_ms = 0.7 * overhead_ms + 0.3 * std::max(frame_ms - render_ms, 0.0);
+    const double wanted =
+        used * std::sqrt(std::max(render_ms, 1e-3) / RenderBudget(frame_budget_ms));
+    divisor = Quantised(0.5 * (divisor + wanted));
+  }
+};
+
+// The frame target's colour behind the panel, stretched over the window
+// (bilinear: reduced frames are scaled up; a full-size frame samples texel
+// centres, so it shows unchanged), composited over the cleared background as
+// premultiplied colour (alpha 0 where nothing was drawn; DVR accumulates
+// premultiplied colour).
+void DrawFrameBehindPanel(const render::RenderTarget& target, int width, int height) {
+  const GLuint texture = target.color(0).id();
+  glTextureParameteri(texture, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
+  glTextureParameteri(texture, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+  glTextureParameteri(texture, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+  glTextureParameteri(texture, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+  ImDrawList* list = ImGui::GetBackgroundDrawList();
+  list->AddCallback(
+      [](const ImDrawList*, const ImDrawCmd*) { glBlendFunc(GL_ONE, GL_ONE_MINUS_SRC_ALPHA); },
+      nullptr);
+  // GL rows start at the bottom: v runs from 1 at the window's top to 0.
+  list->AddImage(reinterpret_cast<ImTextureID>(static_cast<intptr_t>(texture)), ImVec2(0, 0),
+                 ImVec2(static_cast<float>(width), static_cast<float>(height)), ImVec2(0, 1),
+                 ImVec2(1, 0));
+  list->AddCallback(ImDrawCallback_ResetRenderState, nullptr);
+}
+
+// The window's back buffer (GUI included) as an opaque PNG; with frame_out
+// and camera_out also the last exact frame and its camera.
+void SaveScreenshot(const ViewerOptions& options, int width, int height,
+                    const core::Image8& exact_frame, const FrameCamera& exact_camera) {
+  core::Image8 shot(width, height, 4);
+  glBindFramebuffer(GL_READ_FRAMEBUFFER, 0);
+  glReadBuffer(GL_BACK);
+  glPixelStorei(GL_PACK_ALIGNMENT, 1);
+  glReadPixels(0, 0, width, height, GL_RGBA, GL_UNSIGNED_BYTE, shot.data());
+  for (int y = 0; y < height / 2; ++y) {
+    auto top = shot.row(y);
+    auto bottom = shot.row(height - 1 - y);
+    std::swap_ranges(top.begin(), top.end(), bottom.begin());
+  }
+  for (int y = 0; y < height; ++y)
+    for (int x = 0; x < width; ++x) shot.at(x, y, 3) = 255;
+  core::WriteImage(options.screenshot, shot);
+  if (!options.frame_out.empty()) {
+    if (exact_frame.width() == 0)
+      core::ThrowInputError("ibr view", "--frame-out: no exact frame was drawn");
+    core::WriteImage(options.frame_out, exact_frame);
+  }
+  if (!options.camera_out.empty()) {
+    core::AtomicWriteStream(options.camera_out, [&](std::ostream& out) {
+      capture::WriteManifest(out, CamerasOf(exact_camera));
+    });
+  }
+}
+
 }  // namespace
 
-void Run(const SceneFactory& make_scene, const ViewerOptions& options) {
+void Run(const SceneFactory& make_scene, const ViewerOptions& options, const ViewerScript* script) {
   options.Check();
   GlfwSession glfw;
   glfwWindowHint(GLFW_CONTEXT_VERSION_MAJOR, 4);
@@ -99,6 +220,7 @@ void Run(const SceneFactory& make_scene, const ViewerOptions& options) {
   glfwWindowHint(GLFW_OPENGL_PROFILE, GLFW_OPENGL_CORE_PROFILE);
   glfwWindowHint(GLFW_OPENGL_FORWARD_COMPAT, GLFW_TRUE);
   glfwWindowHint(GLFW_VISIBLE, options.screenshot.empty() ? GLFW_TRUE : GLFW_FALSE);
+  glfwWindowHint(GLFW_RESIZABLE, script ? GLFW_FALSE : GLFW_TRUE);
   GLFWwindow* window =
       glfwCreateWindow(options.width, options.height, "ibr view", nullptr, nullptr);
   if (!window) {
@@ -114,7 +236,8 @@ void Run(const SceneFactory& make_scene, const ViewerOptions& options) {
     core::ThrowInputError("viewer::Run", "cannot open a {}x{} OpenGL 3.3+ core window",
                           options.width, options.height);
   glfwMakeContextCurrent(window);
-  glfwSwapInterval(options.screenshot.empty() ? 1 : 0);
+  // No vertical sync for screenshots and scripts: frame times are the work's.
+  glfwSwapInterval(options.screenshot.empty() && !script ? 1 : 0);
   const render::GlInfo info =
       render::InitializeCurrentContext("window", render::HeadlessContextOptions::DefaultDebug());
   spdlog::info("viewer: {} | {}", info.version, info.renderer);
@@ -134,17 +257,43 @@ void Run(const SceneFactory& make_scene, const ViewerOptions& options) {
   orbit.azimuth = options.azimuth_degrees;
   orbit.elevation = options.elevation_degrees;
   std::deque<double> frame_ms;
+  ProgressiveState progressive;
+  progressive.divisor = options.coarse_factor > 0 ? options.coarse_factor : 2.0;
+  bool controls_changed = false;  // by the panel, during the previous frame
+  std::optional<double> last_drag;
+  core::Image8 exact_frame;  // with frame_out: the last exact frame
+  FrameCamera exact_camera;
   int frame = 0;
   std::string error;
+  const render::RenderTarget* shown = nullptr;
   while (!glfwWindowShouldClose(window)) {
-    glfwPollEvents();
+    core::Stopwatch frame_watch;
+    std::optional<ScriptedInput> input;
+    if (script) {
+      input = script->input(frame);
+      if (!input) break;
+      glfwPollEvents();
+    } else if (progressive.exact_shown && options.screenshot.empty()) {
+      // At rest with the exact frame shown: sleep until the user acts.
+      glfwWaitEventsTimeout(0.1);
+    } else {
+      glfwPollEvents();
+    }
     int fb_w = 0, fb_h = 0;
     glfwGetFramebufferSize(window, &fb_w, &fb_h);
     if (fb_w <= 0 || fb_h <= 0) continue;
 
-    // Orbit with the left mouse button (when ImGui does not want the mouse), zoom with the wheel.
     ImGuiIO& io = ImGui::GetIO();
-    if (!io.WantCaptureMouse) {
+    if (input) {
+      orbit.azimuth = input->azimuth_degrees;
+      orbit.elevation = input->elevation_degrees;
+      if (input->drag && input->drag != last_drag) {
+        controls_changed |= scene.DragParameter(*input->drag);
+        last_drag = input->drag;
+      }
+    } else if (!io.WantCaptureMouse) {
+      // Orbit with the left mouse button (when ImGui does not want the
+      // mouse), zoom with the wheel.
       double x = 0, y = 0;
       glfwGetCursorPos(window, &x, &y);
       const bool down = glfwGetMouseButton(window, GLFW_MOUSE_BUTTON_LEFT) == GLFW_PRESS;
@@ -161,43 +310,62 @@ void Run(const SceneFactory& make_scene, const ViewerOptions& options) {
             std::clamp(orbit.distance_scale * std::pow(0.9f, io.MouseWheel), 0.2f, 20.0f);
     }
 
-    // Coarse frames while the mouse drags; the full frame when it stops.
-    const int scale = orbit.dragging ? options.coarse_factor : 1;
-    const FrameCamera camera = OrbitCamera(
-        scene.Centre(), scene.Radius(), orbit.azimuth, orbit.elevation, orbit.distance_scale,
-        options.fov_y_degrees, std::max(fb_w / scale, 1), std::max(fb_h / scale, 1), up);
-    glFinish();
-    core::Stopwatch watch;
-    const render::RenderTarget* target = nullptr;
-    try {
-      target = &scene.Render(camera);
+    // Moving: the pose, the window or an option changed since the last frame.
+    const ViewKey key{orbit.azimuth, orbit.elevation, orbit.distance_scale, fb_w, fb_h};
+    const bool moving = progressive.has_key && (key != progressive.key || controls_changed);
+    controls_changed = false;
+    const bool draw = moving || !progressive.exact_shown;
+    // The first frame (no timing yet) and frames at rest are exact.
+    const double divisor =
+        moving ? (options.coarse_factor > 0 ? static_cast<double>(options.coarse_factor)
+                                            : progressive.divisor)
+               : 1.0;
+    const FrameCamera full_camera =
+        OrbitCamera(scene.Centre(), scene.Radius(), orbit.azimuth, orbit.elevation,
+                    orbit.distance_scale, options.fov_y_degrees, fb_w, fb_h, up);
+    const FrameCamera camera =
+        divisor > 1 ? OrbitCamera(scene.Centre(), scene.Radius(), orbit.azimuth, orbit.elevation,
+                                  orbit.distance_scale, options.fov_y_degrees,
+                                  std::max(static_cast<int>(std::lround(fb_w / divisor)), 1),
+                                  std::max(static_cast<int>(std::lround(fb_h / divisor)), 1), up)
+                    : full_camera;
+    double render_ms = 0;
+    if (draw) {
       glFinish();
-      error.clear();
-    } catch (const core::InputError& e) {
-      error = e.what();
+      core::Stopwatch watch;
+      try {
+        if (!moving) scene.Settle();
+        shown = &scene.Render(camera);
+        glFinish();
+        error.clear();
+      } catch (const core::InputError& e) {
+        shown = nullptr;
+        error = e.what();
+      }
+      render_ms = watch.ElapsedMs();
+      frame_ms.push_back(render_ms);
+      if (frame_ms.size() > 30) frame_ms.pop_front();
+      progressive.key = key;
+      progressive.has_key = true;
+      progressive.exact_shown = !moving;
     }
-    frame_ms.push_back(watch.ElapsedMs());
-    if (frame_ms.size() > 30) frame_ms.pop_front();
 
     render::BindDefaultFramebuffer(fb_w, fb_h);
     glClearColor(0.12f, 0.12f, 0.14f, 1.0f);
     glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT | GL_STENCIL_BUFFER_BIT);
-    if (target) {
-      glBlitNamedFramebuffer(target->framebuffer().id(), 0, 0, 0, target->width(), target->height(),
-                             0, 0, fb_w, fb_h, GL_COLOR_BUFFER_BIT,
-                             scale > 1 ? GL_LINEAR : GL_NEAREST);
-    }
 
     ImGui_ImplOpenGL3_NewFrame();
     ImGui_ImplGlfw_NewFrame();
     ImGui::NewFrame();
+    if (shown) DrawFrameBehindPanel(*shown, fb_w, fb_h);
     if (options.panel) {
       ImGui::SetNextWindowPos(ImVec2(10, 10), ImGuiCond_FirstUseEver);
       ImGui::SetNextWindowSize(ImVec2(400, 0), ImGuiCond_FirstUseEver);
       ImGui::Begin(scene.Title().c_str());
       const core::TimingStats stats = core::Summarize({frame_ms.begin(), frame_ms.end()});
-      ImGui::Text("frame %.1f ms (median of %d), %dx%d%s", stats.median_ms, stats.samples,
-                  camera.width, camera.height, scale > 1 ? " (coarse while dragging)" : "");
+      ImGui::Text("render %.1f ms (median of %d), %dx%d%s", stats.median_ms, stats.samples,
+                  shown ? shown->width() : 0, shown ? shown->height() : 0,
+                  progressive.exact_shown ? " (exact)" : " (reduced while moving)");
       const std::string status = scene.Status();
       if (!status.empty()) ImGui::TextUnformatted(status.c_str());
       if (!error.empty()) ImGui::TextColored(ImVec4(1, 0.4f, 0.4f, 1), "%s", error.c_str());
@@ -206,32 +374,45 @@ void Run(const SceneFactory& make_scene, const ViewerOptions& options) {
       ImGui::SliderFloat("elevation", &orbit.elevation, -89, 89);
       ImGui::SliderFloat("distance", &orbit.distance_scale, 0.2f, 5.0f);
       ImGui::Separator();
-      scene.DrawControls();
+      controls_changed = scene.DrawControls();
       ImGui::End();
     }
     ImGui::Render();
     ImGui_ImplOpenGL3_RenderDrawData(ImGui::GetDrawData());
 
     ++frame;
+    if (draw && !moving && shown && !options.frame_out.empty()) {
+      exact_frame = shown->ReadColor8();
+      exact_camera = camera;
+    }
     if (!options.screenshot.empty() && frame >= options.frames) {
-      core::Image8 shot(fb_w, fb_h, 4);
-      glBindFramebuffer(GL_READ_FRAMEBUFFER, 0);
-      glReadBuffer(GL_BACK);
-      glPixelStorei(GL_PACK_ALIGNMENT, 1);
-      glReadPixels(0, 0, fb_w, fb_h, GL_RGBA, GL_UNSIGNED_BYTE, shot.data());
-      for (int y = 0; y < fb_h / 2; ++y) {
-        auto top = shot.row(y);
-        auto bottom = shot.row(fb_h - 1 - y);
-        std::swap_ranges(top.begin(), top.end(), bottom.begin());
-      }
-      for (int y = 0; y < fb_h; ++y)
-        for (int x = 0; x < fb_w; ++x) shot.at(x, y, 3) = 255;
-      core::WriteImage(options.screenshot, shot);
+      SaveScreenshot(options, fb_w, fb_h, exact_frame, exact_camera);
       fmt::print("view: wrote {} after {} frames, last frame {:.1f} ms\n",
-                 options.screenshot.string(), frame, frame_ms.back());
+                 options.screenshot.string(), frame, frame_ms.empty() ? 0.0 : frame_ms.back());
       glfwSetWindowShouldClose(window, GLFW_TRUE);
     }
     glfwSwapBuffers(window);
+    glFinish();
+    const double whole_ms = frame_watch.ElapsedMs();
+    if (draw && moving && options.coarse_factor == 0)
+      progressive.Adapt(divisor, render_ms, whole_ms, options.motion_frame_ms);
+    else if (draw && !moving && options.coarse_factor == 0)
+      progressive.StartFrom(render_ms, options.motion_frame_ms);
+    if (script && script->on_frame) {
+      FrameReport report;
+      report.frame = frame - 1;
+      report.moving = draw && moving;
+      report.exact = draw && !moving;
+      report.drawn = draw;
+      report.divisor = divisor;
+      report.render_ms = render_ms;
+      report.frame_ms = whole_ms;
+      report.camera = camera;
+      report.full_camera = full_camera;
+      report.target = shown;
+      report.scene = &scene;
+      script->on_frame(report);
+    }
   }
   scene_owner.reset();  // GPU resources go while the context still exists
   ImGui_ImplOpenGL3_Shutdown();

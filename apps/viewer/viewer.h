@@ -2,15 +2,24 @@
 // context goes through the same GL layer as the headless one
 // (render::InitializeCurrentContext), Dear ImGui controls, an orbit camera.
 // A scene renders each frame into its own offscreen render target (the same
-// code path as headless rendering); the viewer blits it to the window.
+// code path as headless rendering); the viewer draws it over its background.
+//
+// Progressive viewing (docs/decisions/progressive-viewer.md): while the
+// camera or a parameter moves, frames render at a reduced resolution chosen
+// so a frame fits a time budget and are scaled up; when nothing moves, the
+// next frame is the exact one (full resolution, the camera `ibr render`
+// gets from the cameras file `--camera-out` writes) and is then shown
+// without being drawn again until something moves.
 #pragma once
 
 #include <filesystem>
 #include <functional>
 #include <glm/glm.hpp>
 #include <memory>
+#include <optional>
 #include <string>
 
+#include "capture/dataset.h"
 #include "render/gl/render_target.h"
 
 namespace viewer {
@@ -34,12 +43,20 @@ class Scene {
   // Orbit centre and a radius that frames the object (scene units).
   virtual glm::vec3 Centre() const = 0;
   virtual float Radius() const = 0;
-  // ImGui widgets for the scene's options (inside the viewer's panel).
-  virtual void DrawControls() = 0;
+  // ImGui widgets for the scene's options (inside the viewer's panel); true
+  // when an option changed (the next frame is then a moving one).
+  virtual bool DrawControls() = 0;
   // Renders the frame; colour attachment 0 of the returned target is shown.
   virtual const render::RenderTarget& Render(const FrameCamera& camera) = 0;
   // One line of status (e.g. "128 slices, 6 maps"), shown under the timing.
   virtual std::string Status() const { return {}; }
+  // A scripted parameter drag (benchmarks): sets the scene's first draggable
+  // parameter to fraction `t` in [0, 1] of its slider's range. False when the
+  // scene has none (nothing changed).
+  virtual bool DragParameter(double /*t*/) { return false; }
+  // Before an exact frame: finishes what changes while moving left
+  // approximate (e.g. a distance field whose reach a drag outgrew).
+  virtual void Settle() {}
 };
 
 struct ViewerOptions {
@@ -58,10 +75,21 @@ struct ViewerOptions {
   // Draw the control panel. Off: the window shows the object alone (for
   // screenshots; the mouse still orbits).
   bool panel = true;
-  // While the mouse drags (and for the first frames), frames render at
-  // 1 / coarse_factor of the window's resolution and are scaled up; the full
-  // frame follows when the mouse stops. 1 = always full resolution.
-  int coarse_factor = 2;
+  // While the camera or a parameter moves, frames render at 1 / divisor of
+  // the window's width and height and are scaled up (bilinear); the exact
+  // full-resolution frame follows when nothing moves. 0: the divisor adapts
+  // so a moving frame takes motion_frame_ms (the default); N: fixed at N;
+  // 1: every frame at full resolution.
+  int coarse_factor = 0;
+  // The wall time a moving frame aims at (render, panel and buffer swap),
+  // milliseconds: below the period of 15 frames a second, with a margin for
+  // the frame-to-frame spread of a shared CPU.
+  double motion_frame_ms = 55;
+  // With `screenshot`: also write the last exact frame (RGBA, as the frame
+  // target holds it) and its camera as a cameras-only dataset.json (what
+  // `ibr render --cameras` and a scene's {"dataset": FILE} cameras read).
+  std::filesystem::path frame_out;
+  std::filesystem::path camera_out;
 
   void Check() const;
 };
@@ -71,11 +99,43 @@ struct ViewerOptions {
 // saved) and destroys the scene before the context. Throws core::InputError
 // when no window can be opened (e.g. no DISPLAY).
 using SceneFactory = std::function<std::unique_ptr<Scene>()>;
-void Run(const SceneFactory& make_scene, const ViewerOptions& options);
+
+// A scripted session (benchmarks): input per frame instead of the mouse.
+struct ScriptedInput {
+  float azimuth_degrees = 30, elevation_degrees = 20;
+  std::optional<double> drag;  // Scene::DragParameter(t) when it differs from the last
+};
+// One shown frame, reported after its buffer swap.
+struct FrameReport {
+  int frame = 0;
+  bool moving = false;      // drawn at a reduced resolution (or at full while moving)
+  bool exact = false;       // the full-resolution frame of a camera at rest
+  bool drawn = false;       // false: the last frame shown again (nothing moved)
+  double divisor = 1;       // window size / frame size
+  double render_ms = 0;     // Scene::Render + glFinish
+  double frame_ms = 0;      // the whole frame: input, render, panel, swap
+  FrameCamera camera;       // the camera drawn (reduced while moving)
+  FrameCamera full_camera;  // the same pose at the window's size
+  const render::RenderTarget* target = nullptr;  // what is shown
+  Scene* scene = nullptr;
+};
+struct ViewerScript {
+  // The input of frame `frame` (0, 1, ...); nullopt ends the run.
+  std::function<std::optional<ScriptedInput>(int frame)> input;
+  std::function<void(const FrameReport&)> on_frame;  // not counted in frame_ms
+};
+
+void Run(const SceneFactory& make_scene, const ViewerOptions& options,
+         const ViewerScript* script = nullptr);
 
 // The orbit camera for a window of width x height; `up` is the pole (unit).
 FrameCamera OrbitCamera(glm::vec3 centre, float radius, float azimuth_degrees,
                         float elevation_degrees, float distance_scale, float fov_y_degrees,
                         int width, int height, glm::vec3 up = {0, 1, 0});
+
+// The camera as a cameras-only dataset (one PINHOLE camera, one view named
+// "view", no images): the file `--camera-out` writes and `ibr render
+// --cameras` reads. The viewer's exact frame is rendered from this camera.
+capture::Dataset CamerasOf(const FrameCamera& camera);
 
 }  // namespace viewer

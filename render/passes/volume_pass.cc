@@ -331,24 +331,7 @@ VolumePass::VolumePass(ProgramCache& programs, const core::Volume& volume,
       volume.bytes.empty()) {
     core::ThrowInputError("VolumePass", "volume data size does not match its dimensions");
   }
-  if (maps_.size() > static_cast<size_t>(kMaxVolumeMaps)) {
-    core::ThrowInputError("VolumePass", "{} displacement maps, at most {} compose in one pass",
-                          maps_.size(), kMaxVolumeMaps);
-  }
-  std::vector<glm::ivec3> map_dims;
-  for (const auto& m : maps_) map_dims.push_back(m.map.dims);
-  CheckVolumeFits(volume.dims, map_dims, Max3dTextureSize());
-  for (const auto& m : maps_) {
-    if (std::abs(glm::determinant(glm::dmat3(m.placement))) < 1e-12) {
-      core::ThrowInputError("VolumePass", "a displacement map placement is singular");
-    }
-    for (const auto& t : m.map.texels) {
-      if (!std::isfinite(t.x) || !std::isfinite(t.y) || !std::isfinite(t.z) ||
-          !std::isfinite(t.w)) {
-        core::ThrowInputError("VolumePass", "a displacement map holds NaN or Inf");
-      }
-    }
-  }
+  CheckMaps(maps_);
   // World length of one voxel along the smallest-spacing axis.
   const glm::mat3 lin(world_from_volume_);
   voxel_world_ = 1e30;
@@ -388,6 +371,46 @@ VolumePass::VolumePass(ProgramCache& programs, const core::Volume& volume,
   glVertexArrayAttribBinding(box_vao_.id(), 0, 0);
 }
 
+void VolumePass::CheckMaps(const std::vector<VolumeMapInput>& maps) const {
+  if (maps.size() > static_cast<size_t>(kMaxVolumeMaps)) {
+    core::ThrowInputError("VolumePass", "{} displacement maps, at most {} compose in one pass",
+                          maps.size(), kMaxVolumeMaps);
+  }
+  std::vector<glm::ivec3> map_dims;
+  for (const auto& m : maps) map_dims.push_back(m.map.dims);
+  CheckVolumeFits(dims_, map_dims, Max3dTextureSize());
+  for (const auto& m : maps) {
+    if (std::abs(glm::determinant(glm::dmat3(m.placement))) < 1e-12) {
+      core::ThrowInputError("VolumePass", "a displacement map placement is singular");
+    }
+    for (const auto& t : m.map.texels) {
+      if (!std::isfinite(t.x) || !std::isfinite(t.y) || !std::isfinite(t.z) ||
+          !std::isfinite(t.w)) {
+        core::ThrowInputError("VolumePass", "a displacement map holds NaN or Inf");
+      }
+    }
+  }
+}
+
+void VolumePass::SetMaps(std::vector<VolumeMapInput> maps) {
+  CheckMaps(maps);
+  if (options_.floor_shader && !maps.empty()) {
+    core::ThrowInputError("VolumePass", "the floor shader reads no displacement maps");
+  }
+  std::swap(maps_, maps);
+  const int needed = TextureUnitsNeeded(options_);
+  if (needed > max_texture_units_) {
+    std::swap(maps_, maps);  // unchanged
+    core::ThrowInputError("VolumePass",
+                          "{} displacement maps need {} texture units, GL_MAX_TEXTURE_IMAGE_UNITS "
+                          "is {}",
+                          maps.size(), needed, max_texture_units_);
+  }
+  proxy_box_ = VolumeProxyBox(maps_);
+  maps_changed_ = true;
+  SetOptions(options_);
+}
+
 int VolumePass::TextureUnitsNeeded(const VolumePassOptions& options) const {
   const int maps = static_cast<int>(maps_.size());
   if (maps == 0) return kFirstMapUnit;
@@ -407,7 +430,7 @@ void VolumePass::SetOptions(const VolumePassOptions& options) {
                           VolumeJacobianName(options.jacobian), TextureUnitsNeeded(options),
                           max_texture_units_);
   }
-  const bool restore = stored_.size() != maps_.size() ||
+  const bool restore = maps_changed_ || stored_.size() != maps_.size() ||
                        options.displacement_bits != options_.displacement_bits ||
                        options.float_map_textures != options_.float_map_textures;
   const bool resplit = restore || options.brick_texels != options_.brick_texels ||
@@ -424,6 +447,7 @@ void VolumePass::SetOptions(const VolumePassOptions& options) {
       map_textures_.push_back(UploadMap(stored_.back(), options_.float_map_textures));
     }
     support_ = SupportBox(maps_, active_, proxy_box_);
+    maps_changed_ = false;
   }
   if (resplit) {
     // How DrawDvr splits its slices, labelled by core::MapBrickKind: one

@@ -222,6 +222,11 @@ class VolumePass : public Pass {
   // options use them (UsesJacobianTextures). InputError as the constructor's
   // for options needing more texture units than GL_MAX_TEXTURE_IMAGE_UNITS.
   void SetOptions(const VolumePassOptions& options);
+  // Same volume, new maps (an effect's parameter changed): re-stores and
+  // uploads only what depends on the maps (the volume's texture stays), so
+  // the pass draws what one constructed with these maps draws. InputError as
+  // the constructor's for invalid maps (the pass is then unchanged).
+  void SetMaps(std::vector<VolumeMapInput> maps);
   const core::Box3& proxy_box() const { return proxy_box_; }  // volume texture space
   const VolumeDrawStats& last_stats() const { return stats_; }
   // core::ActiveBox of each map (map space): where its fetch is not skipped.
@@ -250,6 +255,9 @@ class VolumePass : public Pass {
 
   // Highest texture unit SetCommonUniforms binds for options_, plus one.
   int TextureUnitsNeeded(const VolumePassOptions& options) const;
+  // InputError for maps the pass cannot draw (count, size, singular
+  // placement, non-finite texels).
+  void CheckMaps(const std::vector<VolumeMapInput>& maps) const;
 
   ProgramCache* programs_;
   int max_texture_units_ = 0;  // GL_MAX_TEXTURE_IMAGE_UNITS of the context
@@ -258,6 +266,7 @@ class VolumePass : public Pass {
   glm::mat4 world_from_volume_{1.0f};
   std::vector<VolumeMapInput> maps_;
   std::vector<core::StoredDisplacementMap> stored_;
+  bool maps_changed_ = true;        // stored_ and what follows from it are stale
   std::vector<core::Box3> active_;  // core::ActiveBox of each stored map
   core::Box3 support_;              // support_box()
   // How DrawDvr splits slices (support_skip): one map's bricks (brick_texels)

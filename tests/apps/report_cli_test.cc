@@ -217,8 +217,9 @@ TEST_F(ReportCliTest, PrintsProgressPerStep) {
   std::vector<std::string> steps;
   for (std::sregex_iterator it(run_.err.begin(), run_.err.end(), line), end; it != end; ++it)
     steps.push_back((*it)[3]);
-  EXPECT_EQ(steps, (std::vector<std::string>{"displacement", "ncs", "depth objects", "kautz seidel",
-                                             "deformation", "volume", "scene", "gallery"}));
+  EXPECT_EQ(steps,
+            (std::vector<std::string>{"displacement", "ncs", "depth objects", "kautz seidel",
+                                      "deformation", "volume", "scene", "viewer", "gallery"}));
   // Per-step durations are kept for the next run's estimate.
   const auto timings = ReadCsv(dir_ / "report" / "report_timings.csv");
   EXPECT_EQ(timings.size(), steps.size());

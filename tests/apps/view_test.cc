@@ -38,6 +38,62 @@ class ViewTest : public ::testing::Test {
 };
 fs::path* ViewTest::dir_ = nullptr;
 
+// A scene with a deform object (a knife-cut sphere, left) and a DVR volume
+// (a ball of density in a 24^3 QVis volume, right) at `path`, its cameras
+// `cameras` (JSON).
+void WriteCutAndBallScene(const fs::path& path, const std::string& cameras) {
+  const fs::path dir = path.parent_path();
+  std::ofstream(dir / "ball.dat") << "ObjectFileName: ball.raw\nResolution: 24 24 24\n"
+                                     "SliceThickness: 1 1 1\nFormat: UCHAR\n";
+  std::string voxels;
+  for (int z = 0; z < 24; ++z)
+    for (int y = 0; y < 24; ++y)
+      for (int x = 0; x < 24; ++x)
+        voxels += std::hypot(x - 11.5, y - 11.5, z - 11.5) < 10 ? '\xff' : '\0';
+  std::ofstream(dir / "ball.raw", std::ios::binary) << voxels;
+  std::ofstream(path)
+      << R"({"version": 1, "cameras": )" << cameras << R"(, "objects": [)"
+      << R"({"name": "cut", "type": "deform", "mesh": {"shape": "sphere"}, "deformation": "knife",)"
+         R"( "cut": "solid", "resolution": 48, "transform": {"translate": [-1.6, 0, 0]}},)"
+         R"({"name": "ball", "type": "volume", "volume": "ball.dat", "transfer": "ramp",)"
+         R"( "transform": {"translate": [1.6, 0, 0], "scale": 0.05}}]})";
+}
+
+// `ibr view INPUT` at rest under xvfb-run: the screenshot, the exact frame
+// (DIR/frame.png) and its camera (DIR/cameras/dataset.json, a cameras-only
+// dataset).
+test_support::CommandResult ViewAtRest(const fs::path& input, const std::string& flags,
+                                       const fs::path& dir) {
+  fs::create_directories(dir / "cameras");
+  return RunCommand("xvfb-run -a -s '-screen 0 1024x768x24' " + IbrBinary() + " view " +
+                    test_support::Quote(input) + " " + flags + " --frames 3 --screenshot " +
+                    test_support::Quote(dir / "shot.png") + " --frame-out " +
+                    test_support::Quote(dir / "frame.png") + " --camera-out " +
+                    test_support::Quote(dir / "cameras" / "dataset.json"));
+}
+
+// Pixels where the viewer's exact frame (RGBA: the frame target) and the
+// view `ibr render` wrote into `rendered` (color/view.png RGB, mask/view.png)
+// differ in colour or coverage; `covered` counts the frame's covered pixels.
+int64_t DifferingPixels(const fs::path& frame_png, const fs::path& rendered, int64_t& covered) {
+  const core::Image8 frame = core::ReadImage<uint8_t>(frame_png, 4);
+  const core::Image8 color = core::ReadImage<uint8_t>(rendered / "color" / "view.png", 3);
+  const core::Image8 mask = core::ReadImage<uint8_t>(rendered / "mask" / "view.png", 1);
+  EXPECT_EQ(frame.width(), color.width());
+  EXPECT_EQ(frame.height(), color.height());
+  if (frame.width() != color.width() || frame.height() != color.height()) return -1;
+  int64_t differing = 0;
+  covered = 0;
+  for (int y = 0; y < frame.height(); ++y)
+    for (int x = 0; x < frame.width(); ++x) {
+      covered += frame.at(x, y, 3) == 255;
+      bool same = (frame.at(x, y, 3) == 255) == (mask.at(x, y, 0) > 127);
+      for (int c = 0; c < 3; ++c) same = same && frame.at(x, y, c) == color.at(x, y, c);
+      differing += !same;
+    }
+  return differing;
+}
+
 TEST_F(ViewTest, ScreenshotShowsTheObjectAndThePanel) {
   if (std::system("command -v xvfb-run > /dev/null 2>&1") != 0)
     GTEST_SKIP() << "xvfb-run is not installed";
@@ -99,23 +155,7 @@ TEST_F(ViewTest, ScreenshotOfASceneShowsTheDeformObjectAndTheVolume) {
     GTEST_SKIP() << "xvfb-run is not installed";
   const fs::path dir = *dir_ / "scene";
   fs::create_directories(dir);
-  {
-    // A 24^3 QVis volume: density 255 inside a ball of radius 10 voxels.
-    std::ofstream(dir / "ball.dat") << "ObjectFileName: ball.raw\nResolution: 24 24 24\n"
-                                       "SliceThickness: 1 1 1\nFormat: UCHAR\n";
-    std::string voxels;
-    for (int z = 0; z < 24; ++z)
-      for (int y = 0; y < 24; ++y)
-        for (int x = 0; x < 24; ++x)
-          voxels += std::hypot(x - 11.5, y - 11.5, z - 11.5) < 10 ? '\xff' : '\0';
-    std::ofstream(dir / "ball.raw", std::ios::binary) << voxels;
-    std::ofstream(dir / "s.json")
-        << R"({"version": 1, "cameras": {"orbit": {"count": 1, "size": 64}}, "objects": [)"
-           R"({"name": "cut", "type": "deform", "mesh": {"shape": "sphere"}, "deformation": "knife",)"
-           R"( "cut": "solid", "resolution": 48, "transform": {"translate": [-1.6, 0, 0]}},)"
-           R"({"name": "ball", "type": "volume", "volume": "ball.dat", "transfer": "ramp",)"
-           R"( "transform": {"translate": [1.6, 0, 0], "scale": 0.05}}]})";
-  }
+  WriteCutAndBallScene(dir / "s.json", R"({"orbit": {"count": 1, "size": 64}})");
   const fs::path shot = test_support::TestOutputDir() / "view_scene.png";
   const auto r = RunCommand("xvfb-run -a -s '-screen 0 1700x800x24' " + IbrBinary() + " view '" +
                             (dir / "s.json").string() +
@@ -132,7 +172,7 @@ TEST_F(ViewTest, ScreenshotOfASceneShowsTheDeformObjectAndTheVolume) {
   auto lit = [&](int x0, int x1) {
     int n = 0;
     for (int y = 0; y < 700; ++y)
-      for (int x = x0; x < x1; ++x) n += image.at(x, y, 0) + image.at(x, y, 1) > 60;
+      for (int x = x0; x < x1; ++x) n += image.at(x, y, 0) + image.at(x, y, 1) > 80;
     return n;
   };
   EXPECT_GT(lit(450, 780), 2000) << "the deform object (left)";
@@ -149,6 +189,60 @@ TEST_F(ViewTest, ScreenshotOfASceneShowsTheDeformObjectAndTheVolume) {
       bottom = y;
   }
   EXPECT_GT(bottom, 480) << "the panel holds no object controls";
+}
+
+// The frame at rest is exact: the viewer's frame (--frame-out) equals, pixel
+// for pixel, what `ibr render --cameras` writes from the camera the viewer
+// saved (--camera-out), for a dataset's depth object (DepthObjectRenderer)
+// and for a scene file's deform object and volume (SceneRenderer).
+TEST_F(ViewTest, RestedFrameEqualsRenderOfADataset) {
+  if (std::system("command -v xvfb-run > /dev/null 2>&1") != 0)
+    GTEST_SKIP() << "xvfb-run is not installed";
+  const fs::path dir = test_support::Scratch("view_exact_dataset");
+  const auto v = ViewAtRest(*dir_ / "sphere", "--window 320x240 --azimuth 37 --elevation 15", dir);
+  ASSERT_EQ(v.exit_code, 0) << v.err;
+  const auto r = RunCommand(IbrBinary() + " render " + test_support::Quote(*dir_ / "sphere") +
+                            " --cameras " + test_support::Quote(dir / "cameras") + " --out " +
+                            test_support::Quote(dir / "rendered"));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  int64_t covered = 0;
+  EXPECT_EQ(DifferingPixels(dir / "frame.png", dir / "rendered", covered), 0);
+  EXPECT_GT(covered, 320 * 240 / 20) << "the sphere fills the middle of the frame";
+}
+
+TEST_F(ViewTest, RestedFrameEqualsRenderOfASceneWithADeformObjectAndAVolume) {
+  if (std::system("command -v xvfb-run > /dev/null 2>&1") != 0)
+    GTEST_SKIP() << "xvfb-run is not installed";
+  const fs::path dir = test_support::Scratch("view_exact_scene");
+  WriteCutAndBallScene(dir / "s.json", R"({"orbit": {"count": 1, "size": 64}})");
+  const auto v = ViewAtRest(dir / "s.json", "--window 400x200 --azimuth 10 --elevation 5", dir);
+  ASSERT_EQ(v.exit_code, 0) << v.err;
+  // The same scene whose cameras are the viewer's.
+  WriteCutAndBallScene(dir / "r.json", R"({"dataset": "cameras"})");
+  const auto r = RunCommand(IbrBinary() + " render " + test_support::Quote(dir / "r.json") +
+                            " --out " + test_support::Quote(dir / "rendered"));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  int64_t covered = 0;
+  EXPECT_EQ(DifferingPixels(dir / "frame.png", dir / "rendered", covered), 0);
+  // The deform object (left) is opaque; the DVR ball (right) blends alpha.
+  const core::Image8 frame = core::ReadImage<uint8_t>(dir / "frame.png", 4);
+  int64_t left = 0, right = 0;
+  for (int y = 0; y < frame.height(); ++y)
+    for (int x = 0; x < frame.width(); ++x) {
+      left += x < frame.width() / 2 && frame.at(x, y, 3) == 255;
+      right += x >= frame.width() / 2 && frame.at(x, y, 3) > 0;
+    }
+  EXPECT_GT(left, 1000) << "the deform object shows";
+  EXPECT_GT(right, 200) << "the volume (a ball about 26 px across) shows";
+}
+
+// Without a screenshot the frame and camera outputs have nothing to save.
+TEST_F(ViewTest, FrameOutWithoutScreenshotIsOneLine) {
+  const auto r = RunCommand(IbrBinary() + " view " + test_support::Quote(*dir_ / "sphere") +
+                            " --frame-out x.png");
+  EXPECT_NE(r.exit_code, 0);
+  EXPECT_EQ(CountLines(r.err), 1) << r.err;
+  EXPECT_NE(r.err.find("screenshot"), std::string::npos) << r.err;
 }
 
 TEST_F(ViewTest, MissingDatasetIsOneLineAndNoWindow) {

@@ -78,7 +78,20 @@ int Drawn(const SceneFrame& f) {
   return n;
 }
 
-class SceneRendererUpdateTest : public test_support::GlTest {};
+class SceneRendererUpdateTest : public test_support::GlTest {
+ protected:
+  // `after`, a frame of `loaded` updated to a solid knife of amount 0.4,
+  // equals a fresh build of the options the update ended with.
+  void ExpectFreshBuildOfAmount04(const LoadedScene& loaded, const SceneFrame& after) {
+    LoadedScene fresh = LoadScene(programs(), Parse(Knife(R"(, "cut": "solid", "amount": 0.4)")));
+    fresh.objects[0].deform = std::make_shared<DeformObjectData>(MakeDeformObject(
+        capture::MakeShapeScene("torus").mesh, loaded.objects[0].deform_options, "torus"));
+    SceneRenderer fresh_renderer(programs(), fresh);
+    const SceneFrame expected = fresh_renderer.Render(fresh.views.front().view);
+    EXPECT_EQ(after.color, expected.color);
+    EXPECT_EQ(after.depth, expected.depth);
+  }
+};
 
 // The amount of a knife cut, smaller: the deformation texture is resampled,
 // the distance field kept (built once), and the frame equals a scene loaded
@@ -158,15 +171,35 @@ TEST_F(SceneRendererUpdateTest, DeformAmountBeyondTheFieldsReachRebuildsIt) {
   const DeformObjectData& d = *loaded.objects[0].deform;
   EXPECT_EQ(d.implicit_builds, 2);
   EXPECT_NEAR(d.sdf_reach, 1.5 * d.max_displacement, 1e-12);
-  const SceneFrame after = renderer.Render(loaded.views.front().view);
+  ExpectFreshBuildOfAmount04(loaded, renderer.Render(loaded.views.front().view));
+}
 
-  LoadedScene fresh = LoadScene(programs(), Parse(Knife(R"(, "cut": "solid", "amount": 0.4)")));
-  fresh.objects[0].deform = std::make_shared<DeformObjectData>(MakeDeformObject(
-      capture::MakeShapeScene("torus").mesh, loaded.objects[0].deform_options, "torus"));
-  SceneRenderer fresh_renderer(programs(), fresh);
-  const SceneFrame expected = fresh_renderer.Render(fresh.views.front().view);
-  EXPECT_EQ(after.color, expected.color);
-  EXPECT_EQ(after.depth, expected.depth);
+// Deferred (the viewer while a slider moves): the same outgrown reach keeps
+// the field (implicit_deferred, no rebuild); the same options updated again
+// without deferral rebuild it, and the frame then equals the undeferred
+// update's above (a fresh build from the options it ends with).
+TEST_F(SceneRendererUpdateTest, DeferredReachKeepsTheFieldUntilTheNextUpdate) {
+  LoadedScene loaded = LoadScene(programs(), Parse(Knife(R"(, "cut": "solid", "amount": 0.1)")));
+  SceneRenderer renderer(programs(), loaded);
+  DeformObjectOptions options = loaded.objects[0].deform_options;
+  const double reach_before = loaded.objects[0].deform->sdf_reach;
+  options.deformation.terms[0].amount = 0.4;
+  const DeformObjectChange moving = renderer.UpdateDeform(loaded, 0, options, /*defer_reach=*/true);
+  EXPECT_TRUE(moving.implicit_deferred);
+  EXPECT_FALSE(moving.implicit);
+  EXPECT_TRUE(moving.deformation);
+  EXPECT_EQ(loaded.objects[0].deform->implicit_builds, 1);
+  EXPECT_EQ(loaded.objects[0].deform->sdf_reach, reach_before);
+  EXPECT_LT(loaded.objects[0].deform->sdf_reach, loaded.objects[0].deform->max_displacement);
+
+  const DeformObjectChange settled =
+      renderer.UpdateDeform(loaded, 0, loaded.objects[0].deform_options);
+  EXPECT_TRUE(settled.implicit);
+  EXPECT_FALSE(settled.implicit_deferred);
+  const DeformObjectData& d = *loaded.objects[0].deform;
+  EXPECT_EQ(d.implicit_builds, 2);
+  EXPECT_NEAR(d.sdf_reach, 1.5 * d.max_displacement, 1e-12);
+  ExpectFreshBuildOfAmount04(loaded, renderer.Render(loaded.views.front().view));
 }
 
 // The cut mode alone: no data rebuilt, and the frame equals a plain fresh
@@ -287,8 +320,10 @@ TEST_F(SceneRendererVolumeUpdateTest, LightingChangesThePassOptionsAlone) {
             iso_renderer.Render(iso.views.front().view).color);
 }
 
-// The peel angle resamples the map and builds the pass anew; turning it back
-// gives the first frame again. An invalid angle changes nothing.
+// The peel angle resamples the map and hands it to the pass (not built
+// again: the volume texture stays); the frame equals a renderer built fresh
+// from the updated scene, and turning the angle back gives the first frame
+// again. An invalid angle changes nothing.
 TEST_F(SceneRendererVolumeUpdateTest, PeelAngleResamplesTheMap) {
   LoadedScene loaded = LoadScene(programs(), Ball(""));
   SceneRenderer renderer(programs(), loaded);
@@ -299,17 +334,45 @@ TEST_F(SceneRendererVolumeUpdateTest, PeelAngleResamplesTheMap) {
   options.effect->peel_angle_deg = 90;
   const VolumeObjectChange change = renderer.UpdateVolume(loaded, 0, options);
   EXPECT_TRUE(change.maps);
-  EXPECT_EQ(renderer.PassBuilds(0), 2);
+  EXPECT_EQ(renderer.PassBuilds(0), 1);
   const SceneFrame turned = renderer.Render(loaded.views.front().view);
   EXPECT_GT(Difference(first.color, turned.color).first, 20) << "peel at 90 vs 160 degrees";
+  SceneRenderer fresh(programs(), loaded);
+  EXPECT_EQ(fresh.Render(loaded.views.front().view).color, turned.color);
 
   options.effect->peel_angle_deg = 400;
   EXPECT_THROW(renderer.UpdateVolume(loaded, 0, options), core::InputError);
-  EXPECT_EQ(renderer.PassBuilds(0), 2);
+  EXPECT_EQ(renderer.PassBuilds(0), 1);
+  EXPECT_EQ(renderer.Render(loaded.views.front().view).color, turned.color);
 
   options.effect->peel_angle_deg = angle;
   renderer.UpdateVolume(loaded, 0, options);
   EXPECT_EQ(renderer.Render(loaded.views.front().view).color, first.color);
+}
+
+// A preview (the viewer while the angle moves): the peel map is filled with
+// fewer iterations (marked preview_maps); updating the same options without
+// it resamples the map, and the frame equals a renderer built fresh.
+TEST_F(SceneRendererVolumeUpdateTest, PreviewPeelMapIsResampledByTheNextUpdate) {
+  LoadedScene loaded = LoadScene(programs(), Ball(""));
+  SceneRenderer renderer(programs(), loaded);
+  VolumeObjectOptions options = loaded.objects[0].volume_options;
+  ASSERT_TRUE(options.effect.has_value());
+  options.effect->peel_angle_deg = 90;
+  EXPECT_TRUE(renderer.UpdateVolume(loaded, 0, options, /*preview=*/true).maps);
+  EXPECT_TRUE(loaded.objects[0].volume->preview_maps);
+  const auto preview_texels = loaded.objects[0].volume->maps.at(0).map.texels;
+
+  const VolumeObjectChange settled = renderer.UpdateVolume(loaded, 0, options);
+  EXPECT_TRUE(settled.maps);
+  EXPECT_FALSE(loaded.objects[0].volume->preview_maps);
+  EXPECT_NE(loaded.objects[0].volume->maps.at(0).map.texels, preview_texels)
+      << "the preview's fill is rougher";
+  const SceneFrame after = renderer.Render(loaded.views.front().view);
+  SceneRenderer fresh(programs(), loaded);
+  EXPECT_EQ(fresh.Render(loaded.views.front().view).color, after.color);
+  // Nothing left to settle: the same options change nothing.
+  EXPECT_FALSE(renderer.UpdateVolume(loaded, 0, options).Any());
 }
 
 }  // namespace

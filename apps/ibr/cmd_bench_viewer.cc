@@ -1,0 +1,51 @@
+// `ibr bench viewer --csv FILE [--out DIR]`: scripted orbits and parameter
+// drags in a real viewer window (run it under `xvfb-run -a` without a
+// screen). Flags -> viewer::RunViewerBench.
+#ifdef IBR_HAVE_VIEWER
+
+#include <cstdio>
+
+#include "apps/ibr/commands.h"
+#include "apps/viewer/viewer_bench.h"
+#include "core/error.h"
+
+namespace apps {
+namespace {
+
+void AddViewerBench(CLI::App& app) {
+  static viewer::ViewerBenchOptions options;
+  static std::string window = "960x720";
+  auto* cmd = BenchGroup(app)->add_subcommand(
+      "viewer",
+      "Progressive viewer: frame rate while moving, time to the exact frame, exact = `ibr "
+      "render`, PSNR of the moving frames (needs a display: xvfb-run -a)");
+  AddBenchOutputs(cmd, options.csv, options.out, options.quick);
+  cmd->add_option("--window", window, "window size WIDTHxHEIGHT in pixels")->capture_default_str();
+  cmd->add_option("--frames", options.motion_frames, "moving frames per orbit and per drag")
+      ->capture_default_str();
+  cmd->add_option("--motion-ms", options.motion_frame_ms,
+                  "the viewer's frame-time aim while moving, milliseconds")
+      ->capture_default_str();
+  cmd->add_option("--shared-data", options.shared_data,
+                  "the shared data folder (meshes/, volumes/)");
+  cmd->callback([] {
+    options.out = CheckBenchOutputs("ibr bench viewer", options.csv, options.out);
+    char x = 0;
+    if (std::sscanf(window.c_str(), "%d%c%d", &options.width, &x, &options.height) != 3 || x != 'x')
+      core::ThrowInputError("ibr bench viewer", "--window '{}' is not WIDTHxHEIGHT", window);
+    if (options.quick) {
+      options.width = 320;
+      options.height = 240;
+      options.motion_frames = 12;
+    }
+    viewer::RunViewerBench(options);
+  });
+}
+
+}  // namespace
+
+IBR_REGISTER_COMMAND("bench viewer", AddViewerBench);
+
+}  // namespace apps
+
+#endif  // IBR_HAVE_VIEWER

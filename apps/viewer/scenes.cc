@@ -1,0 +1,381 @@
+#include "apps/viewer/scenes.h"
+
+#include <fmt/format.h>
+#include <imgui.h>
+
+#include <algorithm>
+#include <cmath>
+#include <initializer_list>
+#include <memory>
+
+#include "core/error.h"
+#include "ibr/dataset_maps.h"
+
+namespace viewer {
+
+ibr::ViewCamera ViewCameraOf(const FrameCamera& camera) {
+  return ibr::NamedViewsFromDataset(CamerasOf(camera)).front().view;
+}
+
+namespace {
+
+// The options are `ibr render`'s (its background too: the viewer draws the
+// frame over its own).
+class DatasetScene : public Scene {
+ public:
+  DatasetScene(const ibr::DepthObjectOptions& options, ibr::MapSet maps, std::string name)
+      : name_(std::move(name)), renderer_(programs_, std::move(maps)), options_(options) {
+    options_.Check();
+    const glm::dmat4& m = renderer_.maps().world_from_box;
+    centre_ = glm::vec3(m * glm::dvec4(0.5, 0.5, 0.5, 1.0));
+    radius_ = 0.5f * static_cast<float>(glm::length(glm::dvec3(m * glm::dvec4(1, 1, 1, 0))));
+  }
+
+  std::string Title() const override { return "ibr view: " + name_; }
+  glm::vec3 Centre() const override { return centre_; }
+  float Radius() const override { return radius_; }
+
+  bool DrawControls() override {
+    const ibr::DepthObjectOptions before = options_;
+    int method = options_.method == ibr::Method::kDepthObject ? 0 : 1;
+    if (ImGui::Combo("method", &method, "depth object\0visual hull\0")) {
+      options_.method = method == 0 ? ibr::Method::kDepthObject : ibr::Method::kVisualHull;
+    }
+    int slicing = static_cast<int>(options_.slicing);
+    if (ImGui::Combo("slicing", &slicing, "orthogonal\0screen\0ray\0")) {
+      options_.slicing = static_cast<ibr::Slicing>(slicing);
+    }
+    bool fast = options_.slice_path == ibr::SlicePath::kFast;
+    if (ImGui::Checkbox("fast slices (one draw)", &fast)) {
+      options_.slice_path = fast ? ibr::SlicePath::kFast : ibr::SlicePath::kExact;
+    }
+    ImGui::SameLine();
+    ImGui::Checkbox("sub-texel depth (ray)", &options_.subtexel_depth);
+    ImGui::SliderInt("slices (0 = auto)", &options_.slices, 0, 512);
+    int texturing = static_cast<int>(options_.texturing);
+    if (ImGui::Combo("texturing", &texturing, "view-dependent\0visibility\0none\0paper blend\0")) {
+      options_.texturing = static_cast<ibr::Texturing>(texturing);
+    }
+    const int maps = static_cast<int>(renderer_.maps().maps.size());
+    ImGui::SliderInt("robust k", &options_.robust_k, 0, std::max(0, maps - 1));
+    return options_.method != before.method || options_.slicing != before.slicing ||
+           options_.slice_path != before.slice_path ||
+           options_.subtexel_depth != before.subtexel_depth || options_.slices != before.slices ||
+           options_.texturing != before.texturing || options_.robust_k != before.robust_k;
+  }
+
+  const render::RenderTarget& Render(const FrameCamera& camera) override {
+    if (!output_ || output_->width() != camera.width || output_->height() != camera.height) {
+      output_ = std::make_unique<render::RenderTarget>(
+          ibr::DepthObjectRenderer::OutputTargetOptions(camera.width, camera.height));
+    }
+    renderer_.Render(ViewCameraOf(camera), options_, *output_);
+    return *output_;
+  }
+
+  std::string Status() const override {
+    return fmt::format(
+        "{} maps, {} {}{} path, {} slices{}", renderer_.maps().maps.size(),
+        ibr::MethodName(options_.method), ibr::SlicingName(options_.slicing),
+        options_.slicing != ibr::Slicing::kRay && options_.slice_path == ibr::SlicePath::kFast
+            ? " fast"
+            : "",
+        ibr::SliceCountName(options_.slices),
+        options_.slicing == ibr::Slicing::kRay && options_.method == ibr::Method::kDepthObject &&
+                options_.subtexel_depth
+            ? ", sub-texel"
+            : "");
+  }
+
+ private:
+  std::string name_;
+  render::ProgramCache programs_;
+  ibr::DepthObjectRenderer renderer_;
+  ibr::DepthObjectOptions options_;
+  std::unique_ptr<render::RenderTarget> output_;
+  glm::vec3 centre_{0};
+  float radius_ = 1;
+};
+
+// A combo box over `values`, labelled by `name`; true when the choice changed.
+template <typename T, typename NameOf>
+bool ComboOf(const char* label, T& current, std::initializer_list<T> values, NameOf name) {
+  bool changed = false;
+  if (ImGui::BeginCombo(label, std::string(name(current)).c_str())) {
+    for (T v : values) {
+      if (ImGui::Selectable(std::string(name(v)).c_str(), v == current) && v != current) {
+        current = v;
+        changed = true;
+      }
+    }
+    ImGui::EndCombo();
+  }
+  return changed;
+}
+
+// A float slider over a double option (clamped to [lo, hi], typed values too).
+bool SliderDouble(const char* label, double& value, float lo, float hi, const char* format) {
+  float v = static_cast<float>(value);
+  if (!ImGui::SliderFloat(label, &v, lo, hi, format, ImGuiSliderFlags_AlwaysClamp)) return false;
+  value = v;
+  return true;
+}
+
+// Slider range of a deformation's amount and width per kind (the values
+// core::Deformation::Check accepts, narrowed to what is worth dragging
+// through); width {0, 0}: unused.
+struct DeformationRanges {
+  float amount_lo, amount_hi, width_lo, width_hi;
+};
+DeformationRanges RangesOf(core::DeformationKind kind) {
+  switch (kind) {
+    case core::DeformationKind::kTwist:
+      return {-6.3f, 6.3f, 0.0f, 0.5f};
+    case core::DeformationKind::kBend:
+      return {-3.14f, 3.14f, 0.0f, 0.0f};
+    case core::DeformationKind::kPull:
+      return {-1.0f, 1.0f, 0.005f, 0.3f};
+    case core::DeformationKind::kKnife:
+      return {0.01f, 0.5f, 0.05f, 1.0f};
+    case core::DeformationKind::kPeel:
+      return {0.0f, 3.14f, 0.02f, 0.5f};
+    case core::DeformationKind::kClip:
+    case core::DeformationKind::kCutaway:
+      return {0.0f, 1.0f, 0.0f, 0.0f};
+    case core::DeformationKind::kWedge:
+      return {0.05f, 3.14f, 0.0f, 1.0f};
+  }
+  return {0, 1, 0, 1};
+}
+
+// The slider of a volume effect's main parameter: label, the option it sets,
+// its range (the option's own units) and print format.
+struct EffectSlider {
+  const char* label;
+  double* value;
+  float lo, hi;
+  const char* format;
+};
+EffectSlider EffectSliderOf(core::EffectOptions& e) {
+  switch (e.effect) {
+    case core::Effect::kPeel:
+      return {"peel angle (deg)", &e.peel_angle_deg, 0, 180, "%.1f"};
+    case core::Effect::kSlices:
+      return {"slice gap", &e.slices_gap, 0, 0.95f * static_cast<float>(e.slices_period), "%.3f"};
+    case core::Effect::kSeam:
+      return {"seam width", &e.seam_width, 0, 1, "%.3f"};
+    case core::Effect::kPull:
+      return {"pull sigma", &e.pull_sigma, 0.02f, 0.5f, "%.3f"};
+    case core::Effect::kWave:
+      return {"wave amplitude", &e.wave_amplitude, -0.2f, 0.2f, "%.3f"};
+    case core::Effect::kClip:
+      return {"clip height", &e.clip_height, 0, 1, "%.3f"};
+    case core::Effect::kCutaway:
+      return {"cutaway corner", &e.cutaway_corner, 0, 1, "%.3f"};
+    case core::Effect::kWedge:
+      return {"wedge angle (deg)", &e.wedge_angle_deg, 1, 180, "%.1f"};
+  }
+  return {"peel angle (deg)", &e.peel_angle_deg, 0, 180, "%.1f"};
+}
+
+}  // namespace
+
+std::unique_ptr<Scene> MakeDatasetScene(const ibr::DepthObjectOptions& options, ibr::MapSet maps,
+                                        std::string name) {
+  return std::make_unique<DatasetScene>(options, std::move(maps), std::move(name));
+}
+
+SceneFileScene::SceneFileScene(const scene::Scene& file)
+    : title_("ibr view: " + file.name),
+      loaded_(ibr::LoadScene(programs_, file)),
+      renderer_(programs_, loaded_) {
+  const capture::Bounds& b = loaded_.bounds;
+  centre_ = glm::vec3(0.5 * (b.min + b.max));
+  radius_ = 0.5f * static_cast<float>(glm::length(b.max - b.min));
+  for (const scene::Object& o : file.objects) {
+    objects_.push_back(fmt::format("{} ({}){}", o.name, scene::ObjectTypeName(o.type),
+                                   o.enabled ? "" : ": disabled"));
+  }
+}
+
+bool SceneFileScene::DrawControls() {
+  bool changed = false;
+  ImGui::TextUnformatted("objects:");
+  for (const std::string& o : objects_) ImGui::BulletText("%s", o.c_str());
+  ImGui::TextUnformatted("passes:");
+  for (const std::string& p : renderer_.PassNames()) ImGui::BulletText("%s", p.c_str());
+  if (!error_.empty()) ImGui::TextColored(ImVec4(1, 0.4f, 0.4f, 1), "%s", error_.c_str());
+  for (size_t i = 0; i < loaded_.objects.size(); ++i) {
+    const ibr::LoadedObject& o = loaded_.objects[i];
+    if (o.type != scene::ObjectType::kDeform && o.type != scene::ObjectType::kVolume) continue;
+    ImGui::PushID(static_cast<int>(i));
+    const std::string header = fmt::format("{} ({})", o.name, scene::ObjectTypeName(o.type));
+    if (ImGui::CollapsingHeader(header.c_str(), ImGuiTreeNodeFlags_DefaultOpen)) {
+      try {
+        if (o.type == scene::ObjectType::kDeform) {
+          changed |= DeformControls(i);
+        } else {
+          changed |= VolumeControls(i);
+        }
+      } catch (const core::InputError& e) {
+        error_ = e.what();  // the object is unchanged
+      }
+    }
+    ImGui::PopID();
+  }
+  return changed;
+}
+
+const render::RenderTarget& SceneFileScene::Render(const FrameCamera& camera) {
+  return renderer_.Draw(ViewCameraOf(camera));
+}
+
+bool SceneFileScene::DragParameter(double t) {
+  for (size_t i = 0; i < loaded_.objects.size(); ++i) {
+    const ibr::LoadedObject& object = loaded_.objects[i];
+    if (object.type == scene::ObjectType::kDeform &&
+        !object.deform_options.deformation.terms.empty()) {
+      ibr::DeformObjectOptions o = object.deform_options;
+      core::Deformation& d = o.deformation.terms.front();
+      const DeformationRanges r = RangesOf(d.kind);
+      // Clamped: lo + t (hi - lo) may round past hi, which Check rejects.
+      d.amount = std::clamp(r.amount_lo + t * (r.amount_hi - r.amount_lo),
+                            static_cast<double>(r.amount_lo), static_cast<double>(r.amount_hi));
+      UpdateDeformWhileMoving(i, o);
+      return true;
+    }
+    if (object.type == scene::ObjectType::kVolume && object.volume_options.effect) {
+      ibr::VolumeObjectOptions o = object.volume_options;
+      const EffectSlider s = EffectSliderOf(*o.effect);
+      *s.value = std::clamp(s.lo + t * (s.hi - s.lo), static_cast<double>(s.lo),
+                            static_cast<double>(s.hi));
+      renderer_.UpdateVolume(loaded_, i, o, /*preview=*/true);
+      return true;
+    }
+  }
+  return false;
+}
+
+void SceneFileScene::UpdateDeformWhileMoving(size_t index,
+                                             const ibr::DeformObjectOptions& options) {
+  if (renderer_.UpdateDeform(loaded_, index, options, /*defer_reach=*/true).implicit_deferred &&
+      std::find(unsettled_.begin(), unsettled_.end(), index) == unsettled_.end()) {
+    unsettled_.push_back(index);
+  }
+}
+
+void SceneFileScene::Settle() {
+  // Emptied first: a failed rebuild is not retried every frame (the error
+  // shows in the panel).
+  const std::vector<size_t> pending = std::move(unsettled_);
+  unsettled_.clear();
+  for (size_t i : pending) renderer_.UpdateDeform(loaded_, i, loaded_.objects[i].deform_options);
+  for (size_t i = 0; i < loaded_.objects.size(); ++i) {
+    const ibr::LoadedObject& o = loaded_.objects[i];
+    if (o.type == scene::ObjectType::kVolume && o.volume->preview_maps)
+      renderer_.UpdateVolume(loaded_, i, o.volume_options);
+  }
+}
+
+std::string SceneFileScene::Status() const {
+  return fmt::format("{} objects drawn, {} disabled", loaded_.objects.size(),
+                     loaded_.disabled.size());
+}
+
+// Per deformation: kind, amount, width; cut and thickness; step policy,
+// threshold and base step; skip; the implicit (shown).
+bool SceneFileScene::DeformControls(size_t index) {
+  const ibr::LoadedObject& object = loaded_.objects[index];
+  ibr::DeformObjectOptions o = object.deform_options;
+  bool changed = false;
+  for (size_t t = 0; t < o.deformation.terms.size(); ++t) {
+    core::Deformation& d = o.deformation.terms[t];
+    ImGui::PushID(static_cast<int>(t));
+    ImGui::Text("deformation %zu: %s", t + 1, core::DeformationKindName(d.kind).c_str());
+    const DeformationRanges r = RangesOf(d.kind);
+    changed |= SliderDouble("amount", d.amount, r.amount_lo, r.amount_hi, "%.3f");
+    if (r.width_hi > r.width_lo)
+      changed |= SliderDouble("width", d.width, r.width_lo, r.width_hi, "%.3f");
+    ImGui::PopID();
+  }
+  render::DeformPassOptions& pass = o.pass;
+  changed |= ComboOf(
+      "cut", pass.cut,
+      {core::CutMode::kNone, core::CutMode::kHollow, core::CutMode::kSolid, core::CutMode::kThick},
+      core::CutModeName);
+  if (pass.cut == core::CutMode::kThick) {
+    changed |= ImGui::SliderFloat("thickness", &pass.thickness, 0.005f, 0.3f, "%.3f",
+                                  ImGuiSliderFlags_AlwaysClamp);
+  }
+  if (pass.cut == core::CutMode::kSolid || pass.cut == core::CutMode::kThick)
+    changed |= ImGui::Checkbox("solid by search (sec. 5.1.2)", &pass.solid_search);
+  changed |= ComboOf("step", pass.step_policy,
+                     {render::RayStepPolicy::kFixed, render::RayStepPolicy::kThreshold,
+                      render::RayStepPolicy::kJacobian},
+                     render::RayStepPolicyName);
+  if (pass.step_policy == render::RayStepPolicy::kThreshold) {
+    changed |= ImGui::SliderFloat("threshold", &pass.threshold, 0.001f, 0.2f, "%.3f",
+                                  ImGuiSliderFlags_AlwaysClamp);
+  }
+  changed |= ImGui::SliderFloat("step voxels", &pass.step_voxels, 0.25f, 4.0f, "%.2f",
+                                ImGuiSliderFlags_AlwaysClamp);
+  changed |= ImGui::Checkbox("skip empty space (cut)", &pass.skip_empty);
+  changed |= ImGui::Checkbox("skip by the distance field", &pass.skip_object);
+  const ibr::DeformObjectData& data = *object.deform;
+  if (pass.implicit == render::DeformImplicit::kDepthCube) {
+    ImGui::Text("implicit: depth cube, 6 maps of %d px (built %dx, %.2f s)", o.sdf_resolution,
+                data.implicit_builds, data.sdf_seconds);
+  } else {
+    ImGui::Text("implicit: sdf %dx%dx%d, reach %.3f (built %dx, %.2f s)", data.sdf.size.x,
+                data.sdf.size.y, data.sdf.size.z, data.sdf_reach, data.implicit_builds,
+                data.sdf_seconds);
+  }
+  if (changed) {
+    UpdateDeformWhileMoving(index, o);
+    error_.clear();
+  }
+  return changed;
+}
+
+// The effect's main parameter; lighting; mode and iso value; spacing.
+bool SceneFileScene::VolumeControls(size_t index) {
+  ibr::VolumeObjectOptions o = loaded_.objects[index].volume_options;
+  bool changed = false;
+  if (o.effect) {
+    core::EffectOptions& e = *o.effect;
+    ImGui::Text("effect: %s", std::string(core::EffectName(e.effect)).c_str());
+    const EffectSlider s = EffectSliderOf(e);
+    changed |= SliderDouble(s.label, *s.value, s.lo, s.hi, s.format);
+  } else {
+    ImGui::TextUnformatted("effect: none");
+  }
+  render::VolumePassOptions& pass = o.pass;
+  changed |= ComboOf("lighting", pass.lighting,
+                     {render::VolumeLighting::kNone, render::VolumeLighting::kGradient,
+                      render::VolumeLighting::kTransformed, render::VolumeLighting::kBlended},
+                     render::VolumeLightingName);
+  changed |=
+      ComboOf("mode", pass.mode, {render::VolumeMode::kDvr, render::VolumeMode::kIso},
+              [](render::VolumeMode m) { return m == render::VolumeMode::kDvr ? "dvr" : "iso"; });
+  if (pass.mode == render::VolumeMode::kIso) {
+    // In the volume's own units (e.g. HU), over its data range, as
+    // `iso:VALUE` is typed; the pass gets the normalised value.
+    const ibr::VolumeObjectData& data = *loaded_.objects[index].volume;
+    double iso = ibr::IsoValueInDataUnits(data, o);
+    if (SliderDouble("iso value (data units)", iso, static_cast<float>(data.stats.min),
+                     static_cast<float>(data.stats.max), "%.5g")) {
+      iso = std::clamp(iso, data.stats.min, data.stats.max);  // float rounding at the ends
+      ibr::SetIsoValue(data, iso, pass, "iso value");
+      o.iso_value = iso;
+      changed = true;
+    }
+  }
+  changed |= SliderDouble("spacing (voxels)", pass.sampling_distance_voxels, 0.25f, 4, "%.2f");
+  if (changed) {
+    renderer_.UpdateVolume(loaded_, index, o, /*preview=*/true);
+    error_.clear();
+  }
+  return changed;
+}
+
+}  // namespace viewer

@@ -1,0 +1,78 @@
+// The scenes `ibr view` shows: a dataset's depth object or visual hull
+// (ibr::DepthObjectRenderer, as `ibr render DATASET` draws it) and a scene
+// file (ibr::SceneRenderer, as `ibr render SCENE.json` draws it). Both draw
+// from ViewCameraOf, the camera `ibr render --cameras` reads from the file
+// viewer::CamerasOf describes, so a frame at rest is the frame `ibr render`
+// writes from that camera.
+#pragma once
+
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "apps/viewer/viewer.h"
+#include "ibr/depth_object.h"
+#include "ibr/image_maps.h"
+#include "ibr/scene_renderer.h"
+#include "ibr/views.h"
+#include "render/gl/shader_program.h"
+#include "scene/scene.h"
+
+namespace viewer {
+
+// The view `ibr render --cameras FILE` renders, FILE holding CamerasOf(camera).
+ibr::ViewCamera ViewCameraOf(const FrameCamera& camera);
+
+// A dataset's depth object or visual hull with `options` (those `ibr render`
+// takes from the same flags).
+std::unique_ptr<Scene> MakeDatasetScene(const ibr::DepthObjectOptions& options, ibr::MapSet maps,
+                                        std::string name);
+
+// A scene file: every enabled object drawn by ibr::SceneRenderer into its
+// frame target (the headless path of `ibr render SCENE.json`). The panel
+// lists the objects and passes and shows each deform and volume object's
+// cheap-to-change options as controls; a change goes to
+// SceneRenderer::UpdateDeform / UpdateVolume, which rebuild only what it
+// invalidates and reject invalid options (the error shows in the panel).
+class SceneFileScene : public Scene {
+ public:
+  // Needs a current context (captures render, passes build).
+  explicit SceneFileScene(const scene::Scene& file);
+
+  std::string Title() const override { return title_; }
+  glm::vec3 Centre() const override { return centre_; }
+  float Radius() const override { return radius_; }
+  bool DrawControls() override;
+  const render::RenderTarget& Render(const FrameCamera& camera) override;
+  std::string Status() const override;
+  // The first deform object's first deformation amount, else the first
+  // volume effect's main parameter, over its slider's range.
+  bool DragParameter(double t) override;
+  // Rebuilds the distance fields moving updates kept short and resamples
+  // the preview maps of volumes.
+  void Settle() override;
+
+  // The scene as loaded and edited so far (ibr::RenderSceneToDataset of it
+  // renders what `ibr render` renders for a file with these options).
+  const ibr::LoadedScene& loaded() const { return loaded_; }
+  render::ProgramCache& programs() { return programs_; }
+
+ private:
+  bool DeformControls(size_t index);
+  bool VolumeControls(size_t index);
+  // A deform object's new options while moving: a field the displacement
+  // outgrows is rebuilt only in Settle.
+  void UpdateDeformWhileMoving(size_t index, const ibr::DeformObjectOptions& options);
+
+  std::string title_;
+  render::ProgramCache programs_;
+  ibr::LoadedScene loaded_;
+  ibr::SceneRenderer renderer_;
+  std::vector<std::string> objects_;
+  std::string error_;              // the last rejected change
+  std::vector<size_t> unsettled_;  // deform objects whose field a drag outgrew
+  glm::vec3 centre_{0};
+  float radius_ = 1;
+};
+
+}  // namespace viewer
