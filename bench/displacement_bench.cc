@@ -9,6 +9,7 @@
 
 #include "core/displacement_error.h"
 #include "core/error.h"
+#include "core/image_compose.h"
 #include "core/image_io.h"
 #include "core/projection.h"
 #include "render/gl/context.h"
@@ -19,14 +20,6 @@
 
 namespace bench {
 namespace fs = std::filesystem;
-
-render::ViewSetup OrbitView(const core::TriangleMesh& base, float max_displacement,
-                            double elevation_deg, double azimuth_deg, int size_px) {
-  ibr::OrbitCamera orbit;  // 40 degrees, +z up, framed
-  orbit.elevation_deg = elevation_deg;
-  orbit.azimuth_deg = azimuth_deg;
-  return ibr::DisplacementOrbitView(base, max_displacement, orbit, size_px);
-}
 
 void DisplacementBenchOptions::Check() const {
   if (csv.empty()) core::ThrowInputError("ibr bench displacement", "--csv FILE is required");
@@ -101,7 +94,8 @@ DisplacementBenchResult RunDisplacementBench(const DisplacementBenchOptions& opt
     render::RenderTarget target(render::FrameTargetOptions(size, size));
     render::RenderTarget truth_target(render::FrameTargetOptions(size, size));
     for (double elevation : elevations) {
-      const render::ViewSetup view = OrbitView(base, kMaxDisplacement, elevation, kAzimuth, size);
+      const render::ViewSetup view = ibr::DisplacementOrbitView(
+          base, kMaxDisplacement, {.elevation_deg = elevation, .azimuth_deg = kAzimuth}, size);
       const core::TimingStats truth_time =
           render::TimeFrames([&] { render::DrawFrame(truth_target, truth_pass, view); }, timer);
       render::DrawFrame(truth_target, truth_pass, view);
@@ -202,7 +196,8 @@ DisplacementBenchResult RunDisplacementBench(const DisplacementBenchOptions& opt
       for (const auto& im : grazing_images[family.label]) sheet_images.push_back(im);
     }
     const fs::path sheet = options.out / "grazing_contact_sheet.png";
-    core::WriteImage(sheet, ContactSheet(sheet_images, static_cast<int>(sheet_images.size())));
+    core::WriteImage(sheet,
+                     core::ContactSheet(sheet_images, static_cast<int>(sheet_images.size())));
     fmt::print(
         "wrote {} (elevation {:.0f} deg, {} slices; left to right: tessellated ground truth, "
         "surface, "

@@ -22,13 +22,6 @@ namespace bench {
 using ibr::DisplacementBaseMesh;
 using ibr::DisplacementHeightMap;
 
-// A perspective camera (40 degree field of view, square `size_px`) orbiting
-// the base's bounds centre: elevation above the z = 0 plane (90 = top view),
-// azimuth around +z (-90 = looking along +y), framing the bounds grown by
-// max_displacement.
-render::ViewSetup OrbitView(const core::TriangleMesh& base, float max_displacement,
-                            double elevation_deg, double azimuth_deg, int size_px);
-
 struct DisplacementBenchOptions {
   std::filesystem::path csv;  // required: the table as CSV
   std::filesystem::path out;  // optional directory: plot PNG + contact sheet

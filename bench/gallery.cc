@@ -12,13 +12,13 @@
 
 #include "bench/deform_bench.h"
 #include "bench/peer.h"
-#include "bench/volume_render.h"
 #include "capture/dataset.h"
 #include "capture/synthetic.h"
 #include "core/check.h"
 #include "core/deform_reference.h"
 #include "core/deformation.h"
 #include "core/distance_field.h"
+#include "core/image_compose.h"
 #include "core/metrics.h"
 #include "core/projection.h"
 #include "core/volume_io.h"
@@ -29,6 +29,7 @@
 #include "ibr/views.h"
 #include "ibr/volume_object.h"
 #include "ibr/volume_reference.h"
+#include "ibr/volume_render.h"
 #include "render/passes/deform_pass.h"
 #include "render/passes/volume_pass.h"
 
@@ -300,8 +301,8 @@ void VolumeEntries(render::ProgramCache& programs, const GalleryOptions& options
                           pass_options);
   const int n = options.size;
   const render::ViewSetup view =
-      VolumeOrbitView(kAzimuthDeg, kElevationDeg, 3.2 * data.radius, n, data.radius);
-  const core::ImageF color = DrawVolumeFloat(pass, view, n);
+      ibr::VolumeOrbitView(kAzimuthDeg, kElevationDeg, 3.2 * data.radius, n, data.radius);
+  const core::ImageF color = ibr::DrawVolumeFloat(pass, view, n);
 
   const auto start = std::chrono::steady_clock::now();
   const ibr::DvrReferenceImage ref =
@@ -333,7 +334,8 @@ void VolumeEntries(render::ProgramCache& programs, const GalleryOptions& options
                    "pixels; {:.2f}% above 1/255; heat map saturates at {:.3f}/255",
                    pass.last_stats().slices, stats.max, stats.p95, stats.count, 100 * above,
                    heat_scale * 255),
-       OverBackground(ToImage8(color), background), OverBackground(ToImage8(truth), background),
+       core::OverBackground(ToImage8(color), background),
+       core::OverBackground(ToImage8(truth), background),
        ColorErrorHeatMap(color, truth, heat_scale)});
 }
 

@@ -243,7 +243,8 @@ void Donut(render::ProgramCache& programs, const KautzSeidelOptions& options, Ta
   ibr::DisplacedMeshOptions o;  // max displacement 0.15, as `ibr displace`
   o.tiling = 2;
   const int size = options.quick ? 128 : 512;
-  const render::ViewSetup view = OrbitView(data.base, o.max_displacement, 35, -60, size);
+  const render::ViewSetup view = ibr::DisplacementOrbitView(
+      data.base, o.max_displacement, {.elevation_deg = 35, .azimuth_deg = -60}, size);
   o.method = ibr::DisplacementMethod::kTessellated;
   ibr::DisplacedMeshRenderer truth_renderer(programs, data, o);
   const double truth_ms =

@@ -10,6 +10,7 @@
 
 #include "core/error.h"
 #include "core/heightfield.h"
+#include "core/image_compose.h"
 #include "core/image_io.h"
 #include "core/mesh.h"
 #include "core/metrics.h"
@@ -241,7 +242,7 @@ NcsBenchResult RunNcsBench(render::ProgramCache& programs, const NcsBenchOptions
   }
   std::vector<core::Image8> cells = strip_top;
   cells.insert(cells.end(), strip_bottom.begin(), strip_bottom.end());
-  result.strip = ContactSheet(cells, static_cast<int>(strip_top.size()));
+  result.strip = core::ContactSheet(cells, static_cast<int>(strip_top.size()));
   result.strip_view = strip_view;
   result.strip_tiling = strip_tiling;
   return result;

@@ -98,8 +98,4 @@ std::vector<PlotSeries> PlotSeriesOf(const Table& table, const PlotOptions& opti
 // missing or fails.
 void PlotPng(const Table& table, const PlotOptions& options, const std::filesystem::path& png);
 
-// Images (RGBA8, any sizes) placed on a grid of `columns`, each cell the size
-// of the largest image, with a `gap_px` dark border, labels not drawn.
-core::Image8 ContactSheet(const std::vector<core::Image8>& images, int columns, int gap_px = 4);
-
 }  // namespace bench

@@ -30,6 +30,7 @@
 #include "bench/volume_bench.h"
 #include "core/atomic_file.h"
 #include "core/error.h"
+#include "core/image_compose.h"
 #include "core/image_io.h"
 #include "ibr/demo_scene.h"
 #include "render/gl/context.h"
@@ -773,7 +774,7 @@ ReportResult WriteReport(const ReportOptions& options) {
   for (size_t i = 0; i < gallery.size(); ++i) {
     const GalleryEntry& g = gallery[i];
     const std::string name = fmt::format("gallery/{:02d}_{}.png", i, g.family);
-    core::WriteImage(dir / name, ContactSheet({g.render, g.truth, g.heat}, 3));
+    core::WriteImage(dir / name, core::ContactSheet({g.render, g.truth, g.heat}, 3));
     page.Image(name, g.title + ": " + g.caption);
   }
   page.Image("ncs/ncs_silhouettes_grazing.png",

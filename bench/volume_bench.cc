@@ -14,11 +14,12 @@
 
 #include "bench/gallery.h"
 #include "bench/report.h"
-#include "bench/volume_render.h"
 #include "core/atomic_file.h"
 #include "core/error.h"
+#include "core/image_compose.h"
 #include "core/metrics.h"
 #include "core/volume_io.h"
+#include "ibr/volume_render.h"
 #include "render/gl/fill_rate.h"
 #include "render/gl/frame_timer.h"
 
@@ -35,7 +36,7 @@ struct Measured {
 
 // The bench's one view of a volume: azimuth 30, elevation 20 degrees.
 render::ViewSetup BenchView(const ibr::VolumeObjectData& scene, int size) {
-  return VolumeOrbitView(30, 20, 3.2 * scene.radius, size, scene.radius);
+  return ibr::VolumeOrbitView(30, 20, 3.2 * scene.radius, size, scene.radius);
 }
 
 Measured TimeVolume(render::ProgramCache& programs, const ibr::VolumeObjectData& scene,
@@ -64,7 +65,7 @@ Measured TimeVolume(render::ProgramCache& programs, const ibr::VolumeObjectData&
         pass.last_stats().draw_calls);
   }
   // The same pass, after timing, into a float target: no second build or upload.
-  if (float_image) m.color = DrawVolumeFloat(pass, BenchView(scene, size), size);
+  if (float_image) m.color = ibr::DrawVolumeFloat(pass, BenchView(scene, size), size);
   for (const core::Box3& b : pass.active_boxes()) {
     const glm::dvec3 e = glm::max(b.hi - b.lo, glm::dvec3(0.0));
     spdlog::info(

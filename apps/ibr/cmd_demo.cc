@@ -7,11 +7,10 @@
 #include <filesystem>
 
 #include "apps/ibr/commands.h"
-#include "bench/displacement_bench.h"
-#include "bench/report.h"
 #include "core/atomic_file.h"
 #include "core/displacement_error.h"
 #include "core/error.h"
+#include "core/image_compose.h"
 #include "core/image_io.h"
 #include "ibr/demo_scene.h"
 #include "ibr/displaced_mesh.h"
@@ -46,7 +45,7 @@ std::vector<std::string> DepthObjectDemo(render::ProgramCache& programs,
   }
   sheet.insert(sheet.end(), r.truth.begin(), r.truth.end());
   core::WriteImage(dir / "depth_object_turntable.png",
-                   bench::ContactSheet(sheet, static_cast<int>(r.frames.size())));
+                   core::ContactSheet(sheet, static_cast<int>(r.frames.size())));
   return {
       fmt::format(
           "demo: scene {}: Spot {} (6 orthographic {}x{} cube maps captured in {:.2f} s, {} path, "
@@ -84,8 +83,8 @@ void RunDemo(const DemoOptions& options) {
   ibr::DisplacedMeshData data;
   data.base = ibr::DisplacementBaseMesh("torus");
   data.height = ibr::DisplacementHeightMap(core::HeightPattern::kBumps, kTexels, 0.15f);
-  const render::ViewSetup view =
-      bench::OrbitView(data.base, kMaxDisplacement, 35, -60, options.size);
+  const render::ViewSetup view = ibr::DisplacementOrbitView(
+      data.base, kMaxDisplacement, {.elevation_deg = 35, .azimuth_deg = -60}, options.size);
   ibr::DisplacedMeshOptions pass_options;
   pass_options.method = ibr::DisplacementMethod::kSlicesOrthogonal;
   pass_options.slices = kSlices;
@@ -116,7 +115,7 @@ void RunDemo(const DemoOptions& options) {
   core::WriteImage(out.path() / "ground_truth.png", truth.color);
   core::WriteImage(out.path() / "ground_truth_depth.exr", truth.depth);
   core::WriteImage(out.path() / "side_by_side.png",
-                   bench::ContactSheet({frame.color, truth.color}, 2));
+                   core::ContactSheet({frame.color, truth.color}, 2));
   const std::vector<std::string> depth_object_lines =
       DepthObjectDemo(programs, out.path(), options.out, options.size);
   out.Commit();

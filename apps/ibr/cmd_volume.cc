@@ -1,6 +1,6 @@
 // `ibr volume VOLUME`: a QVis/NRRD/NIfTI/DICOM volume with one discontinuous displacement
 // effect (Correa, Silver, Chen 2006) rendered by DVR or as an isosurface.
-// Flags -> bench::VolumeRenderRequest -> bench::RenderVolume -> one line.
+// Flags -> ibr::VolumeRenderRequest -> ibr::RenderVolume -> one line.
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>
 
@@ -9,9 +9,9 @@
 #include <vector>
 
 #include "apps/ibr/commands.h"
-#include "bench/volume_render.h"
 #include "core/error.h"
 #include "ibr/views.h"
+#include "ibr/volume_render.h"
 #include "render/gl/context.h"
 #include "render/passes/pass.h"
 
@@ -19,7 +19,7 @@ namespace apps {
 namespace {
 
 struct VolumeCommandOptions {
-  bench::VolumeRenderRequest request;
+  ibr::VolumeRenderRequest request;
   std::string effect = "none";
   std::string mode = "dvr";
   std::string lighting = "blended";
@@ -31,7 +31,7 @@ struct VolumeCommandOptions {
 
 void RunVolume(VolumeCommandOptions& o) {
   constexpr const char* kWhere = "ibr volume";
-  bench::VolumeRenderRequest& r = o.request;
+  ibr::VolumeRenderRequest& r = o.request;
   if (o.effect != "none") {
     o.params.effect = core::ParseEffect(o.effect);
     o.params.Check();
@@ -53,7 +53,7 @@ void RunVolume(VolumeCommandOptions& o) {
   // --size is the orbit view's; --cameras views are checked view by view.
   render::CheckFrameSize(kWhere, "--size", r.size, r.size);
   spdlog::info("GL: {} | {}", context->info().version, context->info().renderer);
-  const bench::VolumeRenderResult result = bench::RenderVolume(r);
+  const ibr::VolumeRenderResult result = ibr::RenderVolume(r);
   fmt::print(
       "volume: {} effect {} mode {} -> {} image(s) in {}; {:.1f} ms/frame (median), {} slices, "
       "proxy box "

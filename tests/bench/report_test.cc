@@ -82,23 +82,5 @@ TEST(Report, PlotWithoutFinitePointsIsAnInputError) {
       core::InputError);
 }
 
-TEST(Report, ContactSheetPlacesImagesOnAGrid) {
-  core::Image8 a(10, 8, 4, 0), b(6, 6, 4, 0);
-  for (auto& v : a.values()) v = 255;  // opaque white
-  for (int y = 0; y < 6; ++y)
-    for (int x = 0; x < 6; ++x) {
-      b.at(x, y, 0) = 255;  // opaque red
-      b.at(x, y, 3) = 255;
-    }
-  const core::Image8 sheet = ContactSheet({a, b, a}, 2, 2);
-  EXPECT_EQ(sheet.width(), 2 + 2 * (10 + 2));
-  EXPECT_EQ(sheet.height(), 2 + 2 * (8 + 2));
-  EXPECT_EQ(sheet.at(2, 2, 1), 255);  // a, top-left
-  EXPECT_EQ(sheet.at(14, 2, 1), 0);   // b is red: no green
-  EXPECT_EQ(sheet.at(14, 2, 0), 255);
-  EXPECT_EQ(sheet.at(14 + 7, 2, 0), 40);  // right of b, inside its cell: background
-  EXPECT_EQ(sheet.at(0, 0, 0), 40);       // gap
-}
-
 }  // namespace
 }  // namespace bench

@@ -14,6 +14,7 @@
 
 #include "bench/report.h"
 #include "capture/synthetic.h"
+#include "core/image_compose.h"
 #include "core/image_io.h"
 #include "ibr/dataset_maps.h"
 #include "ibr/depth_object.h"
@@ -373,9 +374,9 @@ TEST_F(TexturingTest, SpotSideViewsTakeColoursFromMapsThatSawThem) {
                 TexturingName(kinds[t]).c_str(), sum[t] / compared,
                 static_cast<long long>(wrong[t]), static_cast<long long>(compared));
     test_support::WriteDebugImage(fmt::format("spot_{}.png", TexturingName(kinds[t])),
-                                  bench::ContactSheet(sheet[t], 8));
+                                  core::ContactSheet(sheet[t], 8));
   }
-  test_support::WriteDebugImage("spot_truth.png", bench::ContactSheet(sheet[3], 8));
+  test_support::WriteDebugImage("spot_truth.png", core::ContactSheet(sheet[3], 8));
   // Measured: vdt 1.41 levels mean, 132 of 52265 pixels > 64 (the rims of
   // the horns and legs, where the render's surface and the mesh's differ by
   // a texel); visibility 2.02 / 348 (the ears and the face bleached);
@@ -455,7 +456,7 @@ TEST_F(TexturingTest, SpotShadedSideViewsHaveNoContourStripes) {
                   static_cast<long long>(ridges), static_cast<long long>(smooth));
       test_support::WriteDebugImage(
           fmt::format("spot_shaded_{}_{}.png", TexturingName(texturing), SlicingName(slicing)),
-          bench::ContactSheet(sheet, 8));
+          core::ContactSheet(sheet, 8));
       // Measured (256 px maps and views): vdt 353-357 of 22989 (1.6 %),
       // visibility 609-618 (2.7 %), the rest along the soft bands where one
       // map's baked shading hands over to the next; before the maps were

@@ -17,7 +17,7 @@
 #include "ibr/volume_object.h"
 #include "render/passes/volume_pass.h"
 
-namespace bench {
+namespace ibr {
 
 struct VolumeRenderRequest {
   std::filesystem::path volume;               // core::ReadVolume: QVis, NRRD, NIfTI, DICOM folder
@@ -28,18 +28,18 @@ struct VolumeRenderRequest {
   glm::dvec3 placement_offset{0.0};
   glm::dvec3 placement_scale{1.0};
   render::VolumePassOptions pass;
-  // Iso mode: the iso value in the volume's stored units (ibr::SetIsoValue
+  // Iso mode: the iso value in the volume's stored units (SetIsoValue
   // sets pass.iso_value from it once the volume is read).
   std::optional<double> iso_value;
   std::string
       transfer;  // preset or JSON file; empty: the preset named like the volume, else "ramp"
   // Instead of `transfer`: window width and level (centre) in stored units
-  // (ibr::WindowLevelTransfer).
+  // (WindowLevelTransfer).
   std::optional<glm::dvec2> window_level;
   int size = 512;  // pixels (orbit views)
-  // The orbit view (ibr::OrbitCameraView around the volume's bounding
+  // The orbit view (OrbitCameraView around the volume's bounding
   // sphere): +z up, as the light (the paper's Fig. 4); 30 degrees round, 20 up.
-  ibr::OrbitCamera orbit{.elevation_deg = 20, .azimuth_deg = 30};
+  OrbitCamera orbit{.elevation_deg = 20, .azimuth_deg = 30};
   std::filesystem::path cameras;  // a dataset directory: one image per camera (else one orbit view)
   std::filesystem::path out;      // FILE.png (one view) or DIR (one PNG per camera)
 };
@@ -52,7 +52,7 @@ struct VolumeRenderResult {
 };
 
 // A perspective view orbiting the origin at `distance`, z up, focal 1.2 size
-// (ibr::OrbitCameraView): the bench's and gallery's fixed framing.
+// (OrbitCameraView): the bench's and gallery's fixed framing.
 render::ViewSetup VolumeOrbitView(double azimuth_deg, double elevation_deg, double distance,
                                   int size, double radius);
 
@@ -63,7 +63,4 @@ VolumeRenderResult RenderVolume(const VolumeRenderRequest& request);
 // 8-bit rounding at each slice): premultiplied colour, image rows.
 core::ImageF DrawVolumeFloat(render::VolumePass& pass, const render::ViewSetup& view, int size);
 
-// Colour over an opaque background (premultiplied frame -> RGBA8 with alpha 255).
-core::Image8 OverBackground(const core::Image8& premultiplied, const glm::vec3& background);
-
-}  // namespace bench
+}  // namespace ibr

@@ -1,4 +1,4 @@
-#include "bench/volume_render.h"
+#include "ibr/volume_render.h"
 
 #include <spdlog/spdlog.h>
 
@@ -16,15 +16,15 @@
 #include "render/gl/frame_timer.h"
 #include "render/passes/pass.h"
 
-namespace bench {
+namespace ibr {
 
 render::ViewSetup VolumeOrbitView(double azimuth_deg, double elevation_deg, double distance,
                                   int size, double radius) {
-  ibr::OrbitCamera orbit{.elevation_deg = elevation_deg,
-                         .azimuth_deg = azimuth_deg,
-                         .distance = distance,
-                         .fov_deg = glm::degrees(2 * std::atan(1 / 2.4))};  // focal 1.2 size
-  return ibr::OrbitCameraView(glm::vec3(0), static_cast<float>(radius), orbit, size);
+  OrbitCamera orbit{.elevation_deg = elevation_deg,
+                    .azimuth_deg = azimuth_deg,
+                    .distance = distance,
+                    .fov_deg = glm::degrees(2 * std::atan(1 / 2.4))};  // focal 1.2 size
+  return OrbitCameraView(glm::vec3(0), static_cast<float>(radius), orbit, size);
 }
 
 core::ImageF DrawVolumeFloat(render::VolumePass& pass, const render::ViewSetup& view, int size) {
@@ -36,20 +36,6 @@ core::ImageF DrawVolumeFloat(render::VolumePass& pass, const render::ViewSetup& 
   return target.ReadColorF(render::kFrameColor);
 }
 
-core::Image8 OverBackground(const core::Image8& premultiplied, const glm::vec3& background) {
-  core::Image8 out(premultiplied.width(), premultiplied.height(), 4);
-  for (int y = 0; y < out.height(); ++y)
-    for (int x = 0; x < out.width(); ++x) {
-      const float a = premultiplied.at(x, y, 3) / 255.0f;
-      for (int c = 0; c < 3; ++c) {
-        const float v = premultiplied.at(x, y, c) / 255.0f + (1 - a) * background[c];
-        out.at(x, y, c) = static_cast<uint8_t>(std::clamp(v, 0.0f, 1.0f) * 255.0f + 0.5f);
-      }
-      out.at(x, y, 3) = 255;
-    }
-  return out;
-}
-
 VolumeRenderResult RenderVolume(const VolumeRenderRequest& r) {
   core::Volume volume = core::ReadVolume(r.volume);
   try {
@@ -58,14 +44,14 @@ VolumeRenderResult RenderVolume(const VolumeRenderRequest& r) {
     core::ThrowFileError("ibr volume", r.volume, "{}", e.what());
   }
   const core::TransferFunction transfer =
-      r.window_level ? ibr::WindowLevelTransfer(r.window_level->x, r.window_level->y,
-                                                core::ComputeVolumeStats(volume),
-                                                "ibr volume --window/--level")
-                     : ibr::TransferForVolume(r.transfer, r.volume, &volume);
-  const ibr::VolumeObjectData scene = ibr::MakeVolumeObject(
-      std::move(volume), transfer, r.effect, r.map_size, r.placement_offset, r.placement_scale);
+      r.window_level
+          ? WindowLevelTransfer(r.window_level->x, r.window_level->y,
+                                core::ComputeVolumeStats(volume), "ibr volume --window/--level")
+          : TransferForVolume(r.transfer, r.volume, &volume);
+  const VolumeObjectData scene = MakeVolumeObject(std::move(volume), transfer, r.effect, r.map_size,
+                                                  r.placement_offset, r.placement_scale);
   render::VolumePassOptions pass_options = r.pass;
-  if (r.iso_value) ibr::SetIsoValue(scene, *r.iso_value, pass_options, "ibr volume --mode");
+  if (r.iso_value) SetIsoValue(scene, *r.iso_value, pass_options, "ibr volume --mode");
   // The frame budget and the GL limits: render::CheckFrameSize (ibr volume).
   if (r.size < 16 || r.size > 16384)
     core::ThrowInputError("ibr volume", "--size {} not in [16, 16384]", r.size);
@@ -77,7 +63,7 @@ VolumeRenderResult RenderVolume(const VolumeRenderRequest& r) {
   std::vector<Shot> shots;
   if (r.cameras.empty()) {
     shots.push_back(
-        {"", ibr::OrbitCameraView(glm::vec3(0), static_cast<float>(scene.radius), r.orbit, r.size),
+        {"", OrbitCameraView(glm::vec3(0), static_cast<float>(scene.radius), r.orbit, r.size),
          r.size, r.size});
   } else {
     const capture::Dataset dataset = capture::ReadDataset(r.cameras);
@@ -128,7 +114,7 @@ VolumeRenderResult RenderVolume(const VolumeRenderRequest& r) {
       result.slices = pass.last_stats().slices;
     }
     frame();
-    const core::Image8 image = OverBackground(render::ReadFrame(target).color, background);
+    const core::Image8 image = core::OverBackground(render::ReadFrame(target).color, background);
     if (to_dir) {
       core::WriteImage(
           staged->path() / ((shot.name.empty() ? std::string("volume") : shot.name) + ".png"),
@@ -143,4 +129,4 @@ VolumeRenderResult RenderVolume(const VolumeRenderRequest& r) {
   return result;
 }
 
-}  // namespace bench
+}  // namespace ibr
