@@ -10,6 +10,7 @@
 #include "capture/dataset.h"
 #include "core/atomic_file.h"
 #include "core/error.h"
+#include "core/image_compose.h"
 #include "core/image_io.h"
 #include "core/projection.h"
 #include "core/volume_io.h"
