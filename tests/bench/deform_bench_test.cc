@@ -75,7 +75,7 @@ void CheckWorkloads(const DeformBenchResult& result) {
   // analytic alpha is > 0 (each such ray rejects its first hit).
   const DeformWedgeFigures& w = result.wedge;
   EXPECT_NEAR(w.ray_fraction, w.ray_fraction_cpu, 0.05);
-  EXPECT_EQ(w.ray_fraction, fraction);
+  EXPECT_NEAR(w.ray_fraction, fraction, 1e-4);  // the CSV rounds it
   // The cut's skip only ever lengthens steps: no more samples than without.
   EXPECT_LE(w.samples_skip, w.samples_cut);
   EXPECT_GT(w.samples_cut, w.samples_baseline);
