@@ -254,6 +254,9 @@ struct DeformForwardFigures {
   int equal_level = -1;
   int64_t equal_triangles = 0;
   double equal_ms = NAN, equal_p95 = NAN;
+  // The mesh's ms at exactly the ray pass's p95, log-log between levels
+  // (extrapolated beyond the levels run).
+  double interpolated_ms = NAN;
   std::string Line() const;
 };
 

@@ -119,7 +119,9 @@ void CheckWorkloads(const DeformBenchResult& result) {
     EXPECT_GT(Value(sp, row, "plain_mesh_ms"), 0);
     EXPECT_GT(Value(sp, row, "ray_over_finest"), 0);
     EXPECT_GT(Value(sp, row, "samples_per_ray"), 0);
-    if (r > 0) EXPECT_GT(Value(sp, row, "triangles"), Value(sp, sp.rows()[r - 1], "triangles"));
+    if (r > 0) {
+      EXPECT_GT(Value(sp, row, "triangles"), Value(sp, sp.rows()[r - 1], "triangles"));
+    }
   }
   EXPECT_NEAR(Value(sp, sp.rows()[0], "triangles"), 6000, 600);
   EXPECT_EQ(Value(sp, sp.rows()[3], "ray_over_finest"), 1.0);
