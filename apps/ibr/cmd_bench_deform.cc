@@ -8,6 +8,7 @@
 #include "apps/ibr/bench_gl.h"
 #include "apps/ibr/commands.h"
 #include "bench/deform_bench.h"
+#include "bench/paper_tables.h"
 #include "render/gl/context.h"
 #include "render/passes/pass.h"
 
@@ -36,6 +37,9 @@ void AddDeformBench(CLI::App& app) {
     fmt::print("{}\n{}\n{}\n{}\n{}\n{}", result.frames.Format(), result.summary.Format(),
                result.sdf.Format(), result.accuracy.Format(), result.implicits.Format(),
                result.spread.Format());
+    fmt::print(
+        "{}\n",
+        bench::Correa2007GoalsTable(result.wedge, result.forward, result.spread_figures).Format());
     fmt::print("{}\n{}\n{}\n", result.wedge.Line(), result.forward.Line(),
                result.spread_figures.Line());
     bench::WriteDeformBench(result, options);
