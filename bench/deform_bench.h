@@ -4,6 +4,7 @@
 // side 1), so regions, thicknesses and the threshold are in those units.
 #pragma once
 
+#include <cmath>
 #include <cstdint>
 #include <filesystem>
 #include <optional>
@@ -46,6 +47,10 @@ struct DeformOutcomes {
   int64_t mesh_pixels = 0, hit_pixels = 0, cut_face_pixels = 0, exited_pixels = 0, early_pixels = 0;
   int64_t rays = 0;           // pixels where a ray was cast
   double mean_samples = 0.0;  // field samples per cast ray
+  // Crossings rejected per cast ray (a surface hit inside the cut, a cut
+  // boundary outside the body: sec. 5.1.2), and the rays with at least one.
+  double mean_rejected = 0.0;
+  int64_t rejecting_rays = 0;
   void Add(const DeformOutcomes& other);
 };
 DeformOutcomes CountDeformOutcomes(const render::Frame& frame);
@@ -75,6 +80,11 @@ DeformRunReport RunDeform(render::ProgramCache& programs, const DeformRunOptions
 // report's gallery (Correa, Silver, Chen 2007, eq. 6): a knife of amount 0.15
 // and width 0.6 (box units), CutMode::kSolid in the pass.
 core::Deformation KnifeCut();
+
+// A mesh file loaded and normalised (ibr::NormaliseMesh: the unit cube at
+// the origin), and the deformation box around it: its bounds grown by 0.05.
+core::TriangleMesh LoadNormalisedMesh(const std::filesystem::path& mesh_file);
+core::Placement AroundMesh(const core::TriangleMesh& mesh);
 
 // The solid knife cut through a mesh of the gallery and of the bench's
 // accuracy sweep: the mesh normalised, the deformation box its bounds grown
@@ -123,12 +133,31 @@ DeformPinholeView DeformObliqueView(int size);
 // deformation box (`placement`; the mesh lies inside it, so nothing is seen
 // outside).
 struct DeformReferenceFrame {
-  core::ImageF depth;  // camera z (normalised units); 0 = no hit
-  core::Image8 color;  // RGBA: head-light shading of the reference normal, cut faces tinted
+  core::ImageF depth;    // camera z (normalised units); 0 = no hit
+  core::Image8 color;    // RGBA: head-light shading of the reference normal, cut faces tinted
+  core::Image8 classes;  // 0 no hit, 1 the surface, 2 a cut face
 };
 DeformReferenceFrame TraceDeformReference(const core::DeformReference& reference,
                                           const core::Placement& placement,
                                           const DeformPinholeView& view);
+
+// The orbit view of the bench's workloads as a pinhole (DeformPinholeView):
+// `distance` (2.6) from the origin at `azimuth_deg` about +y and `elevation_deg`, looking
+// at the origin, a 34 degree field of view (RunDeform's default view of a
+// normalised mesh).
+DeformPinholeView DeformOrbitView(int size, double azimuth_deg = 30.0, double elevation_deg = 20.0,
+                                  double distance = 2.6);
+
+// The share of pixels whose class (no hit, surface, cut face) agrees between
+// a deform pass frame and the reference, outside a one-pixel band around the
+// reference's class boundaries (where a pixel centre and its footprint may
+// see different classes); as deform_pass_test checks it.
+struct DeformClassAgreement {
+  int64_t compared = 0, agree = 0, band = 0;
+  double Fraction() const { return compared > 0 ? double(agree) / double(compared) : 0.0; }
+};
+DeformClassAgreement CompareDeformClasses(const render::Frame& frame,
+                                          const DeformReferenceFrame& truth);
 
 }  // namespace bench
 
@@ -172,14 +201,87 @@ struct DeformBenchOptions {
   // steps of 1 and 4 voxels.
   bool quick = false;
   bool peer = true;  // time OpenVDB beside our distance field
+  // Only the wedge, forward-mesh and spread workloads (no region sweep,
+  // distance-field builds or accuracy sweep).
+  bool workloads_only = false;
   void Check() const;
 };
 
+// The honest cut workload (Correa 2007 sec. 3 and 6.2; issue 35): a wedge
+// cut-away (core::DeformationKind::kWedge: D = 0, the alpha a signed
+// distance) in a box enclosing the object, so no face of the box meets it,
+// opened towards the orbit view so that a large share of the rays meet the
+// cut's material and march through it. Baseline: the same D without its
+// alpha (no cut). Figures from interleaved rounds (per-round ratios, their
+// median and distribution-free 95 % interval).
+struct DeformWedgeFigures {
+  std::string mesh;
+  double opening_rad = 0.0, bottom = 0.0;  // the wedge's amount and width
+  // cut_skip / baseline frame time: median of per-round ratios, 95 % interval.
+  double ratio = NAN, ratio_lo = NAN, ratio_hi = NAN;
+  double csg_ratio = NAN;  // cut_csg / baseline, the same way
+  // The paper's shader (no skipping by the object's distance):
+  // paper_cut_skip / paper_baseline, the same way.
+  double paper_ratio = NAN;
+  // The cut_skip shader on the baseline's texture (no alpha: the same rays
+  // and samples) over the baseline: what the search's shader costs a sample.
+  double shader_overhead = NAN;
+  // Samples per ray: baseline, cut (no skipping), cut_skip.
+  double samples_baseline = NAN, samples_cut = NAN, samples_skip = NAN;
+  // The share of the cut's extra samples (cut - baseline) the skip removes, %.
+  double skip_removes_percent = NAN;
+  // Cast rays with a rejected crossing (their surface hit lies in the cut)
+  // in the cut_skip frame, and the same share computed on the CPU from the
+  // baseline frame's hit points and the analytic alpha (a check).
+  double ray_fraction = NAN, ray_fraction_cpu = NAN;
+  // cut_skip against the double reference: pixel classes and depth.
+  double agree_fraction = NAN, p95_depth_error = NAN;
+  // "wedge: cut_skip/baseline R, skip removes P % of the cut's extra
+  // samples, ray fraction F"
+  std::string Line() const;
+};
+
+// The peer mode forward-mesh: the continuous twist of the bench applied to
+// the vertices of the mesh subdivided `level` times (1:4 midpoint, the same
+// flat surface) by its forward map and rasterised by the mesh pass, beside
+// the ray pass of the same twist, both against the double reference, same
+// view and run.
+struct DeformForwardFigures {
+  std::string mesh;
+  double ray_ms = NAN, ray_p95 = NAN;  // the ray pass (continuous twist)
+  // The coarsest level whose p95 depth error is at most the ray pass's (-1:
+  // none of the levels run), its triangles and ms.
+  int equal_level = -1;
+  int64_t equal_triangles = 0;
+  double equal_ms = NAN, equal_p95 = NAN;
+  // The mesh's ms at exactly the ray pass's p95, log-log between levels
+  // (extrapolated beyond the levels run).
+  double interpolated_ms = NAN;
+  std::string Line() const;
+};
+
+// Spread: one shape (the capped Stanford bunny) at several tessellations
+// (meshoptimizer's simplifier), the same twist, box, view and field
+// resolution, in interleaved rounds. Per mesh: the ray stage alone over the
+// finest mesh's in the same round, and the deform pass's mesh stage (frame -
+// ray stage) over a plain mesh pass of the same mesh; medians of per-round
+// ratios with 95 % intervals.
+struct DeformSpreadFigures {
+  double ray_spread = NAN;           // max / min over meshes of the ray-stage medians
+  double mesh_over_plain_max = NAN;  // the largest mesh-stage / plain median
+  int rounds = 0;
+  std::string Line() const;
+};
+
 struct DeformBenchResult {
-  // mesh, triangles, mode, series, region_scale, area_fraction, ms, ray_ms
-  // (the frame minus the mesh stage), samples_per_ray, mesh_ms (the mesh
-  // stage at that scale), mesh_both_sides_ms (continuous rows: the mesh stage
-  // with cull_back_faces off, the culling's baseline)
+  // workload (sweep: the region-scale sweep; wedge; forward), mesh,
+  // triangles, mode, series, region_scale, area_fraction, ms, ray_ms (the
+  // frame minus the mesh stage), samples_per_ray, rejected_per_ray,
+  // cut_ray_fraction (cast rays with a rejected crossing; modes that reject
+  // only), mesh_ms (the mesh stage at that scale), mesh_both_sides_ms
+  // (continuous rows: the mesh stage with cull_back_faces off, the culling's
+  // baseline), p95_depth_error and agree_fraction (wedge and forward rows:
+  // against the double reference; mesh sizes)
   Table frames;
   // mesh, mode, weighted_ms, over_continuous, slope_ms, intercept_ms, r2,
   // ray_weighted_ms, ray_over_continuous (and one "across meshes" row per mode)
@@ -196,7 +298,27 @@ struct DeformBenchResult {
   // ms_per_frame, samples_per_ray, silhouette_iou, wrong_pixels,
   // mean_depth_error, p95_depth_error (mesh sizes, against the tracer).
   Table implicits;
+  // The workloads of issue 35 (their rows are also in `frames`, column
+  // workload "wedge" and "forward"):
+  DeformWedgeFigures wedge;
+  DeformForwardFigures forward;
+  // mesh, triangles, rounds, ray_ms (median), ray_over_finest, its _lo/_hi,
+  // mesh_stage_ms, plain_mesh_ms, mesh_over_plain, its _lo/_hi, samples_per_ray
+  Table spread = Table(std::vector<std::string>{});
+  DeformSpreadFigures spread_figures;
 };
+
+// The three workloads (bench/deform_workloads.cc), at `size` pixels and
+// distance fields of `field_resolution`; the wedge's and the forward mesh's
+// rows are appended to `frames` (the frames table's columns).
+DeformWedgeFigures RunDeformWedge(render::ProgramCache& programs, const DeformBenchOptions& options,
+                                  int size, int field_resolution, Table& frames);
+DeformForwardFigures RunDeformForwardMesh(render::ProgramCache& programs,
+                                          const DeformBenchOptions& options, int size,
+                                          int field_resolution, Table& frames);
+// The spread table (DeformBenchResult::spread); its figures into `figures`.
+Table RunDeformSpread(render::ProgramCache& programs, const DeformBenchOptions& options, int size,
+                      int field_resolution, DeformSpreadFigures& figures);
 
 DeformBenchResult RunDeformBench(render::ProgramCache& programs, const DeformBenchOptions& options);
 // The tables as CSV (frames at options.csv, the others beside it in out:

@@ -38,6 +38,18 @@ Table Correa2006Table(const Table& volume);
 // cut_csg_over_continuous.
 Table Correa2007Table(const Table& deform_summary, const Table& deform_frames);
 
+// The goals of `ibr bench deform`'s workloads (issue 35) beside the paper's
+// figures (Correa, Silver, Chen 2007, Table 1 and sec. 6.2): the wedge's cut
+// with skipping over the same D without its alpha, the share of the cut's
+// extra samples the skip removes, agreement with the double reference, the
+// forward-mesh peer at equal p95 depth error, and the spread across
+// tessellations. Columns: quantity, goal, paper, ours, met, note.
+struct DeformWedgeFigures;
+struct DeformForwardFigures;
+struct DeformSpreadFigures;
+Table Correa2007GoalsTable(const DeformWedgeFigures& wedge, const DeformForwardFigures& forward,
+                           const DeformSpreadFigures& spread);
+
 // Linear interpolation of y at x over (x, y) points sorted by x, in log-log
 // space when `log` (both positive); outside the range, the nearest
 // segment's line is extended. Needs at least two points with distinct x.

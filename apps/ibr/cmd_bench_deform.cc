@@ -8,6 +8,7 @@
 #include "apps/ibr/bench_gl.h"
 #include "apps/ibr/commands.h"
 #include "bench/deform_bench.h"
+#include "bench/paper_tables.h"
 #include "render/gl/context.h"
 #include "render/passes/pass.h"
 
@@ -26,13 +27,21 @@ void AddDeformBench(CLI::App& app) {
       ->default_val("../shared/data");
   cmd->add_option("--size", options.size, "image size in pixels")->capture_default_str();
   cmd->add_flag("!--no-peer", options.peer, "skip the OpenVDB peer");
+  cmd->add_flag("--workloads-only", options.workloads_only,
+                "only the wedge cut, forward-mesh peer and spread workloads");
   cmd->callback([] {
     options.Check();
     CheckBenchOutputs("ibr bench deform", options.csv, options.out);
     const auto gl = StartBenchGl("ibr bench deform", options.size);
     const bench::DeformBenchResult result = bench::RunDeformBench(gl->programs, options);
-    fmt::print("{}\n{}\n{}\n{}\n{}", result.frames.Format(), result.summary.Format(),
-               result.sdf.Format(), result.accuracy.Format(), result.implicits.Format());
+    fmt::print("{}\n{}\n{}\n{}\n{}\n{}", result.frames.Format(), result.summary.Format(),
+               result.sdf.Format(), result.accuracy.Format(), result.implicits.Format(),
+               result.spread.Format());
+    fmt::print(
+        "{}\n",
+        bench::Correa2007GoalsTable(result.wedge, result.forward, result.spread_figures).Format());
+    fmt::print("{}\n{}\n{}\n", result.wedge.Line(), result.forward.Line(),
+               result.spread_figures.Line());
     bench::WriteDeformBench(result, options);
     fmt::print("wrote {} and plots in {}\n", options.csv.string(), options.out.string());
   });

@@ -98,6 +98,8 @@ namespace {
 std::vector<std::string> BitDefines(bool orthographic) {
   std::vector<std::string> defines = {fmt::format("DEFORM_CUT_FACE_BIT {}u", kDeformCutFaceBit),
                                       fmt::format("DEFORM_MESH_BIT {}u", kDeformMeshBit),
+                                      fmt::format("DEFORM_REJECTED_SHIFT {}", kDeformRejectedShift),
+                                      fmt::format("DEFORM_REJECTED_MAX {}", kDeformRejectedMax),
                                       fmt::format("DEFORM_SAMPLES_SHIFT {}", kDeformSamplesShift)};
   if (orthographic) defines.push_back("ORTHOGRAPHIC");
   return defines;

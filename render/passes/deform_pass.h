@@ -27,7 +27,9 @@
 //
 // Outcome bits (frame attachment 3): 1 << RayOutcome for ray-cast pixels,
 // kDeformMeshBit for rasterised mesh pixels, kDeformCutFaceBit where the hit
-// is on a cut face; bits 16..31 hold the ray's field samples (saturated).
+// is on a cut face; bits 6..15 hold the crossings the ray rejected (a surface
+// hit inside the cut, a cut boundary outside the body; saturated), bits
+// 16..31 the ray's field samples (saturated).
 #pragma once
 
 #include <cstdint>
@@ -52,6 +54,8 @@ namespace render {
 
 inline constexpr uint32_t kDeformCutFaceBit = 1u << 4;  // the ray hit a cut face (A = 0)
 inline constexpr uint32_t kDeformMeshBit = 1u << 5;     // rasterised, undeformed mesh
+inline constexpr int kDeformRejectedShift = 6;          // rejected crossings in bits 6..15
+inline constexpr uint32_t kDeformRejectedMax = 1023u;   // their saturation
 inline constexpr int kDeformSamplesShift = 16;          // samples per ray in bits 16..31
 
 using core::CutMode;

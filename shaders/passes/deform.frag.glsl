@@ -27,7 +27,8 @@ uniform vec4 u_base_color;
 layout(location = 0) out vec4 o_color;
 layout(location = 1) out float o_depth;    // camera z
 layout(location = 2) out vec4 o_normal;    // world-space unit normal
-// The frame's outcome bits (render/passes/pass.h), ORed per fragment.
+// The frame's outcome bits (render/passes/pass.h; render/passes/deform_pass.h:
+// cut face, mesh, rejected crossings, samples), ORed per fragment.
 layout(r32ui) uniform coherent uimage2D u_outcome_flags;
 
 #include "common/shading.glsl"
@@ -364,7 +365,8 @@ void main() {
   r.t_max = iv.y - iv.x;
   r.step = u_step;
   RayResult res = RayMarchRun(r);
-  uint samples = uint(min(res.samples, 65535)) << DEFORM_SAMPLES_SHIFT;
+  uint samples = (uint(min(res.samples, 65535)) << DEFORM_SAMPLES_SHIFT) |
+                 (uint(min(res.rejected, DEFORM_REJECTED_MAX)) << DEFORM_REJECTED_SHIFT);
   if (res.outcome != RAY_OUTCOME_HIT) {
     // Every ray ORs its outcome and samples, those that find nothing too.
     imageAtomicOr(u_outcome_flags, ivec2(gl_FragCoord.xy), (1u << uint(res.outcome)) | samples);

@@ -3,15 +3,21 @@
 // positive times, areas growing with the region, a summary per mesh and mode,
 // distance-field times for ours and the OpenVDB peer, the accuracy sweep
 // against the double sphere tracer (finite errors within bounds, the finer
-// field no worse than the coarse one), the CSV and plots written; FitLine
-// against an exact line. Times are printed, not asserted.
+// field no worse than the coarse one), the workloads (the wedge cut against
+// the double reference and its ray fraction against a CPU count, the
+// forward-mesh peer's levels, the spread's tessellations), the CSV with its
+// columns and forward-mesh rows, and plots written; FitLine against an exact
+// line. Times are printed, not asserted.
 #include "bench/deform_bench.h"
 
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <cstdlib>
+#include <fstream>
+#include <map>
 
+#include "bench/paper_tables.h"
 #include "tests/support/gl_test.h"
 
 namespace bench {
@@ -37,6 +43,121 @@ TEST(DeformBenchFit, FitLineRecoversAnExactLineAndItsR2) {
   EXPECT_NEAR(noisy.r2, 0.2, 1e-12);
 }
 
+// The goals table: the paper's Table 1 figures computed from its ms (ESK /
+// continuous 75.77 / 89.79 to 126.00 / 83.89; the share of the cut's extra
+// time ESK removes, (cut - ESK) / (cut - continuous), 76 % for the
+// armadillo to 110 % for the hand), ours and whether each goal is met.
+TEST(DeformGoals, PaperFiguresOursAndWhetherMet) {
+  DeformWedgeFigures w;
+  w.mesh = "spot";
+  w.opening_rad = M_PI / 2;
+  w.ratio = 1.25, w.ratio_lo = 1.2, w.ratio_hi = 1.31;
+  w.skip_removes_percent = 40;
+  w.agree_fraction = 0.999;
+  DeformForwardFigures f;
+  f.ray_ms = 10, f.ray_p95 = 0.002;
+  f.equal_level = 2, f.equal_ms = 5, f.equal_triangles = 1000, f.interpolated_ms = 4;
+  DeformSpreadFigures sp;
+  sp.ray_spread = 1.05, sp.mesh_over_plain_max = 1.5, sp.rounds = 6;
+  const Table t = Correa2007GoalsTable(w, f, sp);
+  ASSERT_EQ(t.rows().size(), 6u);
+  const int paper = t.Column("paper"), met = t.Column("met");
+  EXPECT_EQ(t.rows()[0][paper].rfind("0.84-1.50", 0), 0u) << t.rows()[0][paper];
+  EXPECT_EQ(t.rows()[1][paper].rfind("76-110 %", 0), 0u) << t.rows()[1][paper];
+  EXPECT_EQ(t.rows()[0][met], "yes");  // 1.25 <= 1.3
+  EXPECT_EQ(t.rows()[1][met], "no");   // 40 % < 50 %
+  EXPECT_EQ(t.rows()[2][met], "yes");  // 99.9 % >= 99.5 %
+  EXPECT_NE(t.rows()[3][t.Column("note")].find("the forward mesh wins"), std::string::npos);
+  EXPECT_EQ(t.rows()[4][met], "yes");  // 1.05 <= 1.1
+  EXPECT_EQ(t.rows()[5][met], "no");   // 1.5 > 1.2
+}
+
+// The workloads of issue 35 in a quick run: the wedge, the forward mesh and
+// the spread, their values finite and consistent with what they count.
+void CheckWorkloads(const DeformBenchResult& result) {
+  const Table& f = result.frames;
+  const Table wedge = Filtered(
+      f, [&](const std::vector<std::string>& r) { return r[f.Column("workload")] == "wedge"; });
+  ASSERT_EQ(wedge.rows().size(), 8u);
+  std::map<std::string, std::vector<std::string>> by_mode;
+  for (const auto& row : wedge.rows()) {
+    by_mode[row[f.Column("mode")]] = row;
+    EXPECT_GT(Value(wedge, row, "ms"), 0);
+    EXPECT_GT(Value(wedge, row, "samples_per_ray"), 0);
+    EXPECT_GE(Value(wedge, row, "rejected_per_ray"), 0);
+  }
+  for (const char* mode : {"baseline", "cut", "cut_skip", "cut_csg"})
+    ASSERT_TRUE(by_mode.count(mode)) << mode;
+  // Without a cut nothing is rejected; the search rejects the hits inside
+  // the wedge, on a share of the rays the bench placed it for.
+  EXPECT_EQ(Value(wedge, by_mode["baseline"], "rejected_per_ray"), 0);
+  // The cut's shader without the cut marches the baseline's rays: the same
+  // samples, nothing rejected (what makes it the per-sample cost's measure).
+  ASSERT_TRUE(by_mode.count("cut_skip_shader_no_cut"));
+  EXPECT_EQ(Value(wedge, by_mode["cut_skip_shader_no_cut"], "rejected_per_ray"), 0);
+  EXPECT_NEAR(Value(wedge, by_mode["cut_skip_shader_no_cut"], "samples_per_ray"),
+              Value(wedge, by_mode["baseline"], "samples_per_ray"), 0.05);
+  EXPECT_GT(Value(wedge, by_mode["cut_skip"], "rejected_per_ray"), 0);
+  const double fraction = Value(wedge, by_mode["cut_skip"], "cut_ray_fraction");
+  EXPECT_GT(fraction, 0.0);
+  EXPECT_LE(fraction, 1.0);
+  // The same share from the CPU: the baseline's hit points where the
+  // analytic alpha is > 0 (each such ray rejects its first hit).
+  const DeformWedgeFigures& w = result.wedge;
+  EXPECT_NEAR(w.ray_fraction, w.ray_fraction_cpu, 0.05);
+  EXPECT_NEAR(w.ray_fraction, fraction, 1e-4);  // the CSV rounds it
+  // The cut's skip only ever lengthens steps: no more samples than without.
+  EXPECT_LE(w.samples_skip, w.samples_cut);
+  EXPECT_GT(w.samples_cut, w.samples_baseline);
+  EXPECT_TRUE(std::isfinite(w.ratio) && w.ratio > 0) << w.ratio;
+  EXPECT_TRUE(w.skip_removes_percent >= 0 && w.skip_removes_percent <= 100)
+      << w.skip_removes_percent;
+  // Every cut mode draws the wedge where the double reference does.
+  for (const char* mode : {"cut", "cut_skip", "cut_csg"}) {
+    EXPECT_GE(Value(wedge, by_mode[mode], "agree_fraction"), 0.995) << mode;
+    EXPECT_LT(Value(wedge, by_mode[mode], "p95_depth_error"), 0.05) << mode;
+  }
+  EXPECT_EQ(w.Line().rfind("wedge: cut_skip/baseline ", 0), 0u) << w.Line();
+
+  // The forward mesh: the ray pass, then subdivision levels 0, 1, 2, each
+  // four times the triangles of the last and no further from the reference.
+  const Table forward = Filtered(
+      f, [&](const std::vector<std::string>& r) { return r[f.Column("workload")] == "forward"; });
+  ASSERT_EQ(forward.rows().size(), 4u);
+  EXPECT_EQ(forward.rows()[0][f.Column("mode")], "continuous");
+  for (size_t r = 1; r < forward.rows().size(); ++r) {
+    const auto& row = forward.rows()[r];
+    EXPECT_EQ(row[f.Column("mode")], "forward-mesh");
+    EXPECT_GT(Value(forward, row, "ms"), 0);
+    EXPECT_GT(Value(forward, row, "agree_fraction"), 0.95);
+    EXPECT_LT(Value(forward, row, "p95_depth_error"), 0.05);
+    if (r > 1) {
+      EXPECT_EQ(Value(forward, row, "triangles"),
+                4 * Value(forward, forward.rows()[r - 1], "triangles"));
+      EXPECT_LE(Value(forward, row, "p95_depth_error"),
+                Value(forward, forward.rows()[r - 1], "p95_depth_error") * 1.05 + 1e-4);
+    }
+  }
+
+  // The spread: four tessellations of the capped bunny, coarse to fine; the
+  // finest is its own ratio's baseline.
+  const Table& sp = result.spread;
+  ASSERT_EQ(sp.rows().size(), 4u);
+  for (size_t r = 0; r < sp.rows().size(); ++r) {
+    const auto& row = sp.rows()[r];
+    EXPECT_GT(Value(sp, row, "ray_ms"), 0);
+    EXPECT_GT(Value(sp, row, "plain_mesh_ms"), 0);
+    EXPECT_GT(Value(sp, row, "ray_over_finest"), 0);
+    EXPECT_GT(Value(sp, row, "samples_per_ray"), 0);
+    if (r > 0) {
+      EXPECT_GT(Value(sp, row, "triangles"), Value(sp, sp.rows()[r - 1], "triangles"));
+    }
+  }
+  EXPECT_NEAR(Value(sp, sp.rows()[0], "triangles"), 6000, 600);
+  EXPECT_EQ(Value(sp, sp.rows()[3], "ray_over_finest"), 1.0);
+  EXPECT_TRUE(std::isfinite(result.spread_figures.ray_spread));
+}
+
 TEST_F(DeformBenchTest, QuickRunMeasuresEveryMeshModeAndScale) {
   DeformBenchOptions options;
   options.quick = true;
@@ -45,18 +166,20 @@ TEST_F(DeformBenchTest, QuickRunMeasuresEveryMeshModeAndScale) {
   options.csv = dir / "deform.csv";
   options.out = dir;
   const DeformBenchResult result = RunDeformBench(programs(), options);
+  const Table sweep = Filtered(result.frames, [&](const std::vector<std::string>& r) {
+    return r[result.frames.Column("workload")] == "sweep";
+  });
   // 2 meshes x 7 modes x 2 scales.
-  ASSERT_EQ(result.frames.rows().size(), 28u);
-  for (size_t r = 0; r < result.frames.rows().size(); r += 2) {
-    const auto& small = result.frames.rows()[r];
-    const auto& large = result.frames.rows()[r + 1];
-    EXPECT_GT(Value(result.frames, small, "ms"), 0);
+  ASSERT_EQ(sweep.rows().size(), 28u);
+  for (size_t r = 0; r < sweep.rows().size(); r += 2) {
+    const auto& small = sweep.rows()[r];
+    const auto& large = sweep.rows()[r + 1];
+    EXPECT_GT(Value(sweep, small, "ms"), 0);
     // The ray stage is part of the frame.
-    EXPECT_GE(Value(result.frames, small, "ray_ms"), 0);
-    EXPECT_LE(Value(result.frames, small, "ray_ms"), Value(result.frames, small, "ms"));
-    EXPECT_GT(Value(result.frames, large, "area_fraction"),
-              Value(result.frames, small, "area_fraction"))
-        << small[0] << " " << small[2];
+    EXPECT_GE(Value(sweep, small, "ray_ms"), 0);
+    EXPECT_LE(Value(sweep, small, "ray_ms"), Value(sweep, small, "ms"));
+    EXPECT_GT(Value(sweep, large, "area_fraction"), Value(sweep, small, "area_fraction"))
+        << small[1] << " " << small[3];
   }
   // 2 x 7 summaries and one across-mesh row per mode; each continuous mode
   // is its own ratios' baseline.
@@ -119,11 +242,22 @@ TEST_F(DeformBenchTest, QuickRunMeasuresEveryMeshModeAndScale) {
     EXPECT_GT(Value(im, row, "silhouette_iou"), 0.9) << row[im.Column("implicit")];
     EXPECT_LT(Value(im, row, "p95_depth_error"), 0.05) << row[im.Column("implicit")];
   }
+  CheckWorkloads(result);
   WriteDeformBench(result, options);
   for (const char* f : {"deform.csv", "deform_summary.csv", "deform_sdf.csv", "deform_accuracy.csv",
-                        "deform_implicit.csv", "deform_ms_vs_area.png", "deform_sdf_build.png"}) {
+                        "deform_implicit.csv", "deform_spread.csv", "deform_ms_vs_area.png",
+                        "deform_sdf_build.png"}) {
     EXPECT_TRUE(std::filesystem::exists(dir / f)) << f;
   }
+  // The CSV as written: the columns and the peer's rows.
+  std::ifstream csv(dir / "deform.csv");
+  std::string header, line;
+  std::getline(csv, header);
+  for (const char* column : {"samples_per_ray", "rejected_per_ray", "cut_ray_fraction"})
+    EXPECT_NE(header.find(column), std::string::npos) << column;
+  int forward_rows = 0;
+  while (std::getline(csv, line)) forward_rows += line.find(",forward-mesh,") != std::string::npos;
+  EXPECT_GE(forward_rows, 3);
   EXPECT_NO_GL_ERROR();
 }
 
