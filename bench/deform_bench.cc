@@ -13,6 +13,7 @@
 #include <optional>
 #include <sstream>
 
+#include "bench/openvdb_sdf.h"
 #include "bench/paper_tables.h"
 #include "bench/peer.h"
 #include "capture/dataset.h"
@@ -407,6 +408,103 @@ void WriteObj(const core::TriangleMesh& mesh, const std::filesystem::path& path)
   if (!out) core::ThrowInputError("ibr bench deform", "cannot write {}", path.string());
 }
 
+// The distance-field rows of one mesh (DeformBenchResult::sdf): ours, OpenVDB
+// in C++ on the same nodes with their accuracy against CGAL, and (options.peer)
+// the Python peer's time for the same call.
+void AddSdfRows(const BenchMesh& m, const core::MeshDistance& distance, const core::Box3d& full,
+                const std::vector<int>& resolutions, const DeformBenchOptions& options,
+                Table* sdf) {
+  std::vector<std::pair<double, double>> peer;
+  if (options.peer) {
+    const std::filesystem::path obj = options.out / (m.name + "_closed.obj");
+    WriteObj(distance.closed_mesh(), obj);
+    peer = RunOpenVdbPeer(obj, full, resolutions, core::DistanceFieldOptions().exact_band_voxels);
+  }
+  for (size_t r = 0; r < resolutions.size(); ++r) {
+    core::DistanceFieldOptions sdf_options;  // the peers' half width is its exact band
+    sdf_options.resolution = resolutions[r];
+    const auto start = std::chrono::steady_clock::now();
+    const core::DistanceField field = core::BuildDistanceField(distance, full, sdf_options);
+    const double seconds =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    // OpenVDB in C++ on the same nodes, then both against CGAL's exact
+    // signed distance at the same sample nodes.
+    const OpenVdbLevelSet level_set(distance.closed_mesh(), field, sdf_options.exact_band_voxels);
+    SdfAccuracy ours_accuracy, vdb_accuracy;
+    MeasureSdfAccuracy(distance, field, &level_set, 20000, &ours_accuracy, &vdb_accuracy);
+    auto accuracy_cells = [](const SdfAccuracy& a) {
+      return std::vector<std::string>{
+          std::to_string(a.band_samples), std::to_string(a.missing),
+          Num(a.max_error_voxels, 4),     Num(a.p95_error_voxels, 4),
+          std::to_string(a.sign_samples), std::to_string(a.sign_errors)};
+    };
+    auto add_row = [&](const std::string& builder, double row_seconds, double count,
+                       std::vector<std::string> accuracy) {
+      std::vector<std::string> row = {m.name,
+                                      std::to_string(resolutions[r]),
+                                      builder,
+                                      m.name + " " + builder,
+                                      Num(row_seconds, 4),
+                                      Num(count, 0)};
+      row.insert(row.end(), accuracy.begin(), accuracy.end());
+      sdf->AddRow(std::move(row));
+    };
+    add_row("ours", seconds, double(field.distance_queries), accuracy_cells(ours_accuracy));
+    add_row("openvdb", level_set.seconds(), double(level_set.active_voxels()),
+            accuracy_cells(vdb_accuracy));
+    if (options.peer) {
+      // The Python peer times the same call: no accuracy of its own.
+      add_row("openvdb_python", peer[r].first, peer[r].second, std::vector<std::string>(6, "nan"));
+    }
+    fmt::print(
+        stderr,
+        "bench deform: {} distance field {}: {:.3f} s ours (max {:.3g} / p95 {:.3g} "
+        "voxels, {} sign errors), {:.3f} s OpenVDB C++ (max {:.3g} / p95 {:.3g} voxels, "
+        "{} of {} band nodes missing, {} sign errors){}\n",
+        m.name, resolutions[r], seconds, ours_accuracy.max_error_voxels,
+        ours_accuracy.p95_error_voxels, ours_accuracy.sign_errors, level_set.seconds(),
+        vdb_accuracy.max_error_voxels, vdb_accuracy.p95_error_voxels, vdb_accuracy.missing,
+        vdb_accuracy.band_samples, vdb_accuracy.sign_errors,
+        options.peer ? fmt::format(", {:.3f} s OpenVDB Python", peer[r].first) : std::string());
+  }
+}
+
+// The bench's meshes: Spot, fandisk, the cow, the capped bunny (quick: Spot
+// and the bunny).
+std::vector<BenchMesh> BenchMeshes(bool quick) {
+  // (GCC 12 warns falsely about string temporaries in braced lists under ?:.)
+  std::vector<BenchMesh> meshes;
+  meshes.push_back({"spot", "spot.obj", false});
+  if (!quick) {
+    meshes.push_back({"fandisk", "fandisk.obj", false});
+    meshes.push_back({"cow", "cow.obj", false});
+  }
+  meshes.push_back({"bunny-capped", "stanford-bunny.obj", true});
+  return meshes;
+}
+
+// Samples along the longest axis of the distance fields the sdf table builds.
+std::vector<int> SdfResolutions(bool quick) {
+  return quick ? std::vector<int>{32, 64} : std::vector<int>{64, 128, 256};
+}
+
+// The result's tables with their columns and no rows.
+DeformBenchResult EmptyDeformBenchResult() {
+  return DeformBenchResult{
+      Table({"workload", "mesh", "triangles", "mode", "series", "region_scale", "area_fraction",
+             "ms", "ray_ms", "samples_per_ray", "rejected_per_ray", "cut_ray_fraction", "mesh_ms",
+             "mesh_both_sides_ms", "p95_depth_error", "agree_fraction"}),
+      Table({"mesh", "mode", "weighted_ms", "over_continuous", "slope_ms", "intercept_ms", "r2",
+             "ray_weighted_ms", "ray_over_continuous"}),
+      Table({"mesh", "resolution", "builder", "series", "seconds", "queries_or_active",
+             "band_samples", "missing_band_nodes", "max_error_voxels", "p95_error_voxels",
+             "sign_samples", "sign_errors"}),
+      Table(std::vector<std::string>{}),  // accuracy: DeformAccuracy's
+      Table({"mesh", "size_px", "implicit", "resolution", "bytes", "build_seconds", "ms_per_frame",
+             "samples_per_ray", "silhouette_iou", "wrong_pixels", "mean_depth_error",
+             "p95_depth_error"})};
+}
+
 // What accuracy costs (DeformBenchOptions): Spot cut by the solid knife
 // from the oblique view, each knob setting's frame time and its depth and
 // silhouette against the double sphere tracer, traced once; and the two
@@ -533,36 +631,15 @@ DeformBenchResult RunDeformBench(render::ProgramCache& programs,
                                  const DeformBenchOptions& options) {
   options.Check();
   const int size = options.quick ? 128 : options.size;
-  // (GCC 12 warns falsely about string temporaries in braced lists under ?:.)
   std::vector<BenchMesh> meshes;
-  if (!options.workloads_only) {
-    meshes.push_back({"spot", "spot.obj", false});
-    if (!options.quick) {
-      meshes.push_back({"fandisk", "fandisk.obj", false});
-      meshes.push_back({"cow", "cow.obj", false});
-    }
-    meshes.push_back({"bunny-capped", "stanford-bunny.obj", true});
-  }
+  if (!options.workloads_only) meshes = BenchMeshes(options.quick);
   std::vector<double> scales = {0.4, 0.55, 0.7, 0.85, 1.0};
-  std::vector<int> resolutions = {64, 128, 256};
-  if (options.quick) {
-    scales = {0.5, 1.0};
-    resolutions = {32, 64};
-  }
+  const std::vector<int> resolutions = SdfResolutions(options.quick);
+  if (options.quick) scales = {0.5, 1.0};
   const int render_resolution = options.quick ? 64 : 128;
   std::filesystem::create_directories(options.out);
 
-  DeformBenchResult result{
-      Table({"workload", "mesh", "triangles", "mode", "series", "region_scale", "area_fraction",
-             "ms", "ray_ms", "samples_per_ray", "rejected_per_ray", "cut_ray_fraction", "mesh_ms",
-             "mesh_both_sides_ms", "p95_depth_error", "agree_fraction"}),
-      Table({"mesh", "mode", "weighted_ms", "over_continuous", "slope_ms", "intercept_ms", "r2",
-             "ray_weighted_ms", "ray_over_continuous"}),
-      Table({"mesh", "resolution", "builder", "series", "seconds", "queries_or_active"}),
-      Table(std::vector<std::string>{}),  // accuracy: DeformAccuracy's
-      Table({"mesh", "size_px", "implicit", "resolution", "bytes", "build_seconds", "ms_per_frame",
-             "samples_per_ray", "silhouette_iou", "wrong_pixels", "mean_depth_error",
-             "p95_depth_error"})};
+  DeformBenchResult result = EmptyDeformBenchResult();
   // Fitted ms at one common area per mode (the spread across meshes): whole
   // frames, and the ray stage alone (the frame minus the mesh stage).
   std::map<std::string, std::vector<double>> at_common_area, ray_at_common_area;
@@ -581,31 +658,10 @@ DeformBenchResult RunDeformBench(render::ProgramCache& programs,
     std::fprintf(stderr, "bench deform: %s, %zu triangles\n", m.name.c_str(),
                  drawn.triangle_count());
 
-    // Distance-field build times, ours and the peer's, over the full region.
+    // Distance-field build times and accuracy, ours and the peers', over the
+    // full region.
     const core::Box3d full = core::Placement::FromRegion(region).ObjectBounds();
-    std::vector<std::pair<double, double>> peer;
-    if (options.peer) {
-      const std::filesystem::path obj = options.out / (m.name + "_closed.obj");
-      WriteObj(distance.closed_mesh(), obj);
-      peer = RunOpenVdbPeer(obj, full, resolutions, core::DistanceFieldOptions().exact_band_voxels);
-    }
-    for (size_t r = 0; r < resolutions.size(); ++r) {
-      core::DistanceFieldOptions sdf_options;  // the peer's half width is its exact band
-      sdf_options.resolution = resolutions[r];
-      const auto start = std::chrono::steady_clock::now();
-      const core::DistanceField field = core::BuildDistanceField(distance, full, sdf_options);
-      const double seconds =
-          std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-      result.sdf.AddRow({m.name, std::to_string(resolutions[r]), "ours", m.name + " ours",
-                         Num(seconds, 4), std::to_string(field.distance_queries)});
-      if (options.peer) {
-        result.sdf.AddRow({m.name, std::to_string(resolutions[r]), "openvdb", m.name + " openvdb",
-                           Num(peer[r].first, 4), Num(peer[r].second, 0)});
-      }
-      fmt::print(stderr, "bench deform: {} distance field {}: {:.3f} s ours{}\n", m.name,
-                 resolutions[r], seconds,
-                 options.peer ? fmt::format(", {:.3f} s OpenVDB", peer[r].first) : std::string());
-    }
+    AddSdfRows(m, distance, full, resolutions, options, &result.sdf);
 
     // One field for every region scale: the largest box grown by the largest
     // displacement (the knife's and the twist's, at scale 1).
@@ -755,6 +811,23 @@ DeformBenchResult RunDeformBench(render::ProgramCache& programs,
                            spread(values), "", spread(ray_at_common_area[mode])});
   }
   return result;
+}
+
+Table RunDeformSdfBench(const DeformBenchOptions& options) {
+  options.Check();
+  std::filesystem::create_directories(options.out);
+  DeformBenchResult result = EmptyDeformBenchResult();
+  for (const BenchMesh& m : BenchMeshes(options.quick)) {
+    capture::SceneMesh scene = capture::LoadSceneMesh(options.shared_data / "meshes" / m.file);
+    ibr::NormaliseMesh(scene.mesh);
+    glm::vec3 lo, hi;
+    scene.mesh.Bounds(lo, hi);
+    const core::Box3d region = core::Box3d{glm::dvec3(lo), glm::dvec3(hi)}.Grown(0.05);
+    const core::MeshDistance distance(scene.mesh, m.cap_holes, m.file);
+    AddSdfRows(m, distance, core::Placement::FromRegion(region).ObjectBounds(),
+               SdfResolutions(options.quick), options, &result.sdf);
+  }
+  return result.sdf;
 }
 
 void WriteDeformBench(const DeformBenchResult& result, const DeformBenchOptions& options) {

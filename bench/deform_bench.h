@@ -200,7 +200,9 @@ struct DeformBenchOptions {
   // 128 px, two meshes, two region scales, SDF 32/64; accuracy: SDF 32/128,
   // steps of 1 and 4 voxels.
   bool quick = false;
-  bool peer = true;  // time OpenVDB beside our distance field
+  bool peer = true;  // time OpenVDB's Python binding beside our distance field
+  // Only the distance-field table (RunDeformSdfBench, no GL).
+  bool sdf_only = false;
   // Only the wedge, forward-mesh and spread workloads (no region sweep,
   // distance-field builds or accuracy sweep).
   bool workloads_only = false;
@@ -286,7 +288,10 @@ struct DeformBenchResult {
   // mesh, mode, weighted_ms, over_continuous, slope_ms, intercept_ms, r2,
   // ray_weighted_ms, ray_over_continuous (and one "across meshes" row per mode)
   Table summary;
-  Table sdf;  // mesh, resolution, builder, seconds, queries_or_active
+  // mesh, resolution, builder (ours, openvdb: C++, openvdb_python), series,
+  // seconds, queries_or_active, then accuracy against CGAL (bench/openvdb_sdf.h):
+  // band_samples, missing_band_nodes, max/p95_error_voxels, sign_samples, sign_errors
+  Table sdf;
   // mesh, size_px, knob ("resolution" or "step"), value (its setting), mode
   // (step policy), resolution, step_voxels, ms_per_frame, samples_per_ray,
   // silhouette_iou, wrong_pixels, mean_depth_error, p95_depth_error (depth
@@ -324,6 +329,9 @@ DeformBenchResult RunDeformBench(render::ProgramCache& programs, const DeformBen
 // The tables as CSV (frames at options.csv, the others beside it in out:
 // deform_summary.csv, deform_sdf.csv, deform_accuracy.csv, deform_implicit.csv)
 // and the gnuplot PNGs in out.
+// The distance-field table alone (DeformBenchResult::sdf's rows).
+Table RunDeformSdfBench(const DeformBenchOptions& options);
+
 void WriteDeformBench(const DeformBenchResult& result, const DeformBenchOptions& options);
 
 }  // namespace bench

@@ -210,29 +210,84 @@ double DistanceField::Sample(const glm::dvec3& p) const {
 
 namespace {
 
-// Exact signed distances along one row of nodes (i0..i1 inclusive at y = j,
-// z = k). The sign of a
-// node carries over from its neighbour unless the segment between them can
-// cross the surface: a crossing point s gives d_a <= |a - s| and
-// d_b <= |b - s|, so it needs d_a + d_b <= spacing; only then is the
-// (costlier) inside test run. `previous_bound` > 0: node i0 - 1 is already
-// written, its true distance at least that (its own |value| when exact, the
-// band when interpolated), and its sign exact. (1e-6: the stored float
-// distance is rounded.)
-void ExactRow(const MeshDistance& distance, DistanceField& field, int i0, int i1, int j, int k,
-              double previous_bound) {
+// The exact corners of a block near the surface: c[z][y][x] at nodes
+// lo / hi per axis (hi - lo = the block's span).
+struct BlockCorners {
+  double c[2][2][2];
+  glm::ivec3 lo, hi;
+};
+
+// Signed distances along one row of nodes (i0..i1 inclusive at y = j,
+// z = k) of a block near the surface. A node x whose distance is provably
+// beyond the band needs no query: for any node y of known exact distance
+// d_y (the block's corners, the row's last queried node), |d(x)| >= |d_y| -
+// |x - y| =: L, and when L > band no surface separates x from y (every point
+// between them is at least L from it), so x has y's sign and takes max(L,
+// the corners' trilinear |d|): beyond the band, within half a block diagonal
+// above the truth (an interpolated block's bound, LookupOverestimate). The
+// others get an exact query. The sign of a queried node carries over from
+// its neighbour unless the segment between them can cross the surface: a
+// crossing point s gives d_a <= |a - s| and d_b <= |b - s|, so it needs d_a +
+// d_b <= spacing; only then is the (costlier) inside test run.
+// `previous_bound` > 0: node i0 - 1 is already written, its true distance at
+// least that, and its sign exact. (1e-6: the stored float distances are
+// rounded.) Returns the number of closest-point queries made.
+int64_t ExactRow(const MeshDistance& distance, DistanceField& field, const BlockCorners& block,
+                 int i0, int i1, int j, int k, double previous_bound) {
   const size_t row = field.Index(0, j, k);
+  const double margin = field.spacing * 1e-6;
   double bound = previous_bound;
   bool previous_inside = previous_bound > 0 && field.values[row + i0 - 1] < 0;
+  int last_exact = -1;  // the row's last queried node, its distance
+  double last_distance = 0.0;
+  int64_t queries = 0;
   for (int i = i0; i <= i1; ++i) {
-    const glm::dvec3 p = field.origin + field.spacing * glm::dvec3(i, j, k);
+    const glm::ivec3 node(i, j, k);
+    // The best lower bound from an exact node, and that node's sign.
+    double lower = -1.0;
+    bool lower_inside = false;
+    double magnitude[2][2][2];
+    for (int dz = 0; dz < 2; ++dz)
+      for (int dy = 0; dy < 2; ++dy)
+        for (int dx = 0; dx < 2; ++dx) {
+          const double c = block.c[dz][dy][dx];
+          const glm::ivec3 corner(dx ? block.hi.x : block.lo.x, dy ? block.hi.y : block.lo.y,
+                                  dz ? block.hi.z : block.lo.z);
+          const double l =
+              std::abs(c) * (1 - 1e-6) - field.spacing * glm::length(glm::dvec3(node - corner));
+          if (l > lower) {
+            lower = l;
+            lower_inside = c < 0;
+          }
+          magnitude[dz][dy][dx] = std::abs(c);
+        }
+    if (last_exact >= 0) {
+      const double l = last_distance * (1 - 1e-6) - field.spacing * (i - last_exact);
+      if (l > lower) {
+        lower = l;
+        lower_inside = field.values[row + last_exact] < 0;
+      }
+    }
+    if (lower > field.exact_band + margin) {
+      const glm::dvec3 f = glm::dvec3(node - block.lo) / glm::dvec3(block.hi - block.lo);
+      const double d = std::max(lower, Trilinear(magnitude, f));
+      field.values[row + i] = static_cast<float>(lower_inside ? -d : d);
+      bound = lower;
+      previous_inside = lower_inside;
+      continue;
+    }
+    const glm::dvec3 p = field.origin + field.spacing * glm::dvec3(node);
     const double d = distance.UnsignedDistance(p);
+    ++queries;
     const bool inside = (bound > 0 && bound + d > field.spacing * (1 + 1e-6)) ? previous_inside
                                                                               : distance.Inside(p);
     field.values[row + i] = static_cast<float>(inside ? -d : d);
     bound = d;
     previous_inside = inside;
+    last_exact = i;
+    last_distance = d;
   }
+  return queries;
 }
 
 }  // namespace
@@ -325,7 +380,7 @@ DistanceField BuildDistanceField(const MeshDistance& distance, const Box3d& box,
         const int x1 = sx.y == field.size.x - 1 ? sx.y : sx.y - 1;
         const int y1 = sy.y == field.size.y - 1 ? sy.y : sy.y - 1;
         const int z1 = sz.y == field.size.z - 1 ? sz.y : sz.y - 1;
-        double c[2][2][2];
+        double c[2][2][2] = {};
         double nearest = 1e300;
         if (banded) {
           for (int dz = 0; dz < 2; ++dz)
@@ -349,13 +404,22 @@ DistanceField BuildDistanceField(const MeshDistance& distance, const Box3d& box,
               }
           continue;
         }
+        BlockCorners corners_of_block;
+        std::copy(&c[0][0][0], &c[0][0][0] + 8, &corners_of_block.c[0][0][0]);
+        corners_of_block.lo = glm::ivec3(sx.x, sy.x, sz.x);
+        corners_of_block.hi = glm::ivec3(sx.y, sy.y, sz.y);
+        int64_t block_queries = 0;
         for (int k = sz.x; k <= z1; ++k)
           for (int j = sy.x; j <= y1; ++j) {
+            // The node before: exact when within the band, else (exact or
+            // skipped by ExactRow) its true distance exceeds the band.
             const double bound =
-                previous_bound < 0 ? std::abs(double(field.At(sx.x - 1, j, k))) : previous_bound;
-            ExactRow(distance, field, sx.x, x1, j, k, bound);
+                previous_bound < 0
+                    ? std::min(std::abs(double(field.At(sx.x - 1, j, k))), field.exact_band)
+                    : previous_bound;
+            block_queries += ExactRow(distance, field, corners_of_block, sx.x, x1, j, k, bound);
           }
-        queries += static_cast<int64_t>(x1 - sx.x + 1) * (y1 - sy.x + 1) * (z1 - sz.x + 1);
+        queries += block_queries;
       }
     }
     const int done = ++done_slabs;

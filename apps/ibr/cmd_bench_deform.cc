@@ -26,12 +26,21 @@ void AddDeformBench(CLI::App& app) {
   cmd->add_option("--shared-data", options.shared_data, "the shared data folder (meshes/)")
       ->default_val("../shared/data");
   cmd->add_option("--size", options.size, "image size in pixels")->capture_default_str();
-  cmd->add_flag("!--no-peer", options.peer, "skip the OpenVDB peer");
+  cmd->add_flag("!--no-peer", options.peer, "skip the OpenVDB Python peer");
+  cmd->add_flag("--sdf-only", options.sdf_only,
+                "only the distance-field table (ours vs OpenVDB: build time, accuracy) to --csv");
   cmd->add_flag("--workloads-only", options.workloads_only,
                 "only the wedge cut, forward-mesh peer and spread workloads");
   cmd->callback([] {
     options.Check();
     CheckBenchOutputs("ibr bench deform", options.csv, options.out);
+    if (options.sdf_only) {
+      const bench::Table sdf = bench::RunDeformSdfBench(options);
+      fmt::print("{}", sdf.Format());
+      sdf.WriteCsv(options.csv);
+      fmt::print("wrote {}\n", options.csv.string());
+      return;
+    }
     const auto gl = StartBenchGl("ibr bench deform", options.size);
     const bench::DeformBenchResult result = bench::RunDeformBench(gl->programs, options);
     fmt::print("{}\n{}\n{}\n{}\n{}\n{}", result.frames.Format(), result.summary.Format(),

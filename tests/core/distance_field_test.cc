@@ -8,11 +8,13 @@
 
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
 #include <numbers>
 #include <random>
 
 #include "core/error.h"
 #include "core/mesh.h"
+#include "core/ply_io.h"
 
 namespace core {
 namespace {
@@ -126,6 +128,138 @@ TEST(DistanceField, BoxMatchesBruteForce) {
   // Grid nodes on the faces' planes and sharp edges (the twisted-box test's mesh).
   ExpectMatchesBruteForce(MakeBox(glm::vec3(0.3f, 0.3f, 0.4f)), "box", 40);
   ExpectMatchesBruteForce(MakeBox(glm::vec3(0.3f, 0.3f, 0.4f)), "box (no band)", 40, 0.0);
+}
+
+// Analytic truth, independent of any triangle code: a finely tessellated
+// sphere against |p| - r and a box against the box's exact signed distance.
+// In the band the error is the tessellation's (sphere: the inscribed
+// polyhedron lies within r (1 - cos(pi / rings)) of the sphere) plus float
+// rounding; beyond it within the block bound (half a 4^3 block's diagonal);
+// every node's sign right where the truth is farther than that error.
+struct AnalyticErrors {
+  double band_max_voxels = 0, far_max_voxels = 0;
+  int sign_errors = 0, band_nodes = 0;
+};
+template <typename Truth>
+AnalyticErrors CompareAnalytic(const DistanceField& field, double surface_error,
+                               const Truth& truth) {
+  AnalyticErrors e;
+  for (int k = 0; k < field.size.z; ++k)
+    for (int j = 0; j < field.size.y; ++j)
+      for (int i = 0; i < field.size.x; ++i) {
+        const double t = truth(field.origin + field.spacing * glm::dvec3(i, j, k));
+        const double got = field.At(i, j, k);
+        const double error_voxels = std::abs(got - t) / field.spacing;
+        if (std::abs(t) <= field.exact_band - surface_error) {
+          ++e.band_nodes;
+          e.band_max_voxels = std::max(e.band_max_voxels, error_voxels);
+        } else if (std::abs(t) > field.exact_band + surface_error) {
+          e.far_max_voxels = std::max(e.far_max_voxels, error_voxels);
+        }
+        if (std::abs(t) > surface_error + 1e-6 && (t < 0) != (got < 0)) ++e.sign_errors;
+      }
+  return e;
+}
+
+TEST(DistanceField, AnalyticSphereAndBoxWithinVoxelBounds) {
+  const double half_block_diagonal_voxels = 0.5 * std::sqrt(3.0) * 4;
+  {
+    const float r = 0.5f;
+    const int rings = 64;
+    const TriangleMesh sphere = MakeSphere(r, rings, 2 * rings);
+    DistanceFieldOptions options;
+    options.resolution = 64;
+    options.threads = 2;
+    const DistanceField field =
+        BuildDistanceField(sphere, Box3d{{-0.7, -0.65, -0.6}, {0.6, 0.7, 0.75}}, options, "sphere");
+    const double tessellation = r * (1 - std::cos(std::numbers::pi / rings));
+    const AnalyticErrors e = CompareAnalytic(
+        field, tessellation, [&](const glm::dvec3& p) { return glm::length(p) - r; });
+    const double bound_voxels = tessellation / field.spacing + 1e-4;
+    std::printf(
+        "analytic sphere r %.2f, %d rings, resolution %d: band max error %.4f voxels (bound "
+        "%.4f) over %d nodes, beyond the band %.3f voxels (bound %.3f), %d sign errors\n",
+        r, rings, options.resolution, e.band_max_voxels, bound_voxels, e.band_nodes,
+        e.far_max_voxels, half_block_diagonal_voxels + bound_voxels, e.sign_errors);
+    EXPECT_GT(e.band_nodes, 1000);
+    EXPECT_LE(e.band_max_voxels, bound_voxels);
+    EXPECT_LE(e.far_max_voxels, half_block_diagonal_voxels + bound_voxels);
+    EXPECT_EQ(e.sign_errors, 0);
+  }
+  {
+    const glm::dvec3 half(0.3, 0.2, 0.45);
+    const TriangleMesh box = MakeBox(glm::vec3(half));
+    DistanceFieldOptions options;
+    options.resolution = 64;
+    options.threads = 2;
+    const DistanceField field =
+        BuildDistanceField(box, Box3d{{-0.55, -0.5, -0.7}, {0.6, 0.45, 0.65}}, options, "box");
+    // The exact signed distance of an axis-aligned box (Quilez).
+    const AnalyticErrors e = CompareAnalytic(field, 0.0, [&](const glm::dvec3& p) {
+      const glm::dvec3 q = glm::abs(p) - half;
+      return glm::length(glm::max(q, 0.0)) + std::min(std::max({q.x, q.y, q.z}), 0.0);
+    });
+    std::printf(
+        "analytic box: band max error %.2g voxels over %d nodes, beyond the band %.3f voxels, %d "
+        "sign errors\n",
+        e.band_max_voxels, e.band_nodes, e.far_max_voxels, e.sign_errors);
+    EXPECT_GT(e.band_nodes, 1000);
+    EXPECT_LE(e.band_max_voxels, 1e-4);  // float storage only
+    EXPECT_LE(e.far_max_voxels, half_block_diagonal_voxels);
+    EXPECT_EQ(e.sign_errors, 0);
+  }
+}
+
+// A real scanner mesh (MeshLab's screwdriver.ply, closed: tests/data/real/
+// meshes/README.md): at band nodes and at nodes spread over the grid, the
+// field's sign equals the generalised winding number's and its band values
+// the brute-force distance.
+TEST(DistanceField, RealScannerMeshSignsMatchWindingNumber) {
+  const std::filesystem::path file =
+      std::filesystem::path(IBR_REAL_DATA_DIR) / "meshes" / "screwdriver.ply";
+  const TriangleMesh mesh = ReadPly(file).mesh;
+  ASSERT_EQ(FindMeshBoundary(mesh).boundary_edges, 0u) << "the file must be closed";
+  glm::vec3 lo, hi;
+  mesh.Bounds(lo, hi);
+  const double margin = 0.1 * glm::length(glm::dvec3(hi - lo));
+  DistanceFieldOptions options;
+  options.resolution = 64;
+  options.threads = 2;
+  const DistanceField field = BuildDistanceField(
+      mesh, Box3d{glm::dvec3(lo), glm::dvec3(hi)}.Grown(margin), options, file.string());
+  // Every 7th band node and as many nodes drawn over the grid.
+  std::vector<glm::ivec3> nodes;
+  for (int k = 0; k < field.size.z; ++k)
+    for (int j = 0; j < field.size.y; ++j)
+      for (int i = 0; i < field.size.x; ++i) {
+        if (std::abs(field.At(i, j, k)) <= field.exact_band && (i + j + k) % 7 == 0)
+          nodes.emplace_back(i, j, k);
+      }
+  const size_t band_nodes = nodes.size();
+  std::mt19937 random(7);
+  for (size_t n = 0; n < band_nodes; ++n) {
+    nodes.emplace_back(std::uniform_int_distribution<int>(0, field.size.x - 1)(random),
+                       std::uniform_int_distribution<int>(0, field.size.y - 1)(random),
+                       std::uniform_int_distribution<int>(0, field.size.z - 1)(random));
+  }
+  int sign_errors = 0;
+  double band_max_voxels = 0.0;
+  for (size_t n = 0; n < nodes.size(); ++n) {
+    const glm::ivec3 v = nodes[n];
+    const double truth = BruteSignedDistance(mesh, field.origin + field.spacing * glm::dvec3(v));
+    const double got = field.At(v.x, v.y, v.z);
+    if (std::abs(truth) > 1e-6 && (truth < 0) != (got < 0)) ++sign_errors;
+    if (n < band_nodes)
+      band_max_voxels = std::max(band_max_voxels, std::abs(got - truth) / field.spacing);
+  }
+  std::printf(
+      "screwdriver.ply: %zu triangles, %dx%dx%d field: %zu band and %zu spread nodes, band max "
+      "error %.2g voxels, %d sign errors\n",
+      mesh.triangle_count(), field.size.x, field.size.y, field.size.z, band_nodes, band_nodes,
+      band_max_voxels, sign_errors);
+  EXPECT_GT(band_nodes, 500u);
+  EXPECT_EQ(sign_errors, 0);
+  EXPECT_LE(band_max_voxels, 1e-4);  // float storage only
 }
 
 TEST(DistanceField, FarBlocksKeepTheSignAndStayBeyondTheBand) {
