@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <map>
 #include <memory>
 #include <string>
@@ -96,9 +97,20 @@ std::vector<ibr::ViewCamera> Views(const ibr::MapSet& maps, int count, int size)
 // under `cache_dir`: ibr's program binaries (IBR_CACHE_DIR) and Mesa's own
 // cache (MESA_SHADER_CACHE_DIR; a MESA_SHADER_CACHE_DISABLE of this process
 // is dropped, so the child runs as ibr does by default).
+// The executable the first-image children run: this one when it is `ibr`,
+// else $IBR_BINARY (tests set it; a test executable would run itself again);
+// empty when neither.
+fs::path FirstImageBinary() {
+  const fs::path self = fs::read_symlink("/proc/self/exe");
+  if (self.filename() == "ibr") return self;
+  const char* env = std::getenv("IBR_BINARY");
+  if (env != nullptr && fs::is_regular_file(env)) return env;
+  return {};
+}
+
 FirstImageTimes RunFirstImageChild(const FirstImageOptions& options, const fs::path& cache_dir) {
   constexpr const char* kWhere = "bench depth-object: first image";
-  const fs::path self = fs::read_symlink("/proc/self/exe");
+  const fs::path self = FirstImageBinary();
   fs::create_directories(cache_dir / "mesa");  // Mesa makes only the last folder
   const std::string command = fmt::format(
       "env -u MESA_SHADER_CACHE_DISABLE MESA_SHADER_CACHE_DIR={} IBR_CACHE_DIR={} {} "
@@ -127,6 +139,55 @@ FirstImageTimes RunFirstImageChild(const FirstImageOptions& options, const fs::p
     at = end + 1;
   }
   core::ThrowInputError(kWhere, "'{}' failed (status {}): {}", command, status, output);
+}
+
+// The default depth-object path (what `ibr render` and `ibr view` draw
+// unless a scene says otherwise): the ray march with empty-space skipping,
+// sub-texel depth and the automatic step count.
+ibr::DepthObjectOptions DefaultPathOptions(const Object& object) {
+  ibr::DepthObjectOptions o;
+  o.slicing = ibr::Slicing::kRay;
+  o.subtexel_depth = true;
+  o.texturing = object.textured ? ibr::Texturing::kViewDependent : ibr::Texturing::kNone;
+  return o;
+}
+
+// Issue 36, item 3: the default path against the TSDF peer (1/256; --quick:
+// the one TSDF it runs) at the sweep's largest size, in one run.
+struct PeerGoals {
+  int size = 0;
+  MethodRow ours;                                // the default path from the peer's views
+  MethodRow peer;                                // the TSDF row
+  std::map<std::string, double> first_image_ms;  // "cold" / "warm": the default path's medians
+};
+
+constexpr double kStillFrameGoal = 1.0;  // ours / TSDF still frame, at a better p95
+constexpr double kFirstImageGoal = 0.1;  // ours / TSDF time to first image
+
+// Rows still frame, first image cold and warm: our figure, the peer's, the
+// ratio, the goal and whether it is met. A measure not taken is nan (not met).
+void AddGoalRows(Table& table, const std::string& object, const PeerGoals& g) {
+  if (g.peer.method.empty()) return;
+  const double nan = std::nan("");
+  const double p95 = g.ours.accuracy.depth.p95, peer_p95 = g.peer.accuracy.depth.p95;
+  const auto add = [&](const std::string& measure, double ours, double peer, double goal,
+                       bool better_p95) {
+    const double ratio = ours / peer;
+    const bool met = std::isfinite(ratio) && ratio <= goal && (!better_p95 || p95 < peer_p95);
+    table.AddRow({object, std::to_string(g.size), measure, Num(ours, 1), g.peer.method,
+                  Num(peer, 1), Num(ratio, 3), Num(goal, 2), Num(p95, 5), Num(peer_p95, 5),
+                  met ? "yes" : "no"});
+    fmt::print(stderr, "{:7} {:18} {:9.1f} ms against {} {:9.1f} ms: {:.3f} (goal <= {}{}): {}\n",
+               object, measure, ours, g.peer.method, peer, ratio, goal,
+               better_p95 ? ", better p95" : "", met ? "met" : "not met");
+  };
+  add("still_frame", g.ours.median_frame_ms, g.peer.median_frame_ms, kStillFrameGoal, true);
+  const double peer_first = 1000.0 * g.peer.time_to_first_image_s;
+  for (const char* cache : {"cold", "warm"}) {
+    const auto it = g.first_image_ms.find(cache);
+    add(fmt::format("first_image_{}", cache), it == g.first_image_ms.end() ? nan : it->second,
+        peer_first, kFirstImageGoal, false);
+  }
 }
 
 }  // namespace
@@ -226,6 +287,9 @@ DepthObjectBenchResult RunDepthObjectBench(const DepthObjectBenchOptions& option
   Table first_image({"object", "method", "size", "cache", "runs", "upload_ms", "first_frame_ms",
                      "second_frame_ms", "time_to_first_image_ms", "programs", "programs_loaded",
                      "tsdf_ms", "over_tsdf"});
+  // The goals of issue 36, item 3 (AddGoalRows).
+  Table peer_goals({"object", "size", "measure", "depth_object_ms", "peer", "peer_ms", "ratio",
+                    "goal_ratio", "depth_object_p95", "peer_p95", "goal_met"});
 
   std::vector<Object> objects = Objects(options.quick);
   if (!options.objects.empty()) {
@@ -474,6 +538,7 @@ DepthObjectBenchResult RunDepthObjectBench(const DepthObjectBenchOptions& option
       }
     }
 
+    PeerGoals goals;
     if (object.name == "bunny" || options.quick) {
       // The peer on a perspective capture of the same object (Open3D takes
       // pinhole cameras only), judged from the same novel views.
@@ -486,14 +551,23 @@ DepthObjectBenchResult RunDepthObjectBench(const DepthObjectBenchOptions& option
       try {
         const Open3dRun run = RunOpen3dPeer(work / object.name / "sphere6", po);
         const int size = sizes.back();
-        const std::vector<ibr::ViewCamera> views = Views(maps, 2, size);
+        const std::vector<ibr::ViewCamera> views = Views(maps, options.quick ? 2 : 6, size);
         std::vector<core::ImageF> truth;
         for (const ibr::ViewCamera& v : views)
           truth.push_back(Truth(programs, object.scene, v, bounds).depth);
         capture::Bounds draw = bounds;
         draw.min -= 0.1 * edge;
         draw.max += 0.1 * edge;
+        // The still frame of the default path, timed and judged exactly as the
+        // peer's meshes are (TimeViews: the median of the views after the
+        // first, each with its depth readback) from the same views.
+        goals.ours = EvaluateDepthObject(programs, maps, DefaultPathOptions(object), views, truth,
+                                         edge, "depth-object default");
+        goals.size = size;
         for (const MethodRow& r : EvaluatePeer(programs, run, views, truth, draw, edge)) {
+          if (r.method.starts_with("open3d tsdf:") &&
+              (goals.peer.method.empty() || r.method == "open3d tsdf:256"))
+            goals.peer = r;
           table.AddRow({object.name, r.method, "0", std::to_string(size), Num(r.median_frame_ms, 2),
                         "nan", Num(r.time_to_first_image_s, 3), Num(r.accuracy.iou_mean, 4),
                         Num(r.accuracy.iou_min, 4), Num(r.accuracy.depth.mean, 5),
@@ -510,10 +584,10 @@ DepthObjectBenchResult RunDepthObjectBench(const DepthObjectBenchOptions& option
     }
 
     // The children are `ibr bench first-image`: only the ibr binary can
-    // spawn them (a test executable would run itself again).
-    const bool can_spawn = fs::read_symlink("/proc/self/exe").filename() == "ibr";
+    // spawn them (FirstImageBinary).
+    const bool can_spawn = !FirstImageBinary().empty();
     if (!can_spawn && (object.name == "bunny" || options.quick))
-      fmt::print(stderr, "{}: time to first image skipped (not run from the ibr binary)\n",
+      fmt::print(stderr, "{}: time to first image skipped (no ibr binary; set IBR_BINARY)\n",
                  object.name);
     if (can_spawn && (object.name == "bunny" || options.quick)) {
       // Time to first image, cold and warm (issue 12, item 4), each run a
@@ -542,7 +616,8 @@ DepthObjectBenchResult RunDepthObjectBench(const DepthObjectBenchOptions& option
       for (const Path& path : paths) {
         // --quick: the default path only (each run is three processes that
         // compile every program cold at least once).
-        if (options.quick && std::string_view(path.name) != "ray-skip") continue;
+        const bool default_path = std::string_view(path.name) == "ray-skip-subtexel";
+        if (options.quick && !default_path) continue;
         FirstImageOptions child;
         child.dataset = work / object.name / "cube";
         child.slicing = ibr::SlicingName(path.slicing);
@@ -568,6 +643,7 @@ DepthObjectBenchResult RunDepthObjectBench(const DepthObjectBenchOptions& option
             return v[v.size() / 2];
           };
           const double total = median([](const FirstImageTimes& t) { return t.total_ms(); });
+          if (default_path) goals.first_image_ms[cache] = total;
           const std::string method = fmt::format("depth-object {}", path.name);
           first_image.AddRow(
               {object.name, method, std::to_string(size), cache, std::to_string(runs),
@@ -583,6 +659,7 @@ DepthObjectBenchResult RunDepthObjectBench(const DepthObjectBenchOptions& option
         }
       }
     }
+    AddGoalRows(peer_goals, object.name, goals);
   }
   fs::remove_all(work);
 
@@ -608,9 +685,11 @@ DepthObjectBenchResult RunDepthObjectBench(const DepthObjectBenchOptions& option
   fmt::print("\n{}\n", first_image.Format());
   profile.WriteCsv(stem.string() + "_profile.csv");
   fmt::print("\n{}\n", profile.Format());
+  peer_goals.WriteCsv(stem.string() + "_peer_goals.csv");
+  fmt::print("\n{}\n", peer_goals.Format());
   fmt::print(
       "wrote {} (+ _fig12_coverage.csv, _fig12_slices.csv, _accuracy.csv, _first_image.csv, "
-      "_profile.csv)\n",
+      "_profile.csv, _peer_goals.csv)\n",
       options.csv.string());
   if (!options.out.empty()) {
     fs::create_directories(options.out);
@@ -638,7 +717,7 @@ DepthObjectBenchResult RunDepthObjectBench(const DepthObjectBenchOptions& option
   }
   return {std::move(table),      std::move(accuracy),    std::move(fig_coverage),
           std::move(fig_slices), std::move(first_image), std::move(map_sweep),
-          std::move(profile)};
+          std::move(profile),    std::move(peer_goals)};
 }
 
 }  // namespace bench

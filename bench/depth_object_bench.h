@@ -61,6 +61,12 @@ struct DepthObjectBenchResult {
   // ray path at its defaults against variants with one part taken away
   // (object, size, auto_steps, variant, ms_per_frame, ratio_to_default)
   Table profile;
+  // Issue 36, item 3: the default path against the TSDF peer at the largest
+  // size: still frame (goal: ratio <= 1 at a better p95) and time to first
+  // image cold and warm (goal: ratio <= 0.1); object, size, measure,
+  // depth_object_ms, peer, peer_ms, ratio, goal_ratio, depth_object_p95,
+  // peer_p95, goal_met
+  Table peer_goals;
 };
 
 // Time to first image in a fresh process (issue 12, item 4): `ibr bench

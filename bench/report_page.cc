@@ -648,6 +648,13 @@ ReportResult WriteReport(const ReportOptions& options) {
         "the TSDF peer's:");
     page.AddTable(depth_object->first_image);
   }
+  if (!depth_object->peer_goals.rows().empty()) {
+    page.Text(
+        "The default path against the TSDF peer at 1/256 in the same run (issue 36): the still "
+        "frame's goal is a ratio <= 1 at a better p95 depth error, the first image's <= 0.1, "
+        "cold (empty caches) and warm (`depth_object/depth_object_peer_goals.csv`):");
+    page.AddTable(depth_object->peer_goals);
+  }
   if (!depth_object->maps.cost.rows().empty()) {
     page.Text(
         "The cost per map (ring captures of the first object, one view; "

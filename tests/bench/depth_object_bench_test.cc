@@ -124,6 +124,30 @@ TEST(DepthObjectBench, QuickRunWritesFiniteTableAndPlots) {
   for (const char* png : {"maps_cost.png", "maps_subset_error.png"}) {
     EXPECT_GT(fs::exists(o.out / png) ? fs::file_size(o.out / png) : 0, 1000u) << png;
   }
+  // The goals against the TSDF peer (issue 36): still frame, first image cold
+  // and warm (the children run $IBR_BINARY), each a finite positive ratio of
+  // the two figures, the goal stated and judged (not asserted: speed).
+  const auto goals = ReadCsv(stem.string() + "_peer_goals.csv");
+  const std::vector<std::string> goal_columns = {
+      "object", "size",       "measure",          "depth_object_ms", "peer",    "peer_ms",
+      "ratio",  "goal_ratio", "depth_object_p95", "peer_p95",        "goal_met"};
+  ASSERT_EQ(goals.size(), 4u);
+  ASSERT_EQ(goals[0], goal_columns);
+  const std::vector<std::string> measures = {"still_frame", "first_image_cold", "first_image_warm"};
+  for (size_t r = 1; r < goals.size(); ++r) {
+    ASSERT_EQ(goals[r].size(), goal_columns.size());
+    EXPECT_EQ(goals[r][2], measures[r - 1]);
+    EXPECT_EQ(goals[r][4], "open3d tsdf:64");
+    const double ours = std::stod(goals[r][3]), peer = std::stod(goals[r][5]);
+    const double ratio = std::stod(goals[r][6]);
+    EXPECT_TRUE(std::isfinite(ours) && ours > 0) << goals[r][2];
+    EXPECT_TRUE(std::isfinite(peer) && peer > 0) << goals[r][2];
+    // The CSV rounds the times to 0.1 ms and the ratio to 0.001.
+    EXPECT_NEAR(ratio, ours / peer, 1e-3 + ratio * (0.05 / ours + 0.05 / peer)) << goals[r][2];
+    EXPECT_DOUBLE_EQ(std::stod(goals[r][7]), r == 1 ? 1.0 : 0.1);
+    EXPECT_GT(std::stod(goals[r][8]), 0) << "the default path's p95";
+    EXPECT_TRUE(goals[r][10] == "yes" || goals[r][10] == "no");
+  }
 }
 
 }  // namespace
