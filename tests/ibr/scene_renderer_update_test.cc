@@ -80,6 +80,14 @@ int Drawn(const SceneFrame& f) {
 
 class SceneRendererUpdateTest : public test_support::GlTest {
  protected:
+  // The field rebuilt once (two builds in all) to 1.5 x the new reach, and the
+  // frame then equals a fresh build.
+  void ExpectFieldRebuiltOnceForAmount04(const LoadedScene& loaded, SceneRenderer& renderer) {
+    const DeformObjectData& d = *loaded.objects[0].deform;
+    EXPECT_EQ(d.implicit_builds, 2);
+    EXPECT_NEAR(d.sdf_reach, 1.5 * d.max_displacement, 1e-12);
+    ExpectFreshBuildOfAmount04(loaded, renderer.Render(loaded.views.front().view));
+  }
   // `after`, a frame of `loaded` updated to a solid knife of amount 0.4,
   // equals a fresh build of the options the update ended with.
   void ExpectFreshBuildOfAmount04(const LoadedScene& loaded, const SceneFrame& after) {
@@ -168,10 +176,7 @@ TEST_F(SceneRendererUpdateTest, DeformAmountBeyondTheFieldsReachRebuildsIt) {
   const DeformObjectChange change = renderer.UpdateDeform(loaded, 0, options);
   EXPECT_TRUE(change.implicit);
   EXPECT_TRUE(change.deformation);
-  const DeformObjectData& d = *loaded.objects[0].deform;
-  EXPECT_EQ(d.implicit_builds, 2);
-  EXPECT_NEAR(d.sdf_reach, 1.5 * d.max_displacement, 1e-12);
-  ExpectFreshBuildOfAmount04(loaded, renderer.Render(loaded.views.front().view));
+  ExpectFieldRebuiltOnceForAmount04(loaded, renderer);
 }
 
 // Deferred (the viewer while a slider moves): the same outgrown reach keeps
@@ -196,10 +201,7 @@ TEST_F(SceneRendererUpdateTest, DeferredReachKeepsTheFieldUntilTheNextUpdate) {
       renderer.UpdateDeform(loaded, 0, loaded.objects[0].deform_options);
   EXPECT_TRUE(settled.implicit);
   EXPECT_FALSE(settled.implicit_deferred);
-  const DeformObjectData& d = *loaded.objects[0].deform;
-  EXPECT_EQ(d.implicit_builds, 2);
-  EXPECT_NEAR(d.sdf_reach, 1.5 * d.max_displacement, 1e-12);
-  ExpectFreshBuildOfAmount04(loaded, renderer.Render(loaded.views.front().view));
+  ExpectFieldRebuiltOnceForAmount04(loaded, renderer);
 }
 
 // The cut mode alone: no data rebuilt, and the frame equals a plain fresh
