@@ -219,16 +219,14 @@ FirstImageTimes MeasureFirstImage(const FirstImageOptions& options) {
   ibr::DepthObjectRenderer renderer(programs, maps);
   t.upload_ms = upload.ElapsedMs();
   core::Stopwatch first;
-  const ibr::DepthObjectFrame frame = renderer.RenderImages(view, o);
+  const render::Frame frame = renderer.RenderFrame(view, o);
   t.first_frame_ms = first.ElapsedMs();
   core::Stopwatch second;
-  renderer.RenderImages(view, o);
+  renderer.RenderFrame(view, o);
   t.second_frame_ms = second.ElapsedMs();
   t.programs = static_cast<int>(programs.size());
   t.programs_loaded = programs.disk() ? programs.disk()->stats().hits : 0;
-  int64_t covered = 0;
-  for (uint8_t m : frame.mask.values()) covered += m > 0;
-  if (covered == 0)
+  if (frame.CoveredPixels() == 0)
     core::ThrowInputError("bench first-image", "'{}': the first image shows nothing",
                           options.dataset.string());
   return t;
@@ -354,7 +352,7 @@ DepthObjectBenchResult RunDepthObjectBench(const DepthObjectBenchOptions& option
           o.slice_path = path.slice_path;
           o.texturing = object.textured ? ibr::Texturing::kViewDependent : ibr::Texturing::kNone;
           core::Stopwatch first;
-          ibr::DepthObjectFrame frame0 = renderer.RenderImages(views[0], o);
+          render::Frame frame0 = renderer.RenderFrame(views[0], o);
           const double first_ms = first.ElapsedMs();
           const render::RenderTarget target(ibr::DepthObjectRenderer::OutputTargetOptions(
               views[0].camera.width, views[0].camera.height));
@@ -400,8 +398,7 @@ DepthObjectBenchResult RunDepthObjectBench(const DepthObjectBenchOptions& option
           std::vector<ViewMetrics> acc;
           double psnr = 0;
           for (size_t i = 0; i < views.size(); ++i) {
-            const ibr::DepthObjectFrame f =
-                i == 0 ? std::move(frame0) : renderer.RenderImages(views[i], o);
+            const render::Frame f = i == 0 ? std::move(frame0) : renderer.RenderFrame(views[i], o);
             acc.push_back(CompareDepth(f.depth, truth[i].depth, edge));
             if (object.textured)
               psnr += core::Psnr(f.color, truth[i].color,
@@ -445,7 +442,7 @@ DepthObjectBenchResult RunDepthObjectBench(const DepthObjectBenchOptions& option
       const auto variant = [&](auto change) {
         ibr::DepthObjectOptions o = base;
         change(o);
-        renderer.RenderImages(view, o);  // programs built before timing
+        renderer.RenderFrame(view, o);  // programs built before timing
         return render::TimeFrames([&] { renderer.Render(view, o, target); }, timer).median_ms;
       };
       const double full = variant([](ibr::DepthObjectOptions&) {});
@@ -486,7 +483,7 @@ DepthObjectBenchResult RunDepthObjectBench(const DepthObjectBenchOptions& option
         o.texturing = ibr::Texturing::kNone;
         std::vector<ViewMetrics> acc;
         for (size_t i = 0; i < views.size(); ++i) {
-          acc.push_back(CompareDepth(renderer.RenderImages(views[i], o).depth, truth[i], edge));
+          acc.push_back(CompareDepth(renderer.RenderFrame(views[i], o).depth, truth[i], edge));
         }
         const PooledMetrics a = Pool(acc);
         const int slices = ibr::PrepareFrame(renderer.maps(), views[0], o).slice_count;
@@ -514,9 +511,8 @@ DepthObjectBenchResult RunDepthObjectBench(const DepthObjectBenchOptions& option
         o.slices = 128;
         for (int size : fig_sizes) {
           const ibr::ViewCamera v = Views(maps, 1, size)[0];
-          const ibr::DepthObjectFrame f = renderer.RenderImages(v, o);
-          int64_t covered = 0;
-          for (uint8_t m : f.mask.values()) covered += m > 0;
+          const render::Frame f = renderer.RenderFrame(v, o);
+          const int64_t covered = f.CoveredPixels();
           const render::RenderTarget target(
               ibr::DepthObjectRenderer::OutputTargetOptions(size, size));
           const core::TimingStats t =

@@ -72,7 +72,7 @@ struct DepthObjectBenchResult {
 // Time to first image in a fresh process (issue 12, item 4): `ibr bench
 // first-image` creates its context and reads a cube-rig dataset (neither
 // timed), then times the map upload (DepthObjectRenderer) and the program
-// builds + first frame with readback (RenderImages) from the sweep's first
+// builds + first frame with readback (RenderFrame) from the sweep's first
 // novel view. RunDepthObjectBench spawns it with a temporary cache folder
 // (ibr's program binaries and Mesa's shader cache both in it): empty = cold,
 // filled by the previous run = warm.
@@ -87,7 +87,7 @@ struct FirstImageOptions {
 
 struct FirstImageTimes {
   double upload_ms = 0;        // DepthObjectRenderer construction
-  double first_frame_ms = 0;   // the first RenderImages: program builds, draw, readback
+  double first_frame_ms = 0;   // the first RenderFrame: program builds, draw, readback
   double second_frame_ms = 0;  // the same frame again (no builds): what the first's rest costs
   int programs = 0;            // programs the first image needed
   int programs_loaded = 0;     // of them, loaded from binaries of an earlier run

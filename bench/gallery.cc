@@ -223,7 +223,7 @@ void DepthObjectEntries(render::ProgramCache& programs, const GalleryOptions& op
       o.slicing = v.slicing;
       o.slices = v.slices;  // 0 = auto (Kautz-Seidel sec. 3.4)
       o.texturing = ibr::Texturing::kNone;
-      const ibr::DepthObjectFrame frame = renderer.RenderImages(view, o);
+      const render::Frame frame = renderer.RenderFrame(view, o);
       const core::ViewMetrics m = core::CompareDepth(frame.depth, truth.depth, edge);
       out.push_back(
           {"depth_object",
@@ -232,7 +232,8 @@ void DepthObjectEntries(render::ProgramCache& programs, const GalleryOptions& op
                        "map saturates at 0.02 cube edges",
                        m.iou, m.depth.p95),
            frame.color, truth.color,
-           DepthErrorHeatMap(frame.mask, frame.depth, truth_covered, truth.depth, 0.02 * edge)});
+           DepthErrorHeatMap(render::CoverageMask(frame), frame.depth, truth_covered, truth.depth,
+                             0.02 * edge)});
     }
   }
 }

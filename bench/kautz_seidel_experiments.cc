@@ -84,17 +84,17 @@ struct Measured {
   double ms = 0;
   int64_t covered = 0;
   int bbox_px = 0;  // the object's screen bounding box, longer side
-  ibr::DepthObjectFrame frame;
+  render::Frame frame;
 };
 
 Measured Measure(ibr::DepthObjectRenderer& renderer, const ibr::ViewCamera& view,
                  const ibr::DepthObjectOptions& o, const render::FrameTimerOptions& timer) {
   Measured m;
-  m.frame = renderer.RenderImages(view, o);
+  m.frame = renderer.RenderFrame(view, o);
   int x0 = view.camera.width, y0 = view.camera.height, x1 = -1, y1 = -1;
-  for (int y = 0; y < m.frame.mask.height(); ++y) {
-    for (int x = 0; x < m.frame.mask.width(); ++x) {
-      if (m.frame.mask.at(x, y) == 0) continue;
+  for (int y = 0; y < m.frame.color.height(); ++y) {
+    for (int x = 0; x < m.frame.color.width(); ++x) {
+      if (!m.frame.Covered(x, y)) continue;
       ++m.covered;
       x0 = std::min(x0, x);
       x1 = std::max(x1, x);

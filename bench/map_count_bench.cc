@@ -94,8 +94,7 @@ MapCountSweepResult RunMapCountSweep(render::ProgramCache& programs, const std::
     const std::vector<ibr::ViewCamera> views = SweepViews(maps, options.view_size);
     const render::RenderTarget target(ibr::DepthObjectRenderer::OutputTargetOptions(
         views[0].camera.width, views[0].camera.height));
-    std::vector<ibr::DepthObjectFrame>
-        all_frames;  // ray-skip from every map (the subsets' reference)
+    std::vector<render::Frame> all_frames;  // ray-skip from every map (the subsets' reference)
     for (size_t pi = 0; pi < paths.size(); ++pi) {
       const Path& path = paths[pi];
       ibr::DepthObjectOptions o;
@@ -115,13 +114,13 @@ MapCountSweepResult RunMapCountSweep(render::ProgramCache& programs, const std::
         continue;
       }
       core::Stopwatch first;
-      ibr::DepthObjectFrame frame0 = renderer.RenderImages(views[0], o);
+      render::Frame frame0 = renderer.RenderFrame(views[0], o);
       const double first_ms = first.ElapsedMs();
       const core::TimingStats t =
           render::TimeFrames([&] { renderer.Render(views[0], o, target); }, timer);
-      std::vector<ibr::DepthObjectFrame> frames;
+      std::vector<render::Frame> frames;
       frames.push_back(std::move(frame0));
-      frames.push_back(renderer.RenderImages(views[1], o));
+      frames.push_back(renderer.RenderFrame(views[1], o));
       double iou = 0;
       std::vector<double> errors;
       for (size_t i = 0; i < views.size(); ++i) {
@@ -157,14 +156,14 @@ MapCountSweepResult RunMapCountSweep(render::ProgramCache& programs, const std::
       ibr::DepthObjectOptions every;
       every.slicing = ibr::Slicing::kRay;
       o.slices = ibr::PrepareFrame(renderer.maps(), views[0], every).slice_count;
-      renderer.RenderImages(views[0], o);  // program, skip grid of this subset
+      renderer.RenderFrame(views[0], o);  // program, skip grid of this subset
       const core::TimingStats t =
           render::TimeFrames([&] { renderer.Render(views[0], o, target); }, timer);
       std::vector<core::ViewMetrics> vs_all;
       double iou_mesh = 0;
       std::vector<double> mesh_errors;
       for (size_t i = 0; i < views.size(); ++i) {
-        const ibr::DepthObjectFrame f = renderer.RenderImages(views[i], o);
+        const render::Frame f = renderer.RenderFrame(views[i], o);
         vs_all.push_back(core::CompareDepth(f.depth, all_frames[i].depth, edge));
         ibr::MeshAccuracy a = ibr::CompareToMesh(programs, scene, views[i], f.depth, edge);
         iou_mesh += a.iou / static_cast<double>(views.size());

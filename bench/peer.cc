@@ -88,7 +88,7 @@ MethodRow EvaluateDepthObject(render::ProgramCache& programs, const ibr::MapSet&
   ibr::DepthObjectRenderer renderer(programs, maps);
   row.upload_ms = watch.ElapsedMs();
   TimeViews(row, truth, cube_edge,
-            [&](size_t i) { return renderer.RenderImages(views[i], options).depth; });
+            [&](size_t i) { return renderer.RenderFrame(views[i], options).depth; });
   row.time_to_first_image_s = (row.upload_ms + row.first_frame_ms) / 1000.0;
   row.accuracy = Pool(row.per_view);
   return row;

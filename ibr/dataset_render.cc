@@ -1,6 +1,7 @@
 #include "ibr/dataset_render.h"
 
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 #include <spdlog/spdlog.h>
 
 #include <algorithm>
@@ -16,8 +17,8 @@
 #include "core/timing.h"
 #include "ibr/dataset_maps.h"
 #include "ibr/demo_scene.h"
+#include "ibr/scene_renderer.h"
 #include "ibr/views.h"
-#include "render/gl/gl.h"
 #include "render/passes/pass.h"
 
 namespace ibr {
@@ -67,10 +68,12 @@ namespace {
 
 // Every map becomes textures (at most GL_MAX_TEXTURE_SIZE a side) and is held
 // on the CPU and the GPU at once: colour 3 + depth 4 + mask 1 bytes per
-// pixel as images, RGBA8 4 + R32F 4 + R8 1 as textures. Both are checked from
-// the manifest, before any image is read, each refusal naming its reason.
+// pixel as images, twice while the scene's pass is built (the loaded scene's
+// copy and the pass's own), RGBA8 4 + R32F 4 + R8 1 as textures. Both are
+// checked from the manifest, before any image is read, each refusal naming
+// its reason.
 void CheckMapsFit(const capture::Dataset& dataset, const render::GlSizeLimits& limits) {
-  constexpr uint64_t kBytesPerPixel = 3 + 4 + 1 + 4 + 4 + 1;
+  constexpr uint64_t kBytesPerPixel = 2 * (3 + 4 + 1) + 4 + 4 + 1;
   const std::string where = fmt::format("ibr render: '{}'", dataset.root.string());
   uint64_t bytes = 0;
   for (const capture::DatasetView& v : dataset.views) {
@@ -88,7 +91,34 @@ void CheckMapsFit(const capture::Dataset& dataset, const render::GlSizeLimits& l
                                 dataset.views.size(), kBytesPerPixel));
 }
 
+// `options` with the outside policy ChooseOutsidePolicy picks for `maps`
+// when `outside_auto` (its reason said).
+DepthObjectOptions WithOutsidePolicy(const MapSet& maps, DepthObjectOptions options,
+                                     bool outside_auto,
+                                     const std::function<void(const std::string&)>& say) {
+  if (outside_auto) {
+    const OutsideChoice choice = ChooseOutsidePolicy(maps);
+    options.outside = choice.policy;
+    if (say) say(choice.reason);
+  }
+  return options;
+}
+
 }  // namespace
+
+DatasetObject LoadDatasetObject(const std::filesystem::path& path,
+                                const DepthObjectOptions& options, bool outside_auto,
+                                const std::function<void(const std::string&)>& say) {
+  options.Check();
+  const capture::Dataset dataset = ReadMapDataset(path);
+  DatasetObject object;
+  object.up = capture::DefaultUp(dataset);
+  object.maps = MapsFromDataset(dataset);
+  object.options = WithOutsidePolicy(object.maps, options, outside_auto, say);
+  object.name =
+      path.filename().empty() ? path.parent_path().filename().string() : path.filename().string();
+  return object;
+}
 
 DatasetRenderStats RenderDatasetToDataset(render::ProgramCache& programs,
                                           const DatasetRenderJob& job,
@@ -135,12 +165,7 @@ DatasetRenderStats RenderDatasetToDataset(render::ProgramCache& programs,
   MapSet maps = MapsFromDataset(dataset);
   if (job.cameras.empty()) views = OrbitViews(maps, orbit);
   if (views.empty()) core::ThrowInputError("ibr render", "no cameras to render from");
-  DepthObjectOptions options = job.options;
-  if (job.outside_auto) {
-    const OutsideChoice choice = ChooseOutsidePolicy(maps);
-    options.outside = choice.policy;
-    say(choice.reason);
-  }
+  const DepthObjectOptions options = WithOutsidePolicy(maps, job.options, job.outside_auto, say);
   DatasetRenderStats stats;
   stats.maps = maps.maps.size();
   spdlog::info("render: {} maps from {}, {} views, {} {} slicing, {} slices{}", stats.maps,
@@ -148,8 +173,22 @@ DatasetRenderStats RenderDatasetToDataset(render::ProgramCache& programs,
                SlicingName(options.slicing), SliceCountName(options.slices),
                options.robust_k > 0 ? fmt::format(", robust k={}", options.robust_k) : "");
 
-  DepthObjectRenderer renderer(programs, std::move(maps));
-  capture::DatasetWriter writer(out);
+  // A one-object scene: the dataset's maps as a depth object (or visual
+  // hull) in the world, drawn by the scene renderer like any scene's.
+  LoadedScene scene;
+  scene.name = job.dataset.filename().string();
+  LoadedObject object;
+  object.name = scene.name;
+  object.type = options.method == Method::kVisualHull ? scene::ObjectType::kVisualHull
+                                                      : scene::ObjectType::kDepthObject;
+  object.bounds = BoxBounds(maps.world_from_box);
+  object.maps = std::move(maps);
+  object.depth_object = options;
+  scene.bounds = object.bounds;
+  scene.objects.push_back(std::move(object));
+  SceneRenderer renderer(programs, scene);
+  scene.objects.clear();  // the pass holds its own copy of the maps (CheckMapsFit counts both)
+
   std::optional<capture::SceneMesh> truth;
   double edge = 1;
   if (!job.truth_mesh.empty()) {
@@ -158,45 +197,70 @@ DatasetRenderStats RenderDatasetToDataset(render::ProgramCache& programs,
     truth->mesh.Bounds(lo, hi);
     edge = std::max({hi.x - lo.x, hi.y - lo.y, hi.z - lo.z});
   }
-  // Warm-up (shader compilation) so the first view's time is a frame time.
-  renderer.RenderImages(views[0].view, options);
   std::vector<double> errors;
-  for (size_t i = 0; i < views.size(); ++i) {
-    const NamedView& v = views[i];
-    render::RenderTarget target(
-        DepthObjectRenderer::OutputTargetOptions(v.view.camera.width, v.view.camera.height));
-    glFinish();
-    core::Stopwatch watch;
-    renderer.Render(v.view, options, target);
-    glFinish();
-    stats.frame_ms.push_back(watch.ElapsedMs());
-    const DepthObjectFrame frame = DepthObjectRenderer::ReadFrame(target);
-    const int cam = writer.AddCamera(CaptureCamera(v.view.camera));
-    writer.AddView(v.name, cam, RigidFromMat4(v.view.cam_from_world), frame.color,
-                   DatasetDepth(frame.depth), frame.mask, {});
-    int64_t covered = 0;
-    for (uint8_t m : frame.mask.values()) covered += m > 0;
-    std::string accuracy;
-    if (truth) {
-      const MeshAccuracy a = CompareToMesh(programs, *truth, v.view, frame.depth, edge);
-      core::CheckMeasurable(
-          a.rendered_pixels, a.truth_pixels, static_cast<int64_t>(a.depth_errors.size()),
-          fmt::format("ibr render --truth-mesh '{}'", job.truth_mesh.string()), v.name);
-      errors.insert(errors.end(), a.depth_errors.begin(), a.depth_errors.end());
-      stats.iou.push_back(a.iou);
-      accuracy = fmt::format(", vs mesh IoU {:.4f}", a.iou);
-    }
-    if (progress) {
-      progress(fmt::format("view {}/{} {} {}x{}: {:.1f} ms, {} object pixels{}", i + 1,
-                           views.size(), v.name, v.view.camera.width, v.view.camera.height,
-                           stats.frame_ms.back(), covered, accuracy));
-    }
-  }
+  const auto measure = [&](const NamedView& v, const render::Frame& frame) -> std::string {
+    if (!truth) return "";
+    const MeshAccuracy a = CompareToMesh(programs, *truth, v.view, frame.depth, edge);
+    core::CheckMeasurable(
+        a.rendered_pixels, a.truth_pixels, static_cast<int64_t>(a.depth_errors.size()),
+        fmt::format("ibr render --truth-mesh '{}'", job.truth_mesh.string()), v.name);
+    errors.insert(errors.end(), a.depth_errors.begin(), a.depth_errors.end());
+    stats.iou.push_back(a.iou);
+    return fmt::format(", vs mesh IoU {:.4f}", a.iou);
+  };
+  stats.render = RenderViewsToDataset(
+      renderer, views, out, {.bounds = dataset.bounds, .depth_units = dataset.depth_units},
+      progress, measure);
   if (truth) stats.depth_error = core::SummarizeErrors(std::move(errors));
-  if (dataset.bounds) writer.SetBounds(*dataset.bounds);
-  writer.SetDepthUnits(dataset.depth_units);
-  writer.Commit();
   return stats;
+}
+
+std::vector<std::string> RenderToDataset(render::ProgramCache& programs,
+                                         const DatasetRenderJob& job,
+                                         const std::filesystem::path& out,
+                                         const std::function<void(const std::string&)>& progress) {
+  const std::string where = std::filesystem::absolute(out).string();
+  if (job.dataset.extension() == ".json") {
+    if (!job.cameras.empty() || job.orbit > 0 || job.size > 0 || !job.truth_mesh.empty() ||
+        job.up || job.arc_deg != 360) {
+      core::ThrowInputError(
+          "ibr render",
+          "a scene file names its own cameras and options: give only SCENE.json and --out");
+    }
+    const scene::Scene file = scene::ReadScene(job.dataset, capture::DefaultSharedDataDir());
+    const LoadedScene loaded = LoadScene(programs, file);
+    const SceneRenderStats stats = RenderSceneToDataset(programs, loaded, out, progress);
+    return {fmt::format(
+        "render: scene {}: {} views, passes [{}]{}, {:.1f} ms per frame (median; draw + readback "
+        "+ composite) -> {}",
+        job.dataset.string(), stats.frame_ms.size(), fmt::join(stats.passes, ", "),
+        loaded.disabled.empty() ? "" : fmt::format(" ({} disabled)", loaded.disabled.size()),
+        core::Summarize(stats.frame_ms).median_ms, where)};
+  }
+  const DatasetRenderStats stats = RenderDatasetToDataset(programs, job, out, progress);
+  std::vector<std::string> lines;
+  if (stats.depth_error) {
+    const core::ErrorStats& e = *stats.depth_error;
+    // Every view was checked (core::CheckMeasurable); an empty pool is never printed as NaN.
+    if (e.count == 0 || stats.iou.empty()) {
+      core::ThrowInputError("ibr render", "--truth-mesh '{}': no pixel to measure in any view",
+                            job.truth_mesh.string());
+    }
+    // A mean above the p95: a few large errors dominate; the max says how large.
+    lines.push_back(fmt::format(
+        "render: vs {}: silhouette IoU mean {:.4f} / worst {:.4f}; depth error mean {:.5f} / p95 "
+        "{:.5f}{} of the mesh's largest extent",
+        job.truth_mesh.string(), core::SummarizeErrors(stats.iou).mean,
+        *std::min_element(stats.iou.begin(), stats.iou.end()), e.mean, e.p95,
+        core::HeavyTailNote(e, 5)));
+  }
+  const core::TimingStats t = core::Summarize(stats.render.frame_ms);
+  lines.push_back(fmt::format(
+      "render: {} views, passes [{}], {:.1f} ms per frame (median; min {:.1f}; draw + readback) "
+      "-> {}",
+      stats.render.frame_ms.size(), fmt::join(stats.render.passes, ", "), t.median_ms, t.min_ms,
+      where));
+  return lines;
 }
 
 }  // namespace ibr

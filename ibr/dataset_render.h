@@ -1,9 +1,11 @@
-// `ibr render DATASET` as one library call: a dataset's depth object or
-// visual hull (Kautz-Seidel 2001, sec. 4-5) rendered from novel cameras
-// (another dataset's, or a turntable orbit) into a new dataset folder
-// (color/NAME.png, depth/NAME.exr camera z with 0 where empty, mask/NAME.png,
-// dataset.json), staged by capture::DatasetWriter so a failure leaves nothing
-// behind; optionally compared with a true mesh (core/metrics).
+// `ibr render` as one library call. DATASET: a dataset's depth object or
+// visual hull (Kautz-Seidel 2001, sec. 4-5) as a one-object scene, rendered
+// by ibr::SceneRenderer from novel cameras (another dataset's, or a turntable
+// orbit) and written by the one writer of rendered datasets
+// (ibr::RenderViewsToDataset: color/NAME.png, depth/NAME.exr camera z with 0
+// where empty, mask/NAME.png, dataset.json, staged so a failure leaves
+// nothing behind); optionally compared with a true mesh (core/metrics).
+// SCENE.json: every camera of the scene file (ibr::RenderSceneToDataset).
 #pragma once
 
 #include <filesystem>
@@ -12,8 +14,10 @@
 #include <string>
 #include <vector>
 
+#include "capture/dataset.h"
 #include "core/metrics.h"
 #include "ibr/depth_object.h"
+#include "ibr/scene_renderer.h"
 #include "render/gl/shader_program.h"
 
 namespace ibr {
@@ -40,16 +44,43 @@ struct DatasetRenderJob {
 
 struct DatasetRenderStats {
   size_t maps = 0;
-  std::vector<double> frame_ms;  // per view: GPU passes + glFinish, no readback
+  SceneRenderStats render;  // per view: draw + readback (the scene renderer's)
   // With a truth mesh: silhouette IoU per view, and the depth errors of every
   // pixel both cover, as fractions of the mesh's largest extent.
   std::vector<double> iou;
   std::optional<core::ErrorStats> depth_error;
 };
 
+// A dataset's depth object as `ibr view` opens it, before any window or
+// context: the manifest read (ReadMapDataset: the map limit checked before
+// any image is read), its up (capture::DefaultUp), its maps, and `options`
+// with, when `outside_auto`, the outside policy ChooseOutsidePolicy picks for
+// the maps (its reason said through `say`).
+struct DatasetObject {
+  MapSet maps;
+  DepthObjectOptions options;
+  capture::UpChoice up;
+  std::string name;  // the dataset folder's name
+};
+DatasetObject LoadDatasetObject(const std::filesystem::path& dataset,
+                                const DepthObjectOptions& options, bool outside_auto,
+                                const std::function<void(const std::string&)>& say);
+
 // Needs a current context. `progress` gets one line per view.
 DatasetRenderStats RenderDatasetToDataset(
     render::ProgramCache& programs, const DatasetRenderJob& job, const std::filesystem::path& out,
     const std::function<void(const std::string&)>& progress = {});
+
+// `ibr render`'s whole job: job.dataset a scene file (*.json; it names its
+// own cameras and options, so cameras, orbit, size, truth mesh, up and arc
+// must be unset, else InputError) through RenderSceneToDataset, else
+// RenderDatasetToDataset. `progress` gets one line per view ("render: ...");
+// returns the summary lines (accuracy, frame time, where the output went).
+// A truth mesh with no measurable pixel in any view is an InputError, never
+// a NaN. Needs a current context.
+std::vector<std::string> RenderToDataset(render::ProgramCache& programs,
+                                         const DatasetRenderJob& job,
+                                         const std::filesystem::path& out,
+                                         const std::function<void(const std::string&)>& progress);
 
 }  // namespace ibr

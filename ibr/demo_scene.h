@@ -58,6 +58,16 @@ MeshAccuracy CompareToMesh(render::ProgramCache& programs, const capture::SceneM
 DepthObjectDemoResult RunDepthObjectDemo(render::ProgramCache& programs,
                                          const DepthObjectDemoOptions& options);
 
+// `ibr demo` whole: the paper's displaced donut (Kautz-Seidel 2001, sec.
+// 3.4: 625 polygons, bumps, orthogonal slicing) beside its tessellated truth
+// (color.png, depth.exr, ground_truth.png, ground_truth_depth.exr,
+// side_by_side.png), and RunDepthObjectDemo's turntable
+// (depth_object/NAME.png, NAME_depth.exr, depth_object_turntable.png), into
+// `out`, replaced atomically (core::StagedDirectory); `size` px square.
+// Returns the lines to print ("demo: ..."). Needs a current context.
+std::vector<std::string> WriteDemo(render::ProgramCache& programs, const std::filesystem::path& out,
+                                   int size);
+
 // Where the shared test data lives: $IBR_SHARED_DATA, else ../shared/data
 // beside the source tree this binary was built from.
 std::filesystem::path SharedDataDir();

@@ -13,6 +13,7 @@
 #include "ibr/depth_object_uniforms.h"
 #include "ibr/empty_space.h"
 #include "ibr/view_weights.h"
+#include "ibr/views.h"
 #include "render/cores/ray_core.h"
 #include "render/passes/pass.h"
 
@@ -747,12 +748,12 @@ void DepthObjectRenderer::DrawRay(const FrameParams& frame, const DepthObjectOpt
 
 void DepthObjectRenderer::DrawResolve(const FrameParams& frame, const DepthObjectOptions& options,
                                       const render::RenderTarget& accum) {
-  Resolve(frame, options, accum, nullptr);
+  Resolve(frame, options, accum, nullptr, /*depth_test=*/false);
 }
 
 void DepthObjectRenderer::Resolve(const FrameParams& frame, const DepthObjectOptions& options,
                                   const render::RenderTarget& accum,
-                                  const glm::mat4* frame_clip_from_cam) {
+                                  const glm::mat4* frame_clip_from_cam, bool depth_test) {
   // After DrawSlices / DrawRay of this frame: their BindFrame uploaded its map
   // records, so only the tables are bound again.
   IBR_CHECK_EQ(accum.width(), frame.width);
@@ -781,7 +782,6 @@ void DepthObjectRenderer::Resolve(const FrameParams& frame, const DepthObjectOpt
   glBindTextureUnit(4, accum.color(1).id());
   u.accum_color.Set(3);
   u.accum_depth.Set(4);
-  u.background.Set(options.background);
   u.visibility_tolerance.Set(frame.visibility_tolerance);
   render::SetRayCoreUniforms(resolve, ray);
   u.refine.Set(refine ? 1 : 0);
@@ -794,7 +794,7 @@ void DepthObjectRenderer::Resolve(const FrameParams& frame, const DepthObjectOpt
   }
   u.required.Set(frame.required);
   if (frame_clip_from_cam) u.clip_from_cam.Set(glm::mat4(*frame_clip_from_cam));
-  DrawFullScreenPass(frame_clip_from_cam != nullptr);
+  DrawFullScreenPass(depth_test);
 }
 
 void DepthObjectRenderer::Accumulate(const FrameParams& frame, const DepthObjectOptions& options) {
@@ -811,22 +811,28 @@ void DepthObjectRenderer::Accumulate(const FrameParams& frame, const DepthObject
 void DepthObjectRenderer::DrawToFrame(const ViewCamera& view, const DepthObjectOptions& options,
                                       const glm::mat4& clip_from_cam,
                                       const render::RenderTarget& frame_target) {
+  DrawIntoFrame(view, options, clip_from_cam, frame_target, /*depth_test=*/true);
+}
+
+void DepthObjectRenderer::DrawIntoFrame(const ViewCamera& view, const DepthObjectOptions& options,
+                                        const glm::mat4& clip_from_cam,
+                                        const render::RenderTarget& frame_target, bool depth_test) {
   if (frame_target.width() != view.camera.width || frame_target.height() != view.camera.height) {
     core::ThrowInputError("DepthObjectRenderer::DrawToFrame",
                           "target {}x{} differs from the view's {}x{}", frame_target.width(),
                           frame_target.height(), view.camera.width, view.camera.height);
   }
-  GLboolean depth_test = GL_FALSE, depth_mask = GL_TRUE;
+  GLboolean depth_was_on = GL_FALSE, depth_mask = GL_TRUE;
   GLint depth_func = GL_LESS;
-  glGetBooleanv(GL_DEPTH_TEST, &depth_test);
+  glGetBooleanv(GL_DEPTH_TEST, &depth_was_on);
   glGetBooleanv(GL_DEPTH_WRITEMASK, &depth_mask);
   glGetIntegerv(GL_DEPTH_FUNC, &depth_func);
   const FrameParams frame = PrepareFrame(maps_, view, options);
   Accumulate(frame, options);
   frame_target.Bind();
   render::BindOutcomeImage(frame_target, 0);
-  Resolve(frame, options, Accum(frame.width, frame.height), &clip_from_cam);
-  if (depth_test)
+  Resolve(frame, options, Accum(frame.width, frame.height), &clip_from_cam, depth_test);
+  if (depth_was_on)
     glEnable(GL_DEPTH_TEST);
   else
     glDisable(GL_DEPTH_TEST);
@@ -856,27 +862,16 @@ void DepthObjectRenderer::RenderToFramebuffer(const ViewCamera& view,
   DrawResolve(frame, options, Accum(frame.width, frame.height));
 }
 
-DepthObjectFrame DepthObjectRenderer::RenderImages(const ViewCamera& view,
-                                                   const DepthObjectOptions& options) {
-  render::RenderTarget output(OutputTargetOptions(view.camera.width, view.camera.height));
-  Render(view, options, output);
-  return ReadFrame(output);
-}
-
-DepthObjectFrame DepthObjectRenderer::ReadFrame(const render::RenderTarget& output) {
-  DepthObjectFrame out;
-  out.color = output.ReadColor8(0);
-  const core::ImageF zc = output.ReadColorF(1);
-  out.depth = core::ImageF(zc.width(), zc.height(), 1);
-  out.mask = core::Image8(zc.width(), zc.height(), 1);
-  for (int y = 0; y < zc.height(); ++y) {
-    for (int x = 0; x < zc.width(); ++x) {
-      const bool covered = zc.at(x, y, 1) > 0.5f;
-      out.depth.at(x, y) = covered ? zc.at(x, y, 0) : 0.0f;
-      out.mask.at(x, y) = covered ? 255 : 0;
-    }
-  }
-  return out;
+render::Frame DepthObjectRenderer::RenderFrame(const ViewCamera& view,
+                                               const DepthObjectOptions& options) {
+  const render::RenderTarget target(
+      render::FrameTargetOptions(view.camera.width, view.camera.height));
+  render::BeginFrame(target);
+  // The object alone: no depth test, so every covered pixel lands whatever
+  // the window depth (the clip range only fills the depth buffer).
+  DrawIntoFrame(view, options, ViewSetupFor(view, BoxBounds(maps_.world_from_box)).clip_from_cam,
+                target, /*depth_test=*/false);
+  return render::ReadFrame(target);
 }
 
 std::vector<core::Image8> DepthObjectRenderer::SliceCoverage(const FrameParams& frame) {

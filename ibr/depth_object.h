@@ -22,6 +22,7 @@
 #include "render/cores/slicing.h"
 #include "render/gl/render_target.h"
 #include "render/gl/shader_program.h"
+#include "render/passes/pass.h"
 
 namespace ibr {
 
@@ -140,7 +141,6 @@ struct DepthObjectOptions {
   // (scene units); 0 = 4 slice spacings (the first slice inside lies up to
   // one spacing behind the surface, more along a grazing map's axis).
   double visibility_tolerance = 0;
-  glm::vec4 background{0.0f, 0.0f, 0.0f, 0.0f};  // RGBA where nothing is drawn
   // Resolve pass: bisection steps refining each pixel's first surface between
   // the slice that finished it and the slice before (the same map tests), for
   // the output depth and the texturing; 0 = the slice position itself (the
@@ -238,13 +238,6 @@ int AutoSliceCount(const MapSet& maps, const std::vector<int>& active, float ext
 FrameParams PrepareFrame(const MapSet& maps, const ViewCamera& view,
                          const DepthObjectOptions& options);
 
-// Outputs of one frame, read back.
-struct DepthObjectFrame {
-  core::Image8 color;  // RGBA8, background where empty
-  core::ImageF depth;  // view camera z of the first surface, 0 where empty
-  core::Image8 mask;   // 255 where the object is drawn
-};
-
 // Owns the GPU resources for one loaded MapSet and renders frames of it: the
 // API the command line, the benchmarks and the viewer call per frame.
 class DepthObjectRenderer {
@@ -264,8 +257,8 @@ class DepthObjectRenderer {
   const MapTables& tables(Method method) const;
 
   // Renders into `output`, a target made with OutputTargetOptions(w, h)
-  // where w, h = view.camera.width/height: attachment 0 RGBA8 colour,
-  // attachment 1 RG32F (camera z, covered).
+  // where w, h = view.camera.width/height: attachment 0 RGBA8 colour (alpha
+  // 255 where covered, 0 elsewhere), attachment 1 RG32F (camera z, covered).
   void Render(const ViewCamera& view, const DepthObjectOptions& options,
               const render::RenderTarget& output);
   // Renders into framebuffer `fbo` (0 = the window) with a viewport of the
@@ -279,10 +272,12 @@ class DepthObjectRenderer {
   // Restores the GL state it changes. ibr::DepthObjectPass calls it.
   void DrawToFrame(const ViewCamera& view, const DepthObjectOptions& options,
                    const glm::mat4& clip_from_cam, const render::RenderTarget& frame_target);
-  // Render + readback.
-  DepthObjectFrame RenderImages(const ViewCamera& view, const DepthObjectOptions& options);
-  // Readback of a target Render() drew into.
-  static DepthObjectFrame ReadFrame(const render::RenderTarget& output);
+  // One whole frame of the object alone, read back (the one readback type,
+  // render::Frame): BeginFrame on a fresh frame target, the resolve of
+  // DrawToFrame without the depth test (the same pixels and values as
+  // Render), render::ReadFrame. Covered pixels: alpha 255, camera z and the
+  // hit outcome bit; empty ones 0.
+  render::Frame RenderFrame(const ViewCamera& view, const DepthObjectOptions& options);
 
   static render::RenderTargetOptions OutputTargetOptions(int width, int height);
   static render::RenderTargetOptions AccumTargetOptions(int width, int height);
@@ -299,7 +294,7 @@ class DepthObjectRenderer {
   // The ray variant (Slicing::kRay) into `accum`, same layout as DrawSlices.
   void DrawRay(const FrameParams& frame, const DepthObjectOptions& options,
                const render::RenderTarget& accum);
-  // Texturing + background from `accum` into the bound framebuffer; after
+  // Texturing (empty pixels 0) from `accum` into the bound framebuffer; after
   // DrawSlices or DrawRay of the same frame (they upload its map records).
   void DrawResolve(const FrameParams& frame, const DepthObjectOptions& options,
                    const render::RenderTarget& accum);
@@ -328,8 +323,15 @@ class DepthObjectRenderer {
   const render::RenderTarget& Accum(int width, int height);
   void DrawFullScreenPass(bool depth_test = false) const;
   void Accumulate(const FrameParams& frame, const DepthObjectOptions& options);
+  // `frame_clip_from_cam`: the pass contract's frame (FRAME_OUTPUT), else
+  // the own output layout; `depth_test`: composited by window depth (LESS).
   void Resolve(const FrameParams& frame, const DepthObjectOptions& options,
-               const render::RenderTarget& accum, const glm::mat4* frame_clip_from_cam);
+               const render::RenderTarget& accum, const glm::mat4* frame_clip_from_cam,
+               bool depth_test);
+  // DrawToFrame, with or without the depth test (RenderFrame: the object alone).
+  void DrawIntoFrame(const ViewCamera& view, const DepthObjectOptions& options,
+                     const glm::mat4& clip_from_cam, const render::RenderTarget& frame_target,
+                     bool depth_test);
 
   render::ProgramCache* programs_;
   MapSet maps_;

@@ -33,7 +33,6 @@ struct DepthObjectUniforms {
         skip_resolution(p, "u_skip_resolution"),
         accum_color(p, "u_accum_color"),
         accum_depth(p, "u_accum_depth"),
-        background(p, "u_background"),
         visibility_tolerance(p, "u_visibility_tolerance"),
         refine(p, "u_refine"),
         plane0(p, "u_plane0"),
@@ -63,7 +62,6 @@ struct DepthObjectUniforms {
   // depth_object_resolve.frag.glsl
   render::Uniform<int> accum_color;  // texture unit
   render::Uniform<int> accum_depth;  // texture unit
-  render::Uniform<glm::vec4> background;
   render::Uniform<float> visibility_tolerance;
   render::Uniform<int> refine;
   render::Uniform<glm::vec4> plane0;

@@ -118,16 +118,6 @@ render::Texture UploadRgba8(const core::Image8& image) {
   return t;
 }
 
-capture::Bounds BoxBounds(const glm::dmat4& world_from_box) {
-  capture::Bounds b{glm::dvec3(1e300), glm::dvec3(-1e300)};
-  for (int i = 0; i < 8; ++i) {
-    const glm::dvec3 c(world_from_box * glm::dvec4(i & 1, (i >> 1) & 1, (i >> 2) & 1, 1.0));
-    b.min = glm::min(b.min, c);
-    b.max = glm::max(b.max, c);
-  }
-  return b;
-}
-
 // A deform object's world box: what its normalised frame can hold, carried
 // to the world.
 capture::Bounds DeformWorldBounds(const LoadedObject& l) {
@@ -442,43 +432,47 @@ const render::RenderTarget& SceneRenderer::Draw(const ViewCamera& view) {
   return *target_;
 }
 
-SceneFrame SceneRenderer::Render(const ViewCamera& view) {
-  render::Frame frame = render::ReadFrame(Draw(view));
-  SceneFrame out;
-  out.mask = render::CoverageMask(frame);
-  out.color = std::move(frame.color);
-  out.depth = std::move(frame.depth);
-  return out;
+render::Frame SceneRenderer::Render(const ViewCamera& view) {
+  return render::ReadFrame(Draw(view));
+}
+
+SceneRenderStats RenderViewsToDataset(
+    SceneRenderer& renderer, const std::vector<NamedView>& views, const std::filesystem::path& out,
+    const DatasetManifest& manifest, const std::function<void(const std::string&)>& progress,
+    const std::function<std::string(const NamedView&, const render::Frame&)>& measure) {
+  if (views.empty()) core::ThrowInputError("RenderViewsToDataset", "no cameras to render from");
+  SceneRenderStats stats;
+  stats.passes = renderer.PassNames();
+  capture::DatasetWriter writer(out);
+  renderer.Render(views.front().view);  // warm-up: shader compilation
+  for (size_t i = 0; i < views.size(); ++i) {
+    const NamedView& v = views[i];
+    core::Stopwatch watch;
+    const render::Frame frame = renderer.Render(v.view);
+    stats.frame_ms.push_back(watch.ElapsedMs());
+    const int64_t covered = frame.CoveredPixels();
+    stats.object_pixels.push_back(covered);
+    const int cam = writer.AddCamera(CaptureCamera(v.view.camera));
+    writer.AddView(v.name, cam, RigidFromMat4(v.view.cam_from_world), frame.color,
+                   DatasetDepth(frame.depth), render::CoverageMask(frame), {});
+    const std::string note = measure ? measure(v, frame) : std::string();
+    if (progress) {
+      progress(fmt::format("view {}/{} {} {}x{}: {:.1f} ms, {} object pixels{}", i + 1,
+                           views.size(), v.name, v.view.camera.width, v.view.camera.height,
+                           stats.frame_ms.back(), covered, note));
+    }
+  }
+  if (manifest.bounds) writer.SetBounds(*manifest.bounds);
+  writer.SetDepthUnits(manifest.depth_units);
+  writer.Commit();
+  return stats;
 }
 
 SceneRenderStats RenderSceneToDataset(render::ProgramCache& programs, const LoadedScene& scene,
                                       const std::filesystem::path& out,
                                       const std::function<void(const std::string&)>& progress) {
   SceneRenderer renderer(programs, scene);
-  SceneRenderStats stats;
-  stats.passes = renderer.PassNames();
-  capture::DatasetWriter writer(out);
-  renderer.Render(scene.views.front().view);  // warm-up: shader compilation
-  for (size_t i = 0; i < scene.views.size(); ++i) {
-    const NamedView& v = scene.views[i];
-    core::Stopwatch watch;
-    const SceneFrame frame = renderer.Render(v.view);
-    stats.frame_ms.push_back(watch.ElapsedMs());
-    int64_t covered = 0;
-    for (uint8_t m : frame.mask.values()) covered += m > 0;
-    stats.object_pixels.push_back(covered);
-    const int cam = writer.AddCamera(CaptureCamera(v.view.camera));
-    writer.AddView(v.name, cam, RigidFromMat4(v.view.cam_from_world), frame.color,
-                   DatasetDepth(frame.depth), frame.mask, {});
-    if (progress) {
-      progress(fmt::format("view {}/{} {} {}x{}: {:.1f} ms, {} object pixels", i + 1,
-                           scene.views.size(), v.name, v.view.camera.width, v.view.camera.height,
-                           stats.frame_ms.back(), covered));
-    }
-  }
-  writer.SetBounds(scene.bounds);
-  writer.Commit();
-  return stats;
+  return RenderViewsToDataset(renderer, scene.views, out, {.bounds = scene.bounds}, progress);
 }
 
 }  // namespace ibr

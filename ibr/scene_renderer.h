@@ -30,6 +30,7 @@
 #include "ibr/volume_object.h"
 #include "render/gl/render_target.h"
 #include "render/gl/shader_program.h"
+#include "render/passes/pass.h"
 #include "scene/scene.h"
 
 namespace ibr {
@@ -78,12 +79,6 @@ LoadedScene LoadScene(render::ProgramCache& programs, const scene::Scene& scene)
 MapSet CaptureMaps(render::ProgramCache& programs, const capture::SceneMesh& mesh,
                    const std::string& rig, int size);
 
-struct SceneFrame {
-  core::Image8 color;  // RGBA8, alpha 255 where covered, 0 elsewhere
-  core::ImageF depth;  // camera z, 0 where empty
-  core::Image8 mask;   // 255 where covered
-};
-
 class SceneRenderer {
  public:
   // Uploads and builds one pass per enabled object.
@@ -93,8 +88,9 @@ class SceneRenderer {
   SceneRenderer& operator=(const SceneRenderer&) = delete;
 
   // BeginFrame once, every pass's Draw into the one frame target (depth
-  // test), one readback.
-  SceneFrame Render(const ViewCamera& view);
+  // test), one readback (render::Frame: alpha 255 and camera z where
+  // covered, 0 elsewhere).
+  render::Frame Render(const ViewCamera& view);
   // The same frame without the readback: the frame target (render/passes/
   // pass.h: colour attachment 0 RGBA8), valid until the next Draw or Render
   // (the interactive viewer shows it).
@@ -136,15 +132,26 @@ class SceneRenderer {
   std::optional<render::RenderTarget> target_;  // the frame target, resized per view
 };
 
-// Renders every camera of the scene into `out`, a dataset directory
+// The one writer of rendered datasets: every view of `views` drawn by
+// `renderer` (one warm-up frame first) into `out`, a dataset directory
 // (color/NAME.png, depth/NAME.exr camera z with 0 where empty, mask/NAME.png,
-// dataset.json with the cameras), staged so a failure leaves nothing behind.
-// One progress line per view through `progress`.
+// dataset.json with the cameras, `bounds` if set and `depth_units`), staged
+// so a failure leaves nothing behind. One progress line per view through
+// `progress`, ending with what `measure` (if set) returns for that view's frame.
 struct SceneRenderStats {
   std::vector<double> frame_ms;        // per view: draw + readback + composite
   std::vector<int64_t> object_pixels;  // per view: covered pixels
   std::vector<std::string> passes;     // SceneRenderer::PassNames()
 };
+struct DatasetManifest {
+  std::optional<capture::Bounds> bounds;
+  std::string depth_units = "scene units";
+};
+SceneRenderStats RenderViewsToDataset(
+    SceneRenderer& renderer, const std::vector<NamedView>& views, const std::filesystem::path& out,
+    const DatasetManifest& manifest, const std::function<void(const std::string&)>& progress = {},
+    const std::function<std::string(const NamedView&, const render::Frame&)>& measure = {});
+// Every camera of the scene (RenderViewsToDataset, the scene's bounds).
 SceneRenderStats RenderSceneToDataset(render::ProgramCache& programs, const LoadedScene& scene,
                                       const std::filesystem::path& out,
                                       const std::function<void(const std::string&)>& progress = {});

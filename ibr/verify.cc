@@ -819,7 +819,7 @@ void HardObjectCase(render::ProgramCache& programs, std::mt19937& rng, Method me
                                   SlicingName(o.slicing), TexturingName(o.texturing), o.slices,
                                   o.robust_k, o.refine_steps, ortho ? "ortho" : "persp");
   DepthObjectRenderer renderer(programs, c.maps);
-  const DepthObjectFrame frame = renderer.RenderImages(c.view, o);
+  const render::Frame frame = renderer.RenderFrame(c.view, o);
   // Camera-z range of the box (orthographic views: the whole range is valid).
   const glm::dmat4 cam_from_box = c.view.cam_from_world * c.maps.world_from_box;
   double zmin = INFINITY, zmax = -INFINITY;
@@ -836,7 +836,7 @@ void HardObjectCase(render::ProgramCache& programs, std::mt19937& rng, Method me
     for (int x = 0; x < frame.depth.width(); ++x) {
       ++r.pixels;
       const float z = frame.depth.at(x, y);
-      const bool covered = frame.mask.at(x, y) == 255;
+      const bool covered = frame.Covered(x, y);
       if (!std::isfinite(z)) {
         tally.NonFinite();
         continue;
@@ -845,8 +845,7 @@ void HardObjectCase(render::ProgramCache& programs, std::mt19937& rng, Method me
       if (covered && !(z >= zmin - slack && z <= zmax + slack))
         tally.Inconsistent("depth outside the box");
       if (covered && !ortho && !(z > 0)) tally.Inconsistent("depth behind the eye");
-      if (!covered && (z != 0 || frame.mask.at(x, y) != 0))
-        tally.Inconsistent("depth without coverage");
+      if (!covered && z != 0) tally.Inconsistent("depth without coverage");
       bool background = true;
       for (int k = 0; k < 4; ++k) background = background && frame.color.at(x, y, k) == 0;
       if (!covered && !background) tally.Inconsistent("colour without coverage");

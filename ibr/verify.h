@@ -127,4 +127,14 @@ struct HardReport {
 HardReport RunHardSweeps(render::ProgramCache& programs, VerifyOptions options,
                          const std::function<void(const std::string&)>& progress = {});
 
+// ---- what `ibr verify` prints (ibr/verify_report.cc) ----
+// One case's line (and its diff image lines), newline-terminated.
+std::string FormatVerifyCase(const VerifyCaseResult& r, bool independent);
+// The summary after every case (driver, cases, boundary cases, pixels,
+// classes, and with `independent` the two independent comparisons),
+// newline-terminated; the verdict is report.ok().
+std::string FormatVerifyReport(const VerifyReport& report, bool independent);
+// The hard sweeps' table, one row per technique with its kinds, and the time.
+std::string FormatHardReport(const HardReport& report);
+
 }  // namespace ibr

@@ -262,6 +262,16 @@ render::ViewSetup ViewSetupFor(const ViewCamera& view, const capture::Bounds& bo
   return setup;
 }
 
+capture::Bounds BoxBounds(const glm::dmat4& world_from_box) {
+  capture::Bounds b{glm::dvec3(1e300), glm::dvec3(-1e300)};
+  for (int i = 0; i < 8; ++i) {
+    const glm::dvec3 c(world_from_box * glm::dvec4(i & 1, (i >> 1) & 1, (i >> 2) & 1, 1.0));
+    b.min = glm::min(b.min, c);
+    b.max = glm::max(b.max, c);
+  }
+  return b;
+}
+
 core::ImageF DatasetDepth(const core::ImageF& camera_z) {
   core::ImageF depth = camera_z;
   for (float& z : depth.values()) {

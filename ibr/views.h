@@ -91,6 +91,8 @@ capture::RigView RigViewFor(const ViewCamera& view, const capture::Bounds& bound
 // Pass inputs for a view: clip range = camera z range of the bounds' corners,
 // widened by 5 %, near kept in front of the camera.
 render::ViewSetup ViewSetupFor(const ViewCamera& view, const capture::Bounds& bounds);
+// The world bounds of the unit box carried by `world_from_box` (its 8 corners).
+capture::Bounds BoxBounds(const glm::dmat4& world_from_box);
 
 // A rendered camera-z image (0 = empty) as a dataset's depth: an
 // orthographic view also shows what lies behind its image plane (camera

@@ -3,24 +3,20 @@
 // screen). Flags -> viewer::RunViewerBench.
 #ifdef IBR_HAVE_VIEWER
 
-#include <cstdio>
-
 #include "apps/ibr/commands.h"
 #include "apps/viewer/viewer_bench.h"
-#include "core/error.h"
 
 namespace apps {
 namespace {
 
 void AddViewerBench(CLI::App& app) {
   static viewer::ViewerBenchOptions options;
-  static std::string window = "960x720";
   auto* cmd = BenchGroup(app)->add_subcommand(
       "viewer",
       "Progressive viewer: frame rate while moving, time to the exact frame, exact = `ibr "
       "render`, PSNR of the moving frames (needs a display: xvfb-run -a)");
   AddBenchOutputs(cmd, options.csv, options.out, options.quick);
-  cmd->add_option("--window", window, "window size WIDTHxHEIGHT in pixels")->capture_default_str();
+  AddWindowFlag(cmd, "ibr bench viewer", options.width, options.height);
   cmd->add_option("--frames", options.motion_frames, "moving frames per orbit and per drag")
       ->capture_default_str();
   cmd->add_option("--motion-ms", options.motion_frame_ms,
@@ -30,9 +26,6 @@ void AddViewerBench(CLI::App& app) {
                   "the shared data folder (meshes/, volumes/)");
   cmd->callback([] {
     options.out = CheckBenchOutputs("ibr bench viewer", options.csv, options.out);
-    char x = 0;
-    if (std::sscanf(window.c_str(), "%d%c%d", &options.width, &x, &options.height) != 3 || x != 'x')
-      core::ThrowInputError("ibr bench viewer", "--window '{}' is not WIDTHxHEIGHT", window);
     if (options.quick) {
       options.width = 320;
       options.height = 240;

@@ -1,15 +1,12 @@
 // `ibr view DATASET`: the interactive viewer on a dataset's depth object or
-// visual hull. Orbit with the mouse; switch method, slicing, slice count,
-// texturing and the robust k in the panel; the frame time is shown.
-// `ibr view SCENE.json`: any scene file (scene/scene.h) through
-// ibr::SceneRenderer, the panel listing its objects and passes and editing
-// deform and volume objects' parameters. Progressive: reduced frames while
-// anything moves, the exact frame (`ibr render`'s from the same camera) at rest.
+// visual hull (ibr::LoadDatasetObject), switching its options in the panel.
+// `ibr view SCENE.json`: any scene file through ibr::SceneRenderer, the panel
+// editing deform and volume objects. Progressive: reduced frames while
+// anything moves, the exact frame (`ibr render`'s) at rest. Window: viewer::Run.
 #ifdef IBR_HAVE_VIEWER
 
 #include <fmt/format.h>
 
-#include <cstdio>
 #include <filesystem>
 #include <memory>
 
@@ -17,10 +14,7 @@
 #include "apps/viewer/scenes.h"
 #include "apps/viewer/viewer.h"
 #include "capture/builtin_scenes.h"
-#include "capture/dataset.h"
-#include "core/error.h"
-#include "ibr/dataset_maps.h"
-#include "ibr/depth_object.h"
+#include "ibr/dataset_render.h"
 #include "ibr/views.h"
 #include "scene/scene.h"
 
@@ -30,51 +24,31 @@ namespace {
 struct ViewCommandOptions {
   std::filesystem::path dataset;
   ibr::DepthObjectFlags flags;
-  std::string window = "960x720";
   std::string up;  // empty: a dataset's own (capture::DefaultUp), a scene's +y
-  bool no_panel = false;
   viewer::ViewerOptions viewer;
 };
 
-// `ibr view SCENE.json`: the file's schema is checked before a window opens;
-// its objects load with the window's context current (captures render).
-void RunSceneView(const ViewCommandOptions& o) {
-  const scene::Scene file = scene::ReadScene(o.dataset, capture::DefaultSharedDataDir());
-  viewer::Run([&] { return std::make_unique<viewer::SceneFileScene>(file); }, o.viewer);
-}
-
 void RunView(ViewCommandOptions& o) {
-  int w = 0, h = 0;
-  char x = 0;
-  if (std::sscanf(o.window.c_str(), "%d%c%d", &w, &x, &h) != 3 || x != 'x') {
-    core::ThrowInputError("ibr view", "--window '{}' is not WIDTHxHEIGHT", o.window);
-  }
-  o.viewer.width = w;
-  o.viewer.height = h;
-  o.viewer.panel = !o.no_panel;
   if (!o.up.empty()) o.viewer.up = glm::vec3(ibr::ParseUp(o.up, "--up"));
   o.viewer.Check();
-  if (o.dataset.extension() == ".json") return RunSceneView(o);
-  // Validate everything before a window opens.
-  ibr::DepthObjectOptions options = ibr::DepthObjectOptionsFrom(ibr::SettingsFromFlags(o.flags));
-  // The map limit is checked on the manifest, before any image is read.
-  const capture::Dataset dataset = ibr::ReadMapDataset(o.dataset);
+  if (o.dataset.extension() == ".json") {
+    // The file's schema is checked before a window opens; its objects load
+    // with the window's context current (captures render).
+    const scene::Scene file = scene::ReadScene(o.dataset, capture::DefaultSharedDataDir());
+    return viewer::Run([&] { return std::make_unique<viewer::SceneFileScene>(file); }, o.viewer);
+  }
+  // Everything is validated before a window opens.
+  ibr::DatasetObject object = ibr::LoadDatasetObject(
+      o.dataset, ibr::DepthObjectOptionsFrom(ibr::SettingsFromFlags(o.flags)),
+      o.flags.outside.empty(), [](const std::string& line) { fmt::print("view: {}\n", line); });
   if (o.up.empty()) {
-    const capture::UpChoice up = capture::DefaultUp(dataset);
-    o.viewer.up = glm::vec3(up.up);
-    fmt::print("view: up ({:.3f}, {:.3f}, {:.3f}) from {} (--up to change)\n", up.up.x, up.up.y,
-               up.up.z, up.source);
+    o.viewer.up = glm::vec3(object.up.up);
+    fmt::print("view: up ({:.3f}, {:.3f}, {:.3f}) from {} (--up to change)\n", object.up.up.x,
+               object.up.up.y, object.up.up.z, object.up.source);
   }
-  ibr::MapSet maps = ibr::MapsFromDataset(dataset);
-  if (o.flags.outside.empty()) {
-    const ibr::OutsideChoice choice = ibr::ChooseOutsidePolicy(maps);
-    options.outside = choice.policy;
-    fmt::print("view: {}\n", choice.reason);
-  }
-  const std::string name = o.dataset.filename().empty()
-                               ? o.dataset.parent_path().filename().string()
-                               : o.dataset.filename().string();
-  viewer::Run([&] { return viewer::MakeDatasetScene(options, std::move(maps), name); }, o.viewer);
+  viewer::Run(
+      [&] { return viewer::MakeDatasetScene(object.options, std::move(object.maps), object.name); },
+      o.viewer);
 }
 
 void AddViewCommand(CLI::App& app) {
@@ -88,8 +62,7 @@ void AddViewCommand(CLI::App& app) {
                   "type; the depth-object flags then do not apply)")
       ->required();
   AddDepthObjectFlags(cmd, o.flags);
-  cmd->add_option("--window", o.window, "window size WIDTHxHEIGHT in pixels")
-      ->capture_default_str();
+  AddWindowFlag(cmd, "ibr view", o.viewer.width, o.viewer.height);
   cmd->add_option("--azimuth", o.viewer.azimuth_degrees, "initial orbit azimuth, degrees")
       ->capture_default_str();
   cmd->add_option("--elevation", o.viewer.elevation_degrees, "initial orbit elevation, degrees")
@@ -101,7 +74,7 @@ void AddViewCommand(CLI::App& app) {
   cmd->add_option("--up", o.up,
                   "the world's up: x, y, z, -x, -y, -z or 'X,Y,Z' (default: a dataset's "
                   "\"up\", else its cameras' mean up; a scene's +y)");
-  cmd->add_flag("--no-panel", o.no_panel,
+  cmd->add_flag("--no-panel{false}", o.viewer.panel,
                 "hide the control panel (screenshots of the object alone)");
   cmd->add_option("--coarse", o.viewer.coarse_factor,
                   "resolution divisor while the view or a parameter moves: 0 = adaptive (frames "

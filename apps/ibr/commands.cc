@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <cstdio>
 #include <filesystem>
 #include <map>
 #include <string>
@@ -69,6 +70,29 @@ void AddDepthObjectFlags(CLI::App* cmd, ibr::DepthObjectFlags& f) {
       ->capture_default_str();
   cmd->add_option("--depth-lookup", f.depth_lookup,
                   "depth objects on the ray path: subtexel (the default there) | nearest");
+}
+
+namespace {
+void ParseWindow(const std::string& text, const std::string& where, int& width, int& height) {
+  int w = 0, h = 0;
+  char x = 0;
+  if (std::sscanf(text.c_str(), "%d%c%d", &w, &x, &h) != 3 || x != 'x')
+    core::ThrowInputError(where, "--window '{}' is not WIDTHxHEIGHT", text);
+  width = w;
+  height = h;
+}
+}  // namespace
+
+void AddWindowFlag(CLI::App* cmd, const std::string& where, int& width, int& height,
+                   const std::string& default_size) {
+  ParseWindow(default_size, where, width, height);
+  cmd->add_option_function<std::string>(
+         "--window",
+         [where, &width, &height](const std::string& text) {
+           ParseWindow(text, where, width, height);
+         },
+         "window size WIDTHxHEIGHT in pixels")
+      ->default_str(default_size);
 }
 
 void AddBenchOutputs(CLI::App* cmd, std::filesystem::path& csv, std::filesystem::path& out,

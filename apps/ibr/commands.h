@@ -33,6 +33,12 @@ CLI::App* BenchGroup(CLI::App& app);
 // ibr::DepthObjectOptionsFrom(ibr::SettingsFromFlags(flags)).
 void AddDepthObjectFlags(CLI::App* cmd, ibr::DepthObjectFlags& flags);
 
+// --window WIDTHxHEIGHT (pixels) into `width`, `height`, which start at
+// `default_size`; shared by `ibr view` and `ibr bench viewer`. A value that
+// is not WIDTHxHEIGHT: core::InputError "WHERE: --window 'X' is not WIDTHxHEIGHT".
+void AddWindowFlag(CLI::App* cmd, const std::string& where, int& width, int& height,
+                   const std::string& default_size = "960x720");
+
 // A bench's outputs: --csv FILE (required), --out DIR (plots) and --quick (the
 // small sweep of the smoke test).
 void AddBenchOutputs(CLI::App* cmd, std::filesystem::path& csv, std::filesystem::path& out,

@@ -114,6 +114,13 @@ int64_t Frame::CountOutcome(uint32_t bits) const {
   return n;
 }
 
+int64_t Frame::CoveredPixels() const {
+  int64_t n = 0;
+  for (size_t p = 0; p < color.pixel_count(); ++p)
+    n += color.data()[p * color.channels() + 3] == 255;
+  return n;
+}
+
 core::Image8 CoverageMask(const Frame& frame) {
   core::Image8 mask(frame.color.width(), frame.color.height(), 1, 0);
   for (int y = 0; y < mask.height(); ++y)

@@ -81,14 +81,18 @@ void BeginFrame(const RenderTarget& target);
 // absent from the program).
 void UseProgram(const RenderTarget& target, const Program& program, const ViewSetup& view);
 
-// A frame read back to the CPU (rows top first, like core::Image).
+// A frame read back to the CPU (rows top first, like core::Image): the one
+// readback type of every pass, scene and depth object. Empty pixels are 0 in
+// every attachment (BeginFrame's clear; no pass writes a background).
 struct Frame {
-  core::Image8 color;             // RGBA8
+  core::Image8 color;             // RGBA8, alpha 255 where covered
   core::ImageF depth;             // 1 channel camera z (scene units), 0 where empty
-  core::ImageF normal;            // 3 channels, world space
+  core::ImageF normal;            // 3 channels, world space, 0 where empty or unknown
   core::Image<uint32_t> outcome;  // 1 channel of outcome bits
   // Coverage = colour alpha 255 (every pass writes alpha 255 where it drew).
   bool Covered(int x, int y) const { return color.at(x, y, 3) == 255; }
+  // Pixels Covered.
+  int64_t CoveredPixels() const;
   // Pixels whose outcome has any of `bits` set.
   int64_t CountOutcome(uint32_t bits) const;
 };

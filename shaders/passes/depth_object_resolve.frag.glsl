@@ -1,5 +1,5 @@
 #version 450 core
-// Texturing and background after the stencil slice passes (ibr/depth_object.cc):
+// Texturing (empty pixels 0) after the stencil slice passes (ibr/depth_object.cc):
 // a full-screen pass (fullscreen.vert.glsl) reading the accumulated colour
 // and the first-surface depth.
 //   TEXTURING_VDT         view-dependent texturing (sec. 4.2 weights, ibr/view_weights.h)
@@ -19,7 +19,6 @@
 
 uniform sampler2D u_accum_color;  // RGBA32F: sum of w c, sum of w
 uniform sampler2D u_accum_depth;  // RG32F: view camera z of the first surface, covered flag
-uniform vec4 u_background;        // RGBA where nothing is drawn
 uniform float u_visibility_tolerance;  // scene units along each map's z
 // Refinement of the first surface between the slice that finished the pixel
 // and the one before it (all slices of a frame are parallel planes), by the
@@ -299,7 +298,7 @@ void main() {
 #ifdef FRAME_OUTPUT
     discard;
 #endif
-    o_color = u_background;
+    o_color = vec4(0.0);  // empty = 0, as in every frame (render/passes/pass.h)
     o_depth = vec2(0.0);
     return;
   }

@@ -220,16 +220,16 @@ TEST_F(DepthObjectFastTest, CupFramesMatchTheExactPath) {
         o.method = method;
         o.slicing = slicing;
         o.slices = 128;
-        const DepthObjectFrame exact = renderer.RenderImages(view, o);
+        const render::Frame exact = renderer.RenderFrame(view, o);
         o.slice_path = SlicePath::kFast;
-        const DepthObjectFrame fast = renderer.RenderImages(view, o);
+        const render::Frame fast = renderer.RenderFrame(view, o);
         const FrameParams frame = PrepareFrame(renderer.maps(), view, o);
         const double spacing = SpacingAlongView(renderer.maps(), frame, view);
         int64_t union_pixels = 0, only_one = 0, colour_off = 0, both = 0;
         double max_dz = 0;
         for (int y = 0; y < 128; ++y) {
           for (int x = 0; x < 128; ++x) {
-            const bool a = exact.mask.at(x, y) > 0, b = fast.mask.at(x, y) > 0;
+            const bool a = exact.Covered(x, y), b = fast.Covered(x, y);
             union_pixels += a || b;
             only_one += a != b;
             if (!(a && b)) continue;
@@ -256,7 +256,7 @@ TEST_F(DepthObjectFastTest, CupFramesMatchTheExactPath) {
           // sees the floor, the hull's the lid, about a cup height above it.
           DepthObjectOptions h = o;
           h.method = Method::kVisualHull;
-          const DepthObjectFrame hull = renderer.RenderImages(view, h);
+          const render::Frame hull = renderer.RenderFrame(view, h);
           ASSERT_GT(fast.depth.at(64, 64), 0) << what;
           ASSERT_GT(hull.depth.at(64, 64), 0) << what;
           EXPECT_GT(fast.depth.at(64, 64) - hull.depth.at(64, 64), 0.8) << what;
@@ -278,11 +278,13 @@ TEST_F(DepthObjectFastTest, ViewAngleSweepIncludingGrazingIsFinite) {
   const std::vector<Sphere> sphere = {{{0.1, -0.05, 0.0}, 0.7}};
   DepthObjectRenderer renderer(programs(), SphereCube(64, sphere));
   int views = 0;
-  auto finite = [](const DepthObjectFrame& f) {
+  auto finite = [](const render::Frame& f) {
     for (float z : f.depth.values())
       if (!std::isfinite(z) || z < 0) return false;
-    for (uint8_t m : f.mask.values())
-      if (m != 0 && m != 255) return false;
+    for (size_t p = 0; p < f.color.pixel_count(); ++p) {
+      const uint8_t alpha = f.color.data()[p * 4 + 3];
+      if (alpha != 0 && alpha != 255) return false;
+    }
     return true;
   };
   for (Slicing slicing : {Slicing::kOrthogonal, Slicing::kScreen}) {
@@ -299,17 +301,18 @@ TEST_F(DepthObjectFastTest, ViewAngleSweepIncludingGrazingIsFinite) {
           o.slicing = slicing;
           o.slices = 64;
           o.texturing = Texturing::kNone;
-          const DepthObjectFrame exact = renderer.RenderImages(view, o);
+          const render::Frame exact = renderer.RenderFrame(view, o);
           o.slice_path = SlicePath::kFast;
-          const DepthObjectFrame fast = renderer.RenderImages(view, o);
+          const render::Frame fast = renderer.RenderFrame(view, o);
           const std::string what =
               fmt::format("{} elevation {} azimuth {} {}", SlicingName(slicing), elevation, azimuth,
                           ortho ? "ortho" : "persp");
           EXPECT_TRUE(finite(fast)) << what;
           int64_t covered = 0, only_one = 0, union_pixels = 0;
           double max_dz = 0;
-          for (size_t i = 0; i < fast.mask.values().size(); ++i) {
-            const bool a2 = exact.mask.values()[i] > 0, b2 = fast.mask.values()[i] > 0;
+          for (size_t i = 0; i < fast.color.pixel_count(); ++i) {
+            const bool a2 = exact.color.data()[i * 4 + 3] == 255,
+                       b2 = fast.color.data()[i * 4 + 3] == 255;
             covered += b2;
             union_pixels += a2 || b2;
             only_one += a2 != b2;
@@ -334,10 +337,9 @@ TEST_F(DepthObjectFastTest, ViewAngleSweepIncludingGrazingIsFinite) {
       o.slicing = slicing;
       o.slices = 64;
       o.slice_path = SlicePath::kFast;
-      const DepthObjectFrame f =
-          renderer.RenderImages(testing::PerspectiveView(eye, {0, 0, 0}, {0, 0, 1}, 64, 0.6), o);
-      int64_t covered = 0;
-      for (uint8_t m : f.mask.values()) covered += m > 0;
+      const render::Frame f =
+          renderer.RenderFrame(testing::PerspectiveView(eye, {0, 0, 0}, {0, 0, 1}, 64, 0.6), o);
+      const int64_t covered = f.CoveredPixels();
       EXPECT_TRUE(finite(f)) << "eye inside at " << eye.x;
       EXPECT_GT(covered, 0) << "eye inside at " << eye.x;
       ++views;

@@ -1,9 +1,12 @@
 // Depth objects on the pass contract (ibr/depth_object_pass.h): drawn alone
 // into a frame target the pass gives what DepthObjectRenderer gives, and two
 // depth objects drawn into one frame composite by depth (each pixel shows
-// the nearer one, coverage is the union), in either drawing order.
+// the nearer one, coverage is the union), in either drawing order; and
+// DepthObjectRenderer::RenderFrame, the one readback (render::Frame), holds
+// exactly what the renderer's own output target holds.
 #include "ibr/depth_object_pass.h"
 
+#include <fmt/format.h>
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -58,14 +61,17 @@ TEST_F(DepthObjectPassTest, DrawsWhatTheRendererDrawsAndCompositesByDepth) {
   // Alone: the renderer's image.
   const render::Frame fa = render::RenderFrame(a, setup, kSize, kSize);
   const render::Frame fb = render::RenderFrame(b, setup, kSize, kSize);
-  const DepthObjectFrame ra = a.renderer().RenderImages(view, o);
+  // The renderer's own output target: attachment 1 RG32F (camera z, covered).
+  const render::RenderTarget own(DepthObjectRenderer::OutputTargetOptions(kSize, kSize));
+  a.renderer().Render(view, o, own);
+  const core::ImageF ra = own.ReadColorF(1);
   int64_t covered_a = 0;
   for (int y = 0; y < kSize; ++y) {
     for (int x = 0; x < kSize; ++x) {
-      ASSERT_EQ(fa.Covered(x, y), ra.mask.at(x, y) > 0) << x << " " << y;
+      ASSERT_EQ(fa.Covered(x, y), ra.at(x, y, 1) > 0.5f) << x << " " << y;
       if (!fa.Covered(x, y)) continue;
       ++covered_a;
-      EXPECT_NEAR(fa.depth.at(x, y), ra.depth.at(x, y), 1e-6);
+      EXPECT_NEAR(fa.depth.at(x, y), ra.at(x, y, 0), 1e-6);
       EXPECT_NE(fa.outcome.at(x, y), 0u);
     }
   }
@@ -93,6 +99,69 @@ TEST_F(DepthObjectPassTest, DrawsWhatTheRendererDrawsAndCompositesByDepth) {
       }
     }
     EXPECT_GT(both, 200) << "the two objects overlap in the view";
+  }
+  EXPECT_NO_GL_ERROR();
+}
+
+// RenderFrame (the frame target, no depth test) against the renderer's own
+// output target (Render: RGBA8 colour, RG32F camera z + covered), for every
+// path: the same pixels covered, the same colour bytes, the same camera z;
+// empty pixels 0; a covered pixel has alpha 255 and the hit outcome bit.
+TEST_F(DepthObjectPassTest, RenderFrameHoldsTheOwnOutputTarget) {
+  constexpr int kSize = 96;
+  DepthObjectRenderer renderer(programs(), SphereCube({{0.1, -0.05, 0.0}, 0.7}, 64));
+  struct Case {
+    Method method;
+    Slicing slicing;
+    SlicePath path;
+    Texturing texturing;
+  };
+  const Case cases[] = {
+      {Method::kDepthObject, Slicing::kOrthogonal, SlicePath::kExact, Texturing::kViewDependent},
+      {Method::kDepthObject, Slicing::kScreen, SlicePath::kFast, Texturing::kNone},
+      {Method::kDepthObject, Slicing::kRay, SlicePath::kExact, Texturing::kVisibility},
+      {Method::kVisualHull, Slicing::kOrthogonal, SlicePath::kExact, Texturing::kPaperBlend},
+  };
+  for (bool ortho : {false, true}) {
+    ViewCamera view = testing::PerspectiveView({0.6, 1.1, 2.8}, {0, 0, 0}, {0, 1, 0}, kSize);
+    if (ortho)
+      view.camera =
+          MapCamera::Orthographic(kSize, kSize, kSize / 3.0, kSize / 3.0, kSize / 2.0, kSize / 2.0);
+    for (const Case& c : cases) {
+      DepthObjectOptions o;
+      o.method = c.method;
+      o.slicing = c.slicing;
+      o.slice_path = c.path;
+      o.texturing = c.texturing;
+      o.slices = 64;
+      const std::string what =
+          fmt::format("{} {} {} {}", MethodName(c.method), SlicingName(c.slicing),
+                      SlicePathName(c.path), ortho ? "ortho" : "persp");
+      const render::Frame f = renderer.RenderFrame(view, o);
+      const render::RenderTarget own(DepthObjectRenderer::OutputTargetOptions(kSize, kSize));
+      renderer.Render(view, o, own);
+      const core::Image8 color = own.ReadColor8(0);
+      const core::ImageF zc = own.ReadColorF(1);
+      int64_t covered = 0, color_diff = 0;
+      for (int y = 0; y < kSize; ++y) {
+        for (int x = 0; x < kSize; ++x) {
+          const bool own_covered = zc.at(x, y, 1) > 0.5f;
+          ASSERT_EQ(f.Covered(x, y), own_covered) << what << " at " << x << " " << y;
+          for (int k = 0; k < 4; ++k) color_diff += f.color.at(x, y, k) != color.at(x, y, k);
+          if (!own_covered) {
+            EXPECT_EQ(f.depth.at(x, y), 0.0f) << what;
+            EXPECT_EQ(f.outcome.at(x, y), 0u) << what;
+            continue;
+          }
+          ++covered;
+          EXPECT_EQ(f.depth.at(x, y), zc.at(x, y, 0)) << what << " at " << x << " " << y;
+          EXPECT_NE(f.outcome.at(x, y), 0u) << what;
+        }
+      }
+      EXPECT_EQ(color_diff, 0) << what;
+      EXPECT_EQ(f.CoveredPixels(), covered) << what;
+      EXPECT_GT(covered, 500) << what;
+    }
   }
   EXPECT_NO_GL_ERROR();
 }

@@ -84,7 +84,7 @@ TEST_F(DepthObjectTest, SphereDepthObjectMatchesSphereFromNovelViews) {
       o.slicing = slicing;
       o.slices = 256;
       const FrameParams frame = PrepareFrame(renderer.maps(), view, o);
-      const DepthObjectFrame out = renderer.RenderImages(view, o);
+      const render::Frame out = renderer.RenderFrame(view, o);
       const Accuracy a = Compare(out.depth, TrueDepth(view, sphere));
       // Depth step between slices along the view: screen slices are camera-z
       // planes (the spacing itself); orthogonal slices are box planes, which
@@ -131,20 +131,20 @@ TEST_F(DepthObjectTest, SphereVisualHullContainsSphere) {
       o.slices = 256;
       const FrameParams frame = PrepareFrame(renderer.maps(), view, o);
       EXPECT_EQ(frame.active.size(), 3u) << "cube configuration: three front-facing silhouettes";
-      const DepthObjectFrame out = renderer.RenderImages(view, o);
+      const render::Frame out = renderer.RenderFrame(view, o);
       const core::ImageF truth = TrueDepth(view, sphere);
       int missing = 0, hull = 0, sphere_px = 0;
       for (int y = 1; y < truth.height() - 1; ++y) {
         for (int x = 1; x < truth.width() - 1; ++x) {
-          hull += out.mask.at(x, y) > 0;
+          hull += out.Covered(x, y);
           if (!(truth.at(x, y) > 0)) continue;
           ++sphere_px;
           // One-pixel border: a pixel whose neighbour misses the sphere.
           const bool border = !(truth.at(x - 1, y) > 0 && truth.at(x + 1, y) > 0 &&
                                 truth.at(x, y - 1) > 0 && truth.at(x, y + 1) > 0);
-          if (!border && out.mask.at(x, y) == 0) ++missing;
+          if (!border && !out.Covered(x, y)) ++missing;
           // The hull's first surface is never behind the sphere's (plus a slice).
-          if (!border && out.mask.at(x, y) > 0) {
+          if (!border && out.Covered(x, y)) {
             // Plus one map texel (2/256): the silhouettes are quantised to texels.
             EXPECT_LE(
                 out.depth.at(x, y),
@@ -184,7 +184,7 @@ TEST_F(DepthObjectTest, InputCameraReproducesItsDepthMap) {
       o.slices = 256;
       o.slicing = Slicing::kScreen;
       const FrameParams frame = PrepareFrame(renderer.maps(), view, o);
-      const DepthObjectFrame out = renderer.RenderImages(view, o);
+      const render::Frame out = renderer.RenderFrame(view, o);
       const Accuracy a = Compare(out.depth, m.depth);
       std::printf(
           "input camera %s: IoU %.4f, depth error mean %.5f median %.5f p95 %.5f max %.5f "
@@ -202,7 +202,7 @@ TEST_F(DepthObjectTest, InputCameraReproducesItsDepthMap) {
       int64_t same = 0, total = 0;
       for (int y = 0; y < m.camera.height; ++y) {
         for (int x = 0; x < m.camera.width; ++x) {
-          if (!(m.depth.at(x, y) > 0) || out.mask.at(x, y) == 0) continue;
+          if (!(m.depth.at(x, y) > 0) || !out.Covered(x, y)) continue;
           ++total;
           bool eq = true;
           for (int c = 0; c < 3; ++c)
@@ -235,14 +235,14 @@ TEST_F(DepthObjectTest, RayVariantMatchesSphereAndSlicing) {
     // The bisection depth this test was written with (the ray path then
     // ignored refine_steps and always took 8; it now honours the option).
     o.refine_steps = 8;
-    renderer.RenderImages(view, o);  // warm-up (shader compilation)
+    renderer.RenderFrame(view, o);  // warm-up (shader compilation)
     core::Stopwatch ray_watch;
-    const DepthObjectFrame ray = renderer.RenderImages(view, o);
+    const render::Frame ray = renderer.RenderFrame(view, o);
     const double ray_ms = ray_watch.ElapsedMs();
     o.slicing = Slicing::kScreen;
-    renderer.RenderImages(view, o);
+    renderer.RenderFrame(view, o);
     core::Stopwatch slice_watch;
-    const DepthObjectFrame slices = renderer.RenderImages(view, o);
+    const render::Frame slices = renderer.RenderFrame(view, o);
     const double slice_ms = slice_watch.ElapsedMs();
     const FrameParams frame = PrepareFrame(renderer.maps(), view, o);
     const Accuracy a_ray = Compare(ray.depth, truth);
@@ -261,7 +261,7 @@ TEST_F(DepthObjectTest, RayVariantMatchesSphereAndSlicing) {
     int64_t close = 0, both = 0;
     for (int y = 0; y < 200; ++y) {
       for (int x = 0; x < 200; ++x) {
-        if (ray.mask.at(x, y) == 0 || slices.mask.at(x, y) == 0) continue;
+        if (!ray.Covered(x, y) || !slices.Covered(x, y)) continue;
         ++both;
         int diff = 0;
         for (int c = 0; c < 3; ++c)
@@ -340,9 +340,9 @@ TEST_F(DepthObjectTest, CupCavityIsInTheDepthObjectNotTheHull) {
   DepthObjectOptions o;
   o.slices = 256;
   o.texturing = Texturing::kNone;
-  const DepthObjectFrame object = renderer.RenderImages(view, o);
+  const render::Frame object = renderer.RenderFrame(view, o);
   o.method = Method::kVisualHull;
-  const DepthObjectFrame hull = renderer.RenderImages(view, o);
+  const render::Frame hull = renderer.RenderFrame(view, o);
   test_support::WriteDebugImage("cup_depth_object.png", object.color);
   test_support::WriteDebugImage("cup_visual_hull.png", hull.color);
   // At the image centre the depth object sees the cup's floor, the hull its lid.
@@ -380,14 +380,14 @@ TEST_F(DepthObjectTest, VisibilityTexturingBeatsViewDependentOnPositionColours) 
     o.slices = 256;
     o.slicing = Slicing::kScreen;
     o.texturing = t == 0 ? Texturing::kPaperBlend : Texturing::kVisibility;
-    const DepthObjectFrame out = renderer.RenderImages(view, o);
+    const render::Frame out = renderer.RenderFrame(view, o);
     test_support::WriteDebugImage(fmt::format("texturing_{}.png", TexturingName(o.texturing)),
                                   out.color);
     const FrameParams f = PrepareFrame(renderer.maps(), view, o);
     int64_t n = 0;
     for (int y = 0; y < 200; ++y) {
       for (int x = 0; x < 200; ++x) {
-        if (out.mask.at(x, y) == 0) continue;
+        if (!out.Covered(x, y)) continue;
         const double z = out.depth.at(x, y);
         glm::dvec3 ro, rd;
         testing::PixelRay(view.camera, x, y, ro, rd);
@@ -411,17 +411,13 @@ TEST_F(DepthObjectTest, VisibilityTexturingBeatsViewDependentOnPositionColours) 
 TEST_F(DepthObjectTest, HardCasesGiveFiniteOutput) {
   const std::vector<Sphere> sphere = {{{0, 0, 0}, kRadius}};
   MapSet cube = SphereCube(96, sphere);
-  auto finite = [](const DepthObjectFrame& f) {
+  auto finite = [](const render::Frame& f) {
     for (float z : f.depth.values()) {
       if (!std::isfinite(z)) return false;
     }
     return true;
   };
-  auto count = [](const DepthObjectFrame& f) {
-    int64_t n = 0;
-    for (uint8_t m : f.mask.values()) n += m > 0;
-    return n;
-  };
+  auto count = [](const render::Frame& f) { return f.CoveredPixels(); };
   DepthObjectRenderer renderer(programs(), cube);
   for (Slicing slicing : {Slicing::kOrthogonal, Slicing::kScreen}) {
     DepthObjectOptions o;
@@ -429,8 +425,8 @@ TEST_F(DepthObjectTest, HardCasesGiveFiniteOutput) {
     o.slices = 64;
     // Camera inside the cube, inside the sphere looking out, and outside the sphere.
     for (glm::dvec3 eye : {glm::dvec3(0.1, 0.2, 0.3), glm::dvec3(0.85, 0.9, 0.2)}) {
-      const DepthObjectFrame f =
-          renderer.RenderImages(testing::PerspectiveView(eye, {0, 0, 0}, {0, 0, 1}, 96, 0.6), o);
+      const render::Frame f =
+          renderer.RenderFrame(testing::PerspectiveView(eye, {0, 0, 0}, {0, 0, 1}, 96, 0.6), o);
       EXPECT_TRUE(finite(f)) << "inside the cube";
       EXPECT_GT(count(f), 0) << "inside the cube, eye " << eye.x;
     }
@@ -442,7 +438,7 @@ TEST_F(DepthObjectTest, HardCasesGiveFiniteOutput) {
       for (bool ortho : {false, true}) {
         const ViewCamera v = ortho ? testing::OrthographicView(eye, {0, 0, 0}, up, 96, 1.1)
                                    : testing::PerspectiveView(eye, {0, 0, 0}, up, 96);
-        const DepthObjectFrame f = renderer.RenderImages(v, o);
+        const render::Frame f = renderer.RenderFrame(v, o);
         const Accuracy a = Compare(f.depth, TrueDepth(v, sphere));
         EXPECT_TRUE(finite(f));
         EXPECT_GE(a.iou, 0.97) << "axis " << axis << (ortho ? " ortho" : " persp");
@@ -451,9 +447,9 @@ TEST_F(DepthObjectTest, HardCasesGiveFiniteOutput) {
     // k >= N: every pixel of the box is kept; still finite.
     o.robust_k = 6;
     const ViewCamera side = testing::PerspectiveView({2.5, -2, 1.5}, {0, 0, 0}, {0, 0, 1}, 96);
-    const DepthObjectFrame box = renderer.RenderImages(side, o);
+    const render::Frame box = renderer.RenderFrame(side, o);
     o.robust_k = 0;
-    const DepthObjectFrame exact = renderer.RenderImages(side, o);
+    const render::Frame exact = renderer.RenderFrame(side, o);
     EXPECT_TRUE(finite(box));
     EXPECT_GT(count(box), count(exact));
   }
@@ -472,11 +468,11 @@ TEST_F(DepthObjectTest, HardCasesGiveFiniteOutput) {
   DepthObjectOptions o;
   o.slices = 128;
   o.invalid_depth = InvalidDepthPolicy::kNoConstraint;
-  const Accuracy keep = Compare(holes.RenderImages(v, o).depth, TrueDepth(v, sphere));
+  const Accuracy keep = Compare(holes.RenderFrame(v, o).depth, TrueDepth(v, sphere));
   o.invalid_depth = InvalidDepthPolicy::kEmpty;
-  const Accuracy carve = Compare(holes.RenderImages(v, o).depth, TrueDepth(v, sphere));
+  const Accuracy carve = Compare(holes.RenderFrame(v, o).depth, TrueDepth(v, sphere));
   o.robust_k = 1;
-  const Accuracy robust = Compare(holes.RenderImages(v, o).depth, TrueDepth(v, sphere));
+  const Accuracy robust = Compare(holes.RenderFrame(v, o).depth, TrueDepth(v, sphere));
   std::printf(
       "holes: IoU no-constraint %.4f, empty %.4f, empty + robust k=1 %.4f; p95 depth %.4f %.4f "
       "%.4f\n",
@@ -489,7 +485,7 @@ TEST_F(DepthObjectTest, HardCasesGiveFiniteOutput) {
   MapSet one = cube;
   one.maps.resize(1);
   DepthObjectRenderer single(programs(), one);
-  const DepthObjectFrame f = single.RenderImages(v, o);
+  const render::Frame f = single.RenderFrame(v, o);
   EXPECT_TRUE(finite(f));
   EXPECT_GT(count(f), 0);
   EXPECT_NO_GL_ERROR();

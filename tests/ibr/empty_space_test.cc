@@ -177,16 +177,16 @@ TEST_F(SkipRayTest, SameFirstSurfaceAsTheFineMarch) {
       o.slices = 128;
       o.texturing = Texturing::kNone;
       o.skip_grid = 0;
-      const DepthObjectFrame fine = renderer.RenderImages(view, o);
+      const render::Frame fine = renderer.RenderFrame(view, o);
       o.skip_grid = 48;
-      const DepthObjectFrame skip = renderer.RenderImages(view, o);
+      const render::Frame skip = renderer.RenderFrame(view, o);
       const FrameParams frame = PrepareFrame(renderer.maps(), view, o);
       const double tolerance = frame.stack.spacing_world / std::pow(2.0, o.refine_steps + 1) + 1e-5;
       int64_t covered = 0, mismatched = 0, far = 0, beyond_step = 0;
       double worst = 0;
       for (int y = 0; y < 160; ++y) {
         for (int x = 0; x < 160; ++x) {
-          const bool a = fine.mask.at(x, y) > 0, b = skip.mask.at(x, y) > 0;
+          const bool a = fine.Covered(x, y), b = skip.Covered(x, y);
           covered += a;
           if (a != b) {
             ++mismatched;

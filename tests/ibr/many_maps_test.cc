@@ -76,7 +76,7 @@ TEST_F(ManyMapsTest, RingOfMoreThanHundredMapsRendersTheSphere) {
     o.texturing = Texturing::kNone;
     const FrameParams frame = PrepareFrame(renderer.maps(), view, o);
     EXPECT_EQ(frame.active.size(), static_cast<size_t>(kRingMaps));  // every map carves
-    const DepthObjectFrame f = renderer.RenderImages(view, o);
+    const render::Frame f = renderer.RenderFrame(view, o);
     const core::ViewMetrics m = core::CompareDepth(f.depth, truth);
     SCOPED_TRACE(SlicingName(slicing));
     // Nearest-texel maps: the silhouette within a texel or so, the depth
@@ -178,15 +178,16 @@ TEST_F(ManyMapsTest, SubsetIsTheNearestMapsAndOnlyAddsCoverage) {
   o.slicing = Slicing::kRay;
   o.slices = 128;
   o.texturing = Texturing::kNone;
-  const DepthObjectFrame full = renderer.RenderImages(view, o);
+  const render::Frame full = renderer.RenderFrame(view, o);
   for (const int k : {6, 24}) {
     o.max_maps = k;
     EXPECT_EQ(PrepareFrame(renderer.maps(), view, o).active.size(), static_cast<size_t>(k));
-    const DepthObjectFrame sub = renderer.RenderImages(view, o);
+    const render::Frame sub = renderer.RenderFrame(view, o);
     int64_t lost = 0, gained = 0;
-    for (size_t i = 0; i < full.mask.values().size(); ++i) {
-      lost += full.mask.values()[i] > 0 && sub.mask.values()[i] == 0;
-      gained += full.mask.values()[i] == 0 && sub.mask.values()[i] > 0;
+    const core::Image8 full_mask = render::CoverageMask(full), sub_mask = render::CoverageMask(sub);
+    for (size_t i = 0; i < full_mask.values().size(); ++i) {
+      lost += full_mask.values()[i] > 0 && sub_mask.values()[i] == 0;
+      gained += full_mask.values()[i] == 0 && sub_mask.values()[i] > 0;
     }
     EXPECT_EQ(lost, 0) << "k " << k;
     if (k == 6) {
@@ -229,7 +230,7 @@ TEST_F(ManyMapsTest, OverTheLimitsIsOneClearError) {
     o.slicing = Slicing::kRay;
     o.slices = 8;
     o.skip_grid = 0;
-    r.RenderImages(NovelView(8), o);
+    r.RenderFrame(NovelView(8), o);
   } else {
     fmt::print("GL_MAX_ARRAY_TEXTURE_LAYERS {} >= the input limit: layer limit not reachable\n",
                layers);
@@ -242,22 +243,22 @@ TEST_F(ManyMapsTest, OverTheLimitsIsOneClearError) {
   o.slicing = Slicing::kOrthogonal;
   o.slices = 4;
   o.skip_grid = 0;
-  const std::string stencil = InputErrorOf([&] { renderer.RenderImages(NovelView(8), o); });
+  const std::string stencil = InputErrorOf([&] { renderer.RenderFrame(NovelView(8), o); });
   EXPECT_EQ(stencil,
             "DepthObjectRenderer: 'tiny_ring_256': 256 maps in one frame; the slice paths count "
             "them in the 8-bit stencil, at most 255: use the ray path (--slicing ray) or a "
             "subset (--max-maps)");
   o.max_maps = 255;
-  EXPECT_EQ(InputErrorOf([&] { renderer.RenderImages(NovelView(8), o); }), "");
+  EXPECT_EQ(InputErrorOf([&] { renderer.RenderFrame(NovelView(8), o); }), "");
   o.max_maps = 0;
   o.robust_k = 1;
   o.slicing = Slicing::kScreen;
   EXPECT_NE(InputErrorOf([&] {
-              renderer.RenderImages(NovelView(8), o);
+              renderer.RenderFrame(NovelView(8), o);
             }).find("at most 127 with --robust"),
             std::string::npos);
   o.slicing = Slicing::kRay;
-  EXPECT_EQ(InputErrorOf([&] { renderer.RenderImages(NovelView(8), o); }), "");
+  EXPECT_EQ(InputErrorOf([&] { renderer.RenderFrame(NovelView(8), o); }), "");
   EXPECT_NO_GL_ERROR();
 }
 

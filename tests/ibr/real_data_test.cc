@@ -157,12 +157,13 @@ TEST_P(MiddleburyHullTest, HullReprojectedIntoEachPhotoAgreesWithItsMask) {
   std::vector<core::Image8> sheet;
   for (size_t i = 0; i < views.size(); ++i) {
     core::Stopwatch watch;
-    const DepthObjectFrame frame = renderer.RenderImages(views[i], o);
+    const render::Frame frame = renderer.RenderFrame(views[i], o);
     const double ms = watch.ElapsedMs();
+    const core::Image8 hull_mask = render::CoverageMask(frame);
     const core::Image8 full_mask = dataset.LoadMask(i);
     const core::Image8 photo_mask = SampleLikeTheView(full_mask);
     const MaskAgreement a =
-        CompareMasks(frame.mask, photo_mask, 0, 0, frame.mask.width(), frame.mask.height());
+        CompareMasks(hull_mask, photo_mask, 0, 0, hull_mask.width(), hull_mask.height());
     // The same inside the README's tight box projected into the view (plus
     // 3 px): the mask recipe also admits lit clutter at the image borders
     // (parts of the gantry, threshold 0.19), which is no part of the object
@@ -179,9 +180,9 @@ TEST_P(MiddleburyHullTest, HullReprojectedIntoEachPhotoAgreesWithItsMask) {
       hi = glm::max(hi, uv);
     }
     const MaskAgreement in_box =
-        CompareMasks(frame.mask, photo_mask, static_cast<int>(lo.x) - 3, static_cast<int>(lo.y) - 3,
+        CompareMasks(hull_mask, photo_mask, static_cast<int>(lo.x) - 3, static_cast<int>(lo.y) - 3,
                      static_cast<int>(hi.x) + 4, static_cast<int>(hi.y) + 4);
-    const int64_t outside = HullPixelsOutsideTheMask(frame.mask, full_mask);
+    const int64_t outside = HullPixelsOutsideTheMask(hull_mask, full_mask);
     ious.push_back(a.iou());
     std::printf(
         "%s %s: hull %lld px, mask %lld px, IoU %.4f (precision %.4f, recall %.4f), in the README "
@@ -206,7 +207,7 @@ TEST_P(MiddleburyHullTest, HullReprojectedIntoEachPhotoAgreesWithItsMask) {
     // and more elsewhere; the dinosaur's photos are clean: 0.985 and more).
     EXPECT_GE(a.iou(), ring.min_iou) << dataset.views[i].name;
     EXPECT_GE(in_box.iou(), ring.min_iou_in_box) << dataset.views[i].name;
-    const core::Image8 overlay = Overlay(frame.mask, photo_mask);
+    const core::Image8 overlay = Overlay(hull_mask, photo_mask);
     if (i == 0)
       test_support::WriteDebugImage(
           fmt::format("{}_hull_{}.png", ring.folder, dataset.views[i].name), frame.color);
@@ -300,7 +301,7 @@ TEST_F(RealDataTest, RedwoodRobustDepthObject) {
     const ViewCamera view{ResizeCamera(m.camera, m.camera.width / kDown), m.cam_from_world};
     const core::ImageF sensor = SampleLikeTheView(m.depth);
     const FrameParams params = PrepareFrame(renderer.maps(), view, o);
-    const DepthObjectFrame frame = renderer.RenderImages(view, o);
+    const render::Frame frame = renderer.RenderFrame(view, o);
     const double spacing = params.stack.spacing_world;
     // Tolerance: two slice spacings plus 2 % of the depth (the sensor's
     // quantisation and the frames' mutual disagreement, about 0.3 % median,
@@ -346,7 +347,7 @@ TEST_F(RealDataTest, RedwoodRobustDepthObject) {
                          novel_from_world};
   const FrameParams params = PrepareFrame(renderer.maps(), novel, o);
   const double spacing = params.stack.spacing_world;
-  const DepthObjectFrame frame = renderer.RenderImages(novel, o);
+  const render::Frame frame = renderer.RenderFrame(novel, o);
 
   // What the sensor saw, seen from the novel view: every valid pixel of
   // every frame lifted to the world and splatted (nearest z per pixel).

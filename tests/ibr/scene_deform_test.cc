@@ -43,7 +43,7 @@ TEST_F(SceneDeformTest, SceneDrawsWhatTheLibraryCallDraws) {
   SceneRenderer renderer(programs(), loaded);
   EXPECT_EQ(renderer.PassNames(), std::vector<std::string>{"deform"});
   const ViewCamera& view = loaded.views.front().view;
-  const SceneFrame scene_frame = renderer.Render(view);
+  const render::Frame scene_frame = renderer.Render(view);
 
   // `ibr deform`'s path (bench::RunDeform): the same options, the mesh in its
   // own frame, the view carried into the normalised frame.
@@ -69,7 +69,7 @@ TEST_F(SceneDeformTest, SceneDrawsWhatTheLibraryCallDraws) {
   int covered = 0, cut_faces = 0;
   for (int y = 0; y < 96; ++y) {
     for (int x = 0; x < 96; ++x) {
-      covered += scene_frame.mask.at(x, y) > 0;
+      covered += scene_frame.Covered(x, y);
       cut_faces += (frame.outcome.at(x, y) & render::kDeformCutFaceBit) != 0;
     }
   }
@@ -100,11 +100,11 @@ TEST_F(SceneDeformTest, DeformAndMeshCompositeByCameraZ) {
     return renderer.Render(loaded.views.front().view);
   };
   std::vector<std::string> passes;
-  const SceneFrame a = render(twist + "," + off(box), &passes);
+  const render::Frame a = render(twist + "," + off(box), &passes);
   EXPECT_EQ(passes, std::vector<std::string>{"deform"});
-  const SceneFrame b = render(off(twist) + "," + box, &passes);
+  const render::Frame b = render(off(twist) + "," + box, &passes);
   EXPECT_EQ(passes, std::vector<std::string>{"mesh"});
-  const SceneFrame both = render(twist + "," + box, &passes);
+  const render::Frame both = render(twist + "," + box, &passes);
   EXPECT_EQ(passes, (std::vector<std::string>{"deform", "mesh"}));
   int overlap = 0, deform_wins = 0, mesh_wins = 0;
   for (int y = 0; y < 96; ++y) {
@@ -117,7 +117,7 @@ TEST_F(SceneDeformTest, DeformAndMeshCompositeByCameraZ) {
       if (za > 0 && zb > 0 && std::abs(za - zb) > 0.02f) {
         ++overlap;
         (za < zb ? deform_wins : mesh_wins)++;
-        const SceneFrame& winner = za < zb ? a : b;
+        const render::Frame& winner = za < zb ? a : b;
         for (int c = 0; c < 4; ++c)
           ASSERT_NEAR(both.color.at(x, y, c), winner.color.at(x, y, c), 2) << x << "," << y;
       }

@@ -37,7 +37,7 @@ struct Built {
   std::map<std::string, int> programs;  // compiled, by file
   int64_t textures = 0;                 // created during build + one frame
   std::vector<std::string> passes;
-  SceneFrame frame;
+  render::Frame frame;
 };
 
 Built Build(const scene::Scene& s) {

@@ -64,14 +64,10 @@ std::pair<int, int> Difference(const core::Image8& a, const core::Image8& b) {
   return {pixels, largest};
 }
 
-int Covered(const SceneFrame& f) {
-  int n = 0;
-  for (uint8_t m : f.mask.values()) n += m > 0;
-  return n;
-}
+int Covered(const render::Frame& f) { return static_cast<int>(f.CoveredPixels()); }
 
 // Pixels a pass drew into at all (DVR leaves alpha below 255).
-int Drawn(const SceneFrame& f) {
+int Drawn(const render::Frame& f) {
   int n = 0;
   for (int y = 0; y < f.color.height(); ++y)
     for (int x = 0; x < f.color.width(); ++x) n += f.color.at(x, y, 3) > 0;
@@ -90,12 +86,12 @@ class SceneRendererUpdateTest : public test_support::GlTest {
   }
   // `after`, a frame of `loaded` updated to a solid knife of amount 0.4,
   // equals a fresh build of the options the update ended with.
-  void ExpectFreshBuildOfAmount04(const LoadedScene& loaded, const SceneFrame& after) {
+  void ExpectFreshBuildOfAmount04(const LoadedScene& loaded, const render::Frame& after) {
     LoadedScene fresh = LoadScene(programs(), Parse(Knife(R"(, "cut": "solid", "amount": 0.4)")));
     fresh.objects[0].deform = std::make_shared<DeformObjectData>(MakeDeformObject(
         capture::MakeShapeScene("torus").mesh, loaded.objects[0].deform_options, "torus"));
     SceneRenderer fresh_renderer(programs(), fresh);
-    const SceneFrame expected = fresh_renderer.Render(fresh.views.front().view);
+    const render::Frame expected = fresh_renderer.Render(fresh.views.front().view);
     EXPECT_EQ(after.color, expected.color);
     EXPECT_EQ(after.depth, expected.depth);
   }
@@ -110,7 +106,7 @@ TEST_F(SceneRendererUpdateTest, DeformAmountResamplesTheDeformationAndKeepsTheFi
   LoadedScene loaded = LoadScene(programs(), s);
   SceneRenderer renderer(programs(), loaded);
   const ViewCamera& view = loaded.views.front().view;
-  const SceneFrame before = renderer.Render(view);
+  const render::Frame before = renderer.Render(view);
   const double reach_before = loaded.objects[0].deform->sdf_reach;
   EXPECT_EQ(loaded.objects[0].deform->implicit_builds, 1);
 
@@ -127,7 +123,7 @@ TEST_F(SceneRendererUpdateTest, DeformAmountResamplesTheDeformationAndKeepsTheFi
   EXPECT_EQ(*updated.deform_options.sdf_reach, reach_before);
   EXPECT_LT(updated.deform->max_displacement, reach_before);
   EXPECT_EQ(renderer.PassBuilds(0), 2);
-  const SceneFrame after = renderer.Render(view);
+  const render::Frame after = renderer.Render(view);
 
   // A scene loaded with amount 0.15, its object made from the options the
   // update ended with (the same reach: the same field).
@@ -140,7 +136,7 @@ TEST_F(SceneRendererUpdateTest, DeformAmountResamplesTheDeformationAndKeepsTheFi
   EXPECT_EQ(fresh.bounds.min, loaded.bounds.min);
   EXPECT_EQ(fresh.bounds.max, loaded.bounds.max);
   SceneRenderer fresh_renderer(programs(), fresh);
-  const SceneFrame expected = fresh_renderer.Render(fresh.views.front().view);
+  const render::Frame expected = fresh_renderer.Render(fresh.views.front().view);
   test_support::WriteDebugImage("update_deform_before.png", before.color);
   test_support::WriteDebugImage("update_deform_after.png", after.color);
   EXPECT_EQ(after.color, expected.color);
@@ -155,7 +151,7 @@ TEST_F(SceneRendererUpdateTest, DeformAmountResamplesTheDeformationAndKeepsTheFi
   fresh.objects[0].deform = std::make_shared<DeformObjectData>(plain);
   fresh.objects[0].deform_options.sdf_reach.reset();
   SceneRenderer plain_renderer(programs(), fresh);
-  const SceneFrame plain_frame = plain_renderer.Render(fresh.views.front().view);
+  const render::Frame plain_frame = plain_renderer.Render(fresh.views.front().view);
   const auto [plain_pixels, plain_max] = Difference(after.color, plain_frame.color);
   std::printf(
       "vs a fresh load with the default reach (%.4f vs %.4f): %d of %d pixels differ, "
@@ -209,7 +205,7 @@ TEST_F(SceneRendererUpdateTest, DeferredReachKeepsTheFieldUntilTheNextUpdate) {
 TEST_F(SceneRendererUpdateTest, DeformCutChangesThePassAlone) {
   LoadedScene loaded = LoadScene(programs(), Parse(Knife(R"(, "cut": "solid")")));
   SceneRenderer renderer(programs(), loaded);
-  const SceneFrame before = renderer.Render(loaded.views.front().view);
+  const render::Frame before = renderer.Render(loaded.views.front().view);
   DeformObjectOptions options = loaded.objects[0].deform_options;
   options.pass.cut = core::CutMode::kHollow;
   const DeformObjectChange change = renderer.UpdateDeform(loaded, 0, options);
@@ -218,11 +214,11 @@ TEST_F(SceneRendererUpdateTest, DeformCutChangesThePassAlone) {
   EXPECT_FALSE(change.implicit);
   EXPECT_EQ(loaded.objects[0].deform->implicit_builds, 1);
   EXPECT_EQ(renderer.PassNames(), std::vector<std::string>{"deform"});
-  const SceneFrame after = renderer.Render(loaded.views.front().view);
+  const render::Frame after = renderer.Render(loaded.views.front().view);
 
   LoadedScene fresh = LoadScene(programs(), Parse(Knife(R"(, "cut": "hollow")")));
   SceneRenderer fresh_renderer(programs(), fresh);
-  const SceneFrame expected = fresh_renderer.Render(fresh.views.front().view);
+  const render::Frame expected = fresh_renderer.Render(fresh.views.front().view);
   EXPECT_EQ(after.color, expected.color);
   EXPECT_EQ(after.depth, expected.depth);
   EXPECT_GT(Difference(before.color, after.color).first, 20) << "solid vs hollow cut";
@@ -233,7 +229,7 @@ TEST_F(SceneRendererUpdateTest, DeformCutChangesThePassAlone) {
 TEST_F(SceneRendererUpdateTest, InvalidDeformOptionsChangeNothing) {
   LoadedScene loaded = LoadScene(programs(), Parse(Knife(R"(, "cut": "solid")")));
   SceneRenderer renderer(programs(), loaded);
-  const SceneFrame before = renderer.Render(loaded.views.front().view);
+  const render::Frame before = renderer.Render(loaded.views.front().view);
   const auto data = loaded.objects[0].deform;
   DeformObjectOptions wide = loaded.objects[0].deform_options;
   wide.deformation.terms[0].amount = 0.9;
@@ -291,7 +287,7 @@ class SceneRendererVolumeUpdateTest : public SceneRendererUpdateTest {
 TEST_F(SceneRendererVolumeUpdateTest, LightingChangesThePassOptionsAlone) {
   LoadedScene loaded = LoadScene(programs(), Ball(R"(, "lighting": "blended")"));
   SceneRenderer renderer(programs(), loaded);
-  const SceneFrame before = renderer.Render(loaded.views.front().view);
+  const render::Frame before = renderer.Render(loaded.views.front().view);
   const auto data = loaded.objects[0].volume;
   VolumeObjectOptions options = loaded.objects[0].volume_options;
   options.pass.lighting = render::VolumeLighting::kGradient;
@@ -300,11 +296,11 @@ TEST_F(SceneRendererVolumeUpdateTest, LightingChangesThePassOptionsAlone) {
   EXPECT_FALSE(change.maps);
   EXPECT_EQ(renderer.PassBuilds(0), 1) << "the volume pass was built again";
   EXPECT_EQ(loaded.objects[0].volume, data) << "the volume data was copied";
-  const SceneFrame after = renderer.Render(loaded.views.front().view);
+  const render::Frame after = renderer.Render(loaded.views.front().view);
 
   LoadedScene fresh = LoadScene(programs(), Ball(R"(, "lighting": "gradient")"));
   SceneRenderer fresh_renderer(programs(), fresh);
-  const SceneFrame expected = fresh_renderer.Render(fresh.views.front().view);
+  const render::Frame expected = fresh_renderer.Render(fresh.views.front().view);
   test_support::WriteDebugImage("update_volume_blended.png", before.color);
   test_support::WriteDebugImage("update_volume_gradient.png", after.color);
   EXPECT_EQ(after.color, expected.color);
@@ -329,7 +325,7 @@ TEST_F(SceneRendererVolumeUpdateTest, LightingChangesThePassOptionsAlone) {
 TEST_F(SceneRendererVolumeUpdateTest, PeelAngleResamplesTheMap) {
   LoadedScene loaded = LoadScene(programs(), Ball(""));
   SceneRenderer renderer(programs(), loaded);
-  const SceneFrame first = renderer.Render(loaded.views.front().view);
+  const render::Frame first = renderer.Render(loaded.views.front().view);
   VolumeObjectOptions options = loaded.objects[0].volume_options;
   ASSERT_TRUE(options.effect.has_value());
   const double angle = options.effect->peel_angle_deg;
@@ -337,7 +333,7 @@ TEST_F(SceneRendererVolumeUpdateTest, PeelAngleResamplesTheMap) {
   const VolumeObjectChange change = renderer.UpdateVolume(loaded, 0, options);
   EXPECT_TRUE(change.maps);
   EXPECT_EQ(renderer.PassBuilds(0), 1);
-  const SceneFrame turned = renderer.Render(loaded.views.front().view);
+  const render::Frame turned = renderer.Render(loaded.views.front().view);
   EXPECT_GT(Difference(first.color, turned.color).first, 20) << "peel at 90 vs 160 degrees";
   SceneRenderer fresh(programs(), loaded);
   EXPECT_EQ(fresh.Render(loaded.views.front().view).color, turned.color);
@@ -370,7 +366,7 @@ TEST_F(SceneRendererVolumeUpdateTest, PreviewPeelMapIsResampledByTheNextUpdate) 
   EXPECT_FALSE(loaded.objects[0].volume->preview_maps);
   EXPECT_NE(loaded.objects[0].volume->maps.at(0).map.texels, preview_texels)
       << "the preview's fill is rougher";
-  const SceneFrame after = renderer.Render(loaded.views.front().view);
+  const render::Frame after = renderer.Render(loaded.views.front().view);
   SceneRenderer fresh(programs(), loaded);
   EXPECT_EQ(fresh.Render(loaded.views.front().view).color, after.color);
   // Nothing left to settle: the same options change nothing.

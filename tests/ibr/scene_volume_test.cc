@@ -46,7 +46,7 @@ class SceneVolumeTest : public test_support::GlTest {
     test_support::GlTest::TearDown();
   }
 
-  SceneFrame Render(const std::vector<std::string>& objects) {
+  render::Frame Render(const std::vector<std::string>& objects) {
     std::string list;
     for (const std::string& o : objects) list += (list.empty() ? "" : ", ") + o;
     std::istringstream in(
@@ -89,13 +89,13 @@ std::pair<double, double> TransmittanceBounds(double length_voxels) {
 TEST_F(SceneVolumeTest, DvrVolumeCompositesWithOpaqueMeshesByDepth) {
   // The meshes alone (the volume named but disabled): their colour and depth.
   const auto off = [](std::string o) { return o.insert(o.size() - 1, R"(, "enabled": false)"), o; };
-  const SceneFrame meshes = Render({off(kVolume), kInside, kFront});
-  const SceneFrame volume_alone = Render({kVolume});
+  const render::Frame meshes = Render({off(kVolume), kInside, kFront});
+  const render::Frame volume_alone = Render({kVolume});
   EXPECT_EQ(passes_, std::vector<std::string>{"volume:dvr"});
-  const SceneFrame both = Render({kVolume, kInside, kFront});
+  const render::Frame both = Render({kVolume, kInside, kFront});
   EXPECT_EQ(passes_, (std::vector<std::string>{"volume:dvr", "mesh", "mesh"}));
   // The scene order does not matter: DVR volumes are drawn after opaque objects.
-  const SceneFrame reversed = Render({kFront, kInside, kVolume});
+  const render::Frame reversed = Render({kFront, kInside, kVolume});
   EXPECT_EQ(reversed.color, both.color);
   EXPECT_EQ(reversed.depth, both.depth);
   test_support::WriteDebugImage("meshes.png", meshes.color);
@@ -169,7 +169,7 @@ TEST_F(SceneVolumeTest, IsoVolumeIsOpaqueAndWritesDepth) {
   const std::string iso =
       R"({"name": "block", "type": "volume", "volume": "block.dat", "mode": "iso:1",)"
       R"( "lighting": "none", "transform": {"scale": 0.0625}})";
-  const SceneFrame f = Render({iso, kFront});
+  const render::Frame f = Render({iso, kFront});
   EXPECT_EQ(passes_, (std::vector<std::string>{"volume:iso", "mesh"}));
   // The block's front face at world z = -1 (cam z 5), except where the box
   // in front (cam z 4.25) hides it.

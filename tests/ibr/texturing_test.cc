@@ -100,7 +100,7 @@ bool SeenByAMap(const MapSet& set, const glm::dvec3& p, double tol) {
 }
 
 // World point of a covered output pixel.
-glm::dvec3 PixelPoint(const ViewCamera& view, const DepthObjectFrame& out, int x, int y) {
+glm::dvec3 PixelPoint(const ViewCamera& view, const render::Frame& out, int x, int y) {
   glm::dvec3 ro, rd;
   testing::PixelRay(view.camera, x, y, ro, rd);
   return glm::dvec3(glm::inverse(view.cam_from_world) *
@@ -130,12 +130,12 @@ TEST_F(TexturingTest, InputCameraReproducesItsColours) {
         o.slicing = slicing;
         const FrameParams f = PrepareFrame(renderer.maps(), view, o);
         EXPECT_EQ(f.weights[i], 1.0f);
-        const DepthObjectFrame out = renderer.RenderImages(view, o);
+        const render::Frame out = renderer.RenderFrame(view, o);
         int64_t total = 0, same = 0;
         int worst = 0;
         for (int y = 0; y < m.camera.height; ++y) {
           for (int x = 0; x < m.camera.width; ++x) {
-            if (m.mask.at(x, y) == 0 || out.mask.at(x, y) == 0) continue;
+            if (m.mask.at(x, y) == 0 || !out.Covered(x, y)) continue;
             ++total;
             int diff = 0;
             for (int c = 0; c < 3; ++c)
@@ -171,14 +171,14 @@ TEST_F(TexturingTest, HullColoursContinuousAcrossFacePlane) {
       o.method = Method::kVisualHull;
       o.slicing = slicing;
       o.texturing = texturing;
-      DepthObjectFrame out[2];
+      render::Frame out[2];
       std::vector<int> active[2];
       for (int s = 0; s < 2; ++s) {
         const double a = (90.0 + (s == 0 ? -0.1 : 0.1)) * M_PI / 180.0;
         const glm::dvec3 eye = 3.0 * glm::normalize(glm::dvec3(std::cos(a), std::sin(a), 0.45));
         const ViewCamera view = testing::PerspectiveView(eye, {0, 0, 0}, {0, 0, 1}, 160);
         active[s] = PrepareFrame(renderer.maps(), view, o).active;
-        out[s] = renderer.RenderImages(view, o);
+        out[s] = renderer.RenderFrame(view, o);
         test_support::WriteDebugImage(
             fmt::format("hull_{}_{}_{}.png", SlicingName(slicing), TexturingName(texturing), s),
             out[s].color);
@@ -188,7 +188,7 @@ TEST_F(TexturingTest, HullColoursContinuousAcrossFacePlane) {
       int64_t n = 0, far = 0;
       for (int y = 0; y < 160; ++y) {
         for (int x = 0; x < 160; ++x) {
-          if (out[0].mask.at(x, y) == 0 || out[1].mask.at(x, y) == 0) continue;
+          if (!out[0].Covered(x, y) || !out[1].Covered(x, y)) continue;
           int diff = 0;
           for (int c = 0; c < 3; ++c)
             diff = std::max(diff, std::abs(out[0].color.at(x, y, c) - out[1].color.at(x, y, c)));
@@ -237,7 +237,7 @@ TEST_F(TexturingTest, NoColourFromPointsAMapDidNotSee) {
         o.slicing = slicing;
         o.texturing = texturing;
         const FrameParams f = PrepareFrame(set, view, o);
-        const DepthObjectFrame out = renderer.RenderImages(view, o);
+        const render::Frame out = renderer.RenderFrame(view, o);
         test_support::WriteDebugImage(
             fmt::format("speckle_{}_{}_{}.png", SlicingName(slicing), TexturingName(texturing), v),
             out.color);
@@ -248,7 +248,7 @@ TEST_F(TexturingTest, NoColourFromPointsAMapDidNotSee) {
         core::Image8 excess(200, 200, 3, 0);
         for (int y = 0; y < 200; ++y) {
           for (int x = 0; x < 200; ++x) {
-            if (out.mask.at(x, y) == 0) continue;
+            if (!out.Covered(x, y)) continue;
             ++covered;
             const glm::dvec3 p = PixelPoint(view, out, x, y);
             // A point no map saw has no colour to check (the plate in the
@@ -346,11 +346,11 @@ TEST_F(TexturingTest, SpotSideViewsTakeColoursFromMapsThatSawThem) {
        capture::MakeRig(capture::RigSpec::Parse("ring:8"), bounds, vo)) {
     const capture::CapturedView truth = capture::RenderView(programs(), mesh, rv, vo);
     const ViewCamera view = ViewCameraFrom(rv);
-    DepthObjectFrame out[3];
+    render::Frame out[3];
     for (int t = 0; t < 3; ++t) {
       DepthObjectOptions o;
       o.texturing = kinds[t];
-      out[t] = renderer.RenderImages(view, o);
+      out[t] = renderer.RenderFrame(view, o);
       sheet[t].push_back(out[t].color);
     }
     sheet[3].push_back(truth.color);
@@ -421,7 +421,7 @@ TEST_F(TexturingTest, SpotShadedSideViewsHaveNoContourStripes) {
         DepthObjectOptions o;
         o.texturing = texturing;
         o.slicing = slicing;
-        const DepthObjectFrame out = renderer.RenderImages(ViewCameraFrom(rv), o);
+        const render::Frame out = renderer.RenderFrame(ViewCameraFrom(rv), o);
         sheet.push_back(out.color);
         for (int y = 1; y + 1 < vo.size; ++y) {
           for (int x = 1; x + 1 < vo.size; ++x) {
