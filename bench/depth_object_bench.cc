@@ -354,10 +354,10 @@ DepthObjectBenchResult RunDepthObjectBench(const DepthObjectBenchOptions& option
           core::Stopwatch first;
           render::Frame frame0 = renderer.RenderFrame(views[0], o);
           const double first_ms = first.ElapsedMs();
-          const render::RenderTarget target(ibr::DepthObjectRenderer::OutputTargetOptions(
-              views[0].camera.width, views[0].camera.height));
+          const render::RenderTarget target(
+              render::FrameTargetOptions(views[0].camera.width, views[0].camera.height));
           const core::TimingStats t =
-              render::TimeFrames([&] { renderer.Render(views[0], o, target); }, timer);
+              render::TimeFrames([&] { renderer.DrawFrame(views[0], o, target); }, timer);
           // Fragments the slice passes shade: slice coverage x maps in the loop.
           // The ray variant shades one fragment per pixel that marches many
           // steps: no fill-rate fraction is comparable (nan).
@@ -433,7 +433,7 @@ DepthObjectBenchResult RunDepthObjectBench(const DepthObjectBenchOptions& option
       // the maps each step tests; the rest is the resolve and the readback.
       const int size = sizes.back();
       const ibr::ViewCamera view = Views(maps, 1, size)[0];
-      const render::RenderTarget target(ibr::DepthObjectRenderer::OutputTargetOptions(size, size));
+      const render::RenderTarget target(render::FrameTargetOptions(size, size));
       ibr::DepthObjectOptions base;
       base.slicing = ibr::Slicing::kRay;
       base.subtexel_depth = true;
@@ -443,7 +443,7 @@ DepthObjectBenchResult RunDepthObjectBench(const DepthObjectBenchOptions& option
         ibr::DepthObjectOptions o = base;
         change(o);
         renderer.RenderFrame(view, o);  // programs built before timing
-        return render::TimeFrames([&] { renderer.Render(view, o, target); }, timer).median_ms;
+        return render::TimeFrames([&] { renderer.DrawFrame(view, o, target); }, timer).median_ms;
       };
       const double full = variant([](ibr::DepthObjectOptions&) {});
       const std::vector<std::pair<std::string, double>> rows = {
@@ -513,21 +513,19 @@ DepthObjectBenchResult RunDepthObjectBench(const DepthObjectBenchOptions& option
           const ibr::ViewCamera v = Views(maps, 1, size)[0];
           const render::Frame f = renderer.RenderFrame(v, o);
           const int64_t covered = f.CoveredPixels();
-          const render::RenderTarget target(
-              ibr::DepthObjectRenderer::OutputTargetOptions(size, size));
+          const render::RenderTarget target(render::FrameTargetOptions(size, size));
           const core::TimingStats t =
-              render::TimeFrames([&] { renderer.Render(v, o, target); }, timer);
+              render::TimeFrames([&] { renderer.DrawFrame(v, o, target); }, timer);
           fig_coverage.AddRow({ibr::SlicingName(slicing), "128", std::to_string(size),
                                std::to_string(covered), Num(t.median_ms, 2)});
         }
         const int fig_size = options.quick ? 100 : 300;
         const ibr::ViewCamera v = Views(maps, 1, fig_size)[0];
-        const render::RenderTarget target(
-            ibr::DepthObjectRenderer::OutputTargetOptions(fig_size, fig_size));
+        const render::RenderTarget target(render::FrameTargetOptions(fig_size, fig_size));
         for (int slices : fig_slices_n) {
           o.slices = slices;
           const core::TimingStats t =
-              render::TimeFrames([&] { renderer.Render(v, o, target); }, timer);
+              render::TimeFrames([&] { renderer.DrawFrame(v, o, target); }, timer);
           fig_slices.AddRow({ibr::SlicingName(slicing), std::to_string(slices),
                              std::to_string(fig_size), Num(t.median_ms, 2)});
         }

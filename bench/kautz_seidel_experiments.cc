@@ -104,8 +104,8 @@ Measured Measure(ibr::DepthObjectRenderer& renderer, const ibr::ViewCamera& view
   }
   m.bbox_px = x1 < 0 ? 0 : std::max(x1 - x0, y1 - y0) + 1;
   const render::RenderTarget target(
-      ibr::DepthObjectRenderer::OutputTargetOptions(view.camera.width, view.camera.height));
-  m.ms = render::TimeFrames([&] { renderer.Render(view, o, target); }, timer).median_ms;
+      render::FrameTargetOptions(view.camera.width, view.camera.height));
+  m.ms = render::TimeFrames([&] { renderer.DrawFrame(view, o, target); }, timer).median_ms;
   return m;
 }
 

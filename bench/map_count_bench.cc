@@ -92,8 +92,8 @@ MapCountSweepResult RunMapCountSweep(render::ProgramCache& programs, const std::
     glFinish();
     const double upload_ms = upload_watch.ElapsedMs();
     const std::vector<ibr::ViewCamera> views = SweepViews(maps, options.view_size);
-    const render::RenderTarget target(ibr::DepthObjectRenderer::OutputTargetOptions(
-        views[0].camera.width, views[0].camera.height));
+    const render::RenderTarget target(
+        render::FrameTargetOptions(views[0].camera.width, views[0].camera.height));
     std::vector<render::Frame> all_frames;  // ray-skip from every map (the subsets' reference)
     for (size_t pi = 0; pi < paths.size(); ++pi) {
       const Path& path = paths[pi];
@@ -117,7 +117,7 @@ MapCountSweepResult RunMapCountSweep(render::ProgramCache& programs, const std::
       render::Frame frame0 = renderer.RenderFrame(views[0], o);
       const double first_ms = first.ElapsedMs();
       const core::TimingStats t =
-          render::TimeFrames([&] { renderer.Render(views[0], o, target); }, timer);
+          render::TimeFrames([&] { renderer.DrawFrame(views[0], o, target); }, timer);
       std::vector<render::Frame> frames;
       frames.push_back(std::move(frame0));
       frames.push_back(renderer.RenderFrame(views[1], o));
@@ -158,7 +158,7 @@ MapCountSweepResult RunMapCountSweep(render::ProgramCache& programs, const std::
       o.slices = ibr::PrepareFrame(renderer.maps(), views[0], every).slice_count;
       renderer.RenderFrame(views[0], o);  // program, skip grid of this subset
       const core::TimingStats t =
-          render::TimeFrames([&] { renderer.Render(views[0], o, target); }, timer);
+          render::TimeFrames([&] { renderer.DrawFrame(views[0], o, target); }, timer);
       std::vector<core::ViewMetrics> vs_all;
       double iou_mesh = 0;
       std::vector<double> mesh_errors;

@@ -853,25 +853,21 @@ void DepthObjectRenderer::Render(const ViewCamera& view, const DepthObjectOption
   DrawResolve(frame, options, Accum(frame.width, frame.height));
 }
 
-void DepthObjectRenderer::RenderToFramebuffer(const ViewCamera& view,
-                                              const DepthObjectOptions& options, GLuint fbo) {
-  const FrameParams frame = PrepareFrame(maps_, view, options);
-  Accumulate(frame, options);
-  glBindFramebuffer(GL_DRAW_FRAMEBUFFER, fbo);
-  glViewport(0, 0, frame.width, frame.height);
-  DrawResolve(frame, options, Accum(frame.width, frame.height));
-}
-
 render::Frame DepthObjectRenderer::RenderFrame(const ViewCamera& view,
                                                const DepthObjectOptions& options) {
   const render::RenderTarget target(
       render::FrameTargetOptions(view.camera.width, view.camera.height));
-  render::BeginFrame(target);
+  DrawFrame(view, options, target);
+  return render::ReadFrame(target);
+}
+
+void DepthObjectRenderer::DrawFrame(const ViewCamera& view, const DepthObjectOptions& options,
+                                    const render::RenderTarget& frame_target) {
+  render::BeginFrame(frame_target);
   // The object alone: no depth test, so every covered pixel lands whatever
   // the window depth (the clip range only fills the depth buffer).
   DrawIntoFrame(view, options, ViewSetupFor(view, BoxBounds(maps_.world_from_box)).clip_from_cam,
-                target, /*depth_test=*/false);
-  return render::ReadFrame(target);
+                frame_target, /*depth_test=*/false);
 }
 
 std::vector<core::Image8> DepthObjectRenderer::SliceCoverage(const FrameParams& frame) {

@@ -259,11 +259,10 @@ class DepthObjectRenderer {
   // Renders into `output`, a target made with OutputTargetOptions(w, h)
   // where w, h = view.camera.width/height: attachment 0 RGBA8 colour (alpha
   // 255 where covered, 0 elsewhere), attachment 1 RG32F (camera z, covered).
+  // Left for the viewer's dataset scene (apps/viewer/scenes.cc) until it
+  // draws a one-object scene; RenderFrame is tested against it.
   void Render(const ViewCamera& view, const DepthObjectOptions& options,
               const render::RenderTarget& output);
-  // Renders into framebuffer `fbo` (0 = the window) with a viewport of the
-  // view's size: the viewer's per-frame call.
-  void RenderToFramebuffer(const ViewCamera& view, const DepthObjectOptions& options, GLuint fbo);
   // Draws into a frame target of the pass contract (render/passes/pass.h:
   // RGBA8 colour, R32F camera z, R32UI outcome flags, D24S8) already bound
   // and begun: the resolve pass writes gl_FragDepth from `clip_from_cam` and
@@ -278,6 +277,10 @@ class DepthObjectRenderer {
   // Render), render::ReadFrame. Covered pixels: alpha 255, camera z and the
   // hit outcome bit; empty ones 0.
   render::Frame RenderFrame(const ViewCamera& view, const DepthObjectOptions& options);
+  // RenderFrame without the readback, into `frame_target` (FrameTargetOptions
+  // of the view's size): what the benchmarks time.
+  void DrawFrame(const ViewCamera& view, const DepthObjectOptions& options,
+                 const render::RenderTarget& frame_target);
 
   static render::RenderTargetOptions OutputTargetOptions(int width, int height);
   static render::RenderTargetOptions AccumTargetOptions(int width, int height);
