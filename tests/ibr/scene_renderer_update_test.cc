@@ -331,23 +331,23 @@ TEST_F(SceneRendererVolumeUpdateTest, PeelAngleResamplesTheMap) {
   SceneRenderer renderer(programs(), loaded);
   const SceneFrame first = renderer.Render(loaded.views.front().view);
   VolumeObjectOptions options = loaded.objects[0].volume_options;
-  ASSERT_TRUE(options.effect.has_value());
-  const double angle = options.effect->peel_angle_deg;
-  options.effect->peel_angle_deg = 90;
+  ASSERT_EQ(options.deformations.size(), 1u);
+  const double angle = options.deformations[0].amount;
+  options.deformations[0].amount = M_PI / 2;  // 90 degrees
   const VolumeObjectChange change = renderer.UpdateVolume(loaded, 0, options);
   EXPECT_TRUE(change.maps);
   EXPECT_EQ(renderer.PassBuilds(0), 1);
   const SceneFrame turned = renderer.Render(loaded.views.front().view);
-  EXPECT_GT(Difference(first.color, turned.color).first, 20) << "peel at 90 vs 160 degrees";
+  EXPECT_GT(Difference(first.color, turned.color).first, 20) << "peel at 90 vs 137.5 degrees (2.4 rad)";
   SceneRenderer fresh(programs(), loaded);
   EXPECT_EQ(fresh.Render(loaded.views.front().view).color, turned.color);
 
-  options.effect->peel_angle_deg = 400;
+  options.deformations[0].amount = 400 * M_PI / 180;
   EXPECT_THROW(renderer.UpdateVolume(loaded, 0, options), core::InputError);
   EXPECT_EQ(renderer.PassBuilds(0), 1);
   EXPECT_EQ(renderer.Render(loaded.views.front().view).color, turned.color);
 
-  options.effect->peel_angle_deg = angle;
+  options.deformations[0].amount = angle;
   renderer.UpdateVolume(loaded, 0, options);
   EXPECT_EQ(renderer.Render(loaded.views.front().view).color, first.color);
 }
@@ -359,8 +359,8 @@ TEST_F(SceneRendererVolumeUpdateTest, PreviewPeelMapIsResampledByTheNextUpdate) 
   LoadedScene loaded = LoadScene(programs(), Ball(""));
   SceneRenderer renderer(programs(), loaded);
   VolumeObjectOptions options = loaded.objects[0].volume_options;
-  ASSERT_TRUE(options.effect.has_value());
-  options.effect->peel_angle_deg = 90;
+  ASSERT_EQ(options.deformations.size(), 1u);
+  options.deformations[0].amount = M_PI / 2;  // 90 degrees
   EXPECT_TRUE(renderer.UpdateVolume(loaded, 0, options, /*preview=*/true).maps);
   EXPECT_TRUE(loaded.objects[0].volume->preview_maps);
   const auto preview_texels = loaded.objects[0].volume->maps.at(0).map.texels;
