@@ -529,7 +529,7 @@ DeformBenchResult RunDeformBench(render::ProgramCache& programs,
 
     // RunDeform's default orbit view of the normalised mesh (centre 0,
     // longest side 1), its clip range holding every region scale's result.
-    const DeformRunOptions run_defaults;
+    const ibr::DeformRenderOptions run_defaults;
     const ibr::ViewCamera camera = ibr::DeformOrbitCamera(
         glm::dvec3(0.0), 1.0, run_defaults.azimuth_deg, run_defaults.elevation_deg, size);
     const core::Box3d clip_box = ibr::DeformedBounds({glm::dvec3(lo), glm::dvec3(hi)}, full, grow);

@@ -1,7 +1,7 @@
-// `ibr deform`: a mesh deformed and cut by the deform pass (Correa, Silver,
-// Chen 2007; render/passes/deform_pass.h), from flags to one library call.
-// The mesh is normalised into the unit cube centred at the origin (longest
-// side 1), so regions, thicknesses and the threshold are in those units.
+// `ibr bench deform`: what the deform pass (Correa, Silver, Chen 2007;
+// render/passes/deform_pass.h) costs and how accurate it is, measured on
+// meshes normalised into the unit cube centred at the origin (longest side
+// 1). `ibr deform` itself is ibr::RenderDeform (ibr/deform_render.h).
 #pragma once
 
 #include <cmath>
@@ -24,16 +24,10 @@
 
 namespace bench {
 
-// `ibr deform`'s product (ibr/deform_render.h), named here as the bench
-// knew it.
-using DeformRunOptions = ibr::DeformRenderOptions;
+// The per-pixel outcome counts of `ibr deform`'s frames (ibr/deform_render.h),
+// which the deform bench tabulates.
 using DeformOutcomes = ibr::DeformOutcomes;
-using DeformViewReport = ibr::DeformViewReport;
-using DeformRunReport = ibr::DeformRenderReport;
 using ibr::CountDeformOutcomes;
-inline DeformRunReport RunDeform(render::ProgramCache& programs, const DeformRunOptions& options) {
-  return ibr::RenderDeform(programs, options);
-}
 
 // The solid knife cut of the bench's cut modes, its accuracy sweep and the
 // report's gallery (Correa, Silver, Chen 2007, eq. 6): a knife of amount 0.15

@@ -341,7 +341,7 @@ namespace {
 
 // (D, A) of a placed deformation at u of its parent box: its own box's
 // (D, A) at M^-1 u with D carried by M's linear part (eq. 10) and A scaled
-// to parent units (exact for a uniform scale); outside its box the identity
+// to parent units (exact for a uniform scale), at least -1; outside its box the identity
 // with alpha `outside_alpha`.
 template <typename F>
 glm::dvec4 InParent(const glm::dmat4& parent_from_box, const glm::dvec3& u, double outside_alpha,
@@ -351,7 +351,9 @@ glm::dvec4 InParent(const glm::dmat4& parent_from_box, const glm::dvec3& u, doub
   const glm::dmat3 linear(parent_from_box);
   const glm::dvec4 e = evaluate(b);
   const double scale = std::cbrt(std::abs(glm::determinant(linear)));
-  return {linear * glm::dvec3(e), e.w * scale};
+  // Clamped at -1 as every alpha is (a peel's flap mask below -1 would read
+  // as "no peel term" in DeformationSum::EvaluatePiece).
+  return {linear * glm::dvec3(e), std::max(e.w * scale, -1.0)};
 }
 
 }  // namespace

@@ -45,7 +45,7 @@ TEST_F(SceneDeformTest, SceneDrawsWhatTheLibraryCallDraws) {
   const ViewCamera& view = loaded.views.front().view;
   const SceneFrame scene_frame = renderer.Render(view);
 
-  // `ibr deform`'s path (bench::RunDeform): the same options, the mesh in its
+  // `ibr deform`'s path (ibr::RenderDeform): the same options, the mesh in its
   // own frame, the view carried into the normalised frame.
   const DeformObjectOptions options = DeformObjectOptionsFrom(s.objects[0].settings);
   EXPECT_EQ(options.pass.cut, core::CutMode::kSolid);
