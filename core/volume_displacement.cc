@@ -47,9 +47,14 @@ glm::ivec3 VolumeMapDims(DeformationKind kind, int size) {
   glm::ivec3 dims(size);
   const int thin = std::min(size, 4);
   switch (kind) {
+    case DeformationKind::kPeel:
+      // Its map spans 1.5 boxes in z (BoxFromMap): as many texels per box
+      // unit as along x.
+      dims.y = thin;
+      dims.z = std::min(512, (3 * size + 1) / 2);
+      break;
     case DeformationKind::kSlices:
     case DeformationKind::kWave:
-    case DeformationKind::kPeel:
     case DeformationKind::kSeam:
     case DeformationKind::kKnife:
     case DeformationKind::kBend:

@@ -69,7 +69,8 @@ glm::dmat4 VolumeMapPlacement(const Deformation& deformation);
 
 // The grid a `size` map of `kind` needs: thin (at most 4 texels) along axes
 // the deformation does not vary on (Table 2: the peel and slicing maps are
-// 128 x 128 x 1).
+// 128 x 128 x 1); a peel's 1.5 times `size` along z (its map is 1.5 boxes
+// tall, BoxFromMap).
 glm::ivec3 VolumeMapDims(DeformationKind kind, int size);
 
 // The deformation sampled at texel centres of a dims grid. Where alpha = 0

@@ -276,11 +276,16 @@ class SceneRendererVolumeUpdateTest : public SceneRendererUpdateTest {
     fs::remove_all(dir_);
     SceneRendererUpdateTest::TearDown();
   }
+  // The ball peeled: the layer 0.4 <= z <= 0.5, x >= 0.5 turned by 160
+  // degrees (T = 0.1, the peel's box moved down by 0.4), the half above
+  // removed.
   scene::Scene Ball(const std::string& extra) {
-    return Parse(R"({"name": "ball", "type": "volume", "volume": "ball.dat", "transfer": "ramp",)"
-                 R"( "effect": "peel", "map_size": 32, "transform": {"scale": 0.06})" +
-                     extra + "}",
-                 dir_);
+    return Parse(
+        R"({"name": "ball", "type": "volume", "volume": "ball.dat", "transfer": "ramp",)"
+        R"( "effect": "peel", "amount": 2.792526803190927, "width": 0.1, "placement": "0,0,-0.4",)"
+        R"( "map_size": 32, "transform": {"scale": 0.06})" +
+            extra + "}",
+        dir_);
   }
   fs::path dir_;
 };
@@ -338,7 +343,7 @@ TEST_F(SceneRendererVolumeUpdateTest, PeelAngleResamplesTheMap) {
   EXPECT_TRUE(change.maps);
   EXPECT_EQ(renderer.PassBuilds(0), 1);
   const SceneFrame turned = renderer.Render(loaded.views.front().view);
-  EXPECT_GT(Difference(first.color, turned.color).first, 20) << "peel at 90 vs 137.5 degrees (2.4 rad)";
+  EXPECT_GT(Difference(first.color, turned.color).first, 20) << "peel at 90 vs 160 degrees";
   SceneRenderer fresh(programs(), loaded);
   EXPECT_EQ(fresh.Render(loaded.views.front().view).color, turned.color);
 

@@ -855,7 +855,9 @@ TEST_F(GlTest, VolumeIsoFirstHitsAgreeWithTheDoubleMarch) {
   waved.maps.push_back({core::SampleDeformationMap(wave, {48, 8, 8}), glm::dmat4(1.0)});
   cases.push_back({"ball + wave", waved});
   Scene peeled = waved;
-  peeled.maps.push_back(PlacedEffect(K::kPeel, {40, 40, 40}));
+  // The peel's map spans 1.5 boxes in z (core::BoxFromMap): 40 texels per
+  // box unit, as before its map grew.
+  peeled.maps.push_back(PlacedEffect(K::kPeel, {40, 40, 60}));
   cases.push_back({"ball + wave o peel", peeled});
   for (const auto& [label, s] : cases) {
     const OrthoCamera cam = Ortho(35, 30, 0.45 * s.volume.dims.x, 96);
