@@ -29,66 +29,6 @@
 
 namespace bench {
 
-void DeformRunOptions::Check() const {
-  object.deformation.Check();
-  object.pass.Check();
-  // The frame budget and the GL limits: render::CheckFrameSize (ibr deform).
-  if (size < 16 || size > 16384)
-    core::ThrowInputError("ibr deform", "--size {} outside 16..16384", size);
-  if (!std::isfinite(azimuth_deg) || !std::isfinite(elevation_deg) ||
-      std::abs(elevation_deg) > 89) {
-    core::ThrowInputError("ibr deform",
-                          "--azimuth {} / --elevation {} not finite or |elevation| > 89",
-                          azimuth_deg, elevation_deg);
-  }
-  if (out.empty()) core::ThrowInputError("ibr deform", "--out FILE.png|DIR is required");
-  if (!cameras.empty() && !WritesDataset()) {
-    core::ThrowInputError("ibr deform",
-                          "--cameras {} renders several views: --out must be a folder",
-                          cameras.string());
-  }
-}
-
-void DeformOutcomes::Add(const DeformOutcomes& o) {
-  const double samples = mean_samples * rays + o.mean_samples * o.rays;
-  const double rejected = mean_rejected * rays + o.mean_rejected * o.rays;
-  rejecting_rays += o.rejecting_rays;
-  mesh_pixels += o.mesh_pixels;
-  hit_pixels += o.hit_pixels;
-  cut_face_pixels += o.cut_face_pixels;
-  exited_pixels += o.exited_pixels;
-  early_pixels += o.early_pixels;
-  rays += o.rays;
-  mean_samples = rays > 0 ? samples / static_cast<double>(rays) : 0.0;
-  mean_rejected = rays > 0 ? rejected / static_cast<double>(rays) : 0.0;
-}
-
-DeformOutcomes CountDeformOutcomes(const render::Frame& frame) {
-  DeformOutcomes r;
-  double samples = 0, rejected = 0;
-  auto has = [](uint32_t bits, render::RayOutcome o) {
-    return (bits & render::OutcomeBit(o)) != 0;
-  };
-  for (const uint32_t bits : frame.outcome.values()) {
-    r.mesh_pixels += (bits & render::kDeformMeshBit) != 0;
-    r.hit_pixels += has(bits, render::RayOutcome::kHit);
-    r.cut_face_pixels += (bits & render::kDeformCutFaceBit) != 0;
-    r.exited_pixels += has(bits, render::RayOutcome::kExited);
-    r.early_pixels += has(bits, render::RayOutcome::kEarlyTermination);
-    const uint32_t n = bits >> render::kDeformSamplesShift;
-    if (n > 0) {
-      samples += n;
-      ++r.rays;
-      const uint32_t k = (bits >> render::kDeformRejectedShift) & render::kDeformRejectedMax;
-      rejected += k;
-      r.rejecting_rays += k > 0;
-    }
-  }
-  r.mean_samples = r.rays > 0 ? samples / static_cast<double>(r.rays) : 0.0;
-  r.mean_rejected = r.rays > 0 ? rejected / static_cast<double>(r.rays) : 0.0;
-  return r;
-}
-
 core::Deformation KnifeCut() {
   core::Deformation knife;
   knife.kind = core::DeformationKind::kKnife, knife.amount = 0.15, knife.width = 0.6;
@@ -223,122 +163,6 @@ DeformClassAgreement CompareDeformClasses(const render::Frame& frame,
     }
   }
   return a;
-}
-
-namespace {
-
-// The one orbit view (of `ibr deform` and of the bench): a size x size
-// pinhole with a 34 degree field of view, looking at `centre` from 2.6
-// `longest` away, at `azimuth_deg` about +y (OBJ up) and `elevation_deg`
-// above the horizon; world units (rigid cam_from_world).
-ibr::ViewCamera OrbitCamera(const glm::dvec3& centre, double longest, double azimuth_deg,
-                            double elevation_deg, int size) {
-  const double az = glm::radians(azimuth_deg), el = glm::radians(elevation_deg);
-  const glm::dvec3 eye_norm =
-      2.6 * glm::dvec3(std::cos(el) * std::sin(az), std::sin(el), std::cos(el) * std::cos(az));
-  const double focal = 0.5 * size / std::tan(glm::radians(17.0));
-  ibr::ViewCamera view;
-  view.camera = ibr::MapCamera::Pinhole(size, size, focal, focal, size / 2.0, size / 2.0);
-  view.cam_from_world = glm::dmat4(core::CamFromWorldLookAt(glm::vec3(centre + longest * eye_norm),
-                                                            glm::vec3(centre), {0, 1, 0}));
-  return view;
-}
-
-}  // namespace
-
-DeformRunReport RunDeform(render::ProgramCache& programs, const DeformRunOptions& options) {
-  // Every input is read and checked before anything is built or written; the
-  // frame sizes first (the budget's message before the range of Check()).
-  render::CheckFrameSize("ibr deform", "--size", options.size, options.size);
-  options.Check();
-  // The views, in world units (rigid cam_from_world): the dataset's, or (once
-  // the mesh is known) one orbit view.
-  std::vector<ibr::NamedView> views;
-  if (!options.cameras.empty()) {
-    const capture::Dataset cameras = capture::ReadDataset(options.cameras);
-    const std::vector<ibr::ViewCamera> cams = ibr::ViewsFromDataset(cameras);
-    for (size_t i = 0; i < cams.size(); ++i) {
-      views.push_back({cameras.views[i].name, cams[i]});
-      render::CheckFrameSize(
-          "ibr deform",
-          fmt::format("--cameras '{}': view '{}'", options.cameras.string(), views.back().name),
-          cams[i].camera.width, cams[i].camera.height);
-    }
-  }
-  // The one path from options to the pass's inputs (ibr/deform_object.h),
-  // shared with deform objects in scene files.
-  const ibr::DeformObjectData object =
-      ibr::MakeDeformObject(capture::LoadSceneMesh(options.mesh).mesh, options.object,
-                            options.mesh.string(), /*progress=*/true, &programs);
-  // world = the mesh file's frame.
-  const glm::dmat4& world_from_norm = object.object_from_norm;
-  DeformRunReport report;
-  report.max_displacement = object.max_displacement;
-  report.sdf_seconds = object.sdf_seconds;
-  report.sdf_size = object.sdf.size;
-  report.cube_size = object.depth_cube.faces.empty() ? 0 : object.depth_cube.faces[0].depth.width();
-  report.implicit_bytes = object.ImplicitBytes();
-  report.distance_queries = object.sdf.distance_queries;
-  render::DeformPass pass(programs, object.Inputs(), options.object.pass);
-
-  if (views.empty()) {
-    const glm::dvec3 centre(world_from_norm[3]);
-    const double longest = world_from_norm[0][0];
-    views.push_back({"deform", OrbitCamera(centre, longest, options.azimuth_deg,
-                                           options.elevation_deg, options.size)});
-  }
-  // Clip range, in world units.
-  capture::Bounds world_bounds;
-  world_bounds.min = glm::dvec3(world_from_norm * glm::dvec4(object.norm_bounds.lo, 1.0));
-  world_bounds.max = glm::dvec3(world_from_norm * glm::dvec4(object.norm_bounds.hi, 1.0));
-
-  std::optional<capture::DatasetWriter> writer;
-  if (options.WritesDataset()) writer.emplace(options.out);
-  render::Frame first;
-  std::optional<render::RenderTarget> target;  // re-created only when the view size changes
-  for (size_t v = 0; v < views.size(); ++v) {
-    const ibr::ViewCamera& camera = views[v].view;
-    render::ViewSetup view = ibr::ViewSetupFor(camera, world_bounds);
-    // The pass works in normalised units: cam_from_norm is a similarity, so
-    // camera z (and the depth written) stays in world units.
-    view.cam_from_world = glm::mat4(camera.cam_from_world * world_from_norm);
-    const int w = camera.camera.width, h = camera.camera.height;
-    if (!target || target->width() != w || target->height() != h) {
-      target.emplace(render::FrameTargetOptions(w, h));
-    }
-    if (v == 0) {
-      // The last timed frame is view 0's: it is read below, not drawn again.
-      render::FrameTimerOptions timer;
-      timer.warmup_frames = 1;
-      timer.timed_frames = 3;
-      report.frame_ms =
-          render::TimeFrames([&] { render::DrawFrame(*target, pass, view); }, timer).median_ms;
-    } else {
-      render::DrawFrame(*target, pass, view);
-    }
-    render::Frame frame = render::ReadFrame(*target);
-    report.views.push_back({views[v].name, CountDeformOutcomes(frame)});
-    report.total.Add(report.views.back().outcomes);
-    std::fprintf(stderr, "deform: view %zu/%zu %s rendered\n", v + 1, views.size(),
-                 views[v].name.c_str());
-    if (writer) {
-      const int cam = writer->AddCamera(ibr::CaptureCamera(camera.camera));
-      writer->AddView(views[v].name, cam, ibr::RigidFromMat4(camera.cam_from_world), frame.color,
-                      ibr::DatasetDepth(frame.depth), render::CoverageMask(frame), frame.normal);
-    } else {
-      first = std::move(frame);
-    }
-  }
-  if (writer) {
-    writer->SetBounds(world_bounds);
-    writer->Commit();
-  } else {
-    std::filesystem::path depth_path = options.out;
-    depth_path.replace_extension(".depth.exr");
-    core::WriteImage(depth_path, first.depth);
-    core::WriteImage(options.out, first.color);
-  }
-  return report;
 }
 
 }  // namespace bench
@@ -705,9 +529,9 @@ DeformBenchResult RunDeformBench(render::ProgramCache& programs,
 
     // RunDeform's default orbit view of the normalised mesh (centre 0,
     // longest side 1), its clip range holding every region scale's result.
-    const DeformRunOptions run_defaults;
-    const ibr::ViewCamera camera = OrbitCamera(glm::dvec3(0.0), 1.0, run_defaults.azimuth_deg,
-                                               run_defaults.elevation_deg, size);
+    const ibr::DeformRenderOptions run_defaults;
+    const ibr::ViewCamera camera = ibr::DeformOrbitCamera(
+        glm::dvec3(0.0), 1.0, run_defaults.azimuth_deg, run_defaults.elevation_deg, size);
     const core::Box3d clip_box = ibr::DeformedBounds({glm::dvec3(lo), glm::dvec3(hi)}, full, grow);
     capture::Bounds bounds;
     bounds.min = clip_box.lo;

@@ -1,7 +1,7 @@
-// `ibr deform`: a mesh deformed and cut by the deform pass (Correa, Silver,
-// Chen 2007; render/passes/deform_pass.h), from flags to one library call.
-// The mesh is normalised into the unit cube centred at the origin (longest
-// side 1), so regions, thicknesses and the threshold are in those units.
+// `ibr bench deform`: what the deform pass (Correa, Silver, Chen 2007;
+// render/passes/deform_pass.h) costs and how accurate it is, measured on
+// meshes normalised into the unit cube centred at the origin (longest side
+// 1). `ibr deform` itself is ibr::RenderDeform (ibr/deform_render.h).
 #pragma once
 
 #include <cmath>
@@ -17,64 +17,17 @@
 #include "core/distance_field.h"
 #include "core/image.h"
 #include "ibr/deform_object.h"
+#include "ibr/deform_render.h"
 #include "render/gl/shader_program.h"
 #include "render/passes/deform_pass.h"
 #include "render/passes/pass.h"
 
 namespace bench {
 
-struct DeformRunOptions {
-  std::filesystem::path mesh;  // OBJ/PLY/... (assimp)
-  // The deformation, its box, the cut, the ray's steps, the distance field
-  // (ibr/deform_object.h: flags -> ibr::DeformObjectOptionsFrom).
-  ibr::DeformObjectOptions object;
-  int size = 512;             // image width = height, pixels
-  double azimuth_deg = 30.0;  // camera orbit about +y (OBJ up)
-  double elevation_deg = 20.0;
-  // A dataset whose cameras to render from instead of the orbit view (its
-  // world frame is the mesh file's, as `ibr capture` writes it).
-  std::filesystem::path cameras;
-  // FILE.png: one colour PNG, camera z as <stem>.depth.exr beside it (one
-  // view only); otherwise a dataset folder as `ibr render` writes (colour,
-  // camera z, mask, normals; dataset.json), staged.
-  std::filesystem::path out;
-  void Check() const;
-  bool WritesDataset() const { return out.extension() != ".png"; }
-};
-
-// Per-pixel outcome counts of one frame (render/passes/deform_pass.h bits).
-struct DeformOutcomes {
-  int64_t mesh_pixels = 0, hit_pixels = 0, cut_face_pixels = 0, exited_pixels = 0, early_pixels = 0;
-  int64_t rays = 0;           // pixels where a ray was cast
-  double mean_samples = 0.0;  // field samples per cast ray
-  // Crossings rejected per cast ray (a surface hit inside the cut, a cut
-  // boundary outside the body: sec. 5.1.2), and the rays with at least one.
-  double mean_rejected = 0.0;
-  int64_t rejecting_rays = 0;
-  void Add(const DeformOutcomes& other);
-};
-DeformOutcomes CountDeformOutcomes(const render::Frame& frame);
-
-struct DeformViewReport {
-  std::string name;
-  DeformOutcomes outcomes;
-};
-
-struct DeformRunReport {
-  double sdf_seconds = 0.0;  // the implicit's build time
-  glm::ivec3 sdf_size{0};    // 0 with the depth cube
-  int cube_size = 0;         // the depth cube's map size, 0 with the distance field
-  int64_t implicit_bytes = 0;
-  int64_t distance_queries = 0;
-  double max_displacement = 0.0;  // normalised units
-  std::vector<DeformViewReport> views;
-  DeformOutcomes total;   // over every view
-  double frame_ms = 0.0;  // median frame time of the first view after warm-up
-};
-
-// Loads, normalises, builds the distance field and the deformation texture,
-// renders every view and writes the outputs (staged: nothing partial on error).
-DeformRunReport RunDeform(render::ProgramCache& programs, const DeformRunOptions& options);
+// The per-pixel outcome counts of `ibr deform`'s frames (ibr/deform_render.h),
+// which the deform bench tabulates.
+using DeformOutcomes = ibr::DeformOutcomes;
+using ibr::CountDeformOutcomes;
 
 // The solid knife cut of the bench's cut modes, its accuracy sweep and the
 // report's gallery (Correa, Silver, Chen 2007, eq. 6): a knife of amount 0.15

@@ -288,14 +288,12 @@ void VolumeEntries(render::ProgramCache& programs, const GalleryOptions& options
   const fs::path dat = ibr::SharedDataDir() / "volumes" / "tooth_103x94x161_uint8.dat";
   if (!fs::exists(dat)) return;
   constexpr double kAzimuthDeg = 20, kElevationDeg = 50;
-  core::EffectOptions peel;
-  peel.effect = core::Effect::kPeel;
-  peel.peel_top = 0.8;  // the crown's top layer, z in [0.6, 0.8], x > 0.5
-  peel.peel_thickness = 0.2;
+  // The top layer z in [0.6, 0.8], x > 0.5, turned by 160 degrees.
+  const std::vector<core::Deformation> peel = {
+      {.kind = core::DeformationKind::kPeel, .amount = 160 * M_PI / 180, .width = 0.2}};
   const int map_size = options.quick ? 32 : 64;
-  const ibr::VolumeObjectData data =
-      ibr::MakeVolumeObject(core::ReadVolume(dat), ibr::TransferForVolume("", dat), peel, map_size,
-                            glm::dvec3(0.0), glm::dvec3(1.0), "ibr report gallery");
+  const ibr::VolumeObjectData data = ibr::MakeVolumeObject(
+      core::ReadVolume(dat), ibr::TransferForVolume("", dat), peel, map_size, "ibr report gallery");
   render::VolumePassOptions pass_options;
   pass_options.lighting = render::VolumeLighting::kNone;
   render::VolumePass pass(programs, data.volume, data.transfer, data.maps, data.world_from_volume,

@@ -191,10 +191,9 @@ Table RunVolumeBench(const VolumeBenchOptions& o) {
     fmt::print("DVR floor ({}, {} px): {:.1f} M fragments/s, {:.3f} of the calibrated fill rate\n",
                name, size, f.fragments_per_second * 1e-6, fraction);
   }
-  core::EffectOptions peel;
-  peel.effect = core::Effect::kPeel;
-  peel.peel_top = 0.8;
-  peel.peel_thickness = 0.2;
+  // The top layer z in [0.6, 0.8], x > 0.5, turned by 160 degrees.
+  const std::vector<core::Deformation> peel = {
+      {.kind = core::DeformationKind::kPeel, .amount = 160 * M_PI / 180, .width = 0.2}};
   render::VolumePassOptions plain;
   plain.lighting = render::VolumeLighting::kGradient;  // shading on, as the peer
   render::VolumePassOptions displaced = plain;
@@ -214,10 +213,8 @@ Table RunVolumeBench(const VolumeBenchOptions& o) {
   for (const Entry& e : volumes) {
     const core::Volume volume = e.dat.empty() ? SyntheticVolume(256) : core::ReadVolume(e.dat);
     const core::TransferFunction tf = ibr::TransferForVolume(e.dat.empty() ? "bucky" : "", e.dat);
-    const ibr::VolumeObjectData bare =
-        ibr::MakeVolumeObject(volume, tf, std::nullopt, 64, glm::dvec3(0.0), glm::dvec3(1.0));
-    const ibr::VolumeObjectData peeled =
-        ibr::MakeVolumeObject(volume, tf, peel, 64, glm::dvec3(0.0), glm::dvec3(1.0));
+    const ibr::VolumeObjectData bare = ibr::MakeVolumeObject(volume, tf, {}, 64);
+    const ibr::VolumeObjectData peeled = ibr::MakeVolumeObject(volume, tf, peel, 64);
     spdlog::info("bench volume: {} ({} x {} x {})", e.name, volume.dims.x, volume.dims.y,
                  volume.dims.z);
     PeerResult peer;
@@ -326,8 +323,7 @@ Table RunVolumeBench(const VolumeBenchOptions& o) {
       // What the two accuracy knobs cost: each setting's image (float
       // colour, the bench's view) against the finest setting, map 128^3
       // sampled every 0.25 voxel, itself timed as the family's truth.
-      const ibr::VolumeObjectData finest_map =
-          ibr::MakeVolumeObject(volume, tf, peel, 128, glm::dvec3(0.0), glm::dvec3(1.0));
+      const ibr::VolumeObjectData finest_map = ibr::MakeVolumeObject(volume, tf, peel, 128);
       render::VolumePassOptions finest = displaced;
       finest.sampling_distance_voxels = 0.25;
       const Measured reference = TimeVolume(programs, finest_map, finest, size, timer, true);
@@ -346,8 +342,7 @@ Table RunVolumeBench(const VolumeBenchOptions& o) {
         add("sampling", e.name, "peel 64^3", sampling, 64, size, m, 0, nullptr, error);
       }
       for (int map_size : o.quick ? std::vector<int>{16, 64} : std::vector<int>{16, 32, 64, 128}) {
-        const ibr::VolumeObjectData m =
-            ibr::MakeVolumeObject(volume, tf, peel, map_size, glm::dvec3(0.0), glm::dvec3(1.0));
+        const ibr::VolumeObjectData m = ibr::MakeVolumeObject(volume, tf, peel, map_size);
         const auto [measured, error] = measure(m, displaced);
         add("map_size", e.name, "peel", 1.0, map_size, size, measured, 0, nullptr, error);
       }

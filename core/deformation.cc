@@ -57,7 +57,53 @@ glm::dvec3 PeelRotate(const Deformation& d, const glm::dvec3& u, double a) {
   return {kPeelHinge + v.x, u.y, PeelTop(d) + v.y};
 }
 
+// Pull profile (Correa 2006 eq. 8): a Gaussian of width sigma in the
+// distance r from the axis, shifted and rescaled to be 1 at r = 0 and 0 at
+// r >= 0.5, so "the displacement becomes 0 at the XY boundaries".
+double PullProfile(double sigma, double r) {
+  const double s2 = 2 * sigma * sigma;
+  const double edge = std::exp(-0.25 / s2);
+  return std::max(0.0, (std::exp(-r * r / s2) - edge) / (1 - edge));
+}
+
+// Slices (Correa 2006 Fig. 6): the object's slabs of thickness
+// period - gap along x are spread to one per period; slab 0 (at x = 0)
+// keeps its place. The inverse shift at x, continuous: in a gap it ramps
+// from the slab before's shift to the next one's (the pseudo-inverse).
+double SlicesShift(const Deformation& d, double x) {
+  const double period = d.width, gap = d.amount;
+  const double k = std::floor(x / period);
+  return -k * gap - std::max(0.0, x - k * period - (period - gap));
+}
+// > 0 in a gap (distance to its faces), <= 0 in a slab: 1-Lipschitz.
+double SlicesAlpha(const Deformation& d, double x) {
+  const double period = d.width, gap = d.amount;
+  const double c = period - 0.5 * gap;  // gap centre within a period
+  const double k = std::round((x - c) / period);
+  return 0.5 * gap - std::abs(x - (c + k * period));
+}
+
+bool InUnitBox(const glm::dvec3& u) {
+  return u.x >= 0 && u.x <= 1 && u.y >= 0 && u.y <= 1 && u.z >= 0 && u.z <= 1;
+}
+
 }  // namespace
+
+const DeformationInfo& DeformationInfoOf(DeformationKind kind) {
+  for (const DeformationInfo& info : kDeformationTable) {
+    if (info.kind == kind) return info;
+  }
+  ThrowInputError("DeformationInfoOf", "unknown deformation kind {}", static_cast<int>(kind));
+}
+
+Deformation Deformation::Default(DeformationKind kind) {
+  const DeformationInfo& info = DeformationInfoOf(kind);
+  Deformation d;
+  d.kind = kind;
+  d.amount = info.amount;
+  d.width = info.width;
+  return d;
+}
 
 DeformationKind DeformationKindFromName(const std::string& name) {
   return EnumFromName(kDeformationKindNames, name, "DeformationKindFromName", "deformation");
@@ -124,7 +170,36 @@ void Deformation::Check() const {
                         amount, width);
       }
       break;
+    case DeformationKind::kSlices:
+      if (!(width > 0) || width > 1 || amount < 0 || amount >= width) {
+        ThrowInputError("Deformation",
+                        "slices: period {} must be in (0, 1] and gap {} in [0, period)", width,
+                        amount);
+      }
+      break;
+    case DeformationKind::kSeam:
+      if (!(amount > 0) || amount > 0.5 || !(width > 0) || width > 1) {
+        ThrowInputError("Deformation",
+                        "seam: opening {} must be in (0, 0.5] and depth {} in (0, 1]", amount,
+                        width);
+      }
+      break;
+    case DeformationKind::kWave:
+      if (std::abs(amount) > 0.5 || width < 0.02 || width > 4) {
+        ThrowInputError("Deformation",
+                        "wave: |amplitude| {} must be <= 0.5 and wavelength {} in [0.02, 4]",
+                        amount, width);
+      }
+      break;
   }
+  for (int c = 0; c < 4; ++c)
+    for (int r = 0; r < 4; ++r) {
+      if (!std::isfinite(parent_from_box[c][r]))
+        ThrowInputError("Deformation", "{}: the placement is not finite",
+                        DeformationKindName(kind));
+    }
+  if (!(std::abs(glm::determinant(glm::dmat3(parent_from_box))) > 1e-12))
+    ThrowInputError("Deformation", "{}: the placement is singular", DeformationKindName(kind));
 }
 
 double CutAwayAlpha(DeformationKind kind, double amount, double width, const glm::dvec3& u) {
@@ -147,7 +222,7 @@ double CutAwayAlpha(DeformationKind kind, double amount, double width, const glm
   ThrowInputError("CutAwayAlpha", "{} is not a cut-away", DeformationKindName(kind));
 }
 
-glm::dvec4 Deformation::Evaluate(const glm::dvec3& u) const {
+glm::dvec4 Deformation::EvaluateInBox(const glm::dvec3& u) const {
   switch (kind) {
     case DeformationKind::kTwist: {
       // Forward: rotate (x, y) about the axis by alpha(r, z); r is preserved,
@@ -172,12 +247,16 @@ glm::dvec4 Deformation::Evaluate(const glm::dvec3& u) const {
       return {x - u.x, 0.0, z - u.z, -1.0};
     }
     case DeformationKind::kPull: {
-      // The narrow pull of Fig. 3 (after Correa 2006 eq. 8): along +z, scaled
-      // by z and a Gaussian of the distance from the axis.
-      double r2 = glm::dot(glm::dvec2(u) - kAxis, glm::dvec2(u) - kAxis);
-      return {0.0, 0.0, -amount * std::clamp(u.z, 0.0, 1.0) * std::exp(-r2 / (2 * width * width)),
-              -1.0};
+      // Correa 2006 eq. 8 (and the narrow pull of Correa 2007 Fig. 3): along
+      // +z, scaled by z and the Gaussian profile of the distance from the axis.
+      const double r = glm::length(glm::dvec2(u) - kAxis);
+      return {0.0, 0.0, -amount * std::clamp(u.z, 0.0, 1.0) * PullProfile(width, r), -1.0};
     }
+    case DeformationKind::kSlices:
+      return {SlicesShift(*this, u.x), 0.0, 0.0, SlicesAlpha(*this, u.x)};
+    case DeformationKind::kWave:
+      return {0.0, 0.0, amount * std::sin(2 * M_PI * u.x / width), -1.0};
+    case DeformationKind::kSeam:  // Correa 2006 Fig. 7's seam is the knife's map
     case DeformationKind::kKnife: {
       // Forward: the halves x < 0.5 and x > 0.5 move apart by w(z)/2 each.
       // Inverse: a point in the gap maps onto the plane x = 0.5 (D stays
@@ -209,8 +288,8 @@ glm::dvec4 Deformation::Evaluate(const glm::dvec3& u) const {
   return {0, 0, 0, -1};
 }
 
-glm::dvec4 Deformation::EvaluatePiece(const glm::dvec3& u, int piece) const {
-  if (kind != DeformationKind::kPeel) return Evaluate(u);
+glm::dvec4 Deformation::EvaluatePieceInBox(const glm::dvec3& u, int piece) const {
+  if (kind != DeformationKind::kPeel) return EvaluateInBox(u);
   if (piece == 0) return {0.0, 0.0, 0.0, std::max(PeelSlab(*this, u), -1.0)};  // the slab left
   // The flap: where its rigid rotation came from, everywhere (continuous);
   // the mask is > 0 outside the turned slab.
@@ -218,7 +297,7 @@ glm::dvec4 Deformation::EvaluatePiece(const glm::dvec3& u, int piece) const {
   return {q - u, std::max(-PeelSlab(*this, q), -1.0)};
 }
 
-glm::dvec3 Deformation::Forward(const glm::dvec3& u) const {
+glm::dvec3 Deformation::ForwardInBox(const glm::dvec3& u) const {
   switch (kind) {
     case DeformationKind::kTwist: {
       glm::dvec2 v = glm::dvec2(u) - kAxis;
@@ -233,6 +312,12 @@ glm::dvec3 Deformation::Forward(const glm::dvec3& u) const {
       glm::dvec2 v(v0.x * c + v0.y * s, -v0.x * s + v0.y * c);  // rotate by +tc
       return {0.5 + rho + v.x, u.y, v.y};
     }
+    case DeformationKind::kSlices: {
+      // Object slab k = floor(x / (period - gap)) moves to start at k period.
+      const double k = std::floor(u.x / (width - amount));
+      return {u.x + k * amount, u.y, u.z};
+    }
+    case DeformationKind::kSeam:
     case DeformationKind::kKnife: {
       double half = 0.5 * KnifeWidth(*this, u.z);
       double side = u.x > 0.5 ? 1.0 : u.x < 0.5 ? -1.0 : 0.0;
@@ -245,10 +330,51 @@ glm::dvec3 Deformation::Forward(const glm::dvec3& u) const {
     case DeformationKind::kWedge:
       return u;
     case DeformationKind::kPull:
+    case DeformationKind::kWave:
       break;
   }
   ThrowInputError("Deformation::Forward", "{} has no closed-form forward map",
                   DeformationKindName(kind));
+}
+
+namespace {
+
+// (D, A) of a placed deformation at u of its parent box: its own box's
+// (D, A) at M^-1 u with D carried by M's linear part (eq. 10) and A scaled
+// to parent units (exact for a uniform scale), at least -1; outside its box the identity
+// with alpha `outside_alpha`.
+template <typename F>
+glm::dvec4 InParent(const glm::dmat4& parent_from_box, const glm::dvec3& u, double outside_alpha,
+                    F evaluate) {
+  const glm::dvec3 b(glm::inverse(parent_from_box) * glm::dvec4(u, 1.0));
+  if (!InUnitBox(b)) return {0.0, 0.0, 0.0, outside_alpha};
+  const glm::dmat3 linear(parent_from_box);
+  const glm::dvec4 e = evaluate(b);
+  const double scale = std::cbrt(std::abs(glm::determinant(linear)));
+  // Clamped at -1 as every alpha is (a peel's flap mask below -1 would read
+  // as "no peel term" in DeformationSum::EvaluatePiece).
+  return {linear * glm::dvec3(e), std::max(e.w * scale, -1.0)};
+}
+
+}  // namespace
+
+glm::dvec4 Deformation::Evaluate(const glm::dvec3& u) const {
+  if (!Placed()) return EvaluateInBox(u);
+  return InParent(parent_from_box, u, -1.0, [&](const glm::dvec3& b) { return EvaluateInBox(b); });
+}
+
+glm::dvec4 Deformation::EvaluatePiece(const glm::dvec3& u, int piece) const {
+  if (!Placed()) return EvaluatePieceInBox(u, piece);
+  // Piece 1 outside the box: no flap there (mask > 0).
+  return InParent(parent_from_box, u, piece == 1 && kind == DeformationKind::kPeel ? 1.0 : -1.0,
+                  [&](const glm::dvec3& b) { return EvaluatePieceInBox(b, piece); });
+}
+
+glm::dvec3 Deformation::Forward(const glm::dvec3& u) const {
+  if (!Placed()) return ForwardInBox(u);
+  const glm::dvec3 b(glm::inverse(parent_from_box) * glm::dvec4(u, 1.0));
+  if (!InUnitBox(b)) return u;
+  return glm::dvec3(parent_from_box * glm::dvec4(ForwardInBox(b), 1.0));
 }
 
 void DeformationSum::Check() const {
@@ -318,7 +444,7 @@ glm::dvec4 DeformationSum::AlphaComponents(const glm::dvec3& u, int piece) const
     }
   }
   const double sign = AlphaComponentSign(piece);
-  if (peels != 1) return glm::dvec4(sign * EvaluatePiece(u, piece).w);
+  if (peels != 1 || peel->Placed()) return glm::dvec4(sign * EvaluatePiece(u, piece).w);
   if (piece == 0) return {PeelSlabPlanes(*peel, u), others};
   // The flap's mask -slab(q): q is a rotation of u, so each plane stays affine.
   return {PeelSlabPlanes(*peel, PeelRotate(*peel, u, -peel->amount)), -1e30};

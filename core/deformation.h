@@ -16,9 +16,17 @@
 //          the whole box in y that turns about the hinge x = 0.5 (like the
 //          knife, the region is placed with its y faces beyond the object)
 //          and is clipped where it leaves the box through the top or x = 0
+//   seam   as the knife (Correa 2006 Fig. 7's seam opening is the knife's map)
+//   slices the face x = 0; slabs move towards +x and leave through x = 1, so
+//          the box must enclose the object with room at +x
+//   wave   no face (D.z = amount sin(2 pi x / width)): the box must enclose
+//          the object
 //   clip, cutaway, wedge  D = 0 everywhere; their cut reaches every face
 //          but the bottom, so the box must enclose the object (the default
 //          region does) or the cut stops at the box where the mesh is drawn
+//
+// Volumes sample the same functions into a displacement map
+// (core/volume_displacement.h: alpha 0 where A > 0).
 //
 // Cut-aways (clip, cutaway, wedge) move nothing: material is removed where
 // A > 0, A a signed distance in box units (1-Lipschitz, so the cut's skip
@@ -34,7 +42,9 @@
 // bounds the piece in every cut mode (its zero set is the flap's cut faces).
 #pragma once
 
+#include <cmath>
 #include <glm/glm.hpp>
+#include <iterator>
 #include <string>
 #include <vector>
 
@@ -43,46 +53,98 @@
 
 namespace core {
 
-enum class DeformationKind { kTwist, kBend, kPull, kKnife, kPeel, kClip, kCutaway, kWedge };
+enum class DeformationKind {
+  kTwist,
+  kBend,
+  kPull,
+  kKnife,
+  kPeel,
+  kClip,
+  kCutaway,
+  kWedge,
+  kSlices,
+  kSeam,
+  kWave
+};
 inline constexpr EnumName<DeformationKind> kDeformationKindNames[] = {
     {DeformationKind::kTwist, "twist"},     {DeformationKind::kBend, "bend"},
     {DeformationKind::kPull, "pull"},       {DeformationKind::kKnife, "knife"},
     {DeformationKind::kPeel, "peel"},       {DeformationKind::kClip, "clip"},
     {DeformationKind::kCutaway, "cutaway"}, {DeformationKind::kWedge, "wedge"},
+    {DeformationKind::kSlices, "slices"},   {DeformationKind::kSeam, "seam"},
+    {DeformationKind::kWave, "wave"},
 };
 static_assert(EnumNamesUnique(kDeformationKindNames));
+
+// THE table of deformations: one vocabulary for meshes (Correa 2007, through
+// the distance field) and volumes (Correa 2006, sampled into a displacement
+// map). Every entry is an inverse displacement D plus a cut alpha A on the
+// unit box u in [0, 1]^3, with two parameters, `amount` and `width`, in box
+// units or radians; the defaults are what `ibr deform` and `ibr volume` use
+// when a value is not given. docs/guide/deformations.md shows the same table.
+struct DeformationInfo {
+  DeformationKind kind;
+  double amount, width;  // defaults
+  const char* amount_meaning;
+  const char* width_meaning;
+};
+inline constexpr DeformationInfo kDeformationTable[] = {
+    {DeformationKind::kTwist, 2.0, 0.35, "angle at the top face (rad, |a| <= 8 pi)",
+     "radius inside which the twist is rigid (box units, [0, 0.5])"},
+    {DeformationKind::kBend, 0.8, 0.0, "bend angle over z in [0, 1] (rad, |a| <= pi)", "unused"},
+    {DeformationKind::kPull, 0.5, 0.03, "pull amplitude along +z (box units, |a| <= 1)",
+     "Gaussian width sigma (box units, (0.001, 1]); 0 at the side faces"},
+    {DeformationKind::kKnife, 0.15, 0.6, "opening at the top face (box units, (0, 0.5])",
+     "depth of the cut from the top face (box units, (0, 1])"},
+    {DeformationKind::kPeel, 2.4, 0.15, "angle the flap turns by (rad, [0, pi])",
+     "flap thickness T (box units, (0, 0.5]); flap 1-2T <= z <= 1-T, x >= 0.5"},
+    {DeformationKind::kClip, 0.5, 0.0, "height above which is removed (box units, [0, 1])",
+     "unused"},
+    {DeformationKind::kCutaway, 0.5, 0.0,
+     "low corner of the removed corner box on each axis (box units, [0, 1])", "unused"},
+    {DeformationKind::kWedge, M_PI / 2, 0.0,
+     "opening angle about x = y = 0.5, centred on +x (rad, (0, pi])",
+     "bottom height of the wedge (box units, [0, 1])"},
+    {DeformationKind::kSlices, 0.06, 0.25, "gap opened between slices (box units, [0, width))",
+     "slicing period along x (box units, (0, 1])"},
+    {DeformationKind::kSeam, 0.2, 0.7, "opening at the top face (box units, (0, 0.5])",
+     "depth of the opening from the top face (box units, (0, 1])"},
+    {DeformationKind::kWave, 0.05, 0.5, "amplitude along z (box units, |a| <= 0.5)",
+     "wavelength along x (box units, [0.02, 4])"},
+};
+static_assert(std::size(kDeformationTable) == std::size(kDeformationKindNames));
+const DeformationInfo& DeformationInfoOf(DeformationKind kind);
+
 DeformationKind DeformationKindFromName(const std::string& name);  // InputError if unknown
 std::string DeformationKindName(DeformationKind kind);
 
 struct Deformation {
   DeformationKind kind = DeformationKind::kTwist;
-  // twist: angle (radians) at the top face around the box's z axis;
-  // bend: total bend angle (radians) over z in [0, 1], bending towards +x (Barr 1984);
-  // pull: amplitude (box units) of the Gaussian pull along +z (Fig. 3: 0.5);
-  // knife: opening width (box units) of the cut at the top face;
-  // peel: angle (radians, [0, pi]) the flap is turned back by (pi: flat, face down);
-  // clip: height of the clip plane ([0, 1]; above it is removed);
-  // cutaway: the removed corner box's low corner on each axis ([0, 1]);
-  // wedge: opening angle (radians, (0, pi]) about the axis x = y = 0.5, centred on +x.
+  // What each parameter means per kind: kDeformationTable.
   double amount = 1.0;
-  // twist: radius (box units) inside which the twist is rigid; it falls to 0 at 0.5;
-  // pull: Gaussian width sigma (box units; Fig. 3 analogue: 0.03);
-  // knife: depth of the cut from the top face (box units);
-  // peel: thickness T of the flap (box units, (0, 0.5]): the layer
-  //   1 - 2T <= z <= 1 - T, x >= 0.5, turns about the line x = 0.5, z = 1 - T;
-  // wedge: the wedge's bottom height ([0, 1]; it reaches the top face);
-  // bend, clip, cutaway: unused.
   double width = 0.3;
+  // Where this deformation's unit box sits in its parent box (a mesh's
+  // deformation region, a volume's texture cube): parent = M(u), affine
+  // (Correa 2006 eq. 10; composite maps, Fig. 5). Identity: the whole parent.
+  // Outside its box a deformation is the identity with no cut.
+  glm::dmat4 parent_from_box{1.0};
 
+  // The kind with the table's default amount and width.
+  static Deformation Default(DeformationKind kind);
   void Check() const;  // InputError on NaN/inf or out-of-range values
   bool operator==(const Deformation&) const = default;
-  // (D(u), A(u)): inverse displacement (box units) and cut alpha at u.
+  bool Placed() const { return parent_from_box != glm::dmat4(1.0); }
+  // (D(u), A(u)): inverse displacement (parent box units) and cut alpha at u
+  // of the parent box.
   glm::dvec4 Evaluate(const glm::dvec3& u) const;
-  bool HasForward() const { return kind != DeformationKind::kPull; }
-  // The forward map T(u) (T^-1(T(u)) = u): twist, bend and knife only.
+  bool HasForward() const {
+    return kind != DeformationKind::kPull && kind != DeformationKind::kWave;
+  }
+  // The forward map T(u) (T^-1(T(u)) = u) where it has a closed form.
   glm::dvec3 Forward(const glm::dvec3& u) const;
   bool HasCut() const {
-    return kind == DeformationKind::kKnife || kind == DeformationKind::kPeel || IsCutAway();
+    return kind == DeformationKind::kKnife || kind == DeformationKind::kPeel ||
+           kind == DeformationKind::kSlices || kind == DeformationKind::kSeam || IsCutAway();
   }
   bool IsCutAway() const {
     return kind == DeformationKind::kClip || kind == DeformationKind::kCutaway ||
@@ -92,6 +154,10 @@ struct Deformation {
   // the peel's flap (A = its mask). Both continuous in u. Terms other than
   // the peel are the same in both pieces (Evaluate).
   glm::dvec4 EvaluatePiece(const glm::dvec3& u, int piece) const;
+  // The same in the deformation's own box (no placement).
+  glm::dvec4 EvaluateInBox(const glm::dvec3& u) const;
+  glm::dvec4 EvaluatePieceInBox(const glm::dvec3& u, int piece) const;
+  glm::dvec3 ForwardInBox(const glm::dvec3& u) const;
 };
 
 // A cut-away's alpha at u (box units, > 0 where material is removed): clip

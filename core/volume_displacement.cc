@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <cmath>
 #include <deque>
-#include <numbers>
 
 #include "core/check.h"
 #include "core/deformation.h"
@@ -13,39 +12,8 @@
 namespace core {
 namespace {
 
-constexpr double kPi = std::numbers::pi;
-
 bool InUnitCube(const glm::dvec3& u) {
   return u.x >= 0 && u.x <= 1 && u.y >= 0 && u.y <= 1 && u.z >= 0 && u.z <= 1;
-}
-
-// Rotation by `angle` (radians) in the xz plane about centre c: x-axis
-// towards z-axis for angle > 0.
-glm::dvec3 RotateXZ(const glm::dvec3& p, const glm::dvec3& c, double angle) {
-  const double cs = std::cos(angle), sn = std::sin(angle);
-  const double dx = p.x - c.x, dz = p.z - c.z;
-  return {c.x + cs * dx - sn * dz, p.y, c.z + sn * dx + cs * dz};
-}
-
-bool InPeelSlab(const EffectOptions& o, const glm::dvec3& p) {
-  return p.x > o.peel_hinge_x && p.z >= o.peel_top - o.peel_thickness && p.z <= o.peel_top;
-}
-
-// Seam shift at height z: 0 below seam_z, growing linearly to seam_width / 2
-// per half at z = 1.
-double SeamShift(const EffectOptions& o, double z) {
-  if (z <= o.seam_z) return 0;
-  return 0.5 * o.seam_width * (std::min(z, 1.0) - o.seam_z) / (1 - o.seam_z);
-}
-
-double PullProfile(const EffectOptions& o, double r) {
-  const double s2 = 2 * o.pull_sigma * o.pull_sigma;
-  const double edge = std::exp(-0.25 / s2);
-  return std::max(0.0, (std::exp(-r * r / s2) - edge) / (1 - edge));
-}
-
-void CheckFinite(double v, std::string_view what) {
-  if (!std::isfinite(v)) ThrowInputError("EffectOptions", "{} is {} (must be finite)", what, v);
 }
 
 }  // namespace
@@ -56,171 +24,73 @@ float DisplacementMap::MaxAbsDisplacement() const {
   return m;
 }
 
-std::string_view EffectName(Effect effect) { return EnumToName(kEffectNames, effect); }
-
-Effect ParseEffect(std::string_view name) {
-  return EnumFromName(kEffectNames, name, "ParseEffect", "effect");
-}
-
-void EffectOptions::Check() const {
-  CheckFinite(peel_top, "peel top");
-  CheckFinite(peel_thickness, "peel thickness");
-  CheckFinite(peel_hinge_x, "peel hinge x");
-  CheckFinite(peel_angle_deg, "peel angle");
-  CheckFinite(slices_period, "slices period");
-  CheckFinite(slices_gap, "slices gap");
-  CheckFinite(seam_z, "seam z");
-  CheckFinite(seam_width, "seam width");
-  CheckFinite(pull_sigma, "pull sigma");
-  CheckFinite(wave_amplitude, "wave amplitude");
-  CheckFinite(wave_frequency, "wave frequency");
-  CheckFinite(clip_height, "clip height");
-  CheckFinite(cutaway_corner, "cutaway corner");
-  CheckFinite(wedge_angle_deg, "wedge angle");
-  CheckFinite(wedge_bottom, "wedge bottom");
-  if (peel_thickness <= 0 || peel_thickness > 1)
-    ThrowInputError("EffectOptions", "peel thickness {} not in (0, 1]", peel_thickness);
-  if (std::abs(peel_angle_deg) > 360)
-    ThrowInputError("EffectOptions", "peel angle {} not in [-360, 360]", peel_angle_deg);
-  if (slices_period <= 0 || slices_gap < 0 || slices_gap >= slices_period) {
-    ThrowInputError("EffectOptions",
-                    "slices: need period > 0 and 0 <= gap < period (period {}, gap {})",
-                    slices_period, slices_gap);
+glm::dvec4 EvaluateVolumeMap(const Deformation& d, const glm::dvec3& u) {
+  const glm::dvec4 e = d.EvaluateInBox(u);
+  if (d.kind == DeformationKind::kPeel && d.amount > 0) {
+    // Outside the flap (the flap's D moves its points: A = -1 and a pre-image
+    // in the slab), above the hinge: no continuous D (see the header).
+    const bool flap = e.w <= -1.0 && glm::dvec3(e) != glm::dvec3(0.0);
+    if (!flap && (e.w > 0 || u.z > 1.0 - d.width)) return {0, 0, 0, 0};
   }
-  if (seam_z < 0 || seam_z >= 1)
-    ThrowInputError("EffectOptions", "seam z {} not in [0, 1)", seam_z);
-  if (seam_width < 0 || seam_width > 1)
-    ThrowInputError("EffectOptions", "seam width {} not in [0, 1]", seam_width);
-  if (pull_sigma <= 0) ThrowInputError("EffectOptions", "pull sigma {} must be > 0", pull_sigma);
-  if (std::abs(wave_amplitude) > 1)
-    ThrowInputError("EffectOptions", "wave amplitude {} not in [-1, 1]", wave_amplitude);
-  if (clip_height < 0 || clip_height > 1)
-    ThrowInputError("EffectOptions", "clip height {} not in [0, 1]", clip_height);
-  if (cutaway_corner < 0 || cutaway_corner > 1)
-    ThrowInputError("EffectOptions", "cutaway corner {} not in [0, 1]", cutaway_corner);
-  if (!(wedge_angle_deg > 0) || wedge_angle_deg > 180)
-    ThrowInputError("EffectOptions", "wedge angle {} not in (0, 180]", wedge_angle_deg);
-  if (wedge_bottom < 0 || wedge_bottom > 1)
-    ThrowInputError("EffectOptions", "wedge bottom {} not in [0, 1]", wedge_bottom);
+  return {glm::dvec3(e), e.w > 0 ? 0.0 : 1.0};
 }
 
-namespace {
-// The cut-away's alpha as a deformation box (> 0: removed).
-double CutAway(const EffectOptions& o, const glm::dvec3& u) {
-  switch (o.effect) {
-    case Effect::kClip:
-      return CutAwayAlpha(DeformationKind::kClip, o.clip_height, 0.0, u);
-    case Effect::kCutaway:
-      return CutAwayAlpha(DeformationKind::kCutaway, o.cutaway_corner, 0.0, u);
-    case Effect::kWedge:
-      return CutAwayAlpha(DeformationKind::kWedge, o.wedge_angle_deg * kPi / 180, o.wedge_bottom,
-                          u);
+glm::dmat4 BoxFromMap(const Deformation& d) {
+  glm::dmat4 m(1.0);
+  if (d.kind == DeformationKind::kPeel) m[2][2] = 1.5;
+  return m;
+}
+
+glm::dmat4 VolumeMapPlacement(const Deformation& d) { return d.parent_from_box * BoxFromMap(d); }
+
+glm::ivec3 VolumeMapDims(DeformationKind kind, int size) {
+  glm::ivec3 dims(size);
+  const int thin = std::min(size, 4);
+  switch (kind) {
+    case DeformationKind::kPeel:
+      // Its map spans 1.5 boxes in z (BoxFromMap): as many texels per box
+      // unit as along x.
+      dims.y = thin;
+      dims.z = std::min(512, (3 * size + 1) / 2);
+      break;
+    case DeformationKind::kSlices:
+    case DeformationKind::kWave:
+    case DeformationKind::kSeam:
+    case DeformationKind::kKnife:
+    case DeformationKind::kBend:
+      dims.y = thin;
+      break;
+    case DeformationKind::kClip:
+      dims.x = dims.y = thin;
+      break;
     default:
       break;
   }
-  IBR_CHECK(false);
-  return -1.0;
-}
-}  // namespace
-
-glm::dvec4 EvaluateEffect(const EffectOptions& o, const glm::dvec3& u) {
-  switch (o.effect) {
-    case Effect::kPeel: {
-      // Inverse of the rotation: where p' came from.
-      const glm::dvec3 hinge(o.peel_hinge_x, 0, o.peel_top);
-      const glm::dvec3 q = RotateXZ(u, hinge, -o.peel_angle_deg * kPi / 180);
-      if (InPeelSlab(o, q)) return {q - u, 1};
-      // No pre-image: the vacated slab, and everything above the layer's top
-      // beside the flipped layer (the map owns that space, so D can stay
-      // continuous around the flipped layer; filled later).
-      if (InPeelSlab(o, u) || u.z > o.peel_top) return {0, 0, 0, 0};
-      return {0, 0, 0, 1};
-    }
-    case Effect::kSlices: {
-      // The displaced layout per period: a slab of width period - gap, then a
-      // gap. The object's slabs are contiguous: x = k (period - gap) + s;
-      // slab 0 (at x = 0) keeps its place (placement moves the pattern).
-      const double period = o.slices_period, gap = o.slices_gap;
-      auto shift = [&](double x) {
-        const double k = std::floor(x / period);
-        const double s = x - k * period;
-        // Inside a gap D ramps from -k gap to -(k+1) gap: continuous.
-        return -k * gap - std::max(0.0, s - (period - gap));
-      };
-      const double k = std::floor(u.x / period);
-      const double s = u.x - k * period;
-      const bool in_gap = s > period - gap;
-      return {shift(u.x), 0, 0, in_gap ? 0 : 1};
-    }
-    case Effect::kSeam: {
-      const double shift = SeamShift(o, u.z);
-      const double side = u.x >= 0.5 ? 1 : -1;
-      const double from_seam = std::abs(u.x - 0.5);
-      // Each half moved away from the seam by `shift`; the gap between maps
-      // onto the seam plane (continuous pseudo-inverse).
-      if (from_seam >= shift) return {-side * shift, 0, 0, 1};
-      return {-(u.x - 0.5), 0, 0, shift > 0 ? 0 : 1};
-    }
-    case Effect::kPull: {
-      const double r = std::hypot(u.x - 0.5, u.y - 0.5);
-      return {0, 0, -u.z * PullProfile(o, r), 1};
-    }
-    case Effect::kWave:
-      return {0, 0, o.wave_amplitude * std::sin(2 * kPi * o.wave_frequency * u.x), 1};
-    case Effect::kClip:
-    case Effect::kCutaway:
-    case Effect::kWedge:
-      return {0, 0, 0, CutAway(o, u) > 0 ? 0 : 1};
-  }
-  return {0, 0, 0, 1};
+  return dims;
 }
 
-glm::dvec3 ForwardEffect(const EffectOptions& o, const glm::dvec3& p) {
-  switch (o.effect) {
-    case Effect::kPeel:
-      if (InPeelSlab(o, p))
-        return RotateXZ(p, glm::dvec3(o.peel_hinge_x, 0, o.peel_top), o.peel_angle_deg * kPi / 180);
-      return p;
-    case Effect::kSlices: {
-      // Object slab k = floor(x / (period - gap)) moves to start at k period.
-      const double w = o.slices_period - o.slices_gap;
-      const double k = std::floor(p.x / w);
-      return {p.x + k * o.slices_gap, p.y, p.z};
-    }
-    case Effect::kSeam: {
-      const double shift = SeamShift(o, p.z);
-      return {p.x + (p.x >= 0.5 ? shift : -shift), p.y, p.z};
-    }
-    case Effect::kClip:
-    case Effect::kCutaway:
-    case Effect::kWedge:
-      return p;  // nothing moves
-    case Effect::kPull:
-    case Effect::kWave:
-      break;  // continuous maps: no closed-form forward map needed here
-  }
-  IBR_CHECK(false);
-  return p;
-}
-
-DisplacementMap SampleEffect(const EffectOptions& options, const glm::ivec3& dims,
-                             int smooth_alpha_passes, int fill_iterations) {
-  options.Check();
+DisplacementMap SampleDeformationMap(const Deformation& deformation, const glm::ivec3& dims,
+                                     int smooth_alpha_passes, int fill_iterations) {
+  deformation.Check();
   IBR_CHECK(dims.x > 0 && dims.y > 0 && dims.z > 0);
   DisplacementMap map;
   map.dims = dims;
   map.texels.resize(static_cast<size_t>(dims.x) * dims.y * dims.z);
   std::vector<bool> valid(map.texels.size(), true);
+  const bool peel = deformation.kind == DeformationKind::kPeel;
+  const glm::dmat4 box_from_map = BoxFromMap(deformation);
+  const glm::dmat3 map_from_box = glm::inverse(glm::dmat3(box_from_map));  // D's units
   for (int z = 0; z < dims.z; ++z)
     for (int y = 0; y < dims.y; ++y)
       for (int x = 0; x < dims.x; ++x) {
         const glm::dvec3 u((x + 0.5) / dims.x, (y + 0.5) / dims.y, (z + 0.5) / dims.z);
-        const glm::dvec4 e = EvaluateEffect(options, u);
-        map.at(x, y, z) = glm::vec4(e);
+        const glm::dvec4 e =
+            EvaluateVolumeMap(deformation, glm::dvec3(box_from_map * glm::dvec4(u, 1.0)));
+        map.at(x, y, z) = glm::vec4(glm::vec3(map_from_box * glm::dvec3(e)), float(e.w));
         // Only the peel lacks an analytic pseudo-inverse.
-        if (options.effect == Effect::kPeel && e.w == 0) valid[map.Index(x, y, z)] = false;
+        if (peel && e.w == 0) valid[map.Index(x, y, z)] = false;
       }
-  if (options.effect == Effect::kPeel) FillPseudoInverse(map, valid, fill_iterations);
+  if (peel) FillPseudoInverse(map, valid, fill_iterations);
   // Binomial smoothing of alpha along each axis (clamped at the faces).
   for (int pass = 0; pass < smooth_alpha_passes; ++pass) {
     for (int axis = 0; axis < 3; ++axis) {

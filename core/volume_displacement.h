@@ -22,7 +22,7 @@
 #include <string_view>
 #include <vector>
 
-#include "core/enum_names.h"
+#include "core/deformation.h"
 
 namespace core {
 
@@ -41,72 +41,48 @@ struct DisplacementMap {
   float MaxAbsDisplacement() const;
 };
 
-// The procedural inverse maps of sec. 5-7, each on the unit cube. Each
-// returns (D, alpha) at a map-space point u, alpha 1 or 0 (sharp; smoothing
-// happens on the grid), D continuous everywhere (the pseudo-inverse where
-// alpha = 0).
-enum class Effect { kPeel, kSlices, kSeam, kPull, kWave, kClip, kCutaway, kWedge };
-inline constexpr EnumName<Effect> kEffectNames[] = {
-    {Effect::kPeel, "peel"},       {Effect::kSlices, "slices"}, {Effect::kSeam, "seam"},
-    {Effect::kPull, "pull"},       {Effect::kWave, "wave"},     {Effect::kClip, "clip"},
-    {Effect::kCutaway, "cutaway"}, {Effect::kWedge, "wedge"},
-};
-static_assert(EnumNamesUnique(kEffectNames));
-std::string_view EffectName(Effect effect);
-Effect ParseEffect(std::string_view name);  // InputError on an unknown name
+// The deformations of core/deformation.h (one vocabulary for meshes and
+// volumes: kDeformationTable) as maps. A map holds one deformation in its own
+// unit cube; its placement (Deformation::parent_from_box) becomes the
+// PlacedMap's, so several deformations compose by eq. 9.
+//
+// (D, alpha) at map-space point u, exact (double): D = the deformation's
+// inverse displacement (its own box, placement not applied), alpha 0 where
+// its cut alpha A > 0 (material removed) and 1 elsewhere (sharp; smoothing
+// happens on the grid). A peel's flap has no continuous D around it in one
+// map (the mesh pass joins two pieces instead: core/deformation.h "Pieces"),
+// so a volume's peel also removes the space above the flap's top hinge
+// (z > 1 - T) outside the turned flap, and D is the pseudo-inverse fill
+// there (FillPseudoInverse): the flap is surrounded by cut space, as in
+// Correa 2006 Fig. 1, 4.
+glm::dvec4 EvaluateVolumeMap(const Deformation& deformation, const glm::dvec3& u);
 
-struct EffectOptions {
-  Effect effect = Effect::kPeel;
-  // Peel (Fig. 1, 4): the slab z in [top - thickness, top], x > hinge_x is
-  // rotated by angle_deg about the line (hinge_x, *, top) along y, up and
-  // over; 180 flips it onto the surface with its underside facing up.
-  double peel_top = 0.5;        // map units; room above it for the flipped layer
-  double peel_thickness = 0.1;  // map units
-  double peel_hinge_x = 0.5;    // map units
-  double peel_angle_deg =
-      160;  // degrees; 180 lays the layer flat ON the surface, a fold D cannot hold continuously
-  // Periodic slicing (Fig. 6): slabs along x of width period - gap in the
-  // object are spread to one per period, leaving gaps (cuts) of width gap.
-  double slices_period = 0.25;  // map units
-  double slices_gap = 0.06;     // map units, < period
-  // Seam opening (Fig. 7): the halves x < 0.5 and x > 0.5 above seam_z are
-  // pushed apart by a shift growing linearly to seam_width at z = 1.
-  double seam_z = 0.3;      // map units, in [0, 1)
-  double seam_width = 0.2;  // map units, full opening at the top
-  // Gaussian pull (eq. 8): D = (0, 0, -z g(r)), r the distance from the line
-  // x = y = 0.5 and g a Gaussian of width pull_sigma shifted and rescaled to
-  // be 1 at r = 0 and 0 at r >= 0.5 (the XY faces' midpoints), so that
-  // "sigma is chosen so that the displacement becomes 0 at the XY boundaries".
-  double pull_sigma = 0.15;  // map units
-  // Wave: D = (0, 0, amplitude sin(2 pi frequency x)), continuous, no cut.
-  double wave_amplitude = 0.05;  // map units
-  double wave_frequency = 2;     // periods across the map
-  // Cut-aways (core/deformation.h's clip, cutaway, wedge: the same cuts a
-  // mesh takes): nothing moves (D = 0), material is removed.
-  double clip_height = 0.5;     // clip: above this z is removed, map units
-  double cutaway_corner = 0.5;  // cutaway: the corner x, y, z > this is removed, map units
-  double wedge_angle_deg = 90;  // wedge: opening about x = y = 0.5, centred on +x, (0, 180]
-  double wedge_bottom = 0;      // wedge: it reaches from this z to the top, map units
+// Where a deformation's map lies in its box: the box itself, except a peel's,
+// which reaches up to z = 1.5 so that the turned flap (up to 0.5 + T above
+// its hinge at 1 - T) stays inside the map, surrounded by removed space (a
+// mesh's flap is clipped at its box's top instead). Texel centres of the
+// map's unit cube are at box point BoxFromMap * u.
+glm::dmat4 BoxFromMap(const Deformation& deformation);
+// The map's placement in the parent (PlacedMap::placement, eq. 10's M):
+// deformation.parent_from_box * BoxFromMap(deformation).
+glm::dmat4 VolumeMapPlacement(const Deformation& deformation);
 
-  void Check() const;  // InputError on NaN/Inf or out-of-range values
-  bool operator==(const EffectOptions&) const = default;
-};
+// The grid a `size` map of `kind` needs: thin (at most 4 texels) along axes
+// the deformation does not vary on (Table 2: the peel and slicing maps are
+// 128 x 128 x 1); a peel's 1.5 times `size` along z (its map is 1.5 boxes
+// tall, BoxFromMap).
+glm::ivec3 VolumeMapDims(DeformationKind kind, int size);
 
-// (D, alpha) of the effect at map-space point u, exact (double).
-glm::dvec4 EvaluateEffect(const EffectOptions& options, const glm::dvec3& u);
-// Where the effect sends an object point (the forward map F, for tests and
-// proxy bounds): F(p) with p' = F(p) satisfying p' + D(p') = p where alpha = 1.
-glm::dvec3 ForwardEffect(const EffectOptions& options, const glm::dvec3& p);
-
-// The effect sampled at texel centres of a dims grid. Where alpha = 0 the
-// analytic pseudo-inverse is used when the effect has one (slices, seam);
-// the peel's is the harmonic fill of FillPseudoInverse. `smooth_alpha_passes`
+// The deformation sampled at texel centres of a dims grid. Where alpha = 0
+// the deformation's own continuous pseudo-inverse is kept (slices, seam,
+// knife); the peel's is the harmonic fill of FillPseudoInverse. `smooth_alpha_passes`
 // binomial [1 2 1]/4 passes along each axis soften the mask for the normal
 // blending of eq. 7 (the 0.5 contour stays at the cut). `fill_iterations`:
 // FillPseudoInverse's (fewer: a rougher fill, for a preview while a
-// parameter moves).
-DisplacementMap SampleEffect(const EffectOptions& options, const glm::ivec3& dims,
-                             int smooth_alpha_passes = 1, int fill_iterations = 200);
+// parameter moves). The map spans BoxFromMap (D in map units); the
+// placement is not applied (VolumeMapPlacement is the PlacedMap's).
+DisplacementMap SampleDeformationMap(const Deformation& deformation, const glm::ivec3& dims,
+                                     int smooth_alpha_passes = 1, int fill_iterations = 200);
 
 // Sec. 4.1: the continuous pseudo-inverse where no pre-image exists. Texels
 // with `valid` false take the harmonic (Laplace) fill of D from the valid

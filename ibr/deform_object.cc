@@ -71,47 +71,120 @@ bool Bool(const scene::Settings& settings, const std::string& key, bool fallback
 }  // namespace
 
 void SetDeformationDefaults(core::Deformation& d) {
-  switch (d.kind) {
-    case core::DeformationKind::kTwist:
-      d.amount = 2.0, d.width = 0.35;
-      break;
-    case core::DeformationKind::kBend:
-      d.amount = 0.8, d.width = 0.0;
-      break;
-    case core::DeformationKind::kPull:
-      d.amount = 0.5, d.width = 0.03;
-      break;
-    case core::DeformationKind::kKnife:
-      d.amount = 0.15, d.width = 0.6;
-      break;
-    case core::DeformationKind::kPeel:
-      d.amount = 2.4, d.width = 0.15;
-      break;
-    case core::DeformationKind::kClip:
-    case core::DeformationKind::kCutaway:
-      d.amount = 0.5, d.width = 0.0;
-      break;
-    case core::DeformationKind::kWedge:
-      d.amount = M_PI / 2, d.width = 0.0;
-      break;
-  }
+  const core::DeformationInfo& info = core::DeformationInfoOf(d.kind);
+  d.amount = info.amount;
+  d.width = info.width;
 }
 
-DeformObjectOptions DeformObjectOptionsFrom(const scene::Settings& settings) {
-  DeformObjectOptions o;
-  // The deformations, summed; amount and width per deformation.
+glm::dmat4 BoxPlacement(const std::vector<double>& p, const std::string& where) {
+  if (p.size() != 3 && p.size() != 6 && p.size() != 7)
+    core::ThrowInputError(where, "placement needs tx,ty,tz[,rx,ry,rz[,scale]], got {} numbers",
+                          p.size());
+  for (double v : p) {
+    if (!std::isfinite(v)) core::ThrowInputError(where, "placement value {} is not finite", v);
+  }
+  const glm::dvec3 rotation = p.size() >= 6 ? glm::dvec3(p[3], p[4], p[5]) : glm::dvec3(0.0);
+  const double scale = p.size() == 7 ? p[6] : 1.0;
+  if (!(scale > 0)) core::ThrowInputError(where, "placement scale {} must be > 0", scale);
+  return core::Placement::FromRegion(core::Box3d{glm::dvec3(0.0), glm::dvec3(1.0)}, rotation, scale,
+                                     {p[0], p[1], p[2]})
+      .object_from_box;
+}
+
+namespace {
+
+// One entry of a "deformations" list.
+core::Deformation DeformationFromJson(const nlohmann::json& j, const std::string& where) {
+  if (!j.is_object() || !j.contains("name") || !j["name"].is_string()) {
+    core::ThrowInputError(where,
+                          "expected {{\"name\": NAME, \"amount\": A, \"width\": W, "
+                          "\"placement\": P}}, got {}",
+                          j.dump());
+  }
+  core::Deformation d;
+  try {
+    d.kind = core::DeformationKindFromName(j["name"].get<std::string>());
+  } catch (const core::InputError& e) {
+    throw core::InputError(fmt::format("{}/name: {}", where, e.what()));
+  }
+  SetDeformationDefaults(d);
+  for (const auto& [key, value] : j.items()) {
+    if (key == "name") continue;
+    if (key == "amount" || key == "width") {
+      if (!value.is_number() || !std::isfinite(value.get<double>()))
+        core::ThrowInputError(where + "/" + key, "expected a finite number, got {}", value.dump());
+      (key == "amount" ? d.amount : d.width) = value.get<double>();
+    } else if (key == "placement") {
+      std::vector<double> numbers;
+      if (value.is_array()) {
+        for (const nlohmann::json& v : value) {
+          if (!v.is_number())
+            core::ThrowInputError(where + "/placement", "{} is not a number", v.dump());
+          numbers.push_back(v.get<double>());
+        }
+      } else {
+        scene::Settings one;
+        one.Set("placement", value, where + "/placement");
+        numbers = Numbers(one, "placement");
+      }
+      d.parent_from_box = BoxPlacement(numbers, where + "/placement");
+    } else {
+      core::ThrowInputError(where + "/" + key, "unknown key (name, amount, width, placement)");
+    }
+  }
+  try {
+    d.Check();
+  } catch (const core::InputError& e) {
+    throw core::InputError(fmt::format("{}: {}", where, e.what()));
+  }
+  return d;
+}
+
+}  // namespace
+
+std::vector<core::Deformation> DeformationsFrom(const scene::Settings& settings,
+                                                const std::string& fallback, bool placement_key) {
+  std::vector<core::Deformation> out;
+  if (const scene::Setting* list = settings.Find("deformations")) {
+    for (const char* key : {"deformation", "effect", "amount", "width", "placement"}) {
+      if (settings.Has(key) && (placement_key || std::string(key) != "placement"))
+        settings.Fail(key, "give either deformations or " + std::string(key));
+    }
+    if (!list->value.is_array() || list->value.empty())
+      settings.Fail("deformations", "expected a non-empty list of deformations");
+    for (size_t i = 0; i < list->value.size(); ++i)
+      out.push_back(DeformationFromJson(list->value[i], fmt::format("{}/{}", list->where, i)));
+    return out;
+  }
+  const std::string key =
+      settings.Has("deformation") || !settings.Has("effect") ? "deformation" : "effect";
   std::vector<std::string> kinds;
   {
-    std::stringstream in(settings.GetString("deformation", "twist"));
+    std::stringstream in(settings.GetString(key, fallback));
     std::string item;
     while (std::getline(in, item, ',')) kinds.push_back(item);
-    if (kinds.empty()) settings.Fail("deformation", "no deformation given");
+    if (kinds.empty()) settings.Fail(key, "no deformation given");
   }
   const std::vector<double> amounts = Numbers(settings, "amount");
   const std::vector<double> widths = Numbers(settings, "width");
-  for (const auto& [key, values] : {std::pair{"amount", &amounts}, std::pair{"width", &widths}}) {
+  glm::dmat4 placement(1.0);
+  if (placement_key && settings.Has("placement")) {
+    try {
+      placement = BoxPlacement(Numbers(settings, "placement"), "placement");
+    } catch (const core::InputError& e) {
+      settings.Fail("placement", e.what());
+    }
+  }
+  if (kinds.size() == 1 && kinds[0] == "none") {
+    for (const char* k : {"amount", "width", "placement"}) {
+      if (std::string(k) == "placement" && !placement_key) continue;
+      if (settings.Has(k)) settings.Fail(k, "no deformation to apply it to");
+    }
+    return out;
+  }
+  for (const auto& [k, values] : {std::pair{"amount", &amounts}, std::pair{"width", &widths}}) {
     if (values->size() > kinds.size()) {
-      settings.Fail(key,
+      settings.Fail(k,
                     fmt::format("{} values for {} deformation(s)", values->size(), kinds.size()));
     }
   }
@@ -120,21 +193,26 @@ DeformObjectOptions DeformObjectOptionsFrom(const scene::Settings& settings) {
     try {
       d.kind = core::DeformationKindFromName(kinds[i]);
     } catch (const core::InputError& e) {
-      settings.Fail("deformation", e.what());
+      settings.Fail(key, e.what());
     }
     SetDeformationDefaults(d);
     if (i < amounts.size()) d.amount = amounts[i];
     if (i < widths.size()) d.width = widths[i];
+    d.parent_from_box = placement;
     try {
       d.Check();
     } catch (const core::InputError& e) {
-      settings.Fail(i < amounts.size()  ? "amount"
-                    : i < widths.size() ? "width"
-                                        : "deformation",
-                    e.what());
+      settings.Fail(i < amounts.size() ? "amount" : i < widths.size() ? "width" : key, e.what());
     }
-    o.deformation.terms.push_back(d);
+    out.push_back(d);
   }
+  return out;
+}
+
+DeformObjectOptions DeformObjectOptionsFrom(const scene::Settings& settings) {
+  DeformObjectOptions o;
+  o.deformation.terms = DeformationsFrom(settings, "twist");
+  if (o.deformation.terms.empty()) settings.Fail("deformation", "no deformation given");
   // The cut.
   std::string cut = settings.GetString("cut", "none");
   if (cut.rfind("thick:", 0) == 0) {
@@ -219,7 +297,17 @@ core::Box3d DeformedBounds(const core::Box3d& mesh, const core::Box3d& box, doub
 
 core::Placement DeformPlacement(const DeformObjectOptions& options,
                                 const core::Box3d& mesh_bounds) {
-  const core::Box3d region = options.region ? *options.region : mesh_bounds.Grown(0.05);
+  core::Box3d region = options.region ? *options.region : mesh_bounds.Grown(0.05);
+  if (!options.region) {
+    // Slices spread the slabs towards +x by period / (period - gap): the
+    // default region leaves that room, so the last slab stays in the box.
+    double spread = 1.0;
+    for (const core::Deformation& d : options.deformation.terms) {
+      if (d.kind == core::DeformationKind::kSlices && !d.Placed())
+        spread = std::max(spread, d.width / (d.width - d.amount));
+    }
+    region.hi.x = region.lo.x + spread * (region.hi.x - region.lo.x);
+  }
   return core::Placement::FromRegion(region, options.rotation_deg, options.scale,
                                      options.translation);
 }
@@ -376,9 +464,9 @@ DeformObjectChange UpdateDeformObject(DeformObjectData& data,
     throw core::InputError(fmt::format("{}: {}", where, e.what()));
   }
   DeformObjectChange change;
-  const bool placement =
-      old_options.region != options.region || old_options.rotation_deg != options.rotation_deg ||
-      old_options.scale != options.scale || old_options.translation != options.translation;
+  // The default region depends on the deformation (slices): compare boxes.
+  const bool placement = DeformPlacement(old_options, NormMeshBounds(data.mesh)).object_from_box !=
+                         DeformPlacement(options, NormMeshBounds(data.mesh)).object_from_box;
   change.deformation = placement || old_options.deformation != options.deformation ||
                        old_options.deformation_resolution != options.deformation_resolution;
   change.pass = old_options.pass != options.pass;

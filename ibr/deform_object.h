@@ -25,7 +25,8 @@ namespace ibr {
 
 struct DeformObjectOptions {
   core::DeformationSum deformation;  // default: one twist (DeformObjectOptionsFrom)
-  // Region box in normalised units; empty = the mesh's bounds grown by 0.05.
+  // Region box in normalised units; empty = the mesh's bounds grown by 0.05
+  // (along +x by the spread of slices, period / (period - gap)).
   std::optional<core::Box3d> region;
   glm::dvec3 rotation_deg{0.0};  // placement: Euler angles about the region's centre
   double scale = 1.0;            // placement: scale about the region's centre
@@ -50,13 +51,35 @@ struct DeformObjectOptions {
   void Check() const;
 };
 
-// Default amount and width per kind (normalised box units; radians).
+// Default amount and width per kind (core::kDeformationTable).
 void SetDeformationDefaults(core::Deformation& deformation);
 
+// A deformation's box in its parent box (Deformation::parent_from_box) from
+// "tx,ty,tz[,rx,ry,rz[,scale]]": translation in parent box units, Euler
+// angles in degrees (x, then y, then z) and a scale about the box's centre.
+// InputError naming `where` on a wrong count or a scale <= 0.
+glm::dmat4 BoxPlacement(const std::vector<double>& numbers, const std::string& where);
+
+// The deformations a settings bag names, one vocabulary for deform and
+// volume objects (core::kDeformationTable):
+//   deformation   NAME or a comma list ("none": no deformation); `fallback`
+//                 when absent ("effect" is read as an alias)
+//   amount, width a number or a comma list, one per deformation (defaults
+//                 from the table)
+//   deformations  instead of the three above: a JSON list of
+//                 {"name", "amount", "width", "placement"}, each with its own
+//                 placement (BoxPlacement; a string or a list of numbers):
+//                 composite maps, Correa 2006 Fig. 5, eq. 9-10
+//   placement     with `placement_key` (volumes): BoxPlacement of each of the
+//                 deformations named by `deformation` (a deform object's
+//                 `placement` moves its region instead: DeformObjectOptionsFrom)
+// Errors name the value's `where`.
+std::vector<core::Deformation> DeformationsFrom(const scene::Settings& settings,
+                                                const std::string& fallback,
+                                                bool placement_key = false);
+
 // Keys (every one optional; errors name the value's `where`):
-//   deformation  twist|bend|pull|knife|peel, or a comma list (summed)
-//   amount, width  a number or a comma list, one per deformation (defaults
-//                  SetDeformationDefaults)
+//   deformation, amount, width, deformations  DeformationsFrom (summed)
 //   cut          none|hollow|solid|thick:T
 //   region       "x0,y0,z0,x1,y1,z1" (normalised units)
 //   placement    "tx,ty,tz[,rx,ry,rz[,scale]]" about the region's centre

@@ -362,7 +362,6 @@ VolumeObjectChange SceneRenderer::UpdateVolume(LoadedScene& scene, size_t index,
   // The maps changed aside (the volume itself is copied only when they do).
   VolumeObjectData maps_only;
   maps_only.maps = l.volume->maps;
-  maps_only.map_placement = l.volume->map_placement;
   maps_only.preview_maps = l.volume->preview_maps;
   const VolumeObjectChange change =
       UpdateVolumeObject(maps_only, l.volume_options, options, where, preview);

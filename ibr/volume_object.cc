@@ -11,6 +11,7 @@
 
 #include "core/error.h"
 #include "core/volume_io.h"
+#include "ibr/deform_object.h"
 
 namespace ibr {
 
@@ -70,26 +71,27 @@ namespace {
 // smoothing, enough for a map that shows the peel while the angle moves.
 constexpr int kPreviewFillIterations = 20;
 
-render::VolumeMapInput SampleEffectMap(const core::EffectOptions& effect, int map_size,
-                                       const glm::dmat4& placement, bool preview = false) {
-  // Thin maps where the effect does not vary along an axis (Table 2: the
-  // peel and slicing maps are 128 x 128 x 1... here at least 4 texels).
-  glm::ivec3 dims(map_size);
-  if (effect.effect == core::Effect::kSlices || effect.effect == core::Effect::kWave ||
-      effect.effect == core::Effect::kPeel || effect.effect == core::Effect::kSeam)
-    dims.y = std::min(map_size, 4);
-  if (effect.effect == core::Effect::kClip) dims.x = dims.y = std::min(map_size, 4);
-  return {preview ? core::SampleEffect(effect, dims, 2, kPreviewFillIterations)
-                  : core::SampleEffect(effect, dims, 2),
-          placement};
+render::VolumeMapInput SampleMap(const core::Deformation& d, int map_size, bool preview = false) {
+  core::Deformation unplaced = d;
+  unplaced.parent_from_box = glm::dmat4(1.0);  // the PlacedMap's placement
+  const glm::ivec3 dims = core::VolumeMapDims(d.kind, map_size);
+  return {preview ? core::SampleDeformationMap(unplaced, dims, 2, kPreviewFillIterations)
+                  : core::SampleDeformationMap(unplaced, dims, 2),
+          core::VolumeMapPlacement(d)};
+}
+
+std::vector<render::VolumeMapInput> SampleMaps(const std::vector<core::Deformation>& deformations,
+                                               int map_size, bool preview = false) {
+  std::vector<render::VolumeMapInput> maps;
+  for (const core::Deformation& d : deformations) maps.push_back(SampleMap(d, map_size, preview));
+  return maps;
 }
 
 }  // namespace
 
 VolumeObjectData MakeVolumeObject(core::Volume volume, const core::TransferFunction& transfer,
-                                  const std::optional<core::EffectOptions>& effect, int map_size,
-                                  const glm::dvec3& placement_offset,
-                                  const glm::dvec3& placement_scale, const std::string& where) {
+                                  const std::vector<core::Deformation>& deformations, int map_size,
+                                  const std::string& where) {
   VolumeObjectData s;
   s.volume = std::move(volume);
   s.stats = core::ComputeVolumeStats(s.volume);
@@ -97,24 +99,23 @@ VolumeObjectData MakeVolumeObject(core::Volume volume, const core::TransferFunct
   const glm::vec3 extent(s.volume.Extent());
   s.world_from_volume = glm::scale(glm::translate(glm::mat4(1.0f), -0.5f * extent), extent);
   s.radius = 0.5 * glm::length(s.volume.Extent());
-  if (effect) {
+  if (!deformations.empty()) {
     if (map_size < 1 || map_size > 512)
       core::ThrowInputError(where, "map size {} not in [1, 512]", map_size);
-    for (int a = 0; a < 3; ++a) {
-      if (!std::isfinite(placement_offset[a]) || !std::isfinite(placement_scale[a]) ||
-          !(placement_scale[a] > 0)) {
-        core::ThrowInputError(where, "placement: offsets must be finite and scales finite and > 0");
+    for (const core::Deformation& d : deformations) {
+      try {
+        d.Check();
+      } catch (const core::InputError& e) {
+        throw core::InputError(fmt::format("{}: {}", where, e.what()));
       }
     }
-    s.map_placement =
-        glm::scale(glm::translate(glm::dmat4(1.0), placement_offset), placement_scale);
-    s.maps.push_back(SampleEffectMap(*effect, map_size, s.map_placement));
+    s.maps = SampleMaps(deformations, map_size);
   }
   return s;
 }
 
 void VolumeObjectOptions::Check() const {
-  if (effect) effect->Check();
+  for (const core::Deformation& d : deformations) d.Check();
   if (map_size < 1 || map_size > 512)
     core::ThrowInputError("VolumeObjectOptions", "map size {} not in [1, 512]", map_size);
   pass.Check();
@@ -131,16 +132,16 @@ VolumeObjectChange UpdateVolumeObject(VolumeObjectData& data,
   }
   VolumeObjectChange change;
   change.pass = old_options.pass != options.pass;
-  change.maps = old_options.effect != options.effect ||
-                (options.effect && old_options.map_size != options.map_size) ||
+  change.maps = old_options.deformations != options.deformations ||
+                (!options.deformations.empty() && old_options.map_size != options.map_size) ||
                 (data.preview_maps && !preview);
   if (change.maps) {
-    data.maps.clear();
-    if (options.effect) {
-      data.maps.push_back(
-          SampleEffectMap(*options.effect, options.map_size, data.map_placement, preview));
-    }
-    data.preview_maps = preview && options.effect && options.effect->effect == core::Effect::kPeel;
+    data.maps = SampleMaps(options.deformations, options.map_size, preview);
+    data.preview_maps =
+        preview && std::any_of(options.deformations.begin(), options.deformations.end(),
+                               [](const core::Deformation& d) {
+                                 return d.kind == core::DeformationKind::kPeel;
+                               });
   }
   return change;
 }
@@ -186,16 +187,7 @@ double IsoValueInDataUnits(const VolumeObjectData& data, const VolumeObjectOptio
 
 VolumeObjectOptions VolumeObjectOptionsFrom(const scene::Settings& s) {
   VolumeObjectOptions o;
-  const std::string effect = s.GetString("effect", "none");
-  if (effect != "none") {
-    core::EffectOptions e;
-    try {
-      e.effect = core::ParseEffect(effect);
-    } catch (const core::InputError& error) {
-      s.Fail("effect", error.what());
-    }
-    o.effect = e;
-  }
+  o.deformations = DeformationsFrom(s, "none", /*placement_key=*/true);
   o.map_size = s.GetInt("map_size", o.map_size);
   if (o.map_size < 1 || o.map_size > 512)
     s.Fail("map_size", fmt::format("{} outside 1..512", o.map_size));
@@ -238,8 +230,8 @@ LoadedVolume LoadVolumeObject(const scene::Object& o) {
   } catch (const core::InputError& e) {
     throw core::InputError(fmt::format("{}: {}", t ? t->where : o.where, e.what()));
   }
-  l.data = MakeVolumeObject(std::move(volume), transfer, l.options.effect, l.options.map_size,
-                            glm::dvec3(0.0), glm::dvec3(1.0), o.where);
+  l.data = MakeVolumeObject(std::move(volume), transfer, l.options.deformations, l.options.map_size,
+                            o.where);
   l.data.world_from_volume = glm::mat4(o.world_from_object) * l.data.world_from_volume;
   if (l.options.iso_value) {
     const scene::Setting* m = o.settings.Find("mode");

@@ -1,7 +1,7 @@
-// A volume with one discontinuous displacement effect (Correa, Silver, Chen
-// 2006) as plain CPU data, shared by `ibr volume`, the volume bench and
-// volume objects in scene files (ibr/scene_renderer.h): parse -> this data ->
-// render::VolumePass.
+// A volume displaced and cut by deformations (Correa, Silver, Chen 2006; the
+// names of core::kDeformationTable, as a deform object's) as plain CPU data, shared by `ibr
+// volume`, the volume bench and volume objects in scene files (ibr/scene_renderer.h): parse -> this
+// data -> render::VolumePass.
 #pragma once
 
 #include <filesystem>
@@ -28,9 +28,6 @@ struct VolumeObjectData {
   // object frame of a scene's volume object, before its transform).
   glm::mat4 world_from_volume{1.0f};
   double radius = 1;  // of the volume's bounding sphere, world units
-  // The effect map's unit cube -> volume texture space (eq. 10's M), kept
-  // for resampling the map with other effect options (UpdateVolumeObject).
-  glm::dmat4 map_placement{1.0};
   // The maps were sampled as a preview (UpdateVolumeObject's `preview`: a
   // rougher peel fill); the next update without it resamples them.
   bool preview_maps = false;
@@ -38,14 +35,13 @@ struct VolumeObjectData {
 
 // `transfer` may be in stored units (core::TransferUnits::kData): it is
 // converted with the volume's normalisation range.
-// The effect sampled on a map_size grid (thin along axes it does not vary
-// on), placed by translate-then-scale into the volume's texture space
-// (eq. 10's M). InputError naming `where` on a bad size or placement.
+// Each deformation sampled on a map_size grid (core::VolumeMapDims: thin
+// along axes it does not vary on), placed by its parent_from_box into the
+// volume's texture space (eq. 10's M); several compose by eq. 9.
+// InputError naming `where` on a bad size or deformation.
 // The volume is taken by value: callers that are done with theirs move it in.
 VolumeObjectData MakeVolumeObject(core::Volume volume, const core::TransferFunction& transfer,
-                                  const std::optional<core::EffectOptions>& effect, int map_size,
-                                  const glm::dvec3& placement_offset,
-                                  const glm::dvec3& placement_scale,
+                                  const std::vector<core::Deformation>& deformations, int map_size,
                                   const std::string& where = "ibr volume");
 
 // The transfer function `name` (preset or file) or, when empty, the preset
@@ -79,15 +75,16 @@ std::optional<double> ApplyVolumeMode(const std::string& mode, render::VolumePas
 void SetIsoValue(const VolumeObjectData& data, double value, render::VolumePassOptions& options,
                  const std::string& where);
 
-// A scene's volume object settings (scene/scene.h: effect, map_size, mode,
+// A scene's volume object settings (scene/scene.h: deformation(s), map_size, mode,
 // spacing, displacement_bits, lighting, jacobian), errors naming the file and
 // JSON pointer of the value.
 struct VolumeObjectOptions {
-  std::optional<core::EffectOptions> effect;  // none: plain DVR / iso
-  int map_size = 64;                          // texels per axis of the effect's map
+  // None: plain DVR / iso. Each its own map, placed by its parent_from_box.
+  std::vector<core::Deformation> deformations;
+  int map_size = 64;  // texels per axis of each deformation's map
   render::VolumePassOptions pass;
   std::optional<double> iso_value;  // "iso:VALUE" in stored units; LoadVolumeObject sets pass's
-  // InputError on bad values: the effect's and the pass's Check(), a map size
+  // InputError on bad values: the deformations' and the pass's Check(), a map size
   // outside 1..512.
   void Check() const;
 };
@@ -100,13 +97,13 @@ double IsoValueInDataUnits(const VolumeObjectData& data, const VolumeObjectOptio
 
 // What changing a volume object's options invalidated (UpdateVolumeObject).
 struct VolumeObjectChange {
-  bool maps = false;  // the effect's map was resampled (effect options, map size)
+  bool maps = false;  // the maps were resampled (deformations, map size)
   bool pass = false;  // the pass options differ (render::VolumePass::SetOptions)
   bool Any() const { return maps || pass; }
 };
 // Turns `data`, made with `old_options`, into what MakeVolumeObject makes
-// with `options` (same volume, transfer function and map placement): only
-// effect or map-size changes resample the map (milliseconds for 64^3); the
+// with `options` (same volume and transfer function): only deformation or
+// map-size changes resample the maps (milliseconds for 64^3); the
 // pass options (mode, iso value, spacing, lighting, Jacobian, bits) touch no
 // data here, the caller hands them to the pass. options.Check() first
 // (InputError naming `where`); on an error nothing changes. `preview` (the

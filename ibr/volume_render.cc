@@ -1,5 +1,7 @@
 #include "ibr/volume_render.h"
 
+#include <fmt/format.h>
+#include <fmt/ranges.h>
 #include <spdlog/spdlog.h>
 
 #include <algorithm>
@@ -28,6 +30,19 @@ render::ViewSetup VolumeOrbitView(double azimuth_deg, double elevation_deg, doub
   return OrbitCameraView(glm::vec3(0), static_cast<float>(radius), orbit, size);
 }
 
+std::string VolumeReportText(const VolumeRenderRequest& r, const VolumeRenderResult& v) {
+  std::vector<std::string> names;
+  for (const core::Deformation& d : r.object.deformations)
+    names.push_back(core::DeformationKindName(d.kind));
+  return fmt::format(
+      "volume: {} deformation {} mode {} -> {} image(s) in {}; {:.1f} ms/frame (median), {} "
+      "slices, proxy box [{:.2f} {:.2f} {:.2f}]-[{:.2f} {:.2f} {:.2f}]",
+      r.volume.string(), names.empty() ? "none" : fmt::format("{}", fmt::join(names, ",")),
+      r.object.pass.mode == render::VolumeMode::kIso ? "iso" : "dvr", v.images, r.out.string(),
+      v.median_ms, v.slices, v.proxy_lo.x, v.proxy_lo.y, v.proxy_lo.z, v.proxy_hi.x, v.proxy_hi.y,
+      v.proxy_hi.z);
+}
+
 core::ImageF DrawVolumeFloat(render::VolumePass& pass, const render::ViewSetup& view, int size) {
   render::RenderTargetOptions options = render::FrameTargetOptions(size, size);
   options.color_formats[render::kFrameColor] = GL_RGBA32F;
@@ -49,10 +64,13 @@ VolumeRenderResult RenderVolume(const VolumeRenderRequest& r) {
           ? WindowLevelTransfer(r.window_level->x, r.window_level->y,
                                 core::ComputeVolumeStats(volume), "ibr volume --window/--level")
           : TransferForVolume(r.transfer, r.volume, &volume);
-  const VolumeObjectData scene = MakeVolumeObject(std::move(volume), transfer, r.effect, r.map_size,
-                                                  r.placement_offset, r.placement_scale);
-  render::VolumePassOptions pass_options = r.pass;
-  if (r.iso_value) SetIsoValue(scene, *r.iso_value, pass_options, "ibr volume --mode");
+  r.object.Check();
+  const VolumeObjectData scene =
+      MakeVolumeObject(std::move(volume), transfer, r.object.deformations, r.object.map_size);
+  render::VolumePassOptions pass_options = r.object.pass;
+  if (r.object.iso_value) {
+    SetIsoValue(scene, *r.object.iso_value, pass_options, "ibr volume --mode");
+  }
   // The frame budget and the GL limits: render::CheckFrameSize (ibr volume).
   if (r.size < 16 || r.size > 16384)
     core::ThrowInputError("ibr volume", "--size {} not in [16, 16384]", r.size);

@@ -1,5 +1,5 @@
-// The logic behind `ibr volume`: a volume file, one displacement effect
-// (Correa, Silver, Chen 2006) placed in it, rendered by render::VolumePass from
+// The logic behind `ibr volume`: a volume file, deformations (Correa, Silver,
+// Chen 2006; core::kDeformationTable) placed in it, rendered by render::VolumePass from
 // an orbit view or a dataset's cameras into PNGs. Also the scene builder the
 // volume benchmark shares.
 #pragma once
@@ -20,17 +20,11 @@
 namespace ibr {
 
 struct VolumeRenderRequest {
-  std::filesystem::path volume;               // core::ReadVolume: QVis, NRRD, NIfTI, DICOM folder
-  std::optional<core::EffectOptions> effect;  // none: plain DVR / iso
-  int map_size = 64;  // texels per axis of the effect's map (Table 2: 32-128)
-  // Where the map's unit cube sits in the volume's texture space: translate
-  // then scale (eq. 10's M).
-  glm::dvec3 placement_offset{0.0};
-  glm::dvec3 placement_scale{1.0};
-  render::VolumePassOptions pass;
-  // Iso mode: the iso value in the volume's stored units (SetIsoValue
-  // sets pass.iso_value from it once the volume is read).
-  std::optional<double> iso_value;
+  std::filesystem::path volume;  // core::ReadVolume: QVis, NRRD, NIfTI, DICOM folder
+  // Deformations (each its own placed map), map size, pass options and iso
+  // value (stored units): what a scene's volume object takes
+  // (VolumeObjectOptionsFrom).
+  VolumeObjectOptions object;
   std::string
       transfer;  // preset or JSON file; empty: the preset named like the volume, else "ramp"
   // Instead of `transfer`: window width and level (centre) in stored units
@@ -50,6 +44,10 @@ struct VolumeRenderResult {
   int slices = 0;        // DVR slices of the first view
   glm::dvec3 proxy_lo{0.0}, proxy_hi{1.0};
 };
+
+// What `ibr volume` prints: the volume, its deformations and mode, the
+// images written, the frame time, slices and proxy box, on one line.
+std::string VolumeReportText(const VolumeRenderRequest& request, const VolumeRenderResult& result);
 
 // A perspective view orbiting the origin at `distance`, z up, focal 1.2 size
 // (OrbitCameraView): the bench's and gallery's fixed framing.

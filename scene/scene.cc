@@ -329,10 +329,11 @@ class Reader {
       Fail(p / "type", fmt::format("unknown object type '{}' ({})", type, names));
     }
     o.type = kind->type;
-    std::set<std::string> structural, effect_keys, allowed;
+    std::set<std::string> structural, effect_keys, allowed, list_keys;
     for (const KeySpec& k : CommonObjectKeys()) allowed.insert(std::string(k.key));
     for (const KeySpec& k : kind->keys) {
       (k.effect ? effect_keys : structural).insert(std::string(k.key));
+      if (k.type == "list") list_keys.insert(std::string(k.key));
       allowed.insert(std::string(k.key));
     }
     Keys(j, p, allowed);
@@ -397,8 +398,12 @@ class Reader {
     for (const std::string& k : effect_keys) {
       if (!j.contains(k)) continue;
       const json& v = j[k];
-      if (!v.is_primitive() || v.is_null())
-        Fail(p / k, fmt::format("expected a string or a number, got {}", TypeOf(v)));
+      // Keys of type "list" ("deformations") take a JSON list, which the
+      // kind's options reader checks.
+      if (list_keys.count(k) > 0 ? !v.is_array() : (!v.is_primitive() || v.is_null()))
+        Fail(p / k,
+             fmt::format("expected {}, got {}",
+                         list_keys.count(k) > 0 ? "a list" : "a string or a number", TypeOf(v)));
       o.settings.Set(k, v, Where(p / k));
     }
     if (o.type == ObjectType::kDepthObject || o.type == ObjectType::kVisualHull) {

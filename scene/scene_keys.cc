@@ -41,6 +41,14 @@ std::vector<KeySpec> DepthObjectKeys() {
   };
 }
 
+// Composite maps (Correa 2006 Fig. 5, eq. 9-10), the same on volumes and
+// deform objects.
+constexpr KeySpec kDeformationsKey = {
+    "deformations", "list", "none (the keys above)",
+    "instead of deformation/amount/width: [{\"name\": N, \"amount\": A, \"width\": W, "
+    "\"placement\": \"tx,ty,tz[,rx,ry,rz[,scale]]\"}, ...], each placed in the object's "
+    "deformation box (box units, degrees, about its centre)"};
+
 }  // namespace
 
 const std::vector<KeySpec>& CommonObjectKeys() {
@@ -103,11 +111,20 @@ const std::vector<ObjectKindSpec>& ObjectKinds() {
                       "to the 99th percentile",
                       "a preset name (tooth, neghip, bucky, ramp, empty) or a transfer-function "
                       "JSON file (\"units\": \"data\" for points in the volume's units)"),
-           {"effect", "string", "none",
-            "none | peel | slices | seam | pull | wave, with optional parameters (see the "
-            "volumes guide)"},
+           {"deformation", "string", "none",
+            "none, or a deformation of the deformations guide (twist | bend | pull | knife | "
+            "peel | slices | seam | wave | clip | cutaway | wedge) or a comma list: one map each"},
+           {"effect", "string", "none", "the same as deformation (its former name)"},
+           {"amount", "number or list", "per deformation",
+            "each deformation's amount (the deformations guide's table)"},
+           {"width", "number or list", "per deformation",
+            "each deformation's width (the deformations guide's table)"},
+           {"placement", "string", "the volume's box",
+            "tx,ty,tz[,rx,ry,rz[,scale]]: the deformations' box in the volume's box (box units, "
+            "degrees, about its centre)"},
+           kDeformationsKey,
            {"map_size", "integer", "64",
-            "texels per axis of the effect's displacement map (1..512)"},
+            "texels per axis of each deformation's displacement map (1..512)"},
            {"mode", "string", "dvr",
             "dvr, or iso:VALUE: the first surface at VALUE, in the data's units"},
            {"spacing", "number", "1", "sampling distance along a ray, in voxels"},
@@ -125,8 +142,8 @@ const std::vector<ObjectKindSpec>& ObjectKinds() {
                       "{\"shape\": NAME} or {\"file\": F} or {\"shared_mesh\": REL}; closed, or "
                       "cap_holes"),
            {"deformation", "string", "twist",
-            "twist | bend | pull | knife | peel | clip | cutaway | wedge, or a comma list "
-            "(summed)"},
+            "twist | bend | pull | knife | peel | slices | seam | wave | clip | cutaway | wedge, "
+            "or a comma list (summed)"},
            {"amount", "number or list", "per deformation",
             "strength of each deformation (comma list for several)"},
            {"width", "number or list", "per deformation",
@@ -137,6 +154,7 @@ const std::vector<ObjectKindSpec>& ObjectKinds() {
             "side 1)"},
            {"placement", "string", "0,0,0",
             "tx,ty,tz[,rx,ry,rz[,scale]]: moves the deformation in its box"},
+           kDeformationsKey,
            {"step", "string", "fixed", "fixed | threshold:T | jacobian: the ray's step policy"},
            {"step_voxels", "number", "1", "ray step in distance-field voxels"},
            {"skip", "bool", "false",

@@ -144,38 +144,14 @@ DeformationRanges RangesOf(core::DeformationKind kind) {
       return {0.0f, 1.0f, 0.0f, 0.0f};
     case core::DeformationKind::kWedge:
       return {0.05f, 3.14f, 0.0f, 1.0f};
+    case core::DeformationKind::kSlices:
+      return {0.0f, 0.2f, 0.05f, 1.0f};
+    case core::DeformationKind::kSeam:
+      return {0.01f, 0.5f, 0.05f, 1.0f};
+    case core::DeformationKind::kWave:
+      return {-0.2f, 0.2f, 0.05f, 2.0f};
   }
   return {0, 1, 0, 1};
-}
-
-// The slider of a volume effect's main parameter: label, the option it sets,
-// its range (the option's own units) and print format.
-struct EffectSlider {
-  const char* label;
-  double* value;
-  float lo, hi;
-  const char* format;
-};
-EffectSlider EffectSliderOf(core::EffectOptions& e) {
-  switch (e.effect) {
-    case core::Effect::kPeel:
-      return {"peel angle (deg)", &e.peel_angle_deg, 0, 180, "%.1f"};
-    case core::Effect::kSlices:
-      return {"slice gap", &e.slices_gap, 0, 0.95f * static_cast<float>(e.slices_period), "%.3f"};
-    case core::Effect::kSeam:
-      return {"seam width", &e.seam_width, 0, 1, "%.3f"};
-    case core::Effect::kPull:
-      return {"pull sigma", &e.pull_sigma, 0.02f, 0.5f, "%.3f"};
-    case core::Effect::kWave:
-      return {"wave amplitude", &e.wave_amplitude, -0.2f, 0.2f, "%.3f"};
-    case core::Effect::kClip:
-      return {"clip height", &e.clip_height, 0, 1, "%.3f"};
-    case core::Effect::kCutaway:
-      return {"cutaway corner", &e.cutaway_corner, 0, 1, "%.3f"};
-    case core::Effect::kWedge:
-      return {"wedge angle (deg)", &e.wedge_angle_deg, 1, 180, "%.1f"};
-  }
-  return {"peel angle (deg)", &e.peel_angle_deg, 0, 180, "%.1f"};
 }
 
 }  // namespace
@@ -244,11 +220,12 @@ bool SceneFileScene::DragParameter(double t) {
       UpdateDeformWhileMoving(i, o);
       return true;
     }
-    if (object.type == scene::ObjectType::kVolume && object.volume_options.effect) {
+    if (object.type == scene::ObjectType::kVolume && !object.volume_options.deformations.empty()) {
       ibr::VolumeObjectOptions o = object.volume_options;
-      const EffectSlider s = EffectSliderOf(*o.effect);
-      *s.value = std::clamp(s.lo + t * (s.hi - s.lo), static_cast<double>(s.lo),
-                            static_cast<double>(s.hi));
+      core::Deformation& d = o.deformations[0];
+      const DeformationRanges r = RangesOf(d.kind);
+      d.amount = std::clamp(r.amount_lo + t * (r.amount_hi - r.amount_lo),
+                            static_cast<double>(r.amount_lo), static_cast<double>(r.amount_hi));
       renderer_.UpdateVolume(loaded_, i, o, /*preview=*/true);
       return true;
     }
@@ -341,14 +318,16 @@ bool SceneFileScene::DeformControls(size_t index) {
 bool SceneFileScene::VolumeControls(size_t index) {
   ibr::VolumeObjectOptions o = loaded_.objects[index].volume_options;
   bool changed = false;
-  if (o.effect) {
-    core::EffectOptions& e = *o.effect;
-    ImGui::Text("effect: %s", std::string(core::EffectName(e.effect)).c_str());
-    const EffectSlider s = EffectSliderOf(e);
-    changed |= SliderDouble(s.label, *s.value, s.lo, s.hi, s.format);
-  } else {
-    ImGui::TextUnformatted("effect: none");
+  for (core::Deformation& d : o.deformations) {
+    const DeformationRanges r = RangesOf(d.kind);
+    ImGui::PushID(&d);
+    ImGui::Text("deformation: %s", core::DeformationKindName(d.kind).c_str());
+    changed |= SliderDouble("amount", d.amount, r.amount_lo, r.amount_hi, "%.3f");
+    if (r.width_hi > r.width_lo)
+      changed |= SliderDouble("width", d.width, r.width_lo, r.width_hi, "%.3f");
+    ImGui::PopID();
   }
+  if (o.deformations.empty()) ImGui::TextUnformatted("deformation: none");
   render::VolumePassOptions& pass = o.pass;
   changed |= ComboOf("lighting", pass.lighting,
                      {render::VolumeLighting::kNone, render::VolumeLighting::kGradient,

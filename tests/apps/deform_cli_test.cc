@@ -6,12 +6,15 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
 #include <filesystem>
 #include <regex>
 #include <string>
 #include <vector>
 
 #include "capture/dataset.h"
+#include "core/deformation.h"
+#include "core/image_io.h"
 #include "tests/support/gl_test.h"
 #include "tests/support/run_command.h"
 
@@ -74,6 +77,45 @@ TEST_F(DeformCliTest, WritesAPngAndPrintsOutcomeCounts) {
         r.out.find(cube ? "implicit depth-cube 6 x 32x32 R32F, 24576 bytes" : "implicit sdf "),
         std::string::npos)
         << r.out;
+  }
+}
+
+// Every deformation of the one vocabulary (core::kDeformationTable, the
+// names `ibr volume` takes) renders on a mesh with its default amount and
+// width and a solid cut: the picture is not empty and differs from the
+// undeformed mesh's (a twist of angle 0).
+TEST_F(DeformCliTest, EveryDeformationNameRendersAndChangesThePicture) {
+  const auto render = [&](const std::string& args, const std::string& name) {
+    const fs::path out = dir_ / name;
+    fs::remove(out);
+    const auto r = test_support::RunCommand(
+        Deform(args + " --cut solid --size 96 --resolution 48 --out " + out.string()));
+    EXPECT_EQ(r.exit_code, 0) << args << "\n" << r.err;
+    return r.exit_code == 0 ? core::ReadImage<uint8_t>(out) : core::Image8(96, 96, 4);
+  };
+  const auto covered = [](const core::Image8& image) {
+    int n = 0;
+    for (int y = 0; y < image.height(); ++y)
+      for (int x = 0; x < image.width(); ++x) n += image.at(x, y, 3) > 0;
+    return n;
+  };
+  const core::Image8 none = render("--deformation twist --amount 0", "every_none.png");
+  const int object = covered(none);
+  ASSERT_GT(object, 1000);
+  for (const core::DeformationInfo& info : core::kDeformationTable) {
+    const std::string name = core::DeformationKindName(info.kind);
+    const core::Image8 image = render("--deformation " + name, "every_" + name + ".png");
+    int changed = 0;
+    for (int y = 0; y < image.height(); ++y)
+      for (int x = 0; x < image.width(); ++x) {
+        int diff = 0;
+        for (int c = 0; c < 4; ++c) diff += std::abs(image.at(x, y, c) - none.at(x, y, c));
+        changed += diff > 24;
+      }
+    std::printf("mesh %s: %d of the object's %d pixels changed, %d covered\n", name.c_str(),
+                changed, object, covered(image));
+    EXPECT_GT(covered(image), object / 4) << name;
+    EXPECT_GT(changed, object / 50) << name;
   }
 }
 

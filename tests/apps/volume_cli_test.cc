@@ -13,6 +13,7 @@
 #include <string>
 #include <vector>
 
+#include "core/deformation.h"
 #include "core/image_io.h"
 #include "core/volume_io.h"
 #include "tests/support/gl_test.h"
@@ -68,13 +69,13 @@ TEST_F(VolumeCliTest, RendersEveryEffectAndMode) {
   const std::string dat = (dir_ / "ball.dat").string(), nrrd = (dir_ / "ball.nrrd").string();
   for (const std::string& args : std::vector<std::string>{
            dat + " --effect none --transfer ramp",
-           dat + " --effect peel --peel-angle 120 --displacement-bits 16",
+           dat + " --effect peel --amount 2.1 --displacement-bits 16",
            dat + " --effect peel --brick-texels 0",
            dat + " --effect seam --brick-texels 2 --no-support-skip",
            dat + " --effect slices --displacement-bits 8 --lighting transformed",
            dat + " --effect seam --mode iso:76 --lighting blended",  // stored units (uint8)
            nrrd + " --effect pull --map-size 32 --spacing 0.5",
-           nrrd + " --effect wave --displacement-bits 32 --placement 0.1 0.1 0 0.8 0.8 1",
+           nrrd + " --effect wave --displacement-bits 32 --placement 0.1,0.1,0,0,0,0,0.8",
        }) {
     const fs::path out = dir_ / "out.png";
     fs::remove(out);
@@ -90,6 +91,18 @@ TEST_F(VolumeCliTest, RendersEveryEffectAndMode) {
   }
 }
 
+// Pixels whose colour differs by more than a rounding step.
+int Differing(const core::Image8& a, const core::Image8& b) {
+  int n = 0;
+  for (int y = 0; y < a.height(); ++y)
+    for (int x = 0; x < a.width(); ++x) {
+      int diff = 0;
+      for (int c = 0; c < 3; ++c) diff += std::abs(a.at(x, y, c) - b.at(x, y, c));
+      n += diff > 24;
+    }
+  return n;
+}
+
 // The cut-aways the mesh deformations share (--deformation clip|cutaway|
 // wedge) each remove part of the ball; a clip above the map (height 1)
 // removes nothing.
@@ -102,27 +115,54 @@ TEST_F(VolumeCliTest, CutAwaysChangeThePictureAndAClipAboveRemovesNothing) {
     EXPECT_EQ(r.exit_code, 0) << args << "\n" << r.err;
     return core::ReadImage<uint8_t>(out);
   };
-  const auto differing = [](const core::Image8& a, const core::Image8& b) {
-    int n = 0;
-    for (int y = 0; y < a.height(); ++y)
-      for (int x = 0; x < a.width(); ++x) {
-        int diff = 0;
-        for (int c = 0; c < 3; ++c) diff += std::abs(a.at(x, y, c) - b.at(x, y, c));
-        n += diff > 24;
-      }
-    return n;
-  };
   const core::Image8 none = render("--deformation none", "cut_none.png");
   const int ball = Covered(none);
   ASSERT_GT(ball, 500);
   for (const std::string cut : {"clip", "cutaway", "wedge"}) {
     const core::Image8 image = render("--deformation " + cut, "cut_" + cut + ".png");
-    const int changed = differing(image, none);
+    const int changed = Differing(image, none);
     std::printf("%s: %d of the ball's %d pixels changed\n", cut.c_str(), changed, ball);
     EXPECT_GT(changed, ball / 20) << cut;
   }
-  const core::Image8 above = render("--deformation clip --clip-height 1", "cut_above.png");
-  EXPECT_LE(differing(above, none), ball / 100);
+  const core::Image8 above = render("--deformation clip --amount 1", "cut_above.png");
+  EXPECT_LE(Differing(above, none), ball / 100);
+}
+
+// Every deformation of the one vocabulary (core::kDeformationTable, the
+// names `ibr deform` takes) renders on a volume, by DVR and as an iso
+// surface, with its default amount and width: the picture is not empty and
+// differs from the undeformed ball's. The wave gets a larger amplitude and
+// the pull a wider Gaussian (their defaults are small or narrow on a ball),
+// the twist's box is moved off the ball's axis (a ball turned about its own
+// axis looks the same).
+TEST_F(VolumeCliTest, EveryDeformationNameRendersAndChangesThePicture) {
+  const std::string dat = (dir_ / "ball.dat").string();
+  for (const std::string mode : {"dvr", "iso:100"}) {
+    const auto render = [&](const std::string& args, const std::string& name) {
+      const fs::path out = dir_ / name;
+      fs::remove(out);
+      const auto r = Volume(dat + " --mode " + mode + " " + args +
+                            " --size 96 --azimuth 30 --elevation 25 --out " + out.string());
+      EXPECT_EQ(r.exit_code, 0) << args << "\n" << r.err;
+      return r.exit_code == 0 ? core::ReadImage<uint8_t>(out) : core::Image8(96, 96, 4);
+    };
+    const core::Image8 none = render("--deformation none", "every_none.png");
+    const int ball = Covered(none);
+    ASSERT_GT(ball, 400) << mode;
+    for (const core::DeformationInfo& info : core::kDeformationTable) {
+      const std::string name = core::DeformationKindName(info.kind);
+      std::string args = "--deformation " + name;
+      if (name == "wave") args += " --amount 0.2 --width 0.5";
+      if (name == "twist") args += " --placement 0.3,0,0";  // off the ball's axis of symmetry
+      if (name == "pull") args += " --width 0.15";
+      const core::Image8 image = render(args, "every_" + name + ".png");
+      const int changed = Differing(image, none);
+      std::printf("volume %s %s: %d of the ball's %d pixels changed, %d covered\n", mode.c_str(),
+                  name.c_str(), changed, ball, Covered(image));
+      EXPECT_GT(Covered(image), ball / 4) << mode << " " << name;
+      EXPECT_GT(changed, ball / 50) << mode << " " << name;
+    }
+  }
 }
 
 TEST_F(VolumeCliTest, BadInputGivesOneErrorLineAndNoOutput) {
@@ -157,18 +197,19 @@ TEST_F(VolumeCliTest, BadInputGivesOneErrorLineAndNoOutput) {
       {ball + " --transfer " + unsorted_tf.string(), "unsorted_tf.json"},
       {ball + " --transfer nosuchpreset", "neither a preset (tooth, neghip, bucky, ramp, empty)"},
       {ball + " --effect melt", "melt"},
-      {ball + " --deformation wedge --wedge-angle 0", "wedge angle"},
-      {ball + " --deformation clip --clip-height 1.5", "clip height"},
+      {ball + " --deformation wedge --amount 0", "wedge: angle"},
+      {ball + " --deformation clip --amount 1.5", "clip: position"},
       {ball + " --mode iso:300", "iso value 300 is outside the data range [0, 235]"},
       {ball + " --mode iso:nan", "iso:nan"},
       {ball + " --mode fog", "fog"},
       {ball + " --lighting spot", "spot"},
       {ball + " --displacement-bits 12", "12"},
       {ball + " --effect peel --map-size 0", "0"},
-      {ball + " --effect slices --slices-gap 0.5 --slices-period 0.25", "gap"},
+      {ball + " --effect slices --amount 0.5 --width 0.25", "gap"},
       {ball + " --spacing 0", "0"},
       {ball + " --size 0", "size"},
-      {ball + " --effect peel --placement 0 0 0 0 1 1", "placement"},
+      {ball + " --effect peel --placement 0,0,0,0,0,0,0", "placement"},
+      {ball + " --deformation peel,pull --amount 1,2,3", "3 values for 2"},
       {ball + " --effect peel --brick-texels -1", "brick"},
       {ball + " --effect peel --brick-texels 5000", "brick"},
   };

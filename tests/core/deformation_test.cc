@@ -353,6 +353,62 @@ TEST(Deformation, TextureSamplesTheNodes) {
   EXPECT_NEAR(MaxObjectDisplacement(sum, placement, 9), 2 * t.max_displacement_box, 1e-6);
 }
 
+// The new names (slices, seam, wave) invert their forward maps where they
+// have one, and the table's defaults pass Check() for every name.
+TEST(Deformation, EveryNameHasValidDefaultsAndSlicesSeamInvertTheirForwardMaps) {
+  for (const DeformationInfo& info : kDeformationTable) {
+    const Deformation d = Deformation::Default(info.kind);
+    EXPECT_NO_THROW(d.Check()) << DeformationKindName(info.kind);
+    EXPECT_EQ(DeformationKindFromName(DeformationKindName(info.kind)), info.kind);
+  }
+  std::mt19937 rng(33);
+  std::uniform_real_distribution<double> u01(0.0, 1.0);
+  for (DeformationKind kind : {DeformationKind::kSlices, DeformationKind::kSeam}) {
+    const Deformation d = Deformation::Default(kind);
+    for (int i = 0; i < 5000; ++i) {
+      const glm::dvec3 p(u01(rng), u01(rng), u01(rng));
+      const glm::dvec3 q = d.Forward(p);
+      const glm::dvec4 e = d.Evaluate(q);
+      ASSERT_LE(e.w, 0.0) << DeformationKindName(kind);  // a point's image is never cut
+      ASSERT_NEAR(glm::length(q + glm::dvec3(e) - p), 0.0, 1e-12) << DeformationKindName(kind);
+    }
+  }
+  // The wave: D.z = amount sin(2 pi x / width), nothing cut.
+  const Deformation wave = Deformation::Default(DeformationKind::kWave);
+  EXPECT_NEAR(wave.Evaluate({0.125, 0.3, 0.7}).z, wave.amount * std::sin(2 * M_PI * 0.125 / 0.5),
+              1e-15);
+  EXPECT_EQ(wave.Evaluate({0.125, 0.3, 0.7}).w, -1.0);
+}
+
+// A placed deformation (eq. 10): inside its box, D is the box's D carried by
+// the placement's linear part at M^-1 u; outside, nothing moves or is cut; the
+// forward map is inverted in the parent box too.
+TEST(Deformation, PlacedDeformationsEvaluateInTheirOwnBox) {
+  Deformation d = Make(DeformationKind::kTwist, 1.5, 0.1);
+  d.parent_from_box =
+      Placement::FromRegion({{0, 0, 0}, {1, 1, 1}}, {0, 0, 30}, 0.5, {0.25, 0, 0}).object_from_box;
+  ASSERT_TRUE(d.Placed());
+  const glm::dmat4 box_from_parent = glm::inverse(d.parent_from_box);
+  const glm::dvec3 inside(0.8, 0.55, 0.7), outside(0.1, 0.5, 0.5);
+  const glm::dvec3 b(box_from_parent * glm::dvec4(inside, 1.0));
+  ASSERT_TRUE(glm::all(glm::greaterThan(b, glm::dvec3(0))) &&
+              glm::all(glm::lessThan(b, glm::dvec3(1))));
+  const glm::dvec3 expected = glm::dmat3(d.parent_from_box) * glm::dvec3(d.EvaluateInBox(b));
+  EXPECT_NEAR(glm::length(glm::dvec3(d.Evaluate(inside)) - expected), 0.0, 1e-15);
+  EXPECT_GT(glm::length(expected), 1e-3);
+  EXPECT_EQ(d.Evaluate(outside), glm::dvec4(0, 0, 0, -1));
+  const glm::dvec3 q = d.Forward(inside);
+  EXPECT_NEAR(glm::length(q + glm::dvec3(d.Evaluate(q)) - inside), 0.0, 1e-12);
+  // A sum of two placed deformations: each acts only in its own box.
+  Deformation clip = Make(DeformationKind::kClip, 0.5, 0.0);
+  clip.parent_from_box =
+      Placement::FromRegion({{0, 0, 0}, {1, 1, 1}}, {0, 0, 0}, 1.0, {-0.5, 0, 0}).object_from_box;
+  const DeformationSum sum{{d, clip}};
+  EXPECT_GT(sum.Evaluate({0.2, 0.5, 0.9}).w, 0.0);  // the clip's box (x < 0.5), above 0.5
+  EXPECT_LE(sum.Evaluate({0.8, 0.5, 0.9}).w, 0.0);  // beside it: not cut
+  EXPECT_EQ(sum.Evaluate({0.2, 0.5, 0.9}).x, 0.0);  // the twist's box is x > 0.5
+}
+
 TEST(Deformation, BadParametersAreClearErrors) {
   EXPECT_THROW(Make(DeformationKind::kTwist, NAN, 0.3), InputError);
   EXPECT_THROW(Make(DeformationKind::kPull, 0.5, INFINITY), InputError);

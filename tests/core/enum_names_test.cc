@@ -53,7 +53,6 @@ TEST(EnumNames, CoreTables) {
   test_support::ExpectEnumTable(kCutModeNames, CutModeFromName, CutModeName, "cut");
   test_support::ExpectEnumTable(kHeightPatternNames, HeightPatternFromName, HeightPatternName,
                                 "height pattern");
-  test_support::ExpectEnumTable(kEffectNames, ParseEffect, EffectName, "effect");
   // The messages the commands print are the ones they printed before the tables.
   try {
     CutModeFromName("thin");
@@ -67,7 +66,7 @@ TEST(EnumNames, CoreTables) {
   } catch (const InputError& e) {
     EXPECT_STREQ(e.what(),
                  "DeformationKindFromName: unknown deformation 'squash' (twist, bend, "
-                 "pull, knife, peel, clip, cutaway, wedge)");
+                 "pull, knife, peel, clip, cutaway, wedge, slices, seam, wave)");
   }
 }
 

@@ -45,7 +45,7 @@ TEST_F(SceneDeformTest, SceneDrawsWhatTheLibraryCallDraws) {
   const ViewCamera& view = loaded.views.front().view;
   const render::Frame scene_frame = renderer.Render(view);
 
-  // `ibr deform`'s path (bench::RunDeform): the same options, the mesh in its
+  // `ibr deform`'s path (ibr::RenderDeform): the same options, the mesh in its
   // own frame, the view carried into the normalised frame.
   const DeformObjectOptions options = DeformObjectOptionsFrom(s.objects[0].settings);
   EXPECT_EQ(options.pass.cut, core::CutMode::kSolid);
@@ -174,6 +174,16 @@ TEST(SceneDeformOptions, BadValuesNameThePointer) {
       {R"("cap_holes": 1)", "/objects/0/cap_holes"},
       {R"("implicit": "octree")", "/objects/0/implicit"},
       {R"("implicit": 3)", "/objects/0/implicit"},
+      {R"("deformations": [])", "/objects/0/deformations"},
+      {R"("deformations": [{"name": "melt"}])", "/objects/0/deformations/0/name"},
+      {R"("deformations": [{"name": "clip"}, {"name": "clip", "depth": 1}])",
+       "/objects/0/deformations/1/depth"},
+      {R"("deformations": [{"name": "wave", "amount": "big"}])",
+       "/objects/0/deformations/0/amount"},
+      {R"("deformations": [{"name": "wave", "placement": "0,0"}])",
+       "/objects/0/deformations/0/placement"},
+      {R"("deformations": [{"name": "peel", "amount": 4}])", "/objects/0/deformations/0"},
+      {R"("deformation": "twist", "deformations": [{"name": "peel"}])", "/objects/0/deformation"},
   };
   render::ProgramCache programs;  // no context needed: nothing is built
   for (const auto& [keys, pointer] : bad) {

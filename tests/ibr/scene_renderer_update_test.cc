@@ -272,11 +272,16 @@ class SceneRendererVolumeUpdateTest : public SceneRendererUpdateTest {
     fs::remove_all(dir_);
     SceneRendererUpdateTest::TearDown();
   }
+  // The ball peeled: the layer 0.4 <= z <= 0.5, x >= 0.5 turned by 160
+  // degrees (T = 0.1, the peel's box moved down by 0.4), the half above
+  // removed.
   scene::Scene Ball(const std::string& extra) {
-    return Parse(R"({"name": "ball", "type": "volume", "volume": "ball.dat", "transfer": "ramp",)"
-                 R"( "effect": "peel", "map_size": 32, "transform": {"scale": 0.06})" +
-                     extra + "}",
-                 dir_);
+    return Parse(
+        R"({"name": "ball", "type": "volume", "volume": "ball.dat", "transfer": "ramp",)"
+        R"( "effect": "peel", "amount": 2.792526803190927, "width": 0.1, "placement": "0,0,-0.4",)"
+        R"( "map_size": 32, "transform": {"scale": 0.06})" +
+            extra + "}",
+        dir_);
   }
   fs::path dir_;
 };
@@ -327,9 +332,9 @@ TEST_F(SceneRendererVolumeUpdateTest, PeelAngleResamplesTheMap) {
   SceneRenderer renderer(programs(), loaded);
   const render::Frame first = renderer.Render(loaded.views.front().view);
   VolumeObjectOptions options = loaded.objects[0].volume_options;
-  ASSERT_TRUE(options.effect.has_value());
-  const double angle = options.effect->peel_angle_deg;
-  options.effect->peel_angle_deg = 90;
+  ASSERT_EQ(options.deformations.size(), 1u);
+  const double angle = options.deformations[0].amount;
+  options.deformations[0].amount = M_PI / 2;  // 90 degrees
   const VolumeObjectChange change = renderer.UpdateVolume(loaded, 0, options);
   EXPECT_TRUE(change.maps);
   EXPECT_EQ(renderer.PassBuilds(0), 1);
@@ -338,12 +343,12 @@ TEST_F(SceneRendererVolumeUpdateTest, PeelAngleResamplesTheMap) {
   SceneRenderer fresh(programs(), loaded);
   EXPECT_EQ(fresh.Render(loaded.views.front().view).color, turned.color);
 
-  options.effect->peel_angle_deg = 400;
+  options.deformations[0].amount = 400 * M_PI / 180;
   EXPECT_THROW(renderer.UpdateVolume(loaded, 0, options), core::InputError);
   EXPECT_EQ(renderer.PassBuilds(0), 1);
   EXPECT_EQ(renderer.Render(loaded.views.front().view).color, turned.color);
 
-  options.effect->peel_angle_deg = angle;
+  options.deformations[0].amount = angle;
   renderer.UpdateVolume(loaded, 0, options);
   EXPECT_EQ(renderer.Render(loaded.views.front().view).color, first.color);
 }
@@ -355,8 +360,8 @@ TEST_F(SceneRendererVolumeUpdateTest, PreviewPeelMapIsResampledByTheNextUpdate) 
   LoadedScene loaded = LoadScene(programs(), Ball(""));
   SceneRenderer renderer(programs(), loaded);
   VolumeObjectOptions options = loaded.objects[0].volume_options;
-  ASSERT_TRUE(options.effect.has_value());
-  options.effect->peel_angle_deg = 90;
+  ASSERT_EQ(options.deformations.size(), 1u);
+  options.deformations[0].amount = M_PI / 2;  // 90 degrees
   EXPECT_TRUE(renderer.UpdateVolume(loaded, 0, options, /*preview=*/true).maps);
   EXPECT_TRUE(loaded.objects[0].volume->preview_maps);
   const auto preview_texels = loaded.objects[0].volume->maps.at(0).map.texels;

@@ -20,8 +20,7 @@ VolumeObjectData HuVolume() {
   core::Volume v = core::Volume::Zeros({4, 4, 4}, core::ScalarType::kInt16);
   for (int i = 0; i < 64; ++i) v.SetValue(i % 4, (i / 4) % 4, i / 16, -1000 + 2000.0 * i / 63);
   v.FitNormalization();  // as every reader does
-  return MakeVolumeObject(std::move(v), core::TransferPreset("ramp"), std::nullopt, 8,
-                          glm::dvec3(0.0), glm::dvec3(1.0));
+  return MakeVolumeObject(std::move(v), core::TransferPreset("ramp"), {}, 8);
 }
 
 TEST(VolumeObject, IsoValueRoundTripsInDataUnits) {

@@ -69,7 +69,9 @@ TEST(SceneKeys, TheReaderTakesTheTablesEffectKeysAndRefusesOthers) {
     if (kind.name == "displaced-mesh")
       object += ", \"mesh\": {\"shape\": \"torus\"}, \"height\": {\"generator\": \"bumps\"}";
     for (const KeySpec& k : kind.keys) {
-      if (k.effect) object += ", \"" + std::string(k.key) + "\": \"x\"";
+      if (k.effect) {
+        object += ", \"" + std::string(k.key) + "\": " + (k.type == "list" ? "[]" : "\"x\"");
+      }
     }
     const std::string text =
         "{\"version\": 1, \"cameras\": {\"orbit\": {}}, \"objects\": [" + object + "}]}";

@@ -198,6 +198,10 @@ TEST_F(SceneTest, BadScenesNameTheFileAndThePointer) {
        R"({"version": 1, )" CAM
        R"(, "objects": [{"type": "deform", "mesh": {"shape": "torus"}, "cut": ["solid"]}]})",
        "/objects/0/cut"},
+      {"deform, deformations not a list",
+       R"({"version": 1, )" CAM
+       R"(, "objects": [{"type": "deform", "mesh": {"shape": "torus"}, "deformations": "twist"}]})",
+       "/objects/0/deformations"},
       {"volume, two files",
        R"({"version": 1, )" CAM
        R"(, "objects": [{"type": "volume", "volume": "v.dat", "shared_volume": "v.dat"}]})",

@@ -268,6 +268,18 @@ TEST_F(DeformPassTest, SolidKnifeCutAgreesWithTheReference) {
   EXPECT_NO_GL_ERROR();
 }
 
+// Changed pixels: another class, or the same class at another depth (the
+// hollow cut shows the sphere's inside where its outside was).
+int ChangedPixels(const Frame& frame, const Frame& plain) {
+  int changed = 0;
+  for (int y = 0; y < kSize; ++y)
+    for (int x = 0; x < kSize; ++x) {
+      changed += GpuClass(frame, x, y) != GpuClass(plain, x, y) ||
+                 std::abs(frame.depth.at(x, y) - plain.depth.at(x, y)) > 0.01f;
+    }
+  return changed;
+}
+
 // The cut-aways (clip, cutaway, wedge: D = 0, material removed) on a
 // sphere, the box enclosing it: the pass agrees with the double reference,
 // the solid cut shows its planar faces with their planes' normals, and the
@@ -296,14 +308,7 @@ TEST_F(DeformPassTest, CutAwaysAgreeWithTheReference) {
       test_support::WriteDebugImage("cutaway_" + tag + ".png", frame.color);
       core::DeformReference reference(distance, scene.deformation, scene.placement, cut, 0.0);
       const Agreement a = Compare(frame, view, reference, scene.placement);
-      // Changed: another class, or the same class at another depth (the
-      // hollow cut shows the sphere's inside where its outside was).
-      int changed = 0;
-      for (int y = 0; y < kSize; ++y)
-        for (int x = 0; x < kSize; ++x) {
-          changed += GpuClass(frame, x, y) != GpuClass(plain, x, y) ||
-                     std::abs(frame.depth.at(x, y) - plain.depth.at(x, y)) > 0.01f;
-        }
+      const int changed = ChangedPixels(frame, plain);
       std::printf(
           "%s: %d/%d pixels agree (%.3f %%), %d in the band, %d changed by the cut; cut-face "
           "normals %d (%d beside creases), %d more than 1 deg off (worst %.3f deg)\n",
@@ -324,6 +329,45 @@ TEST_F(DeformPassTest, CutAwaysAgreeWithTheReference) {
         }
       }
     }
+  }
+  EXPECT_NO_GL_ERROR();
+}
+
+// The names the mesh took from the volume paper (slices, seam, wave; one
+// vocabulary, core::kDeformationTable) on a sphere, the box enclosing it with
+// room at +x for the slices: the pass agrees with the double reference as the
+// cut-aways do, and each deformation changes the picture.
+TEST_F(DeformPassTest, SlicesSeamAndWaveAgreeWithTheReference) {
+  Scene scene;
+  scene.mesh = core::MakeSphere(0.5f, 48, 96);
+  scene.placement = core::Placement::FromRegion({{-0.6, -0.6, -0.6}, {0.8, 0.6, 0.6}});
+  core::MeshDistance distance(scene.mesh, false, "sphere");
+  const ViewSetup view = MakeView({2.0f, 0.9f, 1.6f});
+  Scene plain_scene = scene;
+  plain_scene.deformation.terms = {Make(core::DeformationKind::kTwist, 0.0, 0.3)};
+  const Frame plain = Render(plain_scene, DeformPassOptions{}, view, distance);
+  const core::Deformation cases[] = {Make(core::DeformationKind::kSlices, 0.06, 0.25),
+                                     Make(core::DeformationKind::kSeam, 0.2, 0.7),
+                                     Make(core::DeformationKind::kWave, 0.05, 0.5)};
+  for (const core::Deformation& d : cases) {
+    scene.deformation.terms = {d};
+    const CutMode cut = d.HasCut() ? CutMode::kSolid : CutMode::kNone;
+    DeformPassOptions options;
+    options.cut = cut;
+    options.step_voxels = 0.5f;
+    const Frame frame = Render(scene, options, view, distance);
+    const std::string tag = core::DeformationKindName(d.kind) + "_" + core::CutModeName(cut);
+    test_support::WriteDebugImage("vocabulary_" + tag + ".png", frame.color);
+    core::DeformReference reference(distance, scene.deformation, scene.placement, cut, 0.0);
+    const Agreement a = Compare(frame, view, reference, scene.placement);
+    const int changed = ChangedPixels(frame, plain);
+    std::printf(
+        "%s: %d/%d pixels agree (%.3f %%), %d in the band, %d changed; cut-face normals %d\n",
+        tag.c_str(), a.agree, a.compared, 100.0 * a.agree / a.compared, a.band, changed,
+        a.cut_normals);
+    EXPECT_GE(a.agree, 0.995 * a.compared) << tag;
+    EXPECT_GT(changed, kSize * kSize / 50) << tag;
+    if (cut == CutMode::kSolid) EXPECT_GT(a.cut_normals, 50) << tag;
   }
   EXPECT_NO_GL_ERROR();
 }
@@ -769,9 +813,12 @@ TEST_F(DeformPassTest, HardCaseSweepIsFiniteAndConsistent) {
   std::uniform_real_distribution<double> u01(0.0, 1.0);
   auto uniform = [&](double lo, double hi) { return lo + (hi - lo) * u01(rng); };
   const core::DeformationKind kinds[] = {
-      core::DeformationKind::kTwist,   core::DeformationKind::kBend, core::DeformationKind::kPull,
-      core::DeformationKind::kKnife,   core::DeformationKind::kPeel, core::DeformationKind::kClip,
-      core::DeformationKind::kCutaway, core::DeformationKind::kWedge};
+      core::DeformationKind::kTwist,   core::DeformationKind::kBend,
+      core::DeformationKind::kPull,    core::DeformationKind::kKnife,
+      core::DeformationKind::kPeel,    core::DeformationKind::kClip,
+      core::DeformationKind::kCutaway, core::DeformationKind::kWedge,
+      core::DeformationKind::kSlices,  core::DeformationKind::kSeam,
+      core::DeformationKind::kWave};
   const CutMode cuts[] = {CutMode::kNone, CutMode::kHollow, CutMode::kSolid, CutMode::kThick};
   const RayStepPolicy policies[] = {RayStepPolicy::kFixed, RayStepPolicy::kThreshold,
                                     RayStepPolicy::kJacobian};
@@ -783,7 +830,7 @@ TEST_F(DeformPassTest, HardCaseSweepIsFiniteAndConsistent) {
     scene.mesh = mesh;
     int terms = 1 + (u01(rng) < 0.3);
     for (int t = 0; t < terms; ++t) {
-      core::DeformationKind kind = kinds[rng() % 8];
+      core::DeformationKind kind = kinds[rng() % std::size(kinds)];
       core::Deformation d = Make(kind, 0, 0);
       switch (kind) {
         case core::DeformationKind::kTwist:
@@ -807,6 +854,15 @@ TEST_F(DeformPassTest, HardCaseSweepIsFiniteAndConsistent) {
           break;
         case core::DeformationKind::kWedge:
           d.amount = uniform(0.01, M_PI), d.width = uniform(0, 1);
+          break;
+        case core::DeformationKind::kSlices:
+          d.width = uniform(0.05, 1), d.amount = uniform(0, 0.9) * d.width;
+          break;
+        case core::DeformationKind::kSeam:
+          d.amount = uniform(0.01, 0.5), d.width = uniform(0.05, 1);
+          break;
+        case core::DeformationKind::kWave:
+          d.amount = uniform(-0.5, 0.5), d.width = uniform(0.05, 4);
           break;
       }
       scene.deformation.terms.push_back(d);

@@ -119,11 +119,25 @@ Rendered Render(GlTest& t, ProgramCache& programs, const Scene& s, const OrthoCa
   return {target.ReadColorF(0), target.ReadChannelsF(1, 1)};
 }
 
-VolumeMapInput PlacedEffect(core::Effect e, const glm::ivec3& dims,
+using K = core::DeformationKind;
+
+// The maps these tests were written for (Correa 2006's figures) in the one
+// vocabulary (core::kDeformationTable): a peel of 160 degrees of the layer
+// 0.4 <= z <= 0.5, x >= 0.5 (T = 0.1, its box moved down by 0.4 so the hinge
+// is at z = 0.5); slices of period 0.25 and gap 0.06; a seam opening to 0.2
+// from z = 0.3; a pull of amplitude 1 and sigma 0.15; a wave of amplitude
+// 0.05 and wavelength 0.5.
+VolumeMapInput PlacedEffect(K kind, const glm::ivec3& dims,
                             const glm::dmat4& placement = glm::dmat4(1.0)) {
-  core::EffectOptions o;
-  o.effect = e;
-  return {core::SampleEffect(o, dims), placement};
+  core::Deformation d = core::Deformation::Default(kind);
+  d.parent_from_box = placement;
+  if (kind == K::kPeel) {
+    d.amount = 160 * M_PI / 180, d.width = 0.1;
+    d.parent_from_box = placement * glm::translate(glm::dmat4(1.0), glm::dvec3(0.0, 0.0, -0.4));
+  }
+  if (kind == K::kSeam) d.amount = 0.2, d.width = 0.7;
+  if (kind == K::kPull) d.amount = 1.0, d.width = 0.15;
+  return {core::SampleDeformationMap(d, dims), core::VolumeMapPlacement(d)};
 }
 
 // ---- 1. llvmpipe's 3D linear filter against the CPU trilinear filter ----
@@ -253,7 +267,7 @@ TEST_F(GlTest, VolumeDvrAgreesWithTheDoubleReference) {
     s.options.floor_shader = true;
     cases.push_back({"neghip plain floor shader", s});
     s.options.floor_shader = false;
-    s.maps.push_back(PlacedEffect(core::Effect::kPeel, {32, 32, 32}));
+    s.maps.push_back(PlacedEffect(K::kPeel, {32, 32, 32}));
     cases.push_back({"neghip peel 16-bit", s});
     // The RGBA16 texture (scale and bias in the shader) instead of the
     // dequantised RGBA32F one: the same values, so the same bounds. (An
@@ -266,7 +280,7 @@ TEST_F(GlTest, VolumeDvrAgreesWithTheDoubleReference) {
     cases.push_back({"neghip peel 8-bit", s});
     s.options.displacement_bits = 32;
     s.maps.push_back(
-        PlacedEffect(core::Effect::kWave, {32, 8, 8},
+        PlacedEffect(K::kWave, {32, 8, 8},
                      glm::scale(glm::translate(glm::dmat4(1.0), glm::dvec3(0.1, 0.1, 0.0)),
                                 glm::dvec3(0.8, 0.8, 0.6))));
     cases.push_back({"neghip peel+wave placed 32-bit", s});
@@ -279,7 +293,7 @@ TEST_F(GlTest, VolumeDvrAgreesWithTheDoubleReference) {
     s.volume.spacing = {1.0, 1.5, 3.0};  // non-cubic voxels
     s.options.lighting = VolumeLighting::kNone;
     s.options.sampling_distance_voxels = 0.7;
-    s.maps.push_back(PlacedEffect(core::Effect::kSlices, {32, 4, 4}));
+    s.maps.push_back(PlacedEffect(K::kSlices, {32, 4, 4}));
     cases.push_back({"random uint16 anisotropic slices", s});
   }
   for (const Case& c : cases) {
@@ -322,7 +336,7 @@ TEST_F(GlTest, VolumeDvrOpacityFollowsTheSliceSpacing) {
   if (dat.empty()) GTEST_SKIP() << "../shared/data is absent";
   Scene s{core::ReadVolume(dat), core::TransferPreset("neghip"), {}, {}};
   s.options.lighting = VolumeLighting::kNone;
-  s.maps.push_back(PlacedEffect(core::Effect::kPeel, {32, 32, 32}));
+  s.maps.push_back(PlacedEffect(K::kPeel, {32, 32, 32}));
   const double radius = 0.5 * glm::length(s.volume.Extent());
   const OrthoCamera cam = Ortho(30, 25, 1.6 * radius, 96);
   VolumePass* pass = nullptr;
@@ -385,13 +399,12 @@ TEST_F(GlTest, VolumeSupportBoxHoldsEveryPointTheMapsMove) {
     std::vector<VolumeMapInput> maps;
   };
   const std::vector<Case> cases = {
-      {"peel", {PlacedEffect(core::Effect::kPeel, {32, 32, 32})}},
-      {"pull placed", {PlacedEffect(core::Effect::kPull, {16, 16, 16}, placed)}},
-      {"seam rotated", {PlacedEffect(core::Effect::kSeam, {16, 16, 16}, rotated)}},
-      {"slices", {PlacedEffect(core::Effect::kSlices, {32, 4, 4})}},
+      {"peel", {PlacedEffect(K::kPeel, {32, 32, 32})}},
+      {"pull placed", {PlacedEffect(K::kPull, {16, 16, 16}, placed)}},
+      {"seam rotated", {PlacedEffect(K::kSeam, {16, 16, 16}, rotated)}},
+      {"slices", {PlacedEffect(K::kSlices, {32, 4, 4})}},
       {"peel + pull rotated",
-       {PlacedEffect(core::Effect::kPeel, {16, 16, 16}),
-        PlacedEffect(core::Effect::kPull, {16, 16, 16}, rotated)}},
+       {PlacedEffect(K::kPeel, {16, 16, 16}), PlacedEffect(K::kPull, {16, 16, 16}, rotated)}},
   };
   for (const Case& c : cases) {
     VolumePassOptions options;
@@ -537,7 +550,7 @@ TEST_F(GlTest, VolumeSupportSkipDrawsWhatTheUnsplitSlicesDraw) {
   {
     Scene s{neghip, core::TransferPreset("neghip"), {}, {}};
     s.options.lighting = VolumeLighting::kNone;
-    s.maps.push_back(PlacedEffect(core::Effect::kPeel, {32, 32, 32}));
+    s.maps.push_back(PlacedEffect(K::kPeel, {32, 32, 32}));
     cases.push_back({"peel 16-bit", s, 30, 25});
     s.options.lighting = VolumeLighting::kBlended;
     s.options.displacement_bits = 8;
@@ -545,7 +558,7 @@ TEST_F(GlTest, VolumeSupportSkipDrawsWhatTheUnsplitSlicesDraw) {
     cases.push_back({"peel 8-bit blended axis view", s, 0, 0});
     s.options.displacement_bits = 32;
     s.options.lighting = VolumeLighting::kTransformed;
-    s.maps.push_back(PlacedEffect(core::Effect::kPull, {16, 16, 16}, rotated));
+    s.maps.push_back(PlacedEffect(K::kPull, {16, 16, 16}, rotated));
     cases.push_back({"peel + pull rotated 32-bit transformed", s, -50, 40});
   }
   {
@@ -556,21 +569,21 @@ TEST_F(GlTest, VolumeSupportSkipDrawsWhatTheUnsplitSlicesDraw) {
     s.volume.spacing = {1.0, 1.5, 3.0};
     s.options.lighting = VolumeLighting::kNone;
     s.options.sampling_distance_voxels = 0.7;
-    s.maps.push_back(PlacedEffect(core::Effect::kSeam, {16, 16, 16}));
+    s.maps.push_back(PlacedEffect(K::kSeam, {16, 16, 16}));
     cases.push_back({"random uint16 anisotropic seam", s, 120, -20});
   }
   {
     // A seam opening wide enough at 64^3 for whole bricks to be cut away,
     // lit by eq. 6 + 7 and unlit, and rotated (bricks split in map space).
     Scene s{neghip, core::TransferPreset("neghip"), {}, {}};
-    s.maps.push_back(PlacedEffect(core::Effect::kSeam, {64, 64, 64}));
+    s.maps.push_back(PlacedEffect(K::kSeam, {64, 64, 64}));
     cases.push_back({"seam 64^3 blended", s, 70, 30});
     s.options.displacement_bits = 32;
     cases.push_back({"seam 64^3 blended 32-bit", s, 70, 30});
     s.options.displacement_bits = 16;
     s.options.lighting = VolumeLighting::kNone;
     cases.push_back({"seam 64^3 unlit", s, 70, 30});
-    s.maps = {PlacedEffect(core::Effect::kSeam, {64, 64, 64}, rotated)};
+    s.maps = {PlacedEffect(K::kSeam, {64, 64, 64}, rotated)};
     cases.push_back({"seam 64^3 rotated unlit", s, 70, 30});
   }
   for (Case& c : cases) {
@@ -678,17 +691,17 @@ TEST_F(GlTest, VolumeBrickSplitHasNoJumpsOverAViewSweep) {
     Scene s{neghip, core::TransferPreset("neghip"), {}, {}};
     s.options.lighting = VolumeLighting::kNone;
     s.options.displacement_bits = 32;
-    s.maps.push_back(PlacedEffect(core::Effect::kPeel, {64, 64, 64}));
+    s.maps.push_back(PlacedEffect(K::kPeel, {64, 64, 64}));
     scenes.push_back({"peel 64^3 32-bit", s, 0.5});
-    s.maps = {PlacedEffect(core::Effect::kSeam, {64, 64, 64})};
+    s.maps = {PlacedEffect(K::kSeam, {64, 64, 64})};
     scenes.push_back({"seam 64^3 32-bit", s, 0.5});
     // 16 bits: the identity bricks drawn without maps, where the unsplit
     // shader shifts by the stored zero (1.5e-5 of the scale): 0.52/255 seen.
     s.options.displacement_bits = 16;
-    s.maps = {PlacedEffect(core::Effect::kPeel, {64, 64, 64})};
+    s.maps = {PlacedEffect(K::kPeel, {64, 64, 64})};
     scenes.push_back({"peel 64^3 16-bit", s, 1.0});
     // Rotated: the bricks split the slices at tilted planes in the volume.
-    s.maps = {PlacedEffect(core::Effect::kSeam, {64, 64, 64}, RotatedPlacement())};
+    s.maps = {PlacedEffect(K::kSeam, {64, 64, 64}, RotatedPlacement())};
     scenes.push_back({"seam 64^3 rotated", s, 1.0});
   }
   std::mt19937 rng(23);
@@ -837,13 +850,14 @@ TEST_F(GlTest, VolumeIsoFirstHitsAgreeWithTheDoubleMarch) {
   std::vector<std::pair<std::string, Scene>> cases;
   cases.push_back({"ball", BallScene(40)});
   Scene waved = BallScene(40);
-  core::EffectOptions wave;
-  wave.effect = core::Effect::kWave;
-  wave.wave_amplitude = 0.08;
-  waved.maps.push_back({core::SampleEffect(wave, {48, 8, 8}), glm::dmat4(1.0)});
+  core::Deformation wave = core::Deformation::Default(K::kWave);
+  wave.amount = 0.08;
+  waved.maps.push_back({core::SampleDeformationMap(wave, {48, 8, 8}), glm::dmat4(1.0)});
   cases.push_back({"ball + wave", waved});
   Scene peeled = waved;
-  peeled.maps.push_back(PlacedEffect(core::Effect::kPeel, {40, 40, 40}));
+  // The peel's map spans 1.5 boxes in z (core::BoxFromMap): 40 texels per
+  // box unit, as before its map grew.
+  peeled.maps.push_back(PlacedEffect(K::kPeel, {40, 40, 60}));
   cases.push_back({"ball + wave o peel", peeled});
   for (const auto& [label, s] : cases) {
     const OrthoCamera cam = Ortho(35, 30, 0.45 * s.volume.dims.x, 96);
@@ -928,12 +942,12 @@ std::vector<double> NormalErrorsDeg(const Scene& s, const IsoRun& run, int size)
 }
 
 TEST_F(GlTest, VolumeIsoNormalsMatchTheDisplacedFieldsGradient) {
-  core::EffectOptions wave;
-  wave.effect = core::Effect::kWave;
-  wave.wave_amplitude = 0.06;
-  core::EffectOptions peel;
-  peel.effect = core::Effect::kPeel;
-  peel.peel_thickness = 0.3;
+  core::Deformation wave = core::Deformation::Default(K::kWave);
+  wave.amount = 0.06;
+  // The layer 0.2 <= z <= 0.5 turned by 160 degrees (T = 0.3: its box moved
+  // down by 0.2 puts the hinge at z = 0.5).
+  core::Deformation peel = core::Deformation::Default(K::kPeel);
+  peel.amount = 160 * M_PI / 180, peel.width = 0.3;
   struct Case {
     std::string label;
     Scene scene;
@@ -942,14 +956,15 @@ TEST_F(GlTest, VolumeIsoNormalsMatchTheDisplacedFieldsGradient) {
   cases.push_back({"ball", BallScene(48)});
   Scene w = BallScene(48);
   w.options.lighting = VolumeLighting::kTransformed;
-  w.maps.push_back({core::SampleEffect(wave, {64, 8, 8}), glm::dmat4(1.0)});
+  w.maps.push_back({core::SampleDeformationMap(wave, {64, 8, 8}), glm::dmat4(1.0)});
   cases.push_back({"ball + wave", w});
   Scene p = BallScene(48);
   p.options.lighting = VolumeLighting::kTransformed;
   // The peel's 160 degree flip, placed (eq. 10): eq. 6 must rotate the
   // normals of the flipped part by the same angle.
-  p.maps.push_back({core::SampleEffect(peel, {48, 48, 48}),
-                    glm::translate(glm::dmat4(1.0), glm::dvec3(0.0, 0.0, 0.1))});
+  peel.parent_from_box = glm::translate(glm::dmat4(1.0), glm::dvec3(0.0, 0.0, 0.1 - 0.2));
+  p.maps.push_back(
+      {core::SampleDeformationMap(peel, {48, 48, 48}), core::VolumeMapPlacement(peel)});
   cases.push_back({"ball + placed peel", p});
   // The same two with J_D by central differences per sample.
   for (size_t i : {size_t{1}, size_t{2}}) {
@@ -1009,12 +1024,13 @@ Scene PlateScene(VolumeLighting lighting, VolumeJacobian jacobian) {
   s.options.jacobian = jacobian;
   s.options.displacement_bits = 32;
   s.options.light_dir_world = glm::normalize(glm::vec3(0.3f, 0.0f, 1.0f));
-  core::EffectOptions peel;
-  peel.effect = core::Effect::kPeel;
-  peel.peel_top = 0.52;
-  peel.peel_thickness = 0.2;
-  s.maps.push_back(
-      {core::SampleEffect(peel, {48, 48, 48}, /*smooth_alpha_passes=*/2), glm::dmat4(1.0)});
+  // The layer 0.32 <= z <= 0.52, x >= 0.5, turned by 160 degrees (T = 0.2:
+  // its box moved down by 0.28 puts the hinge at z = 0.52).
+  core::Deformation peel = core::Deformation::Default(K::kPeel);
+  peel.amount = 160 * M_PI / 180, peel.width = 0.2;
+  peel.parent_from_box = glm::translate(glm::dmat4(1.0), glm::dvec3(0.0, 0.0, -0.28));
+  s.maps.push_back({core::SampleDeformationMap(peel, {48, 48, 48}, /*smooth_alpha_passes=*/2),
+                    core::VolumeMapPlacement(peel)});
   return s;
 }
 
@@ -1164,16 +1180,14 @@ TEST_F(GlTest, VolumeHardCaseSweepGivesOnlyFinitePixels) {
     for (int m = 0; m < map_count; ++m) {
       VolumeMapInput in;
       if (pick(2) == 0) {
-        core::EffectOptions e;
-        e.effect = static_cast<core::Effect>(pick(5));
-        e.peel_angle_deg = uniform(-360, 360);
-        e.peel_thickness = uniform(0.01, 1);
-        e.slices_period = uniform(0.05, 1);
-        e.slices_gap = uniform(0, 0.99) * e.slices_period;
-        e.seam_width = uniform(0, 1);
-        e.pull_sigma = uniform(0.01, 1);
-        e.wave_amplitude = uniform(-1, 1);
-        in.map = core::SampleEffect(e, {1 + pick(8), 1 + pick(8), 1 + pick(8)}, pick(3));
+        const K kinds[] = {K::kPeel, K::kSlices, K::kSeam, K::kPull, K::kWave};
+        core::Deformation e = core::Deformation::Default(kinds[pick(5)]);
+        if (e.kind == K::kPeel) e.amount = uniform(0, M_PI), e.width = uniform(0.01, 0.5);
+        if (e.kind == K::kSlices) e.width = uniform(0.05, 1), e.amount = uniform(0, 0.99) * e.width;
+        if (e.kind == K::kSeam) e.amount = uniform(0.01, 0.5), e.width = uniform(0.05, 1);
+        if (e.kind == K::kPull) e.amount = 1, e.width = uniform(0.01, 1);
+        if (e.kind == K::kWave) e.amount = uniform(-0.5, 0.5);
+        in.map = core::SampleDeformationMap(e, {1 + pick(8), 1 + pick(8), 1 + pick(8)}, pick(3));
       } else {
         in.map.dims = {1 + pick(5), 1 + pick(5), 1 + pick(5)};
         const float alphas[] = {0.0f, 0.5f, 1.0f, static_cast<float>(u01(rng))};
