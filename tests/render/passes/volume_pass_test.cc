@@ -252,6 +252,21 @@ TEST_F(GlTest, VolumeDvrAgreesWithTheDoubleReference) {
     // The bench's floor profile (no discard, no lighting): the same picture.
     s.options.floor_shader = true;
     cases.push_back({"neghip plain floor shader", s});
+    // The displaced floor (one map fetch, the scalar where it points; no
+    // mask, no identity outside the map's active box): with a constant shift
+    // whose cube holds the whole proxy box, the displaced picture.
+    {
+      VolumeMapInput shift;
+      shift.map.dims = {4, 4, 4};
+      shift.map.texels.assign(64, glm::vec4(0.04f, -0.03f, 0.02f, 1.0f));
+      shift.placement =
+          glm::scale(glm::translate(glm::dmat4(1.0), glm::dvec3(-0.25)), glm::dvec3(1.5));
+      Scene f = s;
+      f.maps = {shift};
+      f.options.support_skip = false;
+      f.options.displacement_bits = 32;
+      cases.push_back({"neghip displaced floor shader, constant shift", f});
+    }
     s.options.floor_shader = false;
     s.maps.push_back(PlacedEffect(core::Effect::kPeel, {32, 32, 32}));
     cases.push_back({"neghip peel 16-bit", s});
@@ -1247,14 +1262,14 @@ TEST_F(GlTest, VolumePassRefusesBadInput) {
   EXPECT_THROW(
       VolumePass(programs(), v, core::TransferPreset("ramp"), {nan_map}, glm::mat4(1.0f), {}),
       core::InputError);
-  // The floor shader is plain DVR's: no maps, no iso mode.
+  // The floor shader reads at most one map (the displaced floor), no iso mode.
   VolumePassOptions floor_options;
   floor_options.floor_shader = true;
   VolumeMapInput identity;
   identity.map.dims = {1, 1, 1};
   identity.map.texels = {{0, 0, 0, 1}};
-  EXPECT_THROW(VolumePass(programs(), v, core::TransferPreset("ramp"), {identity}, glm::mat4(1.0f),
-                          floor_options),
+  EXPECT_THROW(VolumePass(programs(), v, core::TransferPreset("ramp"), {identity, identity},
+                          glm::mat4(1.0f), floor_options),
                core::InputError);
   floor_options.mode = VolumeMode::kIso;
   EXPECT_THROW(floor_options.Check(), core::InputError);
