@@ -59,6 +59,14 @@ Texture UploadMap(const core::StoredDisplacementMap& s, bool as_float) {
   } else {
     const std::vector<uint8_t> bytes(s.unorm.begin(), s.unorm.end());
     t = Texture::Create3DWithData(GL_RGBA8, s.dims, GL_RGBA, GL_UNSIGNED_BYTE, bytes.data());
+    // MIRRORED_REPEAT reads as CLAMP_TO_EDGE wherever the shader fetches
+    // (inside the map's cube, and half a texel beyond it for the central
+    // differences), and keeps llvmpipe off its 8-bit filter path, which
+    // interpolates with 8-bit weights (far off the dequantised picture at a
+    // sharp cut): with it, RGBA8 filters as exactly as RGBA16 and RGBA32F
+    // (docs/decisions/volume-map-precision.md).
+    for (GLenum wrap : {GL_TEXTURE_WRAP_S, GL_TEXTURE_WRAP_T, GL_TEXTURE_WRAP_R})
+      glTextureParameteri(t.id(), wrap, GL_MIRRORED_REPEAT);
   }
   t.SetLinearFilter();
   return t;

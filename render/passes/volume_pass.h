@@ -105,14 +105,14 @@ struct VolumePassOptions {
   // How the maps are stored on the GPU: 8 or 16 bits (scale and bias, sec. 4
   // and 8) or 32-bit float.
   int displacement_bits = 16;
-  // 8/16-bit maps go to the GPU dequantised as RGBA32F (the stored values,
-  // scaled and biased once on the CPU) at two or four times the texture
-  // memory: llvmpipe filters RGBA8 with 8-bit weights, too coarse for the
-  // mask at a sharp cut (tests/render/passes/volume_pass_test), and RGBA16
-  // saves memory but no time (ibr bench volume, the RGBA16 rows;
-  // docs/decisions/volume-map-precision.md). Off: the UNORM texture with
-  // scale and bias in the shader.
-  bool float_map_textures = true;
+  // Off (default): 8/16-bit maps stay 8/16-bit on the GPU, RGBA8 / RGBA16
+  // UNORM textures with the scale and bias applied in the shader (Correa
+  // 2006 sec. 8, Table 2: a quarter / half of RGBA32F's memory). The same
+  // picture as the dequantised upload within float rounding
+  // (tests/render/passes/volume_pass_test.cc). On: dequantised once on the
+  // CPU and uploaded as RGBA32F (the bench's baseline;
+  // docs/decisions/volume-map-precision.md).
+  bool float_map_textures = false;
   VolumeLighting lighting = VolumeLighting::kBlended;
   // Precomputed by default: the cheaper per sample (ibr bench volume).
   VolumeJacobian jacobian = VolumeJacobian::kPrecomputed;

@@ -68,7 +68,8 @@ TEST_F(VolumeBenchTest, QuickRunWritesEveryConfigurationAndThePlots) {
   std::map<std::string, int> at;
   for (size_t c = 0; c < columns.size(); ++c) at[columns[c]] = static_cast<int>(c);
   std::set<std::string> sweeps, volumes, displaced_floors, prewarped;
-  std::map<double, double> sampling_error;  // sampling distance -> p95 colour error
+  std::map<double, double> sampling_error;           // sampling distance -> p95 colour error
+  std::map<std::pair<int, int>, double> bits_bytes;  // (map size, bits) -> bytes per map
   int rows = 0, brick_rows = 0;
   while (std::getline(in, line)) {
     const std::vector<std::string> f = Split(line);
@@ -107,6 +108,18 @@ TEST_F(VolumeBenchTest, QuickRunWritesEveryConfigurationAndThePlots) {
       EXPECT_LE(num("bytes_per_map"), texels * 16) << line;
       EXPECT_TRUE(num("map_coverage") >= 0 && num("map_coverage") <= 1) << line;
     }
+    // Table 2's analogue: bytes as uploaded, the error against the 32-bit
+    // map (0 for itself, finite for 8 and 16 bits).
+    if (f[0] == "bits") {
+      const int bits = static_cast<int>(num("map_bits"));
+      bits_bytes[{static_cast<int>(num("map_size")), bits}] = num("bytes_per_map");
+      const double p95 = num("p95_color_error_vs_32bit"), max = num("max_color_error_vs_32bit");
+      if (bits == 32) {
+        EXPECT_EQ(p95, 0.0) << line;
+      } else {
+        EXPECT_TRUE(p95 >= 0 && p95 <= max && max <= 255) << line;
+      }
+    }
     // The accuracy knobs' rows carry their error against the finest
     // setting (the finest itself: 0); the others none.
     const double error = num("p95_color_error_vs_finest");
@@ -120,13 +133,22 @@ TEST_F(VolumeBenchTest, QuickRunWritesEveryConfigurationAndThePlots) {
     }
   }
   std::set<std::string> expected_sweeps = {"floor",  "volume",   "unsplit",  "bricks", "profile",
-                                           "finest", "sampling", "map_size", "area"};
+                                           "finest", "sampling", "map_size", "area",   "bits"};
   if (options.peer) expected_sweeps.insert("peer");
   EXPECT_EQ(sweeps, expected_sweeps);
   const std::set<std::string> benched = {"tooth", "neghip", "bucky"};
   EXPECT_EQ(displaced_floors, benched);
   if (options.peer) {
     EXPECT_EQ(prewarped, benched);
+  }
+  // Each map size at 8, 16 and 32 bits: 4, 8 and 16 bytes a texel (RGBA8
+  // and RGBA16 kept on the GPU, RGBA32F).
+  ASSERT_EQ(bits_bytes.size(), 2u * 3u);
+  for (const int map_size : {16, 64}) {
+    const double b32 = bits_bytes.at({map_size, 32});
+    EXPECT_GT(b32, 0) << map_size;
+    EXPECT_EQ(bits_bytes.at({map_size, 16}) * 2, b32) << map_size;
+    EXPECT_EQ(bits_bytes.at({map_size, 8}) * 4, b32) << map_size;
   }
   // Three brick sizes besides the default's "volume" row, per volume.
   EXPECT_EQ(brick_rows, 3 * 3);
