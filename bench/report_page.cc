@@ -725,6 +725,9 @@ ReportResult WriteReport(const ReportOptions& options) {
       "`deform/deform_spread.csv`, `deform/deform_goals.csv`.");
   page.AddTable(Correa2007GoalsTable(deform->wedge, deform->forward, deform->spread_figures));
   page.AddTable(deform->spread);
+  page.Text(deform->pull_figures.Line() +
+            " (Fig. 3 (b)-(d) counted against the double reference; `deform/deform_pull.csv`).");
+  page.AddTable(deform->pull);
 
   page.Heading("Volume displacement (Correa, Silver, Chen 2006)");
   page.Text(tradeoff_text(families[4], "volume and image size", "volume/volume.csv") +
