@@ -626,6 +626,7 @@ DeformBenchResult RunDeformBench(render::ProgramCache& programs,
   result.forward = RunDeformForwardMesh(programs, options, size, render_resolution, result.frames);
   result.spread =
       RunDeformSpread(programs, options, size, render_resolution, result.spread_figures);
+  result.pull = RunDeformNarrowPull(programs, size, result.pull_figures);
   for (const auto& [mode, values] : at_common_area) {
     const auto spread = [](const std::vector<double>& v) {
       const auto [lo, hi] = std::minmax_element(v.begin(), v.end());
@@ -662,6 +663,7 @@ void WriteDeformBench(const DeformBenchResult& result, const DeformBenchOptions&
   result.accuracy.WriteCsv(options.out / "deform_accuracy.csv");
   result.implicits.WriteCsv(options.out / "deform_implicit.csv");
   result.spread.WriteCsv(options.out / "deform_spread.csv");
+  result.pull.WriteCsv(options.out / "deform_pull.csv");
   Correa2007GoalsTable(result.wedge, result.forward, result.spread_figures)
       .WriteCsv(options.out / "deform_goals.csv");
   PlotOptions frames;

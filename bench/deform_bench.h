@@ -228,6 +228,29 @@ struct DeformSpreadFigures {
   std::string Line() const;
 };
 
+// Correa 2007 Fig. 3 (b)-(d): a narrow Gaussian pull (amplitude 0.5, width
+// 0.015 of the box) raises a column thinner than a step from the flat top
+// of a box mesh up through the deformation box's top face, seen from the
+// side and zoomed onto its upper part. Per step
+// policy of the ray core (fixed, threshold 0.04 as the figure, Jacobian:
+// eq. 4), at a base step of one voxel of a 64^3 distance field: rays that
+// miss (the double reference hits, the pass finds nothing), pixels whose
+// class (nothing, surface, cut face) differs from the reference, both
+// outside a one-pixel band around the reference's class boundaries, the
+// pixels compared, samples per ray and ms per frame.
+struct DeformPullFigures {
+  struct Policy {
+    std::string name;  // render::RayStepPolicyName
+    int64_t misses = 0, wrong = 0, compared = 0;
+    double samples_per_ray = NAN, ms = NAN;
+  };
+  std::vector<Policy> policies;  // fixed, threshold, jacobian
+  const Policy* Find(const std::string& name) const;
+  // "narrow pull (Fig. 3): rays that miss the spike: fixed N, threshold N,
+  // jacobian N of C compared pixels (...)"
+  std::string Line() const;
+};
+
 struct DeformBenchResult {
   // workload (sweep: the region-scale sweep; wedge; forward), mesh,
   // triangles, mode, series, region_scale, area_fraction, ms, ray_ms (the
@@ -264,6 +287,10 @@ struct DeformBenchResult {
   // mesh_stage_ms, plain_mesh_ms, mesh_over_plain, its _lo/_hi, samples_per_ray
   Table spread = Table(std::vector<std::string>{});
   DeformSpreadFigures spread_figures;
+  // Fig. 3's narrow pull: policy, size_px, field_resolution, step_voxels,
+  // misses, wrong_pixels, compared_pixels, samples_per_ray, ms_per_frame.
+  Table pull = Table(std::vector<std::string>{});
+  DeformPullFigures pull_figures;
 };
 
 // The three workloads (bench/deform_workloads.cc), at `size` pixels and
@@ -274,6 +301,9 @@ DeformWedgeFigures RunDeformWedge(render::ProgramCache& programs, const DeformBe
 DeformForwardFigures RunDeformForwardMesh(render::ProgramCache& programs,
                                           const DeformBenchOptions& options, int size,
                                           int field_resolution, Table& frames);
+// Fig. 3's narrow pull (DeformPullFigures) at `size` pixels: its table
+// (DeformBenchResult::pull), its figures into `figures`.
+Table RunDeformNarrowPull(render::ProgramCache& programs, int size, DeformPullFigures& figures);
 // The spread table (DeformBenchResult::spread); its figures into `figures`.
 Table RunDeformSpread(render::ProgramCache& programs, const DeformBenchOptions& options, int size,
                       int field_resolution, DeformSpreadFigures& figures);

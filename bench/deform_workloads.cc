@@ -16,6 +16,7 @@
 #include "bench/paper_tables.h"
 #include "capture/synthetic.h"
 #include "core/error.h"
+#include "core/look_at.h"
 #include "core/memory_budget.h"
 #include "core/metrics.h"
 #include "render/gl/frame_timer.h"
@@ -53,6 +54,26 @@ std::string DeformSpreadFigures::Line() const {
       "spread: ray stage max/min over tessellations {:.3f}, mesh stage / plain mesh pass at "
       "most {:.3f} ({} interleaved rounds)",
       ray_spread, mesh_over_plain_max, rounds);
+}
+
+const DeformPullFigures::Policy* DeformPullFigures::Find(const std::string& name) const {
+  for (const Policy& p : policies)
+    if (p.name == name) return &p;
+  return nullptr;
+}
+
+std::string DeformPullFigures::Line() const {
+  std::string counts, samples;
+  int64_t compared = 0;
+  for (const Policy& p : policies) {
+    counts += fmt::format("{}{} {}", counts.empty() ? "" : ", ", p.name, p.misses);
+    samples += fmt::format("{}{} {:.1f}", samples.empty() ? "" : ", ", p.name, p.samples_per_ray);
+    compared = std::max(compared, p.compared);
+  }
+  return fmt::format(
+      "narrow pull (Fig. 3): rays that miss the pulled column: {} of {} compared pixels (samples "
+      "per ray: {})",
+      counts, compared, samples);
 }
 
 namespace {
@@ -298,6 +319,98 @@ DeformWedgeFigures RunDeformWedge(render::ProgramCache& programs, const DeformBe
                fig.samples_cut, fig.samples_skip, fig.ray_fraction, fig.ray_fraction_cpu,
                fig.paper_ratio, fig.shader_overhead);
   return fig;
+}
+
+Table RunDeformNarrowPull(render::ProgramCache& programs, int size, DeformPullFigures& figures) {
+  // The scene of Fig. 3 on a flat top: a box mesh whose top face lies at
+  // box z = 0.58 of the deformation box [-0.5, 0.5]^3, pulled up along +z by
+  // a Gaussian of amplitude 0.5 (Fig. 3's) and width 0.015 (box units) into
+  // a column thinner than a step that leaves through the box's top face
+  // (where 1 - 0.5 g(r) < 0.58: r < 0.6 width); the pull vanishes on the
+  // box's bottom face. With the column's tip inside the box instead, the
+  // 128^3 deformation texture blunts the tip (two texels a width), which
+  // the analytic reference does not: misses of every policy there.
+  core::TriangleMesh mesh = core::MakeBox(glm::vec3(0.45f, 0.45f, 0.3f));
+  for (glm::vec3& p : mesh.positions) p.z -= 0.22f;  // top face at box z 0.58
+  core::Deformation pull;
+  pull.kind = core::DeformationKind::kPull;
+  pull.amount = 0.5;
+  pull.width = 0.015;
+  const core::DeformationSum deformation{{pull}};
+  const core::Placement placement =
+      core::Placement::FromRegion({{-0.5, -0.5, -0.5}, {0.5, 0.5, 0.5}});
+  const core::MeshDistance distance(mesh, false, "box");
+  constexpr int kFieldResolution = 64;  // the base step: one voxel of this field
+  const double grow = core::MaxObjectDisplacement(deformation, placement, 128);
+  core::DistanceFieldOptions field_options;
+  field_options.resolution = kFieldResolution;
+  const core::DistanceField sdf = core::BuildDistanceField(
+      distance, placement.ObjectBounds().Grown(grow + 0.02), field_options);
+  const core::DeformationTexture texture = core::SampleDeformation(deformation, 128);
+  // Seen from the side, zoomed onto the spike's upper half (its tip is
+  // thinner than one step there): 2.6 away, a field of view of about 9
+  // degrees at any size.
+  DeformPinholeView view;
+  view.size = size;
+  view.focal_px = 6.25 * size;
+  view.cam_from_world =
+      core::CamFromWorldLookAtDouble({2.4, 0.9, 0.35}, {0.0, 0.0, 0.33}, {0.0, 0.0, 1.0});
+  const render::ViewSetup setup = view.Setup();
+  const core::DeformReference reference(distance, deformation, placement, core::CutMode::kNone,
+                                        0.0);
+  const DeformReferenceFrame truth = TraceDeformReference(reference, placement, view);
+
+  Table table({"policy", "size_px", "field_resolution", "step_voxels", "misses", "wrong_pixels",
+               "compared_pixels", "samples_per_ray", "ms_per_frame"});
+  figures.policies.clear();
+  render::RenderTarget target(render::FrameTargetOptions(size, size));
+  for (const render::RayStepPolicy policy :
+       {render::RayStepPolicy::kFixed, render::RayStepPolicy::kThreshold,
+        render::RayStepPolicy::kJacobian}) {
+    render::DeformPassOptions o;
+    o.step_policy = policy;
+    o.threshold = 0.04f;  // Fig. 3(c)'s thresh = 0.04
+    o.step_voxels = 1.0f;
+    o.draw_mesh = false;  // the box holds the spike: the rays alone
+    render::DeformPass pass(programs, render::DeformInputs{&mesh, &sdf, &texture, placement}, o);
+    render::FrameTimerOptions timer;
+    timer.warmup_frames = 1;
+    timer.timed_frames = 3;
+    const double ms =
+        render::TimeFrames([&] { render::DrawFrame(target, pass, setup); }, timer).median_ms;
+    const render::Frame frame = render::ReadFrame(target);
+    // Class agreement and misses outside the reference's one-pixel band
+    // (CompareDeformClasses' rule).
+    DeformPullFigures::Policy p;
+    p.name = render::RayStepPolicyName(policy);
+    p.ms = ms;
+    const DeformClassAgreement agree = CompareDeformClasses(frame, truth);
+    p.compared = agree.compared;
+    p.wrong = agree.compared - agree.agree;
+    for (int y = 0; y < size; ++y) {
+      for (int x = 0; x < size; ++x) {
+        const int c = truth.classes.at(x, y, 0);
+        if (c == 0 || frame.Covered(x, y)) continue;
+        bool band = false;
+        for (int dy = -1; dy <= 1; ++dy)
+          for (int dx = -1; dx <= 1; ++dx)
+            band |= truth.classes.at(std::clamp(x + dx, 0, size - 1),
+                                     std::clamp(y + dy, 0, size - 1), 0) != c;
+        p.misses += !band;
+      }
+    }
+    p.samples_per_ray = CountDeformOutcomes(frame).mean_samples;
+    table.AddRow({p.name, std::to_string(size), std::to_string(kFieldResolution), Num(1.0, 2),
+                  std::to_string(p.misses), std::to_string(p.wrong), std::to_string(p.compared),
+                  Num(p.samples_per_ray, 2), Num(ms, 2)});
+    std::fprintf(stderr,
+                 "bench deform: narrow pull, %s: %lld rays miss, %lld of %lld pixels wrong, %.1f "
+                 "samples per ray, %.2f ms\n",
+                 p.name.c_str(), static_cast<long long>(p.misses), static_cast<long long>(p.wrong),
+                 static_cast<long long>(p.compared), p.samples_per_ray, ms);
+    figures.policies.push_back(p);
+  }
+  return table;
 }
 
 // Midpoint subdivision, 1:4 (new vertices at the edges' midpoints, shared

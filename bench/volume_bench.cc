@@ -8,8 +8,11 @@
 #include <cmath>
 #include <cstdio>
 #include <fstream>
+#include <functional>
+#include <map>
 #include <memory>
 #include <nlohmann/json.hpp>
+#include <random>
 #include <utility>
 
 #include "bench/gallery.h"
@@ -18,6 +21,7 @@
 #include "core/error.h"
 #include "core/image_compose.h"
 #include "core/metrics.h"
+#include "core/volume_displacement.h"
 #include "core/volume_io.h"
 #include "ibr/volume_render.h"
 #include "render/gl/fill_rate.h"
@@ -29,9 +33,13 @@ namespace fs = std::filesystem;
 
 struct Measured {
   double ms = 0;
-  double area_px = 0;  // rasterised slice area per frame
+  int64_t jacobian_bytes = 0;    // the maps' J_D / grad alpha textures (0 when not read)
+  double area_px = 0;            // rasterised slice area per frame
+  double displaced_area_px = 0;  // the part drawn by the displaced shader
   int slices = 0;
-  core::ImageF color;  // float RGBA of the view, when asked for (TimeVolume's `float_image`)
+  int map_bits = 0;       // the maps' storage (0: no maps)
+  int64_t map_bytes = 0;  // their (D, alpha) textures as uploaded
+  core::ImageF color;     // float RGBA of the view, when asked for (TimeVolume's `float_image`)
 };
 
 // The bench's one view of a volume: azimuth 30, elevation 20 degrees.
@@ -55,7 +63,11 @@ Measured TimeVolume(render::ProgramCache& programs, const ibr::VolumeObjectData&
              timer)
              .median_ms;
   m.area_px = pass.last_stats().proxy_area_px;
+  m.displaced_area_px = pass.last_stats().displaced_area_px;
   m.slices = pass.last_stats().slices;
+  m.map_bits = scene.maps.empty() ? 0 : options.displacement_bits;
+  m.map_bytes = pass.map_texture_bytes();
+  m.jacobian_bytes = pass.derivative_texture_bytes();
   if (!scene.maps.empty()) {
     spdlog::info(
         "bench volume: displaced shader on {:.1f}% of the slice area, {:.1f}% cut away (not "
@@ -92,11 +104,50 @@ core::Volume SyntheticVolume(int n) {
 struct PeerResult {
   bool ok = false;
   double median_ms = 0, min_ms = 0, first_s = 0;
+  double resample_ms = std::nan("");  // "vtk prewarped": the CPU warp of the volume
+  glm::ivec3 warped_dims{0};          // its output grid (the proxy box at voxel spacing)
   std::string error;
 };
 
+// The volume warped by a map for the "vtk prewarped" peer: the map as the
+// pass reads it (stored at `bits`, dequantised), its axis-aligned placement
+// and the pass's proxy box (volume texture space), and where the peer writes
+// its warped volume (float32, normalised) for CheckPrewarp.
+struct WarpInput {
+  core::DisplacementMap map;
+  glm::dmat4 placement{1.0};
+  core::Box3 proxy;
+  fs::path out_raw;
+};
+
+// Writes the map and the peer's warp JSON into `work`; returns the JSON's path.
+fs::path WriteWarpInput(const WarpInput& w, const std::string& stem, const fs::path& work) {
+  for (int a = 0; a < 3; ++a)
+    for (int b = 0; b < 3; ++b)
+      if (a != b && w.placement[a][b] != 0)
+        core::ThrowInputError("ibr bench volume", "the VTK peer needs an axis-aligned placement");
+  const fs::path raw = work / (stem + ".map.raw"), json_path = work / (stem + ".warp.json");
+  core::AtomicWriteStream(raw, [&](std::ostream& out) {
+    out.write(reinterpret_cast<const char*>(w.map.texels.data()),
+              static_cast<std::streamsize>(w.map.texels.size() * sizeof(glm::vec4)));
+  });
+  const glm::dvec3 lo(w.placement[3]);
+  const glm::dvec3 scale(w.placement[0][0], w.placement[1][1], w.placement[2][2]);
+  nlohmann::json j;
+  j["map_raw"] = raw.string();
+  j["map_dims"] = {w.map.dims.x, w.map.dims.y, w.map.dims.z};
+  j["placement_lo"] = {lo.x, lo.y, lo.z};
+  j["placement_scale"] = {scale.x, scale.y, scale.z};
+  j["proxy_lo"] = {w.proxy.lo.x, w.proxy.lo.y, w.proxy.lo.z};
+  j["proxy_hi"] = {w.proxy.hi.x, w.proxy.hi.y, w.proxy.hi.z};
+  j["out_raw"] = w.out_raw.string();
+  core::AtomicWriteStream(json_path, [&](std::ostream& out) { out << j.dump(); });
+  return json_path;
+}
+
 PeerResult RunVtkPeer(const fs::path& dat, int size, double sample,
-                      const core::TransferFunction& tf, const fs::path& work) {
+                      const core::TransferFunction& tf, const fs::path& work,
+                      const WarpInput* warp = nullptr) {
   PeerResult r;
   const fs::path tf_path = work / (dat.stem().string() + ".tf.json");
   nlohmann::json j;
@@ -105,9 +156,11 @@ PeerResult RunVtkPeer(const fs::path& dat, int size, double sample,
     j["points"].push_back({p.s, p.rgba.r, p.rgba.g, p.rgba.b, p.rgba.a});
   core::AtomicWriteStream(tf_path, [&](std::ostream& out) { out << j.dump(); });
   const fs::path script = fs::path(IBR_BENCH_SOURCE_DIR) / "vtk_volume_peer.py";
+  const std::string warp_arg =
+      warp ? fmt::format(" '{}'", WriteWarpInput(*warp, dat.stem().string(), work).string()) : "";
   const std::string cmd =
-      fmt::format("xvfb-run -a /usr/bin/python3 '{}' '{}' {} {} '{}' 12 2>&1", script.string(),
-                  dat.string(), size, sample, tf_path.string());
+      fmt::format("xvfb-run -a /usr/bin/python3 '{}' '{}' {} {} '{}' 12{} 2>&1", script.string(),
+                  dat.string(), size, sample, tf_path.string(), warp_arg);
   std::unique_ptr<FILE, int (*)(FILE*)> pipe(popen(cmd.c_str(), "r"), pclose);
   if (!pipe) {
     r.error = "cannot start xvfb-run";
@@ -126,6 +179,11 @@ PeerResult RunVtkPeer(const fs::path& dat, int size, double sample,
     r.median_ms = res["median_ms"].get<double>();
     r.min_ms = res["min_ms"].get<double>();
     r.first_s = res["first_frame_s"].get<double>();
+    if (warp) {
+      r.resample_ms = res["resample_ms"].get<double>();
+      const auto dims = res["warped_voxels"].get<std::vector<int>>();
+      if (dims.size() == 3) r.warped_dims = {dims[0], dims[1], dims[2]};
+    }
     r.ok = true;
   } catch (const std::exception& e) {
     r.error = e.what();
@@ -133,7 +191,180 @@ PeerResult RunVtkPeer(const fs::path& dat, int size, double sample,
   return r;
 }
 
+// A volume of the bench: a shared QVis pair, or the synthetic one.
+struct Entry {
+  std::string name;
+  fs::path dat;  // empty for the synthetic volume
+};
+
+// The QVis pair the peer reads: the entry's own, or the synthetic volume
+// written into the work folder (RemovePeerDat removes it).
+fs::path PeerDat(const Entry& e, const core::Volume& volume, const fs::path& work) {
+  if (!e.dat.empty()) return e.dat;
+  const fs::path dat = work / (e.name + ".dat");
+  core::WriteQVis(dat, volume);
+  return dat;
+}
+
+void RemovePeerDat(const Entry& e, const fs::path& dat) {
+  if (!e.dat.empty()) return;
+  fs::remove(dat);
+  fs::remove(fs::path(dat).replace_extension(".raw"));
+}
+
+// p95 of |peer's warped scalar - ours| (normalised units) over 4096 random
+// voxels of the peer's warped grid where either is not empty (most of a
+// warped box is empty: a p95 over all voxels would hide the material): ours is core::Displace
+// through the same map (read on its cube, eq. 10), the volume sampled trilinearly there, 0 where
+// the mask is < 0.5. NaN when the peer's file is missing or short.
+double CheckPrewarp(const core::Volume& volume, const WarpInput& w, const glm::ivec3& dims) {
+  const size_t count = static_cast<size_t>(dims.x) * dims.y * dims.z;
+  std::ifstream in(w.out_raw, std::ios::binary);
+  std::vector<float> warped(count);
+  if (count == 0 || !in.read(reinterpret_cast<char*>(warped.data()),
+                             static_cast<std::streamsize>(count * sizeof(float))))
+    return std::nan("");
+  const core::PlacedMap placed{&w.map, w.placement, core::Box3{}};
+  std::vector<double> errors;
+  std::mt19937_64 rng(35);  // deterministic voxels spread over the grid
+  std::uniform_int_distribution<size_t> pick(0, count - 1);
+  for (int k = 0; k < 4096; ++k) {
+    const size_t i = pick(rng);
+    const glm::ivec3 v(static_cast<int>(i % dims.x), static_cast<int>(i / dims.x % dims.y),
+                       static_cast<int>(i / (size_t(dims.x) * dims.y)));
+    // The peer's voxel centres: the proxy box's corner plus half a voxel.
+    const glm::dvec3 p_prime = w.proxy.lo + (glm::dvec3(v) + 0.5) / glm::dvec3(volume.dims);
+    const core::DisplacedSample d = core::Displace({placed}, p_prime);
+    // 0 outside the volume's box, as the pass's VolumeSample and VTK's background.
+    const bool inside = glm::all(glm::greaterThanEqual(d.p, glm::dvec3(0.0))) &&
+                        glm::all(glm::lessThanEqual(d.p, glm::dvec3(1.0)));
+    const double ours = d.alpha >= 0.5 && inside ? core::SampleTrilinear(volume, d.p) : 0.0;
+    if (ours > 0 || warped[i] > 0) errors.push_back(std::abs(ours - warped[i]));
+  }
+  if (errors.empty()) return std::nan("");
+  std::sort(errors.begin(), errors.end());
+  return errors[static_cast<size_t>(0.95 * static_cast<double>(errors.size() - 1))];
+}
+
 }  // namespace
+
+std::vector<std::string> VolumeBenchColumns() {
+  return {"sweep",
+          "volume",
+          "variant",
+          "sampling_voxels",
+          "map_size",
+          "map_bits",
+          "bytes_per_map",
+          "jacobian_bytes",
+          "size_px",
+          "slices",
+          "ms_per_frame",
+          "area_Mpx",
+          "ns_per_fragment",
+          "fill_fraction",
+          "map_coverage",
+          "ratio_to_plain",
+          "vtk_ms",
+          "vtk_min_ms",
+          "vtk_resample_ms",
+          "vtk_warp_p95_error",
+          "p95_color_error_vs_finest",
+          "p95_color_error_vs_32bit",
+          "max_color_error_vs_32bit"};
+}
+
+Table VolumeGoalsTable(const Table& v) {
+  // Per volume (in the order measured): the figures the goals read.
+  std::vector<std::string> order;
+  std::map<std::string, std::map<std::string, double>> f;
+  const int sweep = v.Column("sweep"), volume = v.Column("volume"), variant = v.Column("variant");
+  const auto cell = [&](const std::vector<std::string>& r, const char* column) {
+    return CellNumber(r[v.Column(column)]);
+  };
+  for (const auto& r : v.rows()) {
+    const std::string& name = r[volume];
+    const std::string key = r[sweep] + "/" + r[variant];
+    auto& g = f[name];
+    if (key == "volume/plain DVR (shaded)") {
+      order.push_back(name);
+      g["plain"] = cell(r, "ms_per_frame");
+      g["plain_ns"] = cell(r, "ns_per_fragment");
+    } else if (key == "volume/peel 64^3 (eq. 6+7)") {
+      g["peel"] = cell(r, "ms_per_frame");
+      g["coverage"] = cell(r, "map_coverage");
+    } else if (key == "unsplit/peel 64^3 (eq. 6+7) unsplit") {
+      g["unsplit"] = cell(r, "ms_per_frame");
+      g["unsplit_ns"] = cell(r, "ns_per_fragment");
+    } else if (key == "floor/displaced floor") {
+      g["floor"] = cell(r, "ms_per_frame");
+    } else if (key == "peer/vtk prewarped") {
+      g["vtk"] = cell(r, "ms_per_frame");
+      g["resample"] = cell(r, "vtk_resample_ms");
+      g["check"] = cell(r, "vtk_warp_p95_error");
+    }
+  }
+  // "tooth 1.52, neghip 1.71" of one figure over the volumes, and whether
+  // every one is finite and within `goal` (NaN: no goal).
+  struct Listed {
+    std::string text;
+    std::string met;
+  };
+  const auto list = [&](const std::function<double(std::map<std::string, double>&)>& figure,
+                        double goal, const std::function<std::string(double)>& format) {
+    Listed l;
+    bool all = true, any = false;
+    for (const std::string& name : order) {
+      const double x = figure(f[name]);
+      if (!std::isfinite(x)) continue;
+      any = true;
+      all = all && x <= goal;
+      l.text += (l.text.empty() ? "" : ", ") + name + " " + format(x);
+    }
+    if (!any) l.text = "n/a";
+    l.met = !any ? "n/a" : std::isnan(goal) ? "-" : all ? "yes" : "no";
+    return l;
+  };
+  const auto ratio = [](double x) { return fmt::format("{:.2f}x", x); };
+  const auto get = [](std::map<std::string, double>& g, const char* k) {
+    return g.count(k) ? g[k] : std::nan("");
+  };
+  const double none = std::nan("");
+  Table t({"quantity", "goal", "measured", "met", "note"});
+  const auto row = [&](const std::string& q, const std::string& goal, const Listed& l,
+                       const std::string& note) {
+    t.AddRow({q, goal, l.text, l.met, note});
+  };
+  row("eq. 6+7 frame / displaced floor frame", "<= 2",
+      list([&](auto& g) { return get(g, "peel") / get(g, "floor"); }, 2.0, ratio),
+      "the peel (64^3 map, blended normals, split slices) over a map fetch and the scalar where "
+      "it points on every fragment of the same slices; unsplit: " +
+          list([&](auto& g) { return get(g, "unsplit") / get(g, "floor"); }, none, ratio).text);
+  row("unsplit displaced / plain DVR, per fragment", "<= 2.5",
+      list([&](auto& g) { return get(g, "unsplit_ns") / get(g, "plain_ns"); }, 2.5, ratio),
+      "ns per rasterised slice fragment, every fragment displaced (eq. 6+7) against plain shaded "
+      "DVR");
+  row("displaced / plain DVR, per frame, at the map's coverage", "stated",
+      list([&](auto& g) { return get(g, "peel") / get(g, "plain"); }, none,
+           [](double x) { return fmt::format("{:.2f}x", x); }),
+      "coverage (share of the slice area the displaced shader draws): " +
+          list([&](auto& g) { return 100 * get(g, "coverage"); }, none,
+               [](double x) { return fmt::format("{:.0f} %", x); })
+              .text);
+  row("ours displaced frame / VTK prewarped frame", "<= 1",
+      list([&](auto& g) { return get(g, "peel") / get(g, "vtk"); }, 1.0, ratio),
+      "VTK's GPU ray caster on the volume warped by the same map, same transfer function, "
+      "sampling and image size, its own orbit of views");
+  row("VTK's resample of the volume through D (the edit latency this method avoids)", "stated",
+      list([&](auto& g) { return get(g, "resample"); }, none,
+           [](double x) { return fmt::format("{:.0f} ms", x); }),
+      "vtkGridTransform + vtkImageReslice onto the proxy box; its warped volume against ours, "
+      "p95 (1/255): " +
+          list([&](auto& g) { return get(g, "check"); }, none,
+               [](double x) { return fmt::format("{:.2f}", x); })
+              .text);
+  return t;
+}
 
 void VolumeBenchOptions::Check() const {
   if (csv.empty()) core::ThrowInputError("ibr bench volume", "--csv FILE is required");
@@ -153,21 +384,42 @@ Table RunVolumeBench(const VolumeBenchOptions& o) {
   fmt::print("calibrated fill rate (LINEAR, {} px): {:.1f} M fragments/s\n", size,
              fill.fragments_per_second * 1e-6);
 
-  Table table({"sweep", "volume", "variant", "sampling_voxels", "map_size", "size_px", "slices",
-               "ms_per_frame", "area_Mpx", "fill_fraction", "ratio_to_plain", "vtk_ms",
-               "vtk_min_ms", "p95_color_error_vs_finest"});
+  Table table(VolumeBenchColumns());
+  // A row from named cells; the others empty.
+  auto add_cells = [&](const std::map<std::string, std::string>& cells) {
+    std::vector<std::string> row(table.columns().size());
+    for (const auto& [column, value] : cells) row[table.Column(column)] = value;
+    table.AddRow(std::move(row));
+  };
   // `error`: the p95 colour error against the finest setting (1/255; NaN:
-  // not measured, an empty cell).
+  // not measured, an empty cell); `vs_32bit` against the 32-bit map's.
   auto add = [&](const std::string& sweep, const std::string& volume, const std::string& variant,
                  double sampling, int map_size, int px, const Measured& m, double plain_ms,
-                 const PeerResult* peer, double error) {
+                 const PeerResult* peer, double error, const core::ErrorStats* vs_32bit = nullptr) {
     const double fraction = m.area_px / (m.ms * 1e-3) / fill.fragments_per_second;
-    table.AddRow(
-        {sweep, volume, variant, Num(sampling, 2), std::to_string(map_size), std::to_string(px),
-         std::to_string(m.slices), Num(m.ms, 1), Num(m.area_px * 1e-6, 3), Num(fraction, 3),
-         plain_ms > 0 ? Num(m.ms / plain_ms, 2) : "",
-         peer && peer->ok ? Num(peer->median_ms, 1) : "",
-         peer && peer->ok ? Num(peer->min_ms, 1) : "", std::isfinite(error) ? Num(error, 3) : ""});
+    const auto maybe = [](double v, int digits) { return std::isfinite(v) ? Num(v, digits) : ""; };
+    add_cells(
+        {{"sweep", sweep},
+         {"volume", volume},
+         {"variant", variant},
+         {"sampling_voxels", Num(sampling, 2)},
+         {"map_size", std::to_string(map_size)},
+         {"map_bits", m.map_bits ? std::to_string(m.map_bits) : ""},
+         {"bytes_per_map", m.map_bits ? std::to_string(m.map_bytes) : ""},
+         {"jacobian_bytes", m.map_bits ? std::to_string(m.jacobian_bytes) : ""},
+         {"size_px", std::to_string(px)},
+         {"slices", std::to_string(m.slices)},
+         {"ms_per_frame", Num(m.ms, 1)},
+         {"area_Mpx", Num(m.area_px * 1e-6, 3)},
+         {"ns_per_fragment", Num(m.ms * 1e6 / std::max(m.area_px, 1.0), 2)},
+         {"fill_fraction", Num(fraction, 3)},
+         {"map_coverage", m.map_bits ? Num(m.displaced_area_px / std::max(m.area_px, 1.0), 3) : ""},
+         {"ratio_to_plain", plain_ms > 0 ? Num(m.ms / plain_ms, 2) : ""},
+         {"vtk_ms", peer && peer->ok ? Num(peer->median_ms, 1) : ""},
+         {"vtk_min_ms", peer && peer->ok ? Num(peer->min_ms, 1) : ""},
+         {"p95_color_error_vs_finest", maybe(error, 3)},
+         {"p95_color_error_vs_32bit", vs_32bit ? Num(vs_32bit->p95, 3) : ""},
+         {"max_color_error_vs_32bit", vs_32bit ? Num(vs_32bit->max, 3) : ""}});
     fmt::print("{:<10} {:<8} {:<22} {:>6.1f} ms  slices {:>4}  fill {:.3f}\n", sweep, volume,
                variant, m.ms, m.slices, fraction);
   };
@@ -185,9 +437,17 @@ Table RunVolumeBench(const VolumeBenchOptions& o) {
     floor_options.work = work;
     const render::FillRate f = render::MeasureFillRate(programs, floor_options);
     const double fraction = f.fragments_per_second / fill.fragments_per_second;
-    table.AddRow({"floor", "calibration", name, "0", "0", std::to_string(size),
-                  std::to_string(floor_options.layers_per_frame), Num(f.ms_per_frame, 1),
-                  Num(f.fragments_per_frame * 1e-6, 3), Num(fraction, 3), "", "", "", ""});
+    add_cells({{"sweep", "floor"},
+               {"volume", "calibration"},
+               {"variant", name},
+               {"sampling_voxels", "0"},
+               {"map_size", "0"},
+               {"size_px", std::to_string(size)},
+               {"slices", std::to_string(floor_options.layers_per_frame)},
+               {"ms_per_frame", Num(f.ms_per_frame, 1)},
+               {"area_Mpx", Num(f.fragments_per_frame * 1e-6, 3)},
+               {"ns_per_fragment", Num(1e9 / f.fragments_per_second, 2)},
+               {"fill_fraction", Num(fraction, 3)}});
     fmt::print("DVR floor ({}, {} px): {:.1f} M fragments/s, {:.3f} of the calibrated fill rate\n",
                name, size, f.fragments_per_second * 1e-6, fraction);
   }
@@ -199,10 +459,6 @@ Table RunVolumeBench(const VolumeBenchOptions& o) {
   render::VolumePassOptions displaced = plain;
   displaced.lighting = render::VolumeLighting::kBlended;
 
-  struct Entry {
-    std::string name;
-    fs::path dat;  // empty for the synthetic volume
-  };
   std::vector<Entry> volumes = {{"tooth", o.shared_data / "volumes/tooth_103x94x161_uint8.dat"},
                                 {"neghip", o.shared_data / "volumes/neghip_64x64x64_uint8.dat"},
                                 {"bucky", o.shared_data / "volumes/Bucky_32x32x32_uint8.dat"}};
@@ -219,23 +475,62 @@ Table RunVolumeBench(const VolumeBenchOptions& o) {
                  volume.dims.z);
     PeerResult peer;
     if (o.peer) {
-      // The synthetic volume goes to the peer as a QVis pair in the work folder.
-      fs::path dat = e.dat;
-      if (dat.empty()) {
-        dat = work / (e.name + ".dat");
-        core::WriteQVis(dat, volume);
-      }
+      const fs::path dat = PeerDat(e, volume, work);
       peer = RunVtkPeer(dat, size, 1.0, tf, work);
-      if (e.dat.empty()) {
-        fs::remove(dat);
-        fs::remove(fs::path(dat).replace_extension(".raw"));
-      }
+      RemovePeerDat(e, dat);
       if (!peer.ok) spdlog::warn("VTK peer failed on {}: {}", e.name, peer.error);
     }
     const Measured p = TimeVolume(programs, bare, plain, size, timer);
     add("volume", e.name, "plain DVR (shaded)", 1.0, 0, size, p, p.ms, &peer, std::nan(""));
     const Measured d = TimeVolume(programs, peeled, displaced, size, timer);
     add("volume", e.name, "peel 64^3 (eq. 6+7)", 1.0, 64, size, d, p.ms, nullptr, std::nan(""));
+    // The floors on this frame's own slices (VolumePassOptions::floor_shader):
+    // plain, one scalar fetch a fragment on the plain frame's slices; displaced,
+    // a map fetch then the scalar where it points on every slice fragment of
+    // the peeled frame (unsplit): the least a displaced frame can cost here.
+    render::VolumePassOptions floor = plain;
+    floor.lighting = render::VolumeLighting::kNone;
+    floor.floor_shader = true;
+    add("floor", e.name, "plain floor", 1.0, 0, size,
+        TimeVolume(programs, bare, floor, size, timer), p.ms, nullptr, std::nan(""));
+    floor.support_skip = false;
+    add("floor", e.name, "displaced floor", 1.0, 64, size,
+        TimeVolume(programs, peeled, floor, size, timer), p.ms, nullptr, std::nan(""));
+    if (o.peer) {
+      // The peer warps the volume on the CPU by the same map, once, then ray
+      // casts the warped volume: what an edit of the map costs it (the
+      // resample) and what a frame costs it after.
+      WarpInput warp{core::DequantizeDisplacementMap(core::StoreDisplacementMap(
+                         peeled.maps[0].map, displaced.displacement_bits)),
+                     peeled.maps[0].placement, render::VolumeProxyBox(peeled.maps),
+                     work / (e.name + ".warped.raw")};
+      const fs::path dat = PeerDat(e, volume, work);
+      const PeerResult warped = RunVtkPeer(dat, size, 1.0, tf, work, &warp);
+      if (warped.ok) {
+        const double check = CheckPrewarp(volume, warp, warped.warped_dims) * 255;
+        add_cells({{"sweep", "peer"},
+                   {"volume", e.name},
+                   {"variant", "vtk prewarped"},
+                   {"sampling_voxels", Num(1.0, 2)},
+                   {"map_size", "64"},
+                   {"map_bits", std::to_string(displaced.displacement_bits)},
+                   {"size_px", std::to_string(size)},
+                   {"ms_per_frame", Num(warped.median_ms, 1)},
+                   {"ratio_to_plain", Num(warped.median_ms / p.ms, 2)},
+                   {"vtk_ms", Num(warped.median_ms, 1)},
+                   {"vtk_min_ms", Num(warped.min_ms, 1)},
+                   {"vtk_resample_ms", Num(warped.resample_ms, 1)},
+                   {"vtk_warp_p95_error", std::isfinite(check) ? Num(check, 3) : ""}});
+        fmt::print(
+            "vtk prewarped {:<8} resample {:.1f} ms (the edit latency), frame {:.1f} ms; ours "
+            "displaced {:.1f} ms; warped volume vs ours p95 {:.3f}/255\n",
+            e.name, warped.resample_ms, warped.median_ms, d.ms, check);
+      } else {
+        spdlog::warn("VTK prewarped peer failed on {}: {}", e.name, warped.error);
+      }
+      fs::remove(warp.out_raw);
+      RemovePeerDat(e, dat);
+    }
     // The baseline of the support skip (VolumePassOptions::support_skip):
     // every slice fragment runs the displaced shader.
     render::VolumePassOptions unsplit = displaced;
@@ -251,10 +546,11 @@ Table RunVolumeBench(const VolumeBenchOptions& o) {
     const Measured x = TimeVolume(programs, peeled, box_only, size, timer);
     add("unsplit", e.name, "peel 64^3 (eq. 6+7) support box only", 1.0, 64, size, x, p.ms, nullptr,
         std::nan(""));
-    // Before both: unsplit, the 16-bit map as an RGBA16 texture.
-    unsplit.float_map_textures = false;
+    // Unsplit, the 16-bit map dequantised into an RGBA32F texture (the
+    // upload before maps stayed 16-bit on the GPU).
+    unsplit.float_map_textures = true;
     const Measured b = TimeVolume(programs, peeled, unsplit, size, timer);
-    add("unsplit", e.name, "peel 64^3 (eq. 6+7) unsplit RGBA16 map", 1.0, 64, size, b, p.ms,
+    add("unsplit", e.name, "peel 64^3 (eq. 6+7) unsplit RGBA32F map", 1.0, 64, size, b, p.ms,
         nullptr, std::nan(""));
     // The brick size of the split (VolumePassOptions::brick_texels; the
     // default is the "volume" row): finer bricks leave less area to the
@@ -268,7 +564,7 @@ Table RunVolumeBench(const VolumeBenchOptions& o) {
     }
     summary.push_back(fmt::format(
         "{:<13} plain {:7.1f} ms  peel {:7.1f} ms  peel/plain {:5.2f}x (support box only "
-        "{:5.2f}x, unsplit {:5.2f}x, unsplit RGBA16 map {:5.2f}x)  VTK {}  plain/VTK {}",
+        "{:5.2f}x, unsplit {:5.2f}x, unsplit RGBA32F map {:5.2f}x)  VTK {}  plain/VTK {}",
         e.name, p.ms, d.ms, d.ms / p.ms, x.ms / p.ms, w.ms / p.ms, b.ms / p.ms,
         peer.ok ? fmt::format("{:7.1f} ms", peer.median_ms) : "  n/a",
         peer.ok ? fmt::format("{:5.2f}x", p.ms / peer.median_ms) : "n/a"));
@@ -286,7 +582,7 @@ Table RunVolumeBench(const VolumeBenchOptions& o) {
         bool per_slice;
         bool support_skip = true;
         int bits = 16;              // the map's storage
-        bool float_maps = true;     // its texture: dequantised RGBA32F, or UNORM
+        bool float_maps = false;    // its texture: UNORM, or dequantised RGBA32F
         bool floor_shader = false;  // VolumePassOptions::floor_shader
       };
       using L = render::VolumeLighting;
@@ -294,12 +590,12 @@ Table RunVolumeBench(const VolumeBenchOptions& o) {
       for (const Profile& pr : std::vector<Profile>{
                {"plain unshaded", false, L::kNone, J::kPrecomputed, false},
                {"plain one draw per slice", false, L::kGradient, J::kPrecomputed, true},
-               {"plain floor shader", false, L::kNone, J::kPrecomputed, false, true, 16, true,
+               {"plain floor shader", false, L::kNone, J::kPrecomputed, false, true, 16, false,
                 true},
                {"peel unshaded", true, L::kNone, J::kPrecomputed, false},
                {"peel unshaded unsplit", true, L::kNone, J::kPrecomputed, false, false},
-               {"peel unshaded unsplit RGBA16 map", true, L::kNone, J::kPrecomputed, false, false,
-                16, false},
+               {"peel unshaded unsplit RGBA32F map", true, L::kNone, J::kPrecomputed, false, false,
+                16, true},
                {"peel unshaded unsplit RGBA8 map", true, L::kNone, J::kPrecomputed, false, false, 8,
                 false},
                {"peel gradient only", true, L::kGradient, J::kPrecomputed, false},
@@ -346,6 +642,27 @@ Table RunVolumeBench(const VolumeBenchOptions& o) {
         const auto [measured, error] = measure(m, displaced);
         add("map_size", e.name, "peel", 1.0, map_size, size, measured, 0, nullptr, error);
       }
+      // Correa 2006 Table 2 analogue: map size x stored bits -> the (D,
+      // alpha) texture's bytes as uploaded (8/16-bit maps stay UNORM on the
+      // GPU; the J_D textures are RGBA32F at any bits), time, and the
+      // picture's colour error against the same map stored in 32 bits.
+      for (int map_size : o.quick ? std::vector<int>{16, 64} : std::vector<int>{16, 32, 64, 128}) {
+        const ibr::VolumeObjectData m =
+            ibr::MakeVolumeObject(volume, tf, peel, map_size, glm::dvec3(0.0), glm::dvec3(1.0));
+        render::VolumePassOptions by_bits = displaced;
+        by_bits.displacement_bits = 32;
+        const Measured full = TimeVolume(programs, m, by_bits, size, timer, true);
+        const core::ErrorStats exact{};
+        add("bits", e.name, "peel 32-bit RGBA32F map", 1.0, map_size, size, full, 0, nullptr,
+            std::nan(""), &exact);
+        for (const int bits : {16, 8}) {
+          by_bits.displacement_bits = bits;
+          const Measured q = TimeVolume(programs, m, by_bits, size, timer, true);
+          const core::ErrorStats vs = core::SummarizeErrors(ColorErrors(q.color, full.color));
+          add("bits", e.name, fmt::format("peel {}-bit RGBA{} map", bits, bits), 1.0, map_size,
+              size, q, 0, nullptr, std::nan(""), &vs);
+        }
+      }
     }
     if (e.name == "neghip") {
       // Time against the rasterised proxy area: image sizes.
@@ -380,6 +697,9 @@ Table RunVolumeBench(const VolumeBenchOptions& o) {
   fmt::print("ratios at {} px, sampling distance 1 voxel (same run):\n", size);
   for (const std::string& line : summary) fmt::print("  {}\n", line);
   table.WriteCsv(o.csv);
+  const Table goals = VolumeGoalsTable(table);
+  fmt::print("{}", goals.Format());
+  goals.WriteCsv(VolumeGoalsPath(o.csv));
   if (!o.out.empty()) {
     auto subset = [&](const std::string& sweep) {
       Table t(table.columns());

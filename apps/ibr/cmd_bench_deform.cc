@@ -43,14 +43,14 @@ void AddDeformBench(CLI::App& app) {
     }
     const auto gl = StartBenchGl("ibr bench deform", options.size);
     const bench::DeformBenchResult result = bench::RunDeformBench(gl->programs, options);
-    fmt::print("{}\n{}\n{}\n{}\n{}\n{}", result.frames.Format(), result.summary.Format(),
+    fmt::print("{}\n{}\n{}\n{}\n{}\n{}\n{}", result.frames.Format(), result.summary.Format(),
                result.sdf.Format(), result.accuracy.Format(), result.implicits.Format(),
-               result.spread.Format());
+               result.spread.Format(), result.pull.Format());
     fmt::print(
         "{}\n",
         bench::Correa2007GoalsTable(result.wedge, result.forward, result.spread_figures).Format());
-    fmt::print("{}\n{}\n{}\n", result.wedge.Line(), result.forward.Line(),
-               result.spread_figures.Line());
+    fmt::print("{}\n{}\n{}\n{}\n", result.wedge.Line(), result.forward.Line(),
+               result.spread_figures.Line(), result.pull_figures.Line());
     bench::WriteDeformBench(result, options);
     fmt::print("wrote {} and plots in {}\n", options.csv.string(), options.out.string());
   });

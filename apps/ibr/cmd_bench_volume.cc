@@ -16,12 +16,13 @@ void AddVolumeBench(CLI::App& app) {
   static bench::VolumeBenchOptions options;
   auto* cmd = BenchGroup(app)->add_subcommand(
       "volume",
-      "Volume DVR with displacement maps: time per volume, sampling, map size, area; VTK peer");
+      "Volume DVR with displacement maps: time per volume, sampling, map size, area, floors, "
+      "goals (CSV_goals.csv); VTK peers (plain and prewarped)");
   AddBenchOutputs(cmd, options.csv, options.out, options.quick);
   cmd->add_option("--shared-data", options.shared_data, "the shared data folder (volumes/)")
       ->default_val("../shared/data");
   cmd->add_option("--size", options.size, "image size in pixels")->capture_default_str();
-  cmd->add_flag("!--no-peer", options.peer, "skip the VTK peer");
+  cmd->add_flag("!--no-peer", options.peer, "skip the VTK peers");
   cmd->callback([] {
     CheckBenchOutputs("ibr bench volume", options.csv, options.out);
     const auto gl = StartBenchGl("ibr bench volume", options.size);

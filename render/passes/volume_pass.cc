@@ -43,6 +43,10 @@ Texture UploadSamples(const core::Volume& v) {
   return t;
 }
 
+// Bytes a channel of a map's texture takes: the stored bits, or 4 when
+// uploaded dequantised (as_float).
+int MapTextureChannelBytes(int bits, bool as_float) { return as_float ? 4 : bits / 8; }
+
 Texture UploadMap(const core::StoredDisplacementMap& s, bool as_float) {
   Texture t;
   if (as_float && s.bits != 32) {
@@ -55,6 +59,14 @@ Texture UploadMap(const core::StoredDisplacementMap& s, bool as_float) {
   } else {
     const std::vector<uint8_t> bytes(s.unorm.begin(), s.unorm.end());
     t = Texture::Create3DWithData(GL_RGBA8, s.dims, GL_RGBA, GL_UNSIGNED_BYTE, bytes.data());
+    // MIRRORED_REPEAT reads as CLAMP_TO_EDGE wherever the shader fetches
+    // (inside the map's cube, and half a texel beyond it for the central
+    // differences), and keeps llvmpipe off its 8-bit filter path, which
+    // interpolates with 8-bit weights (far off the dequantised picture at a
+    // sharp cut): with it, RGBA8 filters as exactly as RGBA16 and RGBA32F
+    // (docs/decisions/volume-map-precision.md).
+    for (GLenum wrap : {GL_TEXTURE_WRAP_S, GL_TEXTURE_WRAP_T, GL_TEXTURE_WRAP_R})
+      glTextureParameteri(t.id(), wrap, GL_MIRRORED_REPEAT);
   }
   t.SetLinearFilter();
   return t;
@@ -338,8 +350,8 @@ VolumePass::VolumePass(ProgramCache& programs, const core::Volume& volume,
   for (int a = 0; a < 3; ++a)
     voxel_world_ = std::min(voxel_world_, static_cast<double>(glm::length(lin[a])) / dims_[a]);
 
-  if (options_.floor_shader && !maps_.empty()) {
-    core::ThrowInputError("VolumePass", "the floor shader reads no displacement maps");
+  if (options_.floor_shader && maps_.size() > 1) {
+    core::ThrowInputError("VolumePass", "the floor shader reads at most one displacement map");
   }
   proxy_box_ = VolumeProxyBox(maps_);
   glGetIntegerv(GL_MAX_TEXTURE_IMAGE_UNITS, &max_texture_units_);
@@ -394,8 +406,8 @@ void VolumePass::CheckMaps(const std::vector<VolumeMapInput>& maps) const {
 
 void VolumePass::SetMaps(std::vector<VolumeMapInput> maps) {
   CheckMaps(maps);
-  if (options_.floor_shader && !maps.empty()) {
-    core::ThrowInputError("VolumePass", "the floor shader reads no displacement maps");
+  if (options_.floor_shader && maps.size() > 1) {
+    core::ThrowInputError("VolumePass", "the floor shader reads at most one displacement map");
   }
   std::swap(maps_, maps);
   const int needed = TextureUnitsNeeded(options_);
@@ -485,6 +497,24 @@ void VolumePass::SetOptions(const VolumePassOptions& options) {
       for (Texture& t : UploadMapDerivatives(s)) derivative_textures_.push_back(std::move(t));
     }
   }
+}
+
+int64_t VolumePass::map_texture_bytes() const {
+  int64_t bytes = 0;
+  for (const core::StoredDisplacementMap& s : stored_) {
+    const int64_t texels = int64_t{s.dims.x} * s.dims.y * s.dims.z;
+    bytes += texels * 4 * MapTextureChannelBytes(s.bits, options_.float_map_textures);
+  }
+  return bytes;
+}
+
+int64_t VolumePass::derivative_texture_bytes() const {
+  int64_t bytes = 0;
+  for (size_t i = 0; i < derivative_textures_.size(); ++i) {
+    const glm::ivec3 d = stored_[i / 3].dims;
+    bytes += int64_t{d.x} * d.y * d.z * static_cast<int64_t>(sizeof(glm::vec4));
+  }
+  return bytes;
 }
 
 glm::mat4 VolumePass::world_from_proxy() const {

@@ -105,14 +105,14 @@ struct VolumePassOptions {
   // How the maps are stored on the GPU: 8 or 16 bits (scale and bias, sec. 4
   // and 8) or 32-bit float.
   int displacement_bits = 16;
-  // 8/16-bit maps go to the GPU dequantised as RGBA32F (the stored values,
-  // scaled and biased once on the CPU) at two or four times the texture
-  // memory: llvmpipe filters RGBA8 with 8-bit weights, too coarse for the
-  // mask at a sharp cut (tests/render/passes/volume_pass_test), and RGBA16
-  // saves memory but no time (ibr bench volume, the RGBA16 rows;
-  // docs/decisions/volume-map-precision.md). Off: the UNORM texture with
-  // scale and bias in the shader.
-  bool float_map_textures = true;
+  // Off (default): 8/16-bit maps stay 8/16-bit on the GPU, RGBA8 / RGBA16
+  // UNORM textures with the scale and bias applied in the shader (Correa
+  // 2006 sec. 8, Table 2: a quarter / half of RGBA32F's memory). The same
+  // picture as the dequantised upload within float rounding
+  // (tests/render/passes/volume_pass_test.cc). On: dequantised once on the
+  // CPU and uploaded as RGBA32F (the bench's baseline;
+  // docs/decisions/volume-map-precision.md).
+  bool float_map_textures = false;
   VolumeLighting lighting = VolumeLighting::kBlended;
   // Precomputed by default: the cheaper per sample (ibr bench volume).
   VolumeJacobian jacobian = VolumeJacobian::kPrecomputed;
@@ -120,12 +120,16 @@ struct VolumePassOptions {
   // same pixels, GL keeps primitive order for blending). For the bench's
   // profile of the per-draw overhead only.
   bool draw_per_slice = false;
-  // DVR without maps: each slice fragment does only what the fill-rate
-  // floor's does (render/gl/fill_rate.h, Work::kVolumeBlend): one lookup of
-  // the scalar, the transfer function, premultiplied output; no lighting and
-  // no discard (a transparent fragment blends zero). The picture is plain
-  // unshaded DVR's. For the bench's profile only: the floor's work on the
-  // slices themselves, against the same work on full-screen layers.
+  // DVR: each slice fragment does only what the fill-rate floor's does
+  // (render/gl/fill_rate.h, Work::kVolumeBlend): one lookup of the scalar,
+  // the transfer function, premultiplied output; no lighting and no discard
+  // (a transparent fragment blends zero). Without maps the picture is plain
+  // unshaded DVR's. With one map (Work::kDisplacedVolumeBlend's work): one
+  // map fetch, the scalar read where it points, no mask and no identity
+  // outside the map's active box, so not the displaced picture: the least a
+  // displaced fragment does, on the frame's own slices. For the bench only
+  // (ibr bench volume's floor rows), against the same work on full-screen
+  // layers and against the eq. 6+7 frame.
   bool floor_shader = false;
   // DVR with maps: each slice is split on the CPU by the maps' support box
   // (VolumePass::support_box: outside it every map is the identity) into the
@@ -237,6 +241,12 @@ class VolumePass : public Pass {
   // last map acts first, eq. 9, and leaves p' unmoved). Empty (lo > hi) when
   // no map moves anything.
   const core::Box3& support_box() const { return support_; }
+  // GPU memory of the maps' (D, alpha) textures as uploaded (texels x the
+  // format's bytes: 4 RGBA8, 8 RGBA16, 16 RGBA32F) and of their derivative
+  // textures (3 RGBA32F a map; 0 until the options use them): Correa 2006
+  // Table 2's "texture memory".
+  int64_t map_texture_bytes() const;
+  int64_t derivative_texture_bytes() const;
   // World length of one voxel of the smallest-spacing axis.
   double voxel_world() const { return voxel_world_; }
   glm::mat4 world_from_proxy() const;

@@ -19,8 +19,13 @@ vec4 Classify(float s) { return texture(u_transfer, (s * (u_transfer_size - 1.0)
 void main() {
   vec3 p_prime = (u_tex_from_proxy * vec4(v_p_in_box, 1.0)).xyz;
 #ifdef VOLUME_DVR_FLOOR
-  // The fill-rate floor's work (VolumePassOptions::floor_shader; no maps).
-  vec4 tf = Classify(VolumeSample(p_prime).a);
+  // The fill-rate floor's work (VolumePassOptions::floor_shader): with a map,
+  // one map fetch and the scalar read where it points (no mask, no active box).
+  vec3 p = p_prime;
+#if VOLUME_MAPS > 0
+  p += u_tex_from_map[0] * MapFetch(0, (u_map_from_tex[0] * vec4(p_prime, 1.0)).xyz).xyz;
+#endif
+  vec4 tf = Classify(VolumeSample(p).a);
   o_color = vec4(tf.rgb * tf.a, tf.a);
 #else
   Displaced d = VolumeDisplace(p_prime);

@@ -158,6 +158,41 @@ void CheckWorkloads(const DeformBenchResult& result) {
   EXPECT_TRUE(std::isfinite(result.spread_figures.ray_spread));
 }
 
+// Correa 2007 Fig. 3 (b)-(d) as counts: on the narrow pull, the Jacobian
+// step (eq. 4) misses fewer rays of the pulled column than the fixed and
+// threshold steps do (the figure's claim), counted against the double reference; every policy's
+// counts are consistent and its table row complete. A counted result, not
+// speed (the ms column is printed only).
+TEST_F(DeformBenchTest, NarrowPullJacobianStepMissesFewerRaysThanTheFixedStep) {
+  DeformPullFigures figures;
+  const Table t = RunDeformNarrowPull(programs(), 128, figures);
+  std::printf("%s\n%s\n", t.Format().c_str(), figures.Line().c_str());
+  EXPECT_EQ(t.columns(),
+            (std::vector<std::string>{"policy", "size_px", "field_resolution", "step_voxels",
+                                      "misses", "wrong_pixels", "compared_pixels",
+                                      "samples_per_ray", "ms_per_frame"}));
+  ASSERT_EQ(t.rows().size(), 3u);
+  for (const auto& row : t.rows()) {
+    for (const char* c : {"misses", "wrong_pixels", "samples_per_ray", "ms_per_frame"})
+      EXPECT_GE(Value(t, row, c), 0) << c;
+    EXPECT_GT(Value(t, row, "compared_pixels"), 1000);
+  }
+  const auto* fixed = figures.Find("fixed");
+  const auto* threshold = figures.Find("threshold");
+  const auto* jacobian = figures.Find("jacobian");
+  ASSERT_TRUE(fixed && threshold && jacobian);
+  for (const auto* p : {fixed, threshold, jacobian}) {
+    EXPECT_LE(p->misses, p->wrong) << p->name;  // a miss is a wrong pixel
+    EXPECT_GT(p->samples_per_ray, 0) << p->name;
+  }
+  // The fixed step misses part of the column, the threshold step too (Fig.
+  // 3 (b), (c)); the Jacobian step fewer than either (d).
+  EXPECT_GT(fixed->misses, 0);
+  EXPECT_LT(jacobian->misses, fixed->misses);
+  EXPECT_LT(jacobian->misses, threshold->misses);
+  EXPECT_NO_GL_ERROR();
+}
+
 TEST_F(DeformBenchTest, QuickRunMeasuresEveryMeshModeAndScale) {
   DeformBenchOptions options;
   options.quick = true;

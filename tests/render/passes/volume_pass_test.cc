@@ -266,18 +266,31 @@ TEST_F(GlTest, VolumeDvrAgreesWithTheDoubleReference) {
     // The bench's floor profile (no discard, no lighting): the same picture.
     s.options.floor_shader = true;
     cases.push_back({"neghip plain floor shader", s});
+    // The displaced floor (one map fetch, the scalar where it points; no
+    // mask, no identity outside the map's active box): with a constant shift
+    // whose cube holds the whole proxy box, the displaced picture.
+    {
+      VolumeMapInput shift;
+      shift.map.dims = {4, 4, 4};
+      shift.map.texels.assign(64, glm::vec4(0.04f, -0.03f, 0.02f, 1.0f));
+      shift.placement =
+          glm::scale(glm::translate(glm::dmat4(1.0), glm::dvec3(-0.25)), glm::dvec3(1.5));
+      Scene f = s;
+      f.maps = {shift};
+      f.options.support_skip = false;
+      f.options.displacement_bits = 32;
+      cases.push_back({"neghip displaced floor shader, constant shift", f});
+    }
     s.options.floor_shader = false;
     s.maps.push_back(PlacedEffect(K::kPeel, {32, 32, 32}));
     cases.push_back({"neghip peel 16-bit", s});
-    // The RGBA16 texture (scale and bias in the shader) instead of the
-    // dequantised RGBA32F one: the same values, so the same bounds. (An
-    // RGBA8 texture is not: llvmpipe filters it with 8-bit weights, 75/255
-    // off at the peel's cut, which the RGBA32F upload of 8-bit maps avoids.)
-    s.options.float_map_textures = false;
-    cases.push_back({"neghip peel 16-bit RGBA16 texture", s});
+    // The dequantised RGBA32F texture instead of the RGBA16 one (scale and
+    // bias in the shader): the same values, so the same bounds.
     s.options.float_map_textures = true;
+    cases.push_back({"neghip peel 16-bit RGBA32F texture", s});
+    s.options.float_map_textures = false;
     s.options.displacement_bits = 8;
-    cases.push_back({"neghip peel 8-bit", s});
+    cases.push_back({"neghip peel 8-bit RGBA8 texture", s});
     s.options.displacement_bits = 32;
     s.maps.push_back(
         PlacedEffect(K::kWave, {32, 8, 8},
@@ -321,6 +334,51 @@ TEST_F(GlTest, VolumeDvrAgreesWithTheDoubleReference) {
             static_cast<uint8_t>(std::clamp(got.color.values()[i] * 255.0f, 0.0f, 255.0f));
       test_support::WriteDebugImage(std::string("dvr-") + c.label + ".png", img);
     }
+  }
+  EXPECT_NO_GL_ERROR();
+}
+
+// 8- and 16-bit maps kept 8/16-bit on the GPU (RGBA8 / RGBA16 UNORM, scale
+// and bias in the shader) hold the same numbers as their dequantised RGBA32F
+// upload: the same picture, over effects with sharp cuts (peel, slices,
+// seam) and a smooth one (pull), lit by eq. 6+7, from three views.
+TEST_F(GlTest, VolumeUnormMapTexturesDrawTheDequantisedPicture) {
+  const auto dat = test_support::SharedData("volumes/neghip_64x64x64_uint8.dat");
+  if (dat.empty()) GTEST_SKIP() << "../shared/data is absent";
+  const core::Volume volume = core::ReadVolume(dat);
+  const double radius = 0.5 * glm::length(volume.Extent());
+  for (const int bits : {8, 16}) {
+    double worst = 0, sum = 0;
+    int64_t values = 0, off = 0;
+    for (const core::Effect effect :
+         {core::Effect::kPeel, core::Effect::kSlices, core::Effect::kSeam, core::Effect::kPull}) {
+      Scene s{volume, core::TransferPreset("neghip"), {PlacedEffect(effect, {32, 32, 32})}, {}};
+      s.options.displacement_bits = bits;
+      for (const double azimuth : {30.0, 150.0, 260.0}) {
+        const OrthoCamera cam = Ortho(azimuth, 25, 1.6 * radius, 96);
+        s.options.float_map_textures = true;
+        const core::ImageF dequantised = Render(*this, programs(), s, cam).color;
+        s.options.float_map_textures = false;
+        const core::ImageF unorm = Render(*this, programs(), s, cam).color;
+        for (size_t i = 0; i < unorm.values().size(); ++i) {
+          const double e = std::abs(unorm.values()[i] - dequantised.values()[i]) * 255;
+          worst = std::max(worst, e);
+          sum += e;
+          off += e > 0.5;
+          ++values;
+        }
+      }
+    }
+    std::printf(
+        "%d-bit map as RGBA%d UNORM vs dequantised RGBA32F: max %.4f/255, mean %.6f/255, %lld of "
+        "%lld channel values more than 0.5/255 apart\n",
+        bits, bits, worst, sum / static_cast<double>(values), static_cast<long long>(off),
+        static_cast<long long>(values));
+    // The same numbers: only float rounding of (2 t - 1) scale in the shader
+    // against the CPU's may differ (measured 0.0021/255 at 8 bits, 0.0013 at
+    // 16). Bound 0.02/255; an RGBA8 texture filtered with llvmpipe's 8-bit
+    // weights (CLAMP_TO_EDGE) was 73/255 off at the cuts.
+    EXPECT_LE(worst, 0.02) << bits;
   }
   EXPECT_NO_GL_ERROR();
 }
@@ -1261,14 +1319,14 @@ TEST_F(GlTest, VolumePassRefusesBadInput) {
   EXPECT_THROW(
       VolumePass(programs(), v, core::TransferPreset("ramp"), {nan_map}, glm::mat4(1.0f), {}),
       core::InputError);
-  // The floor shader is plain DVR's: no maps, no iso mode.
+  // The floor shader reads at most one map (the displaced floor), no iso mode.
   VolumePassOptions floor_options;
   floor_options.floor_shader = true;
   VolumeMapInput identity;
   identity.map.dims = {1, 1, 1};
   identity.map.texels = {{0, 0, 0, 1}};
-  EXPECT_THROW(VolumePass(programs(), v, core::TransferPreset("ramp"), {identity}, glm::mat4(1.0f),
-                          floor_options),
+  EXPECT_THROW(VolumePass(programs(), v, core::TransferPreset("ramp"), {identity, identity},
+                          glm::mat4(1.0f), floor_options),
                core::InputError);
   floor_options.mode = VolumeMode::kIso;
   EXPECT_THROW(floor_options.Check(), core::InputError);
