@@ -201,6 +201,10 @@ DeformObjectOptions DeformObjectOptionsFrom(const scene::Settings& settings) {
   if (o.sdf_resolution < 8 || o.sdf_resolution > 512)
     settings.Fail("resolution", fmt::format("{} outside 8..512", o.sdf_resolution));
   o.cap_holes = Bool(settings, "cap_holes", false);
+  if (settings.Has("reach")) {
+    o.sdf_reach = settings.GetDouble("reach", 0.0);
+    if (!(*o.sdf_reach >= 0)) settings.Fail("reach", fmt::format("{} must be >= 0", *o.sdf_reach));
+  }
   return o;
 }
 
@@ -292,6 +296,7 @@ struct Implicit {
   core::DistanceField sdf;
   render::DepthCube depth_cube;
   std::optional<core::TriangleMesh> capped;  // CappedMesh
+  core::Placement placement;                 // the box it was built over
   double reach = 0.0;
   double seconds = 0.0;
 };
@@ -310,6 +315,7 @@ Implicit BuildImplicit(const core::TriangleMesh& mesh, const core::Placement& pl
   const core::MeshDistance distance(mesh, options.cap_holes, where);
   const core::Box3d box = placement.ObjectBounds();
   Implicit i;
+  i.placement = placement;
   i.capped = CappedMesh(distance);
   if (cube) {
     IBR_CHECK(programs != nullptr);  // the depth cube renders its maps
@@ -333,6 +339,7 @@ void SetImplicit(DeformObjectData& d, Implicit i) {
   d.sdf = std::move(i.sdf);
   d.depth_cube = std::move(i.depth_cube);
   d.capped = std::move(i.capped);
+  d.field_placement = i.placement;
   d.sdf_reach = i.reach;
   d.sdf_seconds = i.seconds;
   ++d.implicit_builds;
@@ -383,7 +390,7 @@ DeformObjectChange UpdateDeformObject(DeformObjectData& data,
                        old_options.deformation_resolution != options.deformation_resolution;
   change.pass = old_options.pass != options.pass;
   const bool cube = options.pass.implicit == render::DeformImplicit::kDepthCube;
-  change.implicit = placement || old_options.pass.implicit != options.pass.implicit ||
+  change.implicit = (cube && placement) || old_options.pass.implicit != options.pass.implicit ||
                     old_options.sdf_resolution != options.sdf_resolution ||
                     old_options.cap_holes != options.cap_holes ||
                     (!cube && old_options.sdf_reach != options.sdf_reach);
@@ -392,6 +399,14 @@ DeformObjectChange UpdateDeformObject(DeformObjectData& data,
   next.placement = placement ? DeformPlacement(options, NormMeshBounds(data.mesh)) : data.placement;
   next.max_displacement = data.max_displacement;
   if (change.deformation) SampleDeformObject(next, options, NormMeshBounds(data.mesh));
+  // A field built over another box (the field's extent follows the box).
+  if (!cube && data.field_placement.object_from_box != next.placement.object_from_box) {
+    if (defer_reach && !change.implicit) {
+      change.implicit_deferred = true;
+    } else {
+      change.implicit = true;
+    }
+  }
   // A field that does not reach as far as the new deformation needs.
   if (!cube && data.sdf_reach < next.max_displacement) {
     if (defer_reach && !change.implicit) {

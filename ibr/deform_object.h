@@ -66,6 +66,8 @@ void SetDeformationDefaults(core::Deformation& deformation);
 //   resolution   distance-field samples along the longest axis, or the depth
 //                cube's map size in pixels (8..512)
 //   cap_holes    true/false
+//   reach        the distance field's reach beyond the box (normalised units,
+//                >= 0; sdf_reach)
 DeformObjectOptions DeformObjectOptionsFrom(const scene::Settings& settings);
 
 // Everything a render::DeformPass needs (Inputs() refers to the members:
@@ -81,6 +83,10 @@ struct DeformObjectData {
   core::DistanceField sdf;           // DeformImplicit::kSdf (empty otherwise)
   render::DepthCube depth_cube;      // DeformImplicit::kDepthCube (empty otherwise)
   core::DeformationTexture texture;
+  // The deformation box the distance field was built over (its extent
+  // follows the box): differs from `placement` while a moved box's field is
+  // deferred (UpdateDeformObject's defer_reach).
+  core::Placement field_placement;
   double sdf_seconds = 0.0;  // the implicit's build time (distance field or depth cube)
   double sdf_reach = 0.0;    // the distance field's reach beyond the box (normalised units)
   int implicit_builds = 0;   // times the implicit was built (1 after MakeDeformObject)
@@ -134,8 +140,9 @@ struct DeformObjectChange {
 // MakeDeformObject(options) makes the same data. Cut, step and skip options
 // change the pass alone. options.Check() first (InputError naming `where`);
 // on any error nothing changes. `defer_reach`: a field the displacement
-// outgrows is kept (change.implicit_deferred) unless something else asks for
-// a rebuild; the same update without it then rebuilds the field.
+// outgrows, or the field of a box the placement moved, is kept
+// (change.implicit_deferred) unless something else asks for a rebuild; the
+// same update without it then rebuilds the field.
 DeformObjectChange UpdateDeformObject(DeformObjectData& data,
                                       const DeformObjectOptions& old_options,
                                       DeformObjectOptions& options, const std::string& where,

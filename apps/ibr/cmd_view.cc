@@ -14,6 +14,7 @@
 #include <memory>
 
 #include "apps/ibr/commands.h"
+#include "apps/viewer/input_events.h"
 #include "apps/viewer/scenes.h"
 #include "apps/viewer/viewer.h"
 #include "capture/builtin_scenes.h"
@@ -33,6 +34,7 @@ struct ViewCommandOptions {
   std::string window = "960x720";
   std::string up;  // empty: a dataset's own (capture::DefaultUp), a scene's +y
   bool no_panel = false;
+  std::filesystem::path replay;
   viewer::ViewerOptions viewer;
 };
 
@@ -53,6 +55,9 @@ void RunView(ViewCommandOptions& o) {
   o.viewer.height = h;
   o.viewer.panel = !o.no_panel;
   if (!o.up.empty()) o.viewer.up = glm::vec3(ibr::ParseUp(o.up, "--up"));
+  if (!o.replay.empty()) o.viewer.replay = viewer::ReadRecording(o.replay);
+  if (!o.viewer.save_scene.empty() && o.dataset.extension() != ".json")
+    core::ThrowInputError("ibr view", "--save-scene needs a scene file (SCENE.json)");
   o.viewer.Check();
   if (o.dataset.extension() == ".json") return RunSceneView(o);
   // Validate everything before a window opens.
@@ -111,10 +116,22 @@ void AddViewCommand(CLI::App& app) {
                   "adaptive divisor: the frame time, in milliseconds, a moving frame aims at")
       ->capture_default_str();
   cmd->add_option("--frame-out", o.viewer.frame_out,
-                  "with --screenshot: also save the last exact frame (RGBA PNG, no panel)");
+                  "with --screenshot or --replay: also save the last exact frame (RGBA PNG, no "
+                  "panel)");
   cmd->add_option("--camera-out", o.viewer.camera_out,
-                  "with --screenshot: also save its camera (a cameras-only dataset.json for "
+                  "with --screenshot or --replay: also save its camera (a cameras-only "
+                  "dataset.json for "
                   "`ibr render --cameras`)");
+  cmd->add_option("--record", o.viewer.record,
+                  "write the session's mouse and key events to this JSON file when the window "
+                  "closes (docs/guide/viewer.md)");
+  cmd->add_option("--replay", o.replay,
+                  "replay recorded events (--record) through the same handlers in a hidden "
+                  "window, then exit at the exact frame (with --frame-out, --camera-out, "
+                  "--save-scene)");
+  cmd->add_option("--save-scene", o.viewer.save_scene,
+                  "on exit, save the scene as edited, its camera the window's, to this JSON file "
+                  "(`ibr render` of it draws the viewer's exact frame)");
   cmd->callback([] { RunView(o); });
 }
 

@@ -8,6 +8,7 @@
 #include <initializer_list>
 #include <memory>
 
+#include "apps/viewer/scene_edits.h"
 #include "core/error.h"
 #include "ibr/dataset_maps.h"
 
@@ -186,9 +187,12 @@ std::unique_ptr<Scene> MakeDatasetScene(const ibr::DepthObjectOptions& options, 
 }
 
 SceneFileScene::SceneFileScene(const scene::Scene& file)
-    : title_("ibr view: " + file.name),
+    : file_(file),
+      title_("ibr view: " + file.name),
       loaded_(ibr::LoadScene(programs_, file)),
       renderer_(programs_, loaded_) {
+  for (size_t i = 0; i < loaded_.objects.size() && !gizmo_object_; ++i)
+    if (loaded_.objects[i].type == scene::ObjectType::kDeform) gizmo_object_ = i;
   const capture::Bounds& b = loaded_.bounds;
   centre_ = glm::vec3(0.5 * (b.min + b.max));
   radius_ = 0.5f * static_cast<float>(glm::length(b.max - b.min));
@@ -200,6 +204,11 @@ SceneFileScene::SceneFileScene(const scene::Scene& file)
 
 bool SceneFileScene::DrawControls() {
   bool changed = false;
+  if (gizmo_object_) {
+    ImGui::Text("gizmo on '%s': %s%s", loaded_.objects[*gizmo_object_].name.c_str(),
+                GizmoModeName(gizmo_mode_), gizmo_shown_ ? "" : " (hidden)");
+    ImGui::TextUnformatted("keys: T translate, R rotate, S scale, G hide, N next object");
+  }
   ImGui::TextUnformatted("objects:");
   for (const std::string& o : objects_) ImGui::BulletText("%s", o.c_str());
   ImGui::TextUnformatted("passes:");
@@ -275,6 +284,103 @@ void SceneFileScene::Settle() {
     if (o.type == scene::ObjectType::kVolume && o.volume->preview_maps)
       renderer_.UpdateVolume(loaded_, i, o.volume_options);
   }
+}
+
+GizmoBox SceneFileScene::GizmoBoxOf(size_t index) const {
+  const ibr::LoadedObject& o = loaded_.objects[index];
+  GizmoBox box;
+  box.world_from_norm = o.world_from_object;  // world_from_object * object_from_norm
+  box.norm_from_box = o.deform->placement.object_from_box;
+  for (const core::Deformation& d : o.deform_options.deformation.terms) {
+    box.knife |= d.kind == core::DeformationKind::kKnife;
+    if (d.kind == core::DeformationKind::kPeel && !box.peel_angle) {
+      box.peel_angle = d.amount;
+      box.peel_thickness = d.width;
+    }
+  }
+  return box;
+}
+
+bool SceneFileScene::PointerPress(const FrameCamera& camera, const glm::dvec2& pixel) {
+  if (!gizmo_shown_ || !gizmo_object_) return false;
+  const GizmoBox box = GizmoBoxOf(*gizmo_object_);
+  drag_handle_ = PickHandle(box, camera, pixel);
+  if (!drag_handle_) return false;
+  const ibr::DeformObjectOptions& o = loaded_.objects[*gizmo_object_].deform_options;
+  drag_from_ = pixel;
+  drag_box_ = box;
+  drag_start_ = {o.translation, o.rotation_deg, o.scale, box.peel_angle.value_or(0.0)};
+  return true;
+}
+
+bool SceneFileScene::PointerDrag(const FrameCamera& camera, const glm::dvec2& pixel) {
+  if (!drag_handle_ || !gizmo_object_) return false;
+  const GizmoPlacement p =
+      DragHandle(drag_box_, drag_start_, gizmo_mode_, *drag_handle_, camera, drag_from_, pixel);
+  const size_t index = *gizmo_object_;
+  ibr::DeformObjectOptions o = loaded_.objects[index].deform_options;
+  o.translation = p.translation;
+  o.rotation_deg = p.rotation_deg;
+  o.scale = p.scale;
+  if (KindOfHandle(*drag_handle_) == HandleKind::kPeelEdge) {
+    for (core::Deformation& d : o.deformation.terms) {
+      if (d.kind != core::DeformationKind::kPeel) continue;
+      d.amount = p.peel_angle;
+      break;
+    }
+  }
+  const ibr::DeformObjectOptions& before = loaded_.objects[index].deform_options;
+  if (o.translation == before.translation && o.rotation_deg == before.rotation_deg &&
+      o.scale == before.scale && o.deformation == before.deformation) {
+    return false;
+  }
+  try {
+    UpdateDeformWhileMoving(index, o);
+    error_.clear();
+  } catch (const core::InputError& e) {
+    error_ = e.what();  // e.g. a scale Check refuses; the object is unchanged
+    return false;
+  }
+  return true;
+}
+
+void SceneFileScene::PointerRelease() { drag_handle_.reset(); }
+
+bool SceneFileScene::Key(int key) {
+  switch (key) {
+    case 'T':
+      gizmo_mode_ = GizmoMode::kTranslate;
+      break;
+    case 'R':
+      gizmo_mode_ = GizmoMode::kRotate;
+      break;
+    case 'S':
+      gizmo_mode_ = GizmoMode::kScale;
+      break;
+    case 'G':
+      gizmo_shown_ = !gizmo_shown_;
+      break;
+    case 'N':
+      for (size_t k = 1; gizmo_object_ && k <= loaded_.objects.size(); ++k) {
+        const size_t i = (*gizmo_object_ + k) % loaded_.objects.size();
+        if (loaded_.objects[i].type != scene::ObjectType::kDeform) continue;
+        gizmo_object_ = i;
+        break;
+      }
+      break;
+    default:
+      break;
+  }
+  return false;  // the overlay changes, the frame does not
+}
+
+std::vector<OverlayLine> SceneFileScene::Overlay(const FrameCamera& camera) const {
+  if (!gizmo_shown_ || !gizmo_object_) return {};
+  return GizmoLines(GizmoBoxOf(*gizmo_object_), camera, gizmo_mode_, drag_handle_);
+}
+
+scene::Scene SceneFileScene::EditedScene(const FrameCamera& camera) const {
+  return SceneWithEdits(file_, loaded_, ViewCameraOf(camera));
 }
 
 std::string SceneFileScene::Status() const {

@@ -7,9 +7,11 @@
 #pragma once
 
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
+#include "apps/viewer/gizmo.h"
 #include "apps/viewer/viewer.h"
 #include "ibr/depth_object.h"
 #include "ibr/image_maps.h"
@@ -52,6 +54,16 @@ class SceneFileScene : public Scene {
   // the preview maps of volumes.
   void Settle() override;
 
+  // The gizmo on the selected deform object's box (apps/viewer/gizmo.h);
+  // keys: T translate, R rotate, S scale, G hide or show, N the next deform
+  // object.
+  bool PointerPress(const FrameCamera& camera, const glm::dvec2& pixel) override;
+  bool PointerDrag(const FrameCamera& camera, const glm::dvec2& pixel) override;
+  void PointerRelease() override;
+  bool Key(int key) override;
+  std::vector<OverlayLine> Overlay(const FrameCamera& camera) const override;
+  scene::Scene EditedScene(const FrameCamera& camera) const override;
+
   // The scene as loaded and edited so far (ibr::RenderSceneToDataset of it
   // renders what `ibr render` renders for a file with these options).
   const ibr::LoadedScene& loaded() const { return loaded_; }
@@ -63,6 +75,10 @@ class SceneFileScene : public Scene {
   // A deform object's new options while moving: a field the displacement
   // outgrows is rebuilt only in Settle.
   void UpdateDeformWhileMoving(size_t index, const ibr::DeformObjectOptions& options);
+  // The selected deform object's box, knife and peel as the gizmo sees them.
+  GizmoBox GizmoBoxOf(size_t index) const;
+
+  scene::Scene file_;  // as read: what EditedScene rewrites
 
   std::string title_;
   render::ProgramCache programs_;
@@ -73,6 +89,15 @@ class SceneFileScene : public Scene {
   std::vector<size_t> unsettled_;  // deform objects whose field a drag outgrew
   glm::vec3 centre_{0};
   float radius_ = 1;
+  // The gizmo: the deform object it is on, its mode, and a drag in progress
+  // (the handle, where and on what box it started).
+  std::optional<size_t> gizmo_object_;
+  GizmoMode gizmo_mode_ = GizmoMode::kTranslate;
+  bool gizmo_shown_ = true;
+  std::optional<int> drag_handle_;
+  glm::dvec2 drag_from_{0.0};
+  GizmoBox drag_box_;
+  GizmoPlacement drag_start_;
 };
 
 }  // namespace viewer
