@@ -1,11 +1,14 @@
 #include "ibr/deform_object.h"
 
 #include <fmt/format.h>
+#include <sys/resource.h>
+#include <unistd.h>
 
 #include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <future>
 #include <glm/gtc/matrix_transform.hpp>
 #include <sstream>
 
@@ -302,7 +305,8 @@ struct Implicit {
 };
 Implicit BuildImplicit(const core::TriangleMesh& mesh, const core::Placement& placement,
                        double max_displacement, const DeformObjectOptions& options,
-                       const std::string& where, bool progress, render::ProgramCache* programs) {
+                       const std::string& where, bool progress, render::ProgramCache* programs,
+                       int threads = 0) {
   const bool cube = options.pass.implicit == render::DeformImplicit::kDepthCube;
   if (progress) {
     std::fprintf(stderr, "deform: %zu triangles, max displacement %.4f; building the %s\n",
@@ -324,6 +328,7 @@ Implicit BuildImplicit(const core::TriangleMesh& mesh, const core::Placement& pl
     core::DistanceFieldOptions sdf_options;
     sdf_options.resolution = options.sdf_resolution;
     sdf_options.progress = progress;
+    sdf_options.threads = threads;
     // Grown by the reach (samples land up to the largest displacement out)
     // and two voxels for the normals' central differences.
     const double voxel =
@@ -346,6 +351,49 @@ void SetImplicit(DeformObjectData& d, Implicit i) {
 }
 
 }  // namespace
+
+struct DeformFieldBuild::Worker {
+  std::future<Implicit> result;
+};
+
+DeformFieldBuild::DeformFieldBuild(std::shared_ptr<const DeformObjectData> data,
+                                   const DeformObjectOptions& options, std::string where,
+                                   int threads, int nice)
+    : worker_(std::make_unique<Worker>()),
+      placement_(data->placement),
+      resolution_(options.sdf_resolution),
+      cap_holes_(options.cap_holes),
+      reach_(std::max(options.sdf_reach.value_or(0.0), 1.5 * data->max_displacement)) {
+  IBR_CHECK(options.pass.implicit == render::DeformImplicit::kSdf);
+  DeformObjectOptions build = options;
+  build.sdf_reach = reach_;
+  worker_->result = std::async(
+      std::launch::async, [data = std::move(data), build, where = std::move(where), threads, nice] {
+        // Linux: a thread's own niceness (the calling thread's alone).
+        if (nice != 0) setpriority(PRIO_PROCESS, static_cast<id_t>(::gettid()), nice);
+        return BuildImplicit(data->mesh, data->placement, data->max_displacement, build, where,
+                             /*progress=*/false, /*programs=*/nullptr, threads);
+      });
+}
+
+DeformFieldBuild::~DeformFieldBuild() {
+  if (worker_->result.valid()) worker_->result.wait();
+}
+
+bool DeformFieldBuild::Ready() const {
+  return worker_->result.valid() &&
+         worker_->result.wait_for(std::chrono::seconds(0)) == std::future_status::ready;
+}
+
+bool DeformFieldBuild::Used() const { return !worker_->result.valid(); }
+
+bool DeformFieldBuild::Serves(const DeformObjectOptions& options, const core::Placement& placement,
+                              double max_displacement) const {
+  return worker_->result.valid() && options.pass.implicit == render::DeformImplicit::kSdf &&
+         placement.object_from_box == placement_.object_from_box &&
+         options.sdf_resolution == resolution_ && options.cap_holes == cap_holes_ &&
+         reach_ >= max_displacement && reach_ >= options.sdf_reach.value_or(0.0);
+}
 
 std::optional<core::TriangleMesh> CappedMesh(const core::MeshDistance& distance) {
   if (distance.capped_holes() == 0) return std::nullopt;
@@ -376,7 +424,8 @@ DeformObjectData MakeDeformObject(core::TriangleMesh mesh, const DeformObjectOpt
 DeformObjectChange UpdateDeformObject(DeformObjectData& data,
                                       const DeformObjectOptions& old_options,
                                       DeformObjectOptions& options, const std::string& where,
-                                      render::ProgramCache* programs, bool defer_reach) {
+                                      render::ProgramCache* programs, bool defer_reach,
+                                      DeformFieldBuild* prebuilt) {
   try {
     options.Check();
   } catch (const core::InputError& e) {
@@ -422,7 +471,16 @@ DeformObjectChange UpdateDeformObject(DeformObjectData& data,
     reach = std::max(reach.value_or(0.0), 1.5 * next.max_displacement);
   }
   std::optional<Implicit> implicit;
-  if (change.implicit) {
+  // A field built in the background that serves the update replaces the
+  // rebuild (or the kept field); while deferring only when it is done.
+  if (!cube && (change.implicit || change.implicit_deferred) && prebuilt != nullptr &&
+      prebuilt->Serves(options, next.placement, next.max_displacement) &&
+      (!defer_reach || prebuilt->Ready())) {
+    implicit = prebuilt->worker_->result.get();
+    change.implicit = true;
+    change.implicit_deferred = false;
+    reach = implicit->reach;
+  } else if (change.implicit) {
     DeformObjectOptions build = options;
     build.sdf_reach = reach;
     implicit = BuildImplicit(data.mesh, next.placement, next.max_displacement, build, where,

@@ -13,7 +13,10 @@ namespace {
 // Comma-joined numbers, each with the digits that parse back to its bits.
 std::string Join(const std::vector<double>& values) {
   std::string s;
-  for (double v : values) s += (s.empty() ? "" : ",") + fmt::format("{}", v);
+  for (double v : values) {
+    if (!s.empty()) s += ',';
+    s += fmt::format("{}", v);
+  }
   return s;
 }
 
@@ -50,7 +53,8 @@ scene::Settings DeformSettings(const ibr::DeformObjectOptions& o, scene::Setting
   std::string kinds;
   std::vector<double> amounts, widths;
   for (const core::Deformation& d : o.deformation.terms) {
-    kinds += (kinds.empty() ? "" : ",") + core::DeformationKindName(d.kind);
+    if (!kinds.empty()) kinds += ',';
+    kinds += core::DeformationKindName(d.kind);
     amounts.push_back(d.amount);
     widths.push_back(d.width);
   }

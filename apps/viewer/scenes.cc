@@ -267,10 +267,95 @@ bool SceneFileScene::DragParameter(double t) {
 
 void SceneFileScene::UpdateDeformWhileMoving(size_t index,
                                              const ibr::DeformObjectOptions& options) {
-  if (renderer_.UpdateDeform(loaded_, index, options, /*defer_reach=*/true).implicit_deferred &&
+  const auto build = builds_.find(index);
+  const ibr::DeformObjectChange change =
+      renderer_.UpdateDeform(loaded_, index, options, /*defer_reach=*/true,
+                             build == builds_.end() ? nullptr : build->second.get());
+  if (change.implicit_deferred &&
       std::find(unsettled_.begin(), unsettled_.end(), index) == unsettled_.end()) {
     unsettled_.push_back(index);
   }
+  FollowBuild(index, change.implicit_deferred, change.deformation);
+}
+
+double SceneFileScene::ReachForDrags(size_t index) {
+  const ibr::LoadedObject& o = loaded_.objects[index];
+  ReachHint& hint = reach_hints_[index];
+  const core::DeformationSum& now = o.deform_options.deformation;
+  const bool same_kinds = hint.kinds.terms.size() == now.terms.size() &&
+                          std::equal(now.terms.begin(), now.terms.end(), hint.kinds.terms.begin(),
+                                     [](const core::Deformation& a, const core::Deformation& b) {
+                                       return a.kind == b.kind;
+                                     });
+  if (!same_kinds || hint.placement != o.deform->placement.object_from_box) {
+    // Every term at the slider end that displaces most (the larger |amount|,
+    // the widest width).
+    hint.kinds = now;
+    for (core::Deformation& d : hint.kinds.terms) {
+      const DeformationRanges r = RangesOf(d.kind);
+      d.amount = std::abs(r.amount_lo) > std::abs(r.amount_hi) ? r.amount_lo : r.amount_hi;
+      if (r.width_hi > r.width_lo) d.width = r.width_hi;
+    }
+    hint.placement = o.deform->placement.object_from_box;
+    hint.reach = core::MaxObjectDisplacement(hint.kinds, o.deform->placement,
+                                             o.deform_options.deformation_resolution);
+  }
+  return hint.reach;
+}
+
+void SceneFileScene::FollowBuild(size_t index, bool deferred, bool deformation_moved) {
+  auto it = builds_.find(index);
+  if (it != builds_.end() && it->second->Used()) {
+    builds_.erase(it);
+    it = builds_.end();
+  }
+  if (!deferred)
+    unsettled_.erase(std::remove(unsettled_.begin(), unsettled_.end(), index), unsettled_.end());
+  const ibr::LoadedObject& o = loaded_.objects[index];
+  // Only a field over the box as it stands: one over a box still being
+  // dragged would be stale when done (a moved box's field is rebuilt at rest).
+  if (o.deform_options.pass.implicit != render::DeformImplicit::kSdf ||
+      o.deform->placement.object_from_box != o.deform->field_placement.object_from_box) {
+    return;
+  }
+  // The field a drag of the sliders cannot outgrow: built when a drag
+  // starts to need it, so it is ready (or nearly) when the mouse rests.
+  const double reach = std::max(ReachForDrags(index), 1.5 * o.deform->max_displacement);
+  if (!deferred && (!deformation_moved || o.deform->sdf_reach >= ReachForDrags(index))) return;
+  ibr::DeformObjectOptions wanted = o.deform_options;
+  wanted.sdf_reach = reach;
+  if (it != builds_.end()) {
+    if (!it->second->Ready() ||
+        it->second->Serves(wanted, o.deform->placement, o.deform->max_displacement)) {
+      return;  // running, or done and still of use
+    }
+    stale_.push_back(std::move(it->second));
+    builds_.erase(it);
+  }
+  // One thread at a lower priority: the frames still moving keep the CPU
+  // they need (docs/decisions/viewer-manipulation.md).
+  builds_[index] = std::make_unique<ibr::DeformFieldBuild>(
+      o.deform, wanted, fmt::format("object '{}'", o.name), /*threads=*/1, /*nice=*/10);
+}
+
+bool SceneFileScene::Poll() {
+  std::erase_if(stale_, [](const auto& b) { return b->Ready(); });
+  bool changed = false;
+  for (size_t index : std::vector<size_t>(unsettled_)) {
+    const auto it = builds_.find(index);
+    if (it == builds_.end() || !it->second->Ready()) continue;
+    try {
+      const ibr::DeformObjectChange change =
+          renderer_.UpdateDeform(loaded_, index, loaded_.objects[index].deform_options,
+                                 /*defer_reach=*/true, it->second.get());
+      changed |= change.Any();
+      FollowBuild(index, change.implicit_deferred, /*deformation_moved=*/false);
+    } catch (const core::InputError& e) {
+      error_ = e.what();
+      builds_.erase(index);
+    }
+  }
+  return changed;
 }
 
 void SceneFileScene::Settle() {
@@ -278,7 +363,18 @@ void SceneFileScene::Settle() {
   // shows in the panel).
   const std::vector<size_t> pending = std::move(unsettled_);
   unsettled_.clear();
-  for (size_t i : pending) renderer_.UpdateDeform(loaded_, i, loaded_.objects[i].deform_options);
+  for (size_t i : pending) {
+    const auto it = builds_.find(i);
+    std::unique_ptr<ibr::DeformFieldBuild> build;
+    if (it != builds_.end()) {
+      build = std::move(it->second);
+      builds_.erase(it);
+    }
+    // The background field where it serves (waited for), else a rebuild.
+    renderer_.UpdateDeform(loaded_, i, loaded_.objects[i].deform_options, /*defer_reach=*/false,
+                           build.get());
+    if (build && !build->Used()) stale_.push_back(std::move(build));
+  }
   for (size_t i = 0; i < loaded_.objects.size(); ++i) {
     const ibr::LoadedObject& o = loaded_.objects[i];
     if (o.type == scene::ObjectType::kVolume && o.volume->preview_maps)
