@@ -25,12 +25,10 @@ glm::dvec3 World(const GizmoBox& box, const glm::dvec3& u) {
   return glm::dvec3(box.world_from_norm * box.norm_from_box * glm::dvec4(u, 1.0));
 }
 
-double PeelTop(const GizmoBox& box) { return 1.0 - box.peel_thickness; }
-
-// The flap's free edge at angle `a` (core/deformation.cc: the flap's far
-// side x = 1 turned about the hinge x = 0.5, z = 1 - T).
+// The flap's free edge at angle `a`: its far side turned about the hinge.
 std::pair<glm::dvec3, glm::dvec3> PeelEdge(const GizmoBox& box, double a) {
-  const double x = 0.5 + 0.5 * std::cos(a), z = PeelTop(box) + 0.5 * std::sin(a);
+  const double x = box.peel_hinge.x + box.peel_length * std::cos(a);
+  const double z = box.peel_hinge.y + box.peel_length * std::sin(a);
   return {{x, 0, z}, {x, 1, z}};
 }
 
@@ -47,7 +45,8 @@ std::pair<glm::dvec3, glm::dvec3> HandleSegment(const GizmoBox& box, int handle)
 }
 
 bool HasHandle(const GizmoBox& box, int handle) {
-  return handle < 3 || (handle == 3 && box.knife) || (handle == 4 && box.peel_angle.has_value());
+  return (handle < 3 && box.axes) || (handle == 3 && box.knife) ||
+         (handle == 4 && box.peel_angle.has_value());
 }
 
 double DistanceToSegment(const glm::dvec2& p, const glm::dvec2& a, const glm::dvec2& b) {
@@ -120,8 +119,8 @@ std::vector<OverlayLine> GizmoLines(const GizmoBox& box, const FrameCamera& came
     }
   }
   if (box.peel_angle) {
-    const double top = PeelTop(box);
-    add({0.5, 0, top}, {0.5, 1, top}, kPeelColour, 1.0f);  // the hinge
+    const glm::dvec2 h = box.peel_hinge;
+    add({h.x, 0, h.y}, {h.x, 1, h.y}, kPeelColour, 1.0f);  // the hinge
   }
   return lines;
 }
@@ -153,10 +152,10 @@ GizmoPlacement DragHandle(const GizmoBox& box, const GizmoPlacement& start, Gizm
   if (KindOfHandle(handle) == HandleKind::kPeelEdge) {
     // The mouse in the flap's plane: hinge + a X + b Z on the screen, X and
     // Z the images of the box's x and z about the hinge's middle.
-    const double top = PeelTop(box);
-    const glm::dvec2 h = Xy(ProjectToWindow(camera, World(box, {0.5, 0.5, top})));
-    const glm::dvec2 x = Xy(ProjectToWindow(camera, World(box, {1.0, 0.5, top}))) - h;
-    const glm::dvec2 z = Xy(ProjectToWindow(camera, World(box, {0.5, 0.5, top + 0.5}))) - h;
+    const glm::dvec3 hinge(box.peel_hinge.x, 0.5, box.peel_hinge.y);
+    const glm::dvec2 h = Xy(ProjectToWindow(camera, World(box, hinge)));
+    const glm::dvec2 x = Xy(ProjectToWindow(camera, World(box, hinge + glm::dvec3(0.5, 0, 0)))) - h;
+    const glm::dvec2 z = Xy(ProjectToWindow(camera, World(box, hinge + glm::dvec3(0, 0, 0.5)))) - h;
     const double det = x.x * z.y - x.y * z.x;
     double angle = 0;
     if (std::abs(det) < 0.05 * glm::length(x) * glm::length(z) || !(std::abs(det) > 0)) {

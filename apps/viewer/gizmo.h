@@ -37,10 +37,16 @@ enum class HandleKind { kAxis, kKnifeLine, kPeelEdge };
 // units), and the deformation's line or flap when it has one.
 struct GizmoBox {
   glm::dmat4 world_from_norm{1.0};
-  glm::dmat4 norm_from_box{1.0};     // core::Placement::object_from_box
-  bool knife = false;                // a knife: its cut line x = 0.5 on the top face z = 1
-  std::optional<double> peel_angle;  // a peel: its angle (radians) ...
-  double peel_thickness = 0;         // ... and flap thickness T (box units)
+  glm::dmat4 norm_from_box{1.0};  // core::Placement::object_from_box
+  bool axes = true;               // the axis handles (a placement to drag)
+  bool knife = false;             // a knife: its cut line x = 0.5 on the top face z = 1
+  // A peel: its angle (radians; the flap turns up and over about the hinge,
+  // +x towards +z), the hinge line (x, z) along y and the flap's length
+  // along x (box units). A deform object's: hinge (0.5, 1 - T), length 0.5
+  // (core/deformation.cc); a volume's: (peel_hinge_x, peel_top), 1 - x.
+  std::optional<double> peel_angle;
+  glm::dvec2 peel_hinge{0.5, 1.0};
+  double peel_length = 0.5;
 };
 
 // The placement a drag starts from and changes (a deform object's options).

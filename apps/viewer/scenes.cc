@@ -192,7 +192,7 @@ SceneFileScene::SceneFileScene(const scene::Scene& file)
       loaded_(ibr::LoadScene(programs_, file)),
       renderer_(programs_, loaded_) {
   for (size_t i = 0; i < loaded_.objects.size() && !gizmo_object_; ++i)
-    if (loaded_.objects[i].type == scene::ObjectType::kDeform) gizmo_object_ = i;
+    if (HasGizmo(i)) gizmo_object_ = i;
   const capture::Bounds& b = loaded_.bounds;
   centre_ = glm::vec3(0.5 * (b.min + b.max));
   radius_ = 0.5f * static_cast<float>(glm::length(b.max - b.min));
@@ -382,19 +382,53 @@ void SceneFileScene::Settle() {
   }
 }
 
+bool SceneFileScene::HasGizmo(size_t index) const {
+  const ibr::LoadedObject& o = loaded_.objects[index];
+  return o.type == scene::ObjectType::kDeform ||
+         (o.type == scene::ObjectType::kVolume && o.volume_options.effect &&
+          o.volume_options.effect->effect == core::Effect::kPeel);
+}
+
 GizmoBox SceneFileScene::GizmoBoxOf(size_t index) const {
   const ibr::LoadedObject& o = loaded_.objects[index];
   GizmoBox box;
+  if (o.type == scene::ObjectType::kVolume) {
+    // The peel's map cube (eq. 10's M) in the volume: its placement is not
+    // an option, so no axis handles; the flap's edge sweeps the peel.
+    const core::EffectOptions& e = *o.volume_options.effect;
+    box.world_from_norm = glm::dmat4(o.volume->world_from_volume);
+    box.norm_from_box = o.volume->map_placement;
+    box.axes = false;
+    box.peel_angle = glm::radians(e.peel_angle_deg);
+    box.peel_hinge = {e.peel_hinge_x, e.peel_top};
+    box.peel_length = 1.0 - e.peel_hinge_x;
+    return box;
+  }
   box.world_from_norm = o.world_from_object;  // world_from_object * object_from_norm
   box.norm_from_box = o.deform->placement.object_from_box;
   for (const core::Deformation& d : o.deform_options.deformation.terms) {
     box.knife |= d.kind == core::DeformationKind::kKnife;
     if (d.kind == core::DeformationKind::kPeel && !box.peel_angle) {
       box.peel_angle = d.amount;
-      box.peel_thickness = d.width;
+      box.peel_hinge = {0.5, 1.0 - d.width};  // core/deformation.cc: hinge x 0.5, top 1 - T
     }
   }
   return box;
+}
+
+bool SceneFileScene::DragVolumePeel(size_t index, double angle) {
+  ibr::VolumeObjectOptions o = loaded_.objects[index].volume_options;
+  const double degrees = glm::degrees(angle);
+  if (degrees == o.effect->peel_angle_deg) return false;
+  o.effect->peel_angle_deg = degrees;
+  try {
+    renderer_.UpdateVolume(loaded_, index, o, /*preview=*/true);
+    error_.clear();
+  } catch (const core::InputError& e) {
+    error_ = e.what();
+    return false;
+  }
+  return true;
 }
 
 bool SceneFileScene::PointerPress(const FrameCamera& camera, const glm::dvec2& pixel) {
@@ -414,6 +448,8 @@ bool SceneFileScene::PointerDrag(const FrameCamera& camera, const glm::dvec2& pi
   const GizmoPlacement p =
       DragHandle(drag_box_, drag_start_, gizmo_mode_, *drag_handle_, camera, drag_from_, pixel);
   const size_t index = *gizmo_object_;
+  if (loaded_.objects[index].type == scene::ObjectType::kVolume)
+    return DragVolumePeel(index, p.peel_angle);
   ibr::DeformObjectOptions o = loaded_.objects[index].deform_options;
   o.translation = p.translation;
   o.rotation_deg = p.rotation_deg;
@@ -459,7 +495,7 @@ bool SceneFileScene::Key(int key) {
     case 'N':
       for (size_t k = 1; gizmo_object_ && k <= loaded_.objects.size(); ++k) {
         const size_t i = (*gizmo_object_ + k) % loaded_.objects.size();
-        if (loaded_.objects[i].type != scene::ObjectType::kDeform) continue;
+        if (!HasGizmo(i)) continue;
         gizmo_object_ = i;
         break;
       }

@@ -58,9 +58,9 @@ class SceneFileScene : public Scene {
   // Installs a background field that finished while the scene moves.
   bool Poll() override;
 
-  // The gizmo on the selected deform object's box (apps/viewer/gizmo.h);
-  // keys: T translate, R rotate, S scale, G hide or show, N the next deform
-  // object.
+  // The gizmo on the selected deform object's box, or a peeled volume's
+  // map (apps/viewer/gizmo.h); keys: T translate, R rotate, S scale, G hide
+  // or show, N the next object with a gizmo.
   bool PointerPress(const FrameCamera& camera, const glm::dvec2& pixel) override;
   bool PointerDrag(const FrameCamera& camera, const glm::dvec2& pixel) override;
   void PointerRelease() override;
@@ -88,8 +88,12 @@ class SceneFileScene : public Scene {
   // sliders at their ends (normalised units): a field reaching that far
   // serves any slider drag (cached per deformation kinds and box).
   double ReachForDrags(size_t index);
-  // The selected deform object's box, knife and peel as the gizmo sees them.
+  // Objects with a gizmo: deform objects, volumes with a peel.
+  bool HasGizmo(size_t index) const;
+  // The object's box, knife and peel as the gizmo sees them.
   GizmoBox GizmoBoxOf(size_t index) const;
+  // A volume's peel angle (radians) while its flap edge is dragged.
+  bool DragVolumePeel(size_t index, double angle);
 
   scene::Scene file_;  // as read: what EditedScene rewrites
 

@@ -396,6 +396,7 @@ void Run(const SceneFactory& make_scene, const ViewerOptions& given, const Viewe
   core::Image8 exact_frame;  // with frame_out: the last exact frame
   FrameCamera exact_camera;
   FrameCamera last_full_camera;
+  std::optional<scene::Scene> edited;  // --save-scene's, once the session ends
   int frame = 0;
   std::string error;
   const render::RenderTarget* shown = nullptr;
@@ -564,13 +565,20 @@ void Run(const SceneFactory& make_scene, const ViewerOptions& given, const Viewe
     // A replay ends at the first exact frame after its last event.
     const bool replay_done =
         replay && replay_next == replay->events.size() && draw && !moving && !scene_drag;
+    // The edited scene is made before any output is written: an edit it
+    // cannot hold stops the run with no file written.
+    const auto edited_scene = [&] {
+      if (!options.save_scene.empty() && !edited) edited = scene.EditedScene(full_camera);
+    };
     if (!options.screenshot.empty() && frame >= options.frames) {
+      edited_scene();
       SaveScreenshot(options, fb_w, fb_h, exact_frame, exact_camera);
       fmt::print("view: wrote {} after {} frames, last frame {:.1f} ms\n",
                  options.screenshot.string(), frame, frame_ms.empty() ? 0.0 : frame_ms.back());
       glfwSetWindowShouldClose(window, GLFW_TRUE);
     }
     if (replay_done) {
+      edited_scene();
       SaveExactFrame(options, exact_frame, exact_camera);
       fmt::print("view: replayed {} events in {} frames\n", replay->events.size(), frame);
       glfwSetWindowShouldClose(window, GLFW_TRUE);
@@ -604,7 +612,7 @@ void Run(const SceneFactory& make_scene, const ViewerOptions& given, const Viewe
                options.record.string());
   }
   if (!options.save_scene.empty()) {
-    scene::WriteScene(options.save_scene, scene.EditedScene(last_full_camera));
+    scene::WriteScene(options.save_scene, edited ? *edited : scene.EditedScene(last_full_camera));
     fmt::print("view: saved the scene to {}\n", options.save_scene.string());
   }
   scene_owner.reset();  // GPU resources go while the context still exists

@@ -87,9 +87,9 @@ TEST(Gizmo, KnifeLineMovesTheBoxAcrossTheCut) {
 TEST(Gizmo, PeelAngleFollowsTheMouse) {
   GizmoBox box = Box();
   box.peel_angle = 0.4;
-  box.peel_thickness = 0.15;
+  box.peel_hinge = {0.5, 0.85};              // a deform object's peel of thickness 0.15
   const FrameCamera camera = Camera(0, 89);  // looking down the box's y (the orbit's pole)
-  const double top = 1.0 - box.peel_thickness;
+  const double top = 0.85;
   const glm::dvec2 grab =
       Window(camera, box, {0.5 + 0.5 * std::cos(0.4), 0.5, top + 0.5 * std::sin(0.4)});
   ASSERT_EQ(PickHandle(box, camera, grab), std::optional<int>(4));

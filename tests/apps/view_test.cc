@@ -187,8 +187,8 @@ TEST_F(ViewTest, ScreenshotOfASceneShowsTheDeformObjectAndTheVolume) {
   int grey_in_gap = 0;
   for (int y = 0; y < 700; ++y) {
     for (int x = 795; x < 805; ++x) {
-      const int r = image.at(x, y, 0), g = image.at(x, y, 1), b = image.at(x, y, 2);
-      grey_in_gap += r + g > 80 && std::abs(r - g) < 40 && std::abs(g - b) < 40;
+      const int red = image.at(x, y, 0), green = image.at(x, y, 1), blue = image.at(x, y, 2);
+      grey_in_gap += red + green > 80 && std::abs(red - green) < 40 && std::abs(green - blue) < 40;
     }
   }
   EXPECT_EQ(grey_in_gap, 0) << "the gap between them";
@@ -400,6 +400,63 @@ TEST_F(ViewTest, ReplayedDragAndOrbitSaveTheSceneThatRendersTheFrame) {
     a.erase("t"), b.erase("t");
     EXPECT_EQ(a, b) << i;
   }
+}
+
+// A peeled volume's flap edge dragged (Correa 2006 Fig. 1's sweep): the
+// replay runs, but the peel angle has no scene key yet, so --save-scene
+// stops the run with one line and writes nothing (not the frame either).
+TEST_F(ViewTest, ReplayedVolumePeelIsNotSavedIntoADifferentScene) {
+  if (std::system("command -v xvfb-run > /dev/null 2>&1") != 0)
+    GTEST_SKIP() << "xvfb-run is not installed";
+  const fs::path dir = test_support::Scratch("view_replay_peel");
+  WriteCutAndBallScene(dir / "both.json", R"({"orbit": {"count": 1, "size": 64}})");
+  std::ofstream(dir / "s.json")
+      << R"({"version": 1, "cameras": {"orbit": {"count": 1, "size": 64}}, "objects": [)"
+         R"({"name": "ball", "type": "volume", "volume": "ball.dat", "transfer": "ramp",)"
+         R"( "effect": "peel", "transform": {"scale": 0.05}}]})";
+  const std::string xvfb = "xvfb-run -a -s '-screen 0 1300x800x24' " + IbrBinary() + " view ";
+  const auto shot = RunCommand(xvfb + test_support::Quote(dir / "s.json") +
+                               " --window 1200x700 --azimuth 80 --elevation 10 --frames 2 "
+                               "--screenshot " +
+                               test_support::Quote(dir / "shot.png"));
+  ASSERT_EQ(shot.exit_code, 0) << shot.err;
+  const core::Image8 image = core::ReadImage<uint8_t>(dir / "shot.png", 4);
+  // The flap edge: the orange pixel with the most orange neighbours (the
+  // edge is drawn 3 px wide, the hinge 1 px).
+  const auto orange = [&](int x, int y) {
+    return image.at(x, y, 0) > 200 && image.at(x, y, 1) > 110 && image.at(x, y, 1) < 190 &&
+           image.at(x, y, 2) < 90;
+  };
+  glm::ivec2 grab(-1);
+  int best = 0;
+  for (int y = 2; y < 698; ++y)
+    for (int x = 422; x < 1198; ++x) {
+      if (!orange(x, y)) continue;
+      int n = 0;
+      for (int dy = -2; dy <= 2; ++dy)
+        for (int dx = -2; dx <= 2; ++dx) n += orange(x + dx, y + dy);
+      if (n > best) best = n, grab = {x, y};
+    }
+  ASSERT_GT(best, 10) << "no flap edge in the screenshot";
+  std::ofstream(dir / "events.json") << fmt::format(
+      R"({{"version": 1, "window": [1200, 700], "azimuth_deg": 80, "elevation_deg": 10,)"
+      R"( "panel": true, "events": [{{"frame": 1, "type": "move", "x": {0}, "y": {1}}},)"
+      R"({{"frame": 2, "type": "button", "button": 0, "action": "press"}},)"
+      R"({{"frame": 3, "type": "move", "x": {0}, "y": {2}}},)"
+      R"({{"frame": 4, "type": "button", "button": 0, "action": "release"}}]}})",
+      grab.x, grab.y, grab.y + 40);
+  const auto replay = RunCommand(xvfb + test_support::Quote(dir / "s.json") + " --replay " +
+                                 test_support::Quote(dir / "events.json") + " --frame-out " +
+                                 test_support::Quote(dir / "frame.png") + " --save-scene " +
+                                 test_support::Quote(dir / "out.json"));
+  EXPECT_NE(replay.exit_code, 0);
+  // One error line (the window's log lines precede it).
+  const size_t error = replay.err.find("ibr: error: ");
+  ASSERT_NE(error, std::string::npos) << replay.err;
+  EXPECT_EQ(CountLines(replay.err.substr(error)), 1) << replay.err;
+  EXPECT_NE(replay.err.find("'ball': an edit has no scene key"), std::string::npos) << replay.err;
+  EXPECT_FALSE(fs::exists(dir / "frame.png"));
+  EXPECT_FALSE(fs::exists(dir / "out.json"));
 }
 
 // A recording that is not one: one line naming the file and the value.
