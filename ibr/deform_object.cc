@@ -1,11 +1,14 @@
 #include "ibr/deform_object.h"
 
 #include <fmt/format.h>
+#include <sys/resource.h>
+#include <unistd.h>
 
 #include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <future>
 #include <glm/gtc/matrix_transform.hpp>
 #include <sstream>
 
@@ -279,6 +282,10 @@ DeformObjectOptions DeformObjectOptionsFrom(const scene::Settings& settings) {
   if (o.sdf_resolution < 8 || o.sdf_resolution > 512)
     settings.Fail("resolution", fmt::format("{} outside 8..512", o.sdf_resolution));
   o.cap_holes = Bool(settings, "cap_holes", false);
+  if (settings.Has("reach")) {
+    o.sdf_reach = settings.GetDouble("reach", 0.0);
+    if (!(*o.sdf_reach >= 0)) settings.Fail("reach", fmt::format("{} must be >= 0", *o.sdf_reach));
+  }
   return o;
 }
 
@@ -380,12 +387,14 @@ struct Implicit {
   core::DistanceField sdf;
   render::DepthCube depth_cube;
   std::optional<core::TriangleMesh> capped;  // CappedMesh
+  core::Placement placement;                 // the box it was built over
   double reach = 0.0;
   double seconds = 0.0;
 };
 Implicit BuildImplicit(const core::TriangleMesh& mesh, const core::Placement& placement,
                        double max_displacement, const DeformObjectOptions& options,
-                       const std::string& where, bool progress, render::ProgramCache* programs) {
+                       const std::string& where, bool progress, render::ProgramCache* programs,
+                       int threads = 0) {
   const bool cube = options.pass.implicit == render::DeformImplicit::kDepthCube;
   if (progress) {
     std::fprintf(stderr, "deform: %zu triangles, max displacement %.4f; building the %s\n",
@@ -398,6 +407,7 @@ Implicit BuildImplicit(const core::TriangleMesh& mesh, const core::Placement& pl
   const core::MeshDistance distance(mesh, options.cap_holes, where);
   const core::Box3d box = placement.ObjectBounds();
   Implicit i;
+  i.placement = placement;
   i.capped = CappedMesh(distance);
   if (cube) {
     IBR_CHECK(programs != nullptr);  // the depth cube renders its maps
@@ -406,6 +416,7 @@ Implicit BuildImplicit(const core::TriangleMesh& mesh, const core::Placement& pl
     core::DistanceFieldOptions sdf_options;
     sdf_options.resolution = options.sdf_resolution;
     sdf_options.progress = progress;
+    sdf_options.threads = threads;
     // Grown by the reach (samples land up to the largest displacement out)
     // and two voxels for the normals' central differences.
     const double voxel =
@@ -421,12 +432,56 @@ void SetImplicit(DeformObjectData& d, Implicit i) {
   d.sdf = std::move(i.sdf);
   d.depth_cube = std::move(i.depth_cube);
   d.capped = std::move(i.capped);
+  d.field_placement = i.placement;
   d.sdf_reach = i.reach;
   d.sdf_seconds = i.seconds;
   ++d.implicit_builds;
 }
 
 }  // namespace
+
+struct DeformFieldBuild::Worker {
+  std::future<Implicit> result;
+};
+
+DeformFieldBuild::DeformFieldBuild(std::shared_ptr<const DeformObjectData> data,
+                                   const DeformObjectOptions& options, std::string where,
+                                   int threads, int nice)
+    : worker_(std::make_unique<Worker>()),
+      placement_(data->placement),
+      resolution_(options.sdf_resolution),
+      cap_holes_(options.cap_holes),
+      reach_(std::max(options.sdf_reach.value_or(0.0), 1.5 * data->max_displacement)) {
+  IBR_CHECK(options.pass.implicit == render::DeformImplicit::kSdf);
+  DeformObjectOptions build = options;
+  build.sdf_reach = reach_;
+  worker_->result = std::async(
+      std::launch::async, [data = std::move(data), build, where = std::move(where), threads, nice] {
+        // Linux: a thread's own niceness (the calling thread's alone).
+        if (nice != 0) setpriority(PRIO_PROCESS, static_cast<id_t>(::gettid()), nice);
+        return BuildImplicit(data->mesh, data->placement, data->max_displacement, build, where,
+                             /*progress=*/false, /*programs=*/nullptr, threads);
+      });
+}
+
+DeformFieldBuild::~DeformFieldBuild() {
+  if (worker_->result.valid()) worker_->result.wait();
+}
+
+bool DeformFieldBuild::Ready() const {
+  return worker_->result.valid() &&
+         worker_->result.wait_for(std::chrono::seconds(0)) == std::future_status::ready;
+}
+
+bool DeformFieldBuild::Used() const { return !worker_->result.valid(); }
+
+bool DeformFieldBuild::Serves(const DeformObjectOptions& options, const core::Placement& placement,
+                              double max_displacement) const {
+  return worker_->result.valid() && options.pass.implicit == render::DeformImplicit::kSdf &&
+         placement.object_from_box == placement_.object_from_box &&
+         options.sdf_resolution == resolution_ && options.cap_holes == cap_holes_ &&
+         reach_ >= max_displacement && reach_ >= options.sdf_reach.value_or(0.0);
+}
 
 std::optional<core::TriangleMesh> CappedMesh(const core::MeshDistance& distance) {
   if (distance.capped_holes() == 0) return std::nullopt;
@@ -457,7 +512,8 @@ DeformObjectData MakeDeformObject(core::TriangleMesh mesh, const DeformObjectOpt
 DeformObjectChange UpdateDeformObject(DeformObjectData& data,
                                       const DeformObjectOptions& old_options,
                                       DeformObjectOptions& options, const std::string& where,
-                                      render::ProgramCache* programs, bool defer_reach) {
+                                      render::ProgramCache* programs, bool defer_reach,
+                                      DeformFieldBuild* prebuilt) {
   try {
     options.Check();
   } catch (const core::InputError& e) {
@@ -471,7 +527,7 @@ DeformObjectChange UpdateDeformObject(DeformObjectData& data,
                        old_options.deformation_resolution != options.deformation_resolution;
   change.pass = old_options.pass != options.pass;
   const bool cube = options.pass.implicit == render::DeformImplicit::kDepthCube;
-  change.implicit = placement || old_options.pass.implicit != options.pass.implicit ||
+  change.implicit = (cube && placement) || old_options.pass.implicit != options.pass.implicit ||
                     old_options.sdf_resolution != options.sdf_resolution ||
                     old_options.cap_holes != options.cap_holes ||
                     (!cube && old_options.sdf_reach != options.sdf_reach);
@@ -480,6 +536,14 @@ DeformObjectChange UpdateDeformObject(DeformObjectData& data,
   next.placement = placement ? DeformPlacement(options, NormMeshBounds(data.mesh)) : data.placement;
   next.max_displacement = data.max_displacement;
   if (change.deformation) SampleDeformObject(next, options, NormMeshBounds(data.mesh));
+  // A field built over another box (the field's extent follows the box).
+  if (!cube && data.field_placement.object_from_box != next.placement.object_from_box) {
+    if (defer_reach && !change.implicit) {
+      change.implicit_deferred = true;
+    } else {
+      change.implicit = true;
+    }
+  }
   // A field that does not reach as far as the new deformation needs.
   if (!cube && data.sdf_reach < next.max_displacement) {
     if (defer_reach && !change.implicit) {
@@ -495,7 +559,16 @@ DeformObjectChange UpdateDeformObject(DeformObjectData& data,
     reach = std::max(reach.value_or(0.0), 1.5 * next.max_displacement);
   }
   std::optional<Implicit> implicit;
-  if (change.implicit) {
+  // A field built in the background that serves the update replaces the
+  // rebuild (or the kept field); while deferring only when it is done.
+  if (!cube && (change.implicit || change.implicit_deferred) && prebuilt != nullptr &&
+      prebuilt->Serves(options, next.placement, next.max_displacement) &&
+      (!defer_reach || prebuilt->Ready())) {
+    implicit = prebuilt->worker_->result.get();
+    change.implicit = true;
+    change.implicit_deferred = false;
+    reach = implicit->reach;
+  } else if (change.implicit) {
     DeformObjectOptions build = options;
     build.sdf_reach = reach;
     implicit = BuildImplicit(data.mesh, next.placement, next.max_displacement, build, where,

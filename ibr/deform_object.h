@@ -11,6 +11,7 @@
 #pragma once
 
 #include <glm/glm.hpp>
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
@@ -89,6 +90,8 @@ std::vector<core::Deformation> DeformationsFrom(const scene::Settings& settings,
 //   resolution   distance-field samples along the longest axis, or the depth
 //                cube's map size in pixels (8..512)
 //   cap_holes    true/false
+//   reach        the distance field's reach beyond the box (normalised units,
+//                >= 0; sdf_reach)
 DeformObjectOptions DeformObjectOptionsFrom(const scene::Settings& settings);
 
 // Everything a render::DeformPass needs (Inputs() refers to the members:
@@ -104,6 +107,10 @@ struct DeformObjectData {
   core::DistanceField sdf;           // DeformImplicit::kSdf (empty otherwise)
   render::DepthCube depth_cube;      // DeformImplicit::kDepthCube (empty otherwise)
   core::DeformationTexture texture;
+  // The deformation box the distance field was built over (its extent
+  // follows the box): differs from `placement` while a moved box's field is
+  // deferred (UpdateDeformObject's defer_reach).
+  core::Placement field_placement;
   double sdf_seconds = 0.0;  // the implicit's build time (distance field or depth cube)
   double sdf_reach = 0.0;    // the distance field's reach beyond the box (normalised units)
   int implicit_builds = 0;   // times the implicit was built (1 after MakeDeformObject)
@@ -145,6 +152,49 @@ struct DeformObjectChange {
   bool Any() const { return implicit || deformation || pass; }
 };
 
+// A distance field built on a worker thread (issue 36: the exact frame soon
+// after a drag that outgrew or moved the field): CPU work alone
+// (core::MeshDistance, core::BuildDistanceField; no GL off the main thread),
+// the field a rebuild by UpdateDeformObject(data, ..., options) would make
+// now: over data.placement, reaching max(options.sdf_reach, 1.5 x
+// data.max_displacement). UpdateDeformObject installs it (`prebuilt`) in
+// place of a rebuild when it serves the update (Serves), so the field equals
+// what MakeDeformObject makes of the options the update ends with.
+class DeformFieldBuild {
+ public:
+  // Starts the build (`threads` as core::DistanceFieldOptions::threads; 0 =
+  // all). `data` stays alive through the pointer; depth-cube objects have
+  // no field to build (IBR_CHECK).
+  // `nice` > 0 lowers the worker's priority (Linux; per thread) so the
+  // thread that renders keeps the CPU it needs.
+  DeformFieldBuild(std::shared_ptr<const DeformObjectData> data, const DeformObjectOptions& options,
+                   std::string where, int threads = 0, int nice = 0);
+  ~DeformFieldBuild();  // waits for the worker: a build cannot be cancelled
+  DeformFieldBuild(const DeformFieldBuild&) = delete;
+  DeformFieldBuild& operator=(const DeformFieldBuild&) = delete;
+
+  bool Ready() const;
+  bool Used() const;  // installed by an update: nothing left to give
+  // The field suits `options` on a box `placement` whose deformation moves
+  // points up to `max_displacement`: the same box, field resolution and
+  // capping, a reach at least the displacement (and at least the reach
+  // options ask for).
+  bool Serves(const DeformObjectOptions& options, const core::Placement& placement,
+              double max_displacement) const;
+  double reach() const { return reach_; }
+
+ private:
+  friend DeformObjectChange UpdateDeformObject(DeformObjectData&, const DeformObjectOptions&,
+                                               DeformObjectOptions&, const std::string&,
+                                               render::ProgramCache*, bool, DeformFieldBuild*);
+  struct Worker;
+  std::unique_ptr<Worker> worker_;
+  core::Placement placement_;
+  int resolution_ = 0;
+  bool cap_holes_ = false;
+  double reach_ = 0;
+};
+
 // Turns `data`, made by MakeDeformObject from `old_options`, into what it
 // makes from `options` with the same mesh, rebuilding only what the change
 // invalidates: the deformation's kinds, amounts, widths or texture resolution
@@ -157,13 +207,18 @@ struct DeformObjectChange {
 // MakeDeformObject(options) makes the same data. Cut, step and skip options
 // change the pass alone. options.Check() first (InputError naming `where`);
 // on any error nothing changes. `defer_reach`: a field the displacement
-// outgrows is kept (change.implicit_deferred) unless something else asks for
-// a rebuild; the same update without it then rebuilds the field.
+// outgrows, or the field of a box the placement moved, is kept
+// (change.implicit_deferred) unless something else asks for a rebuild; the
+// same update without it then rebuilds the field. `prebuilt`: a field built
+// in the background; where the update needs a new field and `prebuilt`
+// serves it (and is ready, when deferring; else it is waited for), it is
+// installed instead of a rebuild and options.sdf_reach set to its reach.
 DeformObjectChange UpdateDeformObject(DeformObjectData& data,
                                       const DeformObjectOptions& old_options,
                                       DeformObjectOptions& options, const std::string& where,
                                       render::ProgramCache* programs = nullptr,
-                                      bool defer_reach = false);
+                                      bool defer_reach = false,
+                                      DeformFieldBuild* prebuilt = nullptr);
 
 // The depth-map cube (Correa 2007 sec. 6.1, render::DepthCube) of `mesh`:
 // the six orthographic maps of the cube rig of `ibr capture` (CaptureMaps,

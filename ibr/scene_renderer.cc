@@ -328,15 +328,17 @@ SceneRenderer::SceneRenderer(render::ProgramCache& programs, const LoadedScene& 
 }
 
 DeformObjectChange SceneRenderer::UpdateDeform(LoadedScene& scene, size_t index,
-                                               DeformObjectOptions options, bool defer_reach) {
+                                               DeformObjectOptions options, bool defer_reach,
+                                               DeformFieldBuild* prebuilt) {
   IBR_CHECK_LT(index, scene.objects.size());
   IBR_CHECK_EQ(scene.objects.size(), passes_.size());
   LoadedObject& l = scene.objects[index];
   IBR_CHECK(l.type == ObjectType::kDeform);
   // A copy, changed aside: the old data stays valid until the new pass exists.
   auto data = std::make_shared<DeformObjectData>(*l.deform);
-  const DeformObjectChange change = UpdateDeformObject(
-      *data, l.deform_options, options, fmt::format("object '{}'", l.name), programs_, defer_reach);
+  const DeformObjectChange change =
+      UpdateDeformObject(*data, l.deform_options, options, fmt::format("object '{}'", l.name),
+                         programs_, defer_reach, prebuilt);
   if (!change.Any()) return change;
   l.deform = std::move(data);
   l.deform_options = options;

@@ -111,9 +111,10 @@ class SceneRenderer {
   // field kept reaches). InputError (nothing changed) on invalid options.
   // `defer_reach` (the viewer while a parameter moves): a field the new
   // displacement outgrows is kept (ibr::UpdateDeformObject), the match above
-  // then holds only after an update without it.
+  // then holds only after an update without it. `prebuilt`: a field built in
+  // the background, installed where it serves (ibr::UpdateDeformObject).
   DeformObjectChange UpdateDeform(LoadedScene& scene, size_t index, DeformObjectOptions options,
-                                  bool defer_reach = false);
+                                  bool defer_reach = false, DeformFieldBuild* prebuilt = nullptr);
   // The same for a volume object (ibr::UpdateVolumeObject): pass options go
   // to render::VolumePass::SetOptions (no volume upload); effect or map-size
   // changes resample the map and hand it to render::VolumePass::SetMaps (the

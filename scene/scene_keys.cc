@@ -164,6 +164,9 @@ const std::vector<ObjectKindSpec>& ObjectKinds() {
            {"resolution", "integer", "128", "distance-field voxels per axis (8..512)"},
            {"cap_holes", "bool", "false", "fill the boundary loops of an open mesh"},
            {"implicit", "string", "sdf", "sdf | depth-cube: the mesh's implicit (sec. 6.1)"},
+           {"reach", "number", "the largest displacement",
+            "how far the distance field reaches beyond the deformation box, normalised units "
+            "(`ibr view --save-scene` writes the reach of the field it drew)"},
        }},
   };
   return kinds;

@@ -11,6 +11,8 @@
 #include <memory>
 
 #include "apps/ibr/commands.h"
+#include "apps/ibr/viewer_flags.h"
+#include "apps/viewer/input_events.h"
 #include "apps/viewer/scenes.h"
 #include "apps/viewer/viewer.h"
 #include "capture/builtin_scenes.h"
@@ -25,11 +27,15 @@ struct ViewCommandOptions {
   std::filesystem::path dataset;
   ibr::DepthObjectFlags flags;
   std::string up;  // empty: a dataset's own (capture::DefaultUp), a scene's +y
+  std::filesystem::path replay;
   viewer::ViewerOptions viewer;
 };
 
 void RunView(ViewCommandOptions& o) {
   if (!o.up.empty()) o.viewer.up = glm::vec3(ibr::ParseUp(o.up, "--up"));
+  if (!o.replay.empty()) o.viewer.replay = viewer::ReadRecording(o.replay);
+  if (!o.viewer.save_scene.empty() && o.dataset.extension() != ".json")
+    core::ThrowInputError("ibr view", "--save-scene needs a scene file (SCENE.json)");
   o.viewer.Check();
   if (o.dataset.extension() == ".json") {
     // The file's schema is checked before a window opens; its objects load
@@ -63,31 +69,17 @@ void AddViewCommand(CLI::App& app) {
       ->required();
   AddDepthObjectFlags(cmd, o.flags);
   AddWindowFlag(cmd, "ibr view", o.viewer.width, o.viewer.height);
-  cmd->add_option("--azimuth", o.viewer.azimuth_degrees, "initial orbit azimuth, degrees")
-      ->capture_default_str();
-  cmd->add_option("--elevation", o.viewer.elevation_degrees, "initial orbit elevation, degrees")
-      ->capture_default_str();
-  cmd->add_option("--screenshot", o.viewer.screenshot,
-                  "render --frames frames, save the window to this PNG and exit (no interaction)");
-  cmd->add_option("--frames", o.viewer.frames, "frames before the screenshot")
-      ->capture_default_str();
+  AddViewerFlags(cmd, o.viewer);
   cmd->add_option("--up", o.up,
                   "the world's up: x, y, z, -x, -y, -z or 'X,Y,Z' (default: a dataset's "
                   "\"up\", else its cameras' mean up; a scene's +y)");
-  cmd->add_flag("--no-panel{false}", o.viewer.panel,
-                "hide the control panel (screenshots of the object alone)");
-  cmd->add_option("--coarse", o.viewer.coarse_factor,
-                  "resolution divisor while the view or a parameter moves: 0 = adaptive (frames "
-                  "of about --motion-ms), N = fixed, 1 = always full resolution")
-      ->capture_default_str();
-  cmd->add_option("--motion-ms", o.viewer.motion_frame_ms,
-                  "adaptive divisor: the frame time, in milliseconds, a moving frame aims at")
-      ->capture_default_str();
-  cmd->add_option("--frame-out", o.viewer.frame_out,
-                  "with --screenshot: also save the last exact frame (RGBA PNG, no panel)");
-  cmd->add_option("--camera-out", o.viewer.camera_out,
-                  "with --screenshot: also save its camera (a cameras-only dataset.json for "
-                  "`ibr render --cameras`)");
+  cmd->add_option("--replay", o.replay,
+                  "replay recorded events (--record) through the same handlers in a hidden "
+                  "window, then exit at the exact frame (with --frame-out, --camera-out, "
+                  "--save-scene)");
+  cmd->add_option("--save-scene", o.viewer.save_scene,
+                  "on exit, save the scene as edited, its camera the window's, to this JSON file "
+                  "(`ibr render` of it draws the viewer's exact frame)");
   cmd->callback([] { RunView(o); });
 }
 

@@ -8,6 +8,7 @@
 #include <initializer_list>
 #include <memory>
 
+#include "apps/viewer/scene_edits.h"
 #include "core/error.h"
 #include "ibr/dataset_maps.h"
 
@@ -162,9 +163,12 @@ std::unique_ptr<Scene> MakeDatasetScene(const ibr::DepthObjectOptions& options, 
 }
 
 SceneFileScene::SceneFileScene(const scene::Scene& file)
-    : title_("ibr view: " + file.name),
+    : file_(file),
+      title_("ibr view: " + file.name),
       loaded_(ibr::LoadScene(programs_, file)),
       renderer_(programs_, loaded_) {
+  for (size_t i = 0; i < loaded_.objects.size() && !gizmo_object_; ++i)
+    if (HasGizmo(i)) gizmo_object_ = i;
   const capture::Bounds& b = loaded_.bounds;
   centre_ = glm::vec3(0.5 * (b.min + b.max));
   radius_ = 0.5f * static_cast<float>(glm::length(b.max - b.min));
@@ -176,6 +180,11 @@ SceneFileScene::SceneFileScene(const scene::Scene& file)
 
 bool SceneFileScene::DrawControls() {
   bool changed = false;
+  if (gizmo_object_) {
+    ImGui::Text("gizmo on '%s': %s%s", loaded_.objects[*gizmo_object_].name.c_str(),
+                GizmoModeName(gizmo_mode_), gizmo_shown_ ? "" : " (hidden)");
+    ImGui::TextUnformatted("keys: T translate, R rotate, S scale, G hide, N next object");
+  }
   ImGui::TextUnformatted("objects:");
   for (const std::string& o : objects_) ImGui::BulletText("%s", o.c_str());
   ImGui::TextUnformatted("passes:");
@@ -235,10 +244,95 @@ bool SceneFileScene::DragParameter(double t) {
 
 void SceneFileScene::UpdateDeformWhileMoving(size_t index,
                                              const ibr::DeformObjectOptions& options) {
-  if (renderer_.UpdateDeform(loaded_, index, options, /*defer_reach=*/true).implicit_deferred &&
+  const auto build = builds_.find(index);
+  const ibr::DeformObjectChange change =
+      renderer_.UpdateDeform(loaded_, index, options, /*defer_reach=*/true,
+                             build == builds_.end() ? nullptr : build->second.get());
+  if (change.implicit_deferred &&
       std::find(unsettled_.begin(), unsettled_.end(), index) == unsettled_.end()) {
     unsettled_.push_back(index);
   }
+  FollowBuild(index, change.implicit_deferred, change.deformation);
+}
+
+double SceneFileScene::ReachForDrags(size_t index) {
+  const ibr::LoadedObject& o = loaded_.objects[index];
+  ReachHint& hint = reach_hints_[index];
+  const core::DeformationSum& now = o.deform_options.deformation;
+  const bool same_kinds = hint.kinds.terms.size() == now.terms.size() &&
+                          std::equal(now.terms.begin(), now.terms.end(), hint.kinds.terms.begin(),
+                                     [](const core::Deformation& a, const core::Deformation& b) {
+                                       return a.kind == b.kind;
+                                     });
+  if (!same_kinds || hint.placement != o.deform->placement.object_from_box) {
+    // Every term at the slider end that displaces most (the larger |amount|,
+    // the widest width).
+    hint.kinds = now;
+    for (core::Deformation& d : hint.kinds.terms) {
+      const DeformationRanges r = RangesOf(d.kind);
+      d.amount = std::abs(r.amount_lo) > std::abs(r.amount_hi) ? r.amount_lo : r.amount_hi;
+      if (r.width_hi > r.width_lo) d.width = r.width_hi;
+    }
+    hint.placement = o.deform->placement.object_from_box;
+    hint.reach = core::MaxObjectDisplacement(hint.kinds, o.deform->placement,
+                                             o.deform_options.deformation_resolution);
+  }
+  return hint.reach;
+}
+
+void SceneFileScene::FollowBuild(size_t index, bool deferred, bool deformation_moved) {
+  auto it = builds_.find(index);
+  if (it != builds_.end() && it->second->Used()) {
+    builds_.erase(it);
+    it = builds_.end();
+  }
+  if (!deferred)
+    unsettled_.erase(std::remove(unsettled_.begin(), unsettled_.end(), index), unsettled_.end());
+  const ibr::LoadedObject& o = loaded_.objects[index];
+  // Only a field over the box as it stands: one over a box still being
+  // dragged would be stale when done (a moved box's field is rebuilt at rest).
+  if (o.deform_options.pass.implicit != render::DeformImplicit::kSdf ||
+      o.deform->placement.object_from_box != o.deform->field_placement.object_from_box) {
+    return;
+  }
+  // The field a drag of the sliders cannot outgrow: built when a drag
+  // starts to need it, so it is ready (or nearly) when the mouse rests.
+  const double reach = std::max(ReachForDrags(index), 1.5 * o.deform->max_displacement);
+  if (!deferred && (!deformation_moved || o.deform->sdf_reach >= ReachForDrags(index))) return;
+  ibr::DeformObjectOptions wanted = o.deform_options;
+  wanted.sdf_reach = reach;
+  if (it != builds_.end()) {
+    if (!it->second->Ready() ||
+        it->second->Serves(wanted, o.deform->placement, o.deform->max_displacement)) {
+      return;  // running, or done and still of use
+    }
+    stale_.push_back(std::move(it->second));
+    builds_.erase(it);
+  }
+  // One thread at a lower priority: the frames still moving keep the CPU
+  // they need (docs/decisions/viewer-manipulation.md).
+  builds_[index] = std::make_unique<ibr::DeformFieldBuild>(
+      o.deform, wanted, fmt::format("object '{}'", o.name), /*threads=*/1, /*nice=*/10);
+}
+
+bool SceneFileScene::Poll() {
+  std::erase_if(stale_, [](const auto& b) { return b->Ready(); });
+  bool changed = false;
+  for (size_t index : std::vector<size_t>(unsettled_)) {
+    const auto it = builds_.find(index);
+    if (it == builds_.end() || !it->second->Ready()) continue;
+    try {
+      const ibr::DeformObjectChange change =
+          renderer_.UpdateDeform(loaded_, index, loaded_.objects[index].deform_options,
+                                 /*defer_reach=*/true, it->second.get());
+      changed |= change.Any();
+      FollowBuild(index, change.implicit_deferred, /*deformation_moved=*/false);
+    } catch (const core::InputError& e) {
+      error_ = e.what();
+      builds_.erase(index);
+    }
+  }
+  return changed;
 }
 
 void SceneFileScene::Settle() {
@@ -246,12 +340,156 @@ void SceneFileScene::Settle() {
   // shows in the panel).
   const std::vector<size_t> pending = std::move(unsettled_);
   unsettled_.clear();
-  for (size_t i : pending) renderer_.UpdateDeform(loaded_, i, loaded_.objects[i].deform_options);
+  for (size_t i : pending) {
+    const auto it = builds_.find(i);
+    std::unique_ptr<ibr::DeformFieldBuild> build;
+    if (it != builds_.end()) {
+      build = std::move(it->second);
+      builds_.erase(it);
+    }
+    // The background field where it serves (waited for), else a rebuild.
+    renderer_.UpdateDeform(loaded_, i, loaded_.objects[i].deform_options, /*defer_reach=*/false,
+                           build.get());
+    if (build && !build->Used()) stale_.push_back(std::move(build));
+  }
   for (size_t i = 0; i < loaded_.objects.size(); ++i) {
     const ibr::LoadedObject& o = loaded_.objects[i];
     if (o.type == scene::ObjectType::kVolume && o.volume->preview_maps)
       renderer_.UpdateVolume(loaded_, i, o.volume_options);
   }
+}
+
+bool SceneFileScene::HasGizmo(size_t index) const {
+  const ibr::LoadedObject& o = loaded_.objects[index];
+  return o.type == scene::ObjectType::kDeform ||
+         (o.type == scene::ObjectType::kVolume && o.volume_options.effect &&
+          o.volume_options.effect->effect == core::Effect::kPeel);
+}
+
+GizmoBox SceneFileScene::GizmoBoxOf(size_t index) const {
+  const ibr::LoadedObject& o = loaded_.objects[index];
+  GizmoBox box;
+  if (o.type == scene::ObjectType::kVolume) {
+    // The peel's map cube (eq. 10's M) in the volume: its placement is not
+    // an option, so no axis handles; the flap's edge sweeps the peel.
+    const core::EffectOptions& e = *o.volume_options.effect;
+    box.world_from_norm = glm::dmat4(o.volume->world_from_volume);
+    box.norm_from_box = o.volume->map_placement;
+    box.axes = false;
+    box.peel_angle = glm::radians(e.peel_angle_deg);
+    box.peel_hinge = {e.peel_hinge_x, e.peel_top};
+    box.peel_length = 1.0 - e.peel_hinge_x;
+    return box;
+  }
+  box.world_from_norm = o.world_from_object;  // world_from_object * object_from_norm
+  box.norm_from_box = o.deform->placement.object_from_box;
+  for (const core::Deformation& d : o.deform_options.deformation.terms) {
+    box.knife |= d.kind == core::DeformationKind::kKnife;
+    if (d.kind == core::DeformationKind::kPeel && !box.peel_angle) {
+      box.peel_angle = d.amount;
+      box.peel_hinge = {0.5, 1.0 - d.width};  // core/deformation.cc: hinge x 0.5, top 1 - T
+    }
+  }
+  return box;
+}
+
+bool SceneFileScene::DragVolumePeel(size_t index, double angle) {
+  ibr::VolumeObjectOptions o = loaded_.objects[index].volume_options;
+  const double degrees = glm::degrees(angle);
+  if (degrees == o.effect->peel_angle_deg) return false;
+  o.effect->peel_angle_deg = degrees;
+  try {
+    renderer_.UpdateVolume(loaded_, index, o, /*preview=*/true);
+    error_.clear();
+  } catch (const core::InputError& e) {
+    error_ = e.what();
+    return false;
+  }
+  return true;
+}
+
+bool SceneFileScene::PointerPress(const FrameCamera& camera, const glm::dvec2& pixel) {
+  if (!gizmo_shown_ || !gizmo_object_) return false;
+  const GizmoBox box = GizmoBoxOf(*gizmo_object_);
+  drag_handle_ = PickHandle(box, camera, pixel);
+  if (!drag_handle_) return false;
+  const ibr::DeformObjectOptions& o = loaded_.objects[*gizmo_object_].deform_options;
+  drag_from_ = pixel;
+  drag_box_ = box;
+  drag_start_ = {o.translation, o.rotation_deg, o.scale, box.peel_angle.value_or(0.0)};
+  return true;
+}
+
+bool SceneFileScene::PointerDrag(const FrameCamera& camera, const glm::dvec2& pixel) {
+  if (!drag_handle_ || !gizmo_object_) return false;
+  const GizmoPlacement p =
+      DragHandle(drag_box_, drag_start_, gizmo_mode_, *drag_handle_, camera, drag_from_, pixel);
+  const size_t index = *gizmo_object_;
+  if (loaded_.objects[index].type == scene::ObjectType::kVolume)
+    return DragVolumePeel(index, p.peel_angle);
+  ibr::DeformObjectOptions o = loaded_.objects[index].deform_options;
+  o.translation = p.translation;
+  o.rotation_deg = p.rotation_deg;
+  o.scale = p.scale;
+  if (KindOfHandle(*drag_handle_) == HandleKind::kPeelEdge) {
+    for (core::Deformation& d : o.deformation.terms) {
+      if (d.kind != core::DeformationKind::kPeel) continue;
+      d.amount = p.peel_angle;
+      break;
+    }
+  }
+  const ibr::DeformObjectOptions& before = loaded_.objects[index].deform_options;
+  if (o.translation == before.translation && o.rotation_deg == before.rotation_deg &&
+      o.scale == before.scale && o.deformation == before.deformation) {
+    return false;
+  }
+  try {
+    UpdateDeformWhileMoving(index, o);
+    error_.clear();
+  } catch (const core::InputError& e) {
+    error_ = e.what();  // e.g. a scale Check refuses; the object is unchanged
+    return false;
+  }
+  return true;
+}
+
+void SceneFileScene::PointerRelease() { drag_handle_.reset(); }
+
+bool SceneFileScene::Key(int key) {
+  switch (key) {
+    case 'T':
+      gizmo_mode_ = GizmoMode::kTranslate;
+      break;
+    case 'R':
+      gizmo_mode_ = GizmoMode::kRotate;
+      break;
+    case 'S':
+      gizmo_mode_ = GizmoMode::kScale;
+      break;
+    case 'G':
+      gizmo_shown_ = !gizmo_shown_;
+      break;
+    case 'N':
+      for (size_t k = 1; gizmo_object_ && k <= loaded_.objects.size(); ++k) {
+        const size_t i = (*gizmo_object_ + k) % loaded_.objects.size();
+        if (!HasGizmo(i)) continue;
+        gizmo_object_ = i;
+        break;
+      }
+      break;
+    default:
+      break;
+  }
+  return false;  // the overlay changes, the frame does not
+}
+
+std::vector<OverlayLine> SceneFileScene::Overlay(const FrameCamera& camera) const {
+  if (!gizmo_shown_ || !gizmo_object_) return {};
+  return GizmoLines(GizmoBoxOf(*gizmo_object_), camera, gizmo_mode_, drag_handle_);
+}
+
+scene::Scene SceneFileScene::EditedScene(const FrameCamera& camera) const {
+  return SceneWithEdits(file_, loaded_, ViewCameraOf(camera));
 }
 
 std::string SceneFileScene::Status() const {

@@ -6,10 +6,13 @@
 // writes from that camera.
 #pragma once
 
+#include <map>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
+#include "apps/viewer/gizmo.h"
 #include "apps/viewer/viewer.h"
 #include "ibr/depth_object.h"
 #include "ibr/image_maps.h"
@@ -48,9 +51,22 @@ class SceneFileScene : public Scene {
   // The first deform object's first deformation amount, else the first
   // volume effect's main parameter, over its slider's range.
   bool DragParameter(double t) override;
-  // Rebuilds the distance fields moving updates kept short and resamples
-  // the preview maps of volumes.
+  // Rebuilds the distance fields moving updates kept short (taking a field
+  // built in the background where it serves) and resamples the preview maps
+  // of volumes.
   void Settle() override;
+  // Installs a background field that finished while the scene moves.
+  bool Poll() override;
+
+  // The gizmo on the selected deform object's box, or a peeled volume's
+  // map (apps/viewer/gizmo.h); keys: T translate, R rotate, S scale, G hide
+  // or show, N the next object with a gizmo.
+  bool PointerPress(const FrameCamera& camera, const glm::dvec2& pixel) override;
+  bool PointerDrag(const FrameCamera& camera, const glm::dvec2& pixel) override;
+  void PointerRelease() override;
+  bool Key(int key) override;
+  std::vector<OverlayLine> Overlay(const FrameCamera& camera) const override;
+  scene::Scene EditedScene(const FrameCamera& camera) const override;
 
   // The scene as loaded and edited so far (ibr::RenderSceneToDataset of it
   // renders what `ibr render` renders for a file with these options).
@@ -63,6 +79,23 @@ class SceneFileScene : public Scene {
   // A deform object's new options while moving: a field the displacement
   // outgrows is rebuilt only in Settle.
   void UpdateDeformWhileMoving(size_t index, const ibr::DeformObjectOptions& options);
+  // After an update of object `index`: drops a used build; starts one for a
+  // deferred field, or when the deformation moved (a drag starts) and the
+  // field does not reach as far as the sliders can take it, unless one runs
+  // that could serve it.
+  void FollowBuild(size_t index, bool deferred, bool deformation_moved);
+  // The largest displacement object `index`'s deformation reaches with its
+  // sliders at their ends (normalised units): a field reaching that far
+  // serves any slider drag (cached per deformation kinds and box).
+  double ReachForDrags(size_t index);
+  // Objects with a gizmo: deform objects, volumes with a peel.
+  bool HasGizmo(size_t index) const;
+  // The object's box, knife and peel as the gizmo sees them.
+  GizmoBox GizmoBoxOf(size_t index) const;
+  // A volume's peel angle (radians) while its flap edge is dragged.
+  bool DragVolumePeel(size_t index, double angle);
+
+  scene::Scene file_;  // as read: what EditedScene rewrites
 
   std::string title_;
   render::ProgramCache programs_;
@@ -70,9 +103,30 @@ class SceneFileScene : public Scene {
   ibr::SceneRenderer renderer_;
   std::vector<std::string> objects_;
   std::string error_;              // the last rejected change
-  std::vector<size_t> unsettled_;  // deform objects whose field a drag outgrew
+  std::vector<size_t> unsettled_;  // deform objects whose field a drag outgrew or moved
+  // Per unsettled deform object: its field being built on a worker thread
+  // (issue 36), started when a drag defers the field; builds no longer
+  // wanted finish in `stale_` (a build cannot be cancelled, and waiting for
+  // one would hold the frame).
+  std::map<size_t, std::unique_ptr<ibr::DeformFieldBuild>> builds_;
+  std::vector<std::unique_ptr<ibr::DeformFieldBuild>> stale_;
+  struct ReachHint {
+    core::DeformationSum kinds;  // the terms at their slider ends
+    glm::dmat4 placement{0.0};
+    double reach = 0;
+  };
+  std::map<size_t, ReachHint> reach_hints_;
   glm::vec3 centre_{0};
   float radius_ = 1;
+  // The gizmo: the deform object it is on, its mode, and a drag in progress
+  // (the handle, where and on what box it started).
+  std::optional<size_t> gizmo_object_;
+  GizmoMode gizmo_mode_ = GizmoMode::kTranslate;
+  bool gizmo_shown_ = true;
+  std::optional<int> drag_handle_;
+  glm::dvec2 drag_from_{0.0};
+  GizmoBox drag_box_;
+  GizmoPlacement drag_start_;
 };
 
 }  // namespace viewer

@@ -1,6 +1,7 @@
 #include "apps/viewer/viewer.h"
 
 #include <algorithm>
+#include <cfloat>
 #include <cmath>
 #include <cstdint>
 #include <deque>
@@ -23,6 +24,7 @@
 #include "core/timing.h"
 #include "render/gl/context.h"
 #include "render/gl/gl.h"
+#include "scene/scene_write.h"
 
 namespace viewer {
 namespace {
@@ -49,8 +51,12 @@ void ViewerOptions::Check() const {
     core::ThrowInputError("ViewerOptions", "motion frame time {} ms outside 5..1000",
                           motion_frame_ms);
   }
-  if ((!frame_out.empty() || !camera_out.empty()) && screenshot.empty())
-    core::ThrowInputError("ViewerOptions", "the frame and camera outputs go with a screenshot");
+  if ((!frame_out.empty() || !camera_out.empty()) && screenshot.empty() && !replay) {
+    core::ThrowInputError("ViewerOptions",
+                          "the frame and camera outputs go with a screenshot or a replay");
+  }
+  if (replay && !screenshot.empty())
+    core::ThrowInputError("ViewerOptions", "a replay ends by itself: no screenshot with it");
   if (!(std::abs(glm::length(up) - 1.0f) < 1e-4f))
     core::ThrowInputError("ViewerOptions", "up ({}, {}, {}) is not a unit vector", up.x, up.y,
                           up.z);
@@ -83,6 +89,12 @@ FrameCamera OrbitCamera(glm::vec3 centre, float radius, float azimuth_degrees,
   camera.clip_from_cam = core::ClipFromCamPerspective(camera.fx, camera.fy, camera.cx, camera.cy,
                                                       width, height, camera.near, camera.far);
   return camera;
+}
+
+std::vector<OverlayLine> Scene::Overlay(const FrameCamera& /*camera*/) const { return {}; }
+
+scene::Scene Scene::EditedScene(const FrameCamera& /*camera*/) const {
+  core::ThrowInputError("ibr view", "--save-scene: '{}' is not a scene file (SCENE.json)", Title());
 }
 
 capture::Dataset CamerasOf(const FrameCamera& camera) {
@@ -181,8 +193,23 @@ void DrawFrameBehindPanel(const render::RenderTarget& target, int width, int hei
   list->AddCallback(ImDrawCallback_ResetRenderState, nullptr);
 }
 
-// The window's back buffer (GUI included) as an opaque PNG; with frame_out
-// and camera_out also the last exact frame and its camera.
+// With frame_out and camera_out: the last exact frame and its camera.
+void SaveExactFrame(const ViewerOptions& options, const core::Image8& exact_frame,
+                    const FrameCamera& exact_camera) {
+  if (!options.frame_out.empty()) {
+    if (exact_frame.width() == 0)
+      core::ThrowInputError("ibr view", "--frame-out: no exact frame was drawn");
+    core::WriteImage(options.frame_out, exact_frame);
+  }
+  if (!options.camera_out.empty()) {
+    core::AtomicWriteStream(options.camera_out, [&](std::ostream& out) {
+      capture::WriteManifest(out, CamerasOf(exact_camera));
+    });
+  }
+}
+
+// The window's back buffer (GUI included) as an opaque PNG, and the exact
+// frame's outputs.
 void SaveScreenshot(const ViewerOptions& options, int width, int height,
                     const core::Image8& exact_frame, const FrameCamera& exact_camera) {
   core::Image8 shot(width, height, 4);
@@ -198,29 +225,118 @@ void SaveScreenshot(const ViewerOptions& options, int width, int height,
   for (int y = 0; y < height; ++y)
     for (int x = 0; x < width; ++x) shot.at(x, y, 3) = 255;
   core::WriteImage(options.screenshot, shot);
-  if (!options.frame_out.empty()) {
-    if (exact_frame.width() == 0)
-      core::ThrowInputError("ibr view", "--frame-out: no exact frame was drawn");
-    core::WriteImage(options.frame_out, exact_frame);
+  SaveExactFrame(options, exact_frame, exact_camera);
+}
+
+// Input as events: GLFW's callbacks (live; ImGui's callbacks chain to these)
+// and a replay (which calls the same callbacks) both end here, where each
+// event is stamped with its frame, recorded and queued for the frame's
+// handler. The cursor and buttons are tracked from the events, so ImGui sees
+// the same mouse live and in a replay (a hidden replay window has no focus
+// for ImGui's own polling).
+struct InputQueue {
+  std::vector<InputEvent> pending;  // this frame's, in order
+  bool keep = false;                // record every event
+  InputRecording recording;
+  int frame = 0;
+  core::Stopwatch clock;
+  glm::dvec2 cursor{0.0};
+  bool has_cursor = false;
+  bool down[3] = {false, false, false};
+  bool pressed[3] = {false, false, false};  // since ImGui's last frame
+
+  void Add(InputEvent e) {
+    e.frame = frame;
+    e.t = std::round(clock.ElapsedMs()) / 1000.0;
+    if (e.type == InputEvent::Type::kMove) {
+      cursor = {e.x, e.y};
+      has_cursor = true;
+    } else if (e.type == InputEvent::Type::kButton && e.code < 3) {
+      down[e.code] = e.action == InputEvent::Action::kPress;
+      pressed[e.code] |= down[e.code];
+    }
+    pending.push_back(e);
+    if (keep) recording.events.push_back(e);
   }
-  if (!options.camera_out.empty()) {
-    core::AtomicWriteStream(options.camera_out, [&](std::ostream& out) {
-      capture::WriteManifest(out, CamerasOf(exact_camera));
-    });
+};
+
+InputQueue& QueueOf(GLFWwindow* window) {
+  return *static_cast<InputQueue*>(glfwGetWindowUserPointer(window));
+}
+void OnCursor(GLFWwindow* window, double x, double y) {
+  InputEvent e;
+  e.type = InputEvent::Type::kMove;
+  e.x = x, e.y = y;
+  QueueOf(window).Add(e);
+}
+void OnButton(GLFWwindow* window, int button, int action, int mods) {
+  if (button < 0 || button > 7 || action == GLFW_REPEAT) return;
+  InputEvent e;
+  e.type = InputEvent::Type::kButton;
+  e.code = button, e.action = static_cast<InputEvent::Action>(action), e.mods = mods;
+  QueueOf(window).Add(e);
+}
+void OnScroll(GLFWwindow* window, double dx, double dy) {
+  InputEvent e;
+  e.type = InputEvent::Type::kScroll;
+  e.x = dx, e.y = dy;
+  QueueOf(window).Add(e);
+}
+void OnKey(GLFWwindow* window, int key, int /*scancode*/, int action, int mods) {
+  if (key < 32 || key > GLFW_KEY_LAST) return;  // GLFW_KEY_UNKNOWN
+  InputEvent e;
+  e.type = InputEvent::Type::kKey;
+  e.code = key, e.action = static_cast<InputEvent::Action>(action), e.mods = mods;
+  QueueOf(window).Add(e);
+}
+
+// Feeds the recorded events of frames up to `frame` through the callbacks
+// GLFW would call: ImGui's (which chain to the viewer's), the cursor's
+// directly (ImGui 1.86 installs none).
+void FeedReplay(GLFWwindow* window, const InputRecording& replay, size_t& next, int frame) {
+  for (; next < replay.events.size() && replay.events[next].frame <= frame; ++next) {
+    const InputEvent& e = replay.events[next];
+    const int action = static_cast<int>(e.action);
+    switch (e.type) {
+      case InputEvent::Type::kMove:
+        OnCursor(window, e.x, e.y);
+        break;
+      case InputEvent::Type::kButton:
+        ImGui_ImplGlfw_MouseButtonCallback(window, e.code, action, e.mods);
+        break;
+      case InputEvent::Type::kScroll:
+        ImGui_ImplGlfw_ScrollCallback(window, e.x, e.y);
+        break;
+      case InputEvent::Type::kKey:
+        ImGui_ImplGlfw_KeyCallback(window, e.code, 0, action, e.mods);
+        break;
+    }
   }
 }
 
 }  // namespace
 
-void Run(const SceneFactory& make_scene, const ViewerOptions& options, const ViewerScript* script) {
-  options.Check();
+void Run(const SceneFactory& make_scene, const ViewerOptions& given, const ViewerScript* script) {
+  given.Check();
+  ViewerOptions options = given;
+  const InputRecording* replay = given.replay ? &*given.replay : nullptr;
+  if (replay) {
+    // The recording's session, as it started.
+    options.width = replay->width;
+    options.height = replay->height;
+    options.azimuth_degrees = replay->azimuth_deg;
+    options.elevation_degrees = replay->elevation_deg;
+    options.panel = replay->panel;
+    options.Check();
+  }
+  const bool hidden = !options.screenshot.empty() || replay != nullptr;
   GlfwSession glfw;
   glfwWindowHint(GLFW_CONTEXT_VERSION_MAJOR, 4);
   glfwWindowHint(GLFW_CONTEXT_VERSION_MINOR, 5);
   glfwWindowHint(GLFW_OPENGL_PROFILE, GLFW_OPENGL_CORE_PROFILE);
   glfwWindowHint(GLFW_OPENGL_FORWARD_COMPAT, GLFW_TRUE);
-  glfwWindowHint(GLFW_VISIBLE, options.screenshot.empty() ? GLFW_TRUE : GLFW_FALSE);
-  glfwWindowHint(GLFW_RESIZABLE, script ? GLFW_FALSE : GLFW_TRUE);
+  glfwWindowHint(GLFW_VISIBLE, hidden ? GLFW_FALSE : GLFW_TRUE);
+  glfwWindowHint(GLFW_RESIZABLE, script || replay ? GLFW_FALSE : GLFW_TRUE);
   GLFWwindow* window =
       glfwCreateWindow(options.width, options.height, "ibr view", nullptr, nullptr);
   if (!window) {
@@ -236,14 +352,28 @@ void Run(const SceneFactory& make_scene, const ViewerOptions& options, const Vie
     core::ThrowInputError("viewer::Run", "cannot open a {}x{} OpenGL 3.3+ core window",
                           options.width, options.height);
   glfwMakeContextCurrent(window);
-  // No vertical sync for screenshots and scripts: frame times are the work's.
-  glfwSwapInterval(options.screenshot.empty() && !script ? 1 : 0);
+  // No vertical sync for screenshots, scripts and replays: frame times are the work's.
+  glfwSwapInterval(!hidden && !script ? 1 : 0);
   const render::GlInfo info =
       render::InitializeCurrentContext("window", render::HeadlessContextOptions::DefaultDebug());
   spdlog::info("viewer: {} | {}", info.version, info.renderer);
   std::unique_ptr<Scene> scene_owner = make_scene();
   Scene& scene = *scene_owner;
   glfwSetWindowTitle(window, scene.Title().c_str());
+
+  // The viewer's callbacks first: ImGui's, installed next, chain to them.
+  InputQueue input_queue;
+  input_queue.keep = !options.record.empty();
+  input_queue.recording.width = options.width;
+  input_queue.recording.height = options.height;
+  input_queue.recording.azimuth_deg = options.azimuth_degrees;
+  input_queue.recording.elevation_deg = options.elevation_degrees;
+  input_queue.recording.panel = options.panel;
+  glfwSetWindowUserPointer(window, &input_queue);
+  glfwSetCursorPosCallback(window, OnCursor);
+  glfwSetMouseButtonCallback(window, OnButton);
+  glfwSetScrollCallback(window, OnScroll);
+  glfwSetKeyCallback(window, OnKey);
 
   IMGUI_CHECKVERSION();
   ImGui::CreateContext();
@@ -256,6 +386,8 @@ void Run(const SceneFactory& make_scene, const ViewerOptions& options, const Vie
   OrbitState orbit;
   orbit.azimuth = options.azimuth_degrees;
   orbit.elevation = options.elevation_degrees;
+  bool scene_drag = false;  // a left drag the scene took (a gizmo handle)
+  size_t replay_next = 0;
   std::deque<double> frame_ms;
   ProgressiveState progressive;
   progressive.divisor = options.coarse_factor > 0 ? options.coarse_factor : 2.0;
@@ -263,18 +395,25 @@ void Run(const SceneFactory& make_scene, const ViewerOptions& options, const Vie
   std::optional<double> last_drag;
   core::Image8 exact_frame;  // with frame_out: the last exact frame
   FrameCamera exact_camera;
+  FrameCamera last_full_camera;
+  std::optional<scene::Scene> edited;  // --save-scene's, once the session ends
   int frame = 0;
   std::string error;
   const render::RenderTarget* shown = nullptr;
   while (!glfwWindowShouldClose(window)) {
     core::Stopwatch frame_watch;
     std::optional<ScriptedInput> input;
+    input_queue.frame = frame;
     if (script) {
       input = script->input(frame);
       if (!input) break;
       glfwPollEvents();
+    } else if (replay) {
+      glfwPollEvents();
+      FeedReplay(window, *replay, replay_next, frame);
     } else if (progressive.exact_shown && options.screenshot.empty()) {
-      // At rest with the exact frame shown: sleep until the user acts.
+      // At rest with the exact frame shown: sleep until the user acts (or
+      // work in the background finishes, Scene::Poll).
       glfwWaitEventsTimeout(0.1);
     } else {
       glfwPollEvents();
@@ -282,6 +421,10 @@ void Run(const SceneFactory& make_scene, const ViewerOptions& options, const Vie
     int fb_w = 0, fb_h = 0;
     glfwGetFramebufferSize(window, &fb_w, &fb_h);
     if (fb_w <= 0 || fb_h <= 0) continue;
+    const auto full_camera_now = [&] {
+      return OrbitCamera(scene.Centre(), scene.Radius(), orbit.azimuth, orbit.elevation,
+                         orbit.distance_scale, options.fov_y_degrees, fb_w, fb_h, up);
+    };
 
     ImGuiIO& io = ImGui::GetIO();
     if (input) {
@@ -291,24 +434,48 @@ void Run(const SceneFactory& make_scene, const ViewerOptions& options, const Vie
         controls_changed |= scene.DragParameter(*input->drag);
         last_drag = input->drag;
       }
-    } else if (!io.WantCaptureMouse) {
-      // Orbit with the left mouse button (when ImGui does not want the
-      // mouse), zoom with the wheel.
-      double x = 0, y = 0;
-      glfwGetCursorPos(window, &x, &y);
-      const bool down = glfwGetMouseButton(window, GLFW_MOUSE_BUTTON_LEFT) == GLFW_PRESS;
-      if (down && orbit.dragging) {
-        orbit.azimuth -= 0.4f * static_cast<float>(x - orbit.last_x);
-        orbit.elevation = std::clamp(orbit.elevation + 0.4f * static_cast<float>(y - orbit.last_y),
-                                     -89.0f, 89.0f);
-      }
-      orbit.dragging = down;
-      orbit.last_x = x;
-      orbit.last_y = y;
-      if (io.MouseWheel != 0)
-        orbit.distance_scale =
-            std::clamp(orbit.distance_scale * std::pow(0.9f, io.MouseWheel), 0.2f, 20.0f);
     }
+    // This frame's events (live or replayed), in order. A left press the
+    // panel does not want goes to the scene (a gizmo handle) or starts an
+    // orbit; the wheel zooms; keys the panel does not want go to the scene.
+    for (const InputEvent& e : input_queue.pending) {
+      switch (e.type) {
+        case InputEvent::Type::kMove:
+          if (scene_drag) {
+            controls_changed |= scene.PointerDrag(full_camera_now(), {e.x, e.y});
+          } else if (orbit.dragging) {
+            orbit.azimuth -= 0.4f * static_cast<float>(e.x - orbit.last_x);
+            orbit.elevation = std::clamp(
+                orbit.elevation + 0.4f * static_cast<float>(e.y - orbit.last_y), -89.0f, 89.0f);
+          }
+          orbit.last_x = e.x;
+          orbit.last_y = e.y;
+          break;
+        case InputEvent::Type::kButton:
+          if (e.code != GLFW_MOUSE_BUTTON_LEFT) break;
+          if (e.action == InputEvent::Action::kPress && !io.WantCaptureMouse) {
+            scene_drag = scene.PointerPress(full_camera_now(), {orbit.last_x, orbit.last_y});
+            orbit.dragging = !scene_drag;
+          } else if (e.action == InputEvent::Action::kRelease) {
+            if (scene_drag) scene.PointerRelease();
+            scene_drag = false;
+            orbit.dragging = false;
+          }
+          break;
+        case InputEvent::Type::kScroll:
+          if (!io.WantCaptureMouse && e.y != 0) {
+            orbit.distance_scale = std::clamp(
+                orbit.distance_scale * std::pow(0.9f, static_cast<float>(e.y)), 0.2f, 20.0f);
+          }
+          break;
+        case InputEvent::Type::kKey:
+          if (e.action == InputEvent::Action::kPress && !io.WantCaptureKeyboard)
+            controls_changed |= scene.Key(e.code);
+          break;
+      }
+    }
+    input_queue.pending.clear();
+    controls_changed |= scene.Poll();
 
     // Moving: the pose, the window or an option changed since the last frame.
     const ViewKey key{orbit.azimuth, orbit.elevation, orbit.distance_scale, fb_w, fb_h};
@@ -320,9 +487,8 @@ void Run(const SceneFactory& make_scene, const ViewerOptions& options, const Vie
         moving ? (options.coarse_factor > 0 ? static_cast<double>(options.coarse_factor)
                                             : progressive.divisor)
                : 1.0;
-    const FrameCamera full_camera =
-        OrbitCamera(scene.Centre(), scene.Radius(), orbit.azimuth, orbit.elevation,
-                    orbit.distance_scale, options.fov_y_degrees, fb_w, fb_h, up);
+    const FrameCamera full_camera = full_camera_now();
+    last_full_camera = full_camera;
     const FrameCamera camera =
         divisor > 1 ? OrbitCamera(scene.Centre(), scene.Radius(), orbit.azimuth, orbit.elevation,
                                   orbit.distance_scale, options.fov_y_degrees,
@@ -356,9 +522,20 @@ void Run(const SceneFactory& make_scene, const ViewerOptions& options, const Vie
 
     ImGui_ImplOpenGL3_NewFrame();
     ImGui_ImplGlfw_NewFrame();
+    // The mouse as the events left it (see InputQueue).
+    io.MousePos = input_queue.has_cursor ? ImVec2(static_cast<float>(input_queue.cursor.x),
+                                                  static_cast<float>(input_queue.cursor.y))
+                                         : ImVec2(-FLT_MAX, -FLT_MAX);
+    for (int b = 0; b < 3; ++b) {
+      io.MouseDown[b] = input_queue.down[b] || input_queue.pressed[b];
+      input_queue.pressed[b] = false;
+    }
     ImGui::NewFrame();
     if (shown) DrawFrameBehindPanel(*shown, fb_w, fb_h);
     if (options.panel) {
+      ImDrawList* overlay = ImGui::GetBackgroundDrawList();
+      for (const OverlayLine& l : scene.Overlay(full_camera))
+        overlay->AddLine(ImVec2(l.a.x, l.a.y), ImVec2(l.b.x, l.b.y), l.colour, l.thickness);
       ImGui::SetNextWindowPos(ImVec2(10, 10), ImGuiCond_FirstUseEver);
       ImGui::SetNextWindowSize(ImVec2(400, 0), ImGuiCond_FirstUseEver);
       ImGui::Begin(scene.Title().c_str());
@@ -381,14 +558,29 @@ void Run(const SceneFactory& make_scene, const ViewerOptions& options, const Vie
     ImGui_ImplOpenGL3_RenderDrawData(ImGui::GetDrawData());
 
     ++frame;
-    if (draw && !moving && shown && !options.frame_out.empty()) {
-      exact_frame = shown->ReadColor8();
+    if (draw && !moving && shown) {
+      if (!options.frame_out.empty()) exact_frame = shown->ReadColor8();
       exact_camera = camera;
     }
+    // A replay ends at the first exact frame after its last event.
+    const bool replay_done =
+        replay && replay_next == replay->events.size() && draw && !moving && !scene_drag;
+    // The edited scene is made before any output is written: an edit it
+    // cannot hold stops the run with no file written.
+    const auto edited_scene = [&] {
+      if (!options.save_scene.empty() && !edited) edited = scene.EditedScene(full_camera);
+    };
     if (!options.screenshot.empty() && frame >= options.frames) {
+      edited_scene();
       SaveScreenshot(options, fb_w, fb_h, exact_frame, exact_camera);
       fmt::print("view: wrote {} after {} frames, last frame {:.1f} ms\n",
                  options.screenshot.string(), frame, frame_ms.empty() ? 0.0 : frame_ms.back());
+      glfwSetWindowShouldClose(window, GLFW_TRUE);
+    }
+    if (replay_done) {
+      edited_scene();
+      SaveExactFrame(options, exact_frame, exact_camera);
+      fmt::print("view: replayed {} events in {} frames\n", replay->events.size(), frame);
       glfwSetWindowShouldClose(window, GLFW_TRUE);
     }
     glfwSwapBuffers(window);
@@ -413,6 +605,15 @@ void Run(const SceneFactory& make_scene, const ViewerOptions& options, const Vie
       report.scene = &scene;
       script->on_frame(report);
     }
+  }
+  if (!options.record.empty()) {
+    WriteRecording(options.record, input_queue.recording);
+    fmt::print("view: recorded {} events to {}\n", input_queue.recording.events.size(),
+               options.record.string());
+  }
+  if (!options.save_scene.empty()) {
+    scene::WriteScene(options.save_scene, edited ? *edited : scene.EditedScene(last_full_camera));
+    fmt::print("view: saved the scene to {}\n", options.save_scene.string());
   }
   scene_owner.reset();  // GPU resources go while the context still exists
   ImGui_ImplOpenGL3_Shutdown();

@@ -12,20 +12,31 @@
 // without being drawn again until something moves.
 #pragma once
 
+#include <cstdint>
 #include <filesystem>
 #include <functional>
 #include <glm/glm.hpp>
 #include <memory>
 #include <optional>
 #include <string>
+#include <vector>
 
+#include "apps/viewer/input_events.h"
 #include "capture/dataset.h"
 #include "render/gl/render_target.h"
+#include "scene/scene.h"
 
 namespace viewer {
 
 // The camera of one frame: pose, pinhole intrinsics (pixels, sparse
 // convention) and the matching GL projection.
+// A line drawn over the frame (the gizmo; apps/viewer/gizmo.h).
+struct OverlayLine {
+  glm::vec2 a, b;   // window pixels
+  uint32_t colour;  // ImGui's packed ABGR (IM_COL32)
+  float thickness;  // pixels
+};
+
 struct FrameCamera {
   glm::mat4 cam_from_world{1.0f};
   glm::mat4 clip_from_cam{1.0f};
@@ -57,6 +68,30 @@ class Scene {
   // Before an exact frame: finishes what changes while moving left
   // approximate (e.g. a distance field whose reach a drag outgrew).
   virtual void Settle() {}
+  // Called once per frame before Render: true when work finished in the
+  // background changed the scene (the frame then counts as moving).
+  virtual bool Poll() { return false; }
+
+  // Direct manipulation (apps/viewer/gizmo.h), `camera` the window's full
+  // camera, pixels in window coordinates (y down). A left press the scene
+  // takes (a handle under the mouse) starts a drag instead of an orbit.
+  virtual bool PointerPress(const FrameCamera& /*camera*/, const glm::dvec2& /*pixel*/) {
+    return false;
+  }
+  // The mouse moved during a drag the scene took: true when the scene changed.
+  virtual bool PointerDrag(const FrameCamera& /*camera*/, const glm::dvec2& /*pixel*/) {
+    return false;
+  }
+  virtual void PointerRelease() {}
+  // A key press (GLFW key code) the panel did not take: true when the
+  // scene changed.
+  virtual bool Key(int /*key*/) { return false; }
+  // Lines drawn over the frame (the gizmo), not part of the frame itself.
+  virtual std::vector<OverlayLine> Overlay(const FrameCamera& camera) const;
+  // The scene as edited, its cameras the one `camera` (`--save-scene`).
+  // InputError when the scene has no file form (a dataset) or an edit has
+  // no scene key.
+  virtual scene::Scene EditedScene(const FrameCamera& camera) const;
 };
 
 struct ViewerOptions {
@@ -90,6 +125,17 @@ struct ViewerOptions {
   // `ibr render --cameras` and a scene's {"dataset": FILE} cameras read).
   std::filesystem::path frame_out;
   std::filesystem::path camera_out;
+  // Non-empty: the session's input is written here when the window closes
+  // (apps/viewer/input_events.h).
+  std::filesystem::path record;
+  // Set: the recorded input is fed frame by frame through the live input's
+  // handlers (window size, initial orbit and panel taken from it); after
+  // its last event the frames run until the exact one, which is the frame
+  // `frame_out` and `camera_out` save, then the viewer exits.
+  std::optional<InputRecording> replay;
+  // Non-empty: on exit, the scene as edited with the window's last camera
+  // (Scene::EditedScene; scene/scene_write.h).
+  std::filesystem::path save_scene;
 
   void Check() const;
 };
