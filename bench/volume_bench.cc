@@ -647,8 +647,7 @@ Table RunVolumeBench(const VolumeBenchOptions& o) {
       // GPU; the J_D textures are RGBA32F at any bits), time, and the
       // picture's colour error against the same map stored in 32 bits.
       for (int map_size : o.quick ? std::vector<int>{16, 64} : std::vector<int>{16, 32, 64, 128}) {
-        const ibr::VolumeObjectData m =
-            ibr::MakeVolumeObject(volume, tf, peel, map_size, glm::dvec3(0.0), glm::dvec3(1.0));
+        const ibr::VolumeObjectData m = ibr::MakeVolumeObject(volume, tf, peel, map_size);
         render::VolumePassOptions by_bits = displaced;
         by_bits.displacement_bits = 32;
         const Measured full = TimeVolume(programs, m, by_bits, size, timer, true);

@@ -42,7 +42,7 @@ bool SameDeform(ibr::DeformObjectOptions parsed, const ibr::DeformObjectOptions&
 bool SameVolume(ibr::VolumeObjectOptions parsed, const ibr::VolumeObjectOptions& viewer) {
   // The normalised iso value is set from iso_value at load (SetIsoValue).
   parsed.pass.iso_value = viewer.pass.iso_value;
-  return parsed.effect == viewer.effect && parsed.map_size == viewer.map_size &&
+  return parsed.deformations == viewer.deformations && parsed.map_size == viewer.map_size &&
          parsed.pass == viewer.pass && parsed.iso_value == viewer.iso_value;
 }
 
@@ -90,7 +90,8 @@ scene::Settings DeformSettings(const ibr::DeformObjectOptions& o, scene::Setting
 
 scene::Settings VolumeSettings(const ibr::VolumeObjectOptions& o, scene::Settings s,
                                const std::string& where) {
-  s.Set("effect", o.effect ? std::string(core::EffectName(o.effect->effect)) : "none", where);
+  // The deformations keep the file's keys: a placed deformation's matrix has
+  // no exact key form yet, so an edited one is refused below, not rewritten.
   s.Set("map_size", o.map_size, where);
   s.Set("mode",
         o.pass.mode == render::VolumeMode::kIso && o.iso_value ? fmt::format("iso:{}", *o.iso_value)
@@ -123,9 +124,9 @@ scene::Scene SceneWithEdits(const scene::Scene& file, const ibr::LoadedScene& lo
       it->settings = VolumeSettings(l.volume_options, it->settings, where);
       if (!SameVolume(ibr::VolumeObjectOptionsFrom(it->settings), l.volume_options)) {
         core::ThrowInputError("ibr view --save-scene",
-                              "object '{}': an edit has no scene key yet (a volume effect's "
-                              "parameters are not scene keys: the saved file would draw another "
-                              "volume)",
+                              "object '{}': an edit has no scene key yet (a volume's edited "
+                              "deformations are not written back: the saved file would draw "
+                              "another volume)",
                               l.name);
       }
     }

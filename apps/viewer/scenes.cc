@@ -359,11 +359,18 @@ void SceneFileScene::Settle() {
   }
 }
 
+// The first peel among a volume's deformations: the one the gizmo sweeps.
+static std::optional<size_t> VolumePeel(const ibr::VolumeObjectOptions& o) {
+  for (size_t i = 0; i < o.deformations.size(); ++i) {
+    if (o.deformations[i].kind == core::DeformationKind::kPeel) return i;
+  }
+  return std::nullopt;
+}
+
 bool SceneFileScene::HasGizmo(size_t index) const {
   const ibr::LoadedObject& o = loaded_.objects[index];
   return o.type == scene::ObjectType::kDeform ||
-         (o.type == scene::ObjectType::kVolume && o.volume_options.effect &&
-          o.volume_options.effect->effect == core::Effect::kPeel);
+         (o.type == scene::ObjectType::kVolume && VolumePeel(o.volume_options));
 }
 
 GizmoBox SceneFileScene::GizmoBoxOf(size_t index) const {
@@ -372,13 +379,13 @@ GizmoBox SceneFileScene::GizmoBoxOf(size_t index) const {
   if (o.type == scene::ObjectType::kVolume) {
     // The peel's map cube (eq. 10's M) in the volume: its placement is not
     // an option, so no axis handles; the flap's edge sweeps the peel.
-    const core::EffectOptions& e = *o.volume_options.effect;
+    const core::Deformation& d = o.volume_options.deformations[*VolumePeel(o.volume_options)];
     box.world_from_norm = glm::dmat4(o.volume->world_from_volume);
-    box.norm_from_box = o.volume->map_placement;
+    box.norm_from_box = d.parent_from_box;
     box.axes = false;
-    box.peel_angle = glm::radians(e.peel_angle_deg);
-    box.peel_hinge = {e.peel_hinge_x, e.peel_top};
-    box.peel_length = 1.0 - e.peel_hinge_x;
+    box.peel_angle = d.amount;
+    box.peel_hinge = {0.5, 1.0 - d.width};  // core/deformation.cc: hinge x 0.5, top 1 - T
+    box.peel_length = 0.5;
     return box;
   }
   box.world_from_norm = o.world_from_object;  // world_from_object * object_from_norm
@@ -395,9 +402,9 @@ GizmoBox SceneFileScene::GizmoBoxOf(size_t index) const {
 
 bool SceneFileScene::DragVolumePeel(size_t index, double angle) {
   ibr::VolumeObjectOptions o = loaded_.objects[index].volume_options;
-  const double degrees = glm::degrees(angle);
-  if (degrees == o.effect->peel_angle_deg) return false;
-  o.effect->peel_angle_deg = degrees;
+  core::Deformation& peel = o.deformations[*VolumePeel(o)];
+  if (angle == peel.amount) return false;
+  peel.amount = angle;
   try {
     renderer_.UpdateVolume(loaded_, index, o, /*preview=*/true);
     error_.clear();

@@ -367,7 +367,9 @@ TEST_F(DeformPassTest, SlicesSeamAndWaveAgreeWithTheReference) {
         a.cut_normals);
     EXPECT_GE(a.agree, 0.995 * a.compared) << tag;
     EXPECT_GT(changed, kSize * kSize / 50) << tag;
-    if (cut == CutMode::kSolid) EXPECT_GT(a.cut_normals, 50) << tag;
+    if (cut == CutMode::kSolid) {
+      EXPECT_GT(a.cut_normals, 50) << tag;
+    }
   }
   EXPECT_NO_GL_ERROR();
 }

@@ -350,8 +350,7 @@ TEST_F(GlTest, VolumeUnormMapTexturesDrawTheDequantisedPicture) {
   for (const int bits : {8, 16}) {
     double worst = 0, sum = 0;
     int64_t values = 0, off = 0;
-    for (const core::Effect effect :
-         {core::Effect::kPeel, core::Effect::kSlices, core::Effect::kSeam, core::Effect::kPull}) {
+    for (const K effect : {K::kPeel, K::kSlices, K::kSeam, K::kPull}) {
       Scene s{volume, core::TransferPreset("neghip"), {PlacedEffect(effect, {32, 32, 32})}, {}};
       s.options.displacement_bits = bits;
       for (const double azimuth : {30.0, 150.0, 260.0}) {
