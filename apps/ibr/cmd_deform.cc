@@ -15,21 +15,16 @@ namespace {
 struct DeformFlags {
   ibr::DeformRenderOptions o;
   bool cap_holes = false, skip = false, skip_object = true;
-  std::vector<std::string> deformations = {"twist"};
-  std::vector<double> amounts, widths;
-  std::string cut = "none", region, placement, step = "fixed", implicit = "sdf", solid = "csg";
+  DeformationFlags deformations{{"twist"}, {}, {}, ""};
+  std::string cut = "none", region, step = "fixed", implicit = "sdf", solid = "csg";
   float step_voxels = 1.0f;
   int resolution = 128;
 };
 
 void RunDeformCommand(DeformFlags& f) {
-  auto join = [](const auto& v) { return fmt::format("{}", fmt::join(v, ",")); };
   scene::Settings s;  // read as a scene's deform object is (ibr::DeformObjectOptionsFrom)
-  s.Set("deformation", join(f.deformations), "--deformation");
-  if (!f.amounts.empty()) s.Set("amount", join(f.amounts), "--amount");
-  if (!f.widths.empty()) s.Set("width", join(f.widths), "--width");
+  SetDeformationSettings(f.deformations, "", s);
   if (!f.region.empty()) s.Set("region", f.region, "--region");
-  if (!f.placement.empty()) s.Set("placement", f.placement, "--placement");
   s.Set("cut", f.cut, "--cut");
   s.Set("step", f.step, "--step");
   s.Set("step_voxels", f.step_voxels, "--step-voxels");
@@ -53,16 +48,12 @@ void AddDeformCommand(CLI::App& app) {
   cmd->add_option("mesh", f.o.mesh, "mesh file (OBJ/PLY/...), normalised to the unit cube")
       ->required();
   cmd->add_flag("--cap-holes", f.cap_holes, "fill the boundary loops of an open mesh");
-  cmd->add_option("--deformation", f.deformations,
-                  "twist|bend|pull|knife|peel|slices|seam|wave|clip|cutaway|wedge (repeat or comma "
-                  "list to sum; docs/guide/deformations.md)")
-      ->delimiter(',');
-  cmd->add_option("--amount", f.amounts, "per deformation (the deformations table)")
-      ->delimiter(',');
-  cmd->add_option("--width", f.widths, "per deformation (the deformations table)")->delimiter(',');
+  AddDeformationFlags(cmd, f.deformations, "--deformation",
+                      "twist|bend|pull|knife|peel|slices|seam|wave|clip|cutaway|wedge (repeat or "
+                      "comma list to sum; docs/guide/deformations.md)",
+                      "tx,ty,tz[,rx,ry,rz[,scale]] about region centre");
   cmd->add_option("--cut", f.cut, "none|hollow|solid|thick:T")->capture_default_str();
   cmd->add_option("--region", f.region, "x0,y0,z0,x1,y1,z1 (normalised; default: mesh + 0.05)");
-  cmd->add_option("--placement", f.placement, "tx,ty,tz[,rx,ry,rz[,scale]] about region centre");
   cmd->add_option("--step", f.step, "fixed|threshold:T|jacobian")->capture_default_str();
   cmd->add_option("--step-voxels", f.step_voxels, "base step, field voxels")->capture_default_str();
   cmd->add_flag("--skip", f.skip, "empty-space skipping in the cut (sec. 6.2)");

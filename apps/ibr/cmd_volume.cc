@@ -19,9 +19,8 @@ namespace {
 
 struct VolumeFlags {
   ibr::VolumeRenderRequest request;
-  std::vector<std::string> deformations = {"none"};
-  std::vector<double> amounts, widths;
-  std::string placement, mode = "dvr", lighting = "blended", up = "z";
+  DeformationFlags deformations{{"none"}, {}, {}, ""};
+  std::string mode = "dvr", lighting = "blended", up = "z";
   int map_size = 64, bits = 16, brick_texels = 3;  // the pass's defaults
   double spacing = 1;
   bool support_skip = true;
@@ -30,12 +29,8 @@ struct VolumeFlags {
 
 void RunVolume(VolumeFlags& f) {
   ibr::VolumeRenderRequest& r = f.request;
-  auto join = [](const auto& v) { return fmt::format("{}", fmt::join(v, ",")); };
   scene::Settings s;  // read as a scene's volume object is (ibr::VolumeObjectOptionsFrom)
-  s.Set("deformation", join(f.deformations), "ibr volume --deformation");
-  if (!f.amounts.empty()) s.Set("amount", join(f.amounts), "ibr volume --amount");
-  if (!f.widths.empty()) s.Set("width", join(f.widths), "ibr volume --width");
-  if (!f.placement.empty()) s.Set("placement", f.placement, "ibr volume --placement");
+  SetDeformationSettings(f.deformations, "ibr volume ", s);
   s.Set("map_size", f.map_size, "ibr volume --map-size");
   s.Set("mode", f.mode, "ibr volume --mode");
   s.Set("lighting", f.lighting, "ibr volume --lighting");
@@ -59,13 +54,10 @@ void AddVolumeCommand(CLI::App& app) {
   auto* cmd = app.add_subcommand("volume", "Render a volume deformed and cut (Correa et al. 2006)");
   auto& r = f.request;
   cmd->add_option("volume", r.volume, "QVis, NRRD, NIfTI file or DICOM dir")->required();
-  cmd->add_option("--deformation,--effect", f.deformations,
-                  "none or twist|bend|pull|knife|peel|slices|seam|wave|clip|cutaway|wedge (repeat "
-                  "or comma list: one map each; docs/guide/deformations.md)")
-      ->delimiter(',');
-  cmd->add_option("--amount", f.amounts, "per deformation (see the table)")->delimiter(',');
-  cmd->add_option("--width", f.widths, "per deformation (the deformations table)")->delimiter(',');
-  cmd->add_option("--placement", f.placement, "tx,ty,tz[,rx,ry,rz[,scale]] in the volume's box");
+  AddDeformationFlags(cmd, f.deformations, "--deformation,--effect",
+                      "none or twist|bend|pull|knife|peel|slices|seam|wave|clip|cutaway|wedge "
+                      "(repeat or comma list: one map each; docs/guide/deformations.md)",
+                      "tx,ty,tz[,rx,ry,rz[,scale]] in the volume's box");
   cmd->add_option("--map-size", f.map_size, "map texels per axis")->capture_default_str();
   cmd->add_option("--mode", f.mode, "dvr | iso:VALUE (the volume's own units, e.g. HU)");
   cmd->add_option("--lighting", f.lighting, "none|gradient|transformed|blended (Fig. 4 a-d)");
