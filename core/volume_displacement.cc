@@ -35,24 +35,69 @@ glm::dvec4 EvaluateVolumeMap(const Deformation& d, const glm::dvec3& u) {
   return {glm::dvec3(e), e.w > 0 ? 0.0 : 1.0};
 }
 
+Box3d VolumeMapBox(const Deformation& d) {
+  Box3d box{glm::dvec3(0.0), glm::dvec3(1.0)};
+  if (d.kind == DeformationKind::kPeel) {
+    box.hi.z = 1.5;  // the turned flap; its own fill and cut rules (EvaluateVolumeMap)
+    return box;
+  }
+  // Every node of a grid over the box, faces included: the forward image of
+  // the material where the kind has one (the extremes lie on the faces or
+  // the grid's nodes for these piecewise-monotone maps), else the largest
+  // inverse displacement per axis and sign (pull and wave move along z only,
+  // p' = p - D(p'), by at most max |D| each way).
+  constexpr int kGrid = 32;
+  Box3d moved = box;
+  glm::dvec3 max_d(0.0), min_d(0.0);
+  for (int k = 0; k <= kGrid; ++k)
+    for (int j = 0; j <= kGrid; ++j)
+      for (int i = 0; i <= kGrid; ++i) {
+        const glm::dvec3 u(double(i) / kGrid, double(j) / kGrid, double(k) / kGrid);
+        if (d.HasForward()) {
+          const glm::dvec3 f = d.ForwardInBox(u);
+          moved.lo = glm::min(moved.lo, f);
+          moved.hi = glm::max(moved.hi, f);
+        } else {
+          const glm::dvec3 e(d.EvaluateInBox(u));
+          max_d = glm::max(max_d, e);
+          min_d = glm::min(min_d, e);
+        }
+      }
+  moved.lo -= max_d;  // p' = p - D(p')
+  moved.hi -= min_d;
+  // A texel of margin where it grew (at 64 texels a box unit): the last
+  // texel centre still holds the outermost material.
+  for (int a = 0; a < 3; ++a) {
+    if (moved.lo[a] < 0) moved.lo[a] = std::max(moved.lo[a] - 1.0 / 64, -kMaxMapGrowth);
+    if (moved.hi[a] > 1) moved.hi[a] = std::min(moved.hi[a] + 1.0 / 64, 1.0 + kMaxMapGrowth);
+  }
+  return moved;
+}
+
 glm::dmat4 BoxFromMap(const Deformation& d) {
+  const Box3d box = VolumeMapBox(d);
   glm::dmat4 m(1.0);
-  if (d.kind == DeformationKind::kPeel) m[2][2] = 1.5;
+  for (int a = 0; a < 3; ++a) {
+    m[a][a] = box.hi[a] - box.lo[a];
+    m[3][a] = box.lo[a];
+  }
   return m;
 }
 
 glm::dmat4 VolumeMapPlacement(const Deformation& d) { return d.parent_from_box * BoxFromMap(d); }
 
-glm::ivec3 VolumeMapDims(DeformationKind kind, int size) {
-  glm::ivec3 dims(size);
+glm::ivec3 VolumeMapDims(const Deformation& d, int size) {
+  // As many texels per box unit as `size` along every axis the map spans
+  // (a grown map keeps its density), at most kMaxMapTexels.
+  const Box3d box = VolumeMapBox(d);
+  glm::ivec3 dims;
+  for (int a = 0; a < 3; ++a) {
+    const double texels = std::ceil(size * (box.hi[a] - box.lo[a]) - 1e-9);
+    dims[a] = std::clamp(static_cast<int>(texels), 1, std::max(size, kMaxMapTexels));
+  }
   const int thin = std::min(size, 4);
-  switch (kind) {
+  switch (d.kind) {
     case DeformationKind::kPeel:
-      // Its map spans 1.5 boxes in z (BoxFromMap): as many texels per box
-      // unit as along x.
-      dims.y = thin;
-      dims.z = std::min(512, (3 * size + 1) / 2);
-      break;
     case DeformationKind::kSlices:
     case DeformationKind::kWave:
     case DeformationKind::kSeam:

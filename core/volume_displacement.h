@@ -57,21 +57,32 @@ struct DisplacementMap {
 // Correa 2006 Fig. 1, 4.
 glm::dvec4 EvaluateVolumeMap(const Deformation& deformation, const glm::dvec3& u);
 
-// Where a deformation's map lies in its box: the box itself, except a peel's,
-// which reaches up to z = 1.5 so that the turned flap (up to 0.5 + T above
-// its hinge at 1 - T) stays inside the map, surrounded by removed space (a
-// mesh's flap is clipped at its box's top instead). Texel centres of the
-// map's unit cube are at box point BoxFromMap * u.
+// Where a deformation's map lies in its box (box units): the box grown to
+// hold where the deformation moves material (Correa 2006 sec. 4: displaced
+// material outside the volume's box must still be drawn), so a twist's
+// turned corners, the slices' and the knife's outer parts, a pull's or a
+// wave's lifted top are not clipped. A peel's reaches up to z = 1.5 so that
+// the turned flap (up to 0.5 + T above its hinge at 1 - T) stays inside the
+// map, surrounded by removed space (a mesh's flap is clipped at its box's
+// top instead). Growth is capped at kMaxMapGrowth box units each side
+// (slices whose gap nearly fills the period would otherwise move material
+// arbitrarily far); material beyond the cap is clipped.
+inline constexpr double kMaxMapGrowth = 2.0;
+Box3d VolumeMapBox(const Deformation& deformation);
+// The same as an affine map: texel centres of the map's unit cube are at box
+// point BoxFromMap * u.
 glm::dmat4 BoxFromMap(const Deformation& deformation);
 // The map's placement in the parent (PlacedMap::placement, eq. 10's M):
 // deformation.parent_from_box * BoxFromMap(deformation).
 glm::dmat4 VolumeMapPlacement(const Deformation& deformation);
 
-// The grid a `size` map of `kind` needs: thin (at most 4 texels) along axes
-// the deformation does not vary on (Table 2: the peel and slicing maps are
-// 128 x 128 x 1); a peel's 1.5 times `size` along z (its map is 1.5 boxes
-// tall, BoxFromMap).
-glm::ivec3 VolumeMapDims(DeformationKind kind, int size);
+// The grid a `size` map of `deformation` needs: `size` texels per box unit
+// along each axis its map box spans (VolumeMapBox; a peel's 1.5 times
+// `size` along z), at most kMaxMapTexels (or `size`); thin (at most 4
+// texels) along axes the deformation does not vary on (Table 2: the peel and
+// slicing maps are 128 x 128 x 1).
+inline constexpr int kMaxMapTexels = 512;
+glm::ivec3 VolumeMapDims(const Deformation& deformation, int size);
 
 // The deformation sampled at texel centres of a dims grid. Where alpha = 0
 // the deformation's own continuous pseudo-inverse is kept (slices, seam,

@@ -74,7 +74,7 @@ constexpr int kPreviewFillIterations = 20;
 render::VolumeMapInput SampleMap(const core::Deformation& d, int map_size, bool preview = false) {
   core::Deformation unplaced = d;
   unplaced.parent_from_box = glm::dmat4(1.0);  // the PlacedMap's placement
-  const glm::ivec3 dims = core::VolumeMapDims(d.kind, map_size);
+  const glm::ivec3 dims = core::VolumeMapDims(d, map_size);
   return {preview ? core::SampleDeformationMap(unplaced, dims, 2, kPreviewFillIterations)
                   : core::SampleDeformationMap(unplaced, dims, 2),
           core::VolumeMapPlacement(d)};

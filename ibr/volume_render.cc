@@ -79,18 +79,21 @@ VolumeRenderResult RenderVolume(const VolumeRenderRequest& r) {
     render::ViewSetup view;
     int width, height;
   };
+  // The orbit frames the proxy box, not the volume's: material the maps move
+  // out of the volume's box (core::VolumeMapBox) stays in the picture.
+  const glm::dmat4 world_from_proxy = WorldFromProxy(scene);
+  const glm::vec3 centre(world_from_proxy * glm::dvec4(0.5, 0.5, 0.5, 1.0));
+  const double radius = 0.5 * glm::length(glm::dvec3(world_from_proxy * glm::dvec4(1, 1, 1, 0)));
   std::vector<Shot> shots;
   if (r.cameras.empty()) {
     shots.push_back(
-        {"", OrbitCameraView(glm::vec3(0), static_cast<float>(scene.radius), r.orbit, r.size),
-         r.size, r.size});
+        {"", OrbitCameraView(centre, static_cast<float>(radius), r.orbit, r.size), r.size, r.size});
   } else {
     const capture::Dataset dataset = capture::ReadDataset(r.cameras);
     for (const auto& v : dataset.views) {
       const capture::Camera& cam = dataset.cameras.at(v.camera_id);
       const double d = glm::length(v.cam_from_world.Centre());
-      const double near = std::max(d - 2 * scene.radius, 1e-3 * scene.radius),
-                   far = d + 2 * scene.radius;
+      const double near = std::max(d - 2 * radius, 1e-3 * radius), far = d + 2 * radius;
       render::ViewSetup view;
       view.cam_from_world = v.cam_from_world.ToMat4();
       view.orthographic = cam.orthographic();

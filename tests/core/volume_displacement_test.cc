@@ -1,5 +1,6 @@
 #include "core/volume_displacement.h"
 
+#include <fmt/format.h>
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -62,11 +63,19 @@ TEST(VolumeDisplacement, GaussianPullMatchesEq8AtTheCentreAndVanishesOnTheXYFace
       EXPECT_EQ(EvaluateEffect(o, {t, 1, z}).z, 0);
     }
   }
-  // The 64^3 map (the text's size; Table 2 says 32^3) at texture coordinate
-  // 0.5: the trilinear mean of the four texels around the centre line, whose
-  // centres are half a texel off it, so g is slightly below 1 there.
-  const DisplacementMap map = SampleEffect(o, {64, 64, 64});
-  const glm::dvec4 s = SampleMap(map, {0.5, 0.5, 0.5});
+  // The map at 64 texels a box unit (the text's size; Table 2 says 32^3) at
+  // the box centre: the trilinear mean of the four texels around the centre
+  // line, whose centres are half a texel off it, so g is slightly below 1
+  // there. The map reaches above the box (the pulled top: VolumeMapBox), so
+  // the box centre is at map coordinate z < 0.5 and D is in map units.
+  const glm::dmat4 box_from_map = BoxFromMap(o);
+  EXPECT_GT(box_from_map[2][2], 2.0);  // the top rises by the amplitude, 1
+  EXPECT_EQ(VolumeMapDims(o, 64),
+            glm::ivec3(64, 64, static_cast<int>(std::ceil(64 * box_from_map[2][2]))));
+  const DisplacementMap map = SampleEffect(o, VolumeMapDims(o, 64));
+  const glm::dvec3 centre(glm::inverse(box_from_map) * glm::dvec4(0.5, 0.5, 0.5, 1.0));
+  glm::dvec4 s = SampleMap(map, centre);
+  s.z *= box_from_map[2][2];
   const double r = std::sqrt(2.0) * 0.5 / 64;
   const double g = (std::exp(-r * r / (2 * 0.15 * 0.15)) - std::exp(-0.25 / (2 * 0.15 * 0.15))) /
                    (1 - std::exp(-0.25 / (2 * 0.15 * 0.15)));
@@ -95,6 +104,95 @@ TEST(VolumeDisplacement, InverseMapsUndoTheForwardMaps) {
     }
     EXPECT_GT(checked, 10000) << EffectName(e);
   }
+}
+
+// Correa 2006 sec. 4: material a deformation moves out of the volume's box
+// is still drawn. For every kind but the peel (its own rule: the map reaches
+// z = 1.5), at its defaults and at larger amounts: every object point p of
+// the box, moved to p' (the closed-form forward, or for pull and wave the
+// fixed point of p' = p - D(p'), which converges as |dD/dz| < 1), lies in
+// the map's box (VolumeMapBox, the proxy the pass draws), and the map as
+// sampled on its grid shows p there, also where p' is outside [0, 1]^3.
+TEST(VolumeDisplacement, MapBoxesHoldTheMaterialTheDeformationsMove) {
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> u01(0.0, 1.0);
+  std::vector<Deformation> cases;
+  for (const DeformationInfo& info : kDeformationTable) {
+    if (info.kind == K::kPeel) continue;
+    cases.push_back(Deformation::Default(info.kind));
+  }
+  Deformation twist = Deformation::Default(K::kTwist);
+  twist.amount = 0.25 * M_PI, twist.width = 0;
+  cases.push_back(twist);
+  Deformation pull = Deformation::Default(K::kPull);
+  pull.amount = 0.8, pull.width = 0.2;
+  cases.push_back(pull);
+  Deformation slices = Deformation::Default(K::kSlices);
+  slices.amount = 0.1, slices.width = 0.2;
+  cases.push_back(slices);
+  for (const Deformation& d : cases) {
+    const std::string label = fmt::format("{} {} {}", EffectName(d.kind), d.amount, d.width);
+    const Box3d box = VolumeMapBox(d);
+    const glm::dmat4 map_from_box = glm::inverse(BoxFromMap(d));
+    const DisplacementMap map = SampleEffect(d, VolumeMapDims(d, 64), 0);
+    const glm::dvec3 texel = glm::dvec3(box.hi - box.lo) / glm::dvec3(map.dims);
+    int outside = 0, shown = 0;
+    double worst_moved = 0;
+    for (int i = 0; i < 20000; ++i) {
+      const glm::dvec3 p(u01(rng), u01(rng), u01(rng));
+      glm::dvec3 pp = p;
+      if (d.HasForward()) {
+        pp = d.ForwardInBox(p);
+      } else {
+        for (int k = 0; k < 200; ++k) pp = p - glm::dvec3(d.EvaluateInBox(pp));
+      }
+      worst_moved = std::max(worst_moved, glm::length(pp - p));
+      ASSERT_TRUE(box.Contains(pp)) << label << ": p " << p.x << " " << p.y << " " << p.z
+                                    << " moves to " << pp.x << " " << pp.y << " " << pp.z;
+      const bool out = pp.x < 0 || pp.x > 1 || pp.y < 0 || pp.y > 1 || pp.z < 0 || pp.z > 1;
+      outside += out;
+      if (d.IsCutAway() || !out) continue;
+      // Where the map is smooth (a texel and a half from a cut or a slab's
+      // edge the trilinear footprint straddles two pre-images).
+      const glm::dvec3 m(map_from_box * glm::dvec4(pp, 1.0));
+      const glm::dvec4 sampled = SampleMap(map, m);
+      bool near_cut = false;
+      for (int a = 0; a < 3 && !near_cut; ++a) {
+        for (double s : {-1.5, 1.5}) {
+          glm::dvec3 q = pp;
+          q[a] += s * texel[a];
+          near_cut = near_cut || EvaluateEffect(d, q).w < 1 ||
+                     glm::length(glm::dvec3(EvaluateEffect(d, q)) -
+                                 glm::dvec3(EvaluateEffect(d, pp))) > 4 * glm::length(texel);
+        }
+      }
+      if (near_cut) continue;
+      const glm::dvec3 d_box = glm::dvec3(BoxFromMap(d) * glm::dvec4(glm::dvec3(sampled), 0.0));
+      EXPECT_NEAR(glm::length(pp + d_box - p), 0, 2 * glm::length(texel)) << label;
+      EXPECT_GT(sampled.w, 0.5) << label;
+      ++shown;
+    }
+    std::printf(
+        "%s: map box [%.3f %.3f %.3f]-[%.3f %.3f %.3f], %d of 20000 points moved out of "
+        "the volume's box, %d checked on the map, largest move %.3f\n",
+        label.c_str(), box.lo.x, box.lo.y, box.lo.z, box.hi.x, box.hi.y, box.hi.z, outside, shown,
+        worst_moved);
+    if (d.IsCutAway()) {
+      EXPECT_EQ(outside, 0) << label;  // they remove, never move
+      EXPECT_EQ(box, (Box3d{glm::dvec3(0.0), glm::dvec3(1.0)})) << label;
+    }
+  }
+  // The twist is rigid inside its radius and fades to the identity at r =
+  // 0.5, so its faces (and corners) stay put: its map is the box itself.
+  EXPECT_EQ(VolumeMapBox(twist), (Box3d{glm::dvec3(0.0), glm::dvec3(1.0)}));
+  // A pull lifts material (p' = p - D, D.z <= 0): only the top grows, by the
+  // amplitude; the slices spread to +x only, up to the last slab's shift.
+  const Box3d lifted = VolumeMapBox(pull);
+  EXPECT_EQ(lifted.lo, glm::dvec3(0.0));
+  EXPECT_NEAR(lifted.hi.z, 1.0 + pull.amount + 1.0 / 64, 0.01);
+  const Box3d spread = VolumeMapBox(slices);
+  EXPECT_EQ(spread.lo, glm::dvec3(0.0));
+  EXPECT_NEAR(spread.hi.x, 1.0 + 10 * slices.amount + 1.0 / 64, 1e-9);
 }
 
 // Cuts: space with no pre-image has alpha 0, and D stays continuous there

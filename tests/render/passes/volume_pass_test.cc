@@ -909,7 +909,8 @@ TEST_F(GlTest, VolumeIsoFirstHitsAgreeWithTheDoubleMarch) {
   Scene waved = BallScene(40);
   core::Deformation wave = core::Deformation::Default(K::kWave);
   wave.amount = 0.08;
-  waved.maps.push_back({core::SampleDeformationMap(wave, {48, 8, 8}), glm::dmat4(1.0)});
+  waved.maps.push_back(
+      {core::SampleDeformationMap(wave, {48, 8, 8}), core::VolumeMapPlacement(wave)});
   cases.push_back({"ball + wave", waved});
   Scene peeled = waved;
   // The peel's map spans 1.5 boxes in z (core::BoxFromMap): 40 texels per
@@ -948,6 +949,48 @@ TEST_F(GlTest, VolumeIsoFirstHitsAgreeWithTheDoubleMarch) {
     EXPECT_GE(static_cast<double>(agree) / total, 0.999) << label;
     EXPECT_LE(p999, 1e-3) << label;
   }
+  EXPECT_NO_GL_ERROR();
+}
+
+// Correa 2006 sec. 4: material the maps move out of the volume's box is
+// drawn (the proxy grows to the maps' boxes, core::VolumeMapBox). A sphere of
+// radius 0.45 exploded into slices (period 0.25, gap 0.06: object slabs of
+// 0.19, slab k shifted by 0.06 k along +x): its last slab, object x in
+// [0.76, 0.95], lands at [1.0, 1.19], outside the box's x = 1 face. Seen from
+// above, the GPU's hits reach x = 1.19 (texture units) and agree with the
+// double march.
+TEST_F(GlTest, VolumeIsoDrawsMaterialMovedOutOfTheVolumesBox) {
+  Scene s{BallVolume(48, 0.45, 2.0), core::TransferPreset("ramp"), {}, {}};
+  s.options.mode = VolumeMode::kIso;
+  s.options.iso_value = 0.5;
+  s.options.displacement_bits = 32;
+  const core::Deformation slices = core::Deformation::Default(K::kSlices);
+  s.maps.push_back({core::SampleDeformationMap(slices, core::VolumeMapDims(slices, 64)),
+                    core::VolumeMapPlacement(slices)});
+  const OrthoCamera cam = Ortho(0, 90, 0.75 * s.volume.dims.x, 160);
+  const IsoRun run = RunIso(*this, programs(), s, cam);
+  const glm::dmat4 world_from_cam = glm::inverse(glm::dmat4(cam.view.cam_from_world));
+  const double extent_x = s.volume.Extent().x;
+  double max_x = -1;
+  int64_t outside = 0, agree = 0;
+  for (int y = 0; y < cam.size; ++y)
+    for (int x = 0; x < cam.size; ++x) {
+      agree += GpuHit(run.frame, x, y) == (run.ref.hit.at(x, y) != 0);
+      if (!GpuHit(run.frame, x, y)) continue;
+      const glm::dvec3 p_cam =
+          ibr::PixelLineInCam(cam.view, cam.size, cam.size, x, y).AtZ(run.frame.depth.at(x, y));
+      const double tex_x = (world_from_cam * glm::dvec4(p_cam, 1.0)).x / extent_x + 0.5;
+      max_x = std::max(max_x, tex_x);
+      outside += tex_x > 1.0;
+    }
+  const double pixel_tex = 1.0 / (cam.scale * extent_x);
+  std::printf(
+      "slices from above: hits reach x = %.4f (texture units; analytic 1.19), %lld hit "
+      "pixels beyond the volume's box, hit/miss agree on %.4f%%\n",
+      max_x, static_cast<long long>(outside), 100.0 * agree / (cam.size * cam.size));
+  EXPECT_NEAR(max_x, 0.95 + 4 * slices.amount, 2 * pixel_tex);
+  EXPECT_GT(outside, 100);
+  EXPECT_GE(static_cast<double>(agree) / (cam.size * cam.size), 0.999);
   EXPECT_NO_GL_ERROR();
 }
 
@@ -1013,7 +1056,7 @@ TEST_F(GlTest, VolumeIsoNormalsMatchTheDisplacedFieldsGradient) {
   cases.push_back({"ball", BallScene(48)});
   Scene w = BallScene(48);
   w.options.lighting = VolumeLighting::kTransformed;
-  w.maps.push_back({core::SampleDeformationMap(wave, {64, 8, 8}), glm::dmat4(1.0)});
+  w.maps.push_back({core::SampleDeformationMap(wave, {64, 8, 8}), core::VolumeMapPlacement(wave)});
   cases.push_back({"ball + wave", w});
   Scene p = BallScene(48);
   p.options.lighting = VolumeLighting::kTransformed;
