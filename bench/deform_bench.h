@@ -225,6 +225,7 @@ struct DeformSpreadFigures {
   double ray_spread = NAN;           // max / min over meshes of the ray-stage medians
   double mesh_over_plain_max = NAN;  // the largest mesh-stage / plain median
   int rounds = 0;
+  size_t min_triangles = 0, max_triangles = 0;  // the tessellations' range
   std::string Line() const;
 };
 
@@ -283,7 +284,7 @@ struct DeformBenchResult {
   // workload "wedge" and "forward"):
   DeformWedgeFigures wedge;
   DeformForwardFigures forward;
-  // mesh, triangles, rounds, ray_ms (median), ray_over_finest, its _lo/_hi,
+  // mesh, triangles, rounds, ray_ms (median), ray_over_scan, its _lo/_hi,
   // mesh_stage_ms, plain_mesh_ms, mesh_over_plain, its _lo/_hi, samples_per_ray
   Table spread = Table(std::vector<std::string>{});
   DeformSpreadFigures spread_figures;

@@ -147,14 +147,14 @@ void CheckWorkloads(const DeformBenchResult& result) {
     const auto& row = sp.rows()[r];
     EXPECT_GT(Value(sp, row, "ray_ms"), 0);
     EXPECT_GT(Value(sp, row, "plain_mesh_ms"), 0);
-    EXPECT_GT(Value(sp, row, "ray_over_finest"), 0);
+    EXPECT_GT(Value(sp, row, "ray_over_scan"), 0);
     EXPECT_GT(Value(sp, row, "samples_per_ray"), 0);
     if (r > 0) {
       EXPECT_GT(Value(sp, row, "triangles"), Value(sp, sp.rows()[r - 1], "triangles"));
     }
   }
   EXPECT_NEAR(Value(sp, sp.rows()[0], "triangles"), 6000, 600);
-  EXPECT_EQ(Value(sp, sp.rows()[3], "ray_over_finest"), 1.0);
+  EXPECT_EQ(Value(sp, sp.rows()[3], "ray_over_scan"), 1.0);
   EXPECT_TRUE(std::isfinite(result.spread_figures.ray_spread));
 }
 
