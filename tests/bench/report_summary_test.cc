@@ -91,6 +91,24 @@ TEST(ReportSummary, RowsComeFromTheCsvCells) {
   EXPECT_NE(md.find("[deform/deform_summary.csv](deform/deform_summary.csv)"), std::string::npos);
 }
 
+TEST(ReportSummary, VolumeGoalsRowStatesEachGoalBesideItsMeasure) {
+  const fs::path dir = FakeReport("summary_volume_goals");
+  fs::create_directories(dir / "volume");
+  Table g({"quantity", "goal", "measured", "met", "note"});
+  g.AddRow({"eq. 6+7 frame / displaced floor frame", "<= 2", "tooth 1.40x, bucky 2.10x", "no", ""});
+  g.AddRow({"unsplit displaced / plain DVR, per fragment", "<= 2.5", "tooth 1.90x", "yes", ""});
+  g.AddRow({"displaced / plain DVR, per frame", "stated", "tooth 1.30x", "-", ""});
+  g.AddRow({"ours displaced frame / VTK prewarped frame", "<= 1", "tooth 0.40x", "yes", ""});
+  g.WriteCsv(dir / "volume" / "volume_goals.csv");
+  const std::vector<SummaryRow> rows = SummaryRows(dir);
+  ASSERT_EQ(rows.size(), 4u);
+  EXPECT_EQ(rows[3].data, "volume/volume_goals.csv");
+  EXPECT_EQ(rows[3].result,
+            "eq. 6+7 frame / displaced floor: tooth 1.40x, bucky 2.10x (goal <= 2, met: no); "
+            "unsplit displaced / plain per fragment: tooth 1.90x (goal <= 2.5, met: yes); ours / "
+            "VTK on the prewarped volume: tooth 0.40x (goal <= 1, met: yes)");
+}
+
 TEST(ReportSummary, WritesIntoAReportFolderAndListsItInTheMarker) {
   const fs::path dir = FakeReport("summary_write");
   WriteSummary(dir);
