@@ -30,7 +30,8 @@ void AddDeformBench(CLI::App& app) {
   cmd->add_flag("--sdf-only", options.sdf_only,
                 "only the distance-field table (ours vs OpenVDB: build time, accuracy) to --csv");
   cmd->add_flag("--workloads-only", options.workloads_only,
-                "only the wedge cut, forward-mesh peer and spread workloads");
+                "only the wedge cut, forward-mesh peer and spread workloads")
+      ->excludes("--sdf-only");
   cmd->callback([] {
     options.Check();
     CheckBenchOutputs("ibr bench deform", options.csv, options.out);

@@ -159,6 +159,9 @@ std::vector<Case> Corpus() {
   add("bad_log_level", fixed("--log-level loud info"), "--log-level", kCli);
   add("unknown_flag", fixed("capture --shape sphere --bogus --out OUT"), "--bogus", kCli);
   add("render_no_dataset", fixed("render --orbit 1 --out OUT"), "DATASET", kCli);
+  add("bench_deform_two_onlys",
+      fixed("bench deform --sdf-only --workloads-only --csv OUT/d.csv --out OUT"),
+      "--sdf-only excludes --workloads-only", kCli);
 
   // -- outputs: never over a user's folder, never over or inside an input
   auto user_docs = [](const fs::path& dir) {
