@@ -28,7 +28,6 @@ PENDING = {
     "depth_object_bench.cc:RunDepthObjectBench": 466,
     "displacement_bench.cc:RunDisplacementBench": 171,
     "map_count_bench.cc:RunMapCountSweep": 127,
-    "ncs_bench.cc:RunNcsBench": 136,
     "report_page.cc:WriteReport": 435,
     "volume_bench.cc:RunVolumeBench": 375,
 }
