@@ -26,7 +26,6 @@ PENDING = {
     "deform_bench.cc:RunDeformBench": 186,
     "deform_workloads.cc:RunDeformWedge": 131,
     "depth_object_bench.cc:RunDepthObjectBench": 466,
-    "displacement_bench.cc:RunDisplacementBench": 171,
     "map_count_bench.cc:RunMapCountSweep": 127,
     "report_page.cc:WriteReport": 435,
     "volume_bench.cc:RunVolumeBench": 375,
