@@ -189,6 +189,79 @@ struct SpotInBox {
 // share of the box's rays that meet the cut's material (some of the box's
 // rays miss the object altogether).
 constexpr double kWedgeAzimuthDeg = 90.0;
+namespace {
+
+// A mode of the wedge's sweep, as the sweep's Table 1 modes.
+struct WedgeMode {
+  std::string name;
+  bool cut, skip, search, skip_object;
+  // The cut's shader (CutMode::kSolid) even without the cut's alpha.
+  bool SolidShader() const { return cut || search; }
+};
+
+// The paper's search without and with the cut's skipping, our CSG field; the
+// paper_* modes without the skipping by the object's distance (the paper's
+// own shader).
+std::vector<WedgeMode> WedgeModes() {
+  return {{"baseline", false, false, false, true},
+          {"cut", true, false, true, true},
+          {"cut_skip", true, true, true, true},
+          {"cut_csg", true, false, false, true},
+          {"paper_baseline", false, false, false, false},
+          {"paper_cut", true, false, true, false},
+          {"paper_cut_skip", true, true, true, false},
+          // Why cut_skip costs more than its samples: its shader (the search,
+          // the reject tests, the cut's skip) on the baseline's texture without
+          // alpha, so the same rays and samples as the baseline.
+          {"cut_skip_shader_no_cut", false, true, true, true}};
+}
+
+// One wedge mode's frame against the reference: its row of `frames`, its
+// progress line, and (cut_skip) the figures of `fig`.
+DeformOutcomes MeasureWedgeMode(const render::Frame& frame, const DeformReferenceFrame& truth,
+                                const WedgeMode& mode, const std::vector<double>& ms, int size,
+                                size_t triangles, DeformWedgeFigures& fig, Table& frames) {
+  const DeformOutcomes outcomes = CountDeformOutcomes(frame);
+  const core::ViewMetrics metrics = core::CompareDepth(frame.depth, truth.depth, 1.0);
+  // The baselines draw the uncut object: their truth is another picture.
+  const bool cut = mode.cut;
+  const DeformClassAgreement agree = CompareDeformClasses(frame, truth);
+  FrameRow row(frames);
+  row.Set("workload", "wedge")
+      .Set("mesh", fig.mesh)
+      .Set("triangles", std::to_string(triangles))
+      .Set("mode", mode.name)
+      .Set("series", fig.mesh + " wedge " + mode.name)
+      .Set("region_scale", Num(1.0, 2))
+      .Set("area_fraction", Num(double(outcomes.rays) / (double(size) * size), 4))
+      .Set("ms", Num(Median(ms), 2))
+      .Set("ray_ms", Num(Median(ms), 2))  // the box holds the object: no mesh stage
+      .Set("mesh_ms", Num(0.0, 2));
+  SetOutcomes(row, outcomes, mode.search);
+  if (cut) {
+    row.Set("p95_depth_error", Num(metrics.depth.p95, 6))
+        .Set("agree_fraction", Num(agree.Fraction(), 5));
+  }
+  frames.AddRow(row.cells);
+  if (mode.name == "cut_skip") {
+    fig.agree_fraction = agree.Fraction();
+    fig.p95_depth_error = metrics.depth.p95;
+    fig.ray_fraction =
+        outcomes.rays > 0 ? double(outcomes.rejecting_rays) / double(outcomes.rays) : NAN;
+  }
+  std::fprintf(
+      stderr,
+      "bench deform: wedge %s: %.2f ms, %.2f samples and %.3f rejected crossings per "
+      "ray%s\n",
+      mode.name.c_str(), Median(ms), outcomes.mean_samples, outcomes.mean_rejected,
+      cut ? fmt::format(", {:.2f} % of pixels agree with the reference", 100.0 * agree.Fraction())
+                .c_str()
+          : "");
+  return outcomes;
+}
+
+}  // namespace
+
 DeformWedgeFigures RunDeformWedge(render::ProgramCache& programs, const DeformBenchOptions& options,
                                   int size, int field_resolution, Table& frames) {
   DeformWedgeFigures fig;
@@ -216,31 +289,11 @@ DeformWedgeFigures RunDeformWedge(render::ProgramCache& programs, const DeformBe
   std::fprintf(stderr, "bench deform: wedge: the double reference at %d px in %.1f s\n", size,
                SecondsSince(traced));
 
-  struct Mode {
-    std::string name;
-    bool cut, skip, search, skip_object;
-    // The cut's shader (CutMode::kSolid) even without the cut's alpha.
-    bool SolidShader() const { return cut || search; }
-  };
-  // As the sweep's Table 1 modes: the paper's search without and with the
-  // cut's skipping, our CSG field; the paper_* modes without the skipping by
-  // the object's distance (the paper's own shader).
-  const std::vector<Mode> modes = {
-      {"baseline", false, false, false, true},
-      {"cut", true, false, true, true},
-      {"cut_skip", true, true, true, true},
-      {"cut_csg", true, false, false, true},
-      {"paper_baseline", false, false, false, false},
-      {"paper_cut", true, false, true, false},
-      {"paper_cut_skip", true, true, true, false},
-      // Why cut_skip costs more than its samples: its shader (the search,
-      // the reject tests, the cut's skip) on the baseline's texture without
-      // alpha, so the same rays and samples as the baseline.
-      {"cut_skip_shader_no_cut", false, true, true, true}};
+  const std::vector<WedgeMode> modes = WedgeModes();
   render::RenderTarget target(render::FrameTargetOptions(size, size));
   std::vector<std::unique_ptr<render::DeformPass>> passes;
   std::vector<std::function<void()>> draws;
-  for (const Mode& m : modes) {
+  for (const WedgeMode& m : modes) {
     render::DeformPassOptions o;
     o.cut = m.SolidShader() ? core::CutMode::kSolid : core::CutMode::kNone;
     o.skip_empty = m.skip;
@@ -258,45 +311,9 @@ DeformWedgeFigures RunDeformWedge(render::ProgramCache& programs, const DeformBe
   for (size_t k = 0; k < modes.size(); ++k) {
     draws[k]();
     render::Frame frame = render::ReadFrame(target);
-    outcomes.push_back(CountDeformOutcomes(frame));
-    const core::ViewMetrics metrics = core::CompareDepth(frame.depth, truth.depth, 1.0);
-    // The baselines draw the uncut object: their truth is another picture.
-    const bool cut = modes[k].cut;
-    const DeformClassAgreement agree = CompareDeformClasses(frame, truth);
-    FrameRow row(frames);
-    row.Set("workload", "wedge")
-        .Set("mesh", fig.mesh)
-        .Set("triangles", std::to_string(mesh.triangle_count()))
-        .Set("mode", modes[k].name)
-        .Set("series", fig.mesh + " wedge " + modes[k].name)
-        .Set("region_scale", Num(1.0, 2))
-        .Set("area_fraction", Num(double(outcomes.back().rays) / (double(size) * size), 4))
-        .Set("ms", Num(Median(ms[k]), 2))
-        .Set("ray_ms", Num(Median(ms[k]), 2))  // the box holds the object: no mesh stage
-        .Set("mesh_ms", Num(0.0, 2));
-    SetOutcomes(row, outcomes.back(), modes[k].search);
-    if (cut) {
-      row.Set("p95_depth_error", Num(metrics.depth.p95, 6))
-          .Set("agree_fraction", Num(agree.Fraction(), 5));
-    }
-    frames.AddRow(row.cells);
-    if (modes[k].name == "cut_skip") {
-      fig.agree_fraction = agree.Fraction();
-      fig.p95_depth_error = metrics.depth.p95;
-      fig.ray_fraction = outcomes.back().rays > 0
-                             ? double(outcomes.back().rejecting_rays) / double(outcomes.back().rays)
-                             : NAN;
-    }
+    outcomes.push_back(
+        MeasureWedgeMode(frame, truth, modes[k], ms[k], size, mesh.triangle_count(), fig, frames));
     if (modes[k].name == "baseline") baseline_frame = std::move(frame);
-    std::fprintf(
-        stderr,
-        "bench deform: wedge %s: %.2f ms, %.2f samples and %.3f rejected crossings per "
-        "ray%s\n",
-        modes[k].name.c_str(), Median(ms[k]), outcomes.back().mean_samples,
-        outcomes.back().mean_rejected,
-        cut ? fmt::format(", {:.2f} % of pixels agree with the reference", 100.0 * agree.Fraction())
-                  .c_str()
-            : "");
   }
   fig.ray_fraction_cpu = CutHitFraction(baseline_frame, view, deformation, placement);
   const core::MedianInterval ci = RatioInterval(ms[2], ms[0], &fig.ratio);

@@ -8,6 +8,7 @@
 #include <map>
 #include <set>
 
+#include "bench/sweep.h"
 #include "core/error.h"
 #include "core/heightfield.h"
 #include "core/image_compose.h"
@@ -111,20 +112,48 @@ NcsBenchOptions NcsBenchOptions::Quick() {
   return o;
 }
 
-NcsBenchResult RunNcsBench(render::ProgramCache& programs, const NcsBenchOptions& options) {
-  options.Check();
-  const core::TriangleMesh torus = core::MakeTorus(kMajor, kMinor, kRingSegments, kTubeSegments);
-  core::HeightMapOptions hm;
-  hm.pattern = core::HeightPattern::kBumps;
-  hm.size = options.height_map_size;
-  hm.level = 1.0f;
-  const core::ImageF height = core::MakeHeightMap(hm);
-  render::ReliefGeometryOptions geometry;
-  geometry.max_displacement = kMaxDisplacement;
-  geometry.tangent_maps.size = 512;  // the paper's map size
-  geometry.tangent_maps.wrap_u = geometry.tangent_maps.wrap_v = true;
-  render::ReliefSurface surface(programs, torus, height, geometry);
+namespace {
+// One relief-method setting of the sweep; c applies to NCS only.
+struct ReliefConfig {
+  render::ReliefMethod method;
+  int steps;
+  float c;
+};
 
+// method x steps x c, in that nesting order.
+std::vector<ReliefConfig> ReliefConfigs(const NcsBenchOptions& options) {
+  std::vector<ReliefConfig> configs;
+  for (render::ReliefMethod method : {render::ReliefMethod::kNcs, render::ReliefMethod::kRelief,
+                                      render::ReliefMethod::kPom, render::ReliefMethod::kCrm}) {
+    const bool ncs = method == render::ReliefMethod::kNcs;
+    const std::vector<float> cs = ncs ? options.step_enlargements : std::vector<float>{1.0f};
+    for (const auto& [steps, c] : Product(options.steps, cs)) configs.push_back({method, steps, c});
+  }
+  return configs;
+}
+
+// The tessellated ground truth at one tiling.
+struct Truth {
+  core::TriangleMesh mesh;
+  std::string subdivisions, subdivisions_wanted, triangles;
+};
+
+// What the sweep shares: the torus, its relief surface, the targets, the
+// tables and the strip being assembled.
+struct NcsRun {
+  NcsRun(render::ProgramCache& programs, const NcsBenchOptions& o, const core::TriangleMesh& mesh,
+         const core::ImageF& height, const render::ReliefGeometryOptions& geometry)
+      : options(o),
+        torus(mesh),
+        height_map(height),
+        surface(programs, torus, height_map, geometry),
+        relief_target(render::FrameTargetOptions(o.size, o.size)),
+        mesh_target(render::FrameTargetOptions(o.size, o.size)) {}
+  const NcsBenchOptions& options;
+  const core::TriangleMesh torus;
+  const core::ImageF height_map;
+  render::ReliefSurface surface;
+  render::RenderTarget relief_target, mesh_target;
   NcsBenchResult result{
       Table({"method", "view", "tiling", "steps", "c", "ms_per_frame", "min_ms_per_frame",
              "silhouette_iou", "wrong_silhouette_px", "mean_depth_error", "p95_depth_error",
@@ -135,114 +164,144 @@ NcsBenchResult RunNcsBench(render::ProgramCache& programs, const NcsBenchOptions
       Table({"view", "tiling", "steps", "ncs_ms", "relief_ms", "pom_ms", "tessellated_ms",
              "ncs_over_relief", "ncs_over_tessellated", "crm_ms", "ncs_over_crm"}),
       {}};
-  const int n = options.size;
-  render::RenderTarget relief_target(render::FrameTargetOptions(n, n));
-  render::RenderTarget mesh_target(render::FrameTargetOptions(n, n));
   std::vector<core::Image8> strip_top, strip_bottom;
+};
+
+// Ground truth: a vertex per texel along the ring (the finer direction per
+// base quad is the tube: texels per quad = size * tiling / 24).
+Truth MakeTruth(const NcsRun& run, int tiling) {
+  core::DisplacedMeshOptions dm;
+  dm.max_displacement = kMaxDisplacement;
+  dm.tiling = static_cast<float>(tiling);
+  const int wanted = (run.options.height_map_size * tiling + kTubeSegments - 1) / kTubeSegments;
+  dm.subdivisions = std::clamp(wanted, 1, run.options.max_truth_subdivisions);
+  fmt::print(stderr,
+             "bench ncs: tiling {}: ground truth {} subdivisions per base triangle (a vertex "
+             "per texel wants {}, cap {})\n",
+             tiling, dm.subdivisions, wanted, run.options.max_truth_subdivisions);
+  Truth truth{core::TessellateDisplaced(run.torus, run.height_map, dm),
+              std::to_string(dm.subdivisions), std::to_string(wanted), ""};
+  truth.triangles = std::to_string(truth.mesh.triangle_count());
+  return truth;
+}
+
+// The relief setting `config` at one view and tiling against the truth's
+// frame: a table row, a Figure 7 row (NCS), the summary's time and the strip.
+void MeasureRelief(NcsRun& run, const ReliefConfig& config, const std::string& view_name,
+                   int tiling, const Truth& truth, const render::Frame& truth_frame,
+                   bool strip_here, std::map<std::pair<std::string, int>, double>& ms_at) {
+  const NcsBenchOptions& options = run.options;
+  const render::ViewSetup view = MakeView(view_name, options.size);
+  const bool ncs = config.method == render::ReliefMethod::kNcs;
+  const float c = config.c;
+  const int steps = config.steps;
+  render::ReliefSurfaceOptions o;
+  o.method = config.method;
+  o.steps = steps;
+  o.step_enlargement = c;
+  o.tiling = static_cast<float>(tiling);
+  run.surface.SetOptions(o);
+  const core::TimingStats time = render::TimeFrames(
+      [&] { render::DrawFrame(run.relief_target, run.surface, view); }, options.timer);
+  const double ms = time.min_ms;
+  render::DrawFrame(run.relief_target, run.surface, view);
+  const render::Frame frame = render::ReadFrame(run.relief_target);
+  const core::ViewMetrics e =
+      core::CompareFrames(frame.color, frame.depth, truth_frame.color, truth_frame.depth);
+  const std::string early =
+      std::to_string(frame.CountOutcome(render::OutcomeBit(render::RayOutcome::kEarlyTermination)));
+  run.result.table.AddRow(
+      {render::ReliefMethodName(config.method), view_name, std::to_string(tiling),
+       std::to_string(steps), ncs ? Num(c, 1) : "", Num(time.median_ms, 2), Num(ms, 2),
+       Num(e.iou, 4), std::to_string(e.wrong_pixels), Num(e.depth.mean, 5), Num(e.depth.p95, 5),
+       early, std::to_string(e.truth_pixels), std::to_string(run.torus.triangle_count()),
+       truth.subdivisions, truth.subdivisions_wanted});
+  if (ncs) {
+    run.result.fig7.AddRow({view_name, std::to_string(tiling), std::to_string(steps), Num(c, 1),
+                            early, std::to_string(e.wrong_pixels), Num(ms, 2),
+                            "Chen-Chang Fig. 7 (red pixels: early termination)"});
+  }
+  // (method, steps) -> fastest frame, for the summary (c = 2.5): on a
+  // machine shared with other work the minimum is the least disturbed figure.
+  const bool summary_c =
+      !ncs || std::abs(c - 2.5f) < 1e-6f ||
+      (options.step_enlargements.size() == 1 && c == options.step_enlargements[0]);
+  if (summary_c) ms_at[{render::ReliefMethodName(config.method), steps}] = ms;
+  // The strip: the middle step count, c = 2.5 (or the only c).
+  if (strip_here && steps == options.steps[options.steps.size() / 2] && summary_c) {
+    run.strip_top.push_back(Opaque(frame.color));
+    run.strip_bottom.push_back(SilhouetteDiff(frame.color, truth_frame.color));
+  }
+}
+
+// The truth row and every relief setting at one view and tiling, then the
+// summary rows of that view and tiling.
+void MeasureView(NcsRun& run, const std::string& view_name, int tiling, const Truth& truth,
+                 render::MeshPass& truth_pass, bool strip_here) {
+  const int n = run.options.size;
+  const render::ViewSetup view = MakeView(view_name, n);
+  render::DrawFrame(run.mesh_target, truth_pass, view);
+  const render::Frame truth_frame = render::ReadFrame(run.mesh_target);
+  const core::TimingStats truth_time = render::TimeFrames(
+      [&] { render::DrawFrame(run.mesh_target, truth_pass, view); }, run.options.timer);
+  const double truth_ms = truth_time.min_ms;
+  int64_t truth_px = 0;
+  for (int y = 0; y < n; ++y) {
+    for (int x = 0; x < n; ++x) truth_px += truth_frame.color.at(x, y, 3) == 255;
+  }
+  run.result.table.AddRow({"tessellated", view_name, std::to_string(tiling), "", "",
+                           Num(truth_time.median_ms, 2), Num(truth_time.min_ms, 2), Num(1.0, 4),
+                           "0", Num(0.0, 5), Num(0.0, 5), "0", std::to_string(truth_px),
+                           truth.triangles, truth.subdivisions, truth.subdivisions_wanted});
+  if (strip_here) {
+    run.strip_top.push_back(Opaque(truth_frame.color));
+    run.strip_bottom.push_back(SilhouetteDiff(truth_frame.color, truth_frame.color));
+  }
+  std::map<std::pair<std::string, int>, double> ms_at;
+  Sweep<ReliefConfig>(ReliefConfigs(run.options), {}, [&](const ReliefConfig& config, int) {
+    MeasureRelief(run, config, view_name, tiling, truth, truth_frame, strip_here, ms_at);
+  });
+  for (int steps : run.options.steps) {
+    const double ncs_ms = ms_at[{"ncs", steps}], relief_ms = ms_at[{"relief", steps}],
+                 pom_ms = ms_at[{"pom", steps}], crm_ms = ms_at[{"crm", steps}];
+    run.result.summary.AddRow({view_name, std::to_string(tiling), std::to_string(steps),
+                               Num(ncs_ms, 2), Num(relief_ms, 2), Num(pom_ms, 2), Num(truth_ms, 2),
+                               Num(ncs_ms / relief_ms, 2), Num(ncs_ms / truth_ms, 2),
+                               Num(crm_ms, 2), Num(ncs_ms / crm_ms, 2)});
+  }
+}
+}  // namespace
+
+NcsBenchResult RunNcsBench(render::ProgramCache& programs, const NcsBenchOptions& options) {
+  options.Check();
+  const core::TriangleMesh torus = core::MakeTorus(kMajor, kMinor, kRingSegments, kTubeSegments);
+  core::HeightMapOptions hm;
+  hm.pattern = core::HeightPattern::kBumps;
+  hm.size = options.height_map_size;
+  hm.level = 1.0f;
+  render::ReliefGeometryOptions geometry;
+  geometry.max_displacement = kMaxDisplacement;
+  geometry.tangent_maps.size = 512;  // the paper's map size
+  geometry.tangent_maps.wrap_u = geometry.tangent_maps.wrap_v = true;
+  NcsRun run(programs, options, torus, core::MakeHeightMap(hm), geometry);
   const int strip_tiling = options.tilings.front();
   const std::string strip_view =
       std::find(options.views.begin(), options.views.end(), "grazing") != options.views.end()
           ? "grazing"
           : options.views.front();
   for (int tiling : options.tilings) {
-    // Ground truth: a vertex per texel along the ring (the finer direction
-    // per base quad is the tube: texels per quad = size * tiling / 24).
-    core::DisplacedMeshOptions dm;
-    dm.max_displacement = kMaxDisplacement;
-    dm.tiling = static_cast<float>(tiling);
-    const int wanted = (options.height_map_size * tiling + kTubeSegments - 1) / kTubeSegments;
-    dm.subdivisions = std::clamp(wanted, 1, options.max_truth_subdivisions);
-    fmt::print(stderr,
-               "bench ncs: tiling {}: ground truth {} subdivisions per base triangle (a vertex "
-               "per texel wants {}, cap {})\n",
-               tiling, dm.subdivisions, wanted, options.max_truth_subdivisions);
-    const std::string subdivisions = std::to_string(dm.subdivisions),
-                      subdivisions_wanted = std::to_string(wanted);
-    const core::TriangleMesh truth_mesh = core::TessellateDisplaced(torus, height, dm);
-    const render::GpuMesh truth_gpu(truth_mesh);
+    const Truth truth = MakeTruth(run, tiling);
+    const render::GpuMesh truth_gpu(truth.mesh);
     render::MeshPass truth_pass(programs, truth_gpu);
-    const std::string triangles = std::to_string(truth_mesh.triangle_count());
     for (const std::string& view_name : options.views) {
-      const render::ViewSetup view = MakeView(view_name, n);
-      render::DrawFrame(mesh_target, truth_pass, view);
-      const render::Frame truth = render::ReadFrame(mesh_target);
-      const core::TimingStats truth_time = render::TimeFrames(
-          [&] { render::DrawFrame(mesh_target, truth_pass, view); }, options.timer);
-      const double truth_ms = truth_time.min_ms;
-      int64_t truth_px = 0;
-      for (int y = 0; y < n; ++y) {
-        for (int x = 0; x < n; ++x) truth_px += truth.color.at(x, y, 3) == 255;
-      }
-      result.table.AddRow({"tessellated", view_name, std::to_string(tiling), "", "",
-                           Num(truth_time.median_ms, 2), Num(truth_time.min_ms, 2), Num(1.0, 4),
-                           "0", Num(0.0, 5), Num(0.0, 5), "0", std::to_string(truth_px), triangles,
-                           subdivisions, subdivisions_wanted});
-      const bool strip_here = tiling == strip_tiling && view_name == strip_view;
-      if (strip_here) {
-        strip_top.push_back(Opaque(truth.color));
-        strip_bottom.push_back(SilhouetteDiff(truth.color, truth.color));
-      }
-      // method x steps x c; c applies to NCS only.
-      // (method, steps) -> fastest frame, for the summary (c = 2.5): on a
-      // machine shared with other work the minimum is the least disturbed figure.
-      std::map<std::pair<std::string, int>, double> ms_at;
-      for (render::ReliefMethod method : {render::ReliefMethod::kNcs, render::ReliefMethod::kRelief,
-                                          render::ReliefMethod::kPom, render::ReliefMethod::kCrm}) {
-        const bool ncs = method == render::ReliefMethod::kNcs;
-        const std::vector<float> cs = ncs ? options.step_enlargements : std::vector<float>{1.0f};
-        for (int steps : options.steps) {
-          for (float c : cs) {
-            render::ReliefSurfaceOptions o;
-            o.method = method;
-            o.steps = steps;
-            o.step_enlargement = c;
-            o.tiling = static_cast<float>(tiling);
-            surface.SetOptions(o);
-            const core::TimingStats time = render::TimeFrames(
-                [&] { render::DrawFrame(relief_target, surface, view); }, options.timer);
-            const double ms = time.min_ms;
-            render::DrawFrame(relief_target, surface, view);
-            const render::Frame frame = render::ReadFrame(relief_target);
-            const core::ViewMetrics e =
-                core::CompareFrames(frame.color, frame.depth, truth.color, truth.depth);
-            const std::string early = std::to_string(
-                frame.CountOutcome(render::OutcomeBit(render::RayOutcome::kEarlyTermination)));
-            result.table.AddRow(
-                {render::ReliefMethodName(method), view_name, std::to_string(tiling),
-                 std::to_string(steps), ncs ? Num(c, 1) : "", Num(time.median_ms, 2), Num(ms, 2),
-                 Num(e.iou, 4), std::to_string(e.wrong_pixels), Num(e.depth.mean, 5),
-                 Num(e.depth.p95, 5), early, std::to_string(e.truth_pixels),
-                 std::to_string(torus.triangle_count()), subdivisions, subdivisions_wanted});
-            if (ncs) {
-              result.fig7.AddRow({view_name, std::to_string(tiling), std::to_string(steps),
-                                  Num(c, 1), early, std::to_string(e.wrong_pixels), Num(ms, 2),
-                                  "Chen-Chang Fig. 7 (red pixels: early termination)"});
-            }
-            const bool summary_c =
-                !ncs || std::abs(c - 2.5f) < 1e-6f ||
-                (options.step_enlargements.size() == 1 && c == options.step_enlargements[0]);
-            if (summary_c) ms_at[{render::ReliefMethodName(method), steps}] = ms;
-            // The strip: the middle step count, c = 2.5 (or the only c).
-            if (strip_here && steps == options.steps[options.steps.size() / 2] && summary_c) {
-              strip_top.push_back(Opaque(frame.color));
-              strip_bottom.push_back(SilhouetteDiff(frame.color, truth.color));
-            }
-          }
-        }
-      }
-      for (int steps : options.steps) {
-        const double ncs_ms = ms_at[{"ncs", steps}], relief_ms = ms_at[{"relief", steps}],
-                     pom_ms = ms_at[{"pom", steps}], crm_ms = ms_at[{"crm", steps}];
-        result.summary.AddRow({view_name, std::to_string(tiling), std::to_string(steps),
-                               Num(ncs_ms, 2), Num(relief_ms, 2), Num(pom_ms, 2), Num(truth_ms, 2),
-                               Num(ncs_ms / relief_ms, 2), Num(ncs_ms / truth_ms, 2),
-                               Num(crm_ms, 2), Num(ncs_ms / crm_ms, 2)});
-      }
+      MeasureView(run, view_name, tiling, truth, truth_pass,
+                  tiling == strip_tiling && view_name == strip_view);
     }
   }
-  std::vector<core::Image8> cells = strip_top;
-  cells.insert(cells.end(), strip_bottom.begin(), strip_bottom.end());
-  result.strip = core::ContactSheet(cells, static_cast<int>(strip_top.size()));
+  NcsBenchResult result = std::move(run.result);
+  std::vector<core::Image8> cells = run.strip_top;
+  cells.insert(cells.end(), run.strip_bottom.begin(), run.strip_bottom.end());
+  result.strip = core::ContactSheet(cells, static_cast<int>(run.strip_top.size()));
   result.strip_view = strip_view;
   result.strip_tiling = strip_tiling;
   return result;
