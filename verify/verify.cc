@@ -1,4 +1,4 @@
-#include "ibr/verify.h"
+#include "verify/verify.h"
 
 #include <fmt/format.h>
 #include <fmt/ranges.h>
@@ -21,8 +21,8 @@
 #include "core/projection.h"
 #include "core/sphere.h"
 #include "ibr/depth_object.h"
-#include "ibr/independent_reference.h"
-#include "ibr/reference.h"
+#include "verify/independent_reference.h"
+#include "verify/reference.h"
 #include "render/gl/gl.h"
 #include "render/gl/render_target.h"
 #include "render/passes/displacement_pass.h"
@@ -155,7 +155,7 @@ void AddNoise(std::mt19937& rng, ImageMap& m, double amount) {
   }
 }
 
-// The constructed boundary case (cf. tests/ibr/stencil_reference_test): the
+// The constructed boundary case (cf. tests/verify/stencil_reference_test): the
 // view looks along a cube axis, the map looking the same way gets, for every
 // texel a pixel of slice `target` uses, exactly that point's map depth (a
 // depth exactly on a slice; target = last: N reached on the last slice); the
@@ -346,7 +346,7 @@ bool SameBits(float a, float b) { return std::bit_cast<uint32_t>(a) == std::bit_
 
 // Replays one pixel of the stencil algorithm with every admissible division
 // result at every fragment and reports whether the GPU's buffers are
-// reachable (the stencil program of ibr/reference.cc's RenderReference, with
+// reachable (the stencil program of verify/reference.cc's RenderReference, with
 // each map test's outcome a set instead of a value).
 class PixelReplay {
  public:
