@@ -24,6 +24,7 @@
 #include "verify/independent_reference.h"
 #include "verify/reference.h"
 #include "render/gl/gl.h"
+#include "render/gl/gl_queries.h"
 #include "render/gl/render_target.h"
 #include "render/passes/displacement_pass.h"
 #include "render/passes/relief_surface_pass.h"
@@ -620,10 +621,8 @@ VerifyReport RunVerify(render::ProgramCache& programs, const VerifyOptions& opti
                        const std::function<void(const VerifyCaseResult&)>& on_case) {
   options.Check();
   VerifyReport report;
-  report.driver = fmt::format("{} / {}", reinterpret_cast<const char*>(glGetString(GL_RENDERER)),
-                              reinterpret_cast<const char*>(glGetString(GL_VERSION)));
-  GLint subpixel_bits = 4;
-  glGetIntegerv(GL_SUBPIXEL_BITS, &subpixel_bits);
+  report.driver = render::CurrentDriverName();
+  const int subpixel_bits = render::CurrentSubpixelBits();
   const auto start = std::chrono::steady_clock::now();
   std::mt19937 rng(options.seed);
   for (int i = 0; i < options.first_case; ++i) rng();  // the cases before the first
