@@ -28,10 +28,10 @@
 #include "ibr/displaced_mesh.h"
 #include "ibr/views.h"
 #include "ibr/volume_object.h"
-#include "ibr/volume_reference.h"
 #include "ibr/volume_render.h"
 #include "render/passes/deform_pass.h"
 #include "render/passes/volume_pass.h"
+#include "verify/volume_reference.h"
 
 namespace bench {
 namespace fs = std::filesystem;
@@ -280,7 +280,7 @@ core::Image8 ToImage8(const core::ImageF& premultiplied) {
 // The tooth with a layer of its crown peeled back (Correa, Silver, Chen
 // 2006; the peel of `ibr bench volume`): DVR through the pass's screen slices
 // into a float colour target, seen from above on the side of the cut, against
-// the double reference of ibr/volume_reference.h at the same slices. Unlit:
+// the double reference of verify/volume_reference.h at the same slices. Unlit:
 // the reference has no lighting. The colour error is what compares, as the
 // translucent slices have no single depth.
 void VolumeEntries(render::ProgramCache& programs, const GalleryOptions& options,

@@ -3,7 +3,7 @@
 // displacement; depth objects and visual hulls of a concave object from an
 // oblique view; a solid cut through a mesh, against the double sphere
 // tracer; a peeled volume (Correa, Silver, Chen 2006) seen obliquely into
-// the cut, against the double DVR reference of ibr/volume_reference.h at the
+// the cut, against the double DVR reference of verify/volume_reference.h at the
 // pass's own slices) beside its truth rendered in the same run, with a heat
 // map of the depth error (the colour error for the translucent volume, which
 // has no single depth).

@@ -15,6 +15,7 @@
 #include "ibr/scene_renderer.h"
 #include "ibr/views.h"
 #include "render/gl/frame_timer.h"
+#include "render/gl/gl_queries.h"
 
 namespace bench {
 namespace {
@@ -85,11 +86,11 @@ MapCountSweepResult RunMapCountSweep(render::ProgramCache& programs, const std::
         ibr::CaptureMaps(programs, scene, fmt::format("ring:{}", count), options.map_size);
     const double capture_s = capture_watch.ElapsedMs() / 1000.0;
     // The upload: the renderer (map table buffers) and every map's layers.
-    glFinish();
+    render::WaitForGpu();
     core::Stopwatch upload_watch;
     ibr::DepthObjectRenderer renderer(programs, maps);
     renderer.Upload(ibr::Method::kDepthObject);
-    glFinish();
+    render::WaitForGpu();
     const double upload_ms = upload_watch.ElapsedMs();
     const std::vector<ibr::ViewCamera> views = SweepViews(maps, options.view_size);
     const render::RenderTarget target(

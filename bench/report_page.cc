@@ -795,7 +795,7 @@ ReportResult WriteReport(const ReportOptions& options) {
   page.Text(
       "Left to right: the method, the truth rendered in the same run (the tessellated surface; "
       "the true mesh; for the cut, the double sphere tracer of `core/deform_reference.h`; for the "
-      "volume, the double DVR reference of `ibr/volume_reference.h` at the pass's own slices), "
+      "volume, the double DVR reference of `verify/volume_reference.h` at the pass's own slices), "
       "and the depth error heat map: |depth - true depth| on a black - red - "
       "yellow - white ramp (black = exact, white = at or beyond the scale given), magenta = "
       "surface only the method draws, cyan = surface it misses, grey = background in both. The "

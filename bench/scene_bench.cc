@@ -14,7 +14,7 @@
 #include "core/projection.h"
 #include "core/timing.h"
 #include "ibr/scene_renderer.h"
-#include "render/gl/gl.h"
+#include "render/gl/gl_queries.h"
 #include "scene/scene.h"
 
 namespace bench {
@@ -106,18 +106,10 @@ struct Config {
 };
 
 void CountWork(Config& c) {
-  render::Query samples = render::Query::Create(GL_SAMPLES_PASSED);
-  render::Query primitives = render::Query::Create(GL_PRIMITIVES_GENERATED);
-  glBeginQuery(GL_SAMPLES_PASSED, samples.id());
-  glBeginQuery(GL_PRIMITIVES_GENERATED, primitives.id());
-  c.renderer->Render(c.loaded.views.front().view);
-  glEndQuery(GL_PRIMITIVES_GENERATED);
-  glEndQuery(GL_SAMPLES_PASSED);
-  GLuint64 value = 0;
-  glGetQueryObjectui64v(samples.id(), GL_QUERY_RESULT, &value);
-  c.samples = value;
-  glGetQueryObjectui64v(primitives.id(), GL_QUERY_RESULT, &value);
-  c.primitives = value;
+  const render::DrawWork work =
+      render::CountDrawWork([&] { c.renderer->Render(c.loaded.views.front().view); });
+  c.samples = work.samples_passed;
+  c.primitives = work.primitives_generated;
 }
 
 // `base_programs`: what the absent scene compiled (0 when building it).
@@ -133,7 +125,7 @@ void Build(Config& c, render::ProgramCache& programs, const scene::Scene& s, int
 void Time(Config& c, int frames) {
   std::vector<double> ms, cpu_ms;
   for (int i = 0; i < frames; ++i) {
-    glFinish();
+    render::WaitForGpu();
     core::Stopwatch watch;
     core::CpuStopwatch cpu;
     c.renderer->Render(c.loaded.views.front().view);  // ends with readback: the GPU work is done

@@ -25,6 +25,7 @@
 #include "core/ply_io.h"
 #include "core/projection.h"
 #include "render/gl/gpu_mesh.h"
+#include "render/gl/texture_upload.h"
 #include "render/passes/mesh_pass.h"
 #include "render/passes/pass.h"
 
@@ -421,13 +422,8 @@ class GpuScene {
  public:
   explicit GpuScene(const SceneMesh& scene) : mesh_(scene.mesh) {
     if (!scene.texture.empty()) {
-      texture_ = render::Texture::Create2D(GL_RGBA8, scene.texture.width(), scene.texture.height());
-      glTextureSubImage2D(texture_.id(), 0, 0, 0, scene.texture.width(), scene.texture.height(),
-                          GL_RGBA, GL_UNSIGNED_BYTE, scene.texture.data());
-      glTextureParameteri(texture_.id(), GL_TEXTURE_MIN_FILTER, GL_LINEAR);
-      glTextureParameteri(texture_.id(), GL_TEXTURE_MAG_FILTER, GL_LINEAR);
-      glTextureParameteri(texture_.id(), GL_TEXTURE_WRAP_S, GL_REPEAT);
-      glTextureParameteri(texture_.id(), GL_TEXTURE_WRAP_T, GL_REPEAT);
+      texture_ = render::UploadRgba8Texture(scene.texture, render::TextureWrap::kRepeat,
+                                            render::TextureWrap::kRepeat);
     }
   }
   const render::GpuMesh& mesh() const { return mesh_; }
@@ -495,14 +491,8 @@ class Backdrop {
   Backdrop() : mesh_(core::MakeSphere(1.0f, 128, 256)) {
     // 2048 x 1024: from the ring cameras a view spans ~70 degrees of the
     // backdrop, so its cells are ~5..80 px, blobs at the scales SIFT detects.
-    const core::Image8 tex = NoiseTexture(2048, 1024, 0);
-    texture_ = render::Texture::Create2D(GL_RGBA8, tex.width(), tex.height());
-    glTextureSubImage2D(texture_.id(), 0, 0, 0, tex.width(), tex.height(), GL_RGBA,
-                        GL_UNSIGNED_BYTE, tex.data());
-    glTextureParameteri(texture_.id(), GL_TEXTURE_MIN_FILTER, GL_LINEAR);
-    glTextureParameteri(texture_.id(), GL_TEXTURE_MAG_FILTER, GL_LINEAR);
-    glTextureParameteri(texture_.id(), GL_TEXTURE_WRAP_S, GL_REPEAT);
-    glTextureParameteri(texture_.id(), GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+    texture_ = render::UploadRgba8Texture(NoiseTexture(2048, 1024, 0), render::TextureWrap::kRepeat,
+                                          render::TextureWrap::kClampToEdge);
   }
   const render::GpuMesh& mesh() const { return mesh_; }
   const render::Texture& texture() const { return texture_; }

@@ -5,7 +5,7 @@
 //
 // Stages: PrepareFrame() turns maps + view + options into FrameParams, every
 // number the GPU uses, computed once on the CPU in float; the GPU passes
-// (DepthObjectRenderer) and the CPU reference (ibr/reference.h) both consume
+// (DepthObjectRenderer) and the CPU reference (verify/reference.h) both consume
 // exactly these numbers, so they can agree pixel for pixel.
 #pragma once
 
@@ -39,7 +39,7 @@ enum class Slicing {
 };
 // How the slice families (kOrthogonal, kScreen) are drawn; kRay ignores it.
 enum class SlicePath {
-  kExact,  // the paper's stencil passes, per slice and map, bit-exact to ibr/reference.h
+  kExact,  // the paper's stencil passes, per slice and map, bit-exact to verify/reference.h
   kFast,   // every slice in one draw, the map loop in the shader, the depth test keeps
            // the front slice (ibr/depth_object_fast.cc)
 };
@@ -109,7 +109,7 @@ struct DepthObjectOptions {
   Method method = Method::kDepthObject;
   Slicing slicing = Slicing::kOrthogonal;
   // kExact (the default): the paper's stencil passes, mirrored bit for bit by
-  // ibr/reference.h. kFast: the same slices, map tests, colour sum and depth
+  // verify/reference.h. kFast: the same slices, map tests, colour sum and depth
   // in one draw per frame (ibr/depth_object_fast.cc); where orthogonal slices
   // are not crossed front to back along a ray (the eye between them) it keeps
   // the nearest accepted slice instead of the first drawn.

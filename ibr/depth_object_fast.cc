@@ -26,7 +26,7 @@
 // Differences from the exact path: along a ray that crosses the slices out
 // of drawing order (perspective views with the eye between orthogonal slice
 // planes) this keeps the nearest accepted slice, the exact path the first
-// drawn; and the comparison is not mirrored by ibr/reference.h's bit-exact
+// drawn; and the comparison is not mirrored by verify/reference.h's bit-exact
 // replay (tests/ibr/depth_object_fast_test.cc compares it with the exact
 // path and the CPU reference instead).
 #include <fmt/format.h>

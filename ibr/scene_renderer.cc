@@ -15,8 +15,8 @@
 #include "ibr/dataset_maps.h"
 #include "ibr/depth_object_pass.h"
 #include "ibr/scene_options.h"
-#include "render/gl/gl.h"
 #include "render/gl/gpu_mesh.h"
+#include "render/gl/texture_upload.h"
 #include "render/passes/mesh_pass.h"
 #include "render/passes/pass.h"
 
@@ -109,13 +109,8 @@ namespace {
 
 // An RGBA8 colour texture, bilinear, repeating (as capture's textured meshes).
 render::Texture UploadRgba8(const core::Image8& image) {
-  render::Texture t = render::Texture::Create2D(GL_RGBA8, image.width(), image.height());
-  glTextureSubImage2D(t.id(), 0, 0, 0, image.width(), image.height(), GL_RGBA, GL_UNSIGNED_BYTE,
-                      image.data());
-  for (GLenum p : {GL_TEXTURE_MIN_FILTER, GL_TEXTURE_MAG_FILTER})
-    glTextureParameteri(t.id(), p, GL_LINEAR);
-  for (GLenum p : {GL_TEXTURE_WRAP_S, GL_TEXTURE_WRAP_T}) glTextureParameteri(t.id(), p, GL_REPEAT);
-  return t;
+  return render::UploadRgba8Texture(image, render::TextureWrap::kRepeat,
+                                    render::TextureWrap::kRepeat);
 }
 
 // A deform object's world box: what its normalised frame can hold, carried

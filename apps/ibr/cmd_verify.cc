@@ -2,13 +2,13 @@
 // exactly? Random depth-object and visual-hull configurations against the
 // bit-exact CPU mirror (and, with --independent, the double-precision
 // reference); --hard: degenerate-case sweeps of every technique. Logic and
-// report text in ibr/verify.h.
+// report text in verify/verify.h.
 #include <fmt/format.h>
 
 #include "apps/ibr/commands.h"
-#include "ibr/verify.h"
 #include "render/gl/context.h"
 #include "render/gl/shader_program.h"
+#include "verify/verify.h"
 
 namespace apps {
 namespace {

@@ -24,6 +24,9 @@
 #include "core/timing.h"
 #include "render/gl/context.h"
 #include "render/gl/gl.h"
+#include "render/gl/gl_queries.h"
+#include "render/gl/texture_upload.h"
+#include "render/gl/window_frame.h"
 #include "scene/scene_write.h"
 
 namespace viewer {
@@ -177,15 +180,11 @@ struct ProgressiveState {
 // premultiplied colour (alpha 0 where nothing was drawn; DVR accumulates
 // premultiplied colour).
 void DrawFrameBehindPanel(const render::RenderTarget& target, int width, int height) {
+  render::SampleLinearClamped(target.color(0));
   const GLuint texture = target.color(0).id();
-  glTextureParameteri(texture, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
-  glTextureParameteri(texture, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
-  glTextureParameteri(texture, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
-  glTextureParameteri(texture, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
   ImDrawList* list = ImGui::GetBackgroundDrawList();
-  list->AddCallback(
-      [](const ImDrawList*, const ImDrawCmd*) { glBlendFunc(GL_ONE, GL_ONE_MINUS_SRC_ALPHA); },
-      nullptr);
+  list->AddCallback([](const ImDrawList*, const ImDrawCmd*) { render::UsePremultipliedBlend(); },
+                    nullptr);
   // GL rows start at the bottom: v runs from 1 at the window's top to 0.
   list->AddImage(reinterpret_cast<ImTextureID>(static_cast<intptr_t>(texture)), ImVec2(0, 0),
                  ImVec2(static_cast<float>(width), static_cast<float>(height)), ImVec2(0, 1),
@@ -212,16 +211,7 @@ void SaveExactFrame(const ViewerOptions& options, const core::Image8& exact_fram
 // frame's outputs.
 void SaveScreenshot(const ViewerOptions& options, int width, int height,
                     const core::Image8& exact_frame, const FrameCamera& exact_camera) {
-  core::Image8 shot(width, height, 4);
-  glBindFramebuffer(GL_READ_FRAMEBUFFER, 0);
-  glReadBuffer(GL_BACK);
-  glPixelStorei(GL_PACK_ALIGNMENT, 1);
-  glReadPixels(0, 0, width, height, GL_RGBA, GL_UNSIGNED_BYTE, shot.data());
-  for (int y = 0; y < height / 2; ++y) {
-    auto top = shot.row(y);
-    auto bottom = shot.row(height - 1 - y);
-    std::swap_ranges(top.begin(), top.end(), bottom.begin());
-  }
+  core::Image8 shot = render::ReadBackBuffer(width, height);
   for (int y = 0; y < height; ++y)
     for (int x = 0; x < width; ++x) shot.at(x, y, 3) = 255;
   core::WriteImage(options.screenshot, shot);
@@ -497,12 +487,12 @@ void Run(const SceneFactory& make_scene, const ViewerOptions& given, const Viewe
                     : full_camera;
     double render_ms = 0;
     if (draw) {
-      glFinish();
+      render::WaitForGpu();
       core::Stopwatch watch;
       try {
         if (!moving) scene.Settle();
         shown = &scene.Render(camera);
-        glFinish();
+        render::WaitForGpu();
         error.clear();
       } catch (const core::InputError& e) {
         shown = nullptr;
@@ -517,8 +507,7 @@ void Run(const SceneFactory& make_scene, const ViewerOptions& given, const Viewe
     }
 
     render::BindDefaultFramebuffer(fb_w, fb_h);
-    glClearColor(0.12f, 0.12f, 0.14f, 1.0f);
-    glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT | GL_STENCIL_BUFFER_BIT);
+    render::ClearBoundFramebuffer({0.12f, 0.12f, 0.14f, 1.0f});
 
     ImGui_ImplOpenGL3_NewFrame();
     ImGui_ImplGlfw_NewFrame();
@@ -584,7 +573,7 @@ void Run(const SceneFactory& make_scene, const ViewerOptions& given, const Viewe
       glfwSetWindowShouldClose(window, GLFW_TRUE);
     }
     glfwSwapBuffers(window);
-    glFinish();
+    render::WaitForGpu();
     const double whole_ms = frame_watch.ElapsedMs();
     if (draw && moving && options.coarse_factor == 0)
       progressive.Adapt(divisor, render_ms, whole_ms, options.motion_frame_ms);

@@ -1,6 +1,6 @@
 // The report's gallery (bench/gallery.h): the volume entry is there when the
 // shared volumes are, and its render agrees with its truth (the double DVR
-// reference of ibr/volume_reference.h) within the volume pass test's bound;
+// reference of verify/volume_reference.h) within the volume pass test's bound;
 // the cut's entry covers what its truth (bench::TraceDeformReference, shared
 // with `ibr bench deform`'s accuracy sweep) covers, give or take a silhouette.
 #include "bench/gallery.h"

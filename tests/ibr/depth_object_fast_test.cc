@@ -1,5 +1,5 @@
 // The fast slice path (SlicePath::kFast, ibr/depth_object_fast.cc) against
-// the exact stencil path and its CPU reference (ibr/reference.h), on the
+// the exact stencil path and its CPU reference (verify/reference.h), on the
 // test objects of depth_object_test and stencil_reference_test (a sphere and
 // random blobs with noise and holes in the cube rig and a pinhole ring, the
 // cup): the same coverage except for a stated share of pixels, the same
@@ -19,10 +19,10 @@
 #include "core/error.h"
 #include "ibr/dataset_maps.h"
 #include "ibr/depth_object.h"
-#include "ibr/reference.h"
 #include "ibr/scene_options.h"
 #include "tests/ibr/scenes.h"
 #include "tests/support/gl_test.h"
+#include "verify/reference.h"
 
 namespace ibr {
 namespace {
@@ -153,7 +153,7 @@ ViewCamera RandomView(std::mt19937& rng, int size, bool orthographic, double sca
 }
 
 // Fast slice passes against the CPU reference of the exact ones, which
-// tests/ibr/stencil_reference_test holds bit-equal to the GPU's exact path.
+// tests/verify/stencil_reference_test holds bit-equal to the GPU's exact path.
 TEST_F(DepthObjectFastTest, SlicePassesMatchTheReference) {
   std::mt19937 rng(120003);
   int cases = 0;

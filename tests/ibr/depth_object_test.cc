@@ -17,9 +17,9 @@
 #include "core/metrics.h"
 #include "core/timing.h"
 #include "ibr/dataset_maps.h"
-#include "ibr/reference.h"
 #include "tests/ibr/scenes.h"
 #include "tests/support/gl_test.h"
+#include "verify/reference.h"
 
 namespace ibr {
 namespace {

@@ -15,9 +15,9 @@
 
 #include "core/error.h"
 #include "ibr/depth_object.h"
-#include "ibr/reference.h"
 #include "tests/ibr/scenes.h"
 #include "tests/support/gl_test.h"
+#include "verify/reference.h"
 
 namespace ibr {
 namespace {

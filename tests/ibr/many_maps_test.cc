@@ -1,7 +1,7 @@
 // Any number of maps (issue 12, item 8): a depth object from a ring capture
 // of more than 100 views (the synthetic capture of capture/ of the analytic
 // sphere shape) renders and matches the sphere; its slice passes agree with
-// the CPU reference (ibr/reference.h) bit for bit, as the stencil tests
+// the CPU reference (verify/reference.h) bit for bit, as the stencil tests
 // demand; a frame's subset of maps (DepthObjectOptions::max_maps) is the
 // nearest maps and only ever adds coverage; map sets over a limit (the input
 // limit, the GL implementation's texture-array layers, the slice paths'
@@ -19,11 +19,11 @@
 #include "core/error.h"
 #include "core/metrics.h"
 #include "ibr/depth_object.h"
-#include "ibr/reference.h"
 #include "ibr/scene_renderer.h"
 #include "tests/ibr/scenes.h"
 #include "tests/support/gl_test.h"
 #include "tests/support/input_error.h"
+#include "verify/reference.h"
 
 namespace ibr {
 namespace {

@@ -1,6 +1,6 @@
 // The volume pass against double-precision CPU references at the same sample
 // positions (orthographic camera): llvmpipe's 3D filter, DVR images (against
-// ibr/volume_reference.h, the reference the report's gallery shares), iso
+// verify/volume_reference.h, the reference the report's gallery shares), iso
 // first hits, normals on analytic fields, the Fig. 4 ablation, hard cases.
 #include "render/passes/volume_pass.h"
 
@@ -18,8 +18,8 @@
 #include "core/error.h"
 #include "core/projection.h"
 #include "core/volume_io.h"
-#include "ibr/volume_reference.h"
 #include "tests/support/gl_test.h"
+#include "verify/volume_reference.h"
 
 namespace render {
 namespace {

@@ -25,7 +25,7 @@ struct ReferenceVariant {
 };
 
 // The divisions of the mirrored functions. GLSL promises 2.5 ULP for
-// division, not correct rounding: `ibr verify` (ibr/verify.h) replays a
+// division, not correct rounding: `ibr verify` (verify/verify.h) replays a
 // decision with other admissible quotients through this hook. nullptr (the
 // default) = the correctly rounded a / b.
 class ReferenceDivision {

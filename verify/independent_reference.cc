@@ -1,4 +1,4 @@
-#include "ibr/independent_reference.h"
+#include "verify/independent_reference.h"
 
 #include <algorithm>
 #include <cmath>
@@ -8,7 +8,7 @@
 #include "core/check.h"
 #include "core/error.h"
 
-// Nothing here calls PrepareFrame, render::MakeSlices or ibr/reference.h: the
+// Nothing here calls PrepareFrame, render::MakeSlices or verify/reference.h: the
 // planes, transforms, silhouette codes and stencil outcome are derived again
 // from the MapSet and the view, in double precision.
 

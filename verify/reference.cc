@@ -1,4 +1,4 @@
-#include "ibr/reference.h"
+#include "verify/reference.h"
 
 #include "core/check.h"
 

@@ -2,10 +2,10 @@
 // (Kautz-Seidel 2001, sec. 4-5), in double precision, built from the plain
 // inputs (MapSet: cameras, poses, depth, masks) and the view directly. It
 // shares no code with the GPU setup (PrepareFrame, the slicing core,
-// ibr/reference.h): its own slice planes (sec. 3.2 orthogonal and sec. 3.3
+// verify/reference.h): its own slice planes (sec. 3.2 orthogonal and sec. 3.3
 // screen slicing, computed here from the box and the view), its own
 // transforms, silhouette/depth codes and comparison. A mistake shared by the
-// GPU path and its bit-exact mirror (ibr/reference.h) shows up here.
+// GPU path and its bit-exact mirror (verify/reference.h) shows up here.
 //
 // Per pixel it traces the ray through the pixel centre, visits the slice
 // planes front to back and evaluates every active map's test at the ray's

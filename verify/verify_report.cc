@@ -1,7 +1,7 @@
-// What `ibr verify` prints, from the reports of ibr/verify.h.
+// What `ibr verify` prints, from the reports of verify/verify.h.
 #include <fmt/format.h>
 
-#include "ibr/verify.h"
+#include "verify/verify.h"
 
 namespace ibr {
 

@@ -7,7 +7,7 @@
 // constructed boundary cases) are drawn on the current driver
 // (DepthObjectRenderer::DrawSlices, the exact stencil path) and every
 // pixel's stencil count, front slice (first-surface depth) and accumulated
-// colour is compared with the bit-exact CPU mirror (ibr/reference.h).
+// colour is compared with the bit-exact CPU mirror (verify/reference.h).
 // Each mismatching pixel is classified:
 //  - permitted: the GL spec allows it. GLSL gives division 2.5 ULP, not
 //    correct rounding (GLSL 4.50, sec. 4.7.1); with `precise` every other
@@ -17,7 +17,7 @@
 //    exact quotient) and the GPU's stencil, colour and depth are reachable;
 //  - real error: no admissible choice of quotients reproduces the GPU.
 // With `independent`, the double-precision reference
-// (ibr/independent_reference.h) is compared as well (agreement outside its
+// (verify/independent_reference.h) is compared as well (agreement outside its
 // tolerance band; disagreements outside it are real errors): the slice
 // frame's stencil, front slice, depth and accumulated colour (its own
 // view-dependent weights), and the same case drawn by the one-pass ray path
@@ -35,7 +35,7 @@
 #include <string>
 #include <vector>
 
-#include "ibr/independent_reference.h"
+#include "verify/independent_reference.h"
 #include "render/gl/shader_program.h"
 
 namespace ibr {
@@ -127,7 +127,7 @@ struct HardReport {
 HardReport RunHardSweeps(render::ProgramCache& programs, VerifyOptions options,
                          const std::function<void(const std::string&)>& progress = {});
 
-// ---- what `ibr verify` prints (ibr/verify_report.cc) ----
+// ---- what `ibr verify` prints (verify/verify_report.cc) ----
 // One case's line (and its diff image lines), newline-terminated.
 std::string FormatVerifyCase(const VerifyCaseResult& r, bool independent);
 // The summary after every case (driver, cases, boundary cases, pixels,

@@ -1,10 +1,10 @@
-// `ibr verify` as a library (ibr/verify.h): a short run on this driver is
+// `ibr verify` as a library (verify/verify.h): a short run on this driver is
 // clean against both references; an injected off-by-one in the mirror is
 // reported as real errors; a simulated driver whose division is 2 ULP off
 // (allowed by GLSL) is reported as permitted mismatches, not errors; the
 // hard-case sweeps give finite, consistent pixels. The full runs (1000
 // cases, 1000 hard cases per technique) are `ibr verify` and the `hard` label.
-#include "ibr/verify.h"
+#include "verify/verify.h"
 
 #include <gtest/gtest.h>
 

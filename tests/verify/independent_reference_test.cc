@@ -1,4 +1,4 @@
-// The independent double-precision reference (ibr/independent_reference.h)
+// The independent double-precision reference (verify/independent_reference.h)
 // against analytic truth (an axis-aligned box: its depth object and visual
 // hull are the box itself; a sphere: empty far outside, every map agreeing
 // inside, depth near the true surface) and against the GPU's stencil and
@@ -7,7 +7,7 @@
 // the setup's (and the analytic cases: a view along a map gives that map
 // weight 1), the accumulated colour, and the one-pass ray path (DrawRay)
 // against its march (analytic on the aligned box; the GPU within the band).
-#include "ibr/independent_reference.h"
+#include "verify/independent_reference.h"
 
 #include <fmt/format.h>
 #include <gtest/gtest.h>

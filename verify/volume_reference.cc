@@ -1,4 +1,4 @@
-#include "ibr/volume_reference.h"
+#include "verify/volume_reference.h"
 
 #include <algorithm>
 #include <cmath>

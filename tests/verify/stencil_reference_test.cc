@@ -1,5 +1,5 @@
 // Stencil correctness (issue 5, "Tests"): the CPU reference of the
-// Kautz-Seidel stencil algorithm (ibr/reference.h) agrees with the GPU's
+// Kautz-Seidel stencil algorithm (verify/reference.h) agrees with the GPU's
 // stencil, accumulated colour and first-surface depth buffers bit for bit,
 // for seeded random depth maps and views, both slicing families, three
 // resolutions, and the boundary cases (depth exactly on a slice, pixels
@@ -13,9 +13,9 @@
 
 #include "core/image_io.h"
 #include "ibr/depth_object.h"
-#include "ibr/reference.h"
 #include "tests/ibr/scenes.h"
 #include "tests/support/gl_test.h"
+#include "verify/reference.h"
 
 namespace ibr {
 namespace {

@@ -1,4 +1,4 @@
-#include "ibr/verify.h"
+#include "verify/verify.h"
 
 #include <fmt/format.h>
 #include <fmt/ranges.h>
@@ -21,9 +21,10 @@
 #include "core/projection.h"
 #include "core/sphere.h"
 #include "ibr/depth_object.h"
-#include "ibr/independent_reference.h"
-#include "ibr/reference.h"
+#include "verify/independent_reference.h"
+#include "verify/reference.h"
 #include "render/gl/gl.h"
+#include "render/gl/gl_queries.h"
 #include "render/gl/render_target.h"
 #include "render/passes/displacement_pass.h"
 #include "render/passes/relief_surface_pass.h"
@@ -155,7 +156,7 @@ void AddNoise(std::mt19937& rng, ImageMap& m, double amount) {
   }
 }
 
-// The constructed boundary case (cf. tests/ibr/stencil_reference_test): the
+// The constructed boundary case (cf. tests/verify/stencil_reference_test): the
 // view looks along a cube axis, the map looking the same way gets, for every
 // texel a pixel of slice `target` uses, exactly that point's map depth (a
 // depth exactly on a slice; target = last: N reached on the last slice); the
@@ -346,7 +347,7 @@ bool SameBits(float a, float b) { return std::bit_cast<uint32_t>(a) == std::bit_
 
 // Replays one pixel of the stencil algorithm with every admissible division
 // result at every fragment and reports whether the GPU's buffers are
-// reachable (the stencil program of ibr/reference.cc's RenderReference, with
+// reachable (the stencil program of verify/reference.cc's RenderReference, with
 // each map test's outcome a set instead of a value).
 class PixelReplay {
  public:
@@ -620,10 +621,8 @@ VerifyReport RunVerify(render::ProgramCache& programs, const VerifyOptions& opti
                        const std::function<void(const VerifyCaseResult&)>& on_case) {
   options.Check();
   VerifyReport report;
-  report.driver = fmt::format("{} / {}", reinterpret_cast<const char*>(glGetString(GL_RENDERER)),
-                              reinterpret_cast<const char*>(glGetString(GL_VERSION)));
-  GLint subpixel_bits = 4;
-  glGetIntegerv(GL_SUBPIXEL_BITS, &subpixel_bits);
+  report.driver = render::CurrentDriverName();
+  const int subpixel_bits = render::CurrentSubpixelBits();
   const auto start = std::chrono::steady_clock::now();
   std::mt19937 rng(options.seed);
   for (int i = 0; i < options.first_case; ++i) rng();  // the cases before the first
