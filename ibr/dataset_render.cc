@@ -17,6 +17,7 @@
 #include "core/timing.h"
 #include "ibr/dataset_maps.h"
 #include "ibr/demo_scene.h"
+#include "ibr/kinds/depth_object_kind.h"
 #include "ibr/scene_renderer.h"
 #include "ibr/views.h"
 #include "render/passes/pass.h"
@@ -177,15 +178,8 @@ DatasetRenderStats RenderDatasetToDataset(render::ProgramCache& programs,
   // hull) in the world, drawn by the scene renderer like any scene's.
   LoadedScene scene;
   scene.name = job.dataset.filename().string();
-  LoadedObject object;
-  object.name = scene.name;
-  object.type = options.method == Method::kVisualHull ? scene::ObjectType::kVisualHull
-                                                      : scene::ObjectType::kDepthObject;
-  object.bounds = BoxBounds(maps.world_from_box);
-  object.maps = std::move(maps);
-  object.depth_object = options;
-  scene.bounds = object.bounds;
-  scene.objects.push_back(std::move(object));
+  scene.objects.push_back(LoadedDepthObject(scene.name, std::move(maps), options));
+  scene.bounds = scene.objects.back().bounds;
   SceneRenderer renderer(programs, scene);
   scene.objects.clear();  // the pass holds its own copy of the maps (CheckMapsFit counts both)
 

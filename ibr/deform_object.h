@@ -50,6 +50,8 @@ struct DeformObjectOptions {
   // the pass's Check(), a placement scale <= 0, resolutions outside 8..512
   // (field) and 2..256 (deformation texture), a negative or non-finite reach.
   void Check() const;
+  // Field by field (tests/ibr/object_kind_registry_test: the CLI and a scene agree).
+  bool operator==(const DeformObjectOptions&) const = default;
 };
 
 // Default amount and width per kind (core::kDeformationTable).

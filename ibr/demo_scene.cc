@@ -17,6 +17,7 @@
 #include "datasets/embedded.h"
 #include "ibr/dataset_maps.h"
 #include "ibr/displace_job.h"
+#include "ibr/scene_options.h"
 #include "ibr/scene_renderer.h"
 #include "ibr/views.h"
 #include "render/gl/gl.h"
@@ -89,7 +90,7 @@ DepthObjectDemoResult RunDepthObjectDemo(render::ProgramCache& programs,
   core::Stopwatch watch;
   const LoadedScene loaded = LoadScene(programs, s);
   result.capture_seconds = watch.ElapsedMs() / 1000.0;
-  result.render = loaded.objects.front().depth_object;
+  result.render = DepthObjectOptionsFrom(object.settings);  // what LoadScene drew
   const capture::SceneMesh truth_mesh = capture::LoadSceneMesh(object.images.capture_mesh.file);
   glm::vec3 lo, hi;
   truth_mesh.mesh.Bounds(lo, hi);

@@ -173,6 +173,8 @@ struct DepthObjectOptions {
   int max_maps = 0;
 
   void Check() const;
+  // Field by field (tests/ibr/object_kind_registry_test: the CLI and a scene agree).
+  bool operator==(const DepthObjectOptions&) const = default;
 };
 
 // One map's row of the GPU table (std430 storage buffer of

@@ -67,6 +67,8 @@ struct DisplacedMeshOptions {
   int slices = 64;  // slicing methods: slices per face volume
   int steps = 32;   // ray methods: linear-search steps (render::ReliefSurfaceOptions)
   void Check() const;
+  // Field by field (tests/ibr/object_kind_registry_test: the CLI and a scene agree).
+  bool operator==(const DisplacedMeshOptions&) const = default;
 };
 
 // Plain CPU inputs.

@@ -5,80 +5,26 @@
 
 #include <algorithm>
 #include <cmath>
-#include <glm/gtc/matrix_transform.hpp>
 #include <optional>
 
 #include "core/check.h"
 #include "core/error.h"
-#include "core/image_io.h"
 #include "core/timing.h"
 #include "ibr/dataset_maps.h"
-#include "ibr/depth_object_pass.h"
-#include "ibr/scene_options.h"
-#include "render/gl/gpu_mesh.h"
-#include "render/gl/texture_upload.h"
-#include "render/passes/mesh_pass.h"
 #include "render/passes/pass.h"
 
 namespace ibr {
 namespace {
 
-using scene::ObjectType;
-
-capture::Bounds MeshBounds(const core::TriangleMesh& mesh, double grow) {
-  glm::vec3 lo, hi;
-  mesh.Bounds(lo, hi);
-  return {glm::dvec3(lo) - grow, glm::dvec3(hi) + grow};
-}
-
 capture::Bounds Union(const capture::Bounds& a, const capture::Bounds& b) {
   return {glm::min(a.min, b.min), glm::max(a.max, b.max)};
 }
 
-// The uniform scale of a rigid-times-uniform-scale transform; InputError
-// (naming `where`) for shear or non-uniform scale.
-double UniformScale(const glm::dmat4& m, const std::string& where) {
-  const glm::dmat3 a(m);
-  const double s = std::cbrt(glm::determinant(a));
-  if (!(s > 0))
-    throw core::InputError(fmt::format("{}/transform: not a proper rotation and scale", where));
-  const glm::dmat3 r = a / s;
-  const glm::dmat3 should_be_identity = glm::transpose(r) * r;
-  for (int i = 0; i < 3; ++i) {
-    for (int j = 0; j < 3; ++j) {
-      if (std::abs(should_be_identity[i][j] - (i == j ? 1.0 : 0.0)) > 1e-6) {
-        throw core::InputError(
-            fmt::format("{}/transform: only rotation, translation and uniform scale are "
-                        "supported",
-                        where));
-      }
-    }
-  }
-  return s;
-}
-
-// World-space copy of a mesh (positions by the transform, normals by its rotation).
-core::TriangleMesh Transformed(core::TriangleMesh mesh, const glm::dmat4& world_from_object,
-                               double scale) {
-  const glm::dmat3 rotation = glm::dmat3(world_from_object) / scale;
-  for (glm::vec3& p : mesh.positions)
-    p = glm::vec3(world_from_object * glm::dvec4(glm::dvec3(p), 1.0));
-  for (glm::vec3& n : mesh.normals) n = glm::vec3(glm::normalize(rotation * glm::dvec3(n)));
-  return mesh;
-}
-
-core::TriangleMesh LoadMesh(const scene::MeshSource& source, bool displaced) {
-  try {
-    if (source.shape.empty()) {
-      return displaced ? ReadDisplacementBase(source.file)
-                       : capture::LoadSceneMesh(source.file).mesh;
-    }
-    if (displaced) return DisplacementBaseMesh(source.shape);
-    if (source.shape == "plane") return DisplacementBaseMesh("plane");
-    return capture::MakeShapeScene(source.shape).mesh;
-  } catch (const core::InputError& e) {
-    throw core::InputError(fmt::format("{}: {}", source.where, e.what()));
-  }
+// The world bounds of every enabled object.
+capture::Bounds SceneBounds(const std::vector<LoadedObject>& objects) {
+  capture::Bounds bounds = objects.front().bounds;
+  for (size_t i = 1; i < objects.size(); ++i) bounds = Union(bounds, objects[i].bounds);
+  return bounds;
 }
 
 }  // namespace
@@ -105,134 +51,19 @@ MapSet CaptureMaps(render::ProgramCache& programs, const capture::SceneMesh& mes
   return maps;
 }
 
-namespace {
-
-// An RGBA8 colour texture, bilinear, repeating (as capture's textured meshes).
-render::Texture UploadRgba8(const core::Image8& image) {
-  return render::UploadRgba8Texture(image, render::TextureWrap::kRepeat,
-                                    render::TextureWrap::kRepeat);
-}
-
-// A deform object's world box: what its normalised frame can hold, carried
-// to the world.
-capture::Bounds DeformWorldBounds(const LoadedObject& l) {
-  const core::Box3d& b = l.deform->norm_bounds;
-  return BoxBounds(l.world_from_object *
-                   glm::scale(glm::translate(glm::dmat4(1.0), b.lo), b.hi - b.lo));
-}
-
-// The world bounds of every enabled object.
-capture::Bounds SceneBounds(const std::vector<LoadedObject>& objects) {
-  capture::Bounds bounds = objects.front().bounds;
-  for (size_t i = 1; i < objects.size(); ++i) bounds = Union(bounds, objects[i].bounds);
-  return bounds;
-}
-
-// A volume object (ibr/volume_object.h): its data and the world box its
-// proxy covers.
-void LoadVolumeInto(const scene::Object& o, LoadedObject& l) {
-  LoadedVolume v = LoadVolumeObject(o);
-  l.volume = std::make_shared<const VolumeObjectData>(std::move(v.data));
-  l.volume_options = v.options;
-  l.bounds = BoxBounds(WorldFromProxy(*l.volume));
-}
-
-LoadedObject LoadObject(render::ProgramCache& programs, const scene::Object& o) {
-  LoadedObject l;
-  l.name = o.name;
-  l.type = o.type;
-  const double scale = UniformScale(o.world_from_object, o.where);
-  switch (o.type) {
-    case ObjectType::kDepthObject:
-    case ObjectType::kVisualHull: {
-      l.depth_object = DepthObjectOptionsFrom(o.settings);
-      if (std::abs(scale - 1.0) > 1e-6) {
-        throw core::InputError(
-            fmt::format("{}/transform: a depth object or visual hull takes rotation and "
-                        "translation only (its depth maps are in scene units)",
-                        o.where));
-      }
-      l.world_from_object = o.world_from_object;
-      if (!o.images.dataset.empty()) {
-        l.maps = MapsFromDataset(ReadMapDataset(o.images.dataset));
-      } else {
-        capture::SceneMesh mesh;
-        try {
-          mesh = o.images.capture_mesh.shape.empty()
-                     ? capture::LoadSceneMesh(o.images.capture_mesh.file)
-                     : capture::MakeShapeScene(o.images.capture_mesh.shape);
-        } catch (const core::InputError& e) {
-          throw core::InputError(fmt::format("{}: {}", o.images.capture_mesh.where, e.what()));
-        }
-        try {
-          l.maps = CaptureMaps(programs, mesh, o.images.capture_rig, o.images.capture_size);
-        } catch (const core::InputError& e) {
-          throw core::InputError(fmt::format("{}/images/capture: {}", o.where, e.what()));
-        }
-      }
-      l.bounds = BoxBounds(o.world_from_object * l.maps.world_from_box);
-      break;
-    }
-    case ObjectType::kDisplacedMesh: {
-      l.displacement = DisplacedMeshOptionsFrom(o.settings);
-      l.displacement.max_displacement *= static_cast<float>(scale);
-      l.displaced.base =
-          Transformed(LoadMesh(o.mesh, /*displaced=*/true), o.world_from_object, scale);
-      try {
-        l.displaced.height =
-            o.height.file.empty()
-                ? DisplacementHeightMap(core::HeightPatternFromName(o.height.generator),
-                                        o.height.texels)
-                : ReadHeightMap(o.height.file);
-      } catch (const core::InputError& e) {
-        throw core::InputError(fmt::format("{}: {}", o.height.where, e.what()));
-      }
-      if (!o.texture.empty()) l.displaced.color = core::ReadImage<uint8_t>(o.texture);
-      l.bounds = MeshBounds(l.displaced.base, l.displacement.max_displacement);
-      break;
-    }
-    case ObjectType::kMesh: {
-      l.mesh.mesh = Transformed(LoadMesh(o.mesh, /*displaced=*/false), o.world_from_object, scale);
-      if (!o.texture.empty()) l.mesh.texture = core::ReadImage<uint8_t>(o.texture, 4);
-      l.bounds = MeshBounds(l.mesh.mesh, 0.0);
-      break;
-    }
-    case ObjectType::kVolume:
-      LoadVolumeInto(o, l);
-      break;
-    case ObjectType::kDeform: {
-      // ibr/deform_object.h, as `ibr deform`: the mesh in its file's frame,
-      // normalised for the pass; the pass's frame carried to the world.
-      l.deform_options = DeformObjectOptionsFrom(o.settings);
-      l.deform = std::make_shared<DeformObjectData>(
-          MakeDeformObject(LoadMesh(o.mesh, /*displaced=*/false), l.deform_options, o.where,
-                           /*progress=*/false, &programs));
-      l.world_from_object = o.world_from_object * l.deform->object_from_norm;
-      l.bounds = DeformWorldBounds(l);
-      break;
-    }
-  }
-  return l;
-}
-
-}  // namespace
-
 LoadedScene LoadScene(render::ProgramCache& programs, const scene::Scene& s) {
   LoadedScene loaded;
   loaded.name = s.name;
   for (const scene::Object& o : s.objects) {
+    const ObjectKind& kind = KindOf(o.type);
     if (!o.enabled) {
       // Named but disabled: its options are still checked, nothing is loaded.
-      if (o.type == ObjectType::kDisplacedMesh) DisplacedMeshOptionsFrom(o.settings);
-      if (o.type == ObjectType::kDepthObject || o.type == ObjectType::kVisualHull)
-        DepthObjectOptionsFrom(o.settings);
-      if (o.type == ObjectType::kVolume) VolumeObjectOptionsFrom(o.settings);
-      if (o.type == ObjectType::kDeform) DeformObjectOptionsFrom(o.settings);
+      kind.Options(o.settings);
       loaded.disabled.push_back(o.name);
       continue;
     }
     spdlog::info("scene {}: loading {} '{}'", s.name, scene::ObjectTypeName(o.type), o.name);
-    loaded.objects.push_back(LoadObject(programs, o));
+    loaded.objects.push_back(kind.Load(programs, o));
   }
   if (loaded.objects.empty()) {
     core::ThrowInputError("LoadScene", "'{}': every object is disabled: nothing to render", s.name);
@@ -247,78 +78,10 @@ LoadedScene LoadScene(render::ProgramCache& programs, const scene::Scene& s) {
   return loaded;
 }
 
-// One enabled object's GPU side.
-struct SceneRenderer::ObjectPass {
-  std::string name;
-  // depth object / visual hull
-  std::optional<DepthObjectPass> depth_object;
-  // The transform the view is carried into the object's frame by (rigid for
-  // depth objects, a similarity for deform objects; identity for the other
-  // objects, whose geometry is already in the world).
-  glm::dmat4 world_from_object{1.0};
-  // displaced mesh
-  std::optional<DisplacedMeshRenderer> displaced;
-  // mesh
-  std::optional<render::GpuMesh> mesh;
-  std::optional<render::Texture> mesh_texture;
-  std::optional<render::MeshPass> mesh_pass;
-  // volume
-  std::optional<render::VolumePass> volume;
-  // deform (the pass's textures are uploaded; the mesh stays referred to)
-  std::shared_ptr<const DeformObjectData> deform_data;
-  std::optional<render::DeformPass> deform;
-  // the object's pass (one of the above)
-  render::Pass* pass = nullptr;
-  int builds = 0;  // times the pass was built
-};
-
 SceneRenderer::SceneRenderer(render::ProgramCache& programs, const LoadedScene& scene)
     : programs_(&programs), bounds_(scene.bounds) {
   for (const LoadedObject& o : scene.objects) {
-    auto p = std::make_unique<ObjectPass>();
-    switch (o.type) {
-      case ObjectType::kDepthObject:
-      case ObjectType::kVisualHull:
-        p->name = MethodName(o.depth_object.method);
-        p->depth_object.emplace(programs, o.maps, o.depth_object);
-        p->world_from_object = o.world_from_object;
-        p->pass = &*p->depth_object;
-        break;
-      case ObjectType::kDisplacedMesh:
-        p->name = "displacement:" + DisplacementMethodName(o.displacement.method);
-        p->displaced.emplace(programs, o.displaced, o.displacement);
-        p->pass = &p->displaced->pass();
-        break;
-      case ObjectType::kVolume: {
-        const VolumeObjectData& v = *o.volume;
-        p->volume.emplace(programs, v.volume, v.transfer, v.maps, v.world_from_volume,
-                          o.volume_options.pass);
-        p->name =
-            o.volume_options.pass.mode == render::VolumeMode::kDvr ? "volume:dvr" : "volume:iso";
-        p->pass = &*p->volume;
-        break;
-      }
-      case ObjectType::kDeform:
-        p->name = "deform";
-        p->deform_data = o.deform;
-        p->deform.emplace(programs, o.deform->Inputs(), o.deform_options.pass);
-        p->world_from_object = o.world_from_object;
-        p->pass = &*p->deform;
-        break;
-      default:
-        p->name = "mesh";
-        p->mesh.emplace(o.mesh.mesh);
-        if (!o.mesh.texture.empty()) p->mesh_texture.emplace(UploadRgba8(o.mesh.texture));
-        {
-          render::MeshPassOptions mo;
-          if (p->mesh_texture) mo.texture = &*p->mesh_texture;
-          p->mesh_pass.emplace(programs, *p->mesh, mo);
-        }
-        p->pass = &*p->mesh_pass;
-        break;
-    }
-    p->builds = 1;
-    passes_.push_back(std::move(p));
+    passes_.push_back({KindOf(o.type).MakePass(programs, o), o.world_from_object});
   }
 }
 
@@ -327,25 +90,13 @@ DeformObjectChange SceneRenderer::UpdateDeform(LoadedScene& scene, size_t index,
                                                DeformFieldBuild* prebuilt) {
   IBR_CHECK_LT(index, scene.objects.size());
   IBR_CHECK_EQ(scene.objects.size(), passes_.size());
-  LoadedObject& l = scene.objects[index];
-  IBR_CHECK(l.type == ObjectType::kDeform);
-  // A copy, changed aside: the old data stays valid until the new pass exists.
-  auto data = std::make_shared<DeformObjectData>(*l.deform);
-  const DeformObjectChange change =
-      UpdateDeformObject(*data, l.deform_options, options, fmt::format("object '{}'", l.name),
-                         programs_, defer_reach, prebuilt);
+  Built& b = passes_[index];
+  const DeformObjectChange change = UpdateDeformKind(*programs_, scene.objects[index], *b.pass,
+                                                     std::move(options), defer_reach, prebuilt);
   if (!change.Any()) return change;
-  l.deform = std::move(data);
-  l.deform_options = options;
-  l.bounds = DeformWorldBounds(l);
+  ++b.builds;
   scene.bounds = SceneBounds(scene.objects);
   bounds_ = scene.bounds;
-  ObjectPass& p = *passes_[index];
-  p.deform.reset();
-  p.deform_data = l.deform;
-  p.deform.emplace(*programs_, l.deform->Inputs(), l.deform_options.pass);
-  p.pass = &*p.deform;
-  ++p.builds;
   return change;
 }
 
@@ -353,56 +104,25 @@ VolumeObjectChange SceneRenderer::UpdateVolume(LoadedScene& scene, size_t index,
                                                const VolumeObjectOptions& options, bool preview) {
   IBR_CHECK_LT(index, scene.objects.size());
   IBR_CHECK_EQ(scene.objects.size(), passes_.size());
-  LoadedObject& l = scene.objects[index];
-  IBR_CHECK(l.type == ObjectType::kVolume);
-  const std::string where = fmt::format("object '{}'", l.name);
-  // The maps changed aside (the volume itself is copied only when they do).
-  VolumeObjectData maps_only;
-  maps_only.maps = l.volume->maps;
-  maps_only.preview_maps = l.volume->preview_maps;
   const VolumeObjectChange change =
-      UpdateVolumeObject(maps_only, l.volume_options, options, where, preview);
-  if (!change.Any()) return change;
-  ObjectPass& p = *passes_[index];
+      UpdateVolumeKind(scene.objects[index], *passes_[index].pass, options, preview);
   if (change.maps) {
-    // The volume's texture stays: only the maps are stored and uploaded
-    // anew (what a drag of the effect's parameter changes), then the options.
-    try {
-      p.volume->SetMaps(maps_only.maps);
-      p.volume->SetOptions(options.pass);
-    } catch (const core::InputError& e) {
-      throw core::InputError(fmt::format("{}: {}", where, e.what()));
-    }
-    auto data = std::make_shared<VolumeObjectData>(*l.volume);
-    data->maps = std::move(maps_only.maps);
-    data->preview_maps = maps_only.preview_maps;
-    l.volume = std::move(data);
-    l.volume_options = options;
-    l.bounds = BoxBounds(WorldFromProxy(*l.volume));
     scene.bounds = SceneBounds(scene.objects);
     bounds_ = scene.bounds;
-  } else {
-    try {
-      p.volume->SetOptions(options.pass);
-    } catch (const core::InputError& e) {
-      throw core::InputError(fmt::format("{}: {}", where, e.what()));
-    }
-    l.volume_options = options;
   }
-  p.name = options.pass.mode == render::VolumeMode::kDvr ? "volume:dvr" : "volume:iso";
   return change;
 }
 
 int SceneRenderer::PassBuilds(size_t index) const {
   IBR_CHECK_LT(index, passes_.size());
-  return passes_[index]->builds;
+  return passes_[index].builds;
 }
 
 SceneRenderer::~SceneRenderer() = default;
 
 std::vector<std::string> SceneRenderer::PassNames() const {
   std::vector<std::string> names;
-  for (const auto& p : passes_) names.push_back(p->name);
+  for (const Built& b : passes_) names.push_back(b.pass->name());
   return names;
 }
 
@@ -417,12 +137,13 @@ const render::RenderTarget& SceneRenderer::Draw(const ViewCamera& view) {
   // Translucent passes (render::Pass::translucent, volume DVR) after every
   // opaque one, so they blend over what the depth test lets through.
   for (bool translucent : {false, true}) {
-    for (auto& p : passes_) {
-      if (p->pass->translucent() != translucent) continue;
+    for (Built& b : passes_) {
+      render::Pass& pass = b.pass->pass();
+      if (pass.translucent() != translucent) continue;
       // A similarity leaves camera z (and so the composite) unchanged.
       render::ViewSetup object_setup = setup;
-      object_setup.cam_from_world = glm::mat4(view.cam_from_world * p->world_from_object);
-      p->pass->Draw(*target_, object_setup);
+      object_setup.cam_from_world = glm::mat4(view.cam_from_world * b.world_from_object);
+      pass.Draw(*target_, object_setup);
     }
   }
   return *target_;

@@ -10,7 +10,8 @@
 //
 // Stages: LoadScene (files -> plain CPU data: meshes, height maps, map sets;
 // synthetic captures need a context) -> SceneRenderer (GPU upload, passes) ->
-// Render per view.
+// Render per view. Both go through each object's kind (ibr/object_kind.h),
+// never a switch over the kinds.
 #pragma once
 
 #include <filesystem>
@@ -26,6 +27,9 @@
 #include "ibr/depth_object.h"
 #include "ibr/displaced_mesh.h"
 #include "ibr/image_maps.h"
+#include "ibr/kinds/deform_kind.h"
+#include "ibr/kinds/volume_kind.h"
+#include "ibr/object_kind.h"
 #include "ibr/views.h"
 #include "ibr/volume_object.h"
 #include "render/gl/render_target.h"
@@ -35,31 +39,6 @@
 
 namespace ibr {
 
-// One enabled object's plain CPU data, in world space.
-struct LoadedObject {
-  std::string name;
-  scene::ObjectType type = scene::ObjectType::kMesh;
-  // depth object / visual hull: maps in the object's frame, and the rigid
-  // world_from_object the view is carried into
-  MapSet maps;
-  glm::dmat4 world_from_object{1.0};
-  DepthObjectOptions depth_object;
-  // displaced mesh: base transformed to the world (max_displacement scaled with it)
-  DisplacedMeshData displaced;
-  DisplacedMeshOptions displacement;
-  // mesh: transformed to the world
-  capture::SceneMesh mesh;
-  // volume: the data (ibr/volume_object.h; large, shared) and the options
-  std::shared_ptr<const VolumeObjectData> volume;
-  VolumeObjectOptions volume_options;
-  // deform: the normalised mesh, distance field and deformation (large,
-  // shared) and the pass's options; world_from_object above = the object's
-  // transform * data.object_from_norm (a similarity)
-  std::shared_ptr<const DeformObjectData> deform;
-  DeformObjectOptions deform_options;
-  capture::Bounds bounds;  // world
-};
-
 struct LoadedScene {
   std::string name;
   std::vector<LoadedObject> objects;  // enabled objects only, in scene order
@@ -68,8 +47,8 @@ struct LoadedScene {
   std::vector<NamedView> views;       // the scene's cameras
 };
 
-// Converts every object's settings (errors name the file and JSON pointer),
-// loads its files and, for captured image sources, renders the capture
+// Converts every object's settings by its kind (errors name the file and
+// JSON pointer), loads its files and, for captured image sources, renders the capture
 // (needs a current context and `programs`). Disabled objects are only checked.
 LoadedScene LoadScene(render::ProgramCache& programs, const scene::Scene& scene);
 
@@ -81,7 +60,7 @@ MapSet CaptureMaps(render::ProgramCache& programs, const capture::SceneMesh& mes
 
 class SceneRenderer {
  public:
-  // Uploads and builds one pass per enabled object.
+  // Uploads and builds one pass per enabled object (ObjectKind::MakePass).
   SceneRenderer(render::ProgramCache& programs, const LoadedScene& scene);
   ~SceneRenderer();
   SceneRenderer(const SceneRenderer&) = delete;
@@ -107,7 +86,7 @@ class SceneRenderer {
   // textures are uploaded anew (render::DeformPass takes its options at
   // construction), and the object's and the scene's bounds. The next Draw
   // matches a scene loaded with the options the object ends with
-  // (scene.objects[index].deform_options; their sdf_reach says how far the
+  // (DeformOf(scene.objects[index]).options; their sdf_reach says how far the
   // field kept reaches). InputError (nothing changed) on invalid options.
   // `defer_reach` (the viewer while a parameter moves): a field the new
   // displacement outgrows is kept (ibr::UpdateDeformObject), the match above
@@ -126,10 +105,14 @@ class SceneRenderer {
   int PassBuilds(size_t index) const;
 
  private:
-  struct ObjectPass;
+  struct Built {
+    std::unique_ptr<ObjectPass> pass;
+    glm::dmat4 world_from_object{1.0};  // LoadedObject::world_from_object
+    int builds = 1;                     // times the pass was built
+  };
   render::ProgramCache* programs_;
   capture::Bounds bounds_;
-  std::vector<std::unique_ptr<ObjectPass>> passes_;
+  std::vector<Built> passes_;
   std::optional<render::RenderTarget> target_;  // the frame target, resized per view
 };
 

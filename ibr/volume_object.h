@@ -87,6 +87,8 @@ struct VolumeObjectOptions {
   // InputError on bad values: the deformations' and the pass's Check(), a map size
   // outside 1..512.
   void Check() const;
+  // Field by field (tests/ibr/object_kind_registry_test: the CLI and a scene agree).
+  bool operator==(const VolumeObjectOptions&) const = default;
 };
 
 // The iso value `options` draws, in the volume's stored units (what a user

@@ -28,14 +28,15 @@ std::vector<KeySpec> DepthObjectKeys() {
        "one pass per slice with a combined test"},
       {"texturing", "string", "vdt",
        "vdt | visibility | none | vdt-paper: view-dependent texturing and its variants"},
-      {"robust", "integer", "0", "k: a pixel stays inside when at most k maps reject it"},
+      {"robust", "integer", "0", "k: a pixel stays inside when at most k maps reject it (>= 0)"},
       {"outside", "string", "pass",
        "pass | fail: what a map says about points outside its view frustum"},
       {"invalid_depth", "string", "empty",
        "empty | no-constraint: what a map texel without depth says"},
-      {"refine_steps", "integer", "6",
-       "bisection steps refining a ray hit (0..64, the ray core's range)"},
-      {"max_maps", "integer", "0", "the nearest N maps per frame (0 = all)"},
+      {"refine_steps", "integer", "6", "bisection steps refining a ray hit (the ray core's range)",
+       true, "", KeyRange{0, 64}},
+      {"max_maps", "integer", "0", "the nearest N maps per frame (0 = all)", true, "",
+       KeyRange{0, 4096}},
       {"depth_lookup", "string", "subtexel on the ray path, else nearest",
        "subtexel | nearest: depth between map texels, or the nearest texel"},
   };
@@ -85,10 +86,14 @@ const std::vector<ObjectKindSpec>& ObjectKinds() {
            {"method", "string", "slices-orthogonal",
             "slices-surface | slices-orthogonal | slices-screen | ncs | relief | pom | crm | "
             "tessellated"},
-           {"max_displacement", "number", "0.15", "height 1 in the mesh's units, in (0, 10]"},
-           {"tiling", "number", "1", "height-map repeats across UV [0, 1], in (0, 1024]"},
-           {"slices", "integer", "64", "slicing methods: slices per face volume (1..4096)"},
-           {"steps", "integer", "32", "ray methods: linear-search steps (1..4096)"},
+           {"max_displacement", "number", "0.15", "height 1 in the mesh's units", true, "",
+            KeyRange{0, 10, /*lo_open=*/true}},
+           {"tiling", "number", "1", "height-map repeats across UV [0, 1]", true, "",
+            KeyRange{0, 1024, /*lo_open=*/true}},
+           {"slices", "integer", "64", "slicing methods: slices per face volume", true, "",
+            KeyRange{1, 4096}},
+           {"steps", "integer", "32", "ray methods: linear-search steps", true, "",
+            KeyRange{1, 4096}},
        }},
       {"mesh",
        ObjectType::kMesh,
@@ -111,28 +116,33 @@ const std::vector<ObjectKindSpec>& ObjectKinds() {
                       "to the 99th percentile",
                       "a preset name (tooth, neghip, bucky, ramp, empty) or a transfer-function "
                       "JSON file (\"units\": \"data\" for points in the volume's units)"),
-           {"deformation", "string", "none",
+           {"deformation", "comma list", "none",
             "none, or a deformation of the deformations guide (twist | bend | pull | knife | "
-            "peel | slices | seam | wave | clip | cutaway | wedge) or a comma list: one map each"},
+            "peel | slices | seam | wave | clip | cutaway | wedge) or a comma list: one map each",
+            true, "--deformation,--effect"},
            {"effect", "string", "none", "the same as deformation (its former name)"},
            {"amount", "number or list", "per deformation",
-            "each deformation's amount (the deformations guide's table)"},
+            "each deformation's amount (the deformations guide's table)", true, "--amount"},
            {"width", "number or list", "per deformation",
-            "each deformation's width (the deformations guide's table)"},
+            "each deformation's width (the deformations guide's table)", true, "--width"},
            {"placement", "string", "the volume's box",
             "tx,ty,tz[,rx,ry,rz[,scale]]: the deformations' box in the volume's box (box units, "
-            "degrees, about its centre)"},
+            "degrees, about its centre)",
+            true, "--placement"},
            kDeformationsKey,
-           {"map_size", "integer", "64",
-            "texels per axis of each deformation's displacement map (1..512)"},
+           {"map_size", "integer", "64", "texels per axis of each deformation's displacement map",
+            true, "--map-size", KeyRange{1, 512}},
            {"mode", "string", "dvr",
-            "dvr, or iso:VALUE: the first surface at VALUE, in the data's units"},
-           {"spacing", "number", "1", "sampling distance along a ray, in voxels"},
-           {"displacement_bits", "integer", "16", "8 | 16 | 32: bits per displacement-map channel"},
+            "dvr, or iso:VALUE: the first surface at VALUE, in the data's units", true, "--mode"},
+           {"spacing", "number", "1", "sampling distance along a ray, in voxels", true, "--spacing",
+            KeyRange{0.05, 64}},
+           {"displacement_bits", "integer", "16", "8 | 16 | 32: bits per displacement-map channel",
+            true, "--displacement-bits"},
            {"lighting", "string", "blended",
-            "none | gradient | transformed | blended: normals at displaced samples (eq. 6-7)"},
+            "none | gradient | transformed | blended: normals at displaced samples (eq. 6-7)", true,
+            "--lighting"},
            {"jacobian", "string", "precomputed",
-            "precomputed | differences: how the map's Jacobian is found"},
+            "precomputed | differences: how the map's Jacobian is found", true, "--jacobian"},
        }},
       {"deform",
        ObjectType::kDeform,
@@ -141,29 +151,40 @@ const std::vector<ObjectKindSpec>& ObjectKinds() {
            Structural("mesh", "object", "(required)",
                       "{\"shape\": NAME} or {\"file\": F} or {\"shared_mesh\": REL}; closed, or "
                       "cap_holes"),
-           {"deformation", "string", "twist",
+           {"deformation", "comma list", "twist",
             "twist | bend | pull | knife | peel | slices | seam | wave | clip | cutaway | wedge, "
-            "or a comma list (summed)"},
+            "or a comma list (summed)",
+            true, "--deformation"},
            {"amount", "number or list", "per deformation",
-            "strength of each deformation (comma list for several)"},
+            "strength of each deformation (comma list for several)", true, "--amount"},
            {"width", "number or list", "per deformation",
-            "width of each deformation, normalised units (comma list for several)"},
-           {"cut", "string", "none", "none | hollow | solid | thick:T: how the cut alpha is drawn"},
+            "width of each deformation, normalised units (comma list for several)", true,
+            "--width"},
+           {"cut", "string", "none", "none | hollow | solid | thick:T: how the cut alpha is drawn",
+            true, "--cut"},
            {"region", "string", "the mesh's bounds grown by 0.05",
             "x0,y0,z0,x1,y1,z1: the deformation box, normalised units (mesh centred, longest "
-            "side 1)"},
+            "side 1)",
+            true, "--region"},
            {"placement", "string", "0,0,0",
-            "tx,ty,tz[,rx,ry,rz[,scale]]: moves the deformation in its box"},
+            "tx,ty,tz[,rx,ry,rz[,scale]]: moves the deformation in its box", true, "--placement"},
            kDeformationsKey,
-           {"step", "string", "fixed", "fixed | threshold:T | jacobian: the ray's step policy"},
-           {"step_voxels", "number", "1", "ray step in distance-field voxels"},
+           {"step", "string", "fixed", "fixed | threshold:T | jacobian: the ray's step policy",
+            true, "--step"},
+           {"step_voxels", "number", "1", "ray step in distance-field voxels", true,
+            "--step-voxels", KeyRange{0.01, 64}},
            {"skip", "bool", "false",
-            "skip empty space by the cut's distance (Correa 2007, sec. 6.2)"},
-           {"skip_object", "bool", "true", "skip empty space by the object's distance field"},
-           {"solid", "string", "csg", "csg | search: how a solid cut finds its surface"},
-           {"resolution", "integer", "128", "distance-field voxels per axis (8..512)"},
-           {"cap_holes", "bool", "false", "fill the boundary loops of an open mesh"},
-           {"implicit", "string", "sdf", "sdf | depth-cube: the mesh's implicit (sec. 6.1)"},
+            "skip empty space by the cut's distance (Correa 2007, sec. 6.2)", true, "--skip"},
+           {"skip_object", "bool", "true", "skip empty space by the object's distance field", true,
+            "--skip-object"},
+           {"solid", "string", "csg", "csg | search: how a solid cut finds its surface", true,
+            "--solid"},
+           {"resolution", "integer", "128", "distance-field voxels per axis", true, "--resolution",
+            KeyRange{8, 512}},
+           {"cap_holes", "bool", "false", "fill the boundary loops of an open mesh", true,
+            "--cap-holes"},
+           {"implicit", "string", "sdf", "sdf | depth-cube: the mesh's implicit (sec. 6.1)", true,
+            "--implicit"},
            {"reach", "number", "the largest displacement",
             "how far the distance field reaches beyond the deformation box, normalised units "
             "(`ibr view --save-scene` writes the reach of the field it drew)"},
@@ -179,11 +200,18 @@ const ObjectKindSpec* FindObjectKind(std::string_view name) {
   return nullptr;
 }
 
+std::string RangeText(const KeyRange& r) {
+  return fmt::format("{}{}, {}{}", r.lo_open ? "(" : "[", r.lo, r.hi, r.hi_open ? ")" : "]");
+}
+
 std::string ObjectKeysMarkdown() {
   auto table = [](const std::vector<KeySpec>& keys) {
-    std::string md = "| key | type | default | meaning |\n|---|---|---|---|\n";
+    std::string md =
+        "| key | type | default | range | meaning | flag |\n|---|---|---|---|---|---|\n";
     for (const KeySpec& k : keys) {
-      md += fmt::format("| `{}` | {} | {} | {} |\n", k.key, k.type, k.default_value, k.help);
+      md += fmt::format("| `{}` | {} | {} | {} | {} | {} |\n", k.key, k.type, k.default_value,
+                        k.range ? RangeText(*k.range) : std::string(), k.help,
+                        k.flag.empty() ? std::string() : fmt::format("`{}`", k.flag));
     }
     return md;
   };

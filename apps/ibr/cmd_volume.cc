@@ -1,6 +1,7 @@
 // `ibr volume VOLUME`: a QVis/NRRD/NIfTI/DICOM volume deformed and cut (Correa, Silver, Chen
 // 2006; the deformation names of `ibr deform`), rendered by DVR or as an isosurface.
-// Flags -> settings (as a scene's volume object) -> ibr::RenderVolume -> one line.
+// Flags (the volume kind's table) -> settings, as a scene's volume object -> ibr::RenderVolume
+// -> one line.
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>
 
@@ -9,6 +10,7 @@
 #include <vector>
 
 #include "apps/ibr/commands.h"
+#include "apps/ibr/kind_flags.h"
 #include "ibr/views.h"
 #include "ibr/volume_render.h"
 #include "render/gl/context.h"
@@ -19,24 +21,16 @@ namespace {
 
 struct VolumeFlags {
   ibr::VolumeRenderRequest request;
-  DeformationFlags deformations{{"none"}, {}, {}, ""};
-  std::string mode = "dvr", lighting = "blended", up = "z";
-  int map_size = 64, bits = 16, brick_texels = 3;  // the pass's defaults
-  double spacing = 1;
+  scene::Settings settings;  // the volume kind's flags (apps/ibr/kind_flags.h)
+  std::string up = "z";
+  int brick_texels = 3;  // the pass's default
   bool support_skip = true;
   std::optional<double> window, level;  // the volume's stored units (e.g. HU)
 };
 
 void RunVolume(VolumeFlags& f) {
   ibr::VolumeRenderRequest& r = f.request;
-  scene::Settings s;  // read as a scene's volume object is (ibr::VolumeObjectOptionsFrom)
-  SetDeformationSettings(f.deformations, "ibr volume ", s);
-  s.Set("map_size", f.map_size, "ibr volume --map-size");
-  s.Set("mode", f.mode, "ibr volume --mode");
-  s.Set("lighting", f.lighting, "ibr volume --lighting");
-  s.Set("spacing", f.spacing, "ibr volume --spacing");
-  s.Set("displacement_bits", f.bits, "ibr volume --displacement-bits");
-  r.object = ibr::VolumeObjectOptionsFrom(s);
+  r.object = ibr::VolumeObjectOptionsFrom(f.settings);  // as a scene's volume object
   r.object.pass.support_skip = f.support_skip;
   r.object.pass.brick_texels = f.brick_texels;
   r.orbit.up = ibr::UpAxisFromName(f.up, "ibr volume --up");
@@ -54,21 +48,13 @@ void AddVolumeCommand(CLI::App& app) {
   auto* cmd = app.add_subcommand("volume", "Render a volume deformed and cut (Correa et al. 2006)");
   auto& r = f.request;
   cmd->add_option("volume", r.volume, "QVis, NRRD, NIfTI file or DICOM dir")->required();
-  AddDeformationFlags(cmd, f.deformations, "--deformation,--effect",
-                      "none or twist|bend|pull|knife|peel|slices|seam|wave|clip|cutaway|wedge "
-                      "(repeat or comma list: one map each; docs/guide/deformations.md)",
-                      "tx,ty,tz[,rx,ry,rz[,scale]] in the volume's box");
-  cmd->add_option("--map-size", f.map_size, "map texels per axis")->capture_default_str();
-  cmd->add_option("--mode", f.mode, "dvr | iso:VALUE (the volume's own units, e.g. HU)");
-  cmd->add_option("--lighting", f.lighting, "none|gradient|transformed|blended (Fig. 4 a-d)");
-  cmd->add_option("--spacing", f.spacing, "sampling distance, voxels")->capture_default_str();
+  AddKindFlags(cmd, *scene::FindObjectKind("volume"), f.settings, "ibr volume ");
   auto* transfer = cmd->add_option("--transfer", r.transfer,
                                    "preset (tooth, neghip, bucky, ramp, empty) or JSON file; "
                                    "default: the preset named like the volume, else a ramp");
   auto* window = cmd->add_option("--window", f.window, "DVR window width, the volume's units");
   auto* level = cmd->add_option("--level", f.level, "DVR window centre, the volume's units");
   window->needs(level)->excludes(transfer), level->needs(window)->excludes(transfer);
-  cmd->add_option("--displacement-bits", f.bits, "8 | 16 | 32")->capture_default_str();
   cmd->add_flag("!--no-support-skip", f.support_skip, "DVR: no split at the maps' support box");
   cmd->add_option("--brick-texels", f.brick_texels, "DVR, one map: split by bricks (0: off)");
   cmd->add_option("--size", r.size, "image width = height, pixels (orbit view)");

@@ -83,25 +83,6 @@ void ParseWindow(const std::string& text, const std::string& where, int& width, 
 }
 }  // namespace
 
-void AddDeformationFlags(CLI::App* cmd, DeformationFlags& flags, const std::string& names_flag,
-                         const std::string& names_help, const std::string& placement_help) {
-  cmd->add_option(names_flag, flags.names, names_help)->delimiter(',');
-  cmd->add_option("--amount", flags.amounts, "per deformation (the deformations table)")
-      ->delimiter(',');
-  cmd->add_option("--width", flags.widths, "per deformation (the deformations table)")
-      ->delimiter(',');
-  cmd->add_option("--placement", flags.placement, placement_help);
-}
-
-void SetDeformationSettings(const DeformationFlags& flags, const std::string& prefix,
-                            scene::Settings& settings) {
-  auto join = [](const auto& v) { return fmt::format("{}", fmt::join(v, ",")); };
-  settings.Set("deformation", join(flags.names), prefix + "--deformation");
-  if (!flags.amounts.empty()) settings.Set("amount", join(flags.amounts), prefix + "--amount");
-  if (!flags.widths.empty()) settings.Set("width", join(flags.widths), prefix + "--width");
-  if (!flags.placement.empty()) settings.Set("placement", flags.placement, prefix + "--placement");
-}
-
 void AddWindowFlag(CLI::App* cmd, const std::string& where, int& width, int& height,
                    const std::string& default_size) {
   ParseWindow(default_size, where, width, height);

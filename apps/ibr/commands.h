@@ -38,21 +38,6 @@ void AddDepthObjectFlags(CLI::App* cmd, ibr::DepthObjectFlags& flags);
 // --window WIDTHxHEIGHT (pixels) into `width`, `height`, which start at
 // `default_size`; shared by `ibr view` and `ibr bench viewer`. A value that
 // is not WIDTHxHEIGHT: core::InputError "WHERE: --window 'X' is not WIDTHxHEIGHT".
-// --deformation NAME[,NAME...] --amount --width --placement: the one
-// deformation vocabulary (core::kDeformationTable) as `ibr deform` and
-// `ibr volume` take it. `names_flag` may carry aliases ("--deformation,--effect").
-struct DeformationFlags {
-  std::vector<std::string> names;
-  std::vector<double> amounts, widths;
-  std::string placement;
-};
-void AddDeformationFlags(CLI::App* cmd, DeformationFlags& flags, const std::string& names_flag,
-                         const std::string& names_help, const std::string& placement_help);
-// Sets the flags given as the scene keys deformation, amount, width and
-// placement, each named `prefix` + its flag where a value is refused.
-void SetDeformationSettings(const DeformationFlags& flags, const std::string& prefix,
-                            scene::Settings& settings);
-
 void AddWindowFlag(CLI::App* cmd, const std::string& where, int& width, int& height,
                    const std::string& default_size = "960x720");
 

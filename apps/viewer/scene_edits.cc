@@ -113,16 +113,16 @@ scene::Scene SceneWithEdits(const scene::Scene& file, const ibr::LoadedScene& lo
     if (it == out.objects.end()) continue;
     const std::string where = fmt::format("ibr view: object '{}'", l.name);
     if (l.type == scene::ObjectType::kDeform) {
-      it->settings = DeformSettings(l.deform_options, it->settings, where);
-      if (!SameDeform(ibr::DeformObjectOptionsFrom(it->settings), l.deform_options)) {
+      it->settings = DeformSettings(ibr::DeformOf(l).options, it->settings, where);
+      if (!SameDeform(ibr::DeformObjectOptionsFrom(it->settings), ibr::DeformOf(l).options)) {
         core::ThrowInputError("ibr view --save-scene",
                               "object '{}': an edit has no scene key (the saved file would draw "
                               "another deformation)",
                               l.name);
       }
     } else if (l.type == scene::ObjectType::kVolume) {
-      it->settings = VolumeSettings(l.volume_options, it->settings, where);
-      if (!SameVolume(ibr::VolumeObjectOptionsFrom(it->settings), l.volume_options)) {
+      it->settings = VolumeSettings(ibr::VolumeOf(l).options, it->settings, where);
+      if (!SameVolume(ibr::VolumeObjectOptionsFrom(it->settings), ibr::VolumeOf(l).options)) {
         core::ThrowInputError("ibr view --save-scene",
                               "object '{}': an edit has no scene key yet (a volume's edited "
                               "deformations are not written back: the saved file would draw "

@@ -219,8 +219,8 @@ bool SceneFileScene::DragParameter(double t) {
   for (size_t i = 0; i < loaded_.objects.size(); ++i) {
     const ibr::LoadedObject& object = loaded_.objects[i];
     if (object.type == scene::ObjectType::kDeform &&
-        !object.deform_options.deformation.terms.empty()) {
-      ibr::DeformObjectOptions o = object.deform_options;
+        !ibr::DeformOf(object).options.deformation.terms.empty()) {
+      ibr::DeformObjectOptions o = ibr::DeformOf(object).options;
       core::Deformation& d = o.deformation.terms.front();
       const DeformationRanges r = RangesOf(d.kind);
       // Clamped: lo + t (hi - lo) may round past hi, which Check rejects.
@@ -229,8 +229,9 @@ bool SceneFileScene::DragParameter(double t) {
       UpdateDeformWhileMoving(i, o);
       return true;
     }
-    if (object.type == scene::ObjectType::kVolume && !object.volume_options.deformations.empty()) {
-      ibr::VolumeObjectOptions o = object.volume_options;
+    if (object.type == scene::ObjectType::kVolume &&
+        !ibr::VolumeOf(object).options.deformations.empty()) {
+      ibr::VolumeObjectOptions o = ibr::VolumeOf(object).options;
       core::Deformation& d = o.deformations[0];
       const DeformationRanges r = RangesOf(d.kind);
       d.amount = std::clamp(r.amount_lo + t * (r.amount_hi - r.amount_lo),
@@ -258,13 +259,13 @@ void SceneFileScene::UpdateDeformWhileMoving(size_t index,
 double SceneFileScene::ReachForDrags(size_t index) {
   const ibr::LoadedObject& o = loaded_.objects[index];
   ReachHint& hint = reach_hints_[index];
-  const core::DeformationSum& now = o.deform_options.deformation;
+  const core::DeformationSum& now = ibr::DeformOf(o).options.deformation;
   const bool same_kinds = hint.kinds.terms.size() == now.terms.size() &&
                           std::equal(now.terms.begin(), now.terms.end(), hint.kinds.terms.begin(),
                                      [](const core::Deformation& a, const core::Deformation& b) {
                                        return a.kind == b.kind;
                                      });
-  if (!same_kinds || hint.placement != o.deform->placement.object_from_box) {
+  if (!same_kinds || hint.placement != ibr::DeformOf(o).data->placement.object_from_box) {
     // Every term at the slider end that displaces most (the larger |amount|,
     // the widest width).
     hint.kinds = now;
@@ -273,9 +274,9 @@ double SceneFileScene::ReachForDrags(size_t index) {
       d.amount = std::abs(r.amount_lo) > std::abs(r.amount_hi) ? r.amount_lo : r.amount_hi;
       if (r.width_hi > r.width_lo) d.width = r.width_hi;
     }
-    hint.placement = o.deform->placement.object_from_box;
-    hint.reach = core::MaxObjectDisplacement(hint.kinds, o.deform->placement,
-                                             o.deform_options.deformation_resolution);
+    hint.placement = ibr::DeformOf(o).data->placement.object_from_box;
+    hint.reach = core::MaxObjectDisplacement(hint.kinds, ibr::DeformOf(o).data->placement,
+                                             ibr::DeformOf(o).options.deformation_resolution);
   }
   return hint.reach;
 }
@@ -291,19 +292,22 @@ void SceneFileScene::FollowBuild(size_t index, bool deferred, bool deformation_m
   const ibr::LoadedObject& o = loaded_.objects[index];
   // Only a field over the box as it stands: one over a box still being
   // dragged would be stale when done (a moved box's field is rebuilt at rest).
-  if (o.deform_options.pass.implicit != render::DeformImplicit::kSdf ||
-      o.deform->placement.object_from_box != o.deform->field_placement.object_from_box) {
+  if (ibr::DeformOf(o).options.pass.implicit != render::DeformImplicit::kSdf ||
+      ibr::DeformOf(o).data->placement.object_from_box !=
+          ibr::DeformOf(o).data->field_placement.object_from_box) {
     return;
   }
   // The field a drag of the sliders cannot outgrow: built when a drag
   // starts to need it, so it is ready (or nearly) when the mouse rests.
-  const double reach = std::max(ReachForDrags(index), 1.5 * o.deform->max_displacement);
-  if (!deferred && (!deformation_moved || o.deform->sdf_reach >= ReachForDrags(index))) return;
-  ibr::DeformObjectOptions wanted = o.deform_options;
+  const double reach =
+      std::max(ReachForDrags(index), 1.5 * ibr::DeformOf(o).data->max_displacement);
+  if (!deferred && (!deformation_moved || ibr::DeformOf(o).data->sdf_reach >= ReachForDrags(index)))
+    return;
+  ibr::DeformObjectOptions wanted = ibr::DeformOf(o).options;
   wanted.sdf_reach = reach;
   if (it != builds_.end()) {
-    if (!it->second->Ready() ||
-        it->second->Serves(wanted, o.deform->placement, o.deform->max_displacement)) {
+    if (!it->second->Ready() || it->second->Serves(wanted, ibr::DeformOf(o).data->placement,
+                                                   ibr::DeformOf(o).data->max_displacement)) {
       return;  // running, or done and still of use
     }
     stale_.push_back(std::move(it->second));
@@ -311,8 +315,9 @@ void SceneFileScene::FollowBuild(size_t index, bool deferred, bool deformation_m
   }
   // One thread at a lower priority: the frames still moving keep the CPU
   // they need (docs/decisions/viewer-manipulation.md).
-  builds_[index] = std::make_unique<ibr::DeformFieldBuild>(
-      o.deform, wanted, fmt::format("object '{}'", o.name), /*threads=*/1, /*nice=*/10);
+  builds_[index] = std::make_unique<ibr::DeformFieldBuild>(ibr::DeformOf(o).data, wanted,
+                                                           fmt::format("object '{}'", o.name),
+                                                           /*threads=*/1, /*nice=*/10);
 }
 
 bool SceneFileScene::Poll() {
@@ -323,7 +328,7 @@ bool SceneFileScene::Poll() {
     if (it == builds_.end() || !it->second->Ready()) continue;
     try {
       const ibr::DeformObjectChange change =
-          renderer_.UpdateDeform(loaded_, index, loaded_.objects[index].deform_options,
+          renderer_.UpdateDeform(loaded_, index, ibr::DeformOf(loaded_.objects[index]).options,
                                  /*defer_reach=*/true, it->second.get());
       changed |= change.Any();
       FollowBuild(index, change.implicit_deferred, /*deformation_moved=*/false);
@@ -348,14 +353,14 @@ void SceneFileScene::Settle() {
       builds_.erase(it);
     }
     // The background field where it serves (waited for), else a rebuild.
-    renderer_.UpdateDeform(loaded_, i, loaded_.objects[i].deform_options, /*defer_reach=*/false,
-                           build.get());
+    renderer_.UpdateDeform(loaded_, i, ibr::DeformOf(loaded_.objects[i]).options,
+                           /*defer_reach=*/false, build.get());
     if (build && !build->Used()) stale_.push_back(std::move(build));
   }
   for (size_t i = 0; i < loaded_.objects.size(); ++i) {
     const ibr::LoadedObject& o = loaded_.objects[i];
-    if (o.type == scene::ObjectType::kVolume && o.volume->preview_maps)
-      renderer_.UpdateVolume(loaded_, i, o.volume_options);
+    if (o.type == scene::ObjectType::kVolume && ibr::VolumeOf(o).data->preview_maps)
+      renderer_.UpdateVolume(loaded_, i, ibr::VolumeOf(o).options);
   }
 }
 
@@ -370,7 +375,7 @@ static std::optional<size_t> VolumePeel(const ibr::VolumeObjectOptions& o) {
 bool SceneFileScene::HasGizmo(size_t index) const {
   const ibr::LoadedObject& o = loaded_.objects[index];
   return o.type == scene::ObjectType::kDeform ||
-         (o.type == scene::ObjectType::kVolume && VolumePeel(o.volume_options));
+         (o.type == scene::ObjectType::kVolume && VolumePeel(ibr::VolumeOf(o).options));
 }
 
 GizmoBox SceneFileScene::GizmoBoxOf(size_t index) const {
@@ -379,8 +384,9 @@ GizmoBox SceneFileScene::GizmoBoxOf(size_t index) const {
   if (o.type == scene::ObjectType::kVolume) {
     // The peel's map cube (eq. 10's M) in the volume: its placement is not
     // an option, so no axis handles; the flap's edge sweeps the peel.
-    const core::Deformation& d = o.volume_options.deformations[*VolumePeel(o.volume_options)];
-    box.world_from_norm = glm::dmat4(o.volume->world_from_volume);
+    const core::Deformation& d =
+        ibr::VolumeOf(o).options.deformations[*VolumePeel(ibr::VolumeOf(o).options)];
+    box.world_from_norm = glm::dmat4(ibr::VolumeOf(o).data->world_from_volume);
     box.norm_from_box = d.parent_from_box;
     box.axes = false;
     box.peel_angle = d.amount;
@@ -389,8 +395,8 @@ GizmoBox SceneFileScene::GizmoBoxOf(size_t index) const {
     return box;
   }
   box.world_from_norm = o.world_from_object;  // world_from_object * object_from_norm
-  box.norm_from_box = o.deform->placement.object_from_box;
-  for (const core::Deformation& d : o.deform_options.deformation.terms) {
+  box.norm_from_box = ibr::DeformOf(o).data->placement.object_from_box;
+  for (const core::Deformation& d : ibr::DeformOf(o).options.deformation.terms) {
     box.knife |= d.kind == core::DeformationKind::kKnife;
     if (d.kind == core::DeformationKind::kPeel && !box.peel_angle) {
       box.peel_angle = d.amount;
@@ -401,7 +407,7 @@ GizmoBox SceneFileScene::GizmoBoxOf(size_t index) const {
 }
 
 bool SceneFileScene::DragVolumePeel(size_t index, double angle) {
-  ibr::VolumeObjectOptions o = loaded_.objects[index].volume_options;
+  ibr::VolumeObjectOptions o = ibr::VolumeOf(loaded_.objects[index]).options;
   core::Deformation& peel = o.deformations[*VolumePeel(o)];
   if (angle == peel.amount) return false;
   peel.amount = angle;
@@ -420,7 +426,7 @@ bool SceneFileScene::PointerPress(const FrameCamera& camera, const glm::dvec2& p
   const GizmoBox box = GizmoBoxOf(*gizmo_object_);
   drag_handle_ = PickHandle(box, camera, pixel);
   if (!drag_handle_) return false;
-  const ibr::DeformObjectOptions& o = loaded_.objects[*gizmo_object_].deform_options;
+  const ibr::DeformObjectOptions& o = ibr::DeformOf(loaded_.objects[*gizmo_object_]).options;
   drag_from_ = pixel;
   drag_box_ = box;
   drag_start_ = {o.translation, o.rotation_deg, o.scale, box.peel_angle.value_or(0.0)};
@@ -434,7 +440,7 @@ bool SceneFileScene::PointerDrag(const FrameCamera& camera, const glm::dvec2& pi
   const size_t index = *gizmo_object_;
   if (loaded_.objects[index].type == scene::ObjectType::kVolume)
     return DragVolumePeel(index, p.peel_angle);
-  ibr::DeformObjectOptions o = loaded_.objects[index].deform_options;
+  ibr::DeformObjectOptions o = ibr::DeformOf(loaded_.objects[index]).options;
   o.translation = p.translation;
   o.rotation_deg = p.rotation_deg;
   o.scale = p.scale;
@@ -445,7 +451,7 @@ bool SceneFileScene::PointerDrag(const FrameCamera& camera, const glm::dvec2& pi
       break;
     }
   }
-  const ibr::DeformObjectOptions& before = loaded_.objects[index].deform_options;
+  const ibr::DeformObjectOptions& before = ibr::DeformOf(loaded_.objects[index]).options;
   if (o.translation == before.translation && o.rotation_deg == before.rotation_deg &&
       o.scale == before.scale && o.deformation == before.deformation) {
     return false;
@@ -508,7 +514,7 @@ std::string SceneFileScene::Status() const {
 // threshold and base step; skip; the implicit (shown).
 bool SceneFileScene::DeformControls(size_t index) {
   const ibr::LoadedObject& object = loaded_.objects[index];
-  ibr::DeformObjectOptions o = object.deform_options;
+  ibr::DeformObjectOptions o = ibr::DeformOf(object).options;
   bool changed = false;
   for (size_t t = 0; t < o.deformation.terms.size(); ++t) {
     core::Deformation& d = o.deformation.terms[t];
@@ -543,7 +549,7 @@ bool SceneFileScene::DeformControls(size_t index) {
                                 ImGuiSliderFlags_AlwaysClamp);
   changed |= ImGui::Checkbox("skip empty space (cut)", &pass.skip_empty);
   changed |= ImGui::Checkbox("skip by the distance field", &pass.skip_object);
-  const ibr::DeformObjectData& data = *object.deform;
+  const ibr::DeformObjectData& data = *ibr::DeformOf(object).data;
   if (pass.implicit == render::DeformImplicit::kDepthCube) {
     ImGui::Text("implicit: depth cube, 6 maps of %d px (built %dx, %.2f s)", o.sdf_resolution,
                 data.implicit_builds, data.sdf_seconds);
@@ -561,7 +567,7 @@ bool SceneFileScene::DeformControls(size_t index) {
 
 // The effect's main parameter; lighting; mode and iso value; spacing.
 bool SceneFileScene::VolumeControls(size_t index) {
-  ibr::VolumeObjectOptions o = loaded_.objects[index].volume_options;
+  ibr::VolumeObjectOptions o = ibr::VolumeOf(loaded_.objects[index]).options;
   bool changed = false;
   for (core::Deformation& d : o.deformations) {
     const DeformationRanges r = RangesOf(d.kind);
@@ -584,7 +590,7 @@ bool SceneFileScene::VolumeControls(size_t index) {
   if (pass.mode == render::VolumeMode::kIso) {
     // In the volume's own units (e.g. HU), over its data range, as
     // `iso:VALUE` is typed; the pass gets the normalised value.
-    const ibr::VolumeObjectData& data = *loaded_.objects[index].volume;
+    const ibr::VolumeObjectData& data = *ibr::VolumeOf(loaded_.objects[index]).data;
     double iso = ibr::IsoValueInDataUnits(data, o);
     if (SliderDouble("iso value (data units)", iso, static_cast<float>(data.stats.min),
                      static_cast<float>(data.stats.max), "%.5g")) {

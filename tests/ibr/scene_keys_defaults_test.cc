@@ -107,16 +107,17 @@ TEST(SceneKeysDefaults, DefaultsEqualWhatTheParsersDoWithoutTheKey) {
   EXPECT_EQ(Default("deform", "solid"), f.pass.solid_search ? "search" : "csg");
 }
 
-// refine_steps has one range, the ray core's: the key's help names it, the
+// refine_steps has one range, the ray core's: the key's range names it, the
 // scene parser and DepthObjectOptions::Check accept its ends and refuse one past.
 TEST(SceneKeysDefaults, RefineStepsHaveOneRange) {
   const int max = render::kMaxRayRefineSteps;
   const scene::ObjectKindSpec* kind = scene::FindObjectKind("depth-object");
   ASSERT_NE(kind, nullptr);
-  std::string help;
-  for (const scene::KeySpec& k : kind->keys)
-    if (k.key == "refine_steps") help = std::string(k.help);
-  EXPECT_NE(help.find("(0.." + std::to_string(max)), std::string::npos) << help;
+  std::string range;
+  for (const scene::KeySpec& k : kind->keys) {
+    if (k.key == "refine_steps" && k.range) range = scene::RangeText(*k.range);
+  }
+  EXPECT_EQ(range, "[0, " + std::to_string(max) + "]");
   for (const int steps : {0, max}) {
     DepthObjectOptions o;
     EXPECT_NO_THROW(o = DepthObjectOptionsFrom(One("refine_steps", std::to_string(steps))));

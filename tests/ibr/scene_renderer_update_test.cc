@@ -79,7 +79,7 @@ class SceneRendererUpdateTest : public test_support::GlTest {
   // The field rebuilt once (two builds in all) to 1.5 x the new reach, and the
   // frame then equals a fresh build.
   void ExpectFieldRebuiltOnceForAmount04(const LoadedScene& loaded, SceneRenderer& renderer) {
-    const DeformObjectData& d = *loaded.objects[0].deform;
+    const DeformObjectData& d = *DeformOf(loaded.objects[0]).data;
     EXPECT_EQ(d.implicit_builds, 2);
     EXPECT_NEAR(d.sdf_reach, 1.5 * d.max_displacement, 1e-12);
     ExpectFreshBuildOfAmount04(loaded, renderer.Render(loaded.views.front().view));
@@ -88,8 +88,8 @@ class SceneRendererUpdateTest : public test_support::GlTest {
   // equals a fresh build of the options the update ended with.
   void ExpectFreshBuildOfAmount04(const LoadedScene& loaded, const render::Frame& after) {
     LoadedScene fresh = LoadScene(programs(), Parse(Knife(R"(, "cut": "solid", "amount": 0.4)")));
-    fresh.objects[0].deform = std::make_shared<DeformObjectData>(MakeDeformObject(
-        capture::MakeShapeScene("torus").mesh, loaded.objects[0].deform_options, "torus"));
+    DeformOf(fresh.objects[0]).data = std::make_shared<DeformObjectData>(MakeDeformObject(
+        capture::MakeShapeScene("torus").mesh, DeformOf(loaded.objects[0]).options, "torus"));
     SceneRenderer fresh_renderer(programs(), fresh);
     const render::Frame expected = fresh_renderer.Render(fresh.views.front().view);
     EXPECT_EQ(after.color, expected.color);
@@ -107,32 +107,32 @@ TEST_F(SceneRendererUpdateTest, DeformAmountResamplesTheDeformationAndKeepsTheFi
   SceneRenderer renderer(programs(), loaded);
   const ViewCamera& view = loaded.views.front().view;
   const render::Frame before = renderer.Render(view);
-  const double reach_before = loaded.objects[0].deform->sdf_reach;
-  EXPECT_EQ(loaded.objects[0].deform->implicit_builds, 1);
+  const double reach_before = DeformOf(loaded.objects[0]).data->sdf_reach;
+  EXPECT_EQ(DeformOf(loaded.objects[0]).data->implicit_builds, 1);
 
-  DeformObjectOptions options = loaded.objects[0].deform_options;
+  DeformObjectOptions options = DeformOf(loaded.objects[0]).options;
   options.deformation.terms[0].amount = 0.15;
   const DeformObjectChange change = renderer.UpdateDeform(loaded, 0, options);
   EXPECT_TRUE(change.deformation);
   EXPECT_FALSE(change.implicit);
   EXPECT_FALSE(change.pass);
   const LoadedObject& updated = loaded.objects[0];
-  EXPECT_EQ(updated.deform->implicit_builds, 1) << "the distance field was rebuilt";
-  EXPECT_EQ(updated.deform->sdf_reach, reach_before);
-  ASSERT_TRUE(updated.deform_options.sdf_reach.has_value());
-  EXPECT_EQ(*updated.deform_options.sdf_reach, reach_before);
-  EXPECT_LT(updated.deform->max_displacement, reach_before);
+  EXPECT_EQ(DeformOf(updated).data->implicit_builds, 1) << "the distance field was rebuilt";
+  EXPECT_EQ(DeformOf(updated).data->sdf_reach, reach_before);
+  ASSERT_TRUE(DeformOf(updated).options.sdf_reach.has_value());
+  EXPECT_EQ(*DeformOf(updated).options.sdf_reach, reach_before);
+  EXPECT_LT(DeformOf(updated).data->max_displacement, reach_before);
   EXPECT_EQ(renderer.PassBuilds(0), 2);
   const render::Frame after = renderer.Render(view);
 
   // A scene loaded with amount 0.15, its object made from the options the
   // update ended with (the same reach: the same field).
   LoadedScene fresh = LoadScene(programs(), Parse(Knife(R"(, "cut": "solid", "amount": 0.15)")));
-  const DeformObjectData plain = *fresh.objects[0].deform;  // the default reach
-  fresh.objects[0].deform = std::make_shared<DeformObjectData>(
-      MakeDeformObject(capture::MakeShapeScene("torus").mesh, updated.deform_options, "torus"));
-  EXPECT_EQ(fresh.objects[0].deform->sdf.values, updated.deform->sdf.values);
-  EXPECT_EQ(fresh.objects[0].deform->texture.rgba, updated.deform->texture.rgba);
+  const DeformObjectData plain = *DeformOf(fresh.objects[0]).data;  // the default reach
+  DeformOf(fresh.objects[0]).data = std::make_shared<DeformObjectData>(
+      MakeDeformObject(capture::MakeShapeScene("torus").mesh, DeformOf(updated).options, "torus"));
+  EXPECT_EQ(DeformOf(fresh.objects[0]).data->sdf.values, DeformOf(updated).data->sdf.values);
+  EXPECT_EQ(DeformOf(fresh.objects[0]).data->texture.rgba, DeformOf(updated).data->texture.rgba);
   EXPECT_EQ(fresh.bounds.min, loaded.bounds.min);
   EXPECT_EQ(fresh.bounds.max, loaded.bounds.max);
   SceneRenderer fresh_renderer(programs(), fresh);
@@ -148,8 +148,8 @@ TEST_F(SceneRendererUpdateTest, DeformAmountResamplesTheDeformationAndKeepsTheFi
 
   // Against the plain fresh load (its field reaches only the new largest
   // displacement: a finer grid over a smaller box).
-  fresh.objects[0].deform = std::make_shared<DeformObjectData>(plain);
-  fresh.objects[0].deform_options.sdf_reach.reset();
+  DeformOf(fresh.objects[0]).data = std::make_shared<DeformObjectData>(plain);
+  DeformOf(fresh.objects[0]).options.sdf_reach.reset();
   SceneRenderer plain_renderer(programs(), fresh);
   const render::Frame plain_frame = plain_renderer.Render(fresh.views.front().view);
   const auto [plain_pixels, plain_max] = Difference(after.color, plain_frame.color);
@@ -167,7 +167,7 @@ TEST_F(SceneRendererUpdateTest, DeformAmountResamplesTheDeformationAndKeepsTheFi
 TEST_F(SceneRendererUpdateTest, DeformAmountBeyondTheFieldsReachRebuildsIt) {
   LoadedScene loaded = LoadScene(programs(), Parse(Knife(R"(, "cut": "solid", "amount": 0.1)")));
   SceneRenderer renderer(programs(), loaded);
-  DeformObjectOptions options = loaded.objects[0].deform_options;
+  DeformObjectOptions options = DeformOf(loaded.objects[0]).options;
   options.deformation.terms[0].amount = 0.4;
   const DeformObjectChange change = renderer.UpdateDeform(loaded, 0, options);
   EXPECT_TRUE(change.implicit);
@@ -182,19 +182,20 @@ TEST_F(SceneRendererUpdateTest, DeformAmountBeyondTheFieldsReachRebuildsIt) {
 TEST_F(SceneRendererUpdateTest, DeferredReachKeepsTheFieldUntilTheNextUpdate) {
   LoadedScene loaded = LoadScene(programs(), Parse(Knife(R"(, "cut": "solid", "amount": 0.1)")));
   SceneRenderer renderer(programs(), loaded);
-  DeformObjectOptions options = loaded.objects[0].deform_options;
-  const double reach_before = loaded.objects[0].deform->sdf_reach;
+  DeformObjectOptions options = DeformOf(loaded.objects[0]).options;
+  const double reach_before = DeformOf(loaded.objects[0]).data->sdf_reach;
   options.deformation.terms[0].amount = 0.4;
   const DeformObjectChange moving = renderer.UpdateDeform(loaded, 0, options, /*defer_reach=*/true);
   EXPECT_TRUE(moving.implicit_deferred);
   EXPECT_FALSE(moving.implicit);
   EXPECT_TRUE(moving.deformation);
-  EXPECT_EQ(loaded.objects[0].deform->implicit_builds, 1);
-  EXPECT_EQ(loaded.objects[0].deform->sdf_reach, reach_before);
-  EXPECT_LT(loaded.objects[0].deform->sdf_reach, loaded.objects[0].deform->max_displacement);
+  EXPECT_EQ(DeformOf(loaded.objects[0]).data->implicit_builds, 1);
+  EXPECT_EQ(DeformOf(loaded.objects[0]).data->sdf_reach, reach_before);
+  EXPECT_LT(DeformOf(loaded.objects[0]).data->sdf_reach,
+            DeformOf(loaded.objects[0]).data->max_displacement);
 
   const DeformObjectChange settled =
-      renderer.UpdateDeform(loaded, 0, loaded.objects[0].deform_options);
+      renderer.UpdateDeform(loaded, 0, DeformOf(loaded.objects[0]).options);
   EXPECT_TRUE(settled.implicit);
   EXPECT_FALSE(settled.implicit_deferred);
   ExpectFieldRebuiltOnceForAmount04(loaded, renderer);
@@ -206,13 +207,13 @@ TEST_F(SceneRendererUpdateTest, DeformCutChangesThePassAlone) {
   LoadedScene loaded = LoadScene(programs(), Parse(Knife(R"(, "cut": "solid")")));
   SceneRenderer renderer(programs(), loaded);
   const render::Frame before = renderer.Render(loaded.views.front().view);
-  DeformObjectOptions options = loaded.objects[0].deform_options;
+  DeformObjectOptions options = DeformOf(loaded.objects[0]).options;
   options.pass.cut = core::CutMode::kHollow;
   const DeformObjectChange change = renderer.UpdateDeform(loaded, 0, options);
   EXPECT_TRUE(change.pass);
   EXPECT_FALSE(change.deformation);
   EXPECT_FALSE(change.implicit);
-  EXPECT_EQ(loaded.objects[0].deform->implicit_builds, 1);
+  EXPECT_EQ(DeformOf(loaded.objects[0]).data->implicit_builds, 1);
   EXPECT_EQ(renderer.PassNames(), std::vector<std::string>{"deform"});
   const render::Frame after = renderer.Render(loaded.views.front().view);
 
@@ -230,10 +231,10 @@ TEST_F(SceneRendererUpdateTest, InvalidDeformOptionsChangeNothing) {
   LoadedScene loaded = LoadScene(programs(), Parse(Knife(R"(, "cut": "solid")")));
   SceneRenderer renderer(programs(), loaded);
   const render::Frame before = renderer.Render(loaded.views.front().view);
-  const auto data = loaded.objects[0].deform;
-  DeformObjectOptions wide = loaded.objects[0].deform_options;
+  const auto data = DeformOf(loaded.objects[0]).data;
+  DeformObjectOptions wide = DeformOf(loaded.objects[0]).options;
   wide.deformation.terms[0].amount = 0.9;
-  DeformObjectOptions no_step = loaded.objects[0].deform_options;
+  DeformObjectOptions no_step = DeformOf(loaded.objects[0]).options;
   no_step.pass.step_voxels = 0;
   for (const DeformObjectOptions& bad : {wide, no_step}) {
     try {
@@ -243,8 +244,8 @@ TEST_F(SceneRendererUpdateTest, InvalidDeformOptionsChangeNothing) {
       EXPECT_NE(std::string(e.what()).find("object 'cut'"), std::string::npos) << e.what();
     }
   }
-  EXPECT_EQ(loaded.objects[0].deform, data);
-  EXPECT_EQ(loaded.objects[0].deform_options.deformation.terms[0].amount, 0.15);
+  EXPECT_EQ(DeformOf(loaded.objects[0]).data, data);
+  EXPECT_EQ(DeformOf(loaded.objects[0]).options.deformation.terms[0].amount, 0.15);
   EXPECT_EQ(renderer.PassBuilds(0), 1);
   EXPECT_EQ(renderer.Render(loaded.views.front().view).color, before.color);
 }
@@ -293,14 +294,14 @@ TEST_F(SceneRendererVolumeUpdateTest, LightingChangesThePassOptionsAlone) {
   LoadedScene loaded = LoadScene(programs(), Ball(R"(, "lighting": "blended")"));
   SceneRenderer renderer(programs(), loaded);
   const render::Frame before = renderer.Render(loaded.views.front().view);
-  const auto data = loaded.objects[0].volume;
-  VolumeObjectOptions options = loaded.objects[0].volume_options;
+  const auto data = VolumeOf(loaded.objects[0]).data;
+  VolumeObjectOptions options = VolumeOf(loaded.objects[0]).options;
   options.pass.lighting = render::VolumeLighting::kGradient;
   const VolumeObjectChange change = renderer.UpdateVolume(loaded, 0, options);
   EXPECT_TRUE(change.pass);
   EXPECT_FALSE(change.maps);
   EXPECT_EQ(renderer.PassBuilds(0), 1) << "the volume pass was built again";
-  EXPECT_EQ(loaded.objects[0].volume, data) << "the volume data was copied";
+  EXPECT_EQ(VolumeOf(loaded.objects[0]).data, data) << "the volume data was copied";
   const render::Frame after = renderer.Render(loaded.views.front().view);
 
   LoadedScene fresh = LoadScene(programs(), Ball(R"(, "lighting": "gradient")"));
@@ -331,7 +332,7 @@ TEST_F(SceneRendererVolumeUpdateTest, PeelAngleResamplesTheMap) {
   LoadedScene loaded = LoadScene(programs(), Ball(""));
   SceneRenderer renderer(programs(), loaded);
   const render::Frame first = renderer.Render(loaded.views.front().view);
-  VolumeObjectOptions options = loaded.objects[0].volume_options;
+  VolumeObjectOptions options = VolumeOf(loaded.objects[0]).options;
   ASSERT_EQ(options.deformations.size(), 1u);
   const double angle = options.deformations[0].amount;
   options.deformations[0].amount = M_PI / 2;  // 90 degrees
@@ -359,17 +360,17 @@ TEST_F(SceneRendererVolumeUpdateTest, PeelAngleResamplesTheMap) {
 TEST_F(SceneRendererVolumeUpdateTest, PreviewPeelMapIsResampledByTheNextUpdate) {
   LoadedScene loaded = LoadScene(programs(), Ball(""));
   SceneRenderer renderer(programs(), loaded);
-  VolumeObjectOptions options = loaded.objects[0].volume_options;
+  VolumeObjectOptions options = VolumeOf(loaded.objects[0]).options;
   ASSERT_EQ(options.deformations.size(), 1u);
   options.deformations[0].amount = M_PI / 2;  // 90 degrees
   EXPECT_TRUE(renderer.UpdateVolume(loaded, 0, options, /*preview=*/true).maps);
-  EXPECT_TRUE(loaded.objects[0].volume->preview_maps);
-  const auto preview_texels = loaded.objects[0].volume->maps.at(0).map.texels;
+  EXPECT_TRUE(VolumeOf(loaded.objects[0]).data->preview_maps);
+  const auto preview_texels = VolumeOf(loaded.objects[0]).data->maps.at(0).map.texels;
 
   const VolumeObjectChange settled = renderer.UpdateVolume(loaded, 0, options);
   EXPECT_TRUE(settled.maps);
-  EXPECT_FALSE(loaded.objects[0].volume->preview_maps);
-  EXPECT_NE(loaded.objects[0].volume->maps.at(0).map.texels, preview_texels)
+  EXPECT_FALSE(VolumeOf(loaded.objects[0]).data->preview_maps);
+  EXPECT_NE(VolumeOf(loaded.objects[0]).data->maps.at(0).map.texels, preview_texels)
       << "the preview's fill is rougher";
   const render::Frame after = renderer.Render(loaded.views.front().view);
   SceneRenderer fresh(programs(), loaded);

@@ -1,0 +1,19 @@
+// The depth-object and visual-hull kinds (ibr/kinds/depth_object_kind.cc).
+#pragma once
+
+#include <string>
+
+#include "ibr/depth_object.h"
+#include "ibr/image_maps.h"
+#include "ibr/object_kind.h"
+
+namespace ibr {
+
+// A loaded depth object (or visual hull, by options.method) of maps already
+// in memory, placed in the world by the rigid `world_from_object`: what
+// LoadScene makes of a scene's object, for a one-object scene made in code
+// (`ibr render DATASET`).
+LoadedObject LoadedDepthObject(std::string name, MapSet maps, const DepthObjectOptions& options,
+                               const glm::dmat4& world_from_object = glm::dmat4(1.0));
+
+}  // namespace ibr
