@@ -369,6 +369,17 @@ VolumeObjectChange SceneRenderer::UpdateVolume(LoadedScene& scene, size_t index,
       UpdateVolumeObject(maps_only, l.volume_options, options, where, preview);
   if (!change.Any()) return change;
   ObjectPass& p = *passes_[index];
+  if (change.transfer) {
+    // Only the 1D table is rewritten; none: back to the function loaded.
+    try {
+      p.volume->SetTransferFunction(
+          options.transfer
+              ? core::NormalizedTransfer(*options.transfer, l.volume->volume.NormalizationRange())
+              : l.volume->transfer);
+    } catch (const core::InputError& e) {
+      throw core::InputError(fmt::format("{}: {}", where, e.what()));
+    }
+  }
   if (change.maps) {
     // The volume's texture stays: only the maps are stored and uploaded
     // anew (what a drag of the effect's parameter changes), then the options.
