@@ -164,6 +164,15 @@ TransferFunction ReadTransferFunction(const std::filesystem::path& path) {
   return ReadTransferFunction(in, path.string());
 }
 
+std::string TransferFunctionJson(const TransferFunction& tf) {
+  nlohmann::json points = nlohmann::json::array();
+  for (const TransferPoint& p : tf.points)
+    points.push_back({p.s, p.rgba.r, p.rgba.g, p.rgba.b, p.rgba.a});
+  const nlohmann::json j = {{"units", tf.units == TransferUnits::kData ? "data" : "normalized"},
+                            {"points", points}};
+  return j.dump();  // nlohmann writes doubles with round-trip precision
+}
+
 TransferFunction TransferFromPresetOrFile(const std::string& preset_or_path) {
   const auto names = TransferPresetNames();
   if (std::find(names.begin(), names.end(), preset_or_path) != names.end())

@@ -22,6 +22,7 @@ enum class TransferUnits { kNormalized, kData };
 struct TransferPoint {
   double s = 0;          // normalised scalar in [0, 1], or a stored value (kData)
   glm::dvec4 rgba{0.0};  // colour in [0, 1], opacity per voxel in [0, 1]
+  bool operator==(const TransferPoint&) const = default;
 };
 
 struct TransferFunction {
@@ -36,6 +37,7 @@ struct TransferFunction {
   // `n` samples at s = i / (n - 1): the texture the pass uploads (texel i at
   // s = i / (n - 1), so a lookup uses coordinate (s (n - 1) + 0.5) / n).
   std::vector<glm::vec4> Table(int n = 256) const;
+  bool operator==(const TransferFunction&) const = default;
 };
 
 // `table` with each opacity corrected for a sampling distance of `exponent`
@@ -69,6 +71,10 @@ std::vector<std::string> TransferPresetNames();
 // points are InputErrors naming the file.
 TransferFunction ReadTransferFunction(std::istream& in, std::string_view name);
 TransferFunction ReadTransferFunction(const std::filesystem::path& path);
+// The JSON text ReadTransferFunction reads back to `tf` bit for bit (each
+// number with the digits that parse back to its bits): what a scene's inline
+// "transfer" object holds (`ibr view --save-scene` of an edited function).
+std::string TransferFunctionJson(const TransferFunction& tf);
 // A preset name, else a JSON file; a name that is neither is an InputError
 // listing the presets.
 TransferFunction TransferFromPresetOrFile(const std::string& preset_or_path);

@@ -98,6 +98,8 @@ class SceneRenderer {
   // to render::VolumePass::SetOptions (no volume upload); effect or map-size
   // changes resample the map and hand it to render::VolumePass::SetMaps (the
   // volume's texture is kept).
+  // A new options.transfer goes to render::VolumePass::SetTransferFunction
+  // (the table alone is rewritten).
   // `preview`: ibr::UpdateVolumeObject's (a rougher peel map while moving).
   VolumeObjectChange UpdateVolume(LoadedScene& scene, size_t index,
                                   const VolumeObjectOptions& options, bool preview = false);

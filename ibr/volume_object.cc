@@ -7,6 +7,7 @@
 #include <cctype>
 #include <cmath>
 #include <glm/gtc/matrix_transform.hpp>
+#include <sstream>
 #include <utility>
 
 #include "core/error.h"
@@ -119,6 +120,7 @@ void VolumeObjectOptions::Check() const {
   if (map_size < 1 || map_size > 512)
     core::ThrowInputError("VolumeObjectOptions", "map size {} not in [1, 512]", map_size);
   pass.Check();
+  if (transfer) transfer->Check("VolumeObjectOptions: transfer");
 }
 
 VolumeObjectChange UpdateVolumeObject(VolumeObjectData& data,
@@ -132,6 +134,7 @@ VolumeObjectChange UpdateVolumeObject(VolumeObjectData& data,
   }
   VolumeObjectChange change;
   change.pass = old_options.pass != options.pass;
+  change.transfer = old_options.transfer != options.transfer;
   change.maps = old_options.deformations != options.deformations ||
                 (!options.deformations.empty() && old_options.map_size != options.map_size) ||
                 (data.preview_maps && !preview);
@@ -208,6 +211,11 @@ VolumeObjectOptions VolumeObjectOptionsFrom(const scene::Settings& s) {
   const std::string jacobian =
       s.GetString("jacobian", std::string(render::VolumeJacobianName(o.pass.jacobian)));
   fail_as("jacobian", [&] { o.pass.jacobian = render::VolumeJacobianFromName(jacobian); });
+  if (const scene::Setting* t = s.Find("transfer"); t && t->value.is_object()) {
+    // Checked by the scene reader; read again here for the options.
+    std::istringstream text(t->value.dump());
+    fail_as("transfer", [&] { o.transfer = core::ReadTransferFunction(text, "inline object"); });
+  }
   // The remaining checks name the first key they could come from.
   fail_as(s.Has("spacing") ? "spacing" : "displacement_bits", [&] { o.pass.Check(); });
   return o;
@@ -226,7 +234,9 @@ LoadedVolume LoadVolumeObject(const scene::Object& o) {
   core::TransferFunction transfer;
   const scene::Setting* t = o.settings.Find("transfer");
   try {
-    transfer = TransferForVolume(t ? t->value.get<std::string>() : "", o.volume, &volume);
+    transfer = l.options.transfer
+                   ? *l.options.transfer
+                   : TransferForVolume(t ? t->value.get<std::string>() : "", o.volume, &volume);
   } catch (const core::InputError& e) {
     throw core::InputError(fmt::format("{}: {}", t ? t->where : o.where, e.what()));
   }

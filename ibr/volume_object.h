@@ -84,6 +84,11 @@ struct VolumeObjectOptions {
   int map_size = 64;  // texels per axis of each deformation's map
   render::VolumePassOptions pass;
   std::optional<double> iso_value;  // "iso:VALUE" in stored units; LoadVolumeObject sets pass's
+  // An inline "transfer" object (the viewer's edited function, data or
+  // normalised units): replaces the one LoadVolumeObject reads by name.
+  // UpdateVolumeObject reports a change of it; the pass takes it through
+  // render::VolumePass::SetTransferFunction (no volume upload).
+  std::optional<core::TransferFunction> transfer;
   // InputError on bad values: the deformations' and the pass's Check(), a map size
   // outside 1..512.
   void Check() const;
@@ -99,9 +104,10 @@ double IsoValueInDataUnits(const VolumeObjectData& data, const VolumeObjectOptio
 
 // What changing a volume object's options invalidated (UpdateVolumeObject).
 struct VolumeObjectChange {
-  bool maps = false;  // the maps were resampled (deformations, map size)
-  bool pass = false;  // the pass options differ (render::VolumePass::SetOptions)
-  bool Any() const { return maps || pass; }
+  bool maps = false;      // the maps were resampled (deformations, map size)
+  bool pass = false;      // the pass options differ (render::VolumePass::SetOptions)
+  bool transfer = false;  // options.transfer differs (render::VolumePass::SetTransferFunction)
+  bool Any() const { return maps || pass || transfer; }
 };
 // Turns `data`, made with `old_options`, into what MakeVolumeObject makes
 // with `options` (same volume and transfer function): only deformation or

@@ -7,6 +7,7 @@
 #include <fstream>
 #include <glm/gtc/matrix_transform.hpp>
 #include <set>
+#include <sstream>
 
 #include "core/error.h"
 #include "core/transfer_function.h"
@@ -409,7 +410,18 @@ class Reader {
     if (o.type == ObjectType::kDepthObject || o.type == ObjectType::kVisualHull) {
       o.settings.Set("method", type, Where(p / "type"));
     }
-    if (o.type == ObjectType::kVolume && j.contains("transfer")) {
+    if (o.type == ObjectType::kVolume && j.contains("transfer") && j["transfer"].is_object()) {
+      // An inline transfer function, the JSON of a transfer-function file
+      // (what `ibr view --save-scene` writes for an edited one): checked
+      // here, kept as the object.
+      std::istringstream text(j["transfer"].dump());
+      try {
+        core::ReadTransferFunction(text, "inline object");
+      } catch (const core::InputError& e) {
+        Fail(p / "transfer", e.what());
+      }
+      o.settings.Set("transfer", j["transfer"], Where(p / "transfer"));
+    } else if (o.type == ObjectType::kVolume && j.contains("transfer")) {
       // A preset name (core::TransferPresetNames), else a JSON file.
       const std::string t = String(j["transfer"], p / "transfer");
       const std::vector<std::string> presets = core::TransferPresetNames();

@@ -35,8 +35,8 @@
 //     {"type"*: "volume",                                 Correa, Silver, Chen 2006
 //      "volume"*: "QVis .dat or NRRD .nrrd/.nhdr" (or "shared_volume": REL, under the shared
 //                 data folder),
-//      "transfer": preset (tooth, neghip, bucky, ramp, empty) or JSON file (default: the preset
-//                  named like the volume file, else ramp),
+//      "transfer": preset (tooth, neghip, bucky, ramp, empty), JSON file or that file's object
+//                  inline (default: the preset named like the volume file, else ramp),
 //      effect keys: effect (none | peel | slices | seam | pull | wave), map_size, mode (dvr |
 //                   iso:VALUE), spacing (voxels), displacement_bits (8 | 16 | 32), lighting
 //                   (none | gradient | transformed | blended), jacobian (precomputed |
@@ -87,6 +87,7 @@ class Settings {
  public:
   void Set(const std::string& key, nlohmann::json value, std::string where);
   bool Has(const std::string& key) const { return values_.count(key) > 0; }
+  void Erase(const std::string& key) { values_.erase(key); }
   const Setting* Find(const std::string& key) const;
   // The value if present (InputError naming `where` on a wrong type), else `fallback`.
   std::string GetString(const std::string& key, const std::string& fallback) const;

@@ -111,11 +111,12 @@ const std::vector<ObjectKindSpec>& ObjectKinds() {
                       "DICOM series folder, relative to the scene"),
            Structural("shared_volume", "string", "(one of volume, shared_volume)",
                       "a volume under the shared data folder"),
-           Structural("transfer", "string",
+           Structural("transfer", "string or object",
                       "the preset named like the volume file, else a white ramp from the 50th "
                       "to the 99th percentile",
                       "a preset name (tooth, neghip, bucky, ramp, empty) or a transfer-function "
-                      "JSON file (\"units\": \"data\" for points in the volume's units)"),
+                      "JSON file (\"units\": \"data\" for points in the volume's units), or that "
+                      "file's object inline (what the viewer saves for an edited one)"),
            {"deformation", "comma list", "none",
             "none, or a deformation of the deformations guide (twist | bend | pull | knife | "
             "peel | slices | seam | wave | clip | cutaway | wedge) or a comma list: one map each",

@@ -22,6 +22,8 @@
 
 namespace viewer {
 
+constexpr int kModControl = 2;  // GLFW_MOD_CONTROL in InputEvent::mods
+
 struct InputEvent {
   enum class Type { kMove, kButton, kScroll, kKey };
   enum class Action { kRelease = 0, kPress = 1, kRepeat = 2 };  // GLFW's values

@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "core/error.h"
+#include "core/transfer_function.h"
 
 namespace viewer {
 namespace {
@@ -43,7 +44,8 @@ bool SameVolume(ibr::VolumeObjectOptions parsed, const ibr::VolumeObjectOptions&
   // The normalised iso value is set from iso_value at load (SetIsoValue).
   parsed.pass.iso_value = viewer.pass.iso_value;
   return parsed.deformations == viewer.deformations && parsed.map_size == viewer.map_size &&
-         parsed.pass == viewer.pass && parsed.iso_value == viewer.iso_value;
+         parsed.pass == viewer.pass && parsed.iso_value == viewer.iso_value &&
+         parsed.transfer == viewer.transfer;
 }
 
 }  // namespace
@@ -90,8 +92,28 @@ scene::Settings DeformSettings(const ibr::DeformObjectOptions& o, scene::Setting
 
 scene::Settings VolumeSettings(const ibr::VolumeObjectOptions& o, scene::Settings s,
                                const std::string& where) {
-  // The deformations keep the file's keys: a placed deformation's matrix has
-  // no exact key form yet, so an edited one is refused below, not rewritten.
+  if (!o.deformations.empty()) {
+    // The "deformations" list, each with the placement the file gave it (a
+    // volume's placements are not edited in the viewer, and a matrix has no
+    // exact key form: SameVolume refuses one that differs).
+    const scene::Setting* file_list = s.Find("deformations");
+    const scene::Setting* placement = s.Find("placement");
+    nlohmann::json list = nlohmann::json::array();
+    for (size_t i = 0; i < o.deformations.size(); ++i) {
+      const core::Deformation& d = o.deformations[i];
+      nlohmann::json item = {
+          {"name", core::DeformationKindName(d.kind)}, {"amount", d.amount}, {"width", d.width}};
+      if (file_list && file_list->value.is_array() && i < file_list->value.size() &&
+          file_list->value[i].contains("placement")) {
+        item["placement"] = file_list->value[i]["placement"];
+      } else if (placement) {
+        item["placement"] = placement->value;
+      }
+      list.push_back(item);
+    }
+    for (const char* key : {"deformation", "effect", "amount", "width", "placement"}) s.Erase(key);
+    s.Set("deformations", list, where);
+  }
   s.Set("map_size", o.map_size, where);
   s.Set("mode",
         o.pass.mode == render::VolumeMode::kIso && o.iso_value ? fmt::format("iso:{}", *o.iso_value)
@@ -101,6 +123,9 @@ scene::Settings VolumeSettings(const ibr::VolumeObjectOptions& o, scene::Setting
   s.Set("displacement_bits", o.pass.displacement_bits, where);
   s.Set("lighting", std::string(render::VolumeLightingName(o.pass.lighting)), where);
   s.Set("jacobian", std::string(render::VolumeJacobianName(o.pass.jacobian)), where);
+  // An edited transfer function inline (the file's name otherwise stays).
+  if (o.transfer)
+    s.Set("transfer", nlohmann::json::parse(core::TransferFunctionJson(*o.transfer)), where);
   return s;
 }
 
@@ -124,9 +149,8 @@ scene::Scene SceneWithEdits(const scene::Scene& file, const ibr::LoadedScene& lo
       it->settings = VolumeSettings(ibr::VolumeOf(l).options, it->settings, where);
       if (!SameVolume(ibr::VolumeObjectOptionsFrom(it->settings), ibr::VolumeOf(l).options)) {
         core::ThrowInputError("ibr view --save-scene",
-                              "object '{}': an edit has no scene key yet (a volume's edited "
-                              "deformations are not written back: the saved file would draw "
-                              "another volume)",
+                              "object '{}': an edit has no scene key (the saved file would "
+                              "draw another volume)",
                               l.name);
       }
     }

@@ -20,8 +20,9 @@ namespace viewer {
 // deform table; values written so they parse back to the same bits).
 scene::Settings DeformSettings(const ibr::DeformObjectOptions& options, scene::Settings base,
                                const std::string& where);
-// `base` with the volume keys set from `options` (effect name, map_size,
-// mode, spacing, displacement_bits, lighting, jacobian).
+// `base` with the volume keys set from `options` (the "deformations" list,
+// map_size, mode, spacing, displacement_bits, lighting, jacobian; an edited
+// transfer function as an inline "transfer" object).
 scene::Settings VolumeSettings(const ibr::VolumeObjectOptions& options, scene::Settings base,
                                const std::string& where);
 

@@ -421,7 +421,49 @@ bool SceneFileScene::DragVolumePeel(size_t index, double angle) {
   return true;
 }
 
-bool SceneFileScene::PointerPress(const FrameCamera& camera, const glm::dvec2& pixel) {
+// Each window pixel moves the window or level by this fraction of the data
+// range: a drag across a typical window spans the whole range.
+constexpr double kWindowLevelPerPixel = 1.0 / 500;
+
+SceneFileScene::TransferSlot& SceneFileScene::TransferOf(size_t index) {
+  auto it = transfers_.find(index);
+  if (it == transfers_.end()) {
+    const ibr::LoadedObject& o = loaded_.objects[index];
+    const ibr::VolumeObjectData& data = *o.volume;
+    it = transfers_
+             .emplace(index, TransferSlot{TransferEditor(o.volume_options.transfer
+                                                             ? *o.volume_options.transfer
+                                                             : data.transfer,
+                                                         data.volume.NormalizationRange(),
+                                                         {data.stats.min, data.stats.max}),
+                                          VolumeHistogram(data.volume),
+                                          {}})
+             .first;
+  }
+  return it->second;
+}
+
+void SceneFileScene::ApplyTransfer(size_t index) {
+  ibr::VolumeObjectOptions o = loaded_.objects[index].volume_options;
+  o.transfer = TransferOf(index).editor.transfer();
+  renderer_.UpdateVolume(loaded_, index, o, /*preview=*/true);
+  error_.clear();
+}
+
+bool SceneFileScene::PointerPress(const FrameCamera& camera, const glm::dvec2& pixel, int mods) {
+  window_drag_.reset();
+  if (mods & kModControl) {
+    std::optional<size_t> volume;
+    if (gizmo_object_ && loaded_.objects[*gizmo_object_].type == scene::ObjectType::kVolume)
+      volume = gizmo_object_;
+    for (size_t i = 0; i < loaded_.objects.size() && !volume; ++i)
+      if (loaded_.objects[i].type == scene::ObjectType::kVolume) volume = i;
+    if (!volume) return false;
+    window_drag_ = volume;
+    window_start_ = TransferOf(*volume).editor.window();
+    drag_from_ = pixel;
+    return true;
+  }
   if (!gizmo_shown_ || !gizmo_object_) return false;
   const GizmoBox box = GizmoBoxOf(*gizmo_object_);
   drag_handle_ = PickHandle(box, camera, pixel);
@@ -434,6 +476,22 @@ bool SceneFileScene::PointerPress(const FrameCamera& camera, const glm::dvec2& p
 }
 
 bool SceneFileScene::PointerDrag(const FrameCamera& camera, const glm::dvec2& pixel) {
+  if (window_drag_) {
+    TransferSlot& slot = TransferOf(*window_drag_);
+    const glm::dvec2& data = slot.editor.data_range();
+    const WindowLevel wl = DragWindowLevel(window_start_, pixel - drag_from_,
+                                           kWindowLevelPerPixel * std::max(data.y - data.x, 1e-9));
+    const core::TransferFunction before = slot.editor.transfer();
+    slot.editor.SetWindow(wl);
+    if (slot.editor.transfer() == before) return false;
+    try {
+      ApplyTransfer(*window_drag_);
+    } catch (const core::InputError& e) {
+      error_ = e.what();
+      return false;
+    }
+    return true;
+  }
   if (!drag_handle_ || !gizmo_object_) return false;
   const GizmoPlacement p =
       DragHandle(drag_box_, drag_start_, gizmo_mode_, *drag_handle_, camera, drag_from_, pixel);
@@ -466,7 +524,10 @@ bool SceneFileScene::PointerDrag(const FrameCamera& camera, const glm::dvec2& pi
   return true;
 }
 
-void SceneFileScene::PointerRelease() { drag_handle_.reset(); }
+void SceneFileScene::PointerRelease() {
+  drag_handle_.reset();
+  window_drag_.reset();
+}
 
 bool SceneFileScene::Key(int key) {
   switch (key) {
@@ -604,6 +665,15 @@ bool SceneFileScene::VolumeControls(size_t index) {
   if (changed) {
     renderer_.UpdateVolume(loaded_, index, o, /*preview=*/true);
     error_.clear();
+  }
+  if (ImGui::TreeNodeEx("transfer function", ImGuiTreeNodeFlags_DefaultOpen)) {
+    TransferSlot& slot = TransferOf(index);
+    if (DrawTransferFunctionPanel(slot.editor, slot.histogram, slot.panel)) {
+      ApplyTransfer(index);
+      changed = true;
+    }
+    ImGui::TextUnformatted("Ctrl + left drag: window (x) and level (y)");
+    ImGui::TreePop();
   }
   return changed;
 }

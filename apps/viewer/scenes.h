@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "apps/viewer/gizmo.h"
+#include "apps/viewer/transfer_function_panel.h"
 #include "apps/viewer/viewer.h"
 #include "ibr/depth_object.h"
 #include "ibr/image_maps.h"
@@ -61,7 +62,9 @@ class SceneFileScene : public Scene {
   // The gizmo on the selected deform object's box, or a peeled volume's
   // map (apps/viewer/gizmo.h); keys: T translate, R rotate, S scale, G hide
   // or show, N the next object with a gizmo.
-  bool PointerPress(const FrameCamera& camera, const glm::dvec2& pixel) override;
+  // Control + left drag: window/level of the gizmo's volume, else the first
+  // volume's (apps/viewer/transfer_function_editor.h's DragWindowLevel).
+  bool PointerPress(const FrameCamera& camera, const glm::dvec2& pixel, int mods) override;
   bool PointerDrag(const FrameCamera& camera, const glm::dvec2& pixel) override;
   void PointerRelease() override;
   bool Key(int key) override;
@@ -94,6 +97,16 @@ class SceneFileScene : public Scene {
   GizmoBox GizmoBoxOf(size_t index) const;
   // A volume's peel angle (radians) while its flap edge is dragged.
   bool DragVolumePeel(size_t index, double angle);
+  // Object `index`'s transfer-function editor, made on first use (its
+  // histogram counts the volume once).
+  struct TransferSlot {
+    TransferEditor editor;
+    Histogram histogram;
+    TransferPanelState panel;
+  };
+  TransferSlot& TransferOf(size_t index);
+  // The editor's function to the volume's pass (options.transfer).
+  void ApplyTransfer(size_t index);
 
   scene::Scene file_;  // as read: what EditedScene rewrites
 
@@ -127,6 +140,10 @@ class SceneFileScene : public Scene {
   glm::dvec2 drag_from_{0.0};
   GizmoBox drag_box_;
   GizmoPlacement drag_start_;
+  std::map<size_t, TransferSlot> transfers_;
+  // A window/level drag in progress: the volume, where it started.
+  std::optional<size_t> window_drag_;
+  WindowLevel window_start_;
 };
 
 }  // namespace viewer

@@ -444,7 +444,8 @@ void Run(const SceneFactory& make_scene, const ViewerOptions& given, const Viewe
         case InputEvent::Type::kButton:
           if (e.code != GLFW_MOUSE_BUTTON_LEFT) break;
           if (e.action == InputEvent::Action::kPress && !io.WantCaptureMouse) {
-            scene_drag = scene.PointerPress(full_camera_now(), {orbit.last_x, orbit.last_y});
+            scene_drag =
+                scene.PointerPress(full_camera_now(), {orbit.last_x, orbit.last_y}, e.mods);
             orbit.dragging = !scene_drag;
           } else if (e.action == InputEvent::Action::kRelease) {
             if (scene_drag) scene.PointerRelease();

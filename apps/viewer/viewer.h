@@ -74,8 +74,10 @@ class Scene {
 
   // Direct manipulation (apps/viewer/gizmo.h), `camera` the window's full
   // camera, pixels in window coordinates (y down). A left press the scene
-  // takes (a handle under the mouse) starts a drag instead of an orbit.
-  virtual bool PointerPress(const FrameCamera& /*camera*/, const glm::dvec2& /*pixel*/) {
+  // takes (a handle under the mouse; with Control, window/level) starts a
+  // drag instead of an orbit; `mods` GLFW's modifier bits (InputEvent::mods).
+  virtual bool PointerPress(const FrameCamera& /*camera*/, const glm::dvec2& /*pixel*/,
+                            int /*mods*/) {
     return false;
   }
   // The mouse moved during a drag the scene took: true when the scene changed.

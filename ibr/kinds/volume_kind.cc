@@ -79,9 +79,17 @@ VolumeObjectChange UpdateVolumeKind(LoadedObject& l, ObjectPass& object_pass,
   if (!change.Any()) return change;
   try {
     // The volume's texture stays: only the maps are uploaded anew (what a
-    // drag of a deformation's parameter changes), then the options.
+    // drag of a deformation's parameter changes), then the options; a
+    // transfer-function edit rewrites only the 1D table (none: back to the
+    // function loaded).
     if (change.maps) p->volume().SetMaps(maps_only.maps);
     p->volume().SetOptions(options.pass);
+    if (change.transfer) {
+      p->volume().SetTransferFunction(
+          options.transfer
+              ? core::NormalizedTransfer(*options.transfer, s.data->volume.NormalizationRange())
+              : s.data->transfer);
+    }
   } catch (const core::InputError& e) {
     throw core::InputError(fmt::format("{}: {}", where, e.what()));
   }

@@ -50,6 +50,10 @@ void DeformPassOptions::Check() const {
   if (!std::isfinite(step_voxels) || step_voxels < 0.01f || step_voxels > 64) {
     core::ThrowInputError("DeformPassOptions", "step {} voxels outside [0.01, 64]", step_voxels);
   }
+  if (!std::isfinite(seam_band_voxels) || !(seam_band_voxels > 0) || seam_band_voxels > 64) {
+    core::ThrowInputError("DeformPassOptions", "seam band {} voxels outside (0, 64]",
+                          seam_band_voxels);
+  }
   for (float c :
        {base_color.r, base_color.g, base_color.b, cut_color.r, cut_color.g, cut_color.b}) {
     if (!(c >= 0 && c <= 1))
@@ -89,6 +93,14 @@ std::vector<std::string> DeformPassOptions::Defines() const {
   if (skip_object && implicit == DeformImplicit::kSdf) defines.push_back("SKIP_OBJECT");
   if (implicit == DeformImplicit::kDepthCube) defines.push_back("IMPLICIT_DEPTH_CUBE");
   defines.push_back("RAY_STAGE");
+  return defines;
+}
+
+std::vector<std::string> DeformPassOptions::MeshDefines() const {
+  std::vector<std::string> defines = {"MESH_STAGE"};
+  if (!seam_blend) return defines;
+  defines.push_back("SEAM_BLEND");
+  if (implicit == DeformImplicit::kDepthCube) defines.push_back("IMPLICIT_DEPTH_CUBE");
   return defines;
 }
 
@@ -425,10 +437,25 @@ struct DeformMeshUniforms {
   explicit DeformMeshUniforms(const Program& p)
       : box_from_object(p, "u_box_from_object"),
         base_color(p, "u_base_color"),
-        piece(p, "u_piece") {}
+        piece(p, "u_piece"),
+        object_from_box(p, "u_object_from_box"),
+        cube_from_object(p, "u_cube_from_object"),
+        sdf_origin(p, "u_sdf_origin"),
+        sdf_size(p, "u_sdf_size"),
+        sdf_spacing(p, "u_sdf_spacing"),
+        seam_band(p, "u_seam_band"),
+        sdf(p, "u_sdf") {}
   Uniform<glm::mat4> box_from_object;
   Uniform<glm::vec4> base_color;
   Uniform<int> piece;  // which of the box complement's six pieces; -1: no clipping
+  // SEAM_BLEND only: the implicit, as the ray stage reads it.
+  Uniform<glm::mat4> object_from_box;
+  UniformArray<glm::mat4> cube_from_object;  // depth cube only
+  Uniform<glm::vec3> sdf_origin;             // distance field only
+  Uniform<glm::vec3> sdf_size;               // distance field only
+  Uniform<float> sdf_spacing;
+  Uniform<float> seam_band;  // object units
+  Uniform<int> sdf;          // texture unit
 };
 
 // Stage 2: shaders/passes/deform_box.vert.glsl + deform.frag.glsl.
@@ -489,6 +516,17 @@ void DeformPass::Draw(const RenderTarget& target, const ViewSetup& view) {
   const glm::mat4 object_from_box(placement_.object_from_box);
   const glm::mat4 box_from_object(placement_.BoxFromObject());
   const std::vector<std::string> view_defines = BitDefines(view.orthographic);
+  // The implicit's uniforms, as both stages' programs read it (the mesh
+  // stage with seam blending).
+  const auto set_implicit = [&](const auto& u) {
+    if (options_.implicit == DeformImplicit::kDepthCube) {
+      u.cube_from_object.Set(cube_from_object_);
+    } else {
+      u.sdf_origin.Set(sdf_origin_);
+      u.sdf_size.Set(glm::vec3(sdf_size_));
+    }
+    u.sdf_spacing.Set(sdf_spacing_);
+  };
 
   // Stage 1: the mesh outside the box, as six convex pieces of the box's
   // complement (gl_ClipDistance keeps an intersection of half-spaces).
@@ -496,12 +534,20 @@ void DeformPass::Draw(const RenderTarget& target, const ViewSetup& view) {
     ProgramDesc desc{.vertex = "passes/deform_mesh.vert.glsl",
                      .fragment = "passes/deform.frag.glsl"};
     desc.defines = view_defines;
-    desc.defines.push_back("MESH_STAGE");
+    const std::vector<std::string> mesh_defines = options_.MeshDefines();
+    desc.defines.insert(desc.defines.end(), mesh_defines.begin(), mesh_defines.end());
     const Program& program = programs_.Get(desc);
     UseProgram(target, program, view);
     const auto& u = program.Typed<DeformMeshUniforms>();
     u.box_from_object.Set(box_from_object);
     u.base_color.Set(options_.base_color);
+    if (options_.seam_blend) {
+      u.object_from_box.Set(object_from_box);
+      set_implicit(u);
+      u.seam_band.Set(options_.seam_band_voxels * sdf_spacing_);
+      u.sdf.Set(0);
+      glBindTextureUnit(0, sdf_.id());
+    }
     // A closed, outward mesh wholly in front of the near plane: each ray
     // meets a front face before any back face, so back faces are hidden
     // except where the front face before them was removed, inside the box,
@@ -598,13 +644,7 @@ void DeformPass::Draw(const RenderTarget& target, const ViewSetup& view) {
   u.clip_z.Set(glm::vec2(core::ClipRangeZ(view.clip_from_cam)));
   u.object_from_box.Set(object_from_box);
   u.box_from_object.Set(box_from_object);
-  if (options_.implicit == DeformImplicit::kDepthCube) {
-    u.cube_from_object.Set(cube_from_object_);
-  } else {
-    u.sdf_origin.Set(sdf_origin_);
-    u.sdf_size.Set(glm::vec3(sdf_size_));
-  }
-  u.sdf_spacing.Set(sdf_spacing_);
+  set_implicit(u);
   u.deform_resolution.Set(static_cast<float>(deformation_resolution_));
   u.step.Set(options_.step_voxels * sdf_spacing_);
   u.thickness.Set(options_.thickness);

@@ -150,6 +150,14 @@ struct DeformPassOptions {
   // outward mesh in front of the near plane; DeformPass::Draw); off = both
   // sides everywhere (the tests' and the bench's baseline).
   bool cull_back_faces = true;
+  // Seam blending (Correa, Silver, Chen 2007 sec. 3): stage 1's normals turn
+  // into the implicit's gradient, the ray stage's normal on the box's faces,
+  // across a band of seam_band_voxels distance-field voxels (depth cube:
+  // texels) outside the box, so shading does not jump where the stages meet.
+  // A few voxels: wide enough to hide the turn, narrow enough that the rest
+  // of the mesh keeps its own normals. Off: the two normals meet unblended.
+  bool seam_blend = true;
+  float seam_band_voxels = 3.0f;
   glm::vec4 base_color{0.8f, 0.8f, 0.8f, 1.0f};
   glm::vec4 cut_color{0.85f, 0.35f, 0.3f, 1.0f};  // cut faces and the inside of hollow shells
 
@@ -158,6 +166,8 @@ struct DeformPassOptions {
   RayCoreOptions RayCore() const;
   // The shader #defines of the ray-cast stage (ray core's included).
   std::vector<std::string> Defines() const;
+  // Those of the mesh stage (SEAM_BLEND and the implicit it reads).
+  std::vector<std::string> MeshDefines() const;
 };
 
 // What the pass draws, as plain CPU data (world = object space).

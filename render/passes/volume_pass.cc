@@ -423,6 +423,16 @@ void VolumePass::SetMaps(std::vector<VolumeMapInput> maps) {
   SetOptions(options_);
 }
 
+void VolumePass::SetTransferFunction(const core::TransferFunction& transfer) {
+  transfer.Check("VolumePass::SetTransferFunction");
+  if (transfer.units != core::TransferUnits::kNormalized) {
+    core::ThrowInputError("VolumePass::SetTransferFunction",
+                          "the function is in data units (core::NormalizedTransfer first)");
+  }
+  transfer_table_ = transfer.Table(kTransferSize);
+  WriteTransfer(transfer_texture_, transfer_table_, transfer_exponent_);
+}
+
 int VolumePass::TextureUnitsNeeded(const VolumePassOptions& options) const {
   const int maps = static_cast<int>(maps_.size());
   if (maps == 0) return kFirstMapUnit;

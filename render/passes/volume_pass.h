@@ -231,6 +231,11 @@ class VolumePass : public Pass {
   // the pass draws what one constructed with these maps draws. InputError as
   // the constructor's for invalid maps (the pass is then unchanged).
   void SetMaps(std::vector<VolumeMapInput> maps);
+  // Same volume and maps, a new transfer function (normalised units,
+  // core::NormalizedTransfer): rewrites the 1D table in place, as a spacing
+  // change does (no volume or map upload). InputError from its Check() (the
+  // pass is then unchanged).
+  void SetTransferFunction(const core::TransferFunction& transfer);
   const core::Box3& proxy_box() const { return proxy_box_; }  // volume texture space
   const VolumeDrawStats& last_stats() const { return stats_; }
   // core::ActiveBox of each map (map space): where its fetch is not skipped.

@@ -3,6 +3,9 @@
 //   MESH_STAGE  the rasterised, undeformed mesh outside the box;
 //   RAY_STAGE   the ray cast inside the box (Correa-Silver-Chen 2007) on the
 //               shared ray core; writes gl_FragDepth.
+// SEAM_BLEND (MESH_STAGE): the mesh's normals blended into the implicit's
+// gradient across a band outside the box, so shading does not jump where
+// the two stages meet (sec. 3).
 // Cut variants (RAY_STAGE): CUT_HOLLOW, CUT_SOLID, CUT_THICK; with CUT_SOLID
 // or CUT_THICK, SOLID_SEARCH selects the paper's two-field search (sec.
 // 5.1.2) instead of the CSG field max(body, A). SKIP_EMPTY adds empty-space
@@ -37,14 +40,79 @@ vec3 Shade(vec3 albedo, vec3 n_world, vec3 p_in_cam) {
   return HeadLight(albedo, normalize(mat3(u_cam_from_world) * n_world), p_in_cam);
 }
 
+// The object's implicit and the box's frame: the ray stage's, and the mesh
+// stage's where it blends its normals into the ray-cast ones (SEAM_BLEND).
+#if defined(RAY_STAGE) || defined(SEAM_BLEND)
+uniform mat4 u_object_from_box;
+uniform mat4 u_box_from_object;
+#ifdef IMPLICIT_DEPTH_CUBE
+uniform sampler2DArray u_sdf;     // the six faces' depths (R32F, bilinear; the far face where empty)
+uniform mat4 u_cube_from_object[6];  // per face: object -> (s, t) texture coordinates, z from the face
+#else
+uniform sampler3D u_sdf;          // signed distance, > 0 outside, nodes at texel centres
+uniform vec3 u_sdf_origin;        // object position of node (0, 0, 0)
+uniform vec3 u_sdf_size;          // nodes per axis
+#endif
+uniform float u_sdf_spacing;      // object units between nodes (depth cube: per texel)
+
+// The object's implicit at an undeformed point (> 0 outside), the one lookup
+// that differs between the variants.
+#ifdef IMPLICIT_DEPTH_CUBE
+// Depth-map cube (sec. 6.1; render::DepthCube): the largest of the six faces'
+// signed depth differences (depth seen - distance from the face).
+float Implicit(vec3 p) {
+  float f = -1e30;
+  for (int i = 0; i < 6; ++i) {
+    vec3 q = (u_cube_from_object[i] * vec4(p, 1.0)).xyz;
+    f = max(f, texture(u_sdf, vec3(q.xy, float(i))).r - q.z);
+  }
+  return f;
+}
+#else
+float Implicit(vec3 p) { return texture(u_sdf, ((p - u_sdf_origin) / u_sdf_spacing + 0.5) / u_sdf_size).r; }
+#endif
+
+vec3 ImplicitGradient(vec3 p) {
+#ifdef IMPLICIT_DEPTH_CUBE
+  // Two texels each way: the max switches between faces whose bilinear
+  // maps facet the surface per texel (a face seeing it at a grazing angle
+  // carves it most), so half a texel bands the shading texel by texel
+  // (Spot at 256 px); two texels soften the bands, they do not remove them.
+  float h = 2.0 * u_sdf_spacing;
+#else
+  float h = 0.5 * u_sdf_spacing;
+#endif
+  return vec3(Implicit(p + vec3(h, 0, 0)) - Implicit(p - vec3(h, 0, 0)),
+              Implicit(p + vec3(0, h, 0)) - Implicit(p - vec3(0, h, 0)),
+              Implicit(p + vec3(0, 0, h)) - Implicit(p - vec3(0, 0, h)));
+}
+#endif
+
 #ifdef MESH_STAGE
 // Early tests: only fragments that pass the depth test (at the time they
 // are drawn) OR the mesh bit.
 layout(early_fragment_tests) in;
 in vec3 v_normal_world;
 in vec3 v_p_in_cam;
+#ifdef SEAM_BLEND
+in vec3 v_p_world;
+uniform float u_seam_band;  // object units
+#endif
 void main() {
   vec3 n = length(v_normal_world) > 0.0 ? normalize(v_normal_world) : vec3(0.0, 0.0, 1.0);
+#ifdef SEAM_BLEND
+  // Correa, Silver, Chen 2007 sec. 3: where the rasterised mesh meets the
+  // ray-cast box the normals jump from the mesh's interpolated ones to the
+  // implicit's gradient (the ray stage's, eq. 5 with J = 0 on the box's
+  // faces). Within u_seam_band of the box the mesh's normal turns into the
+  // gradient, reaching it on the box's face; beyond the band nothing changes.
+  vec3 u = (u_box_from_object * vec4(v_p_world, 1.0)).xyz;
+  float d = length(mat3(u_object_from_box) * (u - clamp(u, 0.0, 1.0)));
+  if (d < u_seam_band) {
+    vec3 g = ImplicitGradient(v_p_world);
+    if (dot(g, g) > 0.0) n = normalize(mix(normalize(g), n, smoothstep(0.0, u_seam_band, d)));
+  }
+#endif
   o_color = vec4(Shade(u_base_color.rgb, n, v_p_in_cam), 1.0);
   o_depth = v_p_in_cam.z;
   o_normal = vec4(n, 0.0);
@@ -57,17 +125,6 @@ in vec3 v_p_world;
 
 uniform mat4 u_world_from_cam;
 uniform vec2 u_clip_z;            // camera z of the near and far clip planes (core::ClipRangeZ)
-uniform mat4 u_object_from_box;
-uniform mat4 u_box_from_object;
-#ifdef IMPLICIT_DEPTH_CUBE
-uniform sampler2DArray u_sdf;     // the six faces' depths (R32F, bilinear; the far face where empty)
-uniform mat4 u_cube_from_object[6];  // per face: object -> (s, t) texture coordinates, z from the face
-#else
-uniform sampler3D u_sdf;          // signed distance, > 0 outside, nodes at texel centres
-uniform vec3 u_sdf_origin;        // object position of node (0, 0, 0)
-uniform vec3 u_sdf_size;          // nodes per axis
-#endif
-uniform float u_sdf_spacing;      // object units between nodes (depth cube: per texel)
 uniform sampler3D u_deformation;  // xyz: D (box units), w: cut alpha A (> 0 cut)
 #ifdef DEFORM_FLAP
 uniform sampler3D u_deformation_flap;  // the flap piece: xyz its D, w its mask (> 0 no flap)
@@ -86,22 +143,6 @@ uniform float u_warp_skip_cap;       // SKIP_OBJECT: the longest skip those boun
 uniform float u_sdf_margin;       // SKIP_OBJECT: the most a lookup can exceed the true distance
 uniform vec4 u_cut_color;
 
-// The object's implicit at an undeformed point (> 0 outside), the one lookup
-// that differs between the variants.
-#ifdef IMPLICIT_DEPTH_CUBE
-// Depth-map cube (sec. 6.1; render::DepthCube): the largest of the six faces'
-// signed depth differences (depth seen - distance from the face).
-float Implicit(vec3 p) {
-  float f = -1e30;
-  for (int i = 0; i < 6; ++i) {
-    vec3 q = (u_cube_from_object[i] * vec4(p, 1.0)).xyz;
-    f = max(f, texture(u_sdf, vec3(q.xy, float(i))).r - q.z);
-  }
-  return f;
-}
-#else
-float Implicit(vec3 p) { return texture(u_sdf, ((p - u_sdf_origin) / u_sdf_spacing + 0.5) / u_sdf_size).r; }
-#endif
 
 // The texture coordinate of box point u in the deformation's textures (node
 // (i, j, k) at u = (i, j, k) / (res - 1) is a texel centre).
@@ -280,20 +321,6 @@ float RayField(vec3 p) { return FieldK(p, 0); }
 
 #include "cores/ray_core.glsl"
 
-vec3 ImplicitGradient(vec3 p) {
-#ifdef IMPLICIT_DEPTH_CUBE
-  // Two texels each way: the max switches between faces whose bilinear
-  // maps facet the surface per texel (a face seeing it at a grazing angle
-  // carves it most), so half a texel bands the shading texel by texel
-  // (Spot at 256 px); two texels soften the bands, they do not remove them.
-  float h = 2.0 * u_sdf_spacing;
-#else
-  float h = 0.5 * u_sdf_spacing;
-#endif
-  return vec3(Implicit(p + vec3(h, 0, 0)) - Implicit(p - vec3(h, 0, 0)),
-              Implicit(p + vec3(0, h, 0)) - Implicit(p - vec3(0, h, 0)),
-              Implicit(p + vec3(0, 0, h)) - Implicit(p - vec3(0, 0, h)));
-}
 
 #ifdef DEFORM_FLAP
 // The components at box point u, clamped into the box (each is affine where

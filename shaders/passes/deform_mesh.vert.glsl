@@ -17,6 +17,7 @@ uniform int u_piece;
 
 out vec3 v_normal_world;
 out vec3 v_p_in_cam;
+out vec3 v_p_world;  // = object space (the pass draws in object space)
 out float gl_ClipDistance[6];
 
 void main() {
@@ -33,6 +34,7 @@ void main() {
   }
   vec4 p_in_cam = u_cam_from_world * vec4(a_position, 1.0);
   v_p_in_cam = p_in_cam.xyz;
+  v_p_world = a_position;
   v_normal_world = a_normal;
   gl_Position = u_clip_from_cam * p_in_cam;
 }

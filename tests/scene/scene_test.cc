@@ -21,7 +21,7 @@ class SceneTest : public ::testing::Test {
   void SetUp() override {
     dir_ = fs::temp_directory_path() / fmt::format("ibr_scene_test_{}", ::getpid());
     fs::create_directories(dir_ / "ds");
-    for (const char* f : {"h.png", "c.png", "m.obj"}) std::ofstream(dir_ / f) << "x";
+    for (const char* f : {"h.png", "c.png", "m.obj", "v.dat"}) std::ofstream(dir_ / f) << "x";
     options_.base_dir = dir_;
     options_.shared_data = dir_;
   }
@@ -170,6 +170,10 @@ TEST_F(SceneTest, BadScenesNameTheFileAndThePointer) {
       {"object not an object", R"({"version": 1, )" CAM R"(, "objects": [3]})", "/objects/0"},
       {"unknown object type", R"({"version": 1, )" CAM R"(, "objects": [{"type": "cloud"}]})",
        "/objects/0/type"},
+      {"inline transfer opacity 2",
+       R"({"version": 1, )" CAM
+       R"(, "objects": [{"type": "volume", "volume": "v.dat", "transfer": {"points": [[0, 1, 1, 1, 2]]}}]})",
+       "/objects/0/transfer"},
       {"volume without its file", R"({"version": 1, )" CAM R"(, "objects": [{"type": "volume"}]})",
        "exactly one of \"volume\" or \"shared_volume\""},
       {"volume, unknown key",

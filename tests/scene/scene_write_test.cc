@@ -74,7 +74,8 @@ void ExpectEqual(const Scene& a, const Scene& b) {
     for (const auto& [key, setting] : x.settings.values()) {
       const Setting* other = y.settings.Find(key);
       ASSERT_NE(other, nullptr) << key;
-      if (key == "transfer" && setting.value != "ramp" && setting.value != "tooth") {
+      if (key == "transfer" && setting.value.is_string() && setting.value != "ramp" &&
+          setting.value != "tooth") {
         EXPECT_EQ(Normal(setting.value.get<std::string>()),
                   Normal(other->value.get<std::string>()));
       } else {
@@ -135,6 +136,8 @@ TEST_F(SceneWriteTest, EveryObjectKindRoundTrips) {
       {"type": "volume", "volume": "v/ball.dat", "transfer": "ramp", "effect": "peel",
        "mode": "iso:40", "spacing": 0.5, "map_size": 32},
       {"type": "volume", "shared_volume": "volumes/tooth.dat", "transfer": "tf.json"},
+      {"type": "volume", "volume": "v/ball.dat",
+       "transfer": {"units": "data", "points": [[-12.5, 0, 0, 0, 0], [0.1, 1, 0.5, 0.25, 0.75]]}},
       {"type": "deform", "mesh": {"shared_mesh": "meshes/spot.obj"},
        "deformation": "knife,twist", "amount": "0.2,1.5", "width": 0.5, "cut": "thick:0.02",
        "placement": "0.1,0,0,0,0,30,1.2", "skip": true, "resolution": 64,

@@ -957,6 +957,106 @@ TEST_F(DeformPassTest, HardCaseSweepIsFiniteAndConsistent) {
   EXPECT_NO_GL_ERROR();
 }
 
+// Seam blending (Correa, Silver, Chen 2007 sec. 3; DeformPassOptions::
+// seam_blend). A coarse sphere, whose interpolated vertex normals differ from
+// its distance field's gradient (the faceted surface), under a box with a
+// zero deformation over its top: where the rasterised mesh meets the ray-cast
+// box the shading jumps. Measured on the frame as the mean colour difference
+// of neighbouring pixels across the seam (one drawn by the mesh stage alone,
+// the other by a ray hit alone): blending must reduce it. Pixels whose
+// surface point (unprojected from the frame's camera z) lies farther from
+// the box than the band, and every ray-cast pixel, are unchanged bit for bit.
+TEST_F(DeformPassTest, SeamBlendingReducesTheJumpAndLeavesTheRestAlone) {
+  Scene scene;
+  scene.mesh = core::MakeSphere(0.5f, 9, 18);
+  scene.deformation.terms = {Make(core::DeformationKind::kTwist, 0.0, 0.3)};
+  scene.placement = core::Placement::FromRegion({{-0.6, -0.6, 0.1}, {0.6, 0.6, 0.7}});
+  scene.sdf_resolution = 64;
+  core::MeshDistance distance(scene.mesh, false, "coarse sphere");
+  const ViewSetup view = MakeView({1.9f, -1.4f, 0.5f});
+  DeformPassOptions off;
+  off.seam_blend = false;
+  const Frame plain = Render(scene, off, view, distance);
+  const Frame blended = Render(scene, DeformPassOptions{}, view, distance);
+  test_support::WriteDebugImage("seam_off.png", plain.color);
+  test_support::WriteDebugImage("seam_on.png", blended.color);
+  const double band = DeformPassOptions{}.seam_band_voxels * sdf_.spacing;
+
+  // Which stage drew a pixel, from where its surface point lies (the frame's
+  // camera z unprojected): inside the box the ray stage, outside the mesh's.
+  const glm::dmat4 world_from_cam = glm::inverse(glm::dmat4(view.cam_from_world));
+  const glm::dmat4 box_from_object = scene.placement.BoxFromObject();
+  const glm::dmat3 object_from_box(scene.placement.object_from_box);
+  const auto box_point = [&](const Frame& f, int x, int y) {
+    const double z = f.depth.at(x, y);
+    const glm::dvec3 p_cam((x + 0.5 - kSize / 2.0) / g_focal * z,
+                           (y + 0.5 - kSize / 2.0) / g_focal * z, z);
+    return glm::dvec3(box_from_object * world_from_cam * glm::dvec4(p_cam, 1.0));
+  };
+  const auto in_box = [&](const Frame& f, int x, int y) {
+    const glm::dvec3 u = box_point(f, x, y);
+    return u == glm::clamp(u, 0.0, 1.0);
+  };
+  const auto mesh_only = [&](const Frame& f, int x, int y) {
+    return f.Covered(x, y) && !in_box(f, x, y);
+  };
+  const auto ray_only = [&](const Frame& f, int x, int y) {
+    return f.Covered(x, y) && in_box(f, x, y);
+  };
+  // Mean over the seam's neighbour pairs of the largest channel difference.
+  const auto seam_jump = [&](const Frame& f, int& pairs) {
+    double sum = 0;
+    pairs = 0;
+    for (int y = 0; y + 1 < kSize; ++y)
+      for (int x = 0; x + 1 < kSize; ++x)
+        for (const glm::ivec2 q : {glm::ivec2(x + 1, y), glm::ivec2(x, y + 1)}) {
+          const bool across = (mesh_only(f, x, y) && ray_only(f, q.x, q.y)) ||
+                              (ray_only(f, x, y) && mesh_only(f, q.x, q.y));
+          // The same surface on both sides (not a silhouette).
+          if (!across || std::abs(f.depth.at(x, y) - f.depth.at(q.x, q.y)) > 0.05) continue;
+          int jump = 0;
+          for (int c = 0; c < 3; ++c)
+            jump = std::max(jump, std::abs(f.color.at(x, y, c) - f.color.at(q.x, q.y, c)));
+          sum += jump;
+          ++pairs;
+        }
+    return pairs > 0 ? sum / pairs : 0.0;
+  };
+  int pairs_off = 0, pairs_on = 0;
+  const double jump_off = seam_jump(plain, pairs_off), jump_on = seam_jump(blended, pairs_on);
+  std::printf("seam: mean jump %.2f -> %.2f (8-bit levels) over %d / %d pixel pairs\n", jump_off,
+              jump_on, pairs_off, pairs_on);
+  EXPECT_GT(pairs_off, 30) << "the seam crosses the sphere in view";
+  EXPECT_GT(jump_off, 4.0) << "a seam to blend: the coarse mesh's normals differ";
+  EXPECT_LT(jump_on, 0.5 * jump_off);
+
+  // Away from the seam: the same pixels.
+  // A pixel's footprint at the sphere is about 0.025 units: two of them on
+  // top of the band for the unprojection's rounding and the pixel's extent.
+  const double margin = 2 * 2.6 / g_focal;
+  int far_pixels = 0, changed = 0;
+  for (int y = 0; y < kSize; ++y)
+    for (int x = 0; x < kSize; ++x) {
+      if (!plain.Covered(x, y)) continue;
+      bool same = blended.Covered(x, y);
+      for (int c = 0; c < 4; ++c)
+        same = same && plain.color.at(x, y, c) == blended.color.at(x, y, c);
+      changed += !same;
+      const glm::dvec3 u = box_point(plain, x, y);
+      const double d = glm::length(object_from_box * (u - glm::clamp(u, 0.0, 1.0)));
+      if (d > band + margin || ray_only(plain, x, y)) {
+        ++far_pixels;
+        EXPECT_TRUE(same) << x << "," << y << " at " << d << " from the box";
+      }
+    }
+  EXPECT_GT(far_pixels, 1000);
+  EXPECT_GT(changed, 0);
+  DeformPassOptions bad;
+  bad.seam_band_voxels = 0;
+  EXPECT_THROW(bad.Check(), core::InputError);
+  EXPECT_NO_GL_ERROR();
+}
+
 TEST_F(DeformPassTest, BadOptionsAreClearErrors) {
   DeformPassOptions options;
   options.step_voxels = NAN;
