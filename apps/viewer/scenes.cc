@@ -428,12 +428,11 @@ constexpr double kWindowLevelPerPixel = 1.0 / 500;
 SceneFileScene::TransferSlot& SceneFileScene::TransferOf(size_t index) {
   auto it = transfers_.find(index);
   if (it == transfers_.end()) {
-    const ibr::LoadedObject& o = loaded_.objects[index];
-    const ibr::VolumeObjectData& data = *o.volume;
+    const ibr::VolumeState& v = ibr::VolumeOf(loaded_.objects[index]);
+    const ibr::VolumeObjectData& data = *v.data;
     it = transfers_
-             .emplace(index, TransferSlot{TransferEditor(o.volume_options.transfer
-                                                             ? *o.volume_options.transfer
-                                                             : data.transfer,
+             .emplace(index, TransferSlot{TransferEditor(v.options.transfer ? *v.options.transfer
+                                                                            : data.transfer,
                                                          data.volume.NormalizationRange(),
                                                          {data.stats.min, data.stats.max}),
                                           VolumeHistogram(data.volume),
@@ -444,7 +443,7 @@ SceneFileScene::TransferSlot& SceneFileScene::TransferOf(size_t index) {
 }
 
 void SceneFileScene::ApplyTransfer(size_t index) {
-  ibr::VolumeObjectOptions o = loaded_.objects[index].volume_options;
+  ibr::VolumeObjectOptions o = ibr::VolumeOf(loaded_.objects[index]).options;
   o.transfer = TransferOf(index).editor.transfer();
   renderer_.UpdateVolume(loaded_, index, o, /*preview=*/true);
   error_.clear();
