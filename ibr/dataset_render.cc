@@ -176,10 +176,7 @@ DatasetRenderStats RenderDatasetToDataset(render::ProgramCache& programs,
 
   // A one-object scene: the dataset's maps as a depth object (or visual
   // hull) in the world, drawn by the scene renderer like any scene's.
-  LoadedScene scene;
-  scene.name = job.dataset.filename().string();
-  scene.objects.push_back(LoadedDepthObject(scene.name, std::move(maps), options));
-  scene.bounds = scene.objects.back().bounds;
+  LoadedScene scene = DepthObjectScene(job.dataset.filename().string(), std::move(maps), options);
   SceneRenderer renderer(programs, scene);
   scene.objects.clear();  // the pass holds its own copy of the maps (CheckMapsFit counts both)
 

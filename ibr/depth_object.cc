@@ -10,7 +10,6 @@
 #include "core/check.h"
 #include "core/error.h"
 #include "core/projection.h"
-#include "ibr/depth_object_uniforms.h"
 #include "ibr/empty_space.h"
 #include "ibr/view_weights.h"
 #include "ibr/views.h"
@@ -341,87 +340,17 @@ struct DepthObjectRenderer::SkipTexture {
 
 namespace {
 
-// The table as a uniform block of the maps rounded up to 64 where it fits
-// (llvmpipe reads a uniform block far faster in the ray loop than a storage
-// buffer: docs/decisions/map-table-storage.md; the rounding keeps one
-// shader variant per 64 maps): its record count, else 0 (a storage buffer).
-int UniformMaps(size_t maps) {
-  GLint max_block = 16384;
-  glGetIntegerv(GL_MAX_UNIFORM_BLOCK_SIZE, &max_block);
-  const size_t rounded = (maps + 63) / 64 * 64;
-  return rounded * sizeof(MapRecord) <= static_cast<size_t>(max_block) ? static_cast<int>(rounded)
-                                                                       : 0;
-}
-
 // Where the maps came from, for error messages.
 std::string MapsWhere(const MapSet& maps) {
   return maps.source.empty() ? std::string("DepthObjectRenderer")
                              : fmt::format("DepthObjectRenderer: '{}'", maps.source);
 }
 
-// The GL implementation's limits on what the maps need, checked before
-// anything is allocated; each failure is one InputError naming the maps.
-void CheckMapLimits(const MapSet& maps) {
-  const std::string where = MapsWhere(maps);
-  const auto get = [](GLenum e) {
-    GLint v = 0;
-    glGetIntegerv(e, &v);
-    return static_cast<int64_t>(v);
-  };
-  const int64_t n = static_cast<int64_t>(maps.maps.size());
-  int64_t w = 0, h = 0;
-  for (const ImageMap& m : maps.maps) {
-    w = std::max<int64_t>(w, m.camera.width);
-    h = std::max<int64_t>(h, m.camera.height);
-  }
-  const int64_t layers = get(GL_MAX_ARRAY_TEXTURE_LAYERS);
-  if (n > layers) {
-    core::ThrowInputError(where,
-                          "{} maps; this GL implementation holds at most {} in a texture array "
-                          "(GL_MAX_ARRAY_TEXTURE_LAYERS)",
-                          n, layers);
-  }
-  const int64_t size = get(GL_MAX_TEXTURE_SIZE);
-  if (w > size || h > size) {
-    core::ThrowInputError(where,
-                          "maps of {}x{} pixels; this GL implementation's textures are at most "
-                          "{} pixels wide and high (GL_MAX_TEXTURE_SIZE)",
-                          w, h, size);
-  }
-  const int64_t block = get(GL_MAX_SHADER_STORAGE_BLOCK_SIZE);
-  const int64_t table = n * static_cast<int64_t>(sizeof(MapRecord));
-  if (get(GL_MAX_FRAGMENT_SHADER_STORAGE_BLOCKS) < 2 || table > block) {
-    core::ThrowInputError(
-        where,
-        "the map table of {} maps takes {} bytes; this GL implementation's "
-        "fragment shaders read storage blocks of at most {} bytes "
-        "(GL_MAX_SHADER_STORAGE_BLOCK_SIZE, GL_MAX_FRAGMENT_SHADER_STORAGE_BLOCKS "
-        "{})",
-        n, table, block, get(GL_MAX_FRAGMENT_SHADER_STORAGE_BLOCKS));
-  }
-}
-
-render::Texture CreateArray(const MapSet& maps, GLenum format, int bytes_per_texel, int w, int h,
-                            int layers) {
-  render::Texture t = render::Texture::Create(GL_TEXTURE_2D_ARRAY);
-  glTextureStorage3D(t.id(), 1, format, w, h, layers);
-  // The one GL error an allocation within the queried limits can still
-  // meet: memory (llvmpipe caps one texture's size).
-  if (const GLenum e = glGetError(); e == GL_OUT_OF_MEMORY) {
-    core::ThrowInputError(MapsWhere(maps),
-                          "{} maps of {}x{} pixels need a texture array of {:.0f} MB; this GL "
-                          "implementation is out of memory for it (GL_OUT_OF_MEMORY): use fewer "
-                          "or smaller maps",
-                          layers, w, h,
-                          static_cast<double>(layers) * w * h * bytes_per_texel / (1 << 20));
-  } else {
-    IBR_CHECK_EQ(e, static_cast<GLenum>(GL_NO_ERROR));
-  }
-  glTextureParameteri(t.id(), GL_TEXTURE_MIN_FILTER, GL_NEAREST);
-  glTextureParameteri(t.id(), GL_TEXTURE_MAG_FILTER, GL_NEAREST);
-  glTextureParameteri(t.id(), GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
-  glTextureParameteri(t.id(), GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
-  return t;
+// The largest map's size: every layer of the map arrays has it.
+glm::ivec2 MaxMapSize(const MapSet& maps) {
+  glm::ivec2 size(0);
+  for (const ImageMap& m : maps.maps) size = glm::max(size, {m.camera.width, m.camera.height});
+  return size;
 }
 
 }  // namespace
@@ -429,24 +358,9 @@ render::Texture CreateArray(const MapSet& maps, GLenum format, int bytes_per_tex
 DepthObjectRenderer::DepthObjectRenderer(render::ProgramCache& programs, MapSet maps)
     : programs_(&programs), maps_(std::move(maps)) {
   maps_.Check(MapsWhere(maps_));
-  CheckMapLimits(maps_);
-  const size_t n = maps_.maps.size();
-  const size_t rounded = (n + 63) / 64 * 64;
-  map_ssbo_ = render::Buffer::Create();
-  glNamedBufferData(map_ssbo_.id(),
-                    static_cast<GLsizeiptr>(sizeof(MapRecord) * std::max<size_t>(n, rounded)),
-                    nullptr, GL_DYNAMIC_DRAW);
-  active_ssbo_ = render::Buffer::Create();
-  glNamedBufferData(active_ssbo_.id(), static_cast<GLsizeiptr>(sizeof(GLint) * n), nullptr,
-                    GL_DYNAMIC_DRAW);
-  GLint align = 16;
-  glGetIntegerv(GL_UNIFORM_BUFFER_OFFSET_ALIGNMENT, &align);
-  align = std::max(align, 1);
-  current_stride_ = static_cast<GLint>((sizeof(MapRecord) + align - 1) / align * align);
-  current_ubo_ = render::Buffer::Create();
-  glNamedBufferData(current_ubo_.id(), static_cast<GLsizeiptr>(current_stride_) * n, nullptr,
-                    GL_DYNAMIC_DRAW);
-  empty_vao_ = render::VertexArray::Create();
+  const glm::ivec2 size = MaxMapSize(maps_);
+  gpu_ = std::make_unique<render::DepthObjectGpu>(static_cast<int>(maps_.maps.size()), size.x,
+                                                  size.y, MapsWhere(maps_));
 }
 
 DepthObjectRenderer::~DepthObjectRenderer() = default;
@@ -458,32 +372,26 @@ const DepthObjectRenderer::GpuTables& DepthObjectRenderer::Tables(Method method)
     // its depth codes through one layer of staging, its colour from the
     // image itself when it is RGBA, else through staging too. Texels beyond
     // a smaller map's size are never read (MapLookup tests its own size).
-    int w = 0, h = 0;
-    for (const ImageMap& m : maps_.maps) {
-      w = std::max(w, m.camera.width);
-      h = std::max(h, m.camera.height);
-    }
+    const glm::ivec2 size = MaxMapSize(maps_);
     const int layers = static_cast<int>(maps_.maps.size());
     const bool upload_color = color_maps_.id() == 0;
     slot = std::make_unique<GpuTables>();
-    slot->depth = CreateArray(maps_, GL_R32F, 4, w, h, layers);
-    if (upload_color) color_maps_ = CreateArray(maps_, GL_RGBA8UI, 4, w, h, layers);
-    std::vector<float> depth(static_cast<size_t>(w) * h);
+    slot->depth = gpu_->CreateMapArray(GL_R32F, 4);
+    if (upload_color) color_maps_ = gpu_->CreateMapArray(GL_RGBA8UI, 4);
+    std::vector<float> depth(static_cast<size_t>(size.x) * size.y);
     std::vector<uint8_t> color;
-    glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
     for (int l = 0; l < layers; ++l) {
       const ImageMap& m = maps_.maps[l];
       const int mw = m.camera.width, mh = m.camera.height;
       const bool rgba = !m.color.empty() && m.color.channels() == 4;
       if (upload_color && !rgba) color.resize(static_cast<size_t>(mw) * mh * 4);
       MakeMapLayer(m, method, mw, depth.data(), upload_color && !rgba ? color.data() : nullptr);
-      glTextureSubImage3D(slot->depth.id(), 0, 0, 0, l, mw, mh, 1, GL_RED, GL_FLOAT, depth.data());
+      render::DepthObjectGpu::UploadLayer(slot->depth, l, mw, mh, GL_RED, GL_FLOAT, depth.data());
       if (upload_color) {
-        glTextureSubImage3D(color_maps_.id(), 0, 0, 0, l, mw, mh, 1, GL_RGBA_INTEGER,
-                            GL_UNSIGNED_BYTE, rgba ? m.color.data() : color.data());
+        render::DepthObjectGpu::UploadLayer(color_maps_, l, mw, mh, GL_RGBA_INTEGER,
+                                            GL_UNSIGNED_BYTE, rgba ? m.color.data() : color.data());
       }
     }
-    glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
   }
   return *slot;
 }
@@ -527,10 +435,6 @@ const MapTables& DepthObjectRenderer::tables(Method method) const {
   return *slot;
 }
 
-render::RenderTargetOptions DepthObjectRenderer::OutputTargetOptions(int width, int height) {
-  return {width, height, {GL_RGBA8, GL_RG32F}, true};
-}
-
 render::RenderTargetOptions DepthObjectRenderer::AccumTargetOptions(int width, int height) {
   return {width, height, {GL_RGBA32F, GL_RG32F}, true};
 }
@@ -545,7 +449,7 @@ const render::RenderTarget& DepthObjectRenderer::Accum(int width, int height) {
 std::vector<std::string> DepthObjectRenderer::Defines(const FrameParams& frame,
                                                       const DepthObjectOptions& options) const {
   std::vector<std::string> d;
-  const int uniform_maps = UniformMaps(maps_.maps.size());
+  const int uniform_maps = gpu_->uniform_maps();
   d.push_back(uniform_maps > 0 ? fmt::format("MAX_MAPS {}", uniform_maps)
                                : std::string("MAPS_IN_STORAGE_BUFFER"));
   if (options.method == Method::kVisualHull) d.push_back("VISUAL_HULL");
@@ -557,38 +461,14 @@ std::vector<std::string> DepthObjectRenderer::Defines(const FrameParams& frame,
 }
 
 void DepthObjectRenderer::BindMaps(const GpuTables& t) const {
-  glBindTextureUnit(0, t.depth.id());
-  glBindTextureUnit(2, color_maps_.id());
-  if (UniformMaps(maps_.maps.size()) > 0) {
-    glBindBufferBase(GL_UNIFORM_BUFFER, 0, map_ssbo_.id());
-  } else {
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, map_ssbo_.id());
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, active_ssbo_.id());
-  }
+  gpu_->BindMaps(t.depth, color_maps_);
 }
 
-void DepthObjectRenderer::UploadFrame(const FrameParams& frame) {
-  IBR_CHECK_EQ(frame.maps.size(), maps_.maps.size());
-  glNamedBufferSubData(map_ssbo_.id(), 0, sizeof(MapRecord) * frame.maps.size(), frame.maps.data());
-  static_assert(sizeof(int) == sizeof(GLint));
-  IBR_CHECK_LE(frame.active.size(), frame.maps.size());
-  if (!frame.active.empty()) {
-    glNamedBufferSubData(active_ssbo_.id(), 0, sizeof(GLint) * frame.active.size(),
-                         frame.active.data());
-  }
-  strided_.assign(static_cast<size_t>(current_stride_) * frame.maps.size(), 0);
-  for (size_t i = 0; i < frame.maps.size(); ++i) {
-    std::memcpy(strided_.data() + i * current_stride_, &frame.maps[i], sizeof(MapRecord));
-  }
-  glNamedBufferSubData(current_ubo_.id(), 0, static_cast<GLsizeiptr>(strided_.size()),
-                       strided_.data());
-}
-
-const DepthObjectUniforms& DepthObjectRenderer::SetCommonUniforms(const render::Program& p,
-                                                                  const FrameParams& frame,
-                                                                  bool slices) const {
+const render::DepthObjectUniforms& DepthObjectRenderer::SetCommonUniforms(const render::Program& p,
+                                                                          const FrameParams& frame,
+                                                                          bool slices) const {
   p.Use();
-  const auto& u = p.Typed<DepthObjectUniforms>();
+  const auto& u = p.Typed<render::DepthObjectUniforms>();
   u.depth_maps.Set(0);
   u.color_maps.Set(2);
   u.map_count.Set(static_cast<int>(frame.maps.size()));
@@ -608,7 +488,7 @@ void DepthObjectRenderer::BindFrame(const FrameParams& frame, const DepthObjectO
                                     const render::RenderTarget& accum) {
   IBR_CHECK_EQ(accum.width(), frame.width);
   IBR_CHECK_EQ(accum.height(), frame.height);
-  UploadFrame(frame);
+  gpu_->UploadFrame(frame.maps, frame.active);
   BindMaps(Tables(options.method));
 }
 
@@ -627,92 +507,13 @@ void DepthObjectRenderer::DrawSlices(const FrameParams& frame, const DepthObject
   const render::Program& pass = programs_->Get({.vertex = "cores/slice.vert.glsl",
                                                 .fragment = "passes/depth_object.frag.glsl",
                                                 .defines = Defines(frame, options)});
-  const DepthObjectUniforms& u = SetCommonUniforms(pass, frame, true);
-
-  // Step 1: clear the frame buffer, no depth test.
-  accum.Bind();
-  const float zero[4] = {0, 0, 0, 0};
-  accum.Clear(zero, 1.0f, 0);
-  glDisable(GL_DEPTH_TEST);
-  glDisable(GL_CULL_FACE);
-  glEnable(GL_STENCIL_TEST);
-  // Attachment 0 accumulates (ONE, ONE) in the map passes and is overwritten
-  // (ZERO, ZERO) in the clear passes: switching the blend function is
-  // cheaper than toggling blending. Attachment 1 is never blended.
-  glBlendEquation(GL_FUNC_ADD);
-  glEnablei(GL_BLEND, 0);
-  glDisablei(GL_BLEND, 1);
-  slice_buffer_.Upload(frame.stack);
-  slice_buffer_.Bind();
-  const int n = static_cast<int>(frame.active.size());
-  const int required = frame.required;
-  for (int s = 0; s < slice_buffer_.size(); ++s) {
-    // Step 2(a): every base polygon (map) in turn, accumulating colour.
-    u.slice_plane.Set(frame.planes[s]);
-    u.clear_pass.Set(0);
-    glBlendFunci(0, GL_ONE, GL_ONE);
-    glStencilOp(GL_KEEP, GL_KEEP, GL_INCR);
-    for (int j = 0; j < n; ++j) {
-      if (!frame.robust) {
-        // (a)i: pass and increment iff stencil == i - 1 (0-based: j).
-        glStencilMask(0xFF);
-        glStencilFunc(GL_EQUAL, j, 0xFF);
-      } else {
-        // Robust: count every map that passes, for pixels not yet finished
-        // (bit 7 marks finished pixels; counts stay below 128).
-        glStencilMask(0x7F);
-        glStencilFunc(GL_EQUAL, 0, 0x80);
-      }
-      glBindBufferRange(GL_UNIFORM_BUFFER, 1, current_ubo_.id(),
-                        static_cast<GLintptr>(current_stride_) * frame.active[j],
-                        sizeof(MapRecord));
-      slice_buffer_.DrawSlice(s);  // (a)ii, with the alpha test (discard)
-    }
-    // Steps (c)-(f): clear colour and stencil where the count falls short.
-    u.clear_pass.Set(1);
-    glBlendFunci(0, GL_ZERO, GL_ZERO);
-    if (!frame.robust) {
-      glStencilMask(0xFF);
-      glStencilFunc(GL_NOTEQUAL, n, 0xFF);
-      glStencilOp(GL_KEEP, GL_KEEP, GL_ZERO);
-      slice_buffer_.DrawSlice(s);
-    } else {
-      // Unfinished pixels whose count < required: ref > stencil.
-      glStencilMask(0xFF);
-      glStencilFunc(GL_GREATER, required, 0xFF);
-      glStencilOp(GL_KEEP, GL_KEEP, GL_ZERO);
-      slice_buffer_.DrawSlice(s);
-      // Count >= required: set the finished bit (colour untouched).
-      glColorMask(GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);
-      glStencilMask(0x80);
-      glStencilFunc(GL_LEQUAL, 0x80 | required, 0x7F);
-      glStencilOp(GL_KEEP, GL_KEEP, GL_REPLACE);
-      slice_buffer_.DrawSlice(s);
-      glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
-    }
-  }
-  slice_buffer_.Unbind();
-  glStencilMask(0xFF);
-  glDisable(GL_STENCIL_TEST);
-  glDisablei(GL_BLEND, 0);
-  glBlendFunci(0, GL_ONE, GL_ZERO);
-}
-
-// One full-screen triangle (fullscreen.vert.glsl) with no depth, stencil or
-// blending: the ray pass and the resolve pass.
-void DepthObjectRenderer::DrawFullScreenPass(bool depth_test) const {
-  if (depth_test) {
-    glEnable(GL_DEPTH_TEST);
-    glDepthFunc(GL_LESS);
-    glDepthMask(GL_TRUE);
-  } else {
-    glDisable(GL_DEPTH_TEST);
-  }
-  glDisable(GL_STENCIL_TEST);
-  glDisable(GL_BLEND);
-  glBindVertexArray(empty_vao_.id());
-  glDrawArrays(GL_TRIANGLES, 0, 3);
-  glBindVertexArray(0);
+  const render::DepthObjectUniforms& u = SetCommonUniforms(pass, frame, true);
+  gpu_->DrawStencilSlices(frame.stack,
+                          {.planes = frame.planes,
+                           .active = frame.active,
+                           .required = frame.required,
+                           .robust = frame.robust},
+                          u, accum);
 }
 
 void DepthObjectRenderer::DrawRay(const FrameParams& frame, const DepthObjectOptions& options,
@@ -730,7 +531,7 @@ void DepthObjectRenderer::DrawRay(const FrameParams& frame, const DepthObjectOpt
   const render::Program& program = programs_->Get({.vertex = "common/fullscreen.vert.glsl",
                                                    .fragment = "passes/depth_object_ray.frag.glsl",
                                                    .defines = defines});
-  const DepthObjectUniforms& u = SetCommonUniforms(program, frame, false);
+  const render::DepthObjectUniforms& u = SetCommonUniforms(program, frame, false);
   render::SetRayCoreUniforms(program, ray);
   const glm::mat4 box_from_cam = glm::inverse(frame.cam_from_world * frame.world_from_box);
   u.box_from_cam.Set(glm::mat4(box_from_cam));
@@ -738,12 +539,12 @@ void DepthObjectRenderer::DrawRay(const FrameParams& frame, const DepthObjectOpt
   u.ray_step.Set(frame.stack.spacing_world);
   if (options.subtexel_depth) u.subtexel_edge.Set(options.subtexel_edge);
   if (skip) {
-    glBindTextureUnit(5, skip->grid.id());
+    render::DepthObjectGpu::BindTexture(5, skip->grid);
     u.skip_grid.Set(5);
     u.skip_resolution.Set(skip->resolution);
   }
   accum.Bind();
-  DrawFullScreenPass();
+  gpu_->DrawFullScreen(/*depth_test=*/false);
 }
 
 void DepthObjectRenderer::DrawResolve(const FrameParams& frame, const DepthObjectOptions& options,
@@ -777,9 +578,9 @@ void DepthObjectRenderer::Resolve(const FrameParams& frame, const DepthObjectOpt
       programs_->Get({.vertex = "common/fullscreen.vert.glsl",
                       .fragment = "passes/depth_object_resolve.frag.glsl",
                       .defines = defines});
-  const DepthObjectUniforms& u = SetCommonUniforms(resolve, frame, false);
-  glBindTextureUnit(3, accum.color(0).id());
-  glBindTextureUnit(4, accum.color(1).id());
+  const render::DepthObjectUniforms& u = SetCommonUniforms(resolve, frame, false);
+  render::DepthObjectGpu::BindTexture(3, accum.color(0));
+  render::DepthObjectGpu::BindTexture(4, accum.color(1));
   u.accum_color.Set(3);
   u.accum_depth.Set(4);
   u.visibility_tolerance.Set(frame.visibility_tolerance);
@@ -794,7 +595,7 @@ void DepthObjectRenderer::Resolve(const FrameParams& frame, const DepthObjectOpt
   }
   u.required.Set(frame.required);
   if (frame_clip_from_cam) u.clip_from_cam.Set(glm::mat4(*frame_clip_from_cam));
-  DrawFullScreenPass(depth_test);
+  gpu_->DrawFullScreen(depth_test);
 }
 
 void DepthObjectRenderer::Accumulate(const FrameParams& frame, const DepthObjectOptions& options) {
@@ -822,35 +623,12 @@ void DepthObjectRenderer::DrawIntoFrame(const ViewCamera& view, const DepthObjec
                           "target {}x{} differs from the view's {}x{}", frame_target.width(),
                           frame_target.height(), view.camera.width, view.camera.height);
   }
-  GLboolean depth_was_on = GL_FALSE, depth_mask = GL_TRUE;
-  GLint depth_func = GL_LESS;
-  glGetBooleanv(GL_DEPTH_TEST, &depth_was_on);
-  glGetBooleanv(GL_DEPTH_WRITEMASK, &depth_mask);
-  glGetIntegerv(GL_DEPTH_FUNC, &depth_func);
+  const render::SavedDepthState saved;
   const FrameParams frame = PrepareFrame(maps_, view, options);
   Accumulate(frame, options);
   frame_target.Bind();
   render::BindOutcomeImage(frame_target, 0);
   Resolve(frame, options, Accum(frame.width, frame.height), &clip_from_cam, depth_test);
-  if (depth_was_on)
-    glEnable(GL_DEPTH_TEST);
-  else
-    glDisable(GL_DEPTH_TEST);
-  glDepthMask(depth_mask);
-  glDepthFunc(static_cast<GLenum>(depth_func));
-}
-
-void DepthObjectRenderer::Render(const ViewCamera& view, const DepthObjectOptions& options,
-                                 const render::RenderTarget& output) {
-  if (output.width() != view.camera.width || output.height() != view.camera.height) {
-    core::ThrowInputError("DepthObjectRenderer::Render",
-                          "target {}x{} differs from the view's {}x{}", output.width(),
-                          output.height(), view.camera.width, view.camera.height);
-  }
-  const FrameParams frame = PrepareFrame(maps_, view, options);
-  Accumulate(frame, options);
-  output.Bind();
-  DrawResolve(frame, options, Accum(frame.width, frame.height));
 }
 
 render::Frame DepthObjectRenderer::RenderFrame(const ViewCamera& view,
@@ -871,32 +649,13 @@ void DepthObjectRenderer::DrawFrame(const ViewCamera& view, const DepthObjectOpt
 }
 
 std::vector<core::Image8> DepthObjectRenderer::SliceCoverage(const FrameParams& frame) {
-  render::RenderTarget target({frame.width, frame.height, {GL_R8}, true});
   // The clear pass writes constants and never discards.
   DepthObjectOptions o;
   const render::Program& p = programs_->Get({.vertex = "cores/slice.vert.glsl",
                                              .fragment = "passes/depth_object.frag.glsl",
                                              .defines = Defines(frame, o)});
   SetCommonUniforms(p, frame, true).clear_pass.Set(1);
-  slice_buffer_.Upload(frame.stack);
-  std::vector<core::Image8> coverage;
-  const float zero[4] = {0, 0, 0, 0};
-  target.Bind();
-  glDisable(GL_DEPTH_TEST);
-  glDisable(GL_BLEND);
-  glEnable(GL_STENCIL_TEST);
-  glStencilMask(0xFF);
-  glStencilFunc(GL_ALWAYS, 0, 0xFF);
-  glStencilOp(GL_KEEP, GL_KEEP, GL_INCR);
-  slice_buffer_.Bind();
-  for (int s = 0; s < slice_buffer_.size(); ++s) {
-    target.Clear(zero, 1.0f, 0);
-    slice_buffer_.DrawSlice(s);
-    coverage.push_back(target.ReadStencil());
-  }
-  slice_buffer_.Unbind();
-  glDisable(GL_STENCIL_TEST);
-  return coverage;
+  return gpu_->SliceCoverage(frame.stack, frame.width, frame.height);
 }
 
 }  // namespace ibr

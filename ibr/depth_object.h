@@ -22,11 +22,10 @@
 #include "render/cores/slicing.h"
 #include "render/gl/render_target.h"
 #include "render/gl/shader_program.h"
+#include "render/passes/depth_object_gpu.h"
 #include "render/passes/pass.h"
 
 namespace ibr {
-
-struct DepthObjectUniforms;  // ibr/depth_object_uniforms.h
 
 enum class Method {
   kDepthObject,  // intersection of the regions behind each map's depth (sec. 4)
@@ -177,18 +176,8 @@ struct DepthObjectOptions {
   bool operator==(const DepthObjectOptions&) const = default;
 };
 
-// One map's row of the GPU table (std430 storage buffer of
-// shaders/passes/depth_object_core.glsl; the same layout as std140, which the
-// slice passes' one-record uniform block uses).
-struct MapRecord {
-  glm::vec4 m0, m1, m2, m3;  // columns of map_cam_from_view_cam (xyz)
-  glm::vec4 proj;            // fx, fy, cx, cy
-  glm::ivec4 info;           // width, height, orthographic, layer
-  glm::vec4 extra;           // view-dependent weight, record j: active[j], unused, unused
-  glm::vec4 centre_in_view;  // map centre in view camera space, w = 1 if orthographic
-  glm::vec4 axis_in_view;    // map +z in view camera space
-};
-static_assert(sizeof(MapRecord) == 9 * 16, "std140 layout");
+// One map's row of the GPU table (render/passes/depth_object_gpu.h).
+using MapRecord = render::DepthMapRecord;
 
 // Every number one frame uses.
 struct FrameParams {
@@ -258,13 +247,6 @@ class DepthObjectRenderer {
   // for the CPU references; rendering never needs it.
   const MapTables& tables(Method method) const;
 
-  // Renders into `output`, a target made with OutputTargetOptions(w, h)
-  // where w, h = view.camera.width/height: attachment 0 RGBA8 colour (alpha
-  // 255 where covered, 0 elsewhere), attachment 1 RG32F (camera z, covered).
-  // Left for the viewer's dataset scene (apps/viewer/scenes.cc) until it
-  // draws a one-object scene; RenderFrame is tested against it.
-  void Render(const ViewCamera& view, const DepthObjectOptions& options,
-              const render::RenderTarget& output);
   // Draws into a frame target of the pass contract (render/passes/pass.h:
   // RGBA8 colour, R32F camera z, R32UI outcome flags, D24S8) already bound
   // and begun: the resolve pass writes gl_FragDepth from `clip_from_cam` and
@@ -275,16 +257,14 @@ class DepthObjectRenderer {
                    const glm::mat4& clip_from_cam, const render::RenderTarget& frame_target);
   // One whole frame of the object alone, read back (the one readback type,
   // render::Frame): BeginFrame on a fresh frame target, the resolve of
-  // DrawToFrame without the depth test (the same pixels and values as
-  // Render), render::ReadFrame. Covered pixels: alpha 255, camera z and the
-  // hit outcome bit; empty ones 0.
+  // DrawToFrame without the depth test, render::ReadFrame. Covered pixels: alpha 255, camera z and
+  // the hit outcome bit; empty ones 0.
   render::Frame RenderFrame(const ViewCamera& view, const DepthObjectOptions& options);
   // RenderFrame without the readback, into `frame_target` (FrameTargetOptions
   // of the view's size): what the benchmarks time.
   void DrawFrame(const ViewCamera& view, const DepthObjectOptions& options,
                  const render::RenderTarget& frame_target);
 
-  static render::RenderTargetOptions OutputTargetOptions(int width, int height);
   static render::RenderTargetOptions AccumTargetOptions(int width, int height);
 
   // ---- the stages, exposed for the exactness tests ----
@@ -316,17 +296,15 @@ class DepthObjectRenderer {
   std::vector<std::string> Defines(const FrameParams& frame,
                                    const DepthObjectOptions& options) const;
   void BindMaps(const GpuTables& tables) const;
-  void UploadFrame(const FrameParams& frame);
   // Checks that `accum` is the frame's size, uploads the frame's map records
   // and binds the method's map tables: the start of every map pass.
   void BindFrame(const FrameParams& frame, const DepthObjectOptions& options,
                  const render::RenderTarget& accum);
   // Makes `program` current, sets the uniforms every depth-object program
   // reads (and the slicing core's when `slices`); returns its typed uniforms.
-  const DepthObjectUniforms& SetCommonUniforms(const render::Program& program,
-                                               const FrameParams& frame, bool slices) const;
+  const render::DepthObjectUniforms& SetCommonUniforms(const render::Program& program,
+                                                       const FrameParams& frame, bool slices) const;
   const render::RenderTarget& Accum(int width, int height);
-  void DrawFullScreenPass(bool depth_test = false) const;
   void Accumulate(const FrameParams& frame, const DepthObjectOptions& options);
   // `frame_clip_from_cam`: the pass contract's frame (FRAME_OUTPUT), else
   // the own output layout; `depth_test`: composited by window depth (LESS).
@@ -345,18 +323,9 @@ class DepthObjectRenderer {
   std::map<std::string, std::unique_ptr<SkipTexture>> skip_grids_;
   mutable std::unique_ptr<MapTables> cpu_tables_[2];  // tables(method), on demand
   render::Texture color_maps_;  // RGBA8UI array, one layer per map (both methods)
-  render::Buffer map_ssbo_;     // the whole table (ray and resolve passes)
-  render::Buffer active_ssbo_;  // the frame's maps (FrameParams::active) as ints
-  render::Buffer current_ubo_;  // one record per map at an aligned stride (map passes)
-  GLint current_stride_ = 0;
-  std::vector<uint8_t> strided_;  // UploadFrame's staging, kept between frames
-  render::SliceBuffer slice_buffer_;
+  // The table buffers, slice buffer and draws (render/passes/depth_object_gpu.h).
+  std::unique_ptr<render::DepthObjectGpu> gpu_;
   std::unique_ptr<render::RenderTarget> accum_;
-  render::VertexArray empty_vao_;
-  // SlicePath::kFast (ibr/depth_object_fast.cc): the slice planes (SSBO), the
-  // active maps' records in loop order (UBO), one-slice stacks for the batch.
-  render::Buffer fast_planes_, fast_maps_;
-  std::vector<render::SliceStack> fast_stacks_;
 };
 
 // Applies the loop order rule for visual hulls (hull_skip_opposite) and

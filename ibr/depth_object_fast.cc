@@ -31,13 +31,9 @@
 // path and the CPU reference instead).
 #include <fmt/format.h>
 
-#include <algorithm>
-
 #include "core/check.h"
 #include "core/error.h"
 #include "ibr/depth_object.h"
-#include "ibr/depth_object_uniforms.h"
-#include "render/gl/gl_state.h"
 
 namespace ibr {
 
@@ -46,27 +42,6 @@ SlicePath SlicePathFromName(const std::string& name) {
 }
 
 std::string SlicePathName(SlicePath p) { return std::string(core::EnumToName(kSlicePathNames, p)); }
-
-namespace {
-
-// Storage binding points of this pass (the map table is 0, the exact path's
-// current map 1).
-constexpr GLuint kFastMapsBinding = 3;    // UBO: the active maps in loop order
-constexpr GLuint kFastPlanesBinding = 3;  // SSBO: one plane per slice
-
-// Replaces `buffer`'s contents, growing its mutable storage when needed.
-void UploadBuffer(render::Buffer& buffer, const void* data, size_t bytes) {
-  if (!buffer) buffer = render::Buffer::Create();
-  GLint64 capacity = 0;
-  glGetNamedBufferParameteri64v(buffer.id(), GL_BUFFER_SIZE, &capacity);
-  const size_t need = std::max<size_t>(bytes, 16);
-  if (static_cast<size_t>(capacity) < need) {
-    glNamedBufferData(buffer.id(), static_cast<GLsizeiptr>(need), nullptr, GL_STREAM_DRAW);
-  }
-  if (bytes > 0) glNamedBufferSubData(buffer.id(), 0, static_cast<GLsizeiptr>(bytes), data);
-}
-
-}  // namespace
 
 void DepthObjectRenderer::DrawSlicesFast(const FrameParams& frame,
                                          const DepthObjectOptions& options,
@@ -82,10 +57,6 @@ void DepthObjectRenderer::DrawSlicesFast(const FrameParams& frame,
   std::vector<MapRecord> loop;
   loop.reserve(frame.active.size());
   for (int i : frame.active) loop.push_back(frame.maps.at(static_cast<size_t>(i)));
-  UploadBuffer(fast_maps_, loop.data(), loop.size() * sizeof(MapRecord));
-  UploadBuffer(fast_planes_, frame.planes.data(), frame.planes.size() * sizeof(glm::vec4));
-  glBindBufferBase(GL_UNIFORM_BUFFER, kFastMapsBinding, fast_maps_.id());
-  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kFastPlanesBinding, fast_planes_.id());
 
   std::vector<std::string> defines = Defines(frame, options);
   defines.push_back(fmt::format("FAST_MAP_COUNT {}", n));
@@ -95,25 +66,7 @@ void DepthObjectRenderer::DrawSlicesFast(const FrameParams& frame,
                                                 .defines = defines});
   SetCommonUniforms(pass, frame, true).required.Set(frame.required);
 
-  // One stack per slice: the slicing core's buffer tags each vertex with its
-  // stack (a_volume), which is the slice index the shader reads its plane by.
-  fast_stacks_.resize(frame.stack.slices.size());
-  for (size_t s = 0; s < frame.stack.slices.size(); ++s) {
-    render::SliceStack& one = fast_stacks_[s];
-    one.family = frame.stack.family;
-    one.axis = frame.stack.axis;
-    one.normal_in_box = frame.stack.normal_in_box;
-    one.slices.assign(1, frame.stack.slices[s]);
-  }
-  slice_buffer_.UploadVolumes(fast_stacks_);
-
-  // Depth test LESS, written (ties of window depth keep the slice drawn
-  // first); no stencil, blending or culling. Restored on return.
-  const render::ScopedGlState state(render::GlState{});
-  accum.Bind();
-  const float zero[4] = {0, 0, 0, 0};
-  accum.Clear(zero, 1.0f, 0);
-  slice_buffer_.DrawAllBatched();
+  gpu_->DrawFastSlices(frame.stack, loop, frame.planes, accum);
 }
 
 }  // namespace ibr

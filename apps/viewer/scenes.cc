@@ -11,6 +11,7 @@
 #include "apps/viewer/scene_edits.h"
 #include "core/error.h"
 #include "ibr/dataset_maps.h"
+#include "ibr/kinds/depth_object_kind.h"
 
 namespace viewer {
 
@@ -25,11 +26,12 @@ namespace {
 class DatasetScene : public Scene {
  public:
   DatasetScene(const ibr::DepthObjectOptions& options, ibr::MapSet maps, std::string name)
-      : name_(std::move(name)), renderer_(programs_, std::move(maps)), options_(options) {
+      : name_(std::move(name)), maps_(std::move(maps)), options_(options) {
     options_.Check();
-    const glm::dmat4& m = renderer_.maps().world_from_box;
+    const glm::dmat4& m = maps_.world_from_box;
     centre_ = glm::vec3(m * glm::dvec4(0.5, 0.5, 0.5, 1.0));
     radius_ = 0.5f * static_cast<float>(glm::length(glm::dvec3(m * glm::dvec4(1, 1, 1, 0))));
+    Rebuild();
   }
 
   std::string Title() const override { return "ibr view: " + name_; }
@@ -57,27 +59,21 @@ class DatasetScene : public Scene {
     if (ImGui::Combo("texturing", &texturing, "view-dependent\0visibility\0none\0paper blend\0")) {
       options_.texturing = static_cast<ibr::Texturing>(texturing);
     }
-    const int maps = static_cast<int>(renderer_.maps().maps.size());
+    const int maps = static_cast<int>(maps_.maps.size());
     ImGui::SliderInt("robust k", &options_.robust_k, 0, std::max(0, maps - 1));
-    return options_.method != before.method || options_.slicing != before.slicing ||
-           options_.slice_path != before.slice_path ||
-           options_.subtexel_depth != before.subtexel_depth || options_.slices != before.slices ||
-           options_.texturing != before.texturing || options_.robust_k != before.robust_k;
+    if (options_ == before) return false;
+    Rebuild();
+    return true;
   }
 
   const render::RenderTarget& Render(const FrameCamera& camera) override {
-    if (!output_ || output_->width() != camera.width || output_->height() != camera.height) {
-      output_ = std::make_unique<render::RenderTarget>(
-          ibr::DepthObjectRenderer::OutputTargetOptions(camera.width, camera.height));
-    }
-    renderer_.Render(ViewCameraOf(camera), options_, *output_);
-    return *output_;
+    return renderer_->Draw(ViewCameraOf(camera));
   }
 
   std::string Status() const override {
     return fmt::format(
-        "{} maps, {} {}{} path, {} slices{}", renderer_.maps().maps.size(),
-        ibr::MethodName(options_.method), ibr::SlicingName(options_.slicing),
+        "{} maps, {} {}{} path, {} slices{}", maps_.maps.size(), ibr::MethodName(options_.method),
+        ibr::SlicingName(options_.slicing),
         options_.slicing != ibr::Slicing::kRay && options_.slice_path == ibr::SlicePath::kFast
             ? " fast"
             : "",
@@ -89,11 +85,20 @@ class DatasetScene : public Scene {
   }
 
  private:
+  // The one-object scene `ibr render DATASET` draws, rebuilt (maps uploaded
+  // anew) when an option changes: every option picks the pass's programs or
+  // tables, and a method change needs the other map tables anyway.
+  void Rebuild() {
+    renderer_.reset();
+    renderer_ = std::make_unique<ibr::SceneRenderer>(programs_,
+                                                     ibr::DepthObjectScene(name_, maps_, options_));
+  }
+
   std::string name_;
   render::ProgramCache programs_;
-  ibr::DepthObjectRenderer renderer_;
+  ibr::MapSet maps_;
   ibr::DepthObjectOptions options_;
-  std::unique_ptr<render::RenderTarget> output_;
+  std::unique_ptr<ibr::SceneRenderer> renderer_;
   glm::vec3 centre_{0};
   float radius_ = 1;
 };
@@ -467,10 +472,14 @@ bool SceneFileScene::PointerPress(const FrameCamera& camera, const glm::dvec2& p
   const GizmoBox box = GizmoBoxOf(*gizmo_object_);
   drag_handle_ = PickHandle(box, camera, pixel);
   if (!drag_handle_) return false;
-  const ibr::DeformObjectOptions& o = ibr::DeformOf(loaded_.objects[*gizmo_object_]).options;
   drag_from_ = pixel;
   drag_box_ = box;
-  drag_start_ = {o.translation, o.rotation_deg, o.scale, box.peel_angle.value_or(0.0)};
+  // A volume's peel has no placement option (GizmoBoxOf): only its angle moves.
+  drag_start_ = {{}, {}, 1.0, box.peel_angle.value_or(0.0)};
+  if (loaded_.objects[*gizmo_object_].type == scene::ObjectType::kDeform) {
+    const ibr::DeformObjectOptions& o = ibr::DeformOf(loaded_.objects[*gizmo_object_]).options;
+    drag_start_ = {o.translation, o.rotation_deg, o.scale, box.peel_angle.value_or(0.0)};
+  }
   return true;
 }
 

@@ -1,6 +1,6 @@
-// The scenes `ibr view` shows: a dataset's depth object or visual hull
-// (ibr::DepthObjectRenderer, as `ibr render DATASET` draws it) and a scene
-// file (ibr::SceneRenderer, as `ibr render SCENE.json` draws it). Both draw
+// The scenes `ibr view` shows: a dataset's depth object or visual hull (the
+// one-object scene `ibr render DATASET` draws) and a scene file (as `ibr
+// render SCENE.json` draws it), both through ibr::SceneRenderer. Both draw
 // from ViewCameraOf, the camera `ibr render --cameras` reads from the file
 // viewer::CamerasOf describes, so a frame at rest is the frame `ibr render`
 // writes from that camera.

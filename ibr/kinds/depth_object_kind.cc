@@ -103,6 +103,14 @@ LoadedObject LoadedDepthObject(std::string name, MapSet maps, const DepthObjectO
   return l;
 }
 
+LoadedScene DepthObjectScene(std::string name, MapSet maps, const DepthObjectOptions& options) {
+  LoadedScene scene;
+  scene.name = name;
+  scene.objects.push_back(LoadedDepthObject(std::move(name), std::move(maps), options));
+  scene.bounds = scene.objects.back().bounds;
+  return scene;
+}
+
 const ObjectKind& DepthObjectKind() {
   static const DepthObjectKindImpl kind(scene::ObjectType::kDepthObject);
   return kind;

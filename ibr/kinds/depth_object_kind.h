@@ -6,6 +6,7 @@
 #include "ibr/depth_object.h"
 #include "ibr/image_maps.h"
 #include "ibr/object_kind.h"
+#include "ibr/scene_renderer.h"
 
 namespace ibr {
 
@@ -15,5 +16,9 @@ namespace ibr {
 // (`ibr render DATASET`).
 LoadedObject LoadedDepthObject(std::string name, MapSet maps, const DepthObjectOptions& options,
                                const glm::dmat4& world_from_object = glm::dmat4(1.0));
+
+// The one-object scene of LoadedDepthObject(name, maps, options), its bounds
+// the object's: what `ibr render DATASET` and `ibr view DATASET` draw.
+LoadedScene DepthObjectScene(std::string name, MapSet maps, const DepthObjectOptions& options);
 
 }  // namespace ibr

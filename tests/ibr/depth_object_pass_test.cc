@@ -42,6 +42,27 @@ render::ViewSetup SetupOf(const ViewCamera& v, double near, double far) {
 
 class DepthObjectPassTest : public test_support::GlTest {};
 
+// The stages the exactness tests drive, into the resolve's own layout
+// (attachment 0 RGBA8 colour, attachment 1 RG32F camera z and covered):
+// PrepareFrame, the path's accumulation, DrawResolve.
+core::Image8 StagesColor(DepthObjectRenderer& renderer, const ViewCamera& view,
+                         const DepthObjectOptions& o, core::ImageF& z_covered) {
+  const FrameParams frame = PrepareFrame(renderer.maps(), view, o);
+  const render::RenderTarget accum(
+      DepthObjectRenderer::AccumTargetOptions(frame.width, frame.height));
+  if (o.slicing == Slicing::kRay)
+    renderer.DrawRay(frame, o, accum);
+  else if (o.slice_path == SlicePath::kFast)
+    renderer.DrawSlicesFast(frame, o, accum);
+  else
+    renderer.DrawSlices(frame, o, accum);
+  const render::RenderTarget own({frame.width, frame.height, {GL_RGBA8, GL_RG32F}, true});
+  own.Bind();
+  renderer.DrawResolve(frame, o, accum);
+  z_covered = own.ReadColorF(1);
+  return own.ReadColor8(0);
+}
+
 TEST_F(DepthObjectPassTest, DrawsWhatTheRendererDrawsAndCompositesByDepth) {
   constexpr int kSize = 128;
   const ViewCamera view = testing::PerspectiveView({0.4, 0.9, 3.0}, {0, 0, 0}, {0, 1, 0}, kSize);
@@ -61,10 +82,9 @@ TEST_F(DepthObjectPassTest, DrawsWhatTheRendererDrawsAndCompositesByDepth) {
   // Alone: the renderer's image.
   const render::Frame fa = render::RenderFrame(a, setup, kSize, kSize);
   const render::Frame fb = render::RenderFrame(b, setup, kSize, kSize);
-  // The renderer's own output target: attachment 1 RG32F (camera z, covered).
-  const render::RenderTarget own(DepthObjectRenderer::OutputTargetOptions(kSize, kSize));
-  a.renderer().Render(view, o, own);
-  const core::ImageF ra = own.ReadColorF(1);
+  // The renderer's stages: attachment 1 RG32F (camera z, covered).
+  core::ImageF ra;
+  StagesColor(a.renderer(), view, o, ra);
   int64_t covered_a = 0;
   for (int y = 0; y < kSize; ++y) {
     for (int x = 0; x < kSize; ++x) {
@@ -103,8 +123,9 @@ TEST_F(DepthObjectPassTest, DrawsWhatTheRendererDrawsAndCompositesByDepth) {
   EXPECT_NO_GL_ERROR();
 }
 
-// RenderFrame (the frame target, no depth test) against the renderer's own
-// output target (Render: RGBA8 colour, RG32F camera z + covered), for every
+// RenderFrame (the frame target, no depth test) against the renderer's
+// stages into the resolve's own layout (RGBA8 colour, RG32F camera z +
+// covered), for every
 // path: the same pixels covered, the same colour bytes, the same camera z;
 // empty pixels 0; a covered pixel has alpha 255 and the hit outcome bit.
 TEST_F(DepthObjectPassTest, RenderFrameHoldsTheOwnOutputTarget) {
@@ -138,10 +159,8 @@ TEST_F(DepthObjectPassTest, RenderFrameHoldsTheOwnOutputTarget) {
           fmt::format("{} {} {} {}", MethodName(c.method), SlicingName(c.slicing),
                       SlicePathName(c.path), ortho ? "ortho" : "persp");
       const render::Frame f = renderer.RenderFrame(view, o);
-      const render::RenderTarget own(DepthObjectRenderer::OutputTargetOptions(kSize, kSize));
-      renderer.Render(view, o, own);
-      const core::Image8 color = own.ReadColor8(0);
-      const core::ImageF zc = own.ReadColorF(1);
+      core::ImageF zc;
+      const core::Image8 color = StagesColor(renderer, view, o, zc);
       int64_t covered = 0, color_diff = 0;
       for (int y = 0; y < kSize; ++y) {
         for (int x = 0; x < kSize; ++x) {

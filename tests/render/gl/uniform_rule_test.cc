@@ -196,27 +196,17 @@ TEST(GlCallRule, NoGlCallOutsideRender) {
   const char* source = std::getenv("IBR_SOURCE_DIR");
   ASSERT_NE(source, nullptr) << "IBR_SOURCE_DIR (set by ctest) names the checkout";
   const fs::path root(source);
-  // Files whose GL code has not yet moved into render/passes/ (issue 33: the
-  // depth-object GPU code). Each must still hold a GL call, so the list can
-  // only shrink.
-  const std::set<std::string> pending = {"ibr/depth_object.cc", "ibr/depth_object_fast.cc"};
   std::vector<Finding> found;
-  std::set<std::string> pending_seen;
   int files = 0;
   for (const SourceFile& f : SourcesOutside(root, {root / "render"})) {
     const std::vector<Finding> here = ScanGlCalls(f.path, f.text);
     ++files;
-    if (pending.contains(f.path)) {
-      if (!here.empty()) pending_seen.insert(f.path);
-      continue;
-    }
     found.insert(found.end(), here.begin(), here.end());
   }
   std::printf("scanned %d source files outside tests/ and render/: %zu raw GL calls\n", files,
               found.size());
   EXPECT_GT(files, 100);  // a partial scan would pass vacuously
   EXPECT_TRUE(found.empty()) << "call GL through render/gl or render/passes:\n" << Describe(found);
-  EXPECT_EQ(pending_seen, pending) << "a pending file no longer calls GL: drop it from the list";
 }
 
 }  // namespace

@@ -2,17 +2,17 @@
 // looked up once per linked program (render/gl/uniform.h). One struct for the
 // slice, fast-slice, ray and resolve programs: they share depth_object_core.glsl,
 // and each lacks the others' own uniforms, which stay inactive handles.
-// Internal to ibr/depth_object*.cc.
+// Set by ibr/depth_object*.cc and render/passes/depth_object_gpu.cc.
 #pragma once
 
 #include <glm/glm.hpp>
 
 #include "render/gl/uniform.h"
 
-namespace ibr {
+namespace render {
 
 struct DepthObjectUniforms {
-  explicit DepthObjectUniforms(const render::Program& p)
+  explicit DepthObjectUniforms(const Program& p)
       : depth_maps(p, "u_depth_maps"),
         color_maps(p, "u_color_maps"),
         map_count(p, "u_map_count"),
@@ -38,34 +38,34 @@ struct DepthObjectUniforms {
         plane0(p, "u_plane0"),
         plane_step(p, "u_plane_step") {}
   // depth_object_core.glsl (every program)
-  render::Uniform<int> depth_maps;  // texture unit
-  render::Uniform<int> color_maps;  // texture unit
-  render::Uniform<int> map_count;
-  render::Uniform<int> active_count;
-  render::Uniform<glm::vec4> view_ray;
-  render::Uniform<float> view_height;
-  render::Uniform<float> inv255;
-  render::Uniform<int> required;
-  render::Uniform<float> subtexel_edge;
+  Uniform<int> depth_maps;  // texture unit
+  Uniform<int> color_maps;  // texture unit
+  Uniform<int> map_count;
+  Uniform<int> active_count;
+  Uniform<glm::vec4> view_ray;
+  Uniform<float> view_height;
+  Uniform<float> inv255;
+  Uniform<int> required;
+  Uniform<float> subtexel_edge;
   // The slicing core (slice programs); u_clip_from_cam also FRAME_OUTPUT's resolve
-  render::Uniform<glm::mat4> world_from_box;
-  render::Uniform<glm::mat4> cam_from_world;
-  render::Uniform<glm::mat4> clip_from_cam;
+  Uniform<glm::mat4> world_from_box;
+  Uniform<glm::mat4> cam_from_world;
+  Uniform<glm::mat4> clip_from_cam;
   // depth_object.frag.glsl (the paper's slice passes)
-  render::Uniform<glm::vec4> slice_plane;
-  render::Uniform<int> clear_pass;
+  Uniform<glm::vec4> slice_plane;
+  Uniform<int> clear_pass;
   // depth_object_ray.frag.glsl
-  render::Uniform<glm::mat4> box_from_cam;
-  render::Uniform<float> ray_step;
-  render::Uniform<int> skip_grid;  // texture unit
-  render::Uniform<int> skip_resolution;
+  Uniform<glm::mat4> box_from_cam;
+  Uniform<float> ray_step;
+  Uniform<int> skip_grid;  // texture unit
+  Uniform<int> skip_resolution;
   // depth_object_resolve.frag.glsl
-  render::Uniform<int> accum_color;  // texture unit
-  render::Uniform<int> accum_depth;  // texture unit
-  render::Uniform<float> visibility_tolerance;
-  render::Uniform<int> refine;
-  render::Uniform<glm::vec4> plane0;
-  render::Uniform<float> plane_step;
+  Uniform<int> accum_color;  // texture unit
+  Uniform<int> accum_depth;  // texture unit
+  Uniform<float> visibility_tolerance;
+  Uniform<int> refine;
+  Uniform<glm::vec4> plane0;
+  Uniform<float> plane_step;
 };
 
-}  // namespace ibr
+}  // namespace render
