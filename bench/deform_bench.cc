@@ -8,6 +8,7 @@
 #include <cmath>
 #include <cstdio>
 #include <fstream>
+#include <functional>
 #include <glm/gtc/matrix_transform.hpp>
 #include <map>
 #include <optional>
@@ -449,6 +450,214 @@ Table DeformAccuracy(render::ProgramCache& programs, const DeformBenchOptions& o
   return table;
 }
 
+// Table 1's rows: continuous; the paper's solid cut (sec. 5.1.2, the
+// two-field search) without and with empty-space skipping (ESK); and our CSG
+// solid cut (the field max(body, A)) without: all with the pass's default
+// skipping by the object's distance field. Then the paper's own shader
+// (paper_*): the same three without that skipping (sec. 6.2 skips by the
+// cut's distance only), each over paper_continuous.
+struct TableOneMode {
+  std::string name;
+  core::Deformation deformation;
+  const core::DeformationTexture* texture;  // of `deformation`
+  core::CutMode cut;
+  bool skip;
+  bool search;
+  bool skip_object;
+  std::string baseline;  // the continuous mode its ratios are over
+};
+
+// The twist and the knife with their textures, sampled once for the modes
+// that share them.
+struct TableOneDeformations {
+  core::Deformation twist{core::DeformationKind::kTwist, 2.0, 0.35};
+  core::Deformation knife = KnifeCut();
+  core::DeformationTexture twist_texture = core::SampleDeformation({{twist}}, 64);
+  core::DeformationTexture knife_texture = core::SampleDeformation({{knife}}, 64);
+
+  std::vector<TableOneMode> Modes() const {
+    const auto none = core::CutMode::kNone, solid = core::CutMode::kSolid;
+    const auto* t = &twist_texture;
+    const auto* k = &knife_texture;
+    return {{"continuous", twist, t, none, false, false, true, "continuous"},
+            {"cut", knife, k, solid, false, true, true, "continuous"},
+            {"cut_skip", knife, k, solid, true, true, true, "continuous"},
+            {"cut_csg", knife, k, solid, false, false, true, "continuous"},
+            {"paper_continuous", twist, t, none, false, false, false, "paper_continuous"},
+            {"paper_cut", knife, k, solid, false, true, false, "paper_continuous"},
+            {"paper_cut_skip", knife, k, solid, true, true, false, "paper_continuous"}};
+  }
+};
+
+// What every mode's frames of one mesh share.
+struct MeshSweep {
+  const BenchMesh& mesh;
+  const core::TriangleMesh& drawn;  // as ibr deform draws it
+  const core::DistanceField& sdf;
+  core::Box3d region;
+  render::ViewSetup view;
+  int size;
+  const std::vector<double>& scales;
+  render::FrameTimerOptions timer;
+};
+
+// The mesh stage's time per region scale: the continuous frame minus its ray
+// stage alone (draw_mesh off); the stage does not depend on the mode.
+struct MeshStage {
+  std::vector<double> ms, both_sides_ms;
+};
+
+struct ModeTimes {
+  std::vector<double> areas, times, ray_times;
+};
+
+// Fitted ms at one common area per mode (the spread across meshes): whole
+// frames, and the ray stage alone (the frame minus the mesh stage).
+constexpr double kCommonArea = 0.2;
+struct CommonArea {
+  std::map<std::string, std::vector<double>> frame, ray;
+};
+
+// The continuous mode's mesh stage at one scale, and the same frame drawing
+// both sides of the mesh everywhere (cull_back_faces off): what the culling
+// saves, same run.
+void TimeMeshStage(const std::function<double(const render::DeformPassOptions&)>& time_pass,
+                   const render::DeformPassOptions& pass_options, double ms, bool culled,
+                   const std::string& mesh, MeshStage& stage) {
+  render::DeformPassOptions ray_only = pass_options;
+  ray_only.draw_mesh = false;
+  const double ray = time_pass(ray_only);
+  stage.ms.push_back(std::max(ms - ray, 0.0));
+  render::DeformPassOptions both_sides = pass_options;
+  both_sides.cull_back_faces = false;
+  const double both = time_pass(both_sides);
+  stage.both_sides_ms.push_back(std::max(both - ray, 0.0));
+  std::fprintf(stderr,
+               "bench deform: %s mesh stage %.1f ms (back faces culled: %s), both sides "
+               "%.1f ms\n",
+               mesh.c_str(), stage.ms.back(), culled ? "yes" : "no", stage.both_sides_ms.back());
+}
+
+// One mode at every region scale: a `frames` row per scale.
+ModeTimes TimeModeOverScales(render::ProgramCache& programs, const MeshSweep& f,
+                             const TableOneMode& mode, render::RenderTarget& target,
+                             MeshStage& stage, Table& frames) {
+  const core::DeformationTexture& texture = *mode.texture;
+  render::DeformPassOptions pass_options;
+  pass_options.cut = mode.cut;
+  pass_options.skip_empty = mode.skip;
+  pass_options.solid_search = mode.search;
+  pass_options.skip_object = mode.skip_object;
+  const std::string& name = f.mesh.name;
+  ModeTimes t;
+  for (size_t si = 0; si < f.scales.size(); ++si) {
+    const double scale = f.scales[si];
+    const core::Placement placement = core::Placement::FromRegion(f.region, glm::dvec3(0.0), scale);
+    // Median ms a frame of the pass with `o`.
+    const auto time_pass = [&](const render::DeformPassOptions& o) {
+      render::DeformPass timed(programs, {&f.drawn, &f.sdf, &texture, placement}, o);
+      return render::TimeFrames([&] { render::DrawFrame(target, timed, f.view); }, f.timer)
+          .median_ms;
+    };
+    render::DeformPass pass(programs, {&f.drawn, &f.sdf, &texture, placement}, pass_options);
+    const double ms =
+        render::TimeFrames([&] { render::DrawFrame(target, pass, f.view); }, f.timer).median_ms;
+    const DeformOutcomes o = CountDeformOutcomes(render::ReadFrame(target));
+    if (mode.name == "continuous")
+      TimeMeshStage(time_pass, pass_options, ms, pass.last_culled_back_faces(), name, stage);
+    const double ray_ms = std::max(ms - stage.ms[si], 0.0);
+    const double area = static_cast<double>(o.rays) / (double(f.size) * f.size);
+    t.areas.push_back(area);
+    t.times.push_back(ms);
+    t.ray_times.push_back(ray_ms);
+    const bool rejects = mode.search && o.rays > 0;
+    frames.AddRow({"sweep", name, std::to_string(f.drawn.triangle_count()), mode.name,
+                   name + " " + mode.name, Num(scale, 2), Num(area, 4), Num(ms, 2), Num(ray_ms, 2),
+                   Num(o.mean_samples, 1), Num(o.mean_rejected, 3),
+                   rejects ? Num(double(o.rejecting_rays) / double(o.rays), 4) : "",
+                   Num(stage.ms[si], 2),
+                   mode.name == "continuous" ? Num(stage.both_sides_ms[si], 2) : "", "", ""});
+    std::fprintf(stderr,
+                 "bench deform: %s %s scale %.2f: area %.3f, %.1f ms (ray stage %.1f), "
+                 "%.1f samples per ray\n",
+                 name.c_str(), mode.name.c_str(), scale, area, ms, ray_ms, o.mean_samples);
+  }
+  return t;
+}
+
+// A mode's summary row: area-weighted ms over its baseline's, the line fit
+// of ms against area, and its value at kCommonArea for the spread rows.
+void AddModeSummary(const std::string& mesh, const TableOneMode& mode, const ModeTimes& t,
+                    std::map<std::string, std::pair<double, double>>& baseline_weighted,
+                    CommonArea& common, Table& summary) {
+  const auto weighted_mean = [&](const std::vector<double>& v) {
+    double weighted = 0.0, weight = 0.0;
+    for (size_t k = 0; k < t.areas.size(); ++k) weighted += t.areas[k] * v[k], weight += t.areas[k];
+    return weight > 0 ? weighted / weight : 0.0;
+  };
+  const double weighted = weighted_mean(t.times), ray_weighted = weighted_mean(t.ray_times);
+  if (mode.name == mode.baseline) baseline_weighted[mode.name] = {weighted, ray_weighted};
+  const auto [base, ray_base] = baseline_weighted.at(mode.baseline);
+  const LineFit fit = FitLine(t.areas, t.times), ray_fit = FitLine(t.areas, t.ray_times);
+  common.frame[mode.name].push_back(fit.slope * kCommonArea + fit.intercept);
+  common.ray[mode.name].push_back(ray_fit.slope * kCommonArea + ray_fit.intercept);
+  summary.AddRow({mesh, mode.name, Num(weighted, 2), Num(base > 0 ? weighted / base : 0.0, 3),
+                  Num(fit.slope, 2), Num(fit.intercept, 2), Num(fit.r2, 4), Num(ray_weighted, 2),
+                  Num(ray_base > 0 ? ray_weighted / ray_base : 0.0, 3)});
+}
+
+// One mesh: its distance-field rows (ours and the peers', over the full
+// region), then every Table 1 mode at every region scale from RunDeform's
+// default orbit view.
+void SweepMesh(render::ProgramCache& programs, const DeformBenchOptions& options,
+               const BenchMesh& m, int size, int render_resolution,
+               const std::vector<double>& scales, DeformBenchResult& result, CommonArea& common) {
+  capture::SceneMesh scene = capture::LoadSceneMesh(options.shared_data / "meshes" / m.file);
+  core::TriangleMesh& mesh = scene.mesh;
+  ibr::NormaliseMesh(mesh);
+  glm::vec3 lo, hi;
+  mesh.Bounds(lo, hi);
+  const core::Box3d region = core::Box3d{glm::dvec3(lo), glm::dvec3(hi)}.Grown(0.05);
+  core::MeshDistance distance(mesh, m.cap_holes, m.file);
+  const std::optional<core::TriangleMesh> capped = ibr::CappedMesh(distance);
+  const core::TriangleMesh& drawn = capped ? *capped : mesh;  // as ibr deform draws it
+  std::fprintf(stderr, "bench deform: %s, %zu triangles\n", m.name.c_str(), drawn.triangle_count());
+  const core::Box3d full = core::Placement::FromRegion(region).ObjectBounds();
+  AddSdfRows(m, distance, full, SdfResolutions(options.quick), options, &result.sdf);
+
+  // One field for every region scale: the largest box grown by the largest
+  // displacement (the knife's and the twist's, at scale 1).
+  const TableOneDeformations deformations;
+  const std::vector<TableOneMode> modes = deformations.Modes();
+  double grow = 0.0;
+  for (const TableOneMode& mode : modes) {
+    grow = std::max(grow, core::MaxObjectDisplacement({{mode.deformation}},
+                                                      core::Placement::FromRegion(region), 32));
+  }
+  const core::DistanceField sdf = DeformDistanceField(distance, full, grow, render_resolution);
+
+  // RunDeform's default orbit view of the normalised mesh (centre 0, longest
+  // side 1), its clip range holding every region scale's result.
+  const ibr::DeformRenderOptions run_defaults;
+  const ibr::ViewCamera camera = ibr::DeformOrbitCamera(
+      glm::dvec3(0.0), 1.0, run_defaults.azimuth_deg, run_defaults.elevation_deg, size);
+  const core::Box3d clip_box = ibr::DeformedBounds({glm::dvec3(lo), glm::dvec3(hi)}, full, grow);
+  capture::Bounds bounds;
+  bounds.min = clip_box.lo;
+  bounds.max = clip_box.hi;
+  MeshSweep sweep{m, drawn, sdf, region, ibr::ViewSetupFor(camera, bounds), size, scales, {}};
+  sweep.timer.warmup_frames = 1;
+  sweep.timer.timed_frames = options.quick ? 1 : 5;
+  render::RenderTarget target(render::FrameTargetOptions(size, size));
+  MeshStage stage;
+  // Each continuous mode's weighted ms (frame, ray stage), for the ratios.
+  std::map<std::string, std::pair<double, double>> baseline_weighted;
+  for (const TableOneMode& mode : modes) {
+    const ModeTimes t = TimeModeOverScales(programs, sweep, mode, target, stage, result.frames);
+    AddModeSummary(m.name, mode, t, baseline_weighted, common, result.summary);
+  }
+}
+
 }  // namespace
 
 DeformBenchResult RunDeformBench(render::ProgramCache& programs,
@@ -457,169 +666,15 @@ DeformBenchResult RunDeformBench(render::ProgramCache& programs,
   const int size = options.quick ? 128 : options.size;
   std::vector<BenchMesh> meshes;
   if (!options.workloads_only) meshes = BenchMeshes(options.quick);
-  std::vector<double> scales = {0.4, 0.55, 0.7, 0.85, 1.0};
-  const std::vector<int> resolutions = SdfResolutions(options.quick);
-  if (options.quick) scales = {0.5, 1.0};
+  const std::vector<double> scales = options.quick ? std::vector<double>{0.5, 1.0}
+                                                   : std::vector<double>{0.4, 0.55, 0.7, 0.85, 1.0};
   const int render_resolution = options.quick ? 64 : 128;
   std::filesystem::create_directories(options.out);
 
   DeformBenchResult result = EmptyDeformBenchResult();
-  // Fitted ms at one common area per mode (the spread across meshes): whole
-  // frames, and the ray stage alone (the frame minus the mesh stage).
-  std::map<std::string, std::vector<double>> at_common_area, ray_at_common_area;
-  const double kCommonArea = 0.2;
-
-  for (const BenchMesh& m : meshes) {
-    capture::SceneMesh scene = capture::LoadSceneMesh(options.shared_data / "meshes" / m.file);
-    core::TriangleMesh& mesh = scene.mesh;
-    ibr::NormaliseMesh(mesh);
-    glm::vec3 lo, hi;
-    mesh.Bounds(lo, hi);
-    const core::Box3d region = core::Box3d{glm::dvec3(lo), glm::dvec3(hi)}.Grown(0.05);
-    core::MeshDistance distance(mesh, m.cap_holes, m.file);
-    const std::optional<core::TriangleMesh> capped = ibr::CappedMesh(distance);
-    const core::TriangleMesh& drawn = capped ? *capped : mesh;  // as ibr deform draws it
-    std::fprintf(stderr, "bench deform: %s, %zu triangles\n", m.name.c_str(),
-                 drawn.triangle_count());
-
-    // Distance-field build times and accuracy, ours and the peers', over the
-    // full region.
-    const core::Box3d full = core::Placement::FromRegion(region).ObjectBounds();
-    AddSdfRows(m, distance, full, resolutions, options, &result.sdf);
-
-    // One field for every region scale: the largest box grown by the largest
-    // displacement (the knife's and the twist's, at scale 1).
-    // Table 1's rows: continuous; the paper's solid cut (sec. 5.1.2, the
-    // two-field search) without and with empty-space skipping (ESK); and our
-    // CSG solid cut (the field max(body, A)) without: all with the pass's
-    // default skipping by the object's distance field. Then the paper's own
-    // shader (paper_*): the same three without that skipping (sec. 6.2 skips
-    // by the cut's distance only), each over paper_continuous.
-    // The two deformations' textures, sampled once for the modes that share them.
-    core::Deformation twist;
-    twist.kind = core::DeformationKind::kTwist, twist.amount = 2.0, twist.width = 0.35;
-    const core::Deformation knife = KnifeCut();
-    const core::DeformationTexture twist_texture = core::SampleDeformation({{twist}}, 64);
-    const core::DeformationTexture knife_texture = core::SampleDeformation({{knife}}, 64);
-    struct Mode {
-      std::string name;
-      core::Deformation deformation;
-      const core::DeformationTexture* texture;  // of `deformation`
-      core::CutMode cut;
-      bool skip;
-      bool search;
-      bool skip_object;
-      std::string baseline;  // the continuous mode its ratios are over
-    };
-    const auto none = core::CutMode::kNone, solid = core::CutMode::kSolid;
-    const std::vector<Mode> modes = {
-        {"continuous", twist, &twist_texture, none, false, false, true, "continuous"},
-        {"cut", knife, &knife_texture, solid, false, true, true, "continuous"},
-        {"cut_skip", knife, &knife_texture, solid, true, true, true, "continuous"},
-        {"cut_csg", knife, &knife_texture, solid, false, false, true, "continuous"},
-        {"paper_continuous", twist, &twist_texture, none, false, false, false, "paper_continuous"},
-        {"paper_cut", knife, &knife_texture, solid, false, true, false, "paper_continuous"},
-        {"paper_cut_skip", knife, &knife_texture, solid, true, true, false, "paper_continuous"}};
-    double grow = 0.0;
-    for (const Mode& mode : modes) {
-      grow = std::max(grow, core::MaxObjectDisplacement({{mode.deformation}},
-                                                        core::Placement::FromRegion(region), 32));
-    }
-    const core::DistanceField sdf = DeformDistanceField(distance, full, grow, render_resolution);
-
-    // RunDeform's default orbit view of the normalised mesh (centre 0,
-    // longest side 1), its clip range holding every region scale's result.
-    const ibr::DeformRenderOptions run_defaults;
-    const ibr::ViewCamera camera = ibr::DeformOrbitCamera(
-        glm::dvec3(0.0), 1.0, run_defaults.azimuth_deg, run_defaults.elevation_deg, size);
-    const core::Box3d clip_box = ibr::DeformedBounds({glm::dvec3(lo), glm::dvec3(hi)}, full, grow);
-    capture::Bounds bounds;
-    bounds.min = clip_box.lo;
-    bounds.max = clip_box.hi;
-    const render::ViewSetup view = ibr::ViewSetupFor(camera, bounds);
-    render::RenderTarget target(render::FrameTargetOptions(size, size));
-    render::FrameTimerOptions timer;
-    timer.warmup_frames = 1;
-    timer.timed_frames = options.quick ? 1 : 5;
-    // The mesh stage's time per region scale: the continuous frame minus its
-    // ray stage alone (draw_mesh off); the stage does not depend on the mode.
-    std::vector<double> mesh_stage_ms, mesh_both_sides_ms;
-    // Each continuous mode's weighted ms (frame, ray stage), for the ratios.
-    std::map<std::string, std::pair<double, double>> baseline_weighted;
-    for (const Mode& mode : modes) {
-      const core::DeformationTexture& texture = *mode.texture;
-      render::DeformPassOptions pass_options;
-      pass_options.cut = mode.cut;
-      pass_options.skip_empty = mode.skip;
-      pass_options.solid_search = mode.search;
-      pass_options.skip_object = mode.skip_object;
-      std::vector<double> areas, times, ray_times;
-      for (size_t si = 0; si < scales.size(); ++si) {
-        const double scale = scales[si];
-        const core::Placement placement =
-            core::Placement::FromRegion(region, glm::dvec3(0.0), scale);
-        // Median ms a frame of the pass with `o`.
-        const auto time_pass = [&](const render::DeformPassOptions& o) {
-          render::DeformPass timed(programs, {&drawn, &sdf, &texture, placement}, o);
-          return render::TimeFrames([&] { render::DrawFrame(target, timed, view); }, timer)
-              .median_ms;
-        };
-        render::DeformPass pass(programs, {&drawn, &sdf, &texture, placement}, pass_options);
-        const double ms =
-            render::TimeFrames([&] { render::DrawFrame(target, pass, view); }, timer).median_ms;
-        const DeformOutcomes o = CountDeformOutcomes(render::ReadFrame(target));
-        if (mode.name == "continuous") {
-          render::DeformPassOptions ray_only = pass_options;
-          ray_only.draw_mesh = false;
-          const double ray = time_pass(ray_only);
-          mesh_stage_ms.push_back(std::max(ms - ray, 0.0));
-          // The same frame drawing both sides of the mesh everywhere
-          // (cull_back_faces off): what the culling saves, same run.
-          render::DeformPassOptions both_sides = pass_options;
-          both_sides.cull_back_faces = false;
-          const double both = time_pass(both_sides);
-          mesh_both_sides_ms.push_back(std::max(both - ray, 0.0));
-          std::fprintf(stderr,
-                       "bench deform: %s mesh stage %.1f ms (back faces culled: %s), both sides "
-                       "%.1f ms\n",
-                       m.name.c_str(), mesh_stage_ms.back(),
-                       pass.last_culled_back_faces() ? "yes" : "no", mesh_both_sides_ms.back());
-        }
-        const double ray_ms = std::max(ms - mesh_stage_ms[si], 0.0);
-        const double area = static_cast<double>(o.rays) / (double(size) * size);
-        areas.push_back(area);
-        times.push_back(ms);
-        ray_times.push_back(ray_ms);
-        const bool rejects = mode.search && o.rays > 0;
-        result.frames.AddRow({"sweep", m.name, std::to_string(drawn.triangle_count()), mode.name,
-                              m.name + " " + mode.name, Num(scale, 2), Num(area, 4), Num(ms, 2),
-                              Num(ray_ms, 2), Num(o.mean_samples, 1), Num(o.mean_rejected, 3),
-                              rejects ? Num(double(o.rejecting_rays) / double(o.rays), 4) : "",
-                              Num(mesh_stage_ms[si], 2),
-                              mode.name == "continuous" ? Num(mesh_both_sides_ms[si], 2) : "", "",
-                              ""});
-        std::fprintf(stderr,
-                     "bench deform: %s %s scale %.2f: area %.3f, %.1f ms (ray stage %.1f), "
-                     "%.1f samples per ray\n",
-                     m.name.c_str(), mode.name.c_str(), scale, area, ms, ray_ms, o.mean_samples);
-      }
-      const auto weighted_mean = [&](const std::vector<double>& t) {
-        double weighted = 0.0, weight = 0.0;
-        for (size_t k = 0; k < areas.size(); ++k) weighted += areas[k] * t[k], weight += areas[k];
-        return weight > 0 ? weighted / weight : 0.0;
-      };
-      const double weighted = weighted_mean(times), ray_weighted = weighted_mean(ray_times);
-      if (mode.name == mode.baseline) baseline_weighted[mode.name] = {weighted, ray_weighted};
-      const auto [base, ray_base] = baseline_weighted.at(mode.baseline);
-      const LineFit fit = FitLine(areas, times), ray_fit = FitLine(areas, ray_times);
-      at_common_area[mode.name].push_back(fit.slope * kCommonArea + fit.intercept);
-      ray_at_common_area[mode.name].push_back(ray_fit.slope * kCommonArea + ray_fit.intercept);
-      result.summary.AddRow({m.name, mode.name, Num(weighted, 2),
-                             Num(base > 0 ? weighted / base : 0.0, 3), Num(fit.slope, 2),
-                             Num(fit.intercept, 2), Num(fit.r2, 4), Num(ray_weighted, 2),
-                             Num(ray_base > 0 ? ray_weighted / ray_base : 0.0, 3)});
-    }
-  }
+  CommonArea common;
+  for (const BenchMesh& m : meshes)
+    SweepMesh(programs, options, m, size, render_resolution, scales, result, common);
   if (!options.workloads_only)
     result.accuracy = DeformAccuracy(programs, options, size, result.implicits);
   result.wedge = RunDeformWedge(programs, options, size, render_resolution, result.frames);
@@ -627,13 +682,13 @@ DeformBenchResult RunDeformBench(render::ProgramCache& programs,
   result.spread =
       RunDeformSpread(programs, options, size, render_resolution, result.spread_figures);
   result.pull = RunDeformNarrowPull(programs, size, result.pull_figures);
-  for (const auto& [mode, values] : at_common_area) {
+  for (const auto& [mode, values] : common.frame) {
     const auto spread = [](const std::vector<double>& v) {
       const auto [lo, hi] = std::minmax_element(v.begin(), v.end());
       return "max/min " + Num(*lo > 0 ? *hi / *lo : 0.0, 3);
     };
     result.summary.AddRow({"across meshes at area " + Num(kCommonArea, 2), mode, "", "", "", "",
-                           spread(values), "", spread(ray_at_common_area[mode])});
+                           spread(values), "", spread(common.ray[mode])});
   }
   return result;
 }
