@@ -5,8 +5,13 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <map>
+#include <string>
+#include <utility>
+#include <vector>
 
 #include "bench/peer.h"
+#include "bench/sweep.h"
 #include "core/error.h"
 #include "core/metrics.h"
 #include "core/timing.h"
@@ -48,6 +53,179 @@ double Slope(const std::vector<std::pair<double, double>>& xy) {
   return sxy / sxx;
 }
 
+// A path of the cost sweep at its slice count.
+struct MapPath {
+  std::string name;
+  ibr::Slicing slicing = ibr::Slicing::kRay;
+  int slices = 0;
+};
+
+// What the sweep shares: the mesh, the options and paths, the tables, and
+// per path name the (maps, ms per frame) points of its least-squares fit.
+struct MapCountRun {
+  MapCountRun(render::ProgramCache& p, const std::string& o, const capture::SceneMesh& s,
+              const MapCountSweepOptions& opts)
+      : programs(p), object(o), scene(s), options(opts), edge(CubeEdge(MeshBounds(s))) {}
+  render::ProgramCache& programs;
+  const std::string& object;
+  const capture::SceneMesh& scene;
+  const MapCountSweepOptions& options;
+  const double edge;
+  const render::FrameTimerOptions timer{1, 3};
+  const std::vector<MapPath> paths = {
+      {"ray-skip", ibr::Slicing::kRay, ibr::DepthObjectOptions::kAutoSlices},
+      {"orthogonal", ibr::Slicing::kOrthogonal, options.ortho_slices}};
+  MapCountSweepResult result{
+      Table({"object", "maps", "map_size", "size", "path", "slices", "upload_ms", "first_frame_ms",
+             "ms_per_frame", "ms_per_map", "iou", "p95_depth_error"}),
+      Table({"object", "maps", "max_maps", "size", "ms_per_frame", "iou_vs_all", "p95_vs_all",
+             "iou_vs_mesh", "p95_vs_mesh"})};
+  std::map<std::string, std::vector<std::pair<double, double>>> fit;
+};
+
+// A ring of the sweep; at the largest (the last in the list) the subsets are
+// measured too.
+struct RingConfig {
+  int count = 0;
+  bool largest = false;
+};
+
+std::vector<RingConfig> RingConfigs(const MapCountSweepOptions& options) {
+  std::vector<RingConfig> rings;
+  for (size_t i = 0; i < options.counts.size(); ++i)
+    rings.push_back({options.counts[i], i + 1 == options.counts.size()});
+  return rings;
+}
+
+// One ring capture as its measures see it: the renderer with its maps
+// uploaded, the two views (view 0 timed) and the frame target.
+struct Ring {
+  int count;
+  double capture_s, upload_ms;
+  ibr::DepthObjectRenderer& renderer;
+  const std::vector<ibr::ViewCamera>& views;
+  const render::RenderTarget& target;
+};
+
+// One path at one ring: a cost row (not drawn: the slice paths past 255
+// maps), and the frames from both views (empty when not drawn).
+std::vector<render::Frame> MeasureCost(MapCountRun& run, const Ring& ring, const MapPath& path) {
+  const std::string& object = run.object;
+  const int count = ring.count, map_size = run.options.map_size, size = run.options.view_size;
+  ibr::DepthObjectOptions o;
+  o.slicing = path.slicing;
+  o.slices = path.slices;
+  o.texturing = ibr::Texturing::kNone;
+  const ibr::FrameParams params = ibr::PrepareFrame(ring.renderer.maps(), ring.views[0], o);
+  if (path.slicing != ibr::Slicing::kRay && params.active.size() > 255) {
+    fmt::print(stderr,
+               "{:7} {:4} maps {:10}: not drawn (the slice paths count at most 255 maps in "
+               "the stencil)\n",
+               object, count, path.name);
+    run.result.cost.AddRow({object, std::to_string(count), std::to_string(map_size),
+                            std::to_string(size), path.name, std::to_string(params.slice_count),
+                            Num(ring.upload_ms, 1), "nan", "nan", "nan", "nan", "nan"});
+    return {};
+  }
+  core::Stopwatch first;
+  render::Frame frame0 = ring.renderer.RenderFrame(ring.views[0], o);
+  const double first_ms = first.ElapsedMs();
+  const core::TimingStats t = render::TimeFrames(
+      [&] { ring.renderer.DrawFrame(ring.views[0], o, ring.target); }, run.timer);
+  std::vector<render::Frame> frames;
+  frames.push_back(std::move(frame0));
+  frames.push_back(ring.renderer.RenderFrame(ring.views[1], o));
+  double iou = 0;
+  std::vector<double> errors;
+  for (size_t i = 0; i < ring.views.size(); ++i) {
+    ibr::MeshAccuracy a =
+        ibr::CompareToMesh(run.programs, run.scene, ring.views[i], frames[i].depth, run.edge);
+    iou += a.iou / static_cast<double>(ring.views.size());
+    errors.insert(errors.end(), a.depth_errors.begin(), a.depth_errors.end());
+  }
+  const double p95 = core::Percentile(errors, 0.95);
+  run.fit[path.name].emplace_back(count, t.median_ms);
+  run.result.cost.AddRow({object, std::to_string(count), std::to_string(map_size),
+                          std::to_string(size), path.name, std::to_string(params.slice_count),
+                          Num(ring.upload_ms, 1), Num(first_ms, 1), Num(t.median_ms, 2),
+                          Num(t.median_ms / count, 3), Num(iou, 4), Num(p95, 5)});
+  fmt::print(stderr,
+             "{:7} {:4} maps {:10} ({} slices): capture {:.1f} s, upload {:.1f} ms, first "
+             "frame {:.0f} ms, {:.1f} ms/frame = {:.3f} ms/map, IoU {:.4f}, p95 {:.5f} edges\n",
+             object, count, path.name, params.slice_count, ring.capture_s, ring.upload_ms, first_ms,
+             t.median_ms, t.median_ms / count, iou, p95);
+  return frames;
+}
+
+// The frame's subset of `k` maps (ibr::NearestMaps) at the largest ring,
+// against the frames from every map (`all_frames`) and against the mesh.
+void MeasureSubset(MapCountRun& run, const Ring& ring, int k,
+                   const std::vector<render::Frame>& all_frames) {
+  ibr::DepthObjectOptions o;
+  o.slicing = ibr::Slicing::kRay;
+  o.texturing = ibr::Texturing::kNone;
+  o.max_maps = k;
+  // The same steps as the frame from every map (auto counts the finest
+  // texel of the maps used).
+  ibr::DepthObjectOptions every;
+  every.slicing = ibr::Slicing::kRay;
+  o.slices = ibr::PrepareFrame(ring.renderer.maps(), ring.views[0], every).slice_count;
+  ring.renderer.RenderFrame(ring.views[0], o);  // program, skip grid of this subset
+  const core::TimingStats t = render::TimeFrames(
+      [&] { ring.renderer.DrawFrame(ring.views[0], o, ring.target); }, run.timer);
+  std::vector<core::ViewMetrics> vs_all;
+  double iou_mesh = 0;
+  std::vector<double> mesh_errors;
+  for (size_t i = 0; i < ring.views.size(); ++i) {
+    const render::Frame f = ring.renderer.RenderFrame(ring.views[i], o);
+    vs_all.push_back(core::CompareDepth(f.depth, all_frames[i].depth, run.edge));
+    ibr::MeshAccuracy a =
+        ibr::CompareToMesh(run.programs, run.scene, ring.views[i], f.depth, run.edge);
+    iou_mesh += a.iou / static_cast<double>(ring.views.size());
+    mesh_errors.insert(mesh_errors.end(), a.depth_errors.begin(), a.depth_errors.end());
+  }
+  const core::PooledMetrics p = core::Pool(vs_all);
+  const double p95_mesh = core::Percentile(mesh_errors, 0.95);
+  run.result.subset.AddRow({run.object, std::to_string(ring.count), std::to_string(k),
+                            std::to_string(run.options.view_size), Num(t.median_ms, 2),
+                            Num(p.iou_mean, 4), Num(p.depth.p95, 5), Num(iou_mesh, 4),
+                            Num(p95_mesh, 5)});
+  fmt::print(stderr,
+             "{:7} {:4} maps, nearest {:4}: {:.1f} ms/frame, against every map IoU {:.4f} "
+             "p95 {:.5f} edges; against the mesh IoU {:.4f} p95 {:.5f}\n",
+             run.object, ring.count, k, t.median_ms, p.iou_mean, p.depth.p95, iou_mesh, p95_mesh);
+}
+
+// One ring: its capture and upload, every path's cost, and at the largest
+// ring the subsets.
+void MeasureRing(MapCountRun& run, const RingConfig& config) {
+  const int count = config.count;
+  core::Stopwatch capture_watch;
+  const ibr::MapSet maps = ibr::CaptureMaps(run.programs, run.scene, fmt::format("ring:{}", count),
+                                            run.options.map_size);
+  const double capture_s = capture_watch.ElapsedMs() / 1000.0;
+  // The upload: the renderer (map table buffers) and every map's layers.
+  render::WaitForGpu();
+  core::Stopwatch upload_watch;
+  ibr::DepthObjectRenderer renderer(run.programs, maps);
+  renderer.Upload(ibr::Method::kDepthObject);
+  render::WaitForGpu();
+  const double upload_ms = upload_watch.ElapsedMs();
+  const std::vector<ibr::ViewCamera> views = SweepViews(maps, run.options.view_size);
+  const render::RenderTarget target(
+      render::FrameTargetOptions(views[0].camera.width, views[0].camera.height));
+  const Ring ring{count, capture_s, upload_ms, renderer, views, target};
+  std::vector<render::Frame> all_frames;  // ray-skip from every map (the subsets' reference)
+  Sweep<MapPath>(run.paths, {}, [&](const MapPath& path, int) {
+    std::vector<render::Frame> frames = MeasureCost(run, ring, path);
+    if (path.slicing == ibr::Slicing::kRay && !frames.empty()) all_frames = std::move(frames);
+  });
+  if (!config.largest || all_frames.empty()) return;
+  for (const int k : run.options.subsets) {
+    if (k < count) MeasureSubset(run, ring, k, all_frames);
+  }
+}
+
 }  // namespace
 
 MapCountSweepOptions MapCountSweepOptions::Quick() {
@@ -63,129 +241,14 @@ MapCountSweepOptions MapCountSweepOptions::Quick() {
 MapCountSweepResult RunMapCountSweep(render::ProgramCache& programs, const std::string& object,
                                      const capture::SceneMesh& scene,
                                      const MapCountSweepOptions& options) {
-  MapCountSweepResult r{
-      Table({"object", "maps", "map_size", "size", "path", "slices", "upload_ms", "first_frame_ms",
-             "ms_per_frame", "ms_per_map", "iou", "p95_depth_error"}),
-      Table({"object", "maps", "max_maps", "size", "ms_per_frame", "iou_vs_all", "p95_vs_all",
-             "iou_vs_mesh", "p95_vs_mesh"})};
-  const double edge = CubeEdge(MeshBounds(scene));
-  const render::FrameTimerOptions timer{1, 3};
-  struct Path {
-    std::string name;
-    ibr::Slicing slicing;
-    int slices;
-  };
-  const std::vector<Path> paths = {
-      {"ray-skip", ibr::Slicing::kRay, ibr::DepthObjectOptions::kAutoSlices},
-      {"orthogonal", ibr::Slicing::kOrthogonal, options.ortho_slices}};
-  std::vector<std::pair<double, double>> fit[2];
-  for (size_t ci = 0; ci < options.counts.size(); ++ci) {
-    const int count = options.counts[ci];
-    core::Stopwatch capture_watch;
-    const ibr::MapSet maps =
-        ibr::CaptureMaps(programs, scene, fmt::format("ring:{}", count), options.map_size);
-    const double capture_s = capture_watch.ElapsedMs() / 1000.0;
-    // The upload: the renderer (map table buffers) and every map's layers.
-    render::WaitForGpu();
-    core::Stopwatch upload_watch;
-    ibr::DepthObjectRenderer renderer(programs, maps);
-    renderer.Upload(ibr::Method::kDepthObject);
-    render::WaitForGpu();
-    const double upload_ms = upload_watch.ElapsedMs();
-    const std::vector<ibr::ViewCamera> views = SweepViews(maps, options.view_size);
-    const render::RenderTarget target(
-        render::FrameTargetOptions(views[0].camera.width, views[0].camera.height));
-    std::vector<render::Frame> all_frames;  // ray-skip from every map (the subsets' reference)
-    for (size_t pi = 0; pi < paths.size(); ++pi) {
-      const Path& path = paths[pi];
-      ibr::DepthObjectOptions o;
-      o.slicing = path.slicing;
-      o.slices = path.slices;
-      o.texturing = ibr::Texturing::kNone;
-      const ibr::FrameParams params = ibr::PrepareFrame(renderer.maps(), views[0], o);
-      if (path.slicing != ibr::Slicing::kRay && params.active.size() > 255) {
-        fmt::print(stderr,
-                   "{:7} {:4} maps {:10}: not drawn (the slice paths count at most 255 maps in "
-                   "the stencil)\n",
-                   object, count, path.name);
-        r.cost.AddRow({object, std::to_string(count), std::to_string(options.map_size),
-                       std::to_string(options.view_size), path.name,
-                       std::to_string(params.slice_count), Num(upload_ms, 1), "nan", "nan", "nan",
-                       "nan", "nan"});
-        continue;
-      }
-      core::Stopwatch first;
-      render::Frame frame0 = renderer.RenderFrame(views[0], o);
-      const double first_ms = first.ElapsedMs();
-      const core::TimingStats t =
-          render::TimeFrames([&] { renderer.DrawFrame(views[0], o, target); }, timer);
-      std::vector<render::Frame> frames;
-      frames.push_back(std::move(frame0));
-      frames.push_back(renderer.RenderFrame(views[1], o));
-      double iou = 0;
-      std::vector<double> errors;
-      for (size_t i = 0; i < views.size(); ++i) {
-        ibr::MeshAccuracy a = ibr::CompareToMesh(programs, scene, views[i], frames[i].depth, edge);
-        iou += a.iou / static_cast<double>(views.size());
-        errors.insert(errors.end(), a.depth_errors.begin(), a.depth_errors.end());
-      }
-      const double p95 = core::Percentile(errors, 0.95);
-      fit[pi].emplace_back(count, t.median_ms);
-      r.cost.AddRow({object, std::to_string(count), std::to_string(options.map_size),
-                     std::to_string(options.view_size), path.name,
-                     std::to_string(params.slice_count), Num(upload_ms, 1), Num(first_ms, 1),
-                     Num(t.median_ms, 2), Num(t.median_ms / count, 3), Num(iou, 4), Num(p95, 5)});
-      fmt::print(stderr,
-                 "{:7} {:4} maps {:10} ({} slices): capture {:.1f} s, upload {:.1f} ms, first "
-                 "frame {:.0f} ms, {:.1f} ms/frame = {:.3f} ms/map, IoU {:.4f}, p95 {:.5f} edges\n",
-                 object, count, path.name, params.slice_count, capture_s, upload_ms, first_ms,
-                 t.median_ms, t.median_ms / count, iou, p95);
-      if (path.slicing == ibr::Slicing::kRay) all_frames = std::move(frames);
-    }
-    if (ci + 1 != options.counts.size() || all_frames.empty()) continue;
-
-    // The frame's subset at the largest count: the nearest max_maps maps
-    // (ibr::NearestMaps), against every map and against the mesh.
-    for (const int k : options.subsets) {
-      if (k >= count) continue;
-      ibr::DepthObjectOptions o;
-      o.slicing = ibr::Slicing::kRay;
-      o.texturing = ibr::Texturing::kNone;
-      o.max_maps = k;
-      // The same steps as the frame from every map (auto counts the finest
-      // texel of the maps used).
-      ibr::DepthObjectOptions every;
-      every.slicing = ibr::Slicing::kRay;
-      o.slices = ibr::PrepareFrame(renderer.maps(), views[0], every).slice_count;
-      renderer.RenderFrame(views[0], o);  // program, skip grid of this subset
-      const core::TimingStats t =
-          render::TimeFrames([&] { renderer.DrawFrame(views[0], o, target); }, timer);
-      std::vector<core::ViewMetrics> vs_all;
-      double iou_mesh = 0;
-      std::vector<double> mesh_errors;
-      for (size_t i = 0; i < views.size(); ++i) {
-        const render::Frame f = renderer.RenderFrame(views[i], o);
-        vs_all.push_back(core::CompareDepth(f.depth, all_frames[i].depth, edge));
-        ibr::MeshAccuracy a = ibr::CompareToMesh(programs, scene, views[i], f.depth, edge);
-        iou_mesh += a.iou / static_cast<double>(views.size());
-        mesh_errors.insert(mesh_errors.end(), a.depth_errors.begin(), a.depth_errors.end());
-      }
-      const core::PooledMetrics p = core::Pool(vs_all);
-      const double p95_mesh = core::Percentile(mesh_errors, 0.95);
-      r.subset.AddRow({object, std::to_string(count), std::to_string(k),
-                       std::to_string(options.view_size), Num(t.median_ms, 2), Num(p.iou_mean, 4),
-                       Num(p.depth.p95, 5), Num(iou_mesh, 4), Num(p95_mesh, 5)});
-      fmt::print(stderr,
-                 "{:7} {:4} maps, nearest {:4}: {:.1f} ms/frame, against every map IoU {:.4f} "
-                 "p95 {:.5f} edges; against the mesh IoU {:.4f} p95 {:.5f}\n",
-                 object, count, k, t.median_ms, p.iou_mean, p.depth.p95, iou_mesh, p95_mesh);
-    }
-  }
-  for (size_t pi = 0; pi < paths.size(); ++pi) {
+  MapCountRun run(programs, object, scene, options);
+  Sweep<RingConfig>(RingConfigs(options), {},
+                    [&](const RingConfig& ring, int) { MeasureRing(run, ring); });
+  for (const MapPath& path : run.paths) {
     fmt::print(stderr, "{:7} {:10}: {:.3f} ms per additional map (least squares over counts)\n",
-               object, paths[pi].name, Slope(fit[pi]));
+               object, path.name, Slope(run.fit[path.name]));
   }
-  return r;
+  return std::move(run.result);
 }
 
 void WriteMapCountSweep(const MapCountSweepResult& result, const std::filesystem::path& stem,

@@ -23,8 +23,6 @@ TYPE_BLOCK = re.compile(r"\b(class|struct|union|enum)\b[^;{}()=]*$")
 
 # "file:function" -> its length (lines) before it became a sweep.
 PENDING = {
-    "depth_object_bench.cc:RunDepthObjectBench": 466,
-    "map_count_bench.cc:RunMapCountSweep": 127,
     "report_page.cc:WriteReport": 435,
     "volume_bench.cc:RunVolumeBench": 375,
 }
