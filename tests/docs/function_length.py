@@ -26,8 +26,6 @@ PENDING = {
     "deform_bench.cc:RunDeformBench": 186,
     "depth_object_bench.cc:RunDepthObjectBench": 466,
     "map_count_bench.cc:RunMapCountSweep": 127,
-    "report_page.cc:WriteReport": 435,
-    "volume_bench.cc:RunVolumeBench": 375,
 }
 
 # Braces in comments, strings and lambdas; a signature over two lines; a
