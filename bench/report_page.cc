@@ -405,27 +405,10 @@ std::optional<Table> RunViewerBenchChild(const fs::path& out, bool quick, std::s
   return ReadCsv(csv);
 }
 
-}  // namespace
+// ------------------------------------------------------------ the steps ----
 
-ReportResult WriteReport(const ReportOptions& options) {
-  options.Check();
-  const std::string mode = options.quick ? "quick" : "full";
-  const std::map<std::string, double> previous =
-      fs::is_directory(options.out) ? ReadStepTimings(options.out / "report_timings.csv", mode)
-                                    : std::map<std::string, double>{};
-  // Refuses, before minutes of measuring, a folder that is not ours to replace.
-  core::StagedDirectory staged(options.out);
-  const fs::path dir = staged.path();
-  const fs::path shared = ibr::SharedDataDir();
-
-  render::GlInfo gl;
-  {
-    auto context = render::HeadlessContext::Create();
-    gl = context->info();
-  }
-  const Table machine = MachineTable(gl);
-
-  // The benches' results, filled by the steps.
+// The benches' results, filled by the steps.
+struct ReportData {
   std::optional<DisplacementBenchResult> displacement;
   std::optional<NcsBenchResult> ncs;
   std::optional<DepthObjectBenchResult> depth_object;
@@ -436,26 +419,33 @@ ReportResult WriteReport(const ReportOptions& options) {
   std::optional<Table> viewer;
   std::string viewer_note;  // why the viewer bench did not run
   std::vector<GalleryEntry> gallery;
+};
 
-  struct Step {
-    std::string name;
-    std::function<void()> run;
-  };
-  const std::vector<Step> steps = {
+struct Step {
+  std::string name;
+  std::function<void()> run;
+};
+
+// Every bench in the order they run, each writing its files under `dir`
+// and its results into `data`.
+std::vector<Step> ReportSteps(const ReportOptions& options, const fs::path& dir,
+                              const fs::path& shared, ReportData& data) {
+  return {
       {"displacement",
        [&] {
          fs::create_directories(dir / "displacement");
-         displacement = RunDisplacementBench(
+         data.displacement = RunDisplacementBench(
              {.csv = dir / "displacement" / "displacement.csv", .quick = options.quick});
-         displacement->summary.WriteCsv(dir / "displacement" / "displacement_summary.csv");
+         data.displacement->summary.WriteCsv(dir / "displacement" / "displacement_summary.csv");
        }},
       {"ncs",
        [&] {
          auto context = render::HeadlessContext::Create();
          render::ProgramCache programs;
-         ncs = RunNcsBench(programs, options.quick ? NcsBenchOptions::Quick() : NcsBenchOptions{});
+         data.ncs =
+             RunNcsBench(programs, options.quick ? NcsBenchOptions::Quick() : NcsBenchOptions{});
          fs::create_directories(dir / "ncs");
-         WriteNcsBench(*ncs, dir / "ncs" / "ncs.csv", dir / "ncs");
+         WriteNcsBench(*data.ncs, dir / "ncs" / "ncs.csv", dir / "ncs");
        }},
       {"depth objects",
        [&] {
@@ -463,7 +453,7 @@ ReportResult WriteReport(const ReportOptions& options) {
          DepthObjectBenchOptions o;
          o.csv = dir / "depth_object" / "depth_object.csv";
          o.quick = options.quick;
-         depth_object = RunDepthObjectBench(o);
+         data.depth_object = RunDepthObjectBench(o);
        }},
       {"kautz seidel",
        [&] {
@@ -471,9 +461,9 @@ ReportResult WriteReport(const ReportOptions& options) {
          render::ProgramCache programs;
          KautzSeidelOptions o;
          o.quick = options.quick;
-         kautz_seidel = RunKautzSeidelExperiments(programs, o);
+         data.kautz_seidel = RunKautzSeidelExperiments(programs, o);
          fs::create_directories(dir / "kautz_seidel");
-         WriteKautzSeidelExperiments(*kautz_seidel, dir / "kautz_seidel" / "kautz_seidel.csv",
+         WriteKautzSeidelExperiments(*data.kautz_seidel, dir / "kautz_seidel" / "kautz_seidel.csv",
                                      dir / "kautz_seidel");
        }},
       {"deformation",
@@ -485,8 +475,8 @@ ReportResult WriteReport(const ReportOptions& options) {
          o.out = dir / "deform";
          o.csv = o.out / "deform.csv";
          o.quick = options.quick;
-         deform = RunDeformBench(programs, o);
-         WriteDeformBench(*deform, o);
+         data.deform = RunDeformBench(programs, o);
+         WriteDeformBench(*data.deform, o);
          RemoveByExtension(o.out, "_closed.obj");  // the peer's inputs
        }},
       {"volume",
@@ -497,7 +487,7 @@ ReportResult WriteReport(const ReportOptions& options) {
          o.out = dir / "volume";
          o.csv = o.out / "volume.csv";
          o.quick = options.quick;
-         volume = RunVolumeBench(o);
+         data.volume = RunVolumeBench(o);
          RemoveByExtension(o.out, ".tf.json");  // the peer's inputs
        }},
       {"scene",
@@ -505,14 +495,14 @@ ReportResult WriteReport(const ReportOptions& options) {
          auto context = render::HeadlessContext::Create();
          SceneBenchOptions o;
          o.quick = options.quick;
-         scene = RunSceneBench(o);
+         data.scene = RunSceneBench(o);
          fs::create_directories(dir / "scene");
-         WriteSceneBench(*scene, dir / "scene" / "scene.csv", dir / "scene");
+         WriteSceneBench(*data.scene, dir / "scene" / "scene.csv", dir / "scene");
        }},
       {"viewer",
        [&] {
          fs::create_directories(dir / "viewer");
-         viewer = RunViewerBenchChild(dir / "viewer", options.quick, viewer_note);
+         data.viewer = RunViewerBenchChild(dir / "viewer", options.quick, data.viewer_note);
        }},
       {"gallery",
        [&] {
@@ -522,31 +512,42 @@ ReportResult WriteReport(const ReportOptions& options) {
          o.quick = options.quick;
          o.size = options.quick ? 160 : 384;
          o.map_size = options.quick ? 128 : 256;
-         gallery = RenderGallery(programs, o);
+         data.gallery = RenderGallery(programs, o);
        }},
   };
+}
 
+using Clock = std::chrono::steady_clock;
+
+double SecondsSince(Clock::time_point t) {
+  return std::chrono::duration<double>(Clock::now() - t).count();
+}
+
+// Runs `steps` in order, each announced on stderr with the time left as
+// estimated from the steps done and `previous` (a run of the same mode).
+ReportResult RunSteps(const std::vector<Step>& steps, const std::map<std::string, double>& previous,
+                      Clock::time_point start) {
   std::vector<std::string> names;
   for (const Step& s : steps) names.push_back(s.name);
   std::vector<double> done;
   ReportResult result;
-  const auto start = std::chrono::steady_clock::now();
-  auto since = [](std::chrono::steady_clock::time_point t) {
-    return std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
-  };
   for (size_t i = 0; i < steps.size(); ++i) {
     std::fprintf(stderr, "step %zu of %zu: %s, elapsed %s, estimated %s left\n", i + 1,
-                 steps.size(), steps[i].name.c_str(), Seconds(since(start)).c_str(),
+                 steps.size(), steps[i].name.c_str(), Seconds(SecondsSince(start)).c_str(),
                  Seconds(EstimateSecondsLeft(names, i, done, previous)).c_str());
     std::fflush(stderr);
-    const auto step_start = std::chrono::steady_clock::now();
+    const auto step_start = Clock::now();
     steps[i].run();
-    done.push_back(since(step_start));
+    done.push_back(SecondsSince(step_start));
     result.steps.push_back({steps[i].name, done.back()});
   }
+  return result;
+}
 
-  // ---------------------------------------------------------- the page ----
-  Page page;
+// ------------------------------------------------------- the sections ----
+
+void AddIntroSection(Page& page, const ReportOptions& options, const std::string& mode,
+                     const Table& machine) {
   page.Heading("What accuracy costs in time: every technique, beside the papers and the peers", 1);
   page.Text(fmt::format(
       "Written by `ibr report{}` ({} run: {}). Every number below was measured in this run on "
@@ -559,61 +560,78 @@ ReportResult WriteReport(const ReportOptions& options) {
                     : "every bench's full sweep"));
   page.Heading("Machine");
   page.AddTable(machine);
+}
 
-  std::vector<TradeoffFamily> families = {DisplacementTradeoff(displacement->table),
-                                          NcsTradeoff(ncs->table),
-                                          DepthObjectTradeoff(depth_object->table),
-                                          DepthObjectSilhouetteTradeoff(depth_object->table),
-                                          VolumeTradeoff(*volume),
-                                          DeformTradeoff(deform->accuracy),
-                                          DeformSilhouetteTradeoff(deform->accuracy)};
+// The error-vs-time families, in the closing note's order; each written as
+// `ID_tradeoff.csv` and `ID_tradeoff.png` into `dir`.
+std::vector<TradeoffFamily> WriteTradeoffs(const ReportData& data, const fs::path& dir) {
+  std::vector<TradeoffFamily> families = {DisplacementTradeoff(data.displacement->table),
+                                          NcsTradeoff(data.ncs->table),
+                                          DepthObjectTradeoff(data.depth_object->table),
+                                          DepthObjectSilhouetteTradeoff(data.depth_object->table),
+                                          VolumeTradeoff(*data.volume),
+                                          DeformTradeoff(data.deform->accuracy),
+                                          DeformSilhouetteTradeoff(data.deform->accuracy)};
   for (const TradeoffFamily& f : families) {
     TradeoffTable(f).WriteCsv(dir / (f.id + "_tradeoff.csv"));
     PlotTradeoff(f, dir / (f.id + "_tradeoff.png"));
   }
-  // `panel`: what one panel holds; `table`: the bench's own table, below the report.
-  auto tradeoff_text = [&](const TradeoffFamily& f, const std::string& panel,
-                           const std::string& table) {
-    return fmt::format(
-        "Error ({}) against time per frame, one panel per {}, every method and peer on the same "
-        "axes; a method's points are joined only along its {} (nothing else varies along a "
-        "line); circled points are the panel's Pareto front of the methods (no other method's "
-        "point is both faster and more accurate; the truth, where a family has one, is drawn "
-        "but set aside, since it is exact by construction). Data: `{}_tradeoff.csv` "
-        "(pareto_methods = 1 on that front; pareto = 1 on the front with the truth counted); "
-        "the bench's table: `{}`.",
-        f.error_label, panel, f.knob_label, f.id, table);
-  };
+  return families;
+}
 
-  page.Heading(families[0].title);
-  page.Text(
-      tradeoff_text(families[0], "view elevation and image size", "displacement/displacement.csv"));
+// A family's plot explained. `panel`: what one panel holds; `table`: the
+// bench's own table, below the report.
+std::string TradeoffText(const TradeoffFamily& f, const std::string& panel,
+                         const std::string& table) {
+  return fmt::format(
+      "Error ({}) against time per frame, one panel per {}, every method and peer on the same "
+      "axes; a method's points are joined only along its {} (nothing else varies along a "
+      "line); circled points are the panel's Pareto front of the methods (no other method's "
+      "point is both faster and more accurate; the truth, where a family has one, is drawn "
+      "but set aside, since it is exact by construction). Data: `{}_tradeoff.csv` "
+      "(pareto_methods = 1 on that front; pareto = 1 on the front with the truth counted); "
+      "the bench's table: `{}`.",
+      f.error_label, panel, f.knob_label, f.id, table);
+}
+
+void AddDisplacementSection(Page& page, const TradeoffFamily& family,
+                            const DisplacementBenchResult& displacement) {
+  page.Heading(family.title);
+  page.Text(TradeoffText(family, "view elevation and image size", "displacement/displacement.csv"));
   page.Image("displacement_tradeoff.png", "displacement by slicing: error vs time");
   page.Text("The paper's figures beside ours (Kautz-Seidel 2001):");
-  page.AddTable(KautzSeidelSlicingTable(displacement->table));
+  page.AddTable(KautzSeidelSlicingTable(displacement.table));
   page.Text("Slices needed for a p95 depth error under one height texel (the bench's summary):");
-  page.AddTable(displacement->summary);
+  page.AddTable(displacement.summary);
+}
 
-  page.Heading(families[1].title);
-  page.Text(tradeoff_text(families[1], "view and tiling", "ncs/ncs.csv"));
+void AddNcsSection(Page& page, const TradeoffFamily& family, const NcsBenchResult& ncs) {
+  page.Heading(family.title);
+  page.Text(TradeoffText(family, "view and tiling", "ncs/ncs.csv"));
   page.Image("ncs_tradeoff.png", "NCS, relief mapping, POM: silhouette error vs time");
   page.Image("ncs/ncs_time_vs_tiling.png",
              "cost against tiling (the analogue of Chen-Chang Fig. 6)");
   page.Text("The paper's figures beside ours (Chen-Chang):");
-  page.AddTable(ChenChangTable(ncs->table));
+  page.AddTable(ChenChangTable(ncs.table));
+}
 
-  page.Heading(families[2].title);
-  page.Text(tradeoff_text(families[2], "object and image size", "depth_object/depth_object.csv") +
+// Also plots the Fig. 12 analogues into `dir`/depth_object.
+void AddDepthObjectSection(Page& page, const TradeoffFamily& family,
+                           const TradeoffFamily& silhouette_family,
+                           const DepthObjectBenchResult& depth_object, const fs::path& dir) {
+  page.Heading(family.title);
+  page.Text(TradeoffText(family, "object and image size", "depth_object/depth_object.csv") +
             " The peers (Open3D TSDF fusion and voxel carving, `bench/open3d_peer.py`) are "
             "judged from the same views; their knob is the voxel resolution, their time the "
             "frame time of drawing their mesh (building it is in the bench's "
             "time_to_first_image_s column).");
   page.Image("depth_object_tradeoff.png", "depth objects and peers: error vs time");
-  page.Text(tradeoff_text(families[3], "object and image size", "depth_object/depth_object.csv"));
+  page.Text(
+      TradeoffText(silhouette_family, "object and image size", "depth_object/depth_object.csv"));
   page.Image("depth_object_silhouette_tradeoff.png",
              "depth objects and peers: silhouette error vs time");
   fs::create_directories(dir / "depth_object");
-  PlotPng(depth_object->fig_coverage,
+  PlotPng(depth_object.fig_coverage,
           {.title = "Fig. 12 analogue: time vs covered pixels, 128 slices (bunny; quick: cup)",
            .x_column = "covered_pixels",
            .y_column = "ms_per_frame",
@@ -622,7 +640,7 @@ ReportResult WriteReport(const ReportOptions& options) {
            .y_label = "ms per frame",
            .order_column = "covered_pixels"},
           dir / "depth_object" / "fig12_time_vs_coverage.png");
-  PlotPng(depth_object->fig_slices,
+  PlotPng(depth_object.fig_slices,
           {.title = "Fig. 12 analogue: time vs slices at a fixed size",
            .x_column = "slices",
            .y_column = "ms_per_frame",
@@ -634,59 +652,64 @@ ReportResult WriteReport(const ReportOptions& options) {
   page.Image("depth_object/fig12_time_vs_coverage.png", "Kautz-Seidel Fig. 12 (upper) analogue");
   page.Image("depth_object/fig12_time_vs_slices.png", "Kautz-Seidel Fig. 12 (lower) analogue");
   page.Text("The paper's figures beside ours (Kautz-Seidel 2001, sec. 6 and Fig. 12):");
-  page.AddTable(KautzSeidelDepthObjectTable(depth_object->fig_coverage, depth_object->fig_slices));
+  page.AddTable(KautzSeidelDepthObjectTable(depth_object.fig_coverage, depth_object.fig_slices));
   page.Text("Every path at its default slice count (sec. 3.4's rule) against the true mesh:");
-  page.AddTable(depth_object->accuracy);
+  page.AddTable(depth_object.accuracy);
   page.Text(
       "Where the default path's time goes: the ray path at its defaults (empty-space skipping, "
       "sub-texel depth, one step per depth texel) at the largest size, against the same frame "
       "with one part taken away or reduced, in the same run:");
-  page.AddTable(depth_object->profile);
-  if (!depth_object->first_image.rows().empty()) {
+  page.AddTable(depth_object.profile);
+  if (!depth_object.first_image.rows().empty()) {
     page.Text(
         "Time to first image (fresh processes; cold, warm and binaries-only caches) beside "
         "the TSDF peer's:");
-    page.AddTable(depth_object->first_image);
+    page.AddTable(depth_object.first_image);
   }
-  if (!depth_object->peer_goals.rows().empty()) {
+  if (!depth_object.peer_goals.rows().empty()) {
     page.Text(
         "The default path against the TSDF peer at 1/256 in the same run (issue 36): the still "
         "frame's goal is a ratio <= 1 at a better p95 depth error, the first image's <= 0.1, "
         "cold (empty caches) and warm (`depth_object/depth_object_peer_goals.csv`):");
-    page.AddTable(depth_object->peer_goals);
+    page.AddTable(depth_object.peer_goals);
   }
-  if (!depth_object->maps.cost.rows().empty()) {
+  if (!depth_object.maps.cost.rows().empty()) {
     page.Text(
         "The cost per map (ring captures of the first object, one view; "
         "`depth_object/depth_object_maps.csv`) and what a frame's nearest-maps subset "
         "costs in error (`depth_object/depth_object_maps_subset.csv`):");
-    page.AddTable(depth_object->maps.cost);
-    page.AddTable(depth_object->maps.subset);
+    page.AddTable(depth_object.maps.cost);
+    page.AddTable(depth_object.maps.subset);
   }
+}
 
+void AddKautzSeidelSection(Page& page, const KautzSeidelResult& kautz_seidel) {
   page.Heading("Kautz-Seidel 2001: the paper's own experiments");
   page.Text(fmt::format(
       "`ibr bench kautz-seidel` on {} (cube-rig maps): Fig. 12 for depth objects and visual "
       "hulls of the same object and views, sec. 6's viewing-angle claim, its two quality points "
       "and the donut at 15-25 orthogonal slices. Each table carries the paper's figure and its "
       "source beside ours. Data: `kautz_seidel/`.",
-      kautz_seidel->object));
+      kautz_seidel.object));
   page.Image("kautz_seidel/ks_fig12_time_vs_coverage.png",
              "Fig. 12 (upper): time vs covered pixels, depth object and visual hull");
   page.Image("kautz_seidel/ks_fig12_time_vs_slices.png",
              "Fig. 12 (lower): time vs slices, depth object and visual hull");
   page.Image("kautz_seidel/ks_time_vs_angle.png", "sec. 6: time against the viewing angle");
   page.Text("Time against the viewing angle (sec. 6: up to 20 % faster at oblique views):");
-  page.AddTable(kautz_seidel->angle);
+  page.AddTable(kautz_seidel.angle);
   page.Text("The quality points (sec. 6: ~150 x 150 px at 70 slices, 400 x 400 at 150):");
-  page.AddTable(kautz_seidel->points);
+  page.AddTable(kautz_seidel.points);
   page.Text(
       "The donut by orthogonal slicing (sec. 6, Figs. 1, 17, 18) against the tessellated "
       "truth:");
-  page.AddTable(kautz_seidel->donut);
+  page.AddTable(kautz_seidel.donut);
+}
 
-  page.Heading(families[5].title);
-  page.Text(tradeoff_text(families[5], "mesh and image size", "deform/deform_accuracy.csv") +
+void AddDeformSection(Page& page, const TradeoffFamily& family,
+                      const TradeoffFamily& silhouette_family, const DeformBenchResult& deform) {
+  page.Heading(family.title);
+  page.Text(TradeoffText(family, "mesh and image size", "deform/deform_accuracy.csv") +
             " Spot cut by the solid knife (eq. 6) from the gallery's oblique view; the error is "
             "measured against the double-precision sphere tracer of `core/deform_reference.h` "
             "(the exact mesh distance, the analytic deformation and cut) traced through every "
@@ -695,7 +718,7 @@ ReportResult WriteReport(const ReportOptions& options) {
             "each step policy's step (fixed; threshold-adaptive, Hadwiger 2005; Jacobian, eq. 4) "
             "at resolution 128.");
   page.Image("deform_tradeoff.png", "deformation and cut shaders: depth error vs time");
-  page.Text(tradeoff_text(families[6], "mesh and image size", "deform/deform_accuracy.csv") +
+  page.Text(TradeoffText(silhouette_family, "mesh and image size", "deform/deform_accuracy.csv") +
             " The same frames, judged by their silhouettes.");
   page.Image("deform_silhouette_tradeoff.png",
              "deformation and cut shaders: silhouette error vs time");
@@ -711,7 +734,7 @@ ReportResult WriteReport(const ReportOptions& options) {
       "to the continuous deformation of the same model); the rows 'ours, no object skipping' "
       "run the paper's shader, which skips by the cut's distance only (sec. 6.2), each "
       "over its own continuous deformation without the skipping:");
-  page.AddTable(Correa2007Table(deform->summary, deform->frames));
+  page.AddTable(Correa2007Table(deform.summary, deform.frames));
   page.Text(
       "The goals of the cut, peer and spread workloads beside the paper's figures. The wedge "
       "cut-away (D = 0, its alpha a signed distance) sits in a box enclosing the object, so no "
@@ -725,14 +748,16 @@ ReportResult WriteReport(const ReportOptions& options) {
       "the same surface, twist, box and view. Data: `deform/deform.csv` (workload wedge and "
       "forward), "
       "`deform/deform_spread.csv`, `deform/deform_goals.csv`.");
-  page.AddTable(Correa2007GoalsTable(deform->wedge, deform->forward, deform->spread_figures));
-  page.AddTable(deform->spread);
-  page.Text(deform->pull_figures.Line() +
+  page.AddTable(Correa2007GoalsTable(deform.wedge, deform.forward, deform.spread_figures));
+  page.AddTable(deform.spread);
+  page.Text(deform.pull_figures.Line() +
             " (Fig. 3 (b)-(d) counted against the double reference; `deform/deform_pull.csv`).");
-  page.AddTable(deform->pull);
+  page.AddTable(deform.pull);
+}
 
+void AddVolumeSection(Page& page, const TradeoffFamily& family, const Table& volume) {
   page.Heading("Volume displacement (Correa, Silver, Chen 2006)");
-  page.Text(tradeoff_text(families[4], "volume and image size", "volume/volume.csv") +
+  page.Text(TradeoffText(family, "volume and image size", "volume/volume.csv") +
             " The two knobs of the peeled tooth are swept one at a time, each image compared with "
             "the finest setting's (the pass itself agrees with a double CPU reference at its own "
             "slices to 0.006/255 in the tests, and in the gallery below). The VTK GPU ray caster, "
@@ -744,15 +769,17 @@ ReportResult WriteReport(const ReportOptions& options) {
   page.Image("volume/volume_time_vs_map_size.png", "peeled tooth: time vs map size");
   page.Image("volume/volume_time_vs_area.png", "plain DVR: time vs rasterised slice area");
   page.Text("The paper's figures beside ours (Correa 2006, Tables 1-2, sec. 8):");
-  page.AddTable(Correa2006Table(*volume));
+  page.AddTable(Correa2006Table(volume));
   page.Text(
       "The goals of issue 35 (`volume/volume_goals.csv`): the eq. 6+7 frame against the displaced "
       "floor on the same slices, the displaced fragment against the plain one, and our displaced "
       "frame against VTK ray casting the volume warped once by the same map, whose resample is "
       "what each edit of the map would cost that way:");
-  page.AddTable(VolumeGoalsTable(*volume));
-  page.AddTable(Filtered(*volume, [&](const auto& r) { return r[0] == "volume"; }));
+  page.AddTable(VolumeGoalsTable(volume));
+  page.AddTable(Filtered(volume, [&](const auto& r) { return r[0] == "volume"; }));
+}
 
+void AddSceneSection(Page& page, const SceneBenchResult& scene) {
   page.Heading("Scene overhead (no paper)");
   page.Text(
       "What an effect costs a scene file when on, named but disabled, and absent. Ratios to "
@@ -771,8 +798,11 @@ ReportResult WriteReport(const ReportOptions& options) {
   page.Image("scene/scene_bench.png", "the effect on: ratios to absent per effect");
   page.Image("scene/scene_bench_disabled.png",
              "the effect disabled: ratios to absent with their 95 % intervals");
-  page.AddTable(scene->table);
+  page.AddTable(scene.table);
+}
 
+// `viewer`: the viewer bench's table, nullopt when it did not run (`note` says why).
+void AddViewerSection(Page& page, const std::optional<Table>& viewer, const std::string& note) {
   page.Heading("Interactive viewing (no paper)");
   page.Text(
       "`ibr view` in a real window under Xvfb (`ibr bench viewer`): a scripted orbit and a "
@@ -788,9 +818,12 @@ ReportResult WriteReport(const ReportOptions& options) {
     page.Image("viewer/viewer_motion.png", "moving frames: frame rate and PSNR against exact");
     page.AddTable(*viewer);
   } else {
-    page.Text("Not run: " + viewer_note);
+    page.Text("Not run: " + note);
   }
+}
 
+// Also writes each entry's contact sheet into `dir`/gallery.
+void AddGallerySection(Page& page, const std::vector<GalleryEntry>& gallery, const fs::path& dir) {
   page.Heading("Gallery: hard views beside their truth");
   page.Text(
       "Left to right: the method, the truth rendered in the same run (the tessellated surface; "
@@ -811,7 +844,9 @@ ReportResult WriteReport(const ReportOptions& options) {
   page.Image("ncs/ncs_silhouettes_grazing.png",
              "the NCS bench's grazing silhouettes: truth, then each method; below, coverage "
              "against the truth (red: extra, green: missing)");
+}
 
+void AddFrontSection(Page& page, const std::vector<TradeoffFamily>& families) {
   page.Heading("Closing note: the Pareto front of each family");
   for (const TradeoffFamily& f : families) {
     page.Text(fmt::format("**{}** (method knob (ms per frame, {})):", f.title, f.error_label));
@@ -819,13 +854,20 @@ ReportResult WriteReport(const ReportOptions& options) {
     for (const std::string& line : FrontLines(f)) list += "- " + line + "\n";
     page.Text(list.empty() ? "(no rows)" : list.substr(0, list.size() - 1));
   }
-  result.seconds = since(start);
+}
+
+std::string RunTimeLine(const ReportResult& result) {
   std::string timing = fmt::format("Run time {:.0f} s:", result.seconds);
   for (const ReportStep& s : result.steps)
     timing += fmt::format(" {} {:.0f} s;", s.name, s.seconds);
   timing.back() = '.';
-  page.Text(timing);
+  return timing;
+}
 
+// The step timings, report.md, summary.md (when a headline row was made)
+// and report.html into `dir`.
+void WritePageFiles(const Page& page, const fs::path& dir, const ReportResult& result,
+                    const std::string& mode) {
   Table timings({"step", "mode", "seconds"});
   for (const ReportStep& s : result.steps) timings.AddRow({s.name, mode, Num(s.seconds, 1)});
   timings.WriteCsv(dir / "report_timings.csv");
@@ -837,6 +879,49 @@ ReportResult WriteReport(const ReportOptions& options) {
   }
   const std::string html = page.Html(dir);
   core::AtomicWriteStream(dir / "report.html", [&](std::ostream& out) { out << html; });
+}
+
+}  // namespace
+
+ReportResult WriteReport(const ReportOptions& options) {
+  options.Check();
+  const std::string mode = options.quick ? "quick" : "full";
+  const std::map<std::string, double> previous =
+      fs::is_directory(options.out) ? ReadStepTimings(options.out / "report_timings.csv", mode)
+                                    : std::map<std::string, double>{};
+  // Refuses, before minutes of measuring, a folder that is not ours to replace.
+  core::StagedDirectory staged(options.out);
+  const fs::path dir = staged.path();
+  const fs::path shared = ibr::SharedDataDir();
+
+  render::GlInfo gl;
+  {
+    auto context = render::HeadlessContext::Create();
+    gl = context->info();
+  }
+  const Table machine = MachineTable(gl);
+  ReportData data;
+  const std::vector<Step> steps = ReportSteps(options, dir, shared, data);
+  const Clock::time_point start = Clock::now();
+  ReportResult result = RunSteps(steps, previous, start);
+
+  // The page: one section per step, in the steps' order, then the fronts.
+  Page page;
+  AddIntroSection(page, options, mode, machine);
+  const std::vector<TradeoffFamily> families = WriteTradeoffs(data, dir);
+  AddDisplacementSection(page, families[0], *data.displacement);
+  AddNcsSection(page, families[1], *data.ncs);
+  AddDepthObjectSection(page, families[2], families[3], *data.depth_object, dir);
+  AddKautzSeidelSection(page, *data.kautz_seidel);
+  AddDeformSection(page, families[5], families[6], *data.deform);
+  AddVolumeSection(page, families[4], *data.volume);
+  AddSceneSection(page, *data.scene);
+  AddViewerSection(page, data.viewer, data.viewer_note);
+  AddGallerySection(page, data.gallery, dir);
+  AddFrontSection(page, families);
+  result.seconds = SecondsSince(start);
+  page.Text(RunTimeLine(result));
+  WritePageFiles(page, dir, result, mode);
   staged.Commit();
   std::fprintf(stderr, "report: done in %.0f s, wrote %s\n", result.seconds,
                (options.out / "report.md").c_str());

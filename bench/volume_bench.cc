@@ -17,6 +17,7 @@
 
 #include "bench/gallery.h"
 #include "bench/report.h"
+#include "bench/sweep.h"
 #include "core/atomic_file.h"
 #include "core/error.h"
 #include "core/image_compose.h"
@@ -372,312 +373,462 @@ void VolumeBenchOptions::Check() const {
     core::ThrowInputError("ibr bench volume", "--size {} not in [32, 4096]", size);
 }
 
-Table RunVolumeBench(const VolumeBenchOptions& o) {
-  o.Check();
-  const int size = o.quick ? 128 : o.size;
-  const render::FrameTimerOptions timer{1, o.quick ? 1 : 3};
-  render::ProgramCache programs;
-  render::FillRateOptions fill_options;
-  fill_options.width = fill_options.height = size;
-  fill_options.linear_filter = true;
-  const render::FillRate fill = render::MeasureFillRate(programs, fill_options);
-  fmt::print("calibrated fill rate (LINEAR, {} px): {:.1f} M fragments/s\n", size,
-             fill.fragments_per_second * 1e-6);
+namespace {
 
-  Table table(VolumeBenchColumns());
-  // A row from named cells; the others empty.
-  auto add_cells = [&](const std::map<std::string, std::string>& cells) {
-    std::vector<std::string> row(table.columns().size());
-    for (const auto& [column, value] : cells) row[table.Column(column)] = value;
-    table.AddRow(std::move(row));
-  };
-  // `error`: the p95 colour error against the finest setting (1/255; NaN:
-  // not measured, an empty cell); `vs_32bit` against the 32-bit map's.
-  auto add = [&](const std::string& sweep, const std::string& volume, const std::string& variant,
-                 double sampling, int map_size, int px, const Measured& m, double plain_ms,
-                 const PeerResult* peer, double error, const core::ErrorStats* vs_32bit = nullptr) {
-    const double fraction = m.area_px / (m.ms * 1e-3) / fill.fragments_per_second;
-    const auto maybe = [](double v, int digits) { return std::isfinite(v) ? Num(v, digits) : ""; };
-    add_cells(
-        {{"sweep", sweep},
-         {"volume", volume},
-         {"variant", variant},
-         {"sampling_voxels", Num(sampling, 2)},
-         {"map_size", std::to_string(map_size)},
-         {"map_bits", m.map_bits ? std::to_string(m.map_bits) : ""},
-         {"bytes_per_map", m.map_bits ? std::to_string(m.map_bytes) : ""},
-         {"jacobian_bytes", m.map_bits ? std::to_string(m.jacobian_bytes) : ""},
-         {"size_px", std::to_string(px)},
-         {"slices", std::to_string(m.slices)},
-         {"ms_per_frame", Num(m.ms, 1)},
-         {"area_Mpx", Num(m.area_px * 1e-6, 3)},
-         {"ns_per_fragment", Num(m.ms * 1e6 / std::max(m.area_px, 1.0), 2)},
-         {"fill_fraction", Num(fraction, 3)},
-         {"map_coverage", m.map_bits ? Num(m.displaced_area_px / std::max(m.area_px, 1.0), 3) : ""},
-         {"ratio_to_plain", plain_ms > 0 ? Num(m.ms / plain_ms, 2) : ""},
-         {"vtk_ms", peer && peer->ok ? Num(peer->median_ms, 1) : ""},
-         {"vtk_min_ms", peer && peer->ok ? Num(peer->min_ms, 1) : ""},
-         {"p95_color_error_vs_finest", maybe(error, 3)},
-         {"p95_color_error_vs_32bit", vs_32bit ? Num(vs_32bit->p95, 3) : ""},
-         {"max_color_error_vs_32bit", vs_32bit ? Num(vs_32bit->max, 3) : ""}});
-    fmt::print("{:<10} {:<8} {:<22} {:>6.1f} ms  slices {:>4}  fill {:.3f}\n", sweep, volume,
-               variant, m.ms, m.slices, fraction);
-  };
-  // The floors of a DVR fragment here, full-screen layers against the same
-  // calibration (what fill_fraction can reach at best on this machine): one
-  // trilinear 3D lookup classified by the transfer function, premultiplied
-  // blending (plain DVR), and a map's trilinear lookup before it, the volume
-  // read where it points (displaced DVR: the least a displaced sample does).
-  using Work = render::FillRateOptions::Work;
-  for (const auto& [work, name] :
-       {std::pair{Work::kVolumeBlend, "3D fetch + transfer function + blend"},
-        std::pair{Work::kDisplacedVolumeBlend,
-                  "map fetch then 3D fetch + transfer function + blend"}}) {
-    render::FillRateOptions floor_options = fill_options;
-    floor_options.work = work;
-    const render::FillRate f = render::MeasureFillRate(programs, floor_options);
-    const double fraction = f.fragments_per_second / fill.fragments_per_second;
-    add_cells({{"sweep", "floor"},
-               {"volume", "calibration"},
-               {"variant", name},
-               {"sampling_voxels", "0"},
-               {"map_size", "0"},
-               {"size_px", std::to_string(size)},
-               {"slices", std::to_string(floor_options.layers_per_frame)},
-               {"ms_per_frame", Num(f.ms_per_frame, 1)},
-               {"area_Mpx", Num(f.fragments_per_frame * 1e-6, 3)},
-               {"ns_per_fragment", Num(1e9 / f.fragments_per_second, 2)},
-               {"fill_fraction", Num(fraction, 3)}});
-    fmt::print("DVR floor ({}, {} px): {:.1f} M fragments/s, {:.3f} of the calibrated fill rate\n",
-               name, size, f.fragments_per_second * 1e-6, fraction);
-  }
-  // The top layer z in [0.6, 0.8], x > 0.5, turned by 160 degrees.
-  const std::vector<core::Deformation> peel = {
-      {.kind = core::DeformationKind::kPeel, .amount = 160 * M_PI / 180, .width = 0.2}};
+// ------------------------------------------------------------- the sweep ----
+
+// Plain DVR, shaded as the peer shades: the frame every ratio is against.
+render::VolumePassOptions PlainOptions() {
   render::VolumePassOptions plain;
   plain.lighting = render::VolumeLighting::kGradient;  // shading on, as the peer
-  render::VolumePassOptions displaced = plain;
-  displaced.lighting = render::VolumeLighting::kBlended;
+  return plain;
+}
 
+// The peel through its map with blended normals (eq. 6+7): the "volume" row
+// and the setting the other sweeps vary.
+render::VolumePassOptions DisplacedOptions() {
+  render::VolumePassOptions displaced = PlainOptions();
+  displaced.lighting = render::VolumeLighting::kBlended;
+  return displaced;
+}
+
+// The three shared volumes and, in the full sweep, the synthetic 256^3.
+std::vector<Entry> VolumeEntries(const VolumeBenchOptions& o) {
   std::vector<Entry> volumes = {{"tooth", o.shared_data / "volumes/tooth_103x94x161_uint8.dat"},
                                 {"neghip", o.shared_data / "volumes/neghip_64x64x64_uint8.dat"},
                                 {"bucky", o.shared_data / "volumes/Bucky_32x32x32_uint8.dat"}};
   if (!o.quick) volumes.push_back({"synthetic256", {}});
-  fs::path work = o.out.empty() ? fs::temp_directory_path() : o.out;
-  if (!o.out.empty()) fs::create_directories(o.out);
+  return volumes;
+}
+
+// What every row shares: the timer, the programs, the fill rate every
+// fill_fraction is against, the pass settings, the table and the summary.
+struct VolumeRun {
+  explicit VolumeRun(const VolumeBenchOptions& o)
+      : options(o), size(o.quick ? 128 : o.size), timer{1, o.quick ? 1 : 3} {}
+  const VolumeBenchOptions& options;
+  const int size;  // image size, pixels
+  const render::FrameTimerOptions timer;
+  render::ProgramCache programs;
+  render::FillRateOptions fill_options;  // the calibration's (Calibrate)
+  render::FillRate fill;
+  fs::path work;  // where the peer's files go
+  // The top layer z in [0.6, 0.8], x > 0.5, turned by 160 degrees.
+  const std::vector<core::Deformation> peel = {
+      {.kind = core::DeformationKind::kPeel, .amount = 160 * M_PI / 180, .width = 0.2}};
+  const render::VolumePassOptions plain = PlainOptions(), displaced = DisplacedOptions();
+  Table table{VolumeBenchColumns()};
   std::vector<std::string> summary;  // one line per volume: the ratios
-  for (const Entry& e : volumes) {
-    const core::Volume volume = e.dat.empty() ? SyntheticVolume(256) : core::ReadVolume(e.dat);
-    const core::TransferFunction tf = ibr::TransferForVolume(e.dat.empty() ? "bucky" : "", e.dat);
-    const ibr::VolumeObjectData bare = ibr::MakeVolumeObject(volume, tf, {}, 64);
-    const ibr::VolumeObjectData peeled = ibr::MakeVolumeObject(volume, tf, peel, 64);
-    spdlog::info("bench volume: {} ({} x {} x {})", e.name, volume.dims.x, volume.dims.y,
-                 volume.dims.z);
-    PeerResult peer;
-    if (o.peer) {
-      const fs::path dat = PeerDat(e, volume, work);
-      peer = RunVtkPeer(dat, size, 1.0, tf, work);
-      RemovePeerDat(e, dat);
-      if (!peer.ok) spdlog::warn("VTK peer failed on {}: {}", e.name, peer.error);
-    }
-    const Measured p = TimeVolume(programs, bare, plain, size, timer);
-    add("volume", e.name, "plain DVR (shaded)", 1.0, 0, size, p, p.ms, &peer, std::nan(""));
-    const Measured d = TimeVolume(programs, peeled, displaced, size, timer);
-    add("volume", e.name, "peel 64^3 (eq. 6+7)", 1.0, 64, size, d, p.ms, nullptr, std::nan(""));
-    // The floors on this frame's own slices (VolumePassOptions::floor_shader):
-    // plain, one scalar fetch a fragment on the plain frame's slices; displaced,
-    // a map fetch then the scalar where it points on every slice fragment of
-    // the peeled frame (unsplit): the least a displaced frame can cost here.
-    render::VolumePassOptions floor = plain;
-    floor.lighting = render::VolumeLighting::kNone;
-    floor.floor_shader = true;
-    add("floor", e.name, "plain floor", 1.0, 0, size,
-        TimeVolume(programs, bare, floor, size, timer), p.ms, nullptr, std::nan(""));
-    floor.support_skip = false;
-    add("floor", e.name, "displaced floor", 1.0, 64, size,
-        TimeVolume(programs, peeled, floor, size, timer), p.ms, nullptr, std::nan(""));
-    if (o.peer) {
-      // The peer warps the volume on the CPU by the same map, once, then ray
-      // casts the warped volume: what an edit of the map costs it (the
-      // resample) and what a frame costs it after.
-      WarpInput warp{core::DequantizeDisplacementMap(core::StoreDisplacementMap(
-                         peeled.maps[0].map, displaced.displacement_bits)),
-                     peeled.maps[0].placement, render::VolumeProxyBox(peeled.maps),
-                     work / (e.name + ".warped.raw")};
-      const fs::path dat = PeerDat(e, volume, work);
-      const PeerResult warped = RunVtkPeer(dat, size, 1.0, tf, work, &warp);
-      if (warped.ok) {
-        const double check = CheckPrewarp(volume, warp, warped.warped_dims) * 255;
-        add_cells({{"sweep", "peer"},
-                   {"volume", e.name},
-                   {"variant", "vtk prewarped"},
-                   {"sampling_voxels", Num(1.0, 2)},
-                   {"map_size", "64"},
-                   {"map_bits", std::to_string(displaced.displacement_bits)},
-                   {"size_px", std::to_string(size)},
-                   {"ms_per_frame", Num(warped.median_ms, 1)},
-                   {"ratio_to_plain", Num(warped.median_ms / p.ms, 2)},
-                   {"vtk_ms", Num(warped.median_ms, 1)},
-                   {"vtk_min_ms", Num(warped.min_ms, 1)},
-                   {"vtk_resample_ms", Num(warped.resample_ms, 1)},
-                   {"vtk_warp_p95_error", std::isfinite(check) ? Num(check, 3) : ""}});
-        fmt::print(
-            "vtk prewarped {:<8} resample {:.1f} ms (the edit latency), frame {:.1f} ms; ours "
-            "displaced {:.1f} ms; warped volume vs ours p95 {:.3f}/255\n",
-            e.name, warped.resample_ms, warped.median_ms, d.ms, check);
-      } else {
-        spdlog::warn("VTK prewarped peer failed on {}: {}", e.name, warped.error);
-      }
-      fs::remove(warp.out_raw);
-      RemovePeerDat(e, dat);
-    }
-    // The baseline of the support skip (VolumePassOptions::support_skip):
-    // every slice fragment runs the displaced shader.
-    render::VolumePassOptions unsplit = displaced;
-    unsplit.support_skip = false;
-    const Measured w = TimeVolume(programs, peeled, unsplit, size, timer);
-    // (its own sweep: the paper table reads every "volume" row as the peel).
-    add("unsplit", e.name, "peel 64^3 (eq. 6+7) unsplit", 1.0, 64, size, w, p.ms, nullptr,
-        std::nan(""));
-    // The slices split at the support box only (no bricks,
-    // VolumePassOptions::brick_texels 0): the split before bricks.
-    render::VolumePassOptions box_only = displaced;
-    box_only.brick_texels = 0;
-    const Measured x = TimeVolume(programs, peeled, box_only, size, timer);
-    add("unsplit", e.name, "peel 64^3 (eq. 6+7) support box only", 1.0, 64, size, x, p.ms, nullptr,
-        std::nan(""));
-    // Unsplit, the 16-bit map dequantised into an RGBA32F texture (the
-    // upload before maps stayed 16-bit on the GPU).
-    unsplit.float_map_textures = true;
-    const Measured b = TimeVolume(programs, peeled, unsplit, size, timer);
-    add("unsplit", e.name, "peel 64^3 (eq. 6+7) unsplit RGBA32F map", 1.0, 64, size, b, p.ms,
-        nullptr, std::nan(""));
-    // The brick size of the split (VolumePassOptions::brick_texels; the
-    // default is the "volume" row): finer bricks leave less area to the
-    // displaced shader but cut each slice into more parts.
-    for (const int bricks : {2, 3, 4, 8}) {
-      if (bricks == displaced.brick_texels) continue;
-      render::VolumePassOptions by_bricks = displaced;
-      by_bricks.brick_texels = bricks;
-      add("bricks", e.name, fmt::format("peel 64^3 (eq. 6+7) bricks of {} texels", bricks), 1.0, 64,
-          size, TimeVolume(programs, peeled, by_bricks, size, timer), p.ms, nullptr, std::nan(""));
-    }
-    summary.push_back(fmt::format(
-        "{:<13} plain {:7.1f} ms  peel {:7.1f} ms  peel/plain {:5.2f}x (support box only "
-        "{:5.2f}x, unsplit {:5.2f}x, unsplit RGBA32F map {:5.2f}x)  VTK {}  plain/VTK {}",
-        e.name, p.ms, d.ms, d.ms / p.ms, x.ms / p.ms, w.ms / p.ms, b.ms / p.ms,
-        peer.ok ? fmt::format("{:7.1f} ms", peer.median_ms) : "  n/a",
-        peer.ok ? fmt::format("{:5.2f}x", p.ms / peer.median_ms) : "n/a"));
-    if (e.name == "tooth") {
-      // Where the time goes (same volume, view and slices; names without
-      // commas, the CSV is not quoted): the per-draw overhead, the
-      // fill-rate floor's work on these slices (against the floor rows'
-      // full-screen layers), the shading, the map lookup alone, eq. 6
-      // without / with eq. 7, and J_D per sample instead of per texel.
-      struct Profile {
-        const char* variant;
-        bool displaced;
-        render::VolumeLighting lighting;
-        render::VolumeJacobian jacobian;
-        bool per_slice;
-        bool support_skip = true;
-        int bits = 16;              // the map's storage
-        bool float_maps = false;    // its texture: UNORM, or dequantised RGBA32F
-        bool floor_shader = false;  // VolumePassOptions::floor_shader
-      };
-      using L = render::VolumeLighting;
-      using J = render::VolumeJacobian;
-      for (const Profile& pr : std::vector<Profile>{
-               {"plain unshaded", false, L::kNone, J::kPrecomputed, false},
-               {"plain one draw per slice", false, L::kGradient, J::kPrecomputed, true},
-               {"plain floor shader", false, L::kNone, J::kPrecomputed, false, true, 16, false,
-                true},
-               {"peel unshaded", true, L::kNone, J::kPrecomputed, false},
-               {"peel unshaded unsplit", true, L::kNone, J::kPrecomputed, false, false},
-               {"peel unshaded unsplit RGBA32F map", true, L::kNone, J::kPrecomputed, false, false,
-                16, true},
-               {"peel unshaded unsplit RGBA8 map", true, L::kNone, J::kPrecomputed, false, false, 8,
-                false},
-               {"peel gradient only", true, L::kGradient, J::kPrecomputed, false},
-               {"peel gradient only unsplit", true, L::kGradient, J::kPrecomputed, false, false},
-               {"peel eq. 6", true, L::kTransformed, J::kPrecomputed, false},
-               {"peel eq. 6 unsplit", true, L::kTransformed, J::kPrecomputed, false, false},
-               {"peel eq. 6+7 one draw per part", true, L::kBlended, J::kPrecomputed, true},
-               {"peel eq. 6+7 J_D differences", true, L::kBlended, J::kFiniteDifferences, false}}) {
-        render::VolumePassOptions po = plain;
-        po.lighting = pr.lighting;
-        po.jacobian = pr.jacobian;
-        po.draw_per_slice = pr.per_slice;
-        po.support_skip = pr.support_skip;
-        po.displacement_bits = pr.bits;
-        po.float_map_textures = pr.float_maps;
-        po.floor_shader = pr.floor_shader;
-        add("profile", e.name, pr.variant, 1.0, pr.displaced ? 64 : 0, size,
-            TimeVolume(programs, pr.displaced ? peeled : bare, po, size, timer), p.ms, nullptr,
-            std::nan(""));
-      }
-      // What the two accuracy knobs cost: each setting's image (float
-      // colour, the bench's view) against the finest setting, map 128^3
-      // sampled every 0.25 voxel, itself timed as the family's truth.
-      const ibr::VolumeObjectData finest_map = ibr::MakeVolumeObject(volume, tf, peel, 128);
-      render::VolumePassOptions finest = displaced;
-      finest.sampling_distance_voxels = 0.25;
-      const Measured reference = TimeVolume(programs, finest_map, finest, size, timer, true);
-      add("finest", e.name, "peel 128^3 at 0.25 voxel", 0.25, 128, size, reference, 0, nullptr,
-          0.0);
-      // Times one setting and returns it with its error against `truth`.
-      auto measure = [&](const ibr::VolumeObjectData& scene, const render::VolumePassOptions& po,
-                         const core::ImageF& truth) {
-        const Measured m = TimeVolume(programs, scene, po, size, timer, true);
-        return std::pair{m, core::SummarizeErrors(ColorErrors(m.color, truth)).p95};
-      };
-      // The sampling rows against the same 64^3 map sampled every 0.25
-      // voxel: against the 128^3 map their error would measure the map size
-      // as much as the sampling.
-      const core::ImageF sampling_truth =
-          TimeVolume(programs, peeled, finest, size, timer, true).color;
-      for (double sampling :
-           o.quick ? std::vector<double>{0.5, 2.0} : std::vector<double>{0.5, 1.0, 2.0, 4.0}) {
-        render::VolumePassOptions s = displaced;
-        s.sampling_distance_voxels = sampling;
-        const auto [m, error] = measure(peeled, s, sampling_truth);
-        add("sampling", e.name, "peel 64^3", sampling, 64, size, m, 0, nullptr, error);
-      }
-      for (int map_size : o.quick ? std::vector<int>{16, 64} : std::vector<int>{16, 32, 64, 128}) {
-        const ibr::VolumeObjectData m = ibr::MakeVolumeObject(volume, tf, peel, map_size);
-        const auto [measured, error] = measure(m, displaced, reference.color);
-        add("map_size", e.name, "peel", 1.0, map_size, size, measured, 0, nullptr, error);
-      }
-      // Correa 2006 Table 2 analogue: map size x stored bits -> the (D,
-      // alpha) texture's bytes as uploaded (8/16-bit maps stay UNORM on the
-      // GPU; the J_D textures are RGBA32F at any bits), time, and the
-      // picture's colour error against the same map stored in 32 bits.
-      for (int map_size : o.quick ? std::vector<int>{16, 64} : std::vector<int>{16, 32, 64, 128}) {
-        const ibr::VolumeObjectData m = ibr::MakeVolumeObject(volume, tf, peel, map_size);
-        render::VolumePassOptions by_bits = displaced;
-        by_bits.displacement_bits = 32;
-        const Measured full = TimeVolume(programs, m, by_bits, size, timer, true);
-        const core::ErrorStats exact{};
-        add("bits", e.name, "peel 32-bit RGBA32F map", 1.0, map_size, size, full, 0, nullptr,
-            std::nan(""), &exact);
-        for (const int bits : {16, 8}) {
-          by_bits.displacement_bits = bits;
-          const Measured q = TimeVolume(programs, m, by_bits, size, timer, true);
-          const core::ErrorStats vs = core::SummarizeErrors(ColorErrors(q.color, full.color));
-          add("bits", e.name, fmt::format("peel {}-bit RGBA{} map", bits, bits), 1.0, map_size,
-              size, q, 0, nullptr, std::nan(""), &vs);
-        }
-      }
-    }
-    if (e.name == "neghip") {
-      // Time against the rasterised proxy area: image sizes.
-      for (int px : o.quick ? std::vector<int>{64, 128} : std::vector<int>{128, 256, 384, 512}) {
-        add("area", e.name, "plain DVR (shaded)", 1.0, 0, px,
-            TimeVolume(programs, bare, plain, px, timer), 0, nullptr, std::nan(""));
-      }
-    }
+};
+
+// A row from named cells; the others empty.
+void AddCells(Table& table, const std::map<std::string, std::string>& cells) {
+  std::vector<std::string> row(table.columns().size());
+  for (const auto& [column, value] : cells) row[table.Column(column)] = value;
+  table.AddRow(std::move(row));
+}
+
+// A measured row and its progress line. `plain_ms`: the plain frame of the
+// ratio (0: none); `error`: the p95 colour error against the finest setting
+// (1/255; NaN: not measured, an empty cell); `vs_32bit` against the 32-bit
+// map's.
+void AddMeasured(VolumeRun& run, const std::string& sweep, const std::string& volume,
+                 const std::string& variant, double sampling, int map_size, int px,
+                 const Measured& m, double plain_ms, const PeerResult* peer, double error,
+                 const core::ErrorStats* vs_32bit = nullptr) {
+  const double fraction = m.area_px / (m.ms * 1e-3) / run.fill.fragments_per_second;
+  const auto maybe = [](double v, int digits) { return std::isfinite(v) ? Num(v, digits) : ""; };
+  AddCells(run.table, {{"sweep", sweep},
+                       {"volume", volume},
+                       {"variant", variant},
+                       {"sampling_voxels", Num(sampling, 2)},
+                       {"map_size", std::to_string(map_size)},
+                       {"map_bits", m.map_bits ? std::to_string(m.map_bits) : ""},
+                       {"bytes_per_map", m.map_bits ? std::to_string(m.map_bytes) : ""},
+                       {"jacobian_bytes", m.map_bits ? std::to_string(m.jacobian_bytes) : ""},
+                       {"size_px", std::to_string(px)},
+                       {"slices", std::to_string(m.slices)},
+                       {"ms_per_frame", Num(m.ms, 1)},
+                       {"area_Mpx", Num(m.area_px * 1e-6, 3)},
+                       {"ns_per_fragment", Num(m.ms * 1e6 / std::max(m.area_px, 1.0), 2)},
+                       {"fill_fraction", Num(fraction, 3)},
+                       {"map_coverage",
+                        m.map_bits ? Num(m.displaced_area_px / std::max(m.area_px, 1.0), 3) : ""},
+                       {"ratio_to_plain", plain_ms > 0 ? Num(m.ms / plain_ms, 2) : ""},
+                       {"vtk_ms", peer && peer->ok ? Num(peer->median_ms, 1) : ""},
+                       {"vtk_min_ms", peer && peer->ok ? Num(peer->min_ms, 1) : ""},
+                       {"p95_color_error_vs_finest", maybe(error, 3)},
+                       {"p95_color_error_vs_32bit", vs_32bit ? Num(vs_32bit->p95, 3) : ""},
+                       {"max_color_error_vs_32bit", vs_32bit ? Num(vs_32bit->max, 3) : ""}});
+  fmt::print("{:<10} {:<8} {:<22} {:>6.1f} ms  slices {:>4}  fill {:.3f}\n", sweep, volume, variant,
+             m.ms, m.slices, fraction);
+}
+
+// The fill rate every fill_fraction is against: LINEAR, at the bench's size.
+void Calibrate(VolumeRun& run) {
+  run.fill_options.width = run.fill_options.height = run.size;
+  run.fill_options.linear_filter = true;
+  run.fill = render::MeasureFillRate(run.programs, run.fill_options);
+  fmt::print("calibrated fill rate (LINEAR, {} px): {:.1f} M fragments/s\n", run.size,
+             run.fill.fragments_per_second * 1e-6);
+}
+
+// The floors of a DVR fragment here, full-screen layers against the same
+// calibration (what fill_fraction can reach at best on this machine): one
+// trilinear 3D lookup classified by the transfer function, premultiplied
+// blending (plain DVR), and a map's trilinear lookup before it, the volume
+// read where it points (displaced DVR: the least a displaced sample does).
+struct CalibrationFloor {
+  render::FillRateOptions::Work work;
+  std::string name;
+};
+
+std::vector<CalibrationFloor> CalibrationFloors() {
+  using Work = render::FillRateOptions::Work;
+  return {{Work::kVolumeBlend, "3D fetch + transfer function + blend"},
+          {Work::kDisplacedVolumeBlend, "map fetch then 3D fetch + transfer function + blend"}};
+}
+
+void MeasureCalibrationFloor(VolumeRun& run, const CalibrationFloor& floor) {
+  render::FillRateOptions floor_options = run.fill_options;
+  floor_options.work = floor.work;
+  const render::FillRate f = render::MeasureFillRate(run.programs, floor_options);
+  const double fraction = f.fragments_per_second / run.fill.fragments_per_second;
+  AddCells(run.table, {{"sweep", "floor"},
+                       {"volume", "calibration"},
+                       {"variant", floor.name},
+                       {"sampling_voxels", "0"},
+                       {"map_size", "0"},
+                       {"size_px", std::to_string(run.size)},
+                       {"slices", std::to_string(floor_options.layers_per_frame)},
+                       {"ms_per_frame", Num(f.ms_per_frame, 1)},
+                       {"area_Mpx", Num(f.fragments_per_frame * 1e-6, 3)},
+                       {"ns_per_fragment", Num(1e9 / f.fragments_per_second, 2)},
+                       {"fill_fraction", Num(fraction, 3)}});
+  fmt::print("DVR floor ({}, {} px): {:.1f} M fragments/s, {:.3f} of the calibrated fill rate\n",
+             floor.name, run.size, f.fragments_per_second * 1e-6, fraction);
+}
+
+// One volume of the sweep: the volume, its transfer function, the object
+// bare and peeled (a 64^3 map), and what its other rows are read against:
+// the plain peer's frame, the plain and the peeled frames.
+struct VolumeCase {
+  VolumeCase(const VolumeRun& run, const Entry& e)
+      : entry(e),
+        volume(e.dat.empty() ? SyntheticVolume(256) : core::ReadVolume(e.dat)),
+        tf(ibr::TransferForVolume(e.dat.empty() ? "bucky" : "", e.dat)),
+        bare(ibr::MakeVolumeObject(volume, tf, {}, 64)),
+        peeled(ibr::MakeVolumeObject(volume, tf, run.peel, 64)) {}
+  const Entry entry;
+  const core::Volume volume;
+  const core::TransferFunction tf;
+  const ibr::VolumeObjectData bare, peeled;
+  PeerResult peer;            // VTK on the plain volume (not ok: not run, or failed)
+  Measured plain, displaced;  // the "volume" rows
+};
+
+// The VTK peer on the plain volume: same transfer function, sampling, size.
+void RunPlainPeer(const VolumeRun& run, VolumeCase& c) {
+  const fs::path dat = PeerDat(c.entry, c.volume, run.work);
+  c.peer = RunVtkPeer(dat, run.size, 1.0, c.tf, run.work);
+  RemovePeerDat(c.entry, dat);
+  if (!c.peer.ok) spdlog::warn("VTK peer failed on {}: {}", c.entry.name, c.peer.error);
+}
+
+// The "volume" rows (plain, peel) and the floors on their own slices.
+void MeasureFrames(VolumeRun& run, VolumeCase& c) {
+  const std::string& name = c.entry.name;
+  c.plain = TimeVolume(run.programs, c.bare, run.plain, run.size, run.timer);
+  AddMeasured(run, "volume", name, "plain DVR (shaded)", 1.0, 0, run.size, c.plain, c.plain.ms,
+              &c.peer, std::nan(""));
+  c.displaced = TimeVolume(run.programs, c.peeled, run.displaced, run.size, run.timer);
+  AddMeasured(run, "volume", name, "peel 64^3 (eq. 6+7)", 1.0, 64, run.size, c.displaced,
+              c.plain.ms, nullptr, std::nan(""));
+  // The floors on this frame's own slices (VolumePassOptions::floor_shader):
+  // plain, one scalar fetch a fragment on the plain frame's slices; displaced,
+  // a map fetch then the scalar where it points on every slice fragment of
+  // the peeled frame (unsplit): the least a displaced frame can cost here.
+  render::VolumePassOptions floor = run.plain;
+  floor.lighting = render::VolumeLighting::kNone;
+  floor.floor_shader = true;
+  AddMeasured(run, "floor", name, "plain floor", 1.0, 0, run.size,
+              TimeVolume(run.programs, c.bare, floor, run.size, run.timer), c.plain.ms, nullptr,
+              std::nan(""));
+  floor.support_skip = false;
+  AddMeasured(run, "floor", name, "displaced floor", 1.0, 64, run.size,
+              TimeVolume(run.programs, c.peeled, floor, run.size, run.timer), c.plain.ms, nullptr,
+              std::nan(""));
+}
+
+// The peer warps the volume on the CPU by the same map, once, then ray
+// casts the warped volume: what an edit of the map costs it (the resample)
+// and what a frame costs it after.
+void MeasurePrewarpedPeer(VolumeRun& run, const VolumeCase& c) {
+  const std::string& name = c.entry.name;
+  WarpInput warp{core::DequantizeDisplacementMap(core::StoreDisplacementMap(
+                     c.peeled.maps[0].map, run.displaced.displacement_bits)),
+                 c.peeled.maps[0].placement, render::VolumeProxyBox(c.peeled.maps),
+                 run.work / (name + ".warped.raw")};
+  const fs::path dat = PeerDat(c.entry, c.volume, run.work);
+  const PeerResult warped = RunVtkPeer(dat, run.size, 1.0, c.tf, run.work, &warp);
+  if (warped.ok) {
+    const double check = CheckPrewarp(c.volume, warp, warped.warped_dims) * 255;
+    AddCells(run.table, {{"sweep", "peer"},
+                         {"volume", name},
+                         {"variant", "vtk prewarped"},
+                         {"sampling_voxels", Num(1.0, 2)},
+                         {"map_size", "64"},
+                         {"map_bits", std::to_string(run.displaced.displacement_bits)},
+                         {"size_px", std::to_string(run.size)},
+                         {"ms_per_frame", Num(warped.median_ms, 1)},
+                         {"ratio_to_plain", Num(warped.median_ms / c.plain.ms, 2)},
+                         {"vtk_ms", Num(warped.median_ms, 1)},
+                         {"vtk_min_ms", Num(warped.min_ms, 1)},
+                         {"vtk_resample_ms", Num(warped.resample_ms, 1)},
+                         {"vtk_warp_p95_error", std::isfinite(check) ? Num(check, 3) : ""}});
+    fmt::print(
+        "vtk prewarped {:<8} resample {:.1f} ms (the edit latency), frame {:.1f} ms; ours "
+        "displaced {:.1f} ms; warped volume vs ours p95 {:.3f}/255\n",
+        name, warped.resample_ms, warped.median_ms, c.displaced.ms, check);
+  } else {
+    spdlog::warn("VTK prewarped peer failed on {}: {}", name, warped.error);
   }
-  // R^2 of ms against area over the area sweep.
+  fs::remove(warp.out_raw);
+  RemovePeerDat(c.entry, dat);
+}
+
+// A setting of the pass on the peeled object, named as its row's variant.
+struct PassVariant {
+  std::string variant;
+  render::VolumePassOptions options;
+};
+
+// The "unsplit" sweep (its own sweep: the paper table reads every "volume"
+// row as the peel), in the order of SummaryLine's `split_ms`.
+std::vector<PassVariant> SplitVariants(const render::VolumePassOptions& displaced) {
+  // The baseline of the support skip (VolumePassOptions::support_skip):
+  // every slice fragment runs the displaced shader.
+  render::VolumePassOptions unsplit = displaced;
+  unsplit.support_skip = false;
+  // The slices split at the support box only (no bricks,
+  // VolumePassOptions::brick_texels 0): the split before bricks.
+  render::VolumePassOptions box_only = displaced;
+  box_only.brick_texels = 0;
+  // Unsplit, the 16-bit map dequantised into an RGBA32F texture (the
+  // upload before maps stayed 16-bit on the GPU).
+  render::VolumePassOptions float_map = unsplit;
+  float_map.float_map_textures = true;
+  return {{"peel 64^3 (eq. 6+7) unsplit", unsplit},
+          {"peel 64^3 (eq. 6+7) support box only", box_only},
+          {"peel 64^3 (eq. 6+7) unsplit RGBA32F map", float_map}};
+}
+
+// The brick sizes of the split (VolumePassOptions::brick_texels) but the
+// default, which is the "volume" row: finer bricks leave less area to the
+// displaced shader but cut each slice into more parts.
+std::vector<int> BrickSizes(const render::VolumePassOptions& displaced) {
+  std::vector<int> sizes;
+  for (const int bricks : {2, 3, 4, 8})
+    if (bricks != displaced.brick_texels) sizes.push_back(bricks);
+  return sizes;
+}
+
+// The peeled object's frame with `options`, a row of `sweep`; its ms.
+double MeasurePeelVariant(VolumeRun& run, const VolumeCase& c, const std::string& sweep,
+                          const PassVariant& v) {
+  const Measured m = TimeVolume(run.programs, c.peeled, v.options, run.size, run.timer);
+  AddMeasured(run, sweep, c.entry.name, v.variant, 1.0, 64, run.size, m, c.plain.ms, nullptr,
+              std::nan(""));
+  return m.ms;
+}
+
+PassVariant BrickVariant(const render::VolumePassOptions& displaced, int bricks) {
+  render::VolumePassOptions by_bricks = displaced;
+  by_bricks.brick_texels = bricks;
+  return {fmt::format("peel 64^3 (eq. 6+7) bricks of {} texels", bricks), by_bricks};
+}
+
+// `split_ms`: the SplitVariants' frames, in their order.
+std::string SummaryLine(const VolumeCase& c, const std::vector<double>& split_ms) {
+  const double p = c.plain.ms, unsplit = split_ms[0], box_only = split_ms[1],
+               float_map = split_ms[2];
+  return fmt::format(
+      "{:<13} plain {:7.1f} ms  peel {:7.1f} ms  peel/plain {:5.2f}x (support box only "
+      "{:5.2f}x, unsplit {:5.2f}x, unsplit RGBA32F map {:5.2f}x)  VTK {}  plain/VTK {}",
+      c.entry.name, p, c.displaced.ms, c.displaced.ms / p, box_only / p, unsplit / p, float_map / p,
+      c.peer.ok ? fmt::format("{:7.1f} ms", c.peer.median_ms) : "  n/a",
+      c.peer.ok ? fmt::format("{:5.2f}x", p / c.peer.median_ms) : "n/a");
+}
+
+// Where the time goes (same volume, view and slices; names without commas,
+// the CSV is not quoted): the per-draw overhead, the fill-rate floor's work
+// on these slices (against the floor rows' full-screen layers), the shading,
+// the map lookup alone, eq. 6 without / with eq. 7, and J_D per sample
+// instead of per texel.
+struct Profile {
+  const char* variant;
+  bool displaced;
+  render::VolumeLighting lighting;
+  render::VolumeJacobian jacobian;
+  bool per_slice;
+  bool support_skip = true;
+  int bits = 16;              // the map's storage
+  bool float_maps = false;    // its texture: UNORM, or dequantised RGBA32F
+  bool floor_shader = false;  // VolumePassOptions::floor_shader
+};
+
+std::vector<Profile> ToothProfiles() {
+  using L = render::VolumeLighting;
+  using J = render::VolumeJacobian;
+  return {
+      {"plain unshaded", false, L::kNone, J::kPrecomputed, false},
+      {"plain one draw per slice", false, L::kGradient, J::kPrecomputed, true},
+      {"plain floor shader", false, L::kNone, J::kPrecomputed, false, true, 16, false, true},
+      {"peel unshaded", true, L::kNone, J::kPrecomputed, false},
+      {"peel unshaded unsplit", true, L::kNone, J::kPrecomputed, false, false},
+      {"peel unshaded unsplit RGBA32F map", true, L::kNone, J::kPrecomputed, false, false, 16,
+       true},
+      {"peel unshaded unsplit RGBA8 map", true, L::kNone, J::kPrecomputed, false, false, 8, false},
+      {"peel gradient only", true, L::kGradient, J::kPrecomputed, false},
+      {"peel gradient only unsplit", true, L::kGradient, J::kPrecomputed, false, false},
+      {"peel eq. 6", true, L::kTransformed, J::kPrecomputed, false},
+      {"peel eq. 6 unsplit", true, L::kTransformed, J::kPrecomputed, false, false},
+      {"peel eq. 6+7 one draw per part", true, L::kBlended, J::kPrecomputed, true},
+      {"peel eq. 6+7 J_D differences", true, L::kBlended, J::kFiniteDifferences, false}};
+}
+
+void MeasureProfile(VolumeRun& run, const VolumeCase& c, const Profile& pr) {
+  render::VolumePassOptions po = run.plain;
+  po.lighting = pr.lighting;
+  po.jacobian = pr.jacobian;
+  po.draw_per_slice = pr.per_slice;
+  po.support_skip = pr.support_skip;
+  po.displacement_bits = pr.bits;
+  po.float_map_textures = pr.float_maps;
+  po.floor_shader = pr.floor_shader;
+  AddMeasured(run, "profile", c.entry.name, pr.variant, 1.0, pr.displaced ? 64 : 0, run.size,
+              TimeVolume(run.programs, pr.displaced ? c.peeled : c.bare, po, run.size, run.timer),
+              c.plain.ms, nullptr, std::nan(""));
+}
+
+// The knobs' values swept on the tooth: sampling distances (voxels) and map
+// sizes (texels per axis).
+std::vector<double> SamplingDistances(const VolumeBenchOptions& o) {
+  return o.quick ? std::vector<double>{0.5, 2.0} : std::vector<double>{0.5, 1.0, 2.0, 4.0};
+}
+std::vector<int> MapSizes(const VolumeBenchOptions& o) {
+  return o.quick ? std::vector<int>{16, 64} : std::vector<int>{16, 32, 64, 128};
+}
+
+// One setting timed with its float image, and the image's p95 colour error
+// against `truth` (1/255).
+std::pair<Measured, double> TimeWithError(VolumeRun& run, const ibr::VolumeObjectData& scene,
+                                          const render::VolumePassOptions& po,
+                                          const core::ImageF& truth) {
+  const Measured m = TimeVolume(run.programs, scene, po, run.size, run.timer, true);
+  return {m, core::SummarizeErrors(ColorErrors(m.color, truth)).p95};
+}
+
+void MeasureSampling(VolumeRun& run, const VolumeCase& c, double sampling,
+                     const core::ImageF& truth) {
+  render::VolumePassOptions s = run.displaced;
+  s.sampling_distance_voxels = sampling;
+  const auto [m, error] = TimeWithError(run, c.peeled, s, truth);
+  AddMeasured(run, "sampling", c.entry.name, "peel 64^3", sampling, 64, run.size, m, 0, nullptr,
+              error);
+}
+
+void MeasureMapSize(VolumeRun& run, const VolumeCase& c, int map_size, const core::ImageF& truth) {
+  const ibr::VolumeObjectData m = ibr::MakeVolumeObject(c.volume, c.tf, run.peel, map_size);
+  const auto [measured, error] = TimeWithError(run, m, run.displaced, truth);
+  AddMeasured(run, "map_size", c.entry.name, "peel", 1.0, map_size, run.size, measured, 0, nullptr,
+              error);
+}
+
+// Correa 2006 Table 2 analogue: map size x stored bits -> the (D, alpha)
+// texture's bytes as uploaded (8/16-bit maps stay UNORM on the GPU; the J_D
+// textures are RGBA32F at any bits), time, and the picture's colour error
+// against the same map stored in 32 bits.
+void MeasureMapBits(VolumeRun& run, const VolumeCase& c, int map_size) {
+  const ibr::VolumeObjectData m = ibr::MakeVolumeObject(c.volume, c.tf, run.peel, map_size);
+  render::VolumePassOptions by_bits = run.displaced;
+  by_bits.displacement_bits = 32;
+  const Measured full = TimeVolume(run.programs, m, by_bits, run.size, run.timer, true);
+  const core::ErrorStats exact{};
+  AddMeasured(run, "bits", c.entry.name, "peel 32-bit RGBA32F map", 1.0, map_size, run.size, full,
+              0, nullptr, std::nan(""), &exact);
+  for (const int bits : {16, 8}) {
+    by_bits.displacement_bits = bits;
+    const Measured q = TimeVolume(run.programs, m, by_bits, run.size, run.timer, true);
+    const core::ErrorStats vs = core::SummarizeErrors(ColorErrors(q.color, full.color));
+    AddMeasured(run, "bits", c.entry.name, fmt::format("peel {}-bit RGBA{} map", bits, bits), 1.0,
+                map_size, run.size, q, 0, nullptr, std::nan(""), &vs);
+  }
+}
+
+// What the two accuracy knobs cost: each setting's image (float colour, the
+// bench's view) against the finest setting, map 128^3 sampled every 0.25
+// voxel, itself timed as the family's truth; then the map's stored bits.
+void MeasureAccuracy(VolumeRun& run, const VolumeCase& c) {
+  const ibr::VolumeObjectData finest_map = ibr::MakeVolumeObject(c.volume, c.tf, run.peel, 128);
+  render::VolumePassOptions finest = run.displaced;
+  finest.sampling_distance_voxels = 0.25;
+  const Measured reference =
+      TimeVolume(run.programs, finest_map, finest, run.size, run.timer, true);
+  AddMeasured(run, "finest", c.entry.name, "peel 128^3 at 0.25 voxel", 0.25, 128, run.size,
+              reference, 0, nullptr, 0.0);
+  // The sampling rows against the same 64^3 map sampled every 0.25 voxel:
+  // against the 128^3 map their error would measure the map size as much
+  // as the sampling.
+  const core::ImageF sampling_truth =
+      TimeVolume(run.programs, c.peeled, finest, run.size, run.timer, true).color;
+  Sweep<double>(SamplingDistances(run.options), {}, [&](const double& sampling, int) {
+    MeasureSampling(run, c, sampling, sampling_truth);
+  });
+  Sweep<int>(MapSizes(run.options), {},
+             [&](const int& map_size, int) { MeasureMapSize(run, c, map_size, reference.color); });
+  Sweep<int>(MapSizes(run.options), {},
+             [&](const int& map_size, int) { MeasureMapBits(run, c, map_size); });
+}
+
+// Time against the rasterised proxy area: neghip's plain frame at image sizes.
+std::vector<int> AreaSizes(const VolumeBenchOptions& o) {
+  return o.quick ? std::vector<int>{64, 128} : std::vector<int>{128, 256, 384, 512};
+}
+
+void MeasureArea(VolumeRun& run, const VolumeCase& c, int px) {
+  AddMeasured(run, "area", c.entry.name, "plain DVR (shaded)", 1.0, 0, px,
+              TimeVolume(run.programs, c.bare, run.plain, px, run.timer), 0, nullptr, std::nan(""));
+}
+
+// Every row of one volume, in the order of the table.
+void MeasureVolume(VolumeRun& run, const Entry& e) {
+  VolumeCase c(run, e);
+  spdlog::info("bench volume: {} ({} x {} x {})", e.name, c.volume.dims.x, c.volume.dims.y,
+               c.volume.dims.z);
+  if (run.options.peer) RunPlainPeer(run, c);
+  MeasureFrames(run, c);
+  if (run.options.peer) MeasurePrewarpedPeer(run, c);
+  std::vector<double> split_ms;
+  Sweep<PassVariant>(SplitVariants(run.displaced), {}, [&](const PassVariant& v, int) {
+    split_ms.push_back(MeasurePeelVariant(run, c, "unsplit", v));
+  });
+  Sweep<int>(BrickSizes(run.displaced), {}, [&](const int& bricks, int) {
+    MeasurePeelVariant(run, c, "bricks", BrickVariant(run.displaced, bricks));
+  });
+  run.summary.push_back(SummaryLine(c, split_ms));
+  if (e.name == "tooth") {
+    Sweep<Profile>(ToothProfiles(), {},
+                   [&](const Profile& profile, int) { MeasureProfile(run, c, profile); });
+    MeasureAccuracy(run, c);
+  }
+  if (e.name == "neghip") {
+    Sweep<int>(AreaSizes(run.options), {}, [&](const int& px, int) { MeasureArea(run, c, px); });
+  }
+}
+
+// R^2 of ms against area over the area sweep.
+void PrintAreaFit(const Table& table) {
   std::vector<double> area_mpx, ms;
   for (const auto& row : table.rows()) {
     if (row[0] == "area") {
@@ -685,67 +836,82 @@ Table RunVolumeBench(const VolumeBenchOptions& o) {
       ms.push_back(std::stod(row[table.Column("ms_per_frame")]));
     }
   }
-  if (area_mpx.size() >= 2) {
-    const LineFit fit = FitLine(area_mpx, ms);
-    // Degenerate data print NaN (FitLine reports 0, or r2 = 1 for constant times).
-    auto spread = [](const std::vector<double>& v) {
-      const auto [lo, hi] = std::minmax_element(v.begin(), v.end());
-      return *hi > *lo;
-    };
-    const bool x_spread = spread(area_mpx), y_spread = spread(ms);
-    fmt::print(
-        "time vs rasterised proxy area (neghip, {} sizes): {:.3f} ms per M px, R^2 = {:.3f}\n",
-        area_mpx.size(), x_spread ? fit.slope : std::nan(""),
-        x_spread && y_spread ? fit.r2 : std::nan(""));
-  }
-  fmt::print("{}", table.Format());
-  fmt::print("ratios at {} px, sampling distance 1 voxel (same run):\n", size);
-  for (const std::string& line : summary) fmt::print("  {}\n", line);
-  table.WriteCsv(o.csv);
-  const Table goals = VolumeGoalsTable(table);
+  if (area_mpx.size() < 2) return;
+  const LineFit fit = FitLine(area_mpx, ms);
+  // Degenerate data print NaN (FitLine reports 0, or r2 = 1 for constant times).
+  auto spread = [](const std::vector<double>& v) {
+    const auto [lo, hi] = std::minmax_element(v.begin(), v.end());
+    return *hi > *lo;
+  };
+  const bool x_spread = spread(area_mpx), y_spread = spread(ms);
+  fmt::print("time vs rasterised proxy area (neghip, {} sizes): {:.3f} ms per M px, R^2 = {:.3f}\n",
+             area_mpx.size(), x_spread ? fit.slope : std::nan(""),
+             x_spread && y_spread ? fit.r2 : std::nan(""));
+}
+
+void PlotVolumeBench(const Table& table, const fs::path& out) {
+  auto subset = [&](const std::string& sweep) {
+    Table t(table.columns());
+    for (const auto& row : table.rows())
+      if (row[0] == sweep) t.AddRow(row);
+    return t;
+  };
+  // Plain DVR: neghip at four image sizes and each volume at full size.
+  Table plain_rows(table.columns());
+  for (const auto& row : table.rows())
+    if (row[0] == "area" || (row[0] == "volume" && row[2].rfind("plain", 0) == 0))
+      plain_rows.AddRow(row);
+  PlotPng(plain_rows,
+          {.title = "volume: plain DVR time vs rasterised slice area",
+           .x_column = "area_Mpx",
+           .y_column = "ms_per_frame",
+           .series_column = "volume",
+           .x_label = "slice area (M pixels)",
+           .y_label = "ms/frame"},
+          out / "volume_time_vs_area.png");
+  // The tooth's sweeps (Table 1-2 analogues), each on its own axis.
+  PlotPng(subset("sampling"),
+          {.title = "volume: peeled tooth, time vs sampling distance",
+           .x_column = "sampling_voxels",
+           .y_column = "ms_per_frame",
+           .series_column = "variant",
+           .x_label = "sampling distance (voxels)",
+           .y_label = "ms/frame",
+           .log_x = true},
+          out / "volume_time_vs_sampling.png");
+  PlotPng(subset("map_size"),
+          {.title = "volume: peeled tooth, time vs displacement map size",
+           .x_column = "map_size",
+           .y_column = "ms_per_frame",
+           .series_column = "variant",
+           .x_label = "map texels per axis",
+           .y_label = "ms/frame",
+           .log_x = true},
+          out / "volume_time_vs_map_size.png");
+}
+
+}  // namespace
+
+Table RunVolumeBench(const VolumeBenchOptions& o) {
+  o.Check();
+  VolumeRun run(o);
+  Calibrate(run);
+  Sweep<CalibrationFloor>(CalibrationFloors(), {}, [&](const CalibrationFloor& floor, int) {
+    MeasureCalibrationFloor(run, floor);
+  });
+  run.work = o.out.empty() ? fs::temp_directory_path() : o.out;
+  if (!o.out.empty()) fs::create_directories(o.out);
+  Sweep<Entry>(VolumeEntries(o), {}, [&](const Entry& e, int) { MeasureVolume(run, e); });
+  PrintAreaFit(run.table);
+  fmt::print("{}", run.table.Format());
+  fmt::print("ratios at {} px, sampling distance 1 voxel (same run):\n", run.size);
+  for (const std::string& line : run.summary) fmt::print("  {}\n", line);
+  run.table.WriteCsv(o.csv);
+  const Table goals = VolumeGoalsTable(run.table);
   fmt::print("{}", goals.Format());
   goals.WriteCsv(VolumeGoalsPath(o.csv));
-  if (!o.out.empty()) {
-    auto subset = [&](const std::string& sweep) {
-      Table t(table.columns());
-      for (const auto& row : table.rows())
-        if (row[0] == sweep) t.AddRow(row);
-      return t;
-    };
-    // Plain DVR: neghip at four image sizes and each volume at full size.
-    Table plain_rows(table.columns());
-    for (const auto& row : table.rows())
-      if (row[0] == "area" || (row[0] == "volume" && row[2].rfind("plain", 0) == 0))
-        plain_rows.AddRow(row);
-    PlotPng(plain_rows,
-            {.title = "volume: plain DVR time vs rasterised slice area",
-             .x_column = "area_Mpx",
-             .y_column = "ms_per_frame",
-             .series_column = "volume",
-             .x_label = "slice area (M pixels)",
-             .y_label = "ms/frame"},
-            o.out / "volume_time_vs_area.png");
-    // The tooth's sweeps (Table 1-2 analogues), each on its own axis.
-    PlotPng(subset("sampling"),
-            {.title = "volume: peeled tooth, time vs sampling distance",
-             .x_column = "sampling_voxels",
-             .y_column = "ms_per_frame",
-             .series_column = "variant",
-             .x_label = "sampling distance (voxels)",
-             .y_label = "ms/frame",
-             .log_x = true},
-            o.out / "volume_time_vs_sampling.png");
-    PlotPng(subset("map_size"),
-            {.title = "volume: peeled tooth, time vs displacement map size",
-             .x_column = "map_size",
-             .y_column = "ms_per_frame",
-             .series_column = "variant",
-             .x_label = "map texels per axis",
-             .y_label = "ms/frame",
-             .log_x = true},
-            o.out / "volume_time_vs_map_size.png");
-  }
-  return table;
+  if (!o.out.empty()) PlotVolumeBench(run.table, o.out);
+  return run.table;
 }
 
 }  // namespace bench
