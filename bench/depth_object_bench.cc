@@ -94,10 +94,6 @@ std::vector<ibr::ViewCamera> Views(const ibr::MapSet& maps, int count, int size)
   return out;
 }
 
-// `ibr bench first-image` in a child process whose only shader caches are
-// under `cache_dir`: ibr's program binaries (IBR_CACHE_DIR) and Mesa's own
-// cache (MESA_SHADER_CACHE_DIR; a MESA_SHADER_CACHE_DISABLE of this process
-// is dropped, so the child runs as ibr does by default).
 // The executable the first-image children run: this one when it is `ibr`,
 // else $IBR_BINARY (tests set it; a test executable would run itself again);
 // empty when neither.
@@ -109,6 +105,10 @@ fs::path FirstImageBinary() {
   return {};
 }
 
+// `ibr bench first-image` in a child process whose only shader caches are
+// under `cache_dir`: ibr's program binaries (IBR_CACHE_DIR) and Mesa's own
+// cache (MESA_SHADER_CACHE_DIR; a MESA_SHADER_CACHE_DISABLE of this process
+// is dropped, so the child runs as ibr does by default).
 FirstImageTimes RunFirstImageChild(const FirstImageOptions& options, const fs::path& cache_dir) {
   constexpr const char* kWhere = "bench depth-object: first image";
   const fs::path self = FirstImageBinary();

@@ -157,19 +157,29 @@ PeerResult RunVtkPeer(const fs::path& dat, int size, double sample,
     j["points"].push_back({p.s, p.rgba.r, p.rgba.g, p.rgba.b, p.rgba.a});
   core::AtomicWriteStream(tf_path, [&](std::ostream& out) { out << j.dump(); });
   const fs::path script = fs::path(IBR_BENCH_SOURCE_DIR) / "vtk_volume_peer.py";
-  const std::string warp_arg =
-      warp ? fmt::format(" '{}'", WriteWarpInput(*warp, dat.stem().string(), work).string()) : "";
+  const fs::path warp_json = warp ? WriteWarpInput(*warp, dat.stem().string(), work) : fs::path();
+  const std::string warp_arg = warp ? fmt::format(" '{}'", warp_json.string()) : "";
+  // The peer's inputs are scratch, not results: gone when it returns.
+  const auto remove_inputs = [&] {
+    fs::remove(tf_path);
+    if (!warp) return;
+    fs::remove(warp_json);
+    fs::remove(fs::path(warp_json).replace_extension("").replace_extension(".map.raw"));
+  };
   const std::string cmd =
       fmt::format("xvfb-run -a /usr/bin/python3 '{}' '{}' {} {} '{}' 12{} 2>&1", script.string(),
                   dat.string(), size, sample, tf_path.string(), warp_arg);
   std::unique_ptr<FILE, int (*)(FILE*)> pipe(popen(cmd.c_str(), "r"), pclose);
   if (!pipe) {
+    remove_inputs();
     r.error = "cannot start xvfb-run";
     return r;
   }
   std::string output;
   std::array<char, 4096> buf{};
   while (fgets(buf.data(), buf.size(), pipe.get())) output += buf.data();
+  pipe.reset();  // waits for the peer
+  remove_inputs();
   const size_t brace = output.rfind("{\"first_frame_s\"");
   if (brace == std::string::npos) {
     r.error = output.substr(0, 300);
