@@ -11,6 +11,7 @@
 #include "core/error.h"
 #include "core/timing.h"
 #include "ibr/dataset_maps.h"
+#include "ibr/kinds/depth_object_kind.h"
 #include "render/passes/pass.h"
 
 namespace ibr {
@@ -111,6 +112,13 @@ VolumeObjectChange SceneRenderer::UpdateVolume(LoadedScene& scene, size_t index,
     bounds_ = scene.bounds;
   }
   return change;
+}
+
+void SceneRenderer::UpdateDepthObject(LoadedScene& scene, size_t index,
+                                      const DepthObjectOptions& options) {
+  IBR_CHECK_LT(index, scene.objects.size());
+  IBR_CHECK_EQ(scene.objects.size(), passes_.size());
+  UpdateDepthObjectKind(scene.objects[index], *passes_[index].pass, options);
 }
 
 int SceneRenderer::PassBuilds(size_t index) const {

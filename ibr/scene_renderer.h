@@ -103,6 +103,9 @@ class SceneRenderer {
   // `preview`: ibr::UpdateVolumeObject's (a rougher peel map while moving).
   VolumeObjectChange UpdateVolume(LoadedScene& scene, size_t index,
                                   const VolumeObjectOptions& options, bool preview = false);
+  // The same for a depth object or visual hull (ibr::UpdateDepthObjectKind):
+  // the pass takes the options, the maps stay uploaded.
+  void UpdateDepthObject(LoadedScene& scene, size_t index, const DepthObjectOptions& options);
   // Times object `index`'s pass was built (1 after the constructor).
   int PassBuilds(size_t index) const;
 

@@ -26,13 +26,14 @@ namespace {
 class DatasetScene : public Scene {
  public:
   DatasetScene(const ibr::DepthObjectOptions& options, ibr::MapSet maps, std::string name)
-      : name_(std::move(name)), maps_(std::move(maps)), options_(options) {
-    options_.Check();
-    const glm::dmat4& m = maps_.world_from_box;
-    centre_ = glm::vec3(m * glm::dvec4(0.5, 0.5, 0.5, 1.0));
-    radius_ = 0.5f * static_cast<float>(glm::length(glm::dvec3(m * glm::dvec4(1, 1, 1, 0))));
-    Rebuild();
-  }
+      : name_(std::move(name)),
+        options_(options),
+        map_count_(static_cast<int>(maps.maps.size())),
+        centre_(maps.world_from_box * glm::dvec4(0.5, 0.5, 0.5, 1.0)),
+        radius_(0.5f * static_cast<float>(
+                           glm::length(glm::dvec3(maps.world_from_box * glm::dvec4(1, 1, 1, 0))))),
+        scene_(ibr::DepthObjectScene(name_, std::move(maps), options_)),
+        renderer_(programs_, scene_) {}
 
   std::string Title() const override { return "ibr view: " + name_; }
   glm::vec3 Centre() const override { return centre_; }
@@ -59,20 +60,20 @@ class DatasetScene : public Scene {
     if (ImGui::Combo("texturing", &texturing, "view-dependent\0visibility\0none\0paper blend\0")) {
       options_.texturing = static_cast<ibr::Texturing>(texturing);
     }
-    const int maps = static_cast<int>(maps_.maps.size());
-    ImGui::SliderInt("robust k", &options_.robust_k, 0, std::max(0, maps - 1));
+    ImGui::SliderInt("robust k", &options_.robust_k, 0, std::max(0, map_count_ - 1));
     if (options_ == before) return false;
-    Rebuild();
+    // The pass takes the options; the maps stay uploaded.
+    renderer_.UpdateDepthObject(scene_, 0, options_);
     return true;
   }
 
   const render::RenderTarget& Render(const FrameCamera& camera) override {
-    return renderer_->Draw(ViewCameraOf(camera));
+    return renderer_.Draw(ViewCameraOf(camera));
   }
 
   std::string Status() const override {
     return fmt::format(
-        "{} maps, {} {}{} path, {} slices{}", maps_.maps.size(), ibr::MethodName(options_.method),
+        "{} maps, {} {}{} path, {} slices{}", map_count_, ibr::MethodName(options_.method),
         ibr::SlicingName(options_.slicing),
         options_.slicing != ibr::Slicing::kRay && options_.slice_path == ibr::SlicePath::kFast
             ? " fast"
@@ -85,22 +86,15 @@ class DatasetScene : public Scene {
   }
 
  private:
-  // The one-object scene `ibr render DATASET` draws, rebuilt (maps uploaded
-  // anew) when an option changes: every option picks the pass's programs or
-  // tables, and a method change needs the other map tables anyway.
-  void Rebuild() {
-    renderer_.reset();
-    renderer_ = std::make_unique<ibr::SceneRenderer>(programs_,
-                                                     ibr::DepthObjectScene(name_, maps_, options_));
-  }
-
   std::string name_;
-  render::ProgramCache programs_;
-  ibr::MapSet maps_;
   ibr::DepthObjectOptions options_;
-  std::unique_ptr<ibr::SceneRenderer> renderer_;
+  int map_count_ = 0;
   glm::vec3 centre_{0};
   float radius_ = 1;
+  render::ProgramCache programs_;
+  // The one-object scene `ibr render DATASET` draws.
+  ibr::LoadedScene scene_;
+  ibr::SceneRenderer renderer_;
 };
 
 // A combo box over `values`, labelled by `name`; true when the choice changed.

@@ -8,6 +8,7 @@
 #include <cmath>
 
 #include "capture/synthetic.h"
+#include "core/check.h"
 #include "core/error.h"
 #include "ibr/dataset_maps.h"
 #include "ibr/depth_object_pass.h"
@@ -27,12 +28,12 @@ struct DepthObjectState {
 class DepthObjectObjectPass final : public ObjectPass {
  public:
   DepthObjectObjectPass(render::ProgramCache& programs, const DepthObjectState& s)
-      : name_(MethodName(s.options.method)), pass_(programs, s.maps, s.options) {}
+      : pass_(programs, s.maps, s.options) {}
   render::Pass& pass() override { return pass_; }
-  std::string name() const override { return name_; }
+  std::string name() const override { return std::string(pass_.name()); }
+  DepthObjectPass& depth_object_pass() { return pass_; }
 
  private:
-  std::string name_;
   DepthObjectPass pass_;
 };
 
@@ -101,6 +102,16 @@ LoadedObject LoadedDepthObject(std::string name, MapSet maps, const DepthObjectO
   l.bounds = BoxBounds(world_from_object * maps.world_from_box);
   l.data = DepthObjectState{std::move(maps), options};
   return l;
+}
+
+void UpdateDepthObjectKind(LoadedObject& object, ObjectPass& pass,
+                           const DepthObjectOptions& options) {
+  auto* p = dynamic_cast<DepthObjectObjectPass*>(&pass);
+  IBR_CHECK(p != nullptr);
+  p->depth_object_pass().set_options(options);  // checks first
+  KindState<DepthObjectState>(object).options = options;
+  object.type = options.method == Method::kVisualHull ? scene::ObjectType::kVisualHull
+                                                      : scene::ObjectType::kDepthObject;
 }
 
 LoadedScene DepthObjectScene(std::string name, MapSet maps, const DepthObjectOptions& options) {

@@ -17,6 +17,14 @@ namespace ibr {
 LoadedObject LoadedDepthObject(std::string name, MapSet maps, const DepthObjectOptions& options,
                                const glm::dmat4& world_from_object = glm::dmat4(1.0));
 
+// Changes a depth object's (or visual hull's) options to `options`: the pass
+// takes them as they are (DepthObjectPass::set_options; no map upload, the
+// other method's tables on its first frame); the object's type follows the
+// method. InputError (nothing changed) on invalid options. `pass` is the one
+// the kind made for `object`.
+void UpdateDepthObjectKind(LoadedObject& object, ObjectPass& pass,
+                           const DepthObjectOptions& options);
+
 // The one-object scene of LoadedDepthObject(name, maps, options), its bounds
 // the object's: what `ibr render DATASET` and `ibr view DATASET` draw.
 LoadedScene DepthObjectScene(std::string name, MapSet maps, const DepthObjectOptions& options);

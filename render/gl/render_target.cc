@@ -4,6 +4,7 @@
 
 #include "core/check.h"
 #include "core/error.h"
+#include "render/gl/window_frame.h"
 
 namespace render {
 
@@ -137,6 +138,13 @@ void ReadPixels(GLuint framebuffer, GLenum read_buffer, GLenum format, GLenum ty
 }
 
 }  // namespace
+
+// window_frame.h: the window's back buffer through the same readback.
+core::Image8 ReadBackBuffer(int width, int height) {
+  core::Image8 image(width, height, 4);
+  ReadPixels(0, GL_BACK, GL_RGBA, GL_UNSIGNED_BYTE, image);
+  return image;
+}
 
 core::Image8 RenderTarget::ReadColor8(int attachment) const {
   core::Image8 image(options_.width, options_.height, 4);

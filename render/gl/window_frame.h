@@ -13,7 +13,7 @@ namespace render {
 void ClearBoundFramebuffer(const glm::vec4& rgba);
 // The default framebuffer's back buffer, width x height RGBA8, row 0 at the
 // top (the viewer's screenshot, GUI included).
-core::Image8 ReadBackBuffer(int width, int height);
+core::Image8 ReadBackBuffer(int width, int height);  // render_target.cc: the one readback
 // Blending of premultiplied colour over what is drawn (ONE, ONE_MINUS_SRC_ALPHA).
 void UsePremultipliedBlend();
 

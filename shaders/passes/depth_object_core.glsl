@@ -6,8 +6,8 @@
 // copied.
 //
 // Arithmetic contract: every `precise` line here is mirrored operation for
-// operation by ibr/reference.cc, so the CPU reference reproduces each decision
-// bit for bit (IEEE single precision, source order, no fused multiply-add;
+// operation by verify/reference.cc, so the CPU reference reproduces each
+// decision bit for bit (IEEE single precision, source order, no fused multiply-add;
 // checked on the driver by tests/ibr/shader_arithmetic_test). Texels are
 // fetched with integer indices (texelFetch), never filtered.
 //
