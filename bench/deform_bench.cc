@@ -124,12 +124,14 @@ DeformReferenceFrame TraceDeformReference(const core::DeformReference& reference
 
 DeformPinholeView DeformOrbitView(int size, double azimuth_deg, double elevation_deg,
                                   double distance) {
-  const double az = glm::radians(azimuth_deg), el = glm::radians(elevation_deg);
-  const glm::dvec3 eye =
-      distance * glm::dvec3(std::cos(el) * std::sin(az), std::sin(el), std::cos(el) * std::cos(az));
+  // The product's one orbit (ibr::OrbitCameraView: azimuth about +y from +z).
+  const ibr::ViewCamera camera = ibr::OrbitCameraView(glm::dvec3(0.0), 1.0,
+                                                      ibr::DeformOrbit(azimuth_deg, elevation_deg,
+                                                                       distance),
+                                                      size);
   DeformPinholeView view;
-  view.cam_from_world = core::CamFromWorldLookAtDouble(eye, glm::dvec3(0.0), {0, 1, 0});
-  view.focal_px = 0.5 * size / std::tan(glm::radians(17.0));
+  view.cam_from_world = camera.cam_from_world;
+  view.focal_px = camera.camera.fx;
   view.size = size;
   return view;
 }
@@ -639,8 +641,9 @@ void SweepMesh(render::ProgramCache& programs, const DeformBenchOptions& options
   // RunDeform's default orbit view of the normalised mesh (centre 0, longest
   // side 1), its clip range holding every region scale's result.
   const ibr::DeformRenderOptions run_defaults;
-  const ibr::ViewCamera camera = ibr::DeformOrbitCamera(
-      glm::dvec3(0.0), 1.0, run_defaults.azimuth_deg, run_defaults.elevation_deg, size);
+  const ibr::ViewCamera camera = ibr::OrbitCameraView(
+      glm::dvec3(0.0), 1.0, ibr::DeformOrbit(run_defaults.azimuth_deg, run_defaults.elevation_deg),
+      size);
   const core::Box3d clip_box = ibr::DeformedBounds({glm::dvec3(lo), glm::dvec3(hi)}, full, grow);
   capture::Bounds bounds;
   bounds.min = clip_box.lo;

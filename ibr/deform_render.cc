@@ -12,9 +12,9 @@
 #include "capture/synthetic.h"
 #include "core/error.h"
 #include "core/image_io.h"
-#include "core/look_at.h"
-#include "core/projection.h"
 #include "ibr/dataset_maps.h"
+#include "ibr/kinds/deform_kind.h"
+#include "ibr/scene_renderer.h"
 #include "ibr/views.h"
 #include "render/gl/frame_timer.h"
 
@@ -80,17 +80,12 @@ DeformOutcomes CountDeformOutcomes(const render::Frame& frame) {
   return r;
 }
 
-ViewCamera DeformOrbitCamera(const glm::dvec3& centre, double longest, double azimuth_deg,
-                             double elevation_deg, int size) {
-  const double az = glm::radians(azimuth_deg), el = glm::radians(elevation_deg);
-  const glm::dvec3 eye_norm =
-      2.6 * glm::dvec3(std::cos(el) * std::sin(az), std::sin(el), std::cos(el) * std::cos(az));
-  const double focal = 0.5 * size / std::tan(glm::radians(17.0));
-  ViewCamera view;
-  view.camera = MapCamera::Pinhole(size, size, focal, focal, size / 2.0, size / 2.0);
-  view.cam_from_world = glm::dmat4(core::CamFromWorldLookAt(glm::vec3(centre + longest * eye_norm),
-                                                            glm::vec3(centre), {0, 1, 0}));
-  return view;
+OrbitCamera DeformOrbit(double azimuth_deg, double elevation_deg, double distance) {
+  return {.elevation_deg = elevation_deg,
+          .azimuth_deg = azimuth_deg,
+          .distance = distance,
+          .fov_deg = 34.0,
+          .up = {0, 1, 0}};
 }
 
 DeformRenderReport RenderDeform(render::ProgramCache& programs,
@@ -114,12 +109,13 @@ DeformRenderReport RenderDeform(render::ProgramCache& programs,
     }
   }
   // The one path from options to the pass's inputs (ibr/deform_object.h),
-  // shared with deform objects in scene files.
-  const DeformObjectData object =
+  // shared with deform objects in scene files; world = the mesh file's frame.
+  LoadedScene scene = OneObjectScene(LoadedDeformObject(
+      "deform",
       MakeDeformObject(capture::LoadSceneMesh(options.mesh).mesh, options.object,
-                       options.mesh.string(), /*progress=*/true, &programs);
-  // world = the mesh file's frame.
-  const glm::dmat4& world_from_norm = object.object_from_norm;
+                       options.mesh.string(), /*progress=*/true, &programs),
+      options.object));
+  const DeformObjectData& object = *DeformOf(scene.objects.front()).data;
   DeformRenderReport report;
   report.max_displacement = object.max_displacement;
   report.sdf_seconds = object.sdf_seconds;
@@ -127,64 +123,38 @@ DeformRenderReport RenderDeform(render::ProgramCache& programs,
   report.cube_size = object.depth_cube.faces.empty() ? 0 : object.depth_cube.faces[0].depth.width();
   report.implicit_bytes = object.ImplicitBytes();
   report.distance_queries = object.sdf.distance_queries;
-  render::DeformPass pass(programs, object.Inputs(), options.object.pass);
-
   if (views.empty()) {
-    const glm::dvec3 centre(world_from_norm[3]);
+    // The normalised mesh (longest side 1) carried to the file's frame.
+    const glm::dmat4& world_from_norm = scene.objects.front().world_from_object;
     const double longest = world_from_norm[0][0];
-    views.push_back({"deform", DeformOrbitCamera(centre, longest, options.azimuth_deg,
-                                                 options.elevation_deg, options.size)});
+    views.push_back(
+        {"deform", OrbitCameraView(glm::dvec3(world_from_norm[3]), longest,
+                                   DeformOrbit(options.azimuth_deg, options.elevation_deg,
+                                               2.6 * longest),
+                                   options.size)});
   }
-  // Clip range, in world units.
-  capture::Bounds world_bounds;
-  world_bounds.min = glm::dvec3(world_from_norm * glm::dvec4(object.norm_bounds.lo, 1.0));
-  world_bounds.max = glm::dvec3(world_from_norm * glm::dvec4(object.norm_bounds.hi, 1.0));
-
-  std::optional<capture::DatasetWriter> writer;
-  if (options.WritesDataset()) writer.emplace(options.out);
-  render::Frame first;
-  std::optional<render::RenderTarget> target;  // re-created only when the view size changes
-  for (size_t v = 0; v < views.size(); ++v) {
-    const ViewCamera& camera = views[v].view;
-    render::ViewSetup view = ViewSetupFor(camera, world_bounds);
-    // The pass works in normalised units: cam_from_norm is a similarity, so
-    // camera z (and the depth written) stays in world units.
-    view.cam_from_world = glm::mat4(camera.cam_from_world * world_from_norm);
-    const int w = camera.camera.width, h = camera.camera.height;
-    if (!target || target->width() != w || target->height() != h) {
-      target.emplace(render::FrameTargetOptions(w, h));
-    }
-    if (v == 0) {
-      // The last timed frame is view 0's: it is read below, not drawn again.
-      render::FrameTimerOptions timer;
-      timer.warmup_frames = 1;
-      timer.timed_frames = 3;
-      report.frame_ms =
-          render::TimeFrames([&] { render::DrawFrame(*target, pass, view); }, timer).median_ms;
-    } else {
-      render::DrawFrame(*target, pass, view);
-    }
-    render::Frame frame = render::ReadFrame(*target);
-    report.views.push_back({views[v].name, CountDeformOutcomes(frame)});
+  SceneRenderer renderer(programs, scene);
+  render::FrameTimerOptions timer;
+  timer.warmup_frames = 1;
+  timer.timed_frames = 3;
+  report.frame_ms =
+      render::TimeFrames([&] { renderer.Draw(views.front().view); }, timer).median_ms;
+  const auto count = [&](const NamedView& v, const render::Frame& frame) {
+    report.views.push_back({v.name, CountDeformOutcomes(frame)});
     report.total.Add(report.views.back().outcomes);
-    std::fprintf(stderr, "deform: view %zu/%zu %s rendered\n", v + 1, views.size(),
-                 views[v].name.c_str());
-    if (writer) {
-      const int cam = writer->AddCamera(CaptureCamera(camera.camera));
-      writer->AddView(views[v].name, cam, RigidFromMat4(camera.cam_from_world), frame.color,
-                      DatasetDepth(frame.depth), render::CoverageMask(frame), frame.normal);
-    } else {
-      first = std::move(frame);
-    }
-  }
-  if (writer) {
-    writer->SetBounds(world_bounds);
-    writer->Commit();
+    return std::string();
+  };
+  if (options.WritesDataset()) {
+    RenderViewsToDataset(
+        renderer, views, options.out, {.bounds = scene.bounds, .normals = true},
+        [](const std::string& line) { std::fprintf(stderr, "deform: %s\n", line.c_str()); }, count);
   } else {
+    const render::Frame frame = renderer.Render(views.front().view);
+    count(views.front(), frame);
     std::filesystem::path depth_path = options.out;
     depth_path.replace_extension(".depth.exr");
-    core::WriteImage(depth_path, first.depth);
-    core::WriteImage(options.out, first.color);
+    core::WriteImage(depth_path, frame.depth);
+    core::WriteImage(options.out, frame.color);
   }
   return report;
 }

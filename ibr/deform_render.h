@@ -1,6 +1,7 @@
 // `ibr deform`: a mesh deformed and cut by the deform pass (Correa, Silver,
-// Chen 2007; render/passes/deform_pass.h) rendered from an orbit view or a
-// dataset's cameras into a PNG or a dataset folder. The mesh is normalised
+// Chen 2007; render/passes/deform_pass.h) as a one-object scene drawn by
+// ibr::SceneRenderer from an orbit view or a dataset's cameras into a PNG or
+// a dataset folder (ibr::RenderViewsToDataset). The mesh is normalised
 // into the unit cube centred at the origin (longest side 1), so regions,
 // thicknesses and the threshold are in those units.
 #pragma once
@@ -70,12 +71,11 @@ struct DeformRenderReport {
 // renders every view and writes the outputs (staged: nothing partial on error).
 DeformRenderReport RenderDeform(render::ProgramCache& programs, const DeformRenderOptions& options);
 
-// The one orbit view (of `ibr deform` and of the deform bench): a size x size
-// pinhole with a 34 degree field of view, looking at `centre` from 2.6
-// `longest` away, at `azimuth_deg` about +y (OBJ up) and `elevation_deg`
-// above the horizon; world units (rigid cam_from_world).
-ViewCamera DeformOrbitCamera(const glm::dvec3& centre, double longest, double azimuth_deg,
-                             double elevation_deg, int size);
+// The orbit of `ibr deform` and of the deform bench (ibr::OrbitCameraView):
+// a 34 degree field of view, `distance` world units from the centre (`ibr
+// deform`: 2.6 longest sides of the mesh), `azimuth_deg` about +y (OBJ up)
+// from +z and `elevation_deg` above the horizon.
+OrbitCamera DeformOrbit(double azimuth_deg, double elevation_deg, double distance = 2.6);
 
 // What `ibr deform` prints: the implicit, the largest displacement, each
 // view's pixel outcomes and the frame time, one line each; `out` is where

@@ -178,7 +178,7 @@ std::vector<std::string> WriteDemo(render::ProgramCache& programs, const std::fi
   DisplacedMeshData data;
   data.base = DisplacementBaseMesh("torus");
   data.height = DisplacementHeightMap(core::HeightPattern::kBumps, kTexels, 0.15f);
-  const render::ViewSetup view = DisplacementOrbitView(
+  const ViewCamera view = DisplacementOrbitCamera(
       data.base, kMaxDisplacement, {.elevation_deg = 35, .azimuth_deg = -60}, size);
   DisplacedMeshOptions pass_options;
   pass_options.method = DisplacementMethod::kSlicesOrthogonal;
@@ -187,10 +187,10 @@ std::vector<std::string> WriteDemo(render::ProgramCache& programs, const std::fi
   pass_options.tiling = kTiling;
   const render::FrameTimerOptions timer{1, 3};
   // The method and the tessellated truth through the one method table.
-  const DisplacedDraw method = DrawDisplaced(programs, data, pass_options, view, size, timer);
+  const DisplacedDraw method = DrawDisplaced(programs, data, pass_options, view, timer);
   DisplacedMeshOptions truth_options = pass_options;
   truth_options.method = DisplacementMethod::kTessellated;
-  const DisplacedDraw truth = DrawDisplaced(programs, data, truth_options, view, size, timer);
+  const DisplacedDraw truth = DrawDisplaced(programs, data, truth_options, view, timer);
   const core::DisplacementError error = DisplacedError(method.frame, truth.frame, data, kTiling);
 
   core::StagedDirectory staged(out);

@@ -7,24 +7,28 @@
 #include "core/error.h"
 #include "core/heightfield.h"
 #include "core/image_io.h"
+#include "ibr/kinds/displaced_mesh_kind.h"
+#include "ibr/scene_renderer.h"
 #include "render/cores/ray_core.h"
 
 namespace ibr {
 namespace fs = std::filesystem;
 
 DisplacedDraw DrawDisplaced(render::ProgramCache& programs, const DisplacedMeshData& data,
-                            const DisplacedMeshOptions& options, const render::ViewSetup& view,
-                            int size, const std::optional<render::FrameTimerOptions>& timer,
+                            const DisplacedMeshOptions& options, const ViewCamera& view,
+                            const std::optional<render::FrameTimerOptions>& timer,
                             const std::function<void(const std::string&)>& say) {
-  DisplacedMeshRenderer renderer(programs, data, options);
-  if (const render::GroundTruthPlan* plan = renderer.truth_plan(); plan && say) {
+  // The one-object scene of a scene file's displaced mesh.
+  const LoadedScene scene = OneObjectScene(LoadedDisplacedMesh("displaced mesh", data, options));
+  SceneRenderer renderer(programs, scene);
+  const DisplacedMeshRenderer& method = DisplacedRendererOf(renderer.object_pass(0));
+  if (const render::GroundTruthPlan* plan = method.truth_plan(); plan && say) {
     say(fmt::format("displace: tessellated truth: {}", plan->Describe()));
   }
   DisplacedDraw d;
-  if (timer) d.timing = render::TimeFrames([&] { renderer.Draw(view, size, size); }, *timer);
-  renderer.Draw(view, size, size);
-  d.frame = renderer.Read();
-  d.detail = renderer.Detail();
+  if (timer) d.timing = render::TimeFrames([&] { renderer.Draw(view); }, *timer);
+  d.frame = renderer.Render(view);
+  d.detail = method.Detail();
   if (const int64_t early =
           d.frame.CountOutcome(render::OutcomeBit(render::RayOutcome::kEarlyTermination))) {
     d.detail += fmt::format(", {} early-terminated pixels", early);
@@ -128,11 +132,11 @@ void RunDisplaceJob(render::ProgramCache& programs, const DisplaceJob& job,
   const std::string height =
       job.height_map.empty() ? job.height : job.height_map.filename().string();
 
-  const render::ViewSetup view =
-      DisplacementOrbitView(data.base, job.max_displacement, job.Orbit(), job.size);
+  const ViewCamera view =
+      DisplacementOrbitCamera(data.base, job.max_displacement, job.Orbit(), job.size);
   std::optional<render::FrameTimerOptions> timer;
   if (job.frames > 0) timer = render::FrameTimerOptions{.timed_frames = job.frames};
-  const DisplacedDraw result = DrawDisplaced(programs, data, options, view, job.size, timer, say);
+  const DisplacedDraw result = DrawDisplaced(programs, data, options, view, timer, say);
   const auto timing = [&](const DisplacedDraw& d, bool samples) {
     if (!timer) return std::string("untimed");
     return samples
@@ -154,7 +158,7 @@ void RunDisplaceJob(render::ProgramCache& programs, const DisplaceJob& job,
     DisplacedMeshOptions truth_options = options;
     truth_options.method = DisplacementMethod::kTessellated;
     const DisplacedDraw truth =
-        DrawDisplaced(programs, data, truth_options, view, job.size, timer, say);
+        DrawDisplaced(programs, data, truth_options, view, timer, say);
     refuse_empty(truth.frame, "the tessellated truth");
     const core::DisplacementError e = DisplacedError(result.frame, truth.frame, data, job.tiling);
     const std::string depth =

@@ -22,7 +22,8 @@
 
 namespace ibr {
 
-// One method drawn (timed when `timer` is given), its frame read back.
+// One method drawn (timed when `timer` is given) as a one-object scene
+// (ibr::SceneRenderer, the displaced-mesh kind), its frame read back.
 struct DisplacedDraw {
   render::Frame frame;
   core::TimingStats timing;  // empty when untimed
@@ -31,8 +32,8 @@ struct DisplacedDraw {
 // `say` gets the tessellated truth's plan (its subdivisions within the memory
 // budget) when the method is `tessellated`. Needs a current context.
 DisplacedDraw DrawDisplaced(render::ProgramCache& programs, const DisplacedMeshData& data,
-                            const DisplacedMeshOptions& options, const render::ViewSetup& view,
-                            int size, const std::optional<render::FrameTimerOptions>& timer,
+                            const DisplacedMeshOptions& options, const ViewCamera& view,
+                            const std::optional<render::FrameTimerOptions>& timer,
                             const std::function<void(const std::string&)>& say = {});
 
 // A method's frame against the tessellated truth's from the same camera

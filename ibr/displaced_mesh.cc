@@ -6,6 +6,7 @@
 #include <cmath>
 #include <numbers>
 #include <optional>
+#include <utility>
 
 #include "capture/synthetic.h"
 #include "core/error.h"
@@ -110,12 +111,28 @@ core::TriangleMesh ReadDisplacementBase(const std::filesystem::path& path) {
   return std::move(scene.mesh);
 }
 
-render::ViewSetup DisplacementOrbitView(const core::TriangleMesh& base, float max_displacement,
-                                        const OrbitCamera& orbit, int size_px) {
+namespace {
+
+// The sphere the orbit frames: the base's bounds grown by the displacement.
+std::pair<glm::dvec3, double> DisplacedSphere(const core::TriangleMesh& base,
+                                              float max_displacement) {
   glm::vec3 lo, hi;
   base.Bounds(lo, hi);
-  return OrbitCameraView(0.5f * (lo + hi), 0.5f * glm::length(hi - lo) + max_displacement, orbit,
-                         size_px);
+  return {glm::dvec3(0.5f * (lo + hi)), 0.5 * glm::length(hi - lo) + max_displacement};
+}
+
+}  // namespace
+
+ViewCamera DisplacementOrbitCamera(const core::TriangleMesh& base, float max_displacement,
+                                   const OrbitCamera& orbit, int size_px) {
+  const auto [centre, radius] = DisplacedSphere(base, max_displacement);
+  return OrbitCameraView(centre, radius, orbit, size_px);
+}
+
+render::ViewSetup DisplacementOrbitView(const core::TriangleMesh& base, float max_displacement,
+                                        const OrbitCamera& orbit, int size_px) {
+  const auto [centre, radius] = DisplacedSphere(base, max_displacement);
+  return OrbitViewSetup(centre, radius, orbit, size_px);
 }
 
 struct DisplacedMeshRenderer::Impl {

@@ -97,6 +97,10 @@ core::TriangleMesh ReadDisplacementBase(const std::filesystem::path& path);
 
 // The orbit camera (ibr/views.h, OrbitCameraView) of `ibr displace` around a
 // displaced mesh: the bounds of `base` grown by max_displacement framed.
+ViewCamera DisplacementOrbitCamera(const core::TriangleMesh& base, float max_displacement,
+                                   const OrbitCamera& orbit, int size_px);
+// The same orbit as pass inputs (OrbitViewSetup), for the benches and tests
+// that draw a method's pass alone.
 render::ViewSetup DisplacementOrbitView(const core::TriangleMesh& base, float max_displacement,
                                         const OrbitCamera& orbit, int size_px);
 

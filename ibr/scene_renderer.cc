@@ -52,6 +52,15 @@ MapSet CaptureMaps(render::ProgramCache& programs, const capture::SceneMesh& mes
   return maps;
 }
 
+LoadedScene OneObjectScene(LoadedObject object, std::vector<NamedView> views) {
+  LoadedScene scene;
+  scene.name = object.name;
+  scene.bounds = object.bounds;
+  scene.objects.push_back(std::move(object));
+  scene.views = std::move(views);
+  return scene;
+}
+
 LoadedScene LoadScene(render::ProgramCache& programs, const scene::Scene& s) {
   LoadedScene loaded;
   loaded.name = s.name;
@@ -121,6 +130,11 @@ void SceneRenderer::UpdateDepthObject(LoadedScene& scene, size_t index,
   UpdateDepthObjectKind(scene.objects[index], *passes_[index].pass, options);
 }
 
+const ObjectPass& SceneRenderer::object_pass(size_t index) const {
+  IBR_CHECK_LT(index, passes_.size());
+  return *passes_[index].pass;
+}
+
 int SceneRenderer::PassBuilds(size_t index) const {
   IBR_CHECK_LT(index, passes_.size());
   return passes_[index].builds;
@@ -179,7 +193,8 @@ SceneRenderStats RenderViewsToDataset(
     stats.object_pixels.push_back(covered);
     const int cam = writer.AddCamera(CaptureCamera(v.view.camera));
     writer.AddView(v.name, cam, RigidFromMat4(v.view.cam_from_world), frame.color,
-                   DatasetDepth(frame.depth), render::CoverageMask(frame), {});
+                   DatasetDepth(frame.depth), render::CoverageMask(frame),
+                   manifest.normals ? frame.normal : core::ImageF());
     const std::string note = measure ? measure(v, frame) : std::string();
     if (progress) {
       progress(fmt::format("view {}/{} {} {}x{}: {:.1f} ms, {} object pixels{}", i + 1,

@@ -47,6 +47,11 @@ struct LoadedScene {
   std::vector<NamedView> views;       // the scene's cameras
 };
 
+// The scene of one object made in code (the one-object scenes of `ibr
+// render DATASET`, `ibr deform`, `ibr volume`, `ibr displace` and `ibr
+// demo`): named like the object, its bounds the object's, `views` its cameras.
+LoadedScene OneObjectScene(LoadedObject object, std::vector<NamedView> views = {});
+
 // Converts every object's settings by its kind (errors name the file and
 // JSON pointer), loads its files and, for captured image sources, renders the capture
 // (needs a current context and `programs`). Disabled objects are only checked.
@@ -108,6 +113,9 @@ class SceneRenderer {
   void UpdateDepthObject(LoadedScene& scene, size_t index, const DepthObjectOptions& options);
   // Times object `index`'s pass was built (1 after the constructor).
   int PassBuilds(size_t index) const;
+  // Object `index`'s pass (its kind's accessors read what the last frame
+  // counted: ibr::VolumePassOf, ibr::DisplacedRendererOf).
+  const ObjectPass& object_pass(size_t index) const;
 
  private:
   struct Built {
@@ -135,6 +143,7 @@ struct SceneRenderStats {
 struct DatasetManifest {
   std::optional<capture::Bounds> bounds;
   std::string depth_units = "scene units";
+  bool normals = false;  // also normal/NAME.exr (world normals; the passes that write them)
 };
 SceneRenderStats RenderViewsToDataset(
     SceneRenderer& renderer, const std::vector<NamedView>& views, const std::filesystem::path& out,

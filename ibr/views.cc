@@ -9,6 +9,7 @@
 #include <utility>
 
 #include "core/error.h"
+#include "core/look_at.h"
 #include "core/projection.h"
 #include "ibr/dataset_maps.h"
 
@@ -70,7 +71,8 @@ void OrbitCamera::Check() const {
   }
   if (!(fov_deg > 0 && fov_deg < 180))
     core::ThrowInputError(kWhere, "field of view {} degrees outside (0, 180)", fov_deg);
-  if (!(glm::length(up) > 0.5f)) core::ThrowInputError(kWhere, "the up axis must be a unit axis");
+  if (!(glm::length(up) > 1e-9) || !std::isfinite(glm::length(up)))
+    core::ThrowInputError(kWhere, "the up direction must be finite and non-zero");
 }
 
 glm::vec3 UpAxisFromName(const std::string& name, std::string_view where) {
@@ -86,39 +88,58 @@ glm::vec3 UpAxisFromName(const std::string& name, std::string_view where) {
   return negative ? -up : up;
 }
 
-render::ViewSetup OrbitCameraView(const glm::vec3& centre, float radius, const OrbitCamera& orbit,
-                                  int size_px) {
+namespace {
+
+// The orbit's horizontal frame: h1 the axis after up's largest component,
+// made perpendicular to up; h2 = up x h1.
+void OrbitFrame(const glm::dvec3& up, glm::dvec3& h1, glm::dvec3& h2) {
+  const glm::dvec3 a = glm::abs(up);
+  const int axis = a.x >= a.y && a.x >= a.z ? 0 : a.y >= a.z ? 1 : 2;
+  glm::dvec3 next(0.0);
+  next[(axis + 1) % 3] = 1;
+  h1 = glm::normalize(next - glm::dot(next, up) * up);
+  h2 = glm::cross(up, h1);
+}
+
+}  // namespace
+
+ViewCamera OrbitCameraView(const glm::dvec3& centre, double radius, const OrbitCamera& orbit,
+                           int width, int height) {
   orbit.Check();
-  if (size_px < 1) core::ThrowInputError("OrbitCameraView", "size {} px must be >= 1", size_px);
+  if (width < 1 || height < 1)
+    core::ThrowInputError("OrbitCameraView", "size {}x{} px must be >= 1", width, height);
   if (!(radius > 0) || !std::isfinite(radius))
     core::ThrowInputError("OrbitCameraView", "radius {} must be finite and > 0", radius);
-  const double half_fov = 0.5 * orbit.fov_deg * M_PI / 180.0;
+  const double half_fov = 0.5 * glm::radians(orbit.fov_deg);
   const double distance = orbit.distance > 0 ? orbit.distance : radius / std::sin(half_fov);
-  // A right-handed frame around `up`: h1 the next axis after up's, h2 = up x h1
-  // (up z: h1 x, h2 y, the orbit every earlier version used).
-  const glm::vec3 up = glm::normalize(orbit.up);
-  const int axis = std::abs(up.x) > 0.5f ? 0 : std::abs(up.y) > 0.5f ? 1 : 2;
-  glm::vec3 h1(0);
-  h1[(axis + 1) % 3] = 1;
-  const glm::vec3 h2 = glm::cross(up, h1);
-  const double el = orbit.elevation_deg * M_PI / 180.0, az = orbit.azimuth_deg * M_PI / 180.0;
-  const glm::vec3 horizontal =
-      static_cast<float>(std::cos(az)) * h1 + static_cast<float>(std::sin(az)) * h2;
-  const glm::vec3 to_eye =
-      static_cast<float>(std::cos(el)) * horizontal + static_cast<float>(std::sin(el)) * up;
-  // The camera's up: perpendicular to the view, towards `up` (away from the eye at a top view).
-  const glm::vec3 cam_up =
-      -static_cast<float>(std::sin(el)) * horizontal + static_cast<float>(std::cos(el)) * up;
-  render::ViewSetup view;
-  view.cam_from_world =
-      core::CamFromWorldLookAt(centre + static_cast<float>(distance) * to_eye, centre, cam_up);
-  const double f = size_px / (2.0 * std::tan(half_fov));
+  const glm::dvec3 up = glm::normalize(orbit.up);
+  glm::dvec3 h1, h2;
+  OrbitFrame(up, h1, h2);
+  const double el = glm::radians(orbit.elevation_deg), az = glm::radians(orbit.azimuth_deg);
+  const glm::dvec3 horizontal = std::cos(az) * h1 + std::sin(az) * h2;
+  const glm::dvec3 to_eye = std::cos(el) * horizontal + std::sin(el) * up;
+  // The camera's up: perpendicular to the view, towards `up` (away from the
+  // eye at a top view, where `up` itself is along the view).
+  const glm::dvec3 cam_up = -std::sin(el) * horizontal + std::cos(el) * up;
+  const double f = height / (2.0 * std::tan(half_fov));
+  ViewCamera view;
+  view.camera = MapCamera::Pinhole(width, height, f, f, width / 2.0, height / 2.0);
+  view.cam_from_world = core::CamFromWorldLookAtDouble(centre + distance * to_eye, centre, cam_up);
+  return view;
+}
+
+render::ViewSetup OrbitViewSetup(const glm::dvec3& centre, double radius, const OrbitCamera& orbit,
+                                 int size_px) {
+  const ViewCamera v = OrbitCameraView(centre, radius, orbit, size_px);
+  const double distance = glm::length(glm::dvec3(glm::inverse(v.cam_from_world)[3]) - centre);
+  render::ViewSetup setup;
+  setup.cam_from_world = glm::mat4(v.cam_from_world);
   // Near at most 1.5 radii in front of the centre, never at or behind the
   // eye (an eye inside the sphere sees from 1/1000 of its distance on).
-  view.clip_from_cam = core::ClipFromCamPerspective(
-      f, f, size_px / 2.0, size_px / 2.0, size_px, size_px,
+  setup.clip_from_cam = core::ClipFromCamPerspective(
+      v.camera.fx, v.camera.fy, v.camera.cx, v.camera.cy, size_px, size_px,
       std::max(1e-3 * distance, distance - 1.5 * radius), distance + 1.5 * radius);
-  return view;
+  return setup;
 }
 
 std::vector<NamedView> SceneCameraViews(const scene::Cameras& c, const glm::dmat4& world_from_box) {
@@ -173,34 +194,25 @@ std::vector<NamedView> OrbitViews(const glm::dmat4& world_from_box, const OrbitO
     const glm::dvec3 c(world_from_box * glm::dvec4(i & 1, (i >> 1) & 1, (i >> 2) & 1, 1.0));
     radius = std::max(radius, glm::length(c - centre));
   }
-  const glm::dvec3 up = glm::normalize(options.up);
-  glm::dvec3 a = glm::cross(up, glm::dvec3(1, 0, 0));
-  if (glm::length(a) < 1e-6) a = glm::cross(up, glm::dvec3(0, 1, 0));
-  // An arc is centred on `towards` across up.
-  const glm::dvec3 towards = options.towards - glm::dot(options.towards, up) * up;
-  if (options.arc_deg < 360 && glm::length(towards) > 1e-9) a = towards;
-  a = glm::normalize(a);
-  const glm::dvec3 b = glm::cross(a, up);
-  const double half_fov = options.fov_deg * M_PI / 360;
-  const double distance = radius / std::sin(half_fov);
-  const double f = 0.5 * options.size / std::tan(half_fov);
-  const double el = options.elevation_deg * M_PI / 180;
+  OrbitCamera orbit{.elevation_deg = options.elevation_deg, .fov_deg = options.fov_deg};
+  orbit.up = glm::normalize(options.up);
+  // An arc is centred on `towards` across up (none: on the orbit's h1).
+  double middle_deg = 0;
+  const glm::dvec3 towards = options.towards - glm::dot(options.towards, orbit.up) * orbit.up;
+  if (options.arc_deg < 360 && glm::length(towards) > 1e-9) {
+    glm::dvec3 h1, h2;
+    OrbitFrame(orbit.up, h1, h2);
+    middle_deg = glm::degrees(std::atan2(glm::dot(towards, h2), glm::dot(towards, h1)));
+  }
   std::vector<NamedView> views;
   for (int i = 0; i < options.count; ++i) {
-    const double arc = options.arc_deg * M_PI / 180;
-    const double az = options.arc_deg >= 360 ? 2 * M_PI * i / options.count
-                      : options.count == 1
-                          ? 0.0
-                          : arc * (static_cast<double>(i) / (options.count - 1) - 0.5);
-    const glm::dvec3 dir = std::cos(el) * (std::cos(az) * a + std::sin(az) * b) + std::sin(el) * up;
-    const glm::dvec3 eye = centre + distance * dir;
-    NamedView v;
-    v.name = fmt::format("orbit_{:03d}", i);
-    v.view.camera = MapCamera::Pinhole(options.size, options.size, f, f, options.size / 2.0,
-                                       options.size / 2.0);
-    v.view.cam_from_world =
-        glm::dmat4(core::CamFromWorldLookAt(glm::vec3(eye), glm::vec3(centre), glm::vec3(up)));
-    views.push_back(v);
+    orbit.azimuth_deg =
+        options.arc_deg >= 360 ? 360.0 * i / options.count
+        : options.count == 1
+            ? middle_deg
+            : middle_deg + options.arc_deg * (static_cast<double>(i) / (options.count - 1) - 0.5);
+    views.push_back({fmt::format("orbit_{:03d}", i),
+                     OrbitCameraView(centre, radius, orbit, options.size)});
   }
   return views;
 }

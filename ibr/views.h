@@ -51,22 +51,34 @@ std::vector<NamedView> OrbitViews(const glm::dmat4& world_from_box, const OrbitO
 // `where` otherwise (zero, not finite, not three numbers).
 glm::dvec3 ParseUp(const std::string& text, const std::string& where);
 
-// One camera orbiting a sphere (`centre`, `radius`, world units), for the
-// single image of `ibr displace` and `ibr volume`: the eye at `distance` from
-// the centre (0 = framed: the sphere just fills the field of view),
-// `elevation_deg` above the plane perpendicular to `up`, `azimuth_deg` around
-// `up` (0 along the first horizontal axis: x for up z, z for up y, y for up
-// x), a `fov_deg` square perspective frame; `up` is at the top of the image.
+// The one orbit camera: every orbit of the product (the single image of
+// `ibr displace`, `ibr volume` and `ibr deform`, the turntables of `ibr
+// render` and scene files, the interactive viewer's) is this eye. It looks
+// at `centre` from `distance` (0 = framed: a sphere of `radius` just fills
+// the vertical field of view), `elevation_deg` above the plane
+// perpendicular to `up`, `azimuth_deg` around `up` counted from h1 towards
+// up x h1, where h1 is the axis after up's largest component (x -> y -> z
+// -> x) made perpendicular to up: x for up z, z for up y, y for up x. `up`
+// is at the top of the image (any non-zero direction; normalised).
 struct OrbitCamera {
   double elevation_deg = 35;
   double azimuth_deg = -60;
   double distance = 0;  // world units from the centre; 0 = framed
-  double fov_deg = 40;  // full field of view
-  glm::vec3 up{0, 0, 1};
+  double fov_deg = 40;  // full vertical field of view
+  glm::dvec3 up{0, 0, 1};
   void Check() const;
 };
-render::ViewSetup OrbitCameraView(const glm::vec3& centre, float radius, const OrbitCamera& orbit,
-                                  int size_px);
+// A width x height pinhole (square pixels, principal point at the centre).
+ViewCamera OrbitCameraView(const glm::dvec3& centre, double radius, const OrbitCamera& orbit,
+                           int width, int height);
+inline ViewCamera OrbitCameraView(const glm::dvec3& centre, double radius,
+                                  const OrbitCamera& orbit, int size_px) {
+  return OrbitCameraView(centre, radius, orbit, size_px, size_px);
+}
+// The orbit's pass inputs around the sphere: clip range from 1.5 radii in
+// front of the centre (never at or behind the eye) to 1.5 radii behind it.
+render::ViewSetup OrbitViewSetup(const glm::dvec3& centre, double radius, const OrbitCamera& orbit,
+                                 int size_px);
 // An axis-aligned up as `--up` of `ibr displace` and `ibr volume` takes it:
 // "x", "y", "z", "-x", "-y", "-z" (InputError naming `where` otherwise).
 glm::vec3 UpAxisFromName(const std::string& name, std::string_view where);

@@ -22,6 +22,7 @@
 #include "core/image_io.h"
 #include "core/projection.h"
 #include "core/timing.h"
+#include "ibr/views.h"
 #include "render/gl/context.h"
 #include "render/gl/gl.h"
 #include "render/gl/gl_queries.h"
@@ -68,27 +69,25 @@ void ViewerOptions::Check() const {
 FrameCamera OrbitCamera(glm::vec3 centre, float radius, float azimuth_degrees,
                         float elevation_degrees, float distance_scale, float fov_y_degrees,
                         int width, int height, glm::vec3 up) {
-  const float az = glm::radians(azimuth_degrees);
-  // Clamp short of the poles so the up vector stays defined.
-  const float el = glm::radians(std::clamp(elevation_degrees, -89.0f, 89.0f));
-  const float fov = glm::radians(fov_y_degrees);
-  const float distance = distance_scale * radius / std::sin(0.5f * fov);
-  // Orbit frame: e0, e1 span the plane orthogonal to the pole `up`.
-  const glm::vec3 helper = std::abs(up.x) < 0.9f ? glm::vec3(1, 0, 0) : glm::vec3(0, 1, 0);
-  const glm::vec3 e0 = glm::normalize(glm::cross(helper, up));
-  const glm::vec3 e1 = glm::cross(up, e0);
-  const glm::vec3 eye = centre + distance * (std::cos(el) * std::cos(az) * e0 +
-                                             std::cos(el) * std::sin(az) * e1 + std::sin(el) * up);
+  // The product's one orbit (ibr::OrbitCameraView), clamped short of the
+  // poles so dragging over the top does not flip the view.
+  ibr::OrbitCamera orbit;
+  orbit.azimuth_deg = azimuth_degrees;
+  orbit.elevation_deg = std::clamp(elevation_degrees, -89.0f, 89.0f);
+  orbit.fov_deg = fov_y_degrees;
+  orbit.distance = distance_scale * radius / std::sin(0.5 * glm::radians(orbit.fov_deg));
+  orbit.up = up;
+  const ibr::ViewCamera view = ibr::OrbitCameraView(centre, radius, orbit, width, height);
   FrameCamera camera;
-  camera.cam_from_world = core::CamFromWorldLookAt(eye, centre, up);
-  camera.fx = camera.fy = 0.5 * height / std::tan(0.5 * fov);
-  camera.cx = 0.5 * width;
-  camera.cy = 0.5 * height;
+  camera.cam_from_world = glm::mat4(view.cam_from_world);
+  camera.fx = view.camera.fx;
+  camera.fy = view.camera.fy;
+  camera.cx = view.camera.cx;
+  camera.cy = view.camera.cy;
   camera.width = width;
   camera.height = height;
-  camera.near =
-      std::max(1e-4, std::max(1e-3 * distance, static_cast<double>(distance - 2.0f * radius)));
-  camera.far = distance + 4.0 * radius;
+  camera.near = std::max(1e-4, std::max(1e-3 * orbit.distance, orbit.distance - 2.0 * radius));
+  camera.far = orbit.distance + 4.0 * radius;
   camera.clip_from_cam = core::ClipFromCamPerspective(camera.fx, camera.fy, camera.cx, camera.cy,
                                                       width, height, camera.near, camera.far);
   return camera;

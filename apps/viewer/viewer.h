@@ -176,7 +176,8 @@ struct ViewerScript {
 void Run(const SceneFactory& make_scene, const ViewerOptions& options,
          const ViewerScript* script = nullptr);
 
-// The orbit camera for a window of width x height; `up` is the pole (unit).
+// The orbit camera (ibr::OrbitCameraView, the product's one orbit) for a
+// window of width x height; `up` is the pole (unit).
 FrameCamera OrbitCamera(glm::vec3 centre, float radius, float azimuth_degrees,
                         float elevation_degrees, float distance_scale, float fov_y_degrees,
                         int width, int height, glm::vec3 up = {0, 1, 0});

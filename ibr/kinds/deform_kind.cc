@@ -47,16 +47,14 @@ class DeformKindImpl final : public ObjectKind {
     return DeformObjectOptionsFrom(settings);
   }
   LoadedObject Load(render::ProgramCache& programs, const scene::Object& o) const override {
-    LoadedObject l = kinds::Named(o);
     kinds::UniformScale(o.world_from_object, o.where);
-    DeformState s;
-    s.options = DeformObjectOptionsFrom(o.settings);
-    s.data = std::make_shared<DeformObjectData>(
-        MakeDeformObject(kinds::LoadMesh(o.mesh, /*displaced=*/false), s.options, o.where,
-                         /*progress=*/false, &programs));
-    l.world_from_object = o.world_from_object * s.data->object_from_norm;
-    l.data = std::move(s);
-    l.bounds = DeformWorldBounds(l);
+    const DeformObjectOptions options = DeformObjectOptionsFrom(o.settings);
+    LoadedObject l = LoadedDeformObject(
+        o.name,
+        MakeDeformObject(kinds::LoadMesh(o.mesh, /*displaced=*/false), options, o.where,
+                         /*progress=*/false, &programs),
+        options, o.world_from_object);
+    l.type = o.type;
     return l;
   }
   std::unique_ptr<ObjectPass> MakePass(render::ProgramCache& programs,
@@ -70,6 +68,19 @@ class DeformKindImpl final : public ObjectKind {
 const ObjectKind& DeformKind() {
   static const DeformKindImpl kind;
   return kind;
+}
+
+LoadedObject LoadedDeformObject(std::string name, DeformObjectData data,
+                                const DeformObjectOptions& options,
+                                const glm::dmat4& world_from_object) {
+  LoadedObject l;
+  l.name = std::move(name);
+  l.type = scene::ObjectType::kDeform;
+  DeformState s{std::make_shared<const DeformObjectData>(std::move(data)), options};
+  l.world_from_object = world_from_object * s.data->object_from_norm;
+  l.data = std::move(s);
+  l.bounds = DeformWorldBounds(l);
+  return l;
 }
 
 DeformState& DeformOf(LoadedObject& object) { return KindState<DeformState>(object); }

@@ -3,6 +3,7 @@
 #pragma once
 
 #include <memory>
+#include <string>
 
 #include "ibr/deform_object.h"
 #include "ibr/object_kind.h"
@@ -19,6 +20,14 @@ struct DeformState {
 };
 DeformState& DeformOf(LoadedObject& object);
 const DeformState& DeformOf(const LoadedObject& object);
+
+// A loaded deform object of data already built (ibr::MakeDeformObject with
+// `options`), placed by the similarity `world_from_object` (its file's frame
+// to the world): what LoadScene makes of a scene's deform object, for the
+// one-object scene of `ibr deform`.
+LoadedObject LoadedDeformObject(std::string name, DeformObjectData data,
+                                const DeformObjectOptions& options,
+                                const glm::dmat4& world_from_object = glm::dmat4(1.0));
 
 // Changes a deform object's options to `options`, rebuilding only what the
 // change invalidates (ibr::UpdateDeformObject, on a copy of the data so the

@@ -115,11 +115,7 @@ void UpdateDepthObjectKind(LoadedObject& object, ObjectPass& pass,
 }
 
 LoadedScene DepthObjectScene(std::string name, MapSet maps, const DepthObjectOptions& options) {
-  LoadedScene scene;
-  scene.name = name;
-  scene.objects.push_back(LoadedDepthObject(std::move(name), std::move(maps), options));
-  scene.bounds = scene.objects.back().bounds;
-  return scene;
+  return OneObjectScene(LoadedDepthObject(std::move(name), std::move(maps), options));
 }
 
 const ObjectKind& DepthObjectKind() {

@@ -7,7 +7,7 @@
 
 #include "core/error.h"
 #include "core/image_io.h"
-#include "ibr/displaced_mesh.h"
+#include "ibr/kinds/displaced_mesh_kind.h"
 #include "ibr/kinds/kinds.h"
 #include "ibr/scene_options.h"
 
@@ -26,6 +26,7 @@ class DisplacedMeshObjectPass final : public ObjectPass {
         renderer_(programs, s.data, s.options) {}
   render::Pass& pass() override { return renderer_.pass(); }
   std::string name() const override { return name_; }
+  const DisplacedMeshRenderer& renderer() const { return renderer_; }
 
  private:
   std::string name_;
@@ -39,25 +40,22 @@ class DisplacedMeshKindImpl final : public ObjectKind {
     return DisplacedMeshOptionsFrom(settings);
   }
   LoadedObject Load(render::ProgramCache&, const scene::Object& o) const override {
-    LoadedObject l = kinds::Named(o);
     const double scale = kinds::UniformScale(o.world_from_object, o.where);
-    DisplacedMeshState s;
-    s.options = DisplacedMeshOptionsFrom(o.settings);
-    s.options.max_displacement *= static_cast<float>(scale);
-    s.data.base =
+    DisplacedMeshOptions options = DisplacedMeshOptionsFrom(o.settings);
+    options.max_displacement *= static_cast<float>(scale);
+    DisplacedMeshData data;
+    data.base =
         kinds::Transformed(kinds::LoadMesh(o.mesh, /*displaced=*/true), o.world_from_object, scale);
     try {
-      s.data.height = o.height.file.empty()
-                          ? DisplacementHeightMap(core::HeightPatternFromName(o.height.generator),
-                                                  o.height.texels)
-                          : ReadHeightMap(o.height.file);
+      data.height = o.height.file.empty()
+                        ? DisplacementHeightMap(core::HeightPatternFromName(o.height.generator),
+                                                o.height.texels)
+                        : ReadHeightMap(o.height.file);
     } catch (const core::InputError& e) {
       throw core::InputError(fmt::format("{}: {}", o.height.where, e.what()));
     }
-    if (!o.texture.empty()) s.data.color = core::ReadImage<uint8_t>(o.texture);
-    l.bounds = kinds::MeshBounds(s.data.base, s.options.max_displacement);
-    l.data = std::move(s);
-    return l;
+    if (!o.texture.empty()) data.color = core::ReadImage<uint8_t>(o.texture);
+    return LoadedDisplacedMesh(o.name, std::move(data), options);
   }
   std::unique_ptr<ObjectPass> MakePass(render::ProgramCache& programs,
                                        const LoadedObject& object) const override {
@@ -67,6 +65,23 @@ class DisplacedMeshKindImpl final : public ObjectKind {
 };
 
 }  // namespace
+
+LoadedObject LoadedDisplacedMesh(std::string name, DisplacedMeshData data,
+                                 const DisplacedMeshOptions& options) {
+  LoadedObject l;
+  l.name = std::move(name);
+  l.type = scene::ObjectType::kDisplacedMesh;
+  DisplacedMeshState s{std::move(data), options};
+  l.bounds = kinds::MeshBounds(s.data.base, s.options.max_displacement);
+  l.data = std::move(s);
+  return l;
+}
+
+const DisplacedMeshRenderer& DisplacedRendererOf(const ObjectPass& pass) {
+  const auto* p = dynamic_cast<const DisplacedMeshObjectPass*>(&pass);
+  IBR_CHECK(p != nullptr);
+  return p->renderer();
+}
 
 const ObjectKind& DisplacedMeshKind() {
   static const DisplacedMeshKindImpl kind;

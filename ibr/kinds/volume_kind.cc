@@ -26,6 +26,7 @@ class VolumeObjectPass final : public ObjectPass {
   render::Pass& pass() override { return pass_; }
   std::string name() const override { return name_; }
   render::VolumePass& volume() { return pass_; }
+  const render::VolumePass& volume() const { return pass_; }
   void set_name(std::string name) { name_ = std::move(name); }
 
  private:
@@ -40,13 +41,8 @@ class VolumeKindImpl final : public ObjectKind {
     return VolumeObjectOptionsFrom(settings);
   }
   LoadedObject Load(render::ProgramCache&, const scene::Object& o) const override {
-    LoadedObject l = kinds::Named(o);
     kinds::UniformScale(o.world_from_object, o.where);
-    LoadedVolume v = LoadVolumeObject(o);
-    VolumeState s{std::make_shared<const VolumeObjectData>(std::move(v.data)), v.options};
-    l.bounds = BoxBounds(WorldFromProxy(*s.data));
-    l.data = std::move(s);
-    return l;
+    return LoadedVolumeObject(o.name, LoadVolumeObject(o));
   }
   std::unique_ptr<ObjectPass> MakePass(render::ProgramCache& programs,
                                        const LoadedObject& object) const override {
@@ -59,6 +55,22 @@ class VolumeKindImpl final : public ObjectKind {
 const ObjectKind& VolumeKind() {
   static const VolumeKindImpl kind;
   return kind;
+}
+
+LoadedObject LoadedVolumeObject(std::string name, LoadedVolume volume) {
+  LoadedObject l;
+  l.name = std::move(name);
+  l.type = scene::ObjectType::kVolume;
+  VolumeState s{std::make_shared<const VolumeObjectData>(std::move(volume.data)), volume.options};
+  l.bounds = BoxBounds(WorldFromProxy(*s.data));
+  l.data = std::move(s);
+  return l;
+}
+
+const render::VolumePass& VolumePassOf(const ObjectPass& pass) {
+  const auto* p = dynamic_cast<const VolumeObjectPass*>(&pass);
+  IBR_CHECK(p != nullptr);
+  return p->volume();
 }
 
 VolumeState& VolumeOf(LoadedObject& object) { return KindState<VolumeState>(object); }

@@ -3,6 +3,7 @@
 #pragma once
 
 #include <memory>
+#include <string>
 
 #include "ibr/object_kind.h"
 #include "ibr/volume_object.h"
@@ -15,6 +16,13 @@ struct VolumeState {
 };
 VolumeState& VolumeOf(LoadedObject& object);
 const VolumeState& VolumeOf(const LoadedObject& object);
+
+// A loaded volume object of a volume already read and sampled
+// (ibr::MakeVolumeObject; its world_from_volume places it): what LoadScene
+// makes of a scene's volume object, for the one-object scene of `ibr volume`.
+LoadedObject LoadedVolumeObject(std::string name, LoadedVolume volume);
+// The pass VolumeKind().MakePass made (its last frame's slice counts).
+const render::VolumePass& VolumePassOf(const ObjectPass& pass);
 
 // Changes a volume object's options to `options` (ibr::UpdateVolumeObject):
 // pass options go to render::VolumePass::SetOptions (no volume upload);
