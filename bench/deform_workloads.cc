@@ -90,7 +90,7 @@ core::Box3d MeshBox(const core::TriangleMesh& mesh) {
   return {glm::dvec3(lo), glm::dvec3(hi)};
 }
 
-double Median(std::vector<double> v) { return core::Percentile(std::move(v), 0.5); }
+double Median(std::vector<double> v) { return core::Median(std::move(v)); }
 
 // Per-round ratios a[i] / b[i]: their median and 95 % interval.
 core::MedianInterval RatioInterval(const std::vector<double>& a, const std::vector<double>& b,

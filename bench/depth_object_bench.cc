@@ -20,6 +20,7 @@
 #include "bench/tradeoff.h"
 #include "capture/synthetic.h"
 #include "core/error.h"
+#include "core/metrics.h"
 #include "core/timing.h"
 #include "ibr/dataset_maps.h"
 #include "ibr/demo_scene.h"
@@ -690,8 +691,7 @@ void MeasureFirstImagePath(DepthObjectRun& run, ObjectRun& obj, const Path& path
     auto median = [&](auto get) {
       std::vector<double> v;
       for (const FirstImageTimes& t : ts) v.push_back(get(t));
-      std::sort(v.begin(), v.end());
-      return v[v.size() / 2];
+      return core::Median(std::move(v));
     };
     const double total = median([](const FirstImageTimes& t) { return t.total_ms(); });
     if (default_path) goals.first_image_ms[cache] = total;

@@ -10,6 +10,8 @@
 #include <random>
 #include <vector>
 
+#include "core/metrics.h"
+
 namespace bench {
 
 struct OpenVdbLevelSet::Impl {
@@ -50,16 +52,6 @@ bool OpenVdbLevelSet::Value(int i, int j, int k, float* value) const {
   return impl_->grid->tree().probeValue(openvdb::Coord(i, j, k), *value);
 }
 
-namespace {
-
-double Percentile(std::vector<double> values, double q) {
-  if (values.empty()) return NAN;
-  const size_t n = std::min(values.size() - 1, static_cast<size_t>(q * (values.size() - 1)));
-  std::nth_element(values.begin(), values.begin() + n, values.end());
-  return values[n];
-}
-
-}  // namespace
 
 void MeasureSdfAccuracy(const core::MeshDistance& distance, const core::DistanceField& field,
                         const OpenVdbLevelSet* level_set, int64_t max_samples, SdfAccuracy* ours,
@@ -109,7 +101,7 @@ void MeasureSdfAccuracy(const core::MeshDistance& distance, const core::Distance
   }
   auto finish = [](SdfAccuracy* a, const std::vector<double>& errors) {
     a->max_error_voxels = errors.empty() ? NAN : *std::max_element(errors.begin(), errors.end());
-    a->p95_error_voxels = Percentile(errors, 0.95);
+    a->p95_error_voxels = core::Percentile(errors, 0.95);
   };
   finish(ours, ours_errors);
   finish(openvdb, vdb_errors);

@@ -10,17 +10,17 @@
 
 #include "bench/deform_bench.h"
 #include "core/check.h"
+#include "core/metrics.h"
 
 namespace bench {
 namespace {
 
 std::string Ratio(double v) { return std::isfinite(v) ? fmt::format("{:.2f}", v) : "n/a"; }
 
-double Median(std::vector<double> v) {
+// The median of the finite values (core::Median; NaN when none).
+double FiniteMedian(std::vector<double> v) {
   std::erase_if(v, [](double x) { return !std::isfinite(x); });
-  if (v.empty()) return std::nan("");
-  std::sort(v.begin(), v.end());
-  return v.size() % 2 ? v[v.size() / 2] : 0.5 * (v[v.size() / 2 - 1] + v[v.size() / 2]);
+  return core::Median(std::move(v));
 }
 
 // Least-squares line through (x, y): {slope, intercept}.
@@ -86,7 +86,7 @@ Table KautzSeidelSlicingTable(const Table& d) {
     if (ortho_ms.count(s)) ratios.push_back(m / ortho_ms[s]);
   }
   t.AddRow({"time, screen-space / orthogonal slices at equal count (sec. 3.3)",
-            "> 1 (\"more expensive\", no figure)", Ratio(Median(ratios)),
+            "> 1 (\"more expensive\", no figure)", Ratio(FiniteMedian(ratios)),
             fmt::format("ours: median over {} slice counts, {} deg, {} px", ratios.size(), view,
                         largest)});
   return t;
@@ -175,7 +175,7 @@ Table ChenChangTable(const Table& n) {
     if (base_ms.count(key)) ratios.push_back(v / base_ms[key]);
   }
   t.AddRow({"time, NCS / CRM (Table 1: 350 vs > 999 fps; sec. 4: \"about 1/3\" of CRM's speed)",
-            "> 2.85", Ratio(Median(ratios)),
+            "> 2.85", Ratio(FiniteMedian(ratios)),
             fmt::format("ours: NCS c = {} / {} at equal steps, fastest frame, median of {} "
                         "configurations{}",
                         ncs_c, baseline, ratios.size(),
@@ -194,7 +194,7 @@ Table ChenChangTable(const Table& n) {
     t.AddRow({fmt::format("time, tessellated truth / NCS at tiling {} (Fig. 6)", ti),
               ti == tilings.front() ? "graph only: the truth is fast at low tiling"
                                     : "graph only: the truth \"quickly used up\" the GPU",
-              Ratio(Median(r)),
+              Ratio(FiniteMedian(r)),
               fmt::format("ours: {} steps, median over views; > 1: NCS is faster", middle)});
     if (tilings.size() == 1) break;
   }
@@ -240,10 +240,10 @@ Table Correa2006Table(const Table& v) {
                         "papers' datasets are not available",
                         peel.size(), px)});
   t.AddRow({"time, displaced / plain DVR", "not reported",
-            fmt::format("{} (median)", Ratio(Median(peel_over_plain))),
+            fmt::format("{} (median)", Ratio(FiniteMedian(peel_over_plain))),
             "ours: peel with blended normals (eq. 6+7) over plain shaded DVR, same volume"});
   t.AddRow({"time, ours plain DVR / VTK GPU ray caster", "no peer",
-            fmt::format("{} (median)", Ratio(Median(plain_over_vtk))),
+            fmt::format("{} (median)", Ratio(FiniteMedian(plain_over_vtk))),
             "the peer in the same run (bench/vtk_volume_peer.py)"});
   std::vector<std::pair<double, double>> by_sampling, by_map;
   for (const auto& r : v.rows()) {

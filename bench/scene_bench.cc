@@ -134,8 +134,8 @@ void Time(Config& c, int frames) {
   }
   c.ms.insert(c.ms.end(), ms.begin(), ms.end());
   c.cpu_ms.insert(c.cpu_ms.end(), cpu_ms.begin(), cpu_ms.end());
-  c.round_ms.push_back(core::Percentile(ms, 0.5));
-  c.round_cpu_ms.push_back(core::Percentile(cpu_ms, 0.5));
+  c.round_ms.push_back(core::Median(ms));
+  c.round_cpu_ms.push_back(core::Median(cpu_ms));
 }
 
 void Skip(Config& c) {
@@ -159,7 +159,7 @@ Ratio PairedRatio(const std::vector<double>& numerator, const std::vector<double
       ratios.push_back(numerator[r] / denominator[r]);
     }
   }
-  return {core::Percentile(ratios, 0.5), core::MedianConfidenceInterval(ratios)};
+  return {core::Median(ratios), core::MedianConfidenceInterval(ratios)};
 }
 
 }  // namespace

@@ -7,6 +7,7 @@
 #include <cmath>
 
 #include "core/memory_budget.h"
+#include "core/metrics.h"
 
 namespace capture {
 namespace {
@@ -101,16 +102,14 @@ DepthScaleReport CheckDepthScale(const Dataset& dataset, size_t max_views) {
       }
     }
     if (k == 0 && !samples[0].empty()) {
-      std::vector<float> z;
+      std::vector<double> z;
       for (const Sample& s : samples[0]) z.push_back(s.depth);
-      std::nth_element(z.begin(), z.begin() + z.size() / 2, z.end());
-      median_first = z[z.size() / 2];
+      median_first = core::Median(std::move(z));
     }
   }
   report.samples = all.size();
   if (all.empty()) return report;
-  std::nth_element(all.begin(), all.begin() + all.size() / 2, all.end());
-  report.median = all[all.size() / 2];
+  report.median = core::Median(std::vector<double>(all.begin(), all.end()));
   report.pairs = pair_agreement.size();
 
   // Mean agreement over the pairs for factor index f (0 = as is).

@@ -12,6 +12,7 @@
 
 #include "core/check.h"
 #include "core/error.h"
+#include "core/metrics.h"
 
 namespace core {
 namespace {
@@ -84,10 +85,8 @@ Direction Measure(const Surface& from, const Surface& to, int samples, uint32_t 
   double sum = 0;
   for (double x : d) sum += x;
   r.mean = sum / samples;
-  const size_t k = static_cast<size_t>(0.95 * (samples - 1));
-  std::nth_element(d.begin(), d.begin() + k, d.end());
-  r.p95 = d[k];
   r.max = *std::max_element(d.begin(), d.end());
+  r.p95 = Percentile(std::move(d), 0.95);
   return r;
 }
 

@@ -31,6 +31,17 @@ double Percentile(std::vector<double> values, double q) {
   return values[k];
 }
 
+double Median(std::vector<double> v) {
+  if (v.empty()) return kNaN;
+  const size_t n = v.size(), k = n / 2;
+  std::nth_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(k), v.end());
+  const double upper = v[k];
+  if (n % 2 == 1) return upper;
+  // The lower middle: the largest of the k values nth_element left before it.
+  const double lower = *std::max_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(k));
+  return 0.5 * (lower + upper);
+}
+
 MedianInterval MedianConfidenceInterval(std::vector<double> values, double level) {
   IBR_CHECK(level > 0.0 && level < 1.0);
   const size_t n = values.size();

@@ -10,6 +10,9 @@
 //   ceil(q n)-th smallest (1-based; q = 0 gives the smallest), so p95 of 100
 //   values is the 95th smallest and p95 of 1..20 is 19. It is always one of the
 //   values (no interpolation).
+// - Median rule: the middle value of an odd count, the mean of the two
+//   middle values of an even one (core::Median; frame times, ratios, depth
+//   errors and bench tables all use it).
 // - Empty input: a statistic over no values (mean, percentile, max, PSNR over
 //   no pixels, pooled IoU over no views) is NaN. IoU of two empty silhouettes
 //   is 1 (they agree; that is a comparison, not a statistic over pixels).
@@ -26,6 +29,9 @@ namespace core {
 
 // Nearest-rank quantile (see above); q in [0, 1]; NaN when `values` is empty.
 double Percentile(std::vector<double> values, double q);
+
+// The one median (the rule above); NaN when `values` is empty. Linear time.
+double Median(std::vector<double> values);
 
 // Distribution-free confidence interval of the median (the order-statistic
 // rule of the sign test): the j-th and (n+1-j)-th smallest of the n values,

@@ -5,6 +5,8 @@
 #include <algorithm>
 #include <numeric>
 
+#include "core/metrics.h"
+
 namespace core {
 
 double CpuStopwatch::NowMs() {
@@ -21,8 +23,7 @@ TimingStats Summarize(std::vector<double> samples_ms) {
   stats.samples = static_cast<int>(n);
   stats.min_ms = samples_ms.front();
   stats.max_ms = samples_ms.back();
-  stats.median_ms =
-      n % 2 == 1 ? samples_ms[n / 2] : 0.5 * (samples_ms[n / 2 - 1] + samples_ms[n / 2]);
+  stats.median_ms = Median(samples_ms);
   stats.mean_ms =
       std::accumulate(samples_ms.begin(), samples_ms.end(), 0.0) / static_cast<double>(n);
   return stats;

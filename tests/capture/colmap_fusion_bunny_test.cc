@@ -190,7 +190,7 @@ ErrorStats Measure(const MeshDistance& distance, std::vector<glm::dvec3> points,
   if (e.empty()) return s;
   const core::ErrorStats stats = core::SummarizeErrors(e);
   s.mean = stats.mean;
-  s.median = core::Percentile(e, 0.5);
+  s.median = core::Median(e);
   s.p95 = stats.p95;
   s.max = stats.max;
   return s;

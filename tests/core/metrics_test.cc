@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "core/timing.h"
 #include "tests/support/input_error.h"
 
 namespace core {
@@ -28,6 +29,20 @@ TEST(Percentile, NearestRankOnHandCountedSets) {
   EXPECT_EQ(Percentile({3.0, 1.0, 2.0}, 0.95), 3);  // ceil(2.85) = 3rd
   EXPECT_EQ(Percentile({3.0, 1.0, 2.0}, 0.6), 2);   // ceil(1.8) = 2nd
   EXPECT_TRUE(std::isnan(Percentile({}, 0.95)));
+}
+
+TEST(Median, MiddleValueOrMeanOfTheTwoMiddleOnes) {
+  EXPECT_EQ(Median({5.0, 1.0, 3.0, 9.0, 7.0}), 5);  // odd: the 3rd smallest
+  EXPECT_EQ(Median({4.0, 2.0}), 3);                 // even: (2 + 4) / 2
+  EXPECT_EQ(Median({10.0, 1.0, 3.0, 2.0}), 2.5);    // (2 + 3) / 2, unsorted
+  EXPECT_EQ(Median({2.0, 2.0, 9.0, 2.0}), 2);       // ties
+  EXPECT_EQ(Median({7.0}), 7);
+  EXPECT_TRUE(std::isnan(Median(std::vector<double>{})));
+  // The rule frame times use (core::Summarize) is this one.
+  std::vector<double> times;
+  for (int i = 1; i <= 10; ++i) times.push_back(11 - i);
+  EXPECT_EQ(Summarize(times).median_ms, Median(times));
+  EXPECT_EQ(Median(times), 5.5);
 }
 
 TEST(MedianConfidenceInterval, OrderStatisticRanksFromTheBinomialByHand) {

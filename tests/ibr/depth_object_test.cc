@@ -60,7 +60,7 @@ Accuracy Compare(const core::ImageF& depth, const core::ImageF& truth) {
   if (m.both_pixels > 0) {
     a.mean_abs = m.depth.mean;
     a.p95 = m.depth.p95;
-    a.median = core::Percentile(m.depth_errors, 0.5);
+    a.median = core::Median(m.depth_errors);
     a.max_abs = m.depth.max;
   }
   return a;
