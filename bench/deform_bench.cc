@@ -125,10 +125,8 @@ DeformReferenceFrame TraceDeformReference(const core::DeformReference& reference
 DeformPinholeView DeformOrbitView(int size, double azimuth_deg, double elevation_deg,
                                   double distance) {
   // The product's one orbit (ibr::OrbitCameraView: azimuth about +y from +z).
-  const ibr::ViewCamera camera = ibr::OrbitCameraView(glm::dvec3(0.0), 1.0,
-                                                      ibr::DeformOrbit(azimuth_deg, elevation_deg,
-                                                                       distance),
-                                                      size);
+  const ibr::ViewCamera camera = ibr::OrbitCameraView(
+      glm::dvec3(0.0), 1.0, ibr::DeformOrbit(azimuth_deg, elevation_deg, distance), size);
   DeformPinholeView view;
   view.cam_from_world = camera.cam_from_world;
   view.focal_px = camera.camera.fx;

@@ -1,7 +1,7 @@
 // `ibr bench deform`: what the deform pass (Correa, Silver, Chen 2007;
 // render/passes/deform_pass.h) costs and how accurate it is, measured on
 // meshes normalised into the unit cube centred at the origin (longest side
-// 1). `ibr deform` itself is ibr::RenderDeform (ibr/deform_render.h).
+// 1). `ibr deform` itself is ibr::RenderDeform (ibr/jobs/deform_job.h).
 #pragma once
 
 #include <cmath>
@@ -17,14 +17,14 @@
 #include "core/distance_field.h"
 #include "core/image.h"
 #include "ibr/deform_object.h"
-#include "ibr/deform_render.h"
+#include "ibr/jobs/deform_job.h"
 #include "render/gl/shader_program.h"
 #include "render/passes/deform_pass.h"
 #include "render/passes/pass.h"
 
 namespace bench {
 
-// The per-pixel outcome counts of `ibr deform`'s frames (ibr/deform_render.h),
+// The per-pixel outcome counts of `ibr deform`'s frames (ibr/jobs/deform_job.h),
 // which the deform bench tabulates.
 using DeformOutcomes = ibr::DeformOutcomes;
 using ibr::CountDeformOutcomes;

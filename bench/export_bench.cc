@@ -11,7 +11,7 @@
 #include "core/error.h"
 #include "core/mesh_compare.h"
 #include "ibr/dataset_maps.h"
-#include "ibr/demo_scene.h"
+#include "ibr/jobs/demo_job.h"
 #include "ibr/mesh_export.h"
 
 namespace bench {

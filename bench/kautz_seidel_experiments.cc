@@ -18,9 +18,9 @@
 #include "core/displacement_error.h"
 #include "core/error.h"
 #include "ibr/dataset_maps.h"
-#include "ibr/demo_scene.h"
 #include "ibr/depth_object.h"
 #include "ibr/displaced_mesh.h"
+#include "ibr/jobs/demo_job.h"
 #include "ibr/views.h"
 #include "render/passes/pass.h"
 

@@ -52,7 +52,6 @@ bool OpenVdbLevelSet::Value(int i, int j, int k, float* value) const {
   return impl_->grid->tree().probeValue(openvdb::Coord(i, j, k), *value);
 }
 
-
 void MeasureSdfAccuracy(const core::MeshDistance& distance, const core::DistanceField& field,
                         const OpenVdbLevelSet* level_set, int64_t max_samples, SdfAccuracy* ours,
                         SdfAccuracy* openvdb) {

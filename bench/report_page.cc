@@ -32,7 +32,7 @@
 #include "core/error.h"
 #include "core/image_compose.h"
 #include "core/image_io.h"
-#include "ibr/demo_scene.h"
+#include "ibr/jobs/demo_job.h"
 #include "render/gl/context.h"
 
 namespace bench {

@@ -24,7 +24,7 @@
 #include "core/metrics.h"
 #include "core/volume_displacement.h"
 #include "core/volume_io.h"
-#include "ibr/volume_render.h"
+#include "ibr/jobs/volume_job.h"
 #include "render/gl/fill_rate.h"
 #include "render/gl/frame_timer.h"
 

@@ -211,8 +211,8 @@ std::vector<NamedView> OrbitViews(const glm::dmat4& world_from_box, const OrbitO
         : options.count == 1
             ? middle_deg
             : middle_deg + options.arc_deg * (static_cast<double>(i) / (options.count - 1) - 0.5);
-    views.push_back({fmt::format("orbit_{:03d}", i),
-                     OrbitCameraView(centre, radius, orbit, options.size)});
+    views.push_back(
+        {fmt::format("orbit_{:03d}", i), OrbitCameraView(centre, radius, orbit, options.size)});
   }
   return views;
 }

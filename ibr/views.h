@@ -71,8 +71,8 @@ struct OrbitCamera {
 // A width x height pinhole (square pixels, principal point at the centre).
 ViewCamera OrbitCameraView(const glm::dvec3& centre, double radius, const OrbitCamera& orbit,
                            int width, int height);
-inline ViewCamera OrbitCameraView(const glm::dvec3& centre, double radius,
-                                  const OrbitCamera& orbit, int size_px) {
+inline ViewCamera OrbitCameraView(const glm::dvec3& centre, double radius, const OrbitCamera& orbit,
+                                  int size_px) {
   return OrbitCameraView(centre, radius, orbit, size_px, size_px);
 }
 // The orbit's pass inputs around the sphere: clip range from 1.5 radii in

@@ -8,7 +8,7 @@
 
 #include "apps/ibr/commands.h"
 #include "apps/ibr/kind_flags.h"
-#include "ibr/deform_render.h"
+#include "ibr/jobs/deform_job.h"
 #include "render/gl/context.h"
 
 namespace apps {

@@ -1,14 +1,14 @@
 // `ibr demo`: the main job on the built-in default scene: the displaced donut
 // (issue 4) beside its tessellated truth, and the default scene's depth
 // object (spot-cube, through the scene path) beside the true mesh. The job:
-// ibr::WriteDemo (ibr/demo_scene.h).
+// ibr::WriteDemo (ibr/jobs/demo_job.h).
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>
 
 #include <filesystem>
 
 #include "apps/ibr/commands.h"
-#include "ibr/demo_scene.h"
+#include "ibr/jobs/demo_job.h"
 #include "render/gl/context.h"
 #include "render/passes/pass.h"
 

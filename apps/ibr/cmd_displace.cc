@@ -4,14 +4,14 @@
 // beside it (camera z). `tessellated` is the ground truth every other method
 // is compared with (--compare); it is planned within the memory budget
 // before anything is allocated (fewer subdivisions, said, or one error line).
-// The job: ibr::RunDisplaceJob (ibr/displace_job.h).
+// The job: ibr::RunDisplaceJob (ibr/jobs/displace_job.h).
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>
 
 #include <string>
 
 #include "apps/ibr/commands.h"
-#include "ibr/displace_job.h"
+#include "ibr/jobs/displace_job.h"
 #include "render/gl/context.h"
 
 namespace apps {

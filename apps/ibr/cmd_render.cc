@@ -3,7 +3,7 @@
 // (Kautz-Seidel 2001, sec. 4-5) as a one-object scene from novel cameras
 // (another dataset's, or a turntable orbit, or an arc of it around the input
 // views; its up the dataset's, printed). Both through ibr::RenderToDataset
-// (ibr/dataset_render.h): output DIR is itself a dataset (color/NAME.png,
+// (ibr/jobs/render_job.h): output DIR is itself a dataset (color/NAME.png,
 // depth/NAME.exr camera z of the first surface, 0 where empty, mask/NAME.png,
 // dataset.json with the cameras), staged, so a failure leaves nothing behind.
 #include <fmt/format.h>
@@ -12,7 +12,7 @@
 #include <optional>
 
 #include "apps/ibr/commands.h"
-#include "ibr/dataset_render.h"
+#include "ibr/jobs/render_job.h"
 #include "ibr/scene_options.h"
 #include "ibr/views.h"
 #include "render/gl/context.h"

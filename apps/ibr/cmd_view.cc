@@ -16,7 +16,7 @@
 #include "apps/viewer/scenes.h"
 #include "apps/viewer/viewer.h"
 #include "capture/builtin_scenes.h"
-#include "ibr/dataset_render.h"
+#include "ibr/jobs/render_job.h"
 #include "ibr/views.h"
 #include "scene/scene.h"
 

@@ -11,8 +11,8 @@
 
 #include "apps/ibr/commands.h"
 #include "apps/ibr/kind_flags.h"
+#include "ibr/jobs/volume_job.h"
 #include "ibr/views.h"
-#include "ibr/volume_render.h"
 #include "render/gl/context.h"
 #include "render/passes/pass.h"
 

@@ -1,13 +1,14 @@
 // Displaced meshes (Kautz-Seidel 2001, sec. 3; Chen-Chang NCS and the ray
 // methods): a base mesh carried to the world (the displacement scaled with
 // it) and a height map, drawn by the method's pass (ibr/displaced_mesh.h).
+#include "ibr/kinds/displaced_mesh_kind.h"
+
 #include <fmt/format.h>
 
 #include <optional>
 
 #include "core/error.h"
 #include "core/image_io.h"
-#include "ibr/kinds/displaced_mesh_kind.h"
 #include "ibr/kinds/kinds.h"
 #include "ibr/scene_options.h"
 

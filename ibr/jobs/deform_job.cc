@@ -1,4 +1,4 @@
-#include "ibr/deform_render.h"
+#include "ibr/jobs/deform_job.h"
 
 #include <fmt/format.h>
 
@@ -110,11 +110,11 @@ DeformRenderReport RenderDeform(render::ProgramCache& programs,
   }
   // The one path from options to the pass's inputs (ibr/deform_object.h),
   // shared with deform objects in scene files; world = the mesh file's frame.
-  LoadedScene scene = OneObjectScene(LoadedDeformObject(
-      "deform",
-      MakeDeformObject(capture::LoadSceneMesh(options.mesh).mesh, options.object,
-                       options.mesh.string(), /*progress=*/true, &programs),
-      options.object));
+  LoadedScene scene = OneObjectScene(
+      LoadedDeformObject("deform",
+                         MakeDeformObject(capture::LoadSceneMesh(options.mesh).mesh, options.object,
+                                          options.mesh.string(), /*progress=*/true, &programs),
+                         options.object));
   const DeformObjectData& object = *DeformOf(scene.objects.front()).data;
   DeformRenderReport report;
   report.max_displacement = object.max_displacement;
@@ -127,18 +127,16 @@ DeformRenderReport RenderDeform(render::ProgramCache& programs,
     // The normalised mesh (longest side 1) carried to the file's frame.
     const glm::dmat4& world_from_norm = scene.objects.front().world_from_object;
     const double longest = world_from_norm[0][0];
-    views.push_back(
-        {"deform", OrbitCameraView(glm::dvec3(world_from_norm[3]), longest,
-                                   DeformOrbit(options.azimuth_deg, options.elevation_deg,
-                                               2.6 * longest),
-                                   options.size)});
+    views.push_back({"deform", OrbitCameraView(glm::dvec3(world_from_norm[3]), longest,
+                                               DeformOrbit(options.azimuth_deg,
+                                                           options.elevation_deg, 2.6 * longest),
+                                               options.size)});
   }
   SceneRenderer renderer(programs, scene);
   render::FrameTimerOptions timer;
   timer.warmup_frames = 1;
   timer.timed_frames = 3;
-  report.frame_ms =
-      render::TimeFrames([&] { renderer.Draw(views.front().view); }, timer).median_ms;
+  report.frame_ms = render::TimeFrames([&] { renderer.Draw(views.front().view); }, timer).median_ms;
   const auto count = [&](const NamedView& v, const render::Frame& frame) {
     report.views.push_back({v.name, CountDeformOutcomes(frame)});
     report.total.Add(report.views.back().outcomes);

@@ -1,4 +1,4 @@
-#include "ibr/displace_job.h"
+#include "ibr/jobs/displace_job.h"
 
 #include <fmt/format.h>
 
@@ -157,8 +157,7 @@ void RunDisplaceJob(render::ProgramCache& programs, const DisplaceJob& job,
   if (job.compare && options.method != DisplacementMethod::kTessellated) {
     DisplacedMeshOptions truth_options = options;
     truth_options.method = DisplacementMethod::kTessellated;
-    const DisplacedDraw truth =
-        DrawDisplaced(programs, data, truth_options, view, timer, say);
+    const DisplacedDraw truth = DrawDisplaced(programs, data, truth_options, view, timer, say);
     refuse_empty(truth.frame, "the tessellated truth");
     const core::DisplacementError e = DisplacedError(result.frame, truth.frame, data, job.tiling);
     const std::string depth =

@@ -1,4 +1,4 @@
-#include "ibr/demo_scene.h"
+#include "ibr/jobs/demo_job.h"
 
 #include <fmt/format.h>
 
@@ -16,7 +16,7 @@
 #include "core/timing.h"
 #include "datasets/embedded.h"
 #include "ibr/dataset_maps.h"
-#include "ibr/displace_job.h"
+#include "ibr/jobs/displace_job.h"
 #include "ibr/scene_options.h"
 #include "ibr/scene_renderer.h"
 #include "ibr/views.h"
@@ -178,8 +178,8 @@ std::vector<std::string> WriteDemo(render::ProgramCache& programs, const std::fi
   DisplacedMeshData data;
   data.base = DisplacementBaseMesh("torus");
   data.height = DisplacementHeightMap(core::HeightPattern::kBumps, kTexels, 0.15f);
-  const ViewCamera view = DisplacementOrbitCamera(
-      data.base, kMaxDisplacement, {.elevation_deg = 35, .azimuth_deg = -60}, size);
+  const ViewCamera view = DisplacementOrbitCamera(data.base, kMaxDisplacement,
+                                                  {.elevation_deg = 35, .azimuth_deg = -60}, size);
   DisplacedMeshOptions pass_options;
   pass_options.method = DisplacementMethod::kSlicesOrthogonal;
   pass_options.slices = kSlices;

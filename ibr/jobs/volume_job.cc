@@ -1,4 +1,4 @@
-#include "ibr/volume_render.h"
+#include "ibr/jobs/volume_job.h"
 
 #include <fmt/format.h>
 #include <fmt/ranges.h>

@@ -1,4 +1,4 @@
-#include "ibr/dataset_render.h"
+#include "ibr/jobs/render_job.h"
 
 #include <fmt/format.h>
 #include <fmt/ranges.h>
@@ -16,7 +16,7 @@
 #include "core/metrics.h"
 #include "core/timing.h"
 #include "ibr/dataset_maps.h"
-#include "ibr/demo_scene.h"
+#include "ibr/jobs/demo_job.h"
 #include "ibr/kinds/depth_object_kind.h"
 #include "ibr/scene_renderer.h"
 #include "ibr/views.h"
