@@ -8,7 +8,6 @@
 #include <chrono>
 #include <cmath>
 #include <filesystem>
-#include <numbers>
 
 #include "bench/deform_bench.h"
 #include "bench/peer.h"
@@ -122,15 +121,16 @@ void DisplacedEntries(render::ProgramCache& programs, const GalleryOptions& opti
   const int n = options.size;
   // The torus (R 1, r 0.4) lies in z = 0: the eye 8 degrees above its plane,
   // close enough that the torus spans most of the frame.
+  // The product's orbit from -y (a focal length of n pixels).
+  const ibr::OrbitCamera orbit{.elevation_deg = kElevation,
+                               .azimuth_deg = -90,
+                               .distance = 3.3,
+                               .fov_deg = 2 * glm::degrees(std::atan(0.5))};
+  const ibr::ViewCamera camera = ibr::OrbitCameraView(glm::dvec3(0.0), 1.4, orbit, n);
   render::ViewSetup view;
-  const double el = kElevation * std::numbers::pi / 180.0;
-  const float distance = 3.3f;
-  view.cam_from_world =
-      core::CamFromWorldLookAt({0.0f, -distance * static_cast<float>(std::cos(el)),
-                                distance * static_cast<float>(std::sin(el))},
-                               {0, 0, 0}, {0, 0, 1});
-  const double f = 1.0 * n;
-  view.clip_from_cam = core::ClipFromCamPerspective(f, f, n / 2.0, n / 2.0, n, n, 0.1, 20.0);
+  view.cam_from_world = glm::mat4(camera.cam_from_world);
+  view.clip_from_cam = core::ClipFromCamPerspective(camera.camera.fx, camera.camera.fy, n / 2.0,
+                                                    n / 2.0, n, n, 0.1, 20.0);
   auto draw = [&](ibr::DisplacementMethod method) {
     ibr::DisplacedMeshOptions o;
     o.method = method;

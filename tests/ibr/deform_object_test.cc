@@ -26,7 +26,6 @@
 #include "core/deform_reference.h"
 #include "core/distance_field.h"
 #include "core/error.h"
-#include "core/look_at.h"
 #include "core/mesh.h"
 #include "core/metrics.h"
 #include "core/projection.h"
@@ -195,16 +194,8 @@ TEST_F(DeformDepthCubeTest, PeeledSpotAgreesWithTheReferenceWithoutSpecks) {
     options.pass.cut = cut;
     const DeformObjectData data = MakeDeformObject(spot, options, "spot", false, &programs());
     render::DeformPass pass(programs(), data.Inputs(), options.pass);
-    auto orbit = [](int size) {
-      const double az = glm::radians(30.0), el = glm::radians(20.0);
-      bench::DeformPinholeView view;
-      view.cam_from_world = core::CamFromWorldLookAtDouble(
-          2.6 * glm::dvec3(std::cos(el) * std::sin(az), std::sin(el), std::cos(el) * std::cos(az)),
-          glm::dvec3(0.0), {0, 1, 0});
-      view.focal_px = 0.5 * size / std::tan(glm::radians(17.0));
-      view.size = size;
-      return view;
-    };
+    // `ibr deform`'s default orbit of a normalised mesh.
+    auto orbit = [](int size) { return bench::DeformOrbitView(size); };
     const std::string tag = "spot_peel_" + core::CutModeName(cut);
     // The picture at `ibr deform`'s size, to look at.
     test_support::WriteDebugImage(tag + "_384.png",
