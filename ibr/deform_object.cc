@@ -216,8 +216,11 @@ DeformObjectOptions DeformObjectOptionsFrom(const scene::Settings& settings) {
   DeformObjectOptions o;
   o.deformation.terms = DeformationsFrom(settings, "twist");
   if (o.deformation.terms.empty()) settings.Fail("deformation", "no deformation given");
-  // The cut.
-  std::string cut = settings.GetString("cut", "none");
+  // The cut. A cut-away is nothing but its cut alpha: without a cut mode it
+  // would leave the mesh as it is, so its default is the solid cut (eq. 6).
+  const bool cut_away = std::any_of(o.deformation.terms.begin(), o.deformation.terms.end(),
+                                    [](const core::Deformation& d) { return d.IsCutAway(); });
+  std::string cut = settings.GetString("cut", cut_away ? "solid" : "none");
   if (cut.rfind("thick:", 0) == 0) {
     o.pass.thickness = static_cast<float>(Suffix(settings, "cut", cut, 6));
     if (!(o.pass.thickness > 0)) settings.Fail("cut", fmt::format("'{}': T must be > 0", cut));

@@ -161,7 +161,9 @@ const std::vector<ObjectKindSpec>& ObjectKinds() {
            {"width", "number or list", "per deformation",
             "width of each deformation, normalised units (comma list for several)", true,
             "--width"},
-           {"cut", "string", "none", "none | hollow | solid | thick:T: how the cut alpha is drawn",
+           {"cut", "string", "none",
+            "none | hollow | solid | thick:T: how the cut alpha is drawn (clip, cutaway, wedge: "
+            "solid unless given)",
             true, "--cut"},
            {"region", "string", "the mesh's bounds grown by 0.05",
             "x0,y0,z0,x1,y1,z1: the deformation box, normalised units (mesh centred, longest "

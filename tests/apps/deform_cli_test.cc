@@ -119,6 +119,29 @@ TEST_F(DeformCliTest, EveryDeformationNameRendersAndChangesThePicture) {
   }
 }
 
+// A cut-away is only its cut alpha: without --cut it is drawn solid (the new
+// faces counted), never silently as the untouched mesh; an explicit --cut
+// none is honoured.
+TEST_F(DeformCliTest, ACutAwayWithoutCutIsDrawnSolid) {
+  const auto cut_faces = [&](const std::string& args) {
+    const fs::path out = dir_ / "cutaway.png";
+    const auto r =
+        test_support::RunCommand(Deform(args + " --size 64 --resolution 32 --out " + out.string()));
+    EXPECT_EQ(r.exit_code, 0) << args << "\n" << r.err;
+    std::smatch m;
+    const std::regex re("cut-face ([0-9]+)");
+    return std::regex_search(r.out, m, re) ? std::stol(m[1]) : -1L;
+  };
+  for (const char* name : {"clip", "cutaway", "wedge"}) {
+    const std::string deformation = std::string("--deformation ") + name;
+    const long by_default = cut_faces(deformation);
+    EXPECT_GT(by_default, 20) << name;
+    EXPECT_EQ(by_default, cut_faces(deformation + " --cut solid")) << name;
+    EXPECT_EQ(cut_faces(deformation + " --cut none"), 0) << name;
+  }
+  EXPECT_EQ(cut_faces("--deformation knife"), 0) << "a knife keeps the default none";
+}
+
 TEST_F(DeformCliTest, RendersADatasetsCamerasInItsFrame) {
   const fs::path capture_dir = dir_ / "spot_capture";
   const capture::Dataset captured = capture::ReadDataset(capture_dir);
