@@ -65,6 +65,42 @@ int Covered(const core::Image8& image) {
   return covered;
 }
 
+// --cameras takes a cameras-only manifest (no images: what `ibr view
+// --camera-out` writes) and renders one PNG per view, named after it. A view
+// placed where the orbit puts its eye (--azimuth 0 --elevation 0: on +x,
+// z up; OrbitCameraView) renders the orbit's image: both are one camera
+// through the same scene.
+TEST_F(VolumeCliTest, DatasetCamerasRenderWhatTheOrbitShows) {
+  const std::string dat = (dir_ / "ball.dat").string();
+  const fs::path orbit = dir_ / "orbit.png", cams = dir_ / "cams", out = dir_ / "cams_out";
+  fs::remove_all(cams), fs::remove_all(out), fs::create_directories(cams);
+  const double f = 32.0 / std::tan(20.0 * M_PI / 180.0);  // 64 px, 40 degrees
+  char params[128];
+  std::snprintf(params, sizeof params, "[%.17g, %.17g, 32, 32]", f, f);
+  std::ofstream(cams / "dataset.json") << R"({"format": "ibr-dataset", "version": 1,
+  "cameras": [{"id": 1, "model": "PINHOLE", "width": 64, "height": 64, "params": )"
+                                       << params << R"(}],
+  "views": [{"name": "front", "camera": 1, "cam_from_world": [[0,1,0,0],[0,0,-1,0],[-1,0,0,100]]},
+            {"name": "back", "camera": 1, "cam_from_world": [[0,-1,0,0],[0,0,-1,0],[1,0,0,100]]}]}
+)";
+  auto r = Volume(dat + " --transfer ramp --azimuth 0 --elevation 0 --distance 100 --fov 40 " +
+                  "--size 64 --out " + orbit.string());
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  r = Volume(dat + " --transfer ramp --cameras " + cams.string() + " --out " + out.string());
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  ASSERT_TRUE(fs::exists(out / "front.png") && fs::exists(out / "back.png"));
+  const core::Image8 a = core::ReadImage<uint8_t>(orbit);
+  const core::Image8 b = core::ReadImage<uint8_t>(out / "front.png");
+  ASSERT_EQ(b.width(), 64);
+  EXPECT_GT(Covered(a), 200);
+  EXPECT_GT(Covered(core::ReadImage<uint8_t>(out / "back.png")), 200);
+  int worst = 0;
+  for (int y = 0; y < 64; ++y)
+    for (int x = 0; x < 64; ++x)
+      for (int c = 0; c < 3; ++c) worst = std::max(worst, std::abs(a.at(x, y, c) - b.at(x, y, c)));
+  EXPECT_LE(worst, 1) << "the view at the orbit's eye renders the orbit's image";
+}
+
 TEST_F(VolumeCliTest, RendersEveryEffectAndMode) {
   const std::string dat = (dir_ / "ball.dat").string(), nrrd = (dir_ / "ball.nrrd").string();
   for (const std::string& args : std::vector<std::string>{
