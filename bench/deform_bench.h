@@ -218,9 +218,9 @@ struct DeformForwardFigures {
 // Spread: one shape (the capped Stanford bunny) at several tessellations
 // (meshoptimizer's simplifier), the same twist, box, view and field
 // resolution, in interleaved rounds. Per mesh: the ray stage alone over the
-// finest mesh's in the same round, and the deform pass's mesh stage (frame -
-// ray stage) over a plain mesh pass of the same mesh; medians of per-round
-// ratios with 95 % intervals.
+// finest mesh's in the same round, and the deform pass's mesh stage (timed
+// alone: draw_rays off) over a plain mesh pass of the same mesh; medians of
+// per-round ratios with 95 % intervals.
 struct DeformSpreadFigures {
   double ray_spread = NAN;           // max / min over meshes of the ray-stage medians
   double mesh_over_plain_max = NAN;  // the largest mesh-stage / plain median

@@ -44,6 +44,8 @@ int64_t DepthCube::Bytes() const {
 }
 
 void DeformPassOptions::Check() const {
+  if (!draw_mesh && !draw_rays)
+    core::ThrowInputError("DeformPassOptions", "draw_mesh and draw_rays both off: nothing to draw");
   if (!std::isfinite(thickness) || !(thickness > 0)) {
     core::ThrowInputError("DeformPassOptions", "thickness {} must be finite and > 0", thickness);
   }
@@ -629,6 +631,10 @@ void DeformPass::Draw(const RenderTarget& target, const ViewSetup& view) {
     }
   }
 
+  if (!options_.draw_rays) {
+    glBindTextureUnit(0, 0);  // stage 1's implicit (seam blending)
+    return;
+  }
   // Stage 2: the box's back faces, one ray per fragment (the camera may be
   // inside the box; the rays start at max(entry, 0)).
   ProgramDesc desc{.vertex = "passes/deform_box.vert.glsl", .fragment = "passes/deform.frag.glsl"};

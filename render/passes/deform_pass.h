@@ -146,6 +146,10 @@ struct DeformPassOptions {
   // The implicit the ray stage samples; the inputs must hold it.
   DeformImplicit implicit = DeformImplicit::kSdf;
   bool draw_mesh = true;  // stage 1; off = the box's ray cast alone
+  // Stage 2; off = the mesh outside the box alone (the bench times the mesh
+  // stage by itself rather than as a frame minus its ray stage, which
+  // carries two frames' noise). At least one stage is drawn.
+  bool draw_rays = true;
   // Stage 1 culls back faces where that draws the same pixels (a closed,
   // outward mesh in front of the near plane; DeformPass::Draw); off = both
   // sides everywhere (the tests' and the bench's baseline).

@@ -588,6 +588,54 @@ TEST_F(DeformPassTest, ZeroDeformationCompositeReproducesTheMesh) {
   EXPECT_NO_GL_ERROR();
 }
 
+TEST_F(DeformPassTest, EachStageAloneCompositesToTheFrame) {
+  // draw_rays off draws stage 1 alone, draw_mesh off stage 2 alone (what the
+  // bench times separately): the nearer of the two at each pixel is the
+  // whole frame's pixel (colour, camera z), and each really drew.
+  Scene scene;
+  scene.mesh = core::MakeSphere(0.5f, 64, 128);
+  scene.deformation.terms = {Make(core::DeformationKind::kTwist, 1.5, 0.1)};
+  scene.placement = core::Placement::FromRegion({{-0.3, -0.35, 0.1}, {0.4, 0.35, 0.7}});
+  scene.sdf_resolution = 64;
+  core::MeshDistance distance(scene.mesh, false, "sphere");
+  const ViewSetup view = MakeView({1.6f, -1.7f, 1.2f});
+  DeformPassOptions mesh_only, ray_only;
+  mesh_only.draw_rays = false;
+  ray_only.draw_mesh = false;
+  const Frame whole = Render(scene, DeformPassOptions{}, view, distance);
+  const Frame mesh = Render(scene, mesh_only, view, distance);
+  const Frame rays = Render(scene, ray_only, view, distance);
+  int mesh_pixels = 0, ray_pixels = 0, compared = 0, differ = 0;
+  for (int y = 0; y < kSize; ++y)
+    for (int x = 0; x < kSize; ++x) {
+      const bool m = mesh.Covered(x, y), r = rays.Covered(x, y);
+      mesh_pixels += m, ray_pixels += r;
+      const Frame* nearer = m && (!r || mesh.depth.at(x, y) <= rays.depth.at(x, y)) ? &mesh
+                            : r                                                     ? &rays
+                                                                                    : nullptr;
+      ++compared;
+      if (!nearer) {
+        differ += whole.Covered(x, y);
+        continue;
+      }
+      bool same = whole.Covered(x, y) && whole.depth.at(x, y) == nearer->depth.at(x, y);
+      for (int c = 0; c < 4; ++c)
+        same = same && whole.color.at(x, y, c) == nearer->color.at(x, y, c);
+      differ += !same;
+    }
+  std::printf("stages alone: %d mesh pixels, %d ray pixels, %d of %d differ from the frame\n",
+              mesh_pixels, ray_pixels, differ, compared);
+  EXPECT_GT(mesh_pixels, 1000);
+  EXPECT_GT(ray_pixels, 200);
+  // Equal depths from the two stages at the box's faces may resolve either
+  // way in the frame (depth test LESS): a handful of pixels at most.
+  EXPECT_LE(differ, compared / 1000);
+  DeformPassOptions neither;
+  neither.draw_mesh = neither.draw_rays = false;
+  EXPECT_THROW(neither.Check(), core::InputError);
+  EXPECT_NO_GL_ERROR();
+}
+
 TEST_F(DeformPassTest, CullingBackFacesDrawsTheSamePixels) {
   // Stage 1 culls the back faces of a closed, outward mesh and draws them
   // only in the box's screen footprint (DeformPass::Draw). Against drawing
