@@ -171,6 +171,11 @@ const render::RenderTarget& SceneRenderer::Draw(const ViewCamera& view) {
   return *target_;
 }
 
+render::Frame SceneRenderer::ReadLast() const {
+  IBR_CHECK(target_.has_value());
+  return render::ReadFrame(*target_);
+}
+
 render::Frame SceneRenderer::Render(const ViewCamera& view) {
   return render::ReadFrame(Draw(view));
 }

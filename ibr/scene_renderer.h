@@ -79,6 +79,9 @@ class SceneRenderer {
   // pass.h: colour attachment 0 RGBA8), valid until the next Draw or Render
   // (the interactive viewer shows it).
   const render::RenderTarget& Draw(const ViewCamera& view);
+  // The last Draw's frame read back (what Render would return for its view,
+  // without drawing it again: a timed frame's result).
+  render::Frame ReadLast() const;
   // The passes built, one per enabled object: "depth-object", "visual-hull",
   // "displacement:METHOD", "mesh", "volume:dvr", "volume:iso", "deform".
   std::vector<std::string> PassNames() const;

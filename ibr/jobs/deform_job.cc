@@ -98,14 +98,11 @@ DeformRenderReport RenderDeform(render::ProgramCache& programs,
   // the mesh is known) one orbit view.
   std::vector<NamedView> views;
   if (!options.cameras.empty()) {
-    const capture::Dataset cameras = capture::ReadDataset(options.cameras);
-    const std::vector<ViewCamera> cams = ViewsFromDataset(cameras);
-    for (size_t i = 0; i < cams.size(); ++i) {
-      views.push_back({cameras.views[i].name, cams[i]});
+    views = NamedViewsFromDataset(capture::ReadCameras(options.cameras));
+    for (const NamedView& v : views) {
       render::CheckFrameSize(
-          "ibr deform",
-          fmt::format("--cameras '{}': view '{}'", options.cameras.string(), views.back().name),
-          cams[i].camera.width, cams[i].camera.height);
+          "ibr deform", fmt::format("--cameras '{}': view '{}'", options.cameras.string(), v.name),
+          v.view.camera.width, v.view.camera.height);
     }
   }
   // The one path from options to the pass's inputs (ibr/deform_object.h),
@@ -147,7 +144,7 @@ DeformRenderReport RenderDeform(render::ProgramCache& programs,
         renderer, views, options.out, {.bounds = scene.bounds, .normals = true},
         [](const std::string& line) { std::fprintf(stderr, "deform: %s\n", line.c_str()); }, count);
   } else {
-    const render::Frame frame = renderer.Render(views.front().view);
+    const render::Frame frame = renderer.ReadLast();  // the last timed frame, view 0's
     count(views.front(), frame);
     std::filesystem::path depth_path = options.out;
     depth_path.replace_extension(".depth.exr");

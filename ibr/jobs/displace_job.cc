@@ -27,7 +27,7 @@ DisplacedDraw DrawDisplaced(render::ProgramCache& programs, const DisplacedMeshD
   }
   DisplacedDraw d;
   if (timer) d.timing = render::TimeFrames([&] { renderer.Draw(view); }, *timer);
-  d.frame = renderer.Render(view);
+  d.frame = timer ? renderer.ReadLast() : renderer.Render(view);  // a timed frame is not redrawn
   d.detail = method.Detail();
   if (const int64_t early =
           d.frame.CountOutcome(render::OutcomeBit(render::RayOutcome::kEarlyTermination))) {

@@ -115,7 +115,9 @@ VolumeRenderResult RenderVolume(const VolumeRenderRequest& r) {
       result.median_ms = render::TimeFrames([&] { renderer.Draw(v.view); }, {1, 3}).median_ms;
       result.slices = pass.last_stats().slices;
     }
-    const core::Image8 image = core::OverBackground(renderer.Render(v.view).color, background);
+    // View 0's last timed frame is read, not drawn again.
+    const render::Frame frame = i == 0 ? renderer.ReadLast() : renderer.Render(v.view);
+    const core::Image8 image = core::OverBackground(frame.color, background);
     core::WriteImage(to_dir ? staged->path() / (v.name + ".png") : r.out, image);
     ++result.images;
     spdlog::info("ibr volume: view {}/{}", i + 1, views.size());
