@@ -37,7 +37,7 @@ PACKAGES=(
   # bzip2-encoded NRRD volumes and the NIfTI-1/2 header layouts (core/volume_io.cc);
   # DICOM series through GDCM (core/volume_dicom.cc)
   libbz2-dev libnifti2-dev libgdcm-dev
-  # regenerates tests/data/real/volumes/ct_slices (make_ct_slices.py)
+  # makes the slice-per-file NRRDs of a real CT at test time (tests/support/make_ct_slices.py)
   python3-nibabel
   # the VTK volume-rendering peer (bench/vtk_volume_peer.py: vtkGPUVolumeRayCastMapper under xvfb-run)
   python3-vtk9

@@ -1,5 +1,5 @@
 // capture/mesh_counts.h: the triangles OBJ, OFF and STL files declare, on
-// assimp's real test models (tests/data/real/meshes) and hand-written files;
+// assimp's real test models (../shared/data/tests-real/meshes) and hand-written files;
 // truncations and contradictions refused; mutated bytes only ever read or
 // refused (an InputError), never a crash.
 #include "capture/mesh_counts.h"

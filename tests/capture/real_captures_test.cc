@@ -1,4 +1,4 @@
-// Real third-party captures (tests/data/real/captures/README.md) through the
+// Real third-party captures (../shared/data/tests-real/captures/README.md) through the
 // importers: a COLMAP model of four photos of a facade (kapture's
 // maupertuis sample) and one TUM RGB-D frame (Open3D's test data).
 // - the COLMAP box is a percentile box: one stray point 1000 units away

@@ -210,7 +210,7 @@ TEST(DistanceField, AnalyticSphereAndBoxWithinVoxelBounds) {
   }
 }
 
-// A real scanner mesh (MeshLab's screwdriver.ply, closed: tests/data/real/
+// A real scanner mesh (MeshLab's screwdriver.ply, closed: ../shared/data/tests-real/
 // meshes/README.md): at band nodes and at nodes spread over the grid, the
 // field's sign equals the generalised winding number's and its band values
 // the brute-force distance.

@@ -462,7 +462,7 @@ TEST(VolumeIo, RealCtNiftiAndItsSlicePerFileNrrdMatchNibabel) {
   EXPECT_EQ(st.p50, -91);
   EXPECT_EQ(st.p99, 188);
   for (const char* header : {"ct_slices_pattern.nhdr", "ct_slices_list.nhdr"}) {
-    const Volume slices = ReadVolume(RealVolumes() / header);
+    const Volume slices = ReadVolume(fs::path(IBR_GENERATED_DATA_DIR) / "volumes" / header);
     EXPECT_EQ(slices, ct) << header;
   }
 }

@@ -33,9 +33,8 @@ def lay_stand_ins(folder, shared, source, ibr):
     subprocess.run(["oiiotool", "--pattern", "noise:type=uniform:min=0:max=1", "256x256", "1",
                     "--blur", "5x5", "-d", "uint8", "-o", os.path.join(folder, "height.png")],
                    check=True)
-    # A real signed 16-bit CT (tests/data/real/volumes/README.md says whose).
-    shutil.copy(os.path.join(source, "tests", "data", "real", "volumes",
-                             "ct_totalseg_example_ct_sm.nii.gz"),
+    # A real signed 16-bit CT (shared/data/tests-real/volumes/README.md says whose).
+    shutil.copy(os.path.join(shared, "tests-real", "volumes", "ct_totalseg_example_ct_sm.nii.gz"),
                 os.path.join(folder, "scan.nii.gz"))
     shutil.copytree(os.path.join(shared, "rgbd", "redwood5"), os.path.join(folder, "redwood"))
     # A COLMAP dense workspace, as `colmap image_undistorter` + stereo would leave it.

@@ -98,7 +98,7 @@ TEST_F(MeshExportTest, BoxHasItsVolume) {
   EXPECT_TRUE(m.colours.empty());
 }
 
-// screwdriver.ply (MeshLab's sample, tests/data/real/meshes/README.md): a
+// screwdriver.ply (MeshLab's sample, ../shared/data/tests-real/meshes/README.md): a
 // closed scanner mesh, not used by any other reconstruction test.
 TEST_F(MeshExportTest, RealClosedMeshWithinHalfAPercentOfTheDiagonal) {
   const fs::path file = fs::path(IBR_REAL_DATA_DIR) / "meshes" / "screwdriver.ply";

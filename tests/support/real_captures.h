@@ -1,4 +1,4 @@
-// The real capture files under tests/data/real/captures (README.md there),
+// The real capture files under ../shared/data/tests-real/captures (README.md there),
 // for the tests of targets that define IBR_REAL_DATA_DIR.
 #pragma once
 
