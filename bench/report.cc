@@ -14,6 +14,7 @@
 #include "core/atomic_file.h"
 #include "core/check.h"
 #include "core/error.h"
+#include "core/image_io.h"
 
 namespace bench {
 namespace fs = std::filesystem;
@@ -302,6 +303,7 @@ void PlotPng(const Table& table, const PlotOptions& options, const fs::path& png
       core::ThrowFileError("PlotPng", png, "gnuplot failed (is gnuplot-nox installed?): {}",
                            output);
     }
+    core::MarkImageFile(tmp);  // so that the next run may replace the plot
   });
 }
 

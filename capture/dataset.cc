@@ -11,6 +11,7 @@
 #include <nlohmann/json.hpp>
 #include <set>
 
+#include "capture/input_kind.h"
 #include "core/error.h"
 #include "core/image_io.h"
 
@@ -412,7 +413,8 @@ void WriteManifest(std::ostream& out, const Dataset& dataset) {
 
 Dataset ReadDataset(const fs::path& dir, bool check_pixels, const DatasetUse& use) {
   const fs::path manifest = dir / "dataset.json";
-  if (!fs::is_directory(dir)) core::ThrowFileError("ReadDataset", dir, "not a directory");
+  // Not a dataset folder: say what it is and which command takes it.
+  if (!fs::is_directory(dir)) CheckDatasetInput("ReadDataset", dir, /*scene_ok=*/false);
   std::ifstream in(manifest, std::ios::binary);
   if (!in) core::ThrowFileError("ReadDataset", manifest, "cannot open (missing dataset.json?)");
   Dataset dataset = ReadManifest(in, manifest.string(), use);

@@ -1,8 +1,10 @@
 #include "core/atomic_file.h"
 
+#include <OpenImageIO/imageio.h>
 #include <dirent.h>
 #include <fcntl.h>
 #include <pthread.h>
+#include <spdlog/spdlog.h>
 #include <sys/stat.h>
 #include <unistd.h>
 
@@ -175,7 +177,106 @@ std::vector<std::string> FilesUnder(const fs::path& dir) {
   return files;
 }
 
+std::atomic<bool> g_overwrite_files{false};
+
+std::string Lower(std::string s) {
+  std::transform(s.begin(), s.end(), s.begin(), [](unsigned char c) { return std::tolower(c); });
+  return s;
+}
+
+bool IsStagingPath(const fs::path& p) { return p.string().find(".tmp-") != std::string::npos; }
+
+// The first `limit` bytes of a text header, line by line, until `stop` (or
+// the end): whether one of them contains kFileMark.
+bool TextHeaderHasMark(const fs::path& path, const char* prefix, const char* stop, int max_lines) {
+  std::ifstream in(path, std::ios::binary);
+  std::string line;
+  for (int n = 0; n < max_lines && std::getline(in, line); ++n) {
+    if (line.size() > 4096) return false;
+    if (line.rfind(prefix, 0) == 0 && line.find(kFileMark) != std::string::npos) return true;
+    if (stop != nullptr && line.rfind(stop, 0) == 0) return false;
+  }
+  return false;
+}
+
+bool ListedInFolderMarker(const fs::path& path) {
+  const fs::path dir = path.parent_path().empty() ? fs::path(".") : path.parent_path();
+  std::ifstream marker(dir / kOutputMarker);
+  std::string line;
+  if (!marker || !std::getline(marker, line) || line.rfind("ibr output:", 0) != 0) return false;
+  const std::string name = path.filename().string();
+  while (std::getline(marker, line)) {
+    if (line == name) return true;
+  }
+  return false;
+}
+
 }  // namespace
+
+bool IsIbrOutputFile(const fs::path& path) {
+  std::error_code ec;
+  if (!fs::is_regular_file(fs::symlink_status(path, ec))) return false;
+  if (ListedInFolderMarker(path)) return true;
+  const std::string ext = Lower(path.extension().string());
+  if (ext == ".ply") return TextHeaderHasMark(path, "comment", "end_header", 200);
+  if (ext == ".obj" || ext == ".mtl") return TextHeaderHasMark(path, "#", nullptr, 4);
+  if (ext == ".nrrd" || ext == ".nhdr") return TextHeaderHasMark(path, "#", nullptr, 8);
+  // QVis: the header's `Software` line; its raw data is ibr's when the header
+  // of the same name beside it is and names it.
+  if (ext == ".dat") return TextHeaderHasMark(path, "Software:", nullptr, 16);
+  if (ext == ".raw") {
+    fs::path dat = path;
+    dat.replace_extension(".dat");
+    std::ifstream in(dat);
+    std::string line;
+    bool names_it = false;
+    for (int n = 0; n < 16 && std::getline(in, line); ++n) {
+      names_it = names_it || (line.rfind("ObjectFileName:", 0) == 0 &&
+                              line.find(path.filename().string()) != std::string::npos);
+    }
+    return names_it && TextHeaderHasMark(dat, "Software:", nullptr, 16);
+  }
+  if (ext == ".png" || ext == ".exr" || ext == ".tif" || ext == ".tiff" || ext == ".jpg" ||
+      ext == ".jpeg") {
+    // The image writers' `Software` attribute (core/image_io.cc, the plots'
+    // PNG text chunk in bench/report.cc), read through OpenImageIO.
+    auto in = OIIO::ImageInput::open(path.string());
+    if (!in) {
+      (void)OIIO::geterror();
+      return false;
+    }
+    const std::string software = in->spec().get_string_attribute("Software");
+    in->close();
+    return software.find(kFileMark) != std::string::npos;
+  }
+  return false;
+}
+
+void SetOverwriteFiles(bool overwrite) { g_overwrite_files.store(overwrite); }
+
+void CheckReplaceableFile(std::string_view where, const fs::path& path, bool announce) {
+  std::error_code ec;
+  const fs::file_status status = fs::symlink_status(path, ec);
+  if (ec || !fs::exists(status)) return;
+  if (fs::is_symlink(status)) {
+    ThrowFileError(where, path,
+                   "is a symbolic link; ibr does not write through links: give "
+                   "another name");
+  }
+  if (fs::is_directory(status)) ThrowFileError(where, path, "is a folder; give a file name");
+  if (!fs::is_regular_file(status)) ThrowFileError(where, path, "exists and is not a file");
+  if (IsIbrOutputFile(path)) {
+    if (announce) spdlog::info("replacing '{}', an earlier ibr output", path.string());
+    return;
+  }
+  if (g_overwrite_files.load()) {
+    if (announce) spdlog::info("replacing '{}' (--overwrite)", path.string());
+    return;
+  }
+  ThrowFileError(where, path,
+                 "exists and ibr did not write it; ibr never replaces a file it did not write: "
+                 "choose a new name, or pass --overwrite to replace it");
+}
 
 void SetOutputDescription(std::string description) {
   std::lock_guard lock(g_mutex);
@@ -263,14 +364,19 @@ void InstallCleanupSignalHandlers() {
   for (int sig : {SIGINT, SIGTERM, SIGHUP, SIGABRT}) ::sigaction(sig, &action, nullptr);
 }
 
-void AtomicWrite(const fs::path& path, const std::function<void(const fs::path&)>& write) {
+void AtomicWrite(const fs::path& path, const std::function<void(const fs::path&)>& write,
+                 ExistingFile existing) {
   const fs::path parent = path.parent_path().empty() ? fs::path(".") : path.parent_path();
   if (!fs::is_directory(parent)) {
-    ThrowFileError("AtomicWrite", path, "parent directory does not exist");
+    ThrowFileError("output", path, "its folder '{}' does not exist", parent.string());
   }
   CheckNotAnInput("output", path);
-  // Inside a staging folder nothing stale can be left (it is itself removed).
-  if (parent.string().find(".tmp-") == std::string::npos) RemoveStaleStaging(path);
+  // Inside a staging folder nothing stale can be left (it is itself removed),
+  // and nothing of the user's exists.
+  if (!IsStagingPath(parent)) {
+    RemoveStaleStaging(path);
+    if (existing == ExistingFile::kIbrOutputOnly) CheckReplaceableFile("output", path, true);
+  }
   const fs::path tmp = TemporarySibling(path);
   const int slot = RegisterCleanup(tmp);
   try {
@@ -288,14 +394,18 @@ void AtomicWrite(const fs::path& path, const std::function<void(const fs::path&)
   if (ec) ThrowFileError("AtomicWrite", path, "cannot rename temporary file into place");
 }
 
-void AtomicWriteStream(const fs::path& path, const std::function<void(std::ostream&)>& write) {
-  AtomicWrite(path, [&](const fs::path& tmp) {
-    std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
-    if (!out) ThrowFileError("AtomicWriteStream", path, "cannot open for writing");
-    write(out);
-    out.flush();
-    if (!out) ThrowFileError("AtomicWriteStream", path, "write failed");
-  });
+void AtomicWriteStream(const fs::path& path, const std::function<void(std::ostream&)>& write,
+                       ExistingFile existing) {
+  AtomicWrite(
+      path,
+      [&](const fs::path& tmp) {
+        std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
+        if (!out) ThrowFileError("AtomicWriteStream", path, "cannot open for writing");
+        write(out);
+        out.flush();
+        if (!out) ThrowFileError("AtomicWriteStream", path, "write failed");
+      },
+      existing);
 }
 
 StagedDirectory::StagedDirectory(fs::path final_path, bool overwrite)

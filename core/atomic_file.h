@@ -9,6 +9,12 @@
 //   earlier ibr output whose files are all listed in its `.ibr-output` marker;
 //   any other existing folder is refused (there is no override: ibr never
 //   deletes a file it did not write);
+// - an existing single file is replaced only when ibr wrote it: it carries
+//   kFileMark where its format keeps text (a PNG/EXR/TIFF/JPEG `Software`
+//   attribute, a PLY `comment`, a `#` line of OBJ, MTL, NRRD), or the
+//   kOutputMarker of its folder lists it; any other file (a CSV or JSON of
+//   the user's, say) is refused unless the command line says --overwrite
+//   (SetOverwriteFiles). Replacing prints one line saying so;
 // - staging names are `.NAME.tmp-PID-N`; they are removed on error (destructor),
 //   on SIGINT/SIGTERM/SIGHUP/SIGABRT (InstallCleanupSignalHandlers), and those
 //   of dead processes (a SIGKILL) by the next run writing to the same place.
@@ -26,6 +32,9 @@ namespace core {
 // the command line (SetOutputDescription), then one line per file ibr wrote
 // (relative, '/'-separated).
 inline constexpr const char* kOutputMarker = ".ibr-output";
+
+// The text every file ibr writes carries where its format has room for it.
+inline constexpr const char* kFileMark = "written by ibr";
 
 // What the marker's first line names (the CLI sets its command line).
 void SetOutputDescription(std::string description);
@@ -45,6 +54,20 @@ void CheckNotAnInput(std::string_view where, const std::filesystem::path& output
 // or is an empty folder, or holds only files listed in its kOutputMarker.
 void CheckReplaceableOutput(std::string_view where, const std::filesystem::path& dir);
 
+// True if `path` is a regular file ibr wrote: it carries kFileMark (see the
+// rules above), or its folder's kOutputMarker lists it.
+bool IsIbrOutputFile(const std::filesystem::path& path);
+
+// --overwrite: existing files that ibr did not write may be replaced too.
+void SetOverwriteFiles(bool overwrite);
+
+// InputError("where: 'path': ...") unless `path` may be written as a single
+// file: it does not exist, or it is a regular file ibr wrote (or
+// --overwrite was given); never a folder or a symbolic link. Prints the
+// line that says an earlier output is replaced when `announce` is set.
+void CheckReplaceableFile(std::string_view where, const std::filesystem::path& path,
+                          bool announce = false);
+
 // Removes staging siblings `.NAME.tmp-PID-N` of `path` left by processes that
 // no longer run (killed by SIGKILL or power loss). Never touches those of
 // live processes.
@@ -57,15 +80,23 @@ void RemoveStaleStaging(const std::filesystem::path& path);
 // thread receives is handed to that thread.
 void InstallCleanupSignalHandlers();
 
+// What AtomicWrite may do with a file already at `path`: replace it only if
+// ibr wrote it (CheckReplaceableFile; every output a user names), or always
+// (ibr's own cache files, which no user names).
+enum class ExistingFile { kIbrOutputOnly, kReplace };
+
 // Calls write(tmp_path) and renames tmp_path to `path` if it returns without
 // throwing; removes tmp_path otherwise. The parent directory must exist.
-// `path` must not be a noted input.
+// `path` must not be a noted input. Inside a staging folder nothing exists
+// yet to be checked.
 void AtomicWrite(const std::filesystem::path& path,
-                 const std::function<void(const std::filesystem::path& tmp_path)>& write);
+                 const std::function<void(const std::filesystem::path& tmp_path)>& write,
+                 ExistingFile existing = ExistingFile::kIbrOutputOnly);
 
 // Stream flavour: write(stream) into a binary ofstream on a temporary file.
 void AtomicWriteStream(const std::filesystem::path& path,
-                       const std::function<void(std::ostream& out)>& write);
+                       const std::function<void(std::ostream& out)>& write,
+                       ExistingFile existing = ExistingFile::kIbrOutputOnly);
 
 // A directory populated under a temporary name and renamed into place by
 // Commit(); the destructor (or a signal) removes it if Commit() was never

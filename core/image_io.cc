@@ -8,6 +8,7 @@
 #include <fstream>
 #include <iterator>
 #include <memory>
+#include <vector>
 
 #include "core/atomic_file.h"
 #include "core/error.h"
@@ -187,6 +188,7 @@ void WriteImage(const fs::path& path, const Image<T>& image) {
     OIIO::ImageSpec spec(image.width(), image.height(), image.channels(), file_type);
     if (ext == ".exr") spec.attribute("compression", "zip");
     spec.attribute("oiio:UnassociatedAlpha", 1);  // our alpha is straight, not premultiplied
+    spec.attribute("Software", kFileMark);
     if (!output->open(tmp_with_ext.string(), spec) ||
         !output->write_image(TypeOf<T>(), image.data()) || !output->close()) {
       std::error_code ignored;
@@ -195,6 +197,29 @@ void WriteImage(const fs::path& path, const Image<T>& image) {
     }
     fs::rename(tmp_with_ext, tmp);
   });
+}
+
+void MarkImageFile(const fs::path& file) {
+  auto in = OIIO::ImageInput::open(file.string());
+  if (!in) ThrowFileError("MarkImageFile", file, "cannot read: {}", OIIO::geterror());
+  OIIO::ImageSpec spec = in->spec();
+  const std::string format = in->format_name();
+  std::vector<unsigned char> pixels(spec.image_bytes());
+  if (!in->read_image(0, 0, 0, spec.nchannels, spec.format, pixels.data())) {
+    ThrowFileError("MarkImageFile", file, "cannot read: {}", in->geterror());
+  }
+  in->close();
+  spec.attribute("Software", kFileMark);
+  const fs::path marked = fs::path(file.string() + ".marked");
+  auto output = OIIO::ImageOutput::create(format);
+  if (!output || !output->open(marked.string(), spec) ||
+      !output->write_image(spec.format, pixels.data()) || !output->close()) {
+    std::error_code ignored;
+    fs::remove(marked, ignored);
+    ThrowFileError("MarkImageFile", file, "cannot write: {}",
+                   output ? output->geterror() : OIIO::geterror());
+  }
+  fs::rename(marked, file);
 }
 
 template Image<uint8_t> ReadImage(const fs::path&, int);

@@ -28,8 +28,15 @@ Image<T> ReadImage(const std::filesystem::path& path, int channels = 0);
 
 // Writes `image` to `path` atomically. EXR keeps float32 exactly; PNG takes
 // uint8/uint16; floats written to PNG/JPG are clamped to [0,1] and quantised.
+// Every file carries core::kFileMark as its `Software` attribute (a PNG text
+// chunk, an EXR header attribute): what lets a later run replace it.
 template <typename T>
 void WriteImage(const std::filesystem::path& path, const Image<T>& image);
+
+// Rewrites the image file `file` in place, in its own format and with the same
+// pixels, adding the `Software` mark: for images a helper tool writes for ibr
+// (gnuplot's plots). `file` is a staging file (core::AtomicWrite's).
+void MarkImageFile(const std::filesystem::path& file);
 
 // Image size and channel count without decoding the pixels.
 struct ImageHeader {

@@ -1008,9 +1008,10 @@ Volume ReadQVis(const fs::path& dat_path) {
 
 void WriteQVisHeader(std::ostream& dat, const Volume& volume, std::string_view object_file) {
   dat << fmt::format(
-      "ObjectFileName: {}\nResolution: {} {} {}\nSliceThickness: {} {} {}\nFormat: {}\n",
+      "ObjectFileName: {}\nResolution: {} {} {}\nSliceThickness: {} {} {}\nFormat: {}\n"
+      "Software: {}\n",
       object_file, volume.dims.x, volume.dims.y, volume.dims.z, volume.spacing.x, volume.spacing.y,
-      volume.spacing.z, QVisFormatName(volume.type));
+      volume.spacing.z, QVisFormatName(volume.type), kFileMark);
 }
 
 void WriteQVisRaw(std::ostream& raw, const Volume& volume) {

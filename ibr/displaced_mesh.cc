@@ -98,7 +98,10 @@ core::ImageF ReadHeightMap(const std::filesystem::path& path) {
 }
 
 core::TriangleMesh ReadDisplacementBase(const std::filesystem::path& path) {
-  capture::SceneMesh scene = capture::LoadSceneMesh(path);
+  // The colour comes from --texture alone (the kind's `texture`): the mesh's
+  // own material is not looked for, so nothing says "untextured" and then
+  // draws a texture.
+  capture::SceneMesh scene = capture::LoadSceneMesh(path, {}, capture::MeshTextures::kSkip);
   const core::TriangleMesh& m = scene.mesh;
   // LoadSceneMesh gives (0, 0) where the file has no texture coordinates: a
   // layout where every vertex has the same uv cannot carry a height map.

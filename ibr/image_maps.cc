@@ -1,5 +1,6 @@
 #include "ibr/image_maps.h"
 
+#include <algorithm>
 #include <cmath>
 
 #include "core/error.h"
@@ -26,6 +27,18 @@ void MapSet::Check(const std::string& where) const {
   const double det = glm::determinant(glm::dmat3(world_from_box));
   if (!(std::abs(det) > 0) || !std::isfinite(det)) {
     core::ThrowInputError(where, "the bounding box transform is singular");
+  }
+  // No map has depth or a mask (a sparse-only import): say what the import
+  // said, not the first map's name.
+  if (std::all_of(maps.begin(), maps.end(),
+                  [](const ImageMap& m) { return m.depth.empty() && m.mask.empty(); })) {
+    core::ThrowInputError(
+        where,
+        "its {} views have poses and colour but no depth and no masks (a sparse-only import), so "
+        "neither a depth object nor a visual hull can be made from them; its cameras serve as "
+        "novel views (ibr render OTHER --cameras DATASET). Import COLMAP's dense workspace "
+        "instead, or import again with --masks DIR",
+        maps.size());
   }
   for (const ImageMap& m : maps) {
     const std::string w = where + ": map '" + m.name + "'";

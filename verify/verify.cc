@@ -21,17 +21,21 @@
 #include "core/projection.h"
 #include "core/sphere.h"
 #include "ibr/depth_object.h"
-#include "verify/independent_reference.h"
-#include "verify/reference.h"
 #include "render/gl/gl.h"
 #include "render/gl/gl_queries.h"
 #include "render/gl/render_target.h"
 #include "render/passes/displacement_pass.h"
 #include "render/passes/relief_surface_pass.h"
+#include "verify/independent_reference.h"
+#include "verify/reference.h"
 
 namespace ibr {
 
 void VerifyOptions::Check() const {
+  // Checked before the cases run, not when the first diff image is written.
+  std::error_code ec;
+  if (!out.empty() && std::filesystem::exists(out, ec) && !std::filesystem::is_directory(out, ec))
+    core::ThrowFileError("ibr verify", out, "--out exists and is not a folder");
   if (cases < 1 || cases > 10'000'000)
     core::ThrowInputError("ibr verify", "--cases {} outside 1..10000000", cases);
   if (method != "depth-object" && method != "hull" && method != "all" &&

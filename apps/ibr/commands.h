@@ -60,6 +60,11 @@ void CheckSubcommandNames(const CLI::App& app, int argc, const char* const* argv
 // option, except the outputs --out, --csv and --screenshot) as an input
 // (core::NoteInputPath), so no output of the command can replace, sit inside
 // or contain it.
+// For a command line CLI11 refused with unexpected arguments: "'ibr render'
+// has no option '--orbti'; did you mean '--orbit'?" (empty when every
+// --flag is known).
+std::string UnknownFlagMessage(const CLI::App& app, int argc, const char* const* argv);
+
 void NoteCommandLineInputs(const CLI::App& app);
 
 }  // namespace apps

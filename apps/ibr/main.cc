@@ -56,6 +56,8 @@ int main(int argc, char** argv) {
 
   CLI::App app{"ibr: image-based rendering of depth objects, visual hulls and displaced surfaces"};
   app.require_subcommand(1);
+  // Root options (--overwrite, --log-level) may follow the command too.
+  app.fallthrough();
   std::string log_level = "info";
   app.add_option("--log-level", log_level, "trace|debug|info|warn|error|off")
       ->check(CLI::IsMember({"trace", "debug", "info", "warn", "error", "off"}))
@@ -66,7 +68,13 @@ int main(int argc, char** argv) {
   app.add_option("--memory-budget", memory_budget,
                  "memory a run may plan to use: 8G, 512M, 25% (default: half of physical "
                  "memory, or IBR_MEMORY_BUDGET)");
+  // The one way past the rule that ibr replaces only files it wrote
+  // (core/atomic_file.h); a folder ibr did not write is never replaced.
+  bool overwrite = false;
+  app.add_flag("--overwrite", overwrite,
+               "replace an existing output file that ibr did not write (never a folder)");
   app.parse_complete_callback([&] {
+    core::SetOverwriteFiles(overwrite);
     if (!memory_budget.empty()) core::SetMemoryBudget(core::ParseMemorySize(memory_budget));
     spdlog::set_level(spdlog::level::from_str(log_level));
     apps::NoteCommandLineInputs(app);
@@ -86,6 +94,11 @@ int main(int argc, char** argv) {
     return app.exit(e);
   } catch (const CLI::CallForAllHelp& e) {
     return app.exit(e);
+  } catch (const CLI::ExtrasError& e) {
+    // An unknown flag: name it and the nearest valid one.
+    const std::string message = apps::UnknownFlagMessage(app, argc, argv);
+    std::fprintf(stderr, "ibr: error: %s\n", message.empty() ? e.what() : message.c_str());
+    return e.get_exit_code() != 0 ? e.get_exit_code() : 2;
   } catch (const CLI::ParseError& e) {
     // One line, like every other error (CLI11's own printer adds a hint line).
     std::fprintf(stderr, "ibr: error: %s\n", e.what());

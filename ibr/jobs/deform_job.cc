@@ -10,6 +10,7 @@
 
 #include "capture/dataset.h"
 #include "capture/synthetic.h"
+#include "core/atomic_file.h"
 #include "core/error.h"
 #include "core/image_io.h"
 #include "ibr/dataset_maps.h"
@@ -37,6 +38,11 @@ void DeformRenderOptions::Check() const {
     core::ThrowInputError("ibr deform",
                           "--cameras {} renders several views: --out must be a folder",
                           cameras.string());
+  }
+  // The camera-z image beside FILE.png, refused before any work as --out is.
+  if (!WritesDataset()) {
+    std::filesystem::path depth_path = out;
+    core::CheckReplaceableFile("--out", depth_path.replace_extension(".depth.exr"));
   }
 }
 

@@ -1,9 +1,11 @@
 #include "ibr/jobs/displace_job.h"
 
 #include <fmt/format.h>
+#include <spdlog/spdlog.h>
 
 #include <exception>
 
+#include "core/atomic_file.h"
 #include "core/error.h"
 #include "core/heightfield.h"
 #include "core/image_io.h"
@@ -89,6 +91,9 @@ void DisplaceJob::Check() const {
   if (out.has_parent_path() && !fs::is_directory(out.parent_path())) {
     core::ThrowInputError(kWhere, "--out '{}': no such directory", out.string());
   }
+  // The camera-z image beside it, refused before any work as --out is.
+  fs::path depth_path = out;
+  core::CheckReplaceableFile("--out", depth_path.replace_extension(".depth.exr"));
   if (frames < 0 || frames > 1000)
     core::ThrowInputError(kWhere, "--frames {} outside 0..1000", frames);
   if (!background.empty()) ParseBackgroundRgb(background, kWhere);
@@ -129,6 +134,20 @@ void RunDisplaceJob(render::ProgramCache& programs, const DisplaceJob& job,
                     : ReadHeightMap(job.height_map);
   if (!job.texture.empty()) data.color = core::ReadImage<uint8_t>(job.texture);
   const std::string base = job.mesh.empty() ? job.base : job.mesh.filename().string();
+  {
+    // A displacement of the order of the mesh itself turns the surface inside
+    // out into spikes: said with the numbers, in the mesh's units.
+    glm::vec3 lo, hi;
+    data.base.Bounds(lo, hi);
+    const double diagonal = glm::length(glm::dvec3(hi - lo));
+    if (diagonal > 0 && job.max_displacement > 0.25 * diagonal) {
+      spdlog::warn(
+          "{}: --max-displacement {} is {:.0f} % of the mesh's diagonal ({:.3g} units, '{}'): the "
+          "surface will fold over itself; a displacement map's relief is usually a few percent "
+          "of the mesh (the default 0.15 is for the built-in unit-sized bases)",
+          kWhere, job.max_displacement, 100.0 * job.max_displacement / diagonal, diagonal, base);
+    }
+  }
   const std::string height =
       job.height_map.empty() ? job.height : job.height_map.filename().string();
 

@@ -10,6 +10,7 @@
 
 #include "capture/builtin_scenes.h"
 #include "capture/dataset.h"
+#include "capture/input_kind.h"
 #include "capture/synthetic.h"
 #include "core/error.h"
 #include "core/memory_budget.h"
@@ -53,6 +54,8 @@ std::vector<NamedView> NovelViews(const std::filesystem::path& path, int size,
 
 void DatasetRenderJob::Check() const {
   constexpr const char* kWhere = "ibr render";
+  // What was given comes first: a volume or a mesh is named with its command.
+  capture::CheckDatasetInput(kWhere, dataset, /*scene_ok=*/true);
   if (cameras.empty() == (orbit <= 0))
     core::ThrowInputError(kWhere, "give exactly one of --cameras OTHER_DATASET or --orbit N");
   // The upper bound: render::CheckFrameSize (GL limits, memory budget) per view.
@@ -212,6 +215,7 @@ std::vector<std::string> RenderToDataset(render::ProgramCache& programs,
                                          const std::function<void(const std::string&)>& progress) {
   const std::string where = std::filesystem::absolute(out).string();
   if (job.dataset.extension() == ".json") {
+    capture::CheckDatasetInput("ibr render", job.dataset, /*scene_ok=*/true);
     if (!job.cameras.empty() || job.orbit > 0 || job.size > 0 || !job.truth_mesh.empty() ||
         job.up || job.arc_deg != 360) {
       core::ThrowInputError(

@@ -193,18 +193,21 @@ void ProgramBinaryCache::Store(const std::string& key_text, const Program& progr
   const fs::path path = PathFor(key_text);
   try {
     fs::create_directories(dir_);
-    core::AtomicWriteStream(path, [&](std::ostream& out) {
-      const uint64_t key_length = key.size(), binary_length = binary.size();
-      const uint32_t format32 = format;
-      const uint64_t checksum = Checksum(key, binary);
-      out.write(kMagic, sizeof(kMagic));
-      out.write(reinterpret_cast<const char*>(&key_length), sizeof(key_length));
-      out.write(key.data(), static_cast<std::streamsize>(key.size()));
-      out.write(reinterpret_cast<const char*>(&format32), sizeof(format32));
-      out.write(reinterpret_cast<const char*>(&binary_length), sizeof(binary_length));
-      out.write(binary.data(), static_cast<std::streamsize>(binary.size()));
-      out.write(reinterpret_cast<const char*>(&checksum), sizeof(checksum));
-    });
+    core::AtomicWriteStream(
+        path,
+        [&](std::ostream& out) {
+          const uint64_t key_length = key.size(), binary_length = binary.size();
+          const uint32_t format32 = format;
+          const uint64_t checksum = Checksum(key, binary);
+          out.write(kMagic, sizeof(kMagic));
+          out.write(reinterpret_cast<const char*>(&key_length), sizeof(key_length));
+          out.write(key.data(), static_cast<std::streamsize>(key.size()));
+          out.write(reinterpret_cast<const char*>(&format32), sizeof(format32));
+          out.write(reinterpret_cast<const char*>(&binary_length), sizeof(binary_length));
+          out.write(binary.data(), static_cast<std::streamsize>(binary.size()));
+          out.write(reinterpret_cast<const char*>(&checksum), sizeof(checksum));
+        },
+        core::ExistingFile::kReplace);
     ++stats_.stored;
   } catch (const std::exception& e) {
     spdlog::warn("program cache: cannot write {}: {}", path.string(), e.what());

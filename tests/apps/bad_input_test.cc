@@ -49,18 +49,8 @@ using test_support::IbrBinary;
 using test_support::PngWithClaimedSize;
 using test_support::Quote;
 using test_support::RunCommand;
-
-std::string Slurp(const fs::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
-}
-
-void Spit(const fs::path& p, const std::string& bytes) {
-  fs::create_directories(p.parent_path());
-  std::ofstream(p, std::ios::binary) << bytes;
-}
+using test_support::Slurp;
+using test_support::Spit;
 
 // Every file (and folder, and link) under `dir` with a hash of its bytes.
 std::map<std::string, uint64_t> Snapshot(const fs::path& dir) {
@@ -283,7 +273,7 @@ std::vector<Case> Corpus() {
       },
       "is not an earlier ibr output");
   add("displace_out_missing_folder", fixed("displace --out /nonexistent-ibr-dir/x.png"),
-      "no such directory");
+      "does not exist");
   add("displace_out_not_png", fixed("displace --out OUT"), "must end in .png");
 
   // -- dataset manifests (each through info, render and export)
@@ -452,7 +442,7 @@ std::vector<Case> Corpus() {
       "manifest_empty", [](const fs::path& d) { Spit(d / "dataset.json", ""); }, "not valid JSON");
   file_case(
       "manifest_missing", [](const fs::path& d) { fs::remove(d / "dataset.json"); },
-      "missing dataset.json");
+      "has no dataset.json");
   file_case(
       "depth_is_png",
       [](const fs::path& d) {
@@ -536,9 +526,41 @@ std::vector<Case> Corpus() {
         Spit(dir / "D", "x");
         return "render " + Quote(dir / "D") + " --orbit 1 --out " + Quote(out);
       },
-      "not a directory");
+      "is not a dataset (a folder with dataset.json)");
   add("render_dataset_missing", fixed("render /nonexistent-ibr --orbit 1 --out OUT"),
-      "not a directory");
+      "does not exist");
+  // A volume, a mesh or a scene where a dataset goes: named, with its command,
+  // before any other complaint (no --orbit here: that is not the problem).
+  add(
+      "render_volume",
+      [](const fs::path& dir, const fs::path& out) {
+        Spit(dir / "scan.nhdr", "NRRD0004\ntype: uchar\n");
+        return "render " + Quote(dir / "scan.nhdr") + " --out " + Quote(out);
+      },
+      "is a volume (NRRD), not a dataset: `ibr volume scan.nhdr` renders it");
+  add(
+      "info_mesh",
+      [](const fs::path& dir, const fs::path&) {
+        Spit(dir / "mesh.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n");
+        return "info " + Quote(dir / "mesh.obj");
+      },
+      "is a mesh (obj), not a dataset: `ibr capture --mesh mesh.obj --out DIR`");
+  add(
+      "view_volume",
+      [](const fs::path& dir, const fs::path&) {
+        Spit(dir / "scan.nhdr", "NRRD0004\ntype: uchar\n");
+        return "view " + Quote(dir / "scan.nhdr") + " --screenshot " + Quote(dir / "s.png");
+      },
+      "is a volume (NRRD), not a dataset");
+  add(
+      "render_manifest_itself",
+      [](const fs::path& dir, const fs::path& out) {
+        DatasetWith(dir / "D", [](json&) {});
+        return "render " + Quote(dir / "D" / "dataset.json") + " --orbit 1 --out " + Quote(out);
+      },
+      "is a dataset's manifest: give its folder");
+  add("typo_flag_suggests", fixed("render CUBE --orbti 4 --out OUT"),
+      "'ibr render' has no option '--orbti'; did you mean '--orbit'?", kCli);
 
   // -- render options
   for (const auto& [name, args, expect] :
@@ -680,7 +702,7 @@ std::vector<Case> Corpus() {
       "threshold");
 
   // -- export
-  add("export_missing", fixed("export colmap /nonexistent-ibr --out OUT"), "not a directory");
+  add("export_missing", fixed("export colmap /nonexistent-ibr --out OUT"), "does not exist");
   add("export_orthographic", fixed("export colmap " + cube + " --out OUT"), "orthographic");
   add(
       "export_point_step_zero",
@@ -691,7 +713,7 @@ std::vector<Case> Corpus() {
       "point_step_px 0 outside");
 
   // -- info, displace, demo, bench
-  add("info_missing", fixed("info /nonexistent-ibr"), "not a directory");
+  add("info_missing", fixed("info /nonexistent-ibr"), "does not exist");
   add("displace_method_bogus", fixed("displace --method bogus --out /tmp/ibr-never.png"), "bogus");
   add("displace_slices_zero", fixed("displace --slices 0 --out /tmp/ibr-never.png"), "slices");
   add("displace_size_huge", fixed("displace --size 100000 --out /tmp/ibr-never.png"), "size");

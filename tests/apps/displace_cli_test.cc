@@ -1,4 +1,4 @@
-// `ibr displace` on a real third-party mesh (tests/data/real/displace: Keenan
+// `ibr displace` on a real third-party mesh (../shared/data/tests-real/displace: Keenan
 // Crane's Spot control mesh, 180 quads with uvs, and its colour texture):
 // the tessellated truth under an 8 GB address-space limit renders or is
 // refused in one line, never a signal; the colour texture stays at the
@@ -120,6 +120,28 @@ TEST(DisplaceCli, EveryMethodShadesTheColourTextureAtTheMeshUvs) {
     std::printf("%s vs truth: mean |dRGB| %.1f over %d pixels\n", method.c_str(), d, both);
     EXPECT_GT(both, 2000) << method;
     EXPECT_LT(d, 0.5 * wrong) << method;
+  }
+}
+
+// --texture is what colours the mesh: no line says "untextured" before it is
+// drawn, and a displacement of the order of the mesh itself is warned about
+// with its numbers (Spot is about 1.6 units across; 0.03 is not warned).
+TEST(DisplaceCli, TextureIsNotCalledMissingAndAHugeDisplacementIsWarned) {
+  const fs::path out = test_support::TestOutputDir() / "huge.png";
+  const std::string mesh = " --mesh " + Quote(kReal / "spot_control_mesh.obj") + " --texture " +
+                           Quote(kReal / "spot_texture.png") + " --up y";
+  for (const auto& [amount, warned] : {std::pair{"0.03", false}, std::pair{"2", true}}) {
+    SCOPED_TRACE(amount);
+    const auto r =
+        RunCommand(IbrBinary() + " displace --method relief" + mesh + " --max-displacement " +
+                   amount + " --size 32 --frames 0 --out " + Quote(out));
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    EXPECT_EQ(r.err.find("untextured"), std::string::npos) << r.err;
+    EXPECT_EQ(r.err.find("no texture found"), std::string::npos) << r.err;
+    const bool said =
+        r.err.find("--max-displacement " + std::string(amount) + " is ") != std::string::npos &&
+        r.err.find("% of the mesh's diagonal") != std::string::npos;
+    EXPECT_EQ(said, warned) << r.err;
   }
 }
 

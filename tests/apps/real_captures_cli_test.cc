@@ -290,7 +290,14 @@ TEST_F(RealCapturesCliTest, SparseOnlyImportSaysItCannotRenderAndRenderAgrees) {
   r = RunCommand(IbrBinary() + " render " + Quote(out) + " --orbit 1 --size 16 --out " +
                  Quote(dir_ / "maupertuis_render"));
   EXPECT_NE(r.exit_code, 0);
-  EXPECT_NE(r.err.find("neither depth nor mask"), std::string::npos) << r.err;
+  // What the import said, not the first map's name.
+  EXPECT_NE(r.err.find("its 4 views have poses and colour but no depth and no masks (a "
+                       "sparse-only import)"),
+            std::string::npos)
+      << r.err;
+  EXPECT_NE(r.err.find("ibr render OTHER --cameras DATASET"), std::string::npos) << r.err;
+  EXPECT_EQ(r.err.find("map '"), std::string::npos) << r.err;
+  EXPECT_EQ(test_support::CountLines(r.err), 1) << r.err;
   EXPECT_FALSE(fs::exists(dir_ / "maupertuis_render"));
 }
 

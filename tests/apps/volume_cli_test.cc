@@ -1,5 +1,5 @@
 // `ibr volume` end to end: QVis and NRRD volumes with each effect, DVR and
-// iso, written as PNG; real CT / MRI files (tests/data/real/volumes) in their
+// iso, written as PNG; real CT / MRI files (../shared/data/tests-real/volumes) in their
 // own units; bad input (short raw file, absurd header sizes, NaN in
 // a transfer function, unknown effect, ...) gives one error line, a non-zero
 // exit and no output file.
@@ -353,8 +353,9 @@ TEST_F(VolumeCliTest, SlicePerFileNrrdRendersLikeItsSource) {
       RenderOk((RealVolumes() / "ct_totalseg_example_ct_sm.nii.gz").string() + " --mode iso:300",
                dir_ / "src.png");
   for (const char* header : {"ct_slices_pattern.nhdr", "ct_slices_list.nhdr"}) {
-    const core::Image8 slices =
-        RenderOk((RealVolumes() / header).string() + " --mode iso:300", dir_ / "slices.png");
+    const core::Image8 slices = RenderOk(
+        (fs::path(IBR_GENERATED_DATA_DIR) / "volumes" / header).string() + " --mode iso:300",
+        dir_ / "slices.png");
     EXPECT_GT(Covered(slices), 0) << header;
     EXPECT_TRUE(slices == nifti) << header << ": differs from the NIfTI render";
   }

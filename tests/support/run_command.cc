@@ -13,15 +13,6 @@
 
 namespace test_support {
 
-namespace {
-std::string Slurp(const std::filesystem::path& p) {
-  std::ifstream in(p);
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
-}
-}  // namespace
-
 CommandResult RunCommand(const std::string& command) {
   const auto dir = std::filesystem::temp_directory_path() /
                    ("ibr-cmd-" + std::to_string(::getpid()) + "-" + std::to_string(std::rand()));
@@ -60,6 +51,18 @@ std::filesystem::path Scratch(const std::string& name) {
   std::filesystem::remove_all(dir);
   std::filesystem::create_directories(dir);
   return dir;
+}
+
+std::string Slurp(const std::filesystem::path& p) {
+  std::ifstream in(p, std::ios::binary);
+  std::stringstream ss;
+  ss << in.rdbuf();
+  return ss.str();
+}
+
+void Spit(const std::filesystem::path& p, const std::string& bytes) {
+  if (p.has_parent_path()) std::filesystem::create_directories(p.parent_path());
+  std::ofstream(p, std::ios::binary) << bytes;
 }
 
 }  // namespace test_support

@@ -23,6 +23,11 @@ std::string IbrBinary();
 // `p` in single quotes, for a shell command line.
 std::string Quote(const std::filesystem::path& p);
 
+// A file's bytes (empty if it cannot be read), and a file written with
+// `bytes` (its folders created).
+std::string Slurp(const std::filesystem::path& p);
+void Spit(const std::filesystem::path& p, const std::string& bytes);
+
 // A fresh, empty directory TestOutputDir()/name for one test's files.
 std::filesystem::path Scratch(const std::string& name);
 
