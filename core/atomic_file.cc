@@ -457,6 +457,15 @@ void StagedDirectory::Commit() {
     for (const std::string& f : files) out << f << '\n';
   });
   std::error_code ec;
+  if (fs::exists(fs::symlink_status(final_path_, ec)) && !fs::is_empty(final_path_, ec)) {
+    // An earlier output (of another mesh, say) is replaced: said, with the
+    // command that wrote it.
+    std::ifstream marker(final_path_ / kOutputMarker);
+    std::string first;
+    std::getline(marker, first);
+    spdlog::info("replacing '{}', an earlier ibr output ({})", final_path_.string(),
+                 first.rfind("ibr output: ", 0) == 0 ? first.substr(12) : first);
+  }
   if (fs::exists(fs::symlink_status(final_path_, ec))) {
     // Swap the new folder and the old one in one step, then remove the old
     // one, now under the (still registered) staging name.

@@ -559,6 +559,13 @@ std::vector<Case> Corpus() {
         return "render " + Quote(dir / "D" / "dataset.json") + " --orbit 1 --out " + Quote(out);
       },
       "is a dataset's manifest: give its folder");
+  add(
+      "bench_out_missing_folder",
+      [](const fs::path& dir, const fs::path&) {
+        return "bench viewer --quick --csv " + Quote(dir / "v.csv") + " --out " +
+               Quote(dir / "plots");
+      },
+      "no such folder (the plots go into a folder that exists");
   add("typo_flag_suggests", fixed("render CUBE --orbti 4 --out OUT"),
       "'ibr render' has no option '--orbti'; did you mean '--orbit'?", kCli);
 

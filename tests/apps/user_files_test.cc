@@ -151,6 +151,18 @@ TEST(UserFiles, EarlierOutputsAreReplacedAndSaySo) {
   EXPECT_NE(again.err.find("d.png', an earlier ibr output"), std::string::npos) << again.err;
   EXPECT_NE(again.err.find("d.depth.exr', an earlier ibr output"), std::string::npos) << again.err;
 
+  // A folder output: an earlier capture of another shape is replaced, and the
+  // line names the command that wrote it.
+  for (const char* shape : {"sphere", "torus"}) {
+    const auto r = RunCommand(IbrBinary() + " capture --shape " + shape +
+                              " --rig cube --size 16 --out " + Quote(dir / "capture"));
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    const bool said =
+        r.err.find("replacing '" + (dir / "capture").string() +
+                   "', an earlier ibr output (ibr capture --shape sphere") != std::string::npos;
+    EXPECT_EQ(said, std::string(shape) == "torus") << r.err;
+  }
+
   Spit(dir / "yours.ply", "mine\n");
   const auto refused = RunCommand(IbrBinary() + " export points " + Quote(Dataset()) + " --out " +
                                   Quote(dir / "yours.ply"));
