@@ -217,6 +217,13 @@ bool IsIbrOutputFile(const fs::path& path) {
   std::error_code ec;
   if (!fs::is_regular_file(fs::symlink_status(path, ec))) return false;
   if (ListedInFolderMarker(path)) return true;
+  if (path.filename() == kOutputMarker) {
+    // The marker itself: ibr's when it reads as one (`ibr report` adds its
+    // summary to the list of an earlier report's marker).
+    std::ifstream in(path);
+    std::string first;
+    return std::getline(in, first) && first.rfind("ibr output:", 0) == 0;
+  }
   const std::string ext = Lower(path.extension().string());
   if (ext == ".ply") return TextHeaderHasMark(path, "comment", "end_header", 200);
   if (ext == ".obj" || ext == ".mtl") return TextHeaderHasMark(path, "#", nullptr, 4);

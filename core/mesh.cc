@@ -96,6 +96,46 @@ TriangleMesh MakeSphere(float radius, int rings, int segments) {
   return mesh;
 }
 
+TriangleMesh MakeCapsule(float radius, float length, int cap_rings, int stacks, int segments) {
+  IBR_CHECK(radius > 0 && length > 0 && cap_rings >= 1 && stacks >= 1 && segments >= 3);
+  const float cap_arc = 0.5f * kPi * radius;
+  const float total = 2 * cap_arc + length;
+  // Profile rows from the south pole: (radial distance, z, normal's z-angle).
+  struct Row {
+    float r, z, theta, v;
+  };
+  std::vector<Row> rows;
+  for (int j = 0; j <= cap_rings; ++j) {
+    const float theta = -0.5f * kPi + 0.5f * kPi * j / cap_rings;  // latitude
+    rows.push_back({radius * std::cos(theta), -0.5f * length + radius * std::sin(theta), theta,
+                    cap_arc * j / cap_rings / total});
+  }
+  for (int j = 1; j < stacks; ++j) {
+    const float s = static_cast<float>(j) / stacks;
+    rows.push_back({radius, length * (s - 0.5f), 0.0f, (cap_arc + s * length) / total});
+  }
+  for (int j = 0; j <= cap_rings; ++j) {
+    const float theta = 0.5f * kPi * j / cap_rings;
+    rows.push_back({radius * std::cos(theta), 0.5f * length + radius * std::sin(theta), theta,
+                    (cap_arc + length + cap_arc * j / cap_rings) / total});
+  }
+  rows.front().r = rows.back().r = 0;  // the poles exactly on the axis
+  rows.back().v = 1;
+  TriangleMesh mesh;
+  for (const Row& row : rows) {
+    for (int i = 0; i <= segments; ++i) {
+      const float u = static_cast<float>(i) / segments;
+      const float phi = 2 * kPi * u;
+      const glm::vec3 radial(std::cos(phi), std::sin(phi), 0);
+      mesh.positions.push_back(row.r * radial + glm::vec3(0, 0, row.z));
+      mesh.normals.push_back(std::cos(row.theta) * radial + glm::vec3(0, 0, std::sin(row.theta)));
+      mesh.uvs.emplace_back(u, row.v);
+    }
+  }
+  GridIndices(segments, static_cast<int>(rows.size()) - 1, mesh.indices);
+  return mesh;
+}
+
 TriangleMesh MakeTorus(float major, float minor, int ring_segments, int tube_segments) {
   IBR_CHECK(major > minor && minor > 0 && ring_segments >= 3 && tube_segments >= 3);
   TriangleMesh mesh;

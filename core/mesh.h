@@ -29,6 +29,15 @@ void SetAreaWeightedNormals(TriangleMesh& mesh);
 
 // UV sphere of `radius`, `rings` x `segments` quads; uv = (longitude, latitude) in [0,1].
 TriangleMesh MakeSphere(float radius, int rings = 32, int segments = 64);
+// Capsule around +z: a cylinder of `radius` and length `length` between two
+// hemispherical caps (total height length + 2 radius), as a user's UV-mapped
+// capsule comes: one chart, u around the axis (periodic), v from the south
+// pole (v = 0) to the north pole (v = 1) proportional to arc length along
+// the profile, so texels keep their size across cap and side; a pole is a
+// row of coincident vertices. `cap_rings` quads per cap, `stacks` along the
+// side (length > 0).
+TriangleMesh MakeCapsule(float radius, float length, int cap_rings = 12, int stacks = 4,
+                         int segments = 48);
 // Torus around +z: ring radius `major`, tube radius `minor`; u along the ring,
 // v around the tube. The paper's 625-polygon donut is MakeTorus(R, r, 25, 25)
 // (Kautz-Seidel 2001, sec. 3.4): 625 quads.

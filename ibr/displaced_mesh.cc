@@ -176,8 +176,7 @@ DisplacedMeshRenderer::DisplacedMeshRenderer(render::ProgramCache& programs,
       m == DisplacementMethod::kPom || m == DisplacementMethod::kCrm) {
     render::ReliefGeometryOptions geometry;
     geometry.max_displacement = options_.max_displacement;
-    render::DetectPeriodicAxes(data.base, geometry.tangent_maps.wrap_u,
-                               geometry.tangent_maps.wrap_v);
+    render::DetectChart(data.base, geometry.tangent_maps);
     render::ReliefSurfaceOptions o;
     o.method = render::ReliefMethodFromName(DisplacementMethodName(m));
     o.tiling = options_.tiling;

@@ -204,6 +204,10 @@ std::vector<std::string> ReliefSurfaceOptions::Defines(const ReliefGeometryOptio
   if (color_texture) defines.push_back("COLOR_TEXTURE");
   if (geometry.tangent_maps.wrap_u) defines.push_back("WRAP_U");
   if (geometry.tangent_maps.wrap_v) defines.push_back("WRAP_V");
+  if (geometry.tangent_maps.pole_u0) defines.push_back("POLE_U0");
+  if (geometry.tangent_maps.pole_u1) defines.push_back("POLE_U1");
+  if (geometry.tangent_maps.pole_v0) defines.push_back("POLE_V0");
+  if (geometry.tangent_maps.pole_v1) defines.push_back("POLE_V1");
   if (mark_early_termination && method == ReliefMethod::kNcs)
     defines.push_back("MARK_EARLY_TERMINATION");
   return defines;

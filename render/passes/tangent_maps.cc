@@ -20,6 +20,11 @@ void TangentMapOptions::Check() const {
   if (!(max_scale > 0) || !std::isfinite(max_scale)) {
     core::ThrowInputError("TangentMapOptions", "max_scale {} must be finite and > 0", max_scale);
   }
+  // Over a pole the ray goes on half a period along the other axis.
+  if ((pole_u0 || pole_u1) && (wrap_u || !wrap_v))
+    core::ThrowInputError("TangentMapOptions", "a pole at u = 0 or 1 needs v periodic, u not");
+  if ((pole_v0 || pole_v1) && (wrap_v || !wrap_u))
+    core::ThrowInputError("TangentMapOptions", "a pole at v = 0 or 1 needs u periodic, v not");
 }
 
 TangentFrames ComputeTangentFrames(const core::TriangleMesh& mesh, float max_scale) {
@@ -139,6 +144,35 @@ void DetectPeriodicAxes(const core::TriangleMesh& mesh, bool& wrap_u, bool& wrap
   };
   wrap_u = !mesh.uvs.empty() && periodic(0);
   wrap_v = !mesh.uvs.empty() && periodic(1);
+}
+
+void DetectChart(const core::TriangleMesh& mesh, TangentMapOptions& options) {
+  DetectPeriodicAxes(mesh, options.wrap_u, options.wrap_v);
+  // Edge `side` (0 or 1) of coordinate `axis` is a pole when its vertices
+  // are one point and spread along the other coordinate.
+  auto pole = [&](int axis, float side) {
+    bool any = false;
+    glm::vec3 first(0);
+    float lo = 1e30f, hi = -1e30f;
+    for (size_t k = 0; k < mesh.uvs.size(); ++k) {
+      if (std::abs(mesh.uvs[k][axis] - side) > 1e-6f) continue;
+      if (!any) first = mesh.positions[k];
+      any = true;
+      if (glm::length(mesh.positions[k] - first) > 1e-4f) return false;
+      lo = std::min(lo, mesh.uvs[k][1 - axis]);
+      hi = std::max(hi, mesh.uvs[k][1 - axis]);
+    }
+    return any && hi - lo >= 0.5f;
+  };
+  options.pole_u0 = options.pole_u1 = options.pole_v0 = options.pole_v1 = false;
+  if (options.wrap_v && !options.wrap_u) {
+    options.pole_u0 = pole(0, 0.0f);
+    options.pole_u1 = pole(0, 1.0f);
+  }
+  if (options.wrap_u && !options.wrap_v) {
+    options.pole_v0 = pole(1, 0.0f);
+    options.pole_v1 = pole(1, 1.0f);
+  }
 }
 
 namespace {

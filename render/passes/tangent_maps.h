@@ -41,6 +41,13 @@ struct TangentMapOptions {
   int size = 512;       // texels per side of both maps (the paper uses 512)
   bool wrap_u = false;  // the parameterisation is periodic in u (torus, sphere, cylinder)
   bool wrap_v = false;  // periodic in v (torus)
+  // A chart edge that is a pole: all its vertices coincide (UV sphere,
+  // capsule: v = 0 and v = 1, with u periodic). A ray marching over it goes
+  // on over the pole, on the far side of the chart (u + 1/2); a chart edge
+  // that is neither periodic nor a pole is a border, and a ray leaving
+  // through it has left the surface.
+  bool pole_u0 = false, pole_u1 = false;  // u = 0, u = 1 (needs wrap_v)
+  bool pole_v0 = false, pole_v1 = false;  // v = 0, v = 1 (needs wrap_u)
   float max_scale =
       1.0e4f;  // clamp for S_t / S_b at degenerate frames, texture units per scene unit
   void Check() const;
@@ -57,6 +64,12 @@ struct TangentMaps {
 // has a twin at u = 1 with the same v and position (1e-4 scene units), as
 // on a torus (both), a UV sphere or cylinder (u), not a plane.
 void DetectPeriodicAxes(const core::TriangleMesh& mesh, bool& wrap_u, bool& wrap_v);
+
+// The chart's topology in `options`: wrap_u and wrap_v (DetectPeriodicAxes),
+// and the poles: an edge (u or v = 0 or 1) whose vertices all lie within
+// 1e-4 scene units of one point while their other coordinate spans at least
+// half the chart, across a periodic other axis.
+void DetectChart(const core::TriangleMesh& mesh, TangentMapOptions& options);
 
 // Algorithm 1: renders `mesh` (needs normals and uvs) in UV space. The
 // second form takes the frames already computed (ComputeTangentFrames(mesh,

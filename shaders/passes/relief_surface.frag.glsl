@@ -5,7 +5,9 @@
 // solid is w <= h(u, v), rays start on the outer shell at w = 1).
 // Variants: METHOD_NCS (Chen-Chang Algorithm 2) | METHOD_RELIEF [POC05] |
 // METHOD_POM [Tat06] | METHOD_CRM (curved relief mapping [OP05]);
-// ORTHOGRAPHIC; SHADED; WRAP_U / WRAP_V (periodic parameterisation); MARK_EARLY_TERMINATION (NCS: red instead of discard,
+// ORTHOGRAPHIC; SHADED; WRAP_U / WRAP_V (periodic parameterisation);
+// POLE_U0 / POLE_U1 / POLE_V0 / POLE_V1 (a chart edge that is a pole,
+// render::DetectChart); MARK_EARLY_TERMINATION (NCS: red instead of discard,
 // the paper's Figure 7); COLOR_TEXTURE (albedo from u_color at the hit's uv
 // times u_color_tiling: the mesh's own uvs, not the height map's tiling);
 // plus render::RayCoreDefines().
@@ -73,6 +75,49 @@ vec3 TextureDirection(TangentFrame f, vec3 v_in_object) {
               dot(f.n, v_in_object) / u_max_displacement);
 }
 
+// Over a pole. The march goes on in unfolded coordinates, continuous
+// across a pole: past the pole v = 0 lies v < 0, which is the chart point
+// (u + 1/2, -v) (likewise v = 1, and the u edges across a periodic v).
+// ChartPoint folds an unfolded point back onto the chart; `flip` is the
+// fold's Jacobian (+-1 per axis), which turns a velocity in chart
+// coordinates into one in unfolded coordinates.
+vec2 ChartPoint(vec2 uv, out vec2 flip) {
+  flip = vec2(1.0);
+  // Two folds reach any point a ray of one shell crossing can: over one
+  // pole and, on a short chart, over the other.
+  for (int k = 0; k < 2; ++k) {
+#ifdef POLE_V0
+    if (uv.y < 0.0) {
+      uv = vec2(uv.x + 0.5, -uv.y);
+      flip.y = -flip.y;
+    }
+#endif
+#ifdef POLE_V1
+    if (uv.y > 1.0) {
+      uv = vec2(uv.x + 0.5, 2.0 - uv.y);
+      flip.y = -flip.y;
+    }
+#endif
+#ifdef POLE_U0
+    if (uv.x < 0.0) {
+      uv = vec2(-uv.x, uv.y + 0.5);
+      flip.x = -flip.x;
+    }
+#endif
+#ifdef POLE_U1
+    if (uv.x > 1.0) {
+      uv = vec2(2.0 - uv.x, uv.y + 0.5);
+      flip.x = -flip.x;
+    }
+#endif
+  }
+  return uv;
+}
+vec2 ChartPoint(vec2 uv) {
+  vec2 flip;
+  return ChartPoint(uv, flip);
+}
+
 float HeightAt(vec2 uv) { return texture(u_height, uv * u_tiling).r; }
 
 #ifdef METHOD_CRM
@@ -93,9 +138,9 @@ float CurvedW(vec3 p) {
 // base of a zero height map after exactly l -- as inside.
 float RayField(vec3 p) {
 #ifdef METHOD_CRM
-  return CurvedW(p) - HeightAt(p.xy) - 1e-5;
+  return CurvedW(p) - HeightAt(ChartPoint(p.xy)) - 1e-5;
 #else
-  return p.z - HeightAt(p.xy) - 1e-5;
+  return p.z - HeightAt(ChartPoint(p.xy)) - 1e-5;
 #endif
 }
 
@@ -103,17 +148,23 @@ float RayField(vec3 p) {
 vec3 g_view_in_object;  // the straight object-space ray (unit)
 #define RAY_BEND
 // Algorithm 2, lines 3-4: look up the frame at the current uv, bend.
-vec3 RayBend(vec3 p) { return TextureDirection(LookupFrame(p.xy), g_view_in_object); }
+vec3 RayBend(vec3 p) {
+  vec2 flip;
+  vec2 uv = ChartPoint(p.xy, flip);
+  vec3 d = TextureDirection(LookupFrame(uv), g_view_in_object);
+  return vec3(flip * d.xy, d.z);
+}
 #define RAY_DOMAIN
 // Left the texture volume: through the top of the shell (the paper's z < 0)
-// or off a non-periodic chart.
+// or through a chart border (neither periodic nor a pole).
 bool RayInDomain(vec3 p) {
   bool inside = p.z <= 1.0;
+  vec2 uv = ChartPoint(p.xy);
 #ifndef WRAP_U
-  inside = inside && p.x >= 0.0 && p.x <= 1.0;
+  inside = inside && uv.x >= 0.0 && uv.x <= 1.0;
 #endif
 #ifndef WRAP_V
-  inside = inside && p.y >= 0.0 && p.y <= 1.0;
+  inside = inside && uv.y >= 0.0 && uv.y <= 1.0;
 #endif
   return inside;
 }
@@ -197,6 +248,7 @@ void main() {
 
   // Normal of the displaced surface P + md h N at the hit (central
   // differences one texel apart): N - md (S_t h_u T + S_b h_v B).
+  res.p.xy = ChartPoint(res.p.xy);
   TangentFrame f = LookupFrame(res.p.xy);
   vec2 texel = 1.0 / (vec2(textureSize(u_height, 0)) * u_tiling);
   float h_u = (HeightAt(res.p.xy + vec2(texel.x, 0.0)) - HeightAt(res.p.xy - vec2(texel.x, 0.0))) / (2.0 * texel.x);

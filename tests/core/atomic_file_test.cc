@@ -62,16 +62,54 @@ TEST(AtomicWrite, ReplacesOnlyOnSuccess) {
   const auto file = dir / "f.txt";
   AtomicWriteStream(file, [](std::ostream& out) { out << "first"; });
   EXPECT_EQ(Slurp(file), "first");
-  EXPECT_THROW(AtomicWriteStream(file,
-                                 [](std::ostream& out) {
-                                   out << "partial";
-                                   throw InputError("boom");
-                                 }),
+  EXPECT_THROW(AtomicWriteStream(
+                   file,
+                   [](std::ostream& out) {
+                     out << "partial";
+                     throw InputError("boom");
+                   },
+                   ExistingFile::kReplace),
                InputError);
   EXPECT_EQ(Slurp(file), "first");
   int entries = 0;
   for ([[maybe_unused]] const auto& e : fs::directory_iterator(dir)) ++entries;
   EXPECT_EQ(entries, 1) << "a temporary file was left behind";
+}
+
+TEST(AtomicWrite, OnlyAFileIbrWroteIsReplaced) {
+  const auto dir = test_support::TestOutputDir();
+  // Text formats carry the mark in their header; a mark elsewhere is not one.
+  std::ofstream(dir / "ours.ply") << "ply\nformat ascii 1.0\ncomment " << kFileMark
+                                  << "\nend_header\n";
+  std::ofstream(dir / "late.ply") << "ply\nend_header\ncomment " << kFileMark << "\n";
+  std::ofstream(dir / "ours.obj") << "# " << kFileMark << "\nv 0 0 0\n";
+  std::ofstream(dir / "theirs.obj") << "# Blender\nv 0 0 0\n";
+  std::ofstream(dir / "notes.csv") << kFileMark << "\n";
+  EXPECT_TRUE(IsIbrOutputFile(dir / "ours.ply"));
+  EXPECT_FALSE(IsIbrOutputFile(dir / "late.ply"));
+  EXPECT_TRUE(IsIbrOutputFile(dir / "ours.obj"));
+  EXPECT_FALSE(IsIbrOutputFile(dir / "theirs.obj"));
+  EXPECT_FALSE(IsIbrOutputFile(dir / "notes.csv"));
+  EXPECT_FALSE(IsIbrOutputFile(dir / "absent.ply"));
+  EXPECT_FALSE(IsIbrOutputFile(dir));
+  // A folder marker lists other files of ibr's, and is one itself.
+  std::ofstream(dir / kOutputMarker) << "ibr output: ibr report\nnotes.csv\n";
+  EXPECT_TRUE(IsIbrOutputFile(dir / "notes.csv"));
+  EXPECT_TRUE(IsIbrOutputFile(dir / kOutputMarker));
+  std::ofstream(dir / kOutputMarker) << "my own notes\nnotes.csv\n";
+  EXPECT_FALSE(IsIbrOutputFile(dir / kOutputMarker));
+  EXPECT_FALSE(IsIbrOutputFile(dir / "notes.csv"));
+
+  std::ofstream(dir / "theirs.txt") << "precious";
+  EXPECT_NE(ErrorOf([&] {
+              AtomicWriteStream(dir / "theirs.txt", [](std::ostream& out) { out << "x"; });
+            }).find("ibr did not write it"),
+            std::string::npos);
+  EXPECT_EQ(Slurp(dir / "theirs.txt"), "precious");
+  SetOverwriteFiles(true);
+  AtomicWriteStream(dir / "theirs.txt", [](std::ostream& out) { out << "x"; });
+  SetOverwriteFiles(false);
+  EXPECT_EQ(Slurp(dir / "theirs.txt"), "x");
 }
 
 TEST(StagedDirectory, CommitMovesIntoPlaceAndAbortRemoves) {
