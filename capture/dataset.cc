@@ -315,6 +315,8 @@ Dataset ReadManifest(std::istream& in, const std::string& name, const DatasetUse
   }
   if (depth.contains("units"))
     dataset.depth_units = Get<std::string>(depth, "units", where, "depth");
+  if (depth.contains("noise") && !depth.at("noise").is_null())
+    dataset.depth_noise = SensorModel::FromJson(depth.at("noise"), where);
   if (j.contains("normal_frame") &&
       Get<std::string>(j, "normal_frame", where, "manifest") != "world") {
     core::ThrowInputError(where, "normal_frame must be \"world\"");
@@ -377,6 +379,7 @@ void WriteManifest(std::ostream& out, const Dataset& dataset) {
   j["version"] = kVersion;
   j["depth"] = {
       {"kind", "camera_z"}, {"units", dataset.depth_units}, {"invalid", "0 or non-finite"}};
+  if (dataset.depth_noise) j["depth"]["noise"] = dataset.depth_noise->ToJson();
   j["normal_frame"] = "world";
   if (dataset.bounds) {
     const auto& b = *dataset.bounds;

@@ -11,7 +11,8 @@
 // dataset.json (version 1):
 // {
 //   "format": "ibr-dataset", "version": 1,
-//   "depth": {"kind": "camera_z", "units": "m" | "scene units", "invalid": "0 or non-finite"},
+//   "depth": {"kind": "camera_z", "units": "m" | "scene units", "invalid": "0 or non-finite",
+//             "noise": {...}},   // optional: the sensor model applied (sensor_model.h)
 //   "normal_frame": "world",
 //   "bounds": {"min": [x, y, z], "max": [x, y, z]},        // optional, world frame
 //   "up": [x, y, z],     // optional: the world's up direction (unit), written by the
@@ -41,6 +42,7 @@
 #include <vector>
 
 #include "capture/camera.h"
+#include "capture/sensor_model.h"
 #include "core/atomic_file.h"
 #include "core/image.h"
 
@@ -82,6 +84,9 @@ struct Dataset {
   std::map<int, Camera> cameras;
   std::vector<DatasetView> views;
   std::string depth_units = "scene units";  // "m" for metric data
+  // The sensor model its depth went through (ibr capture --noise), when the
+  // capture states one; absent: the source says nothing of its noise.
+  std::optional<SensorModel> depth_noise;
   std::optional<Bounds> bounds;
   // The world's up direction (unit), when the source says or implies it
   // (importers of y-down cameras); absent: DefaultUp derives it.
@@ -103,7 +108,7 @@ struct Dataset {
   core::ImageF LoadNormal(size_t view) const;  // 3 channels
   bool operator==(const Dataset& other) const {
     return cameras == other.cameras && views == other.views && depth_units == other.depth_units &&
-           bounds == other.bounds && up == other.up;
+           bounds == other.bounds && up == other.up && depth_noise == other.depth_noise;
   }
 };
 
@@ -143,6 +148,7 @@ class DatasetWriter {
   void SetBounds(const Bounds& bounds) { dataset_.bounds = bounds; }
   void SetUp(const glm::dvec3& up);  // normalised; InputError unless finite and non-zero
   void SetDepthUnits(const std::string& units) { dataset_.depth_units = units; }
+  void SetDepthNoise(const SensorModel& model) { dataset_.depth_noise = model; }
   const Dataset& dataset() const { return dataset_; }
   // Checks the dataset, writes dataset.json, renames into place.
   void Commit();

@@ -2,6 +2,7 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <cmath>
 #include <fstream>
 #include <nlohmann/json.hpp>
@@ -13,6 +14,7 @@
 #include "capture/depth_scale.h"
 #include "core/error.h"
 #include "core/image_io.h"
+#include "core/parse_number.h"
 
 namespace capture {
 namespace fs = std::filesystem;
@@ -51,16 +53,9 @@ std::vector<double> ParseNumbers(const std::string& line, const std::string& whe
   std::vector<double> v;
   std::string tok;
   while (s >> tok) {
-    size_t used = 0;
-    double x = 0;
-    try {
-      x = std::stod(tok, &used);
-    } catch (const std::exception&) {
-      core::ThrowInputError(where, "line {}: '{}' is not a number", line_number, tok);
-    }
-    if (used != tok.size() || !std::isfinite(x))
-      core::ThrowInputError(where, "line {}: '{}' is not a finite number", line_number, tok);
-    v.push_back(x);
+    const std::optional<double> x = core::ParseFiniteNumber(tok);
+    if (!x) core::ThrowInputError(where, "line {}: '{}' is not a finite number", line_number, tok);
+    v.push_back(*x);
   }
   return v;
 }
@@ -180,6 +175,95 @@ std::optional<Bounds> ReadMiddleburyBounds(std::istream& in, const std::string& 
   return std::nullopt;
 }
 
+Dataset WriteRgbdFrames(const std::vector<RgbdFrame>& frames, const Camera& camera,
+                        double depth_scale, const fs::path& out,
+                        const std::function<void(int, int)>& progress,
+                        const std::function<void(const std::string&)>& note) {
+  constexpr const char* kWhere = "WriteRgbdFrames";
+  if (frames.empty()) core::ThrowInputError(kWhere, "no frames to import");
+  const int width = camera.width, height = camera.height;
+  // A distorted sensor (TUM fr1, fr2): colour resampled bilinearly into the
+  // pinhole camera, depth by its nearest sample (a blend of two depths
+  // across an edge is a point on neither surface).
+  const Camera pinhole = camera.distorted() ? UndistortedCamera(camera) : camera;
+  const core::ImageF map = camera.distorted() ? UndistortionMap(camera) : core::ImageF();
+  if (note && camera.distorted()) {
+    note(fmt::format("undistorting {} into PINHOLE fx {:.2f} fy {:.2f} cx {:.2f} cy {:.2f}",
+                     CameraModelName(camera.model), pinhole.fx(), pinhole.fy(), pinhole.cx(),
+                     pinhole.cy()));
+  }
+  DatasetWriter writer(out);
+  writer.SetDepthUnits("m");
+  const int cam_id = writer.AddCamera(pinhole);
+  // The bounds are those of every valid sensor point in the world, so that
+  // the renderers (which slice the object's box) can use the sequence as is.
+  glm::dvec3 lo(INFINITY), hi(-INFINITY);
+  for (size_t i = 0; i < frames.size(); ++i) {
+    const RgbdFrame& f = frames[i];
+    const core::Image<uint16_t> read_raw = core::ReadImage<uint16_t>(f.depth, 1);
+    core::Image8 color = core::ReadImage<uint8_t>(f.color, 3);
+    if (read_raw.width() != width || read_raw.height() != height) {
+      core::ThrowFileError(kWhere, f.depth, "depth is {}x{}, camera is {}x{}", read_raw.width(),
+                           read_raw.height(), width, height);
+    }
+    if (color.width() != width || color.height() != height) {
+      core::ThrowFileError(kWhere, f.color, "colour is {}x{}, camera is {}x{}", color.width(),
+                           color.height(), width, height);
+    }
+    core::Image<uint16_t> raw = read_raw;
+    if (camera.distorted()) {
+      color = UndistortImage(camera, color);
+      for (int row = 0; row < height; ++row) {
+        for (int col = 0; col < width; ++col) {
+          // Sparse convention: pixel (c, r) spans [c, c + 1).
+          const int sc = static_cast<int>(std::floor(map.at(col, row, 0)));
+          const int sr = static_cast<int>(std::floor(map.at(col, row, 1)));
+          raw.at(col, row) =
+              sc >= 0 && sr >= 0 && sc < width && sr < height ? read_raw.at(sc, sr) : 0;
+        }
+      }
+    }
+    core::ImageF depth(width, height, 1);
+    core::Image8 mask(width, height, 1);
+    const Rigid3 world_from_cam = f.cam_from_world.Inverse();
+    for (int row = 0; row < height; ++row) {
+      for (int col = 0; col < width; ++col) {
+        const size_t p = static_cast<size_t>(row) * width + col;
+        depth.data()[p] = static_cast<float>(raw.data()[p] / depth_scale);
+        mask.data()[p] = raw.data()[p] > 0 ? 255 : 0;
+        if (raw.data()[p] == 0) continue;
+        const glm::dvec3 p_in_world =
+            world_from_cam * pinhole.UnprojectPixel(col, row, depth.data()[p]);
+        lo = glm::min(lo, p_in_world);
+        hi = glm::max(hi, p_in_world);
+      }
+    }
+    writer.AddView(f.name, cam_id, f.cam_from_world, color, depth, mask, {});
+    if (progress) progress(static_cast<int>(i) + 1, static_cast<int>(frames.size()));
+  }
+  if (!(lo.x <= hi.x)) {
+    core::ThrowFileError(kWhere, frames.front().depth.parent_path(),
+                         "no valid depth pixel in any frame");
+  }
+  writer.SetBounds({lo, hi});
+  SetMeanUp(writer, note);
+  writer.Commit();
+  const DepthScaleReport scale = CheckDepthScale(writer.dataset());
+  if (note && !scale.warning.empty()) {
+    note(scale.suggested_factor > 0
+             ? fmt::format("warning: {} (import with --depth-scale {:g} instead of {:g})",
+                           scale.warning, depth_scale / scale.suggested_factor, depth_scale)
+             : fmt::format("warning: {} (is --depth-scale {:g} the sensor's units per metre?)",
+                           scale.warning, depth_scale));
+  } else if (note) {
+    note(fmt::format("depth: median {:.3g} m over {} frame(s){}", scale.median, scale.views,
+                     scale.agreement >= 0 ? fmt::format(", {:.0f} % of samples agree between views",
+                                                        100 * scale.agreement)
+                                          : ""));
+  }
+  return writer.dataset();
+}
+
 Dataset ImportRedwood(const fs::path& source, const fs::path& out,
                       const RedwoodImportOptions& options,
                       const std::function<void(int, int)>& progress,
@@ -190,7 +274,6 @@ Dataset ImportRedwood(const fs::path& source, const fs::path& out,
   const fs::path intrinsics_path = source / "camera_primesense.json";
   auto in = Open(intrinsics_path, kWhere);
   const Camera camera = ReadRedwoodIntrinsics(in, intrinsics_path.string());
-  const int width = camera.width, height = camera.height;
   auto log = Open(source / "trajectory.log", kWhere);
   const std::vector<Rigid3> poses = ReadRedwoodLog(log, (source / "trajectory.log").string());
 
@@ -204,59 +287,12 @@ Dataset ImportRedwood(const fs::path& source, const fs::path& out,
     core::ThrowFileError(kWhere, source / "trajectory.log", "{} poses for {} colour images",
                          poses.size(), colors.size());
   }
-  DatasetWriter writer(out);
-  writer.SetDepthUnits("m");
-  const int cam_id = writer.AddCamera(camera);
-  // The bounds are those of every valid sensor point in the world, so that
-  // the renderers (which slice the object's box) can use the sequence as is.
-  glm::dvec3 lo(INFINITY), hi(-INFINITY);
+  std::vector<RgbdFrame> frames;
   for (size_t i = 0; i < colors.size(); ++i) {
     const std::string stem = colors[i].stem().string();
-    const fs::path depth_path = source / "depth" / (stem + ".png");
-    const core::Image<uint16_t> raw = core::ReadImage<uint16_t>(depth_path, 1);
-    core::Image8 color = core::ReadImage<uint8_t>(colors[i], 3);
-    if (raw.width() != width || raw.height() != height) {
-      core::ThrowFileError(kWhere, depth_path, "depth is {}x{}, camera is {}x{}", raw.width(),
-                           raw.height(), width, height);
-    }
-    core::ImageF depth(width, height, 1);
-    core::Image8 mask(width, height, 1);
-    const Rigid3 world_from_cam = poses[i].Inverse();
-    for (int row = 0; row < height; ++row) {
-      for (int col = 0; col < width; ++col) {
-        const size_t p = static_cast<size_t>(row) * width + col;
-        depth.data()[p] = static_cast<float>(raw.data()[p] / options.depth_scale);
-        mask.data()[p] = raw.data()[p] > 0 ? 255 : 0;
-        if (raw.data()[p] == 0) continue;
-        const glm::dvec3 p_in_world =
-            world_from_cam * camera.UnprojectPixel(col, row, depth.data()[p]);
-        lo = glm::min(lo, p_in_world);
-        hi = glm::max(hi, p_in_world);
-      }
-    }
-    writer.AddView(stem, cam_id, poses[i], color, depth, mask, {});
-    if (progress) progress(static_cast<int>(i) + 1, static_cast<int>(colors.size()));
+    frames.push_back({stem, colors[i], source / "depth" / (stem + ".png"), poses[i]});
   }
-  if (!(lo.x <= hi.x))
-    core::ThrowFileError(kWhere, source / "depth", "no valid depth pixel in any frame");
-  writer.SetBounds({lo, hi});
-  SetMeanUp(writer, note);
-  writer.Commit();
-  const DepthScaleReport scale = CheckDepthScale(writer.dataset());
-  if (note && !scale.warning.empty()) {
-    note(scale.suggested_factor > 0
-             ? fmt::format("warning: {} (import with --depth-scale {:g} instead of {:g})",
-                           scale.warning, options.depth_scale / scale.suggested_factor,
-                           options.depth_scale)
-             : fmt::format("warning: {} (is --depth-scale {:g} the sensor's units per metre?)",
-                           scale.warning, options.depth_scale));
-  } else if (note) {
-    note(fmt::format("depth: median {:.3g} m over {} frame(s){}", scale.median, scale.views,
-                     scale.agreement >= 0 ? fmt::format(", {:.0f} % of samples agree between views",
-                                                        100 * scale.agreement)
-                                          : ""));
-  }
-  return writer.dataset();
+  return WriteRgbdFrames(frames, camera, options.depth_scale, out, progress, note);
 }
 
 std::vector<MiddleburyView> ReadMiddleburyPar(std::istream& in, const std::string& name) {

@@ -27,6 +27,22 @@ Dataset ImportRedwood(const std::filesystem::path& source, const std::filesystem
                       const std::function<void(int, int)>& progress = {},
                       const std::function<void(const std::string&)>& note = {});
 
+// The RGB-D frames of a sequence with poses, as the RGB-D importers (Redwood,
+// TUM) write them: colour as RGB, depth (16-bit PNG at `depth_scale` units
+// per metre) in metres, mask = valid depth, a distorted `camera` undistorted
+// into its PINHOLE (colour bilinear, depth nearest), bounds = every valid
+// point in the world, "up" = MeanCameraUp, then the depth-scale check
+// (CheckDepthScale) with its warning and the --depth-scale that would fix it.
+struct RgbdFrame {
+  std::string name;
+  std::filesystem::path color, depth;
+  Rigid3 cam_from_world;
+};
+Dataset WriteRgbdFrames(const std::vector<RgbdFrame>& frames, const Camera& camera,
+                        double depth_scale, const std::filesystem::path& out,
+                        const std::function<void(int, int)>& progress = {},
+                        const std::function<void(const std::string&)>& note = {});
+
 // Middlebury templeSparseRing / dinoSparseRing: *_par.txt lines
 // "name k11..k33 r11..r33 t1 t2 t3" (P = K [R t], cam_from_world = (R, t),
 // integer pixel centres: cx + 0.5 here), PNG photos, README.txt bounding box.

@@ -18,6 +18,7 @@
 #include <optional>
 
 #include "capture/mesh_counts.h"
+#include "capture/sensor_model.h"
 #include "core/check.h"
 #include "core/error.h"
 #include "core/image_io.h"
@@ -342,6 +343,9 @@ void CaptureOptions::Check() const {
   if (background != "black" && background != "noise") {
     core::ThrowInputError(kWhere, "background '{}' is not black or noise", background);
   }
+  // The spec's syntax and ranges now, before any view is rendered (lengths
+  // are resolved against the object's size in CaptureDataset).
+  if (!noise.empty()) ParseSensorModel(noise, 1.0, 1.0);
 }
 
 std::vector<RigView> MakeRig(const RigSpec& rig, const Bounds& bounds,
@@ -662,10 +666,26 @@ Dataset CaptureDataset(render::ProgramCache& programs, const SceneMesh& scene,
   DatasetWriter writer(out);
   size_t covered_views = 0;
   writer.SetBounds(bounds);
+  std::optional<SensorModel> sensor;
+  if (!options.noise.empty()) {
+    // `%` lengths are of the object's diagonal; a quadratic model's
+    // reference depth is the cameras' mean distance to its centre.
+    double z_ref = 0;
+    for (const RigView& view : views)
+      z_ref += glm::length(view.cam_from_world.Centre() - bounds.centre()) / views.size();
+    sensor = ParseSensorModel(options.noise, glm::length(bounds.extent()), z_ref);
+    spdlog::info("capture: sensor model ({} = {:.4g} scene units across): {}",
+                 "the object's diagonal", glm::length(bounds.extent()), sensor->Describe());
+    writer.SetDepthNoise(*sensor);
+  }
   for (size_t i = 0; i < views.size(); ++i) {
     const RigView& view = views[i];
     CapturedView captured = Render(programs, gpu, view, options);
     if (backdrop) Composite(captured, RenderBackdrop(programs, *backdrop, place, view));
+    if (sensor) {
+      ApplySensorModel(*sensor, view.camera, view.cam_from_world, view.near, view.far, i,
+                       captured.depth, captured.mask, captured.normal);
+    }
     int64_t covered = 0;
     for (uint8_t m : captured.mask.values()) covered += m != 0;
     if (covered == 0) {

@@ -91,6 +91,9 @@ struct CaptureOptions {
   // object alone has too few features (COLMAP SfM tests). Colour only: depth,
   // mask and normals still see the object alone.
   std::string background = "black";
+  // A depth sensor's errors applied to every view (capture/sensor_model.h
+  // spec, e.g. "sigma=0.3%,holes=0.02,edge=1"); empty = exact depth.
+  std::string noise;
   void Check() const;
 };
 

@@ -78,6 +78,20 @@ int main(int argc, char** argv) {
   d.bounds = capture::Bounds{{-1, -1, -1}, {1, 1, 1}};
   d.depth_units = "m";
   Seed(root, "manifest", "1", [&](std::ostream& o) { capture::WriteManifest(o, d); });
+  d.depth_noise = capture::ParseSensorModel("sigma=0.3%,model=quadratic,holes=0.02,edge=1", 2, 3);
+  Seed(root, "manifest", "2", [&](std::ostream& o) { capture::WriteManifest(o, d); });
+  Seed(root, "sensor_model", "1", [](std::ostream& o) {
+    o << "sigma=0.3%,model=quadratic,quantize=0.001,edge=1,grazing=75,holes=0.02,hole-radius=3,"
+         "flying=0.5,outliers=0.001,mask=depth,seed=7";
+  });
+  Seed(root, "tum_list", "1", [](std::ostream& o) {
+    o << "# color images\n# timestamp filename\n1305031102.175304 rgb/1305031102.175304.png\n"
+         "1305031102.211214 rgb/1305031102.211214.png\n";
+  });
+  Seed(root, "tum_trajectory", "1", [](std::ostream& o) {
+    o << "# timestamp tx ty tz qx qy qz qw\n1305031098.6659 1.3563 0.6305 1.6380 0.6132 0.5962 "
+         "-0.3311 -0.3986\n1305031098.6758 1.3543 0.6326 1.6360 0.6130 0.5972 -0.3301 -0.3979\n";
+  });
   Seed(root, "redwood_log", "1", [](std::ostream& o) {
     o << "0 0 1\n0 -1 0 1\n1 0 0 2\n0 0 1 3\n0 0 0 1\n1 1 2\n1 0 0 0\n0 1 0 0\n0 0 1 -5\n0 0 0 1\n";
   });
@@ -112,6 +126,9 @@ int main(int argc, char** argv) {
     CopyIfExists(shared / "rgbd/redwood5/odometry.log", root, "redwood_log");
     CopyIfExists(shared / "photos/templeSparseRing/templeSR_par.txt", root, "middlebury_par");
     CopyIfExists(shared / "photos/dinoSparseRing/dinoSR_par.txt", root, "middlebury_par");
+    CopyIfExists(shared / "real-captures/tum_fr3_cabinet/rgb.txt", root, "tum_list");
+    CopyIfExists(shared / "real-captures/tum_fr3_cabinet/depth.txt", root, "tum_list");
+    CopyIfExists(shared / "real-captures/tum_fr3_cabinet/groundtruth.txt", root, "tum_trajectory");
   }
   std::cout << "make_seeds: corpora in " << root.string() << "\n";
   return 0;

@@ -60,6 +60,8 @@ std::string DatasetInfoText(const std::filesystem::path& dir) {
   for (const auto& [m, n] : models) s += fmt::format(" {} x {};", n, m);
   s += "\n";
   s += fmt::format("depth     camera z, units: {}, invalid = 0 or non-finite\n", d.depth_units);
+  s += fmt::format("noise     {}\n", d.depth_noise ? d.depth_noise->Describe()
+                                                   : std::string("not stated by the dataset"));
   if (d.bounds) {
     s += fmt::format("bounds    min ({:.4g}, {:.4g}, {:.4g})  max ({:.4g}, {:.4g}, {:.4g})\n",
                      d.bounds->min.x, d.bounds->min.y, d.bounds->min.z, d.bounds->max.x,

@@ -86,6 +86,11 @@ void AddCaptureCommand(CLI::App& app) {
                   "black, or noise: a fixed textured backdrop sphere (gives SfM features)")
       ->check(CLI::IsMember({"black", "noise"}))
       ->capture_default_str();
+  cmd->add_option("--noise", o.capture.noise,
+                  "depth sensor model, key=value,...: sigma=L, model=constant|quadratic, "
+                  "quantize=L, edge=N, grazing=DEG, holes=F, hole-radius=N, flying=F, "
+                  "outliers=F, mask=exact|depth, seed=N (L: scene units, or % of the "
+                  "object's diagonal)");
   cmd->add_option("--out", o.out, "output dataset directory")->required();
   cmd->callback([cmd] { RunCapture(o, cmd->count("--rig") > 0, cmd->count("--size") > 0); });
 }

@@ -1,4 +1,4 @@
-// `ibr import colmap|redwood|middlebury SRC --out DIR`: real data to datasets.
+// `ibr import colmap|redwood|tum|middlebury SRC --out DIR`: real data to datasets.
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>
 
@@ -7,6 +7,7 @@
 #include "apps/ibr/commands.h"
 #include "capture/colmap_dataset.h"
 #include "capture/importers.h"
+#include "capture/tum_import.h"
 #include "core/error.h"
 
 namespace apps {
@@ -17,6 +18,7 @@ struct ImportCommandOptions {
   std::filesystem::path out;
   capture::ColmapImportOptions colmap;
   capture::RedwoodImportOptions redwood;
+  capture::TumImportOptions tum;
   capture::MiddleburyImportOptions middlebury;
 };
 
@@ -64,6 +66,23 @@ void AddImportCommand(CLI::App& app) {
   redwood->callback([] {
     Report("redwood", capture::ImportRedwood(o.source, o.out, o.redwood, Progress, Note), o.out);
   });
+  auto* tum = cmd->add_subcommand(
+      "tum", "TUM RGB-D sequence (rgb.txt, depth.txt, groundtruth.txt), frames by timestamp");
+  common(tum);
+  tum->add_option("--camera", o.tum.camera,
+                  "fr1 | fr2 | fr3 (TUM's calibrations) or FX,FY,CX,CY (default: from the "
+                  "sequence's name)");
+  tum->add_option("--depth-scale", o.tum.depth_scale, "depth units per metre")
+      ->capture_default_str();
+  tum->add_option("--max-difference", o.tum.max_difference,
+                  "seconds between a colour image and its depth image")
+      ->capture_default_str();
+  tum->add_option("--max-pose-gap", o.tum.max_pose_gap,
+                  "seconds between the ground-truth poses a frame's pose is interpolated from")
+      ->capture_default_str();
+  tum->add_option("--every", o.tum.every, "take every N-th frame")->capture_default_str();
+  tum->callback(
+      [] { Report("tum", capture::ImportTum(o.source, o.out, o.tum, Progress, Note), o.out); });
   auto* middlebury = cmd->add_subcommand(
       "middlebury", "Middlebury multi-view ring (*_par.txt), masks by threshold");
   common(middlebury);

@@ -72,6 +72,60 @@ TEST(CaptureCli, CubeCaptureOfSphereThenInfoSummarisesSixViews) {
   }
 }
 
+// --noise: the same rig through a sensor model. Colour and mask stay those
+// of the exact capture; the depth differs from it by noise of the stated
+// deviation (a percent of the object's diagonal) and misses the stated
+// fraction in holes plus the silhouette's edge; dataset.json records the
+// model and `ibr info` states it.
+TEST(CaptureCli, NoiseAppliesTheSensorModelAndRecordsIt) {
+  const fs::path dir = Scratch("noise");
+  const std::string capture = IbrBinary() + " capture --shape sphere --rig sphere:4 --size 96";
+  const auto clean = RunCommand(capture + " --out " + Quote(dir / "clean"));
+  ASSERT_EQ(clean.exit_code, 0) << clean.err;
+  const auto noisy = RunCommand(capture + " --noise sigma=0.5%,holes=0.03,edge=1,seed=5 --out " +
+                                Quote(dir / "noisy"));
+  ASSERT_EQ(noisy.exit_code, 0) << noisy.err;
+  EXPECT_NE(noisy.err.find("sensor model"), std::string::npos) << noisy.err;
+  const capture::Dataset a = capture::ReadDataset(dir / "clean", true);
+  const capture::Dataset b = capture::ReadDataset(dir / "noisy", true);
+  EXPECT_FALSE(a.depth_noise);
+  ASSERT_TRUE(b.depth_noise);
+  const double sigma = 0.005 * 2 * std::sqrt(3.0);  // the unit sphere's box: diagonal 2 sqrt 3
+  EXPECT_NEAR(b.depth_noise->sigma, sigma, 1e-9);
+  ASSERT_EQ(a.views.size(), b.views.size());
+  for (size_t v = 0; v < a.views.size(); ++v) {
+    EXPECT_EQ(a.LoadColor(v), b.LoadColor(v));
+    EXPECT_EQ(a.LoadMask(v), b.LoadMask(v));
+    const core::ImageF za = a.LoadDepth(v), zb = b.LoadDepth(v);
+    double sum2 = 0;
+    int both = 0, object = 0, missing = 0;
+    for (size_t p = 0; p < za.pixel_count(); ++p) {
+      if (!(za.data()[p] > 0)) continue;
+      ++object;
+      if (!(zb.data()[p] > 0)) {
+        ++missing;
+        continue;
+      }
+      const double d = zb.data()[p] - za.data()[p];
+      sum2 += d * d;
+      ++both;
+    }
+    ASSERT_GT(both, 1000);
+    EXPECT_NEAR(std::sqrt(sum2 / both), sigma, 0.1 * sigma) << a.views[v].name;
+    // 3 % in holes, and the rim's ring of pixels on top.
+    EXPECT_GT(missing, 0.03 * object) << a.views[v].name;
+    EXPECT_LT(missing, 0.15 * object) << a.views[v].name;
+  }
+  const auto info = RunCommand(IbrBinary() + " info " + Quote(dir / "noisy"));
+  ASSERT_EQ(info.exit_code, 0) << info.err;
+  EXPECT_NE(info.out.find("noise     depth noise 0.01732"), std::string::npos) << info.out;
+  const auto bad = RunCommand(capture + " --noise sigma=1%,hoels=0.1 --out " + Quote(dir / "bad"));
+  EXPECT_NE(bad.exit_code, 0);
+  EXPECT_EQ(CountLines(bad.err), 1) << bad.err;
+  EXPECT_NE(bad.err.find("unknown key 'hoels'"), std::string::npos) << bad.err;
+  EXPECT_FALSE(fs::exists(dir / "bad"));
+}
+
 // Poses agree when rotations and translations agree to `tolerance`.
 void ExpectSamePose(const capture::Rigid3& a, const capture::Rigid3& b, double tolerance,
                     const std::string& what) {
