@@ -14,6 +14,7 @@
 #include "capture/input_kind.h"
 #include "core/error.h"
 #include "core/image_io.h"
+#include "core/parse_number.h"
 
 namespace capture {
 namespace fs = std::filesystem;
@@ -161,6 +162,24 @@ void Dataset::Check(std::string_view where, bool images) const {
     core::ThrowInputError(where, "up ({}, {}, {}) is not a finite unit vector", up->x, up->y,
                           up->z);
   }
+}
+
+Bounds ParseBounds(std::string_view text, std::string_view where) {
+  std::vector<double> v;
+  size_t start = 0;
+  while (start <= text.size()) {
+    const size_t end = std::min(text.find(',', start), text.size());
+    const std::optional<double> x = core::ParseFiniteNumber(text.substr(start, end - start));
+    if (!x) break;
+    v.push_back(*x);
+    start = end + 1;
+  }
+  if (v.size() != 6 || start <= text.size()) {
+    core::ThrowInputError(where, "'{}' is not six numbers X0,Y0,Z0,X1,Y1,Z1", text);
+  }
+  const Bounds b{{v[0], v[1], v[2]}, {v[3], v[4], v[5]}};
+  CheckBounds(b, where);
+  return b;
 }
 
 void CheckBounds(const Bounds& bounds, std::string_view where) {

@@ -183,6 +183,9 @@ UpChoice DefaultUp(const Dataset& dataset);
 // kDatasetLimits.max_coordinate and every side at least min_extent and
 // min_relative_extent of the largest coordinate.
 void CheckBounds(const Bounds& bounds, std::string_view where);
+// "X0,Y0,Z0,X1,Y1,Z1" (a flag's text) as a checked box; InputError naming
+// `where` otherwise.
+Bounds ParseBounds(std::string_view text, std::string_view where);
 
 // Validation of images against a camera, shared by the readers (depth: 0 or
 // non-finite = invalid, else in 0..kDatasetLimits.max_coordinate).

@@ -26,6 +26,7 @@ void RedwoodImportOptions::Check() const {
                           "--depth-scale {} outside 1e-3..1e6 (depth units per metre)",
                           depth_scale);
   }
+  if (bounds) CheckBounds(*bounds, "--bounds");
 }
 
 void MiddleburyImportOptions::Check() const {
@@ -68,6 +69,60 @@ void SetMeanUp(DatasetWriter& writer, const std::function<void(const std::string
     note(fmt::format("up ({:.3f}, {:.3f}, {:.3f}) from the cameras (x axes level, image y down)",
                      up.x, up.y, up.z));
   }
+}
+
+// A view's depth kept for the bounds vote: every kStride-th pixel.
+struct VoteMap {
+  Rigid3 cam_from_world;
+  core::ImageF depth;  // (width / kStride) x (height / kStride)
+};
+constexpr int kVoteStride = 8;
+
+// The box around what most views agree on: points sampled from the voters'
+// depth, kept where at least 30 % of the voters (and 2) measure a surface
+// within 3 % of the point's depth there, then the 2nd-98th percentile of
+// the kept points per axis, grown by 5 %. A room-scale sequence round an
+// object gives the object and the floor beside it, not the room. nullopt
+// when fewer than 3 voters or 100 kept points: the caller keeps every point.
+std::optional<Bounds> AgreedBounds(const std::vector<VoteMap>& voters, const Camera& camera,
+                                   size_t& kept_points, int& needed) {
+  if (voters.size() < 3) return std::nullopt;
+  needed = std::max(2, static_cast<int>(std::ceil(0.3 * voters.size())));
+  const double s = kVoteStride;
+  std::vector<glm::dvec3> kept;
+  for (const VoteMap& from : voters) {
+    const Rigid3 world_from_cam = from.cam_from_world.Inverse();
+    for (int r = 0; r < from.depth.height(); r += 2) {
+      for (int c = 0; c < from.depth.width(); c += 2) {
+        const float z = from.depth.at(c, r);
+        if (!(z > 0)) continue;
+        const glm::dvec3 p = world_from_cam * camera.Unproject({(c + 0.5) * s, (r + 0.5) * s}, z);
+        int agree = 0;
+        for (const VoteMap& v : voters) {
+          const glm::dvec3 q = v.cam_from_world * p;
+          if (q.z <= 0) continue;
+          const glm::dvec2 uv = camera.Project(q) / s;
+          const int x = static_cast<int>(std::floor(uv.x)), y = static_cast<int>(std::floor(uv.y));
+          if (x < 0 || y < 0 || x >= v.depth.width() || y >= v.depth.height()) continue;
+          const float d = v.depth.at(x, y);
+          agree += d > 0 && std::abs(d - q.z) < 0.03 * q.z;
+        }
+        if (agree >= needed) kept.push_back(p);
+      }
+    }
+  }
+  kept_points = kept.size();
+  if (kept.size() < 100) return std::nullopt;
+  Bounds b;
+  for (int a = 0; a < 3; ++a) {
+    std::vector<double> v(kept.size());
+    for (size_t i = 0; i < kept.size(); ++i) v[i] = kept[i][a];
+    std::sort(v.begin(), v.end());
+    const double lo = v[v.size() * 2 / 100], hi = v[v.size() * 98 / 100];
+    b.min[a] = lo - 0.05 * (hi - lo);
+    b.max[a] = hi + 0.05 * (hi - lo);
+  }
+  return b;
 }
 
 }  // namespace
@@ -176,8 +231,8 @@ std::optional<Bounds> ReadMiddleburyBounds(std::istream& in, const std::string& 
 }
 
 Dataset WriteRgbdFrames(const std::vector<RgbdFrame>& frames, const Camera& camera,
-                        double depth_scale, const fs::path& out,
-                        const std::function<void(int, int)>& progress,
+                        double depth_scale, const std::optional<Bounds>& bounds,
+                        const fs::path& out, const std::function<void(int, int)>& progress,
                         const std::function<void(const std::string&)>& note) {
   constexpr const char* kWhere = "WriteRgbdFrames";
   if (frames.empty()) core::ThrowInputError(kWhere, "no frames to import");
@@ -195,9 +250,11 @@ Dataset WriteRgbdFrames(const std::vector<RgbdFrame>& frames, const Camera& came
   DatasetWriter writer(out);
   writer.SetDepthUnits("m");
   const int cam_id = writer.AddCamera(pinhole);
-  // The bounds are those of every valid sensor point in the world, so that
-  // the renderers (which slice the object's box) can use the sequence as is.
+  // Every valid sensor point's box, and at most 64 frames spread over the
+  // sequence kept small for the vote on the object's box (AgreedBounds).
   glm::dvec3 lo(INFINITY), hi(-INFINITY);
+  std::vector<VoteMap> voters;
+  const size_t vote_every = (frames.size() + 63) / 64;
   for (size_t i = 0; i < frames.size(); ++i) {
     const RgbdFrame& f = frames[i];
     const core::Image<uint16_t> read_raw = core::ReadImage<uint16_t>(f.depth, 1);
@@ -238,6 +295,16 @@ Dataset WriteRgbdFrames(const std::vector<RgbdFrame>& frames, const Camera& came
         hi = glm::max(hi, p_in_world);
       }
     }
+    if (i % vote_every == 0) {
+      VoteMap v{f.cam_from_world, core::ImageF(width / kVoteStride, height / kVoteStride, 1)};
+      for (int r = 0; r < v.depth.height(); ++r) {
+        for (int c = 0; c < v.depth.width(); ++c) {
+          v.depth.at(c, r) =
+              depth.at(c * kVoteStride + kVoteStride / 2, r * kVoteStride + kVoteStride / 2);
+        }
+      }
+      voters.push_back(std::move(v));
+    }
     writer.AddView(f.name, cam_id, f.cam_from_world, color, depth, mask, {});
     if (progress) progress(static_cast<int>(i) + 1, static_cast<int>(frames.size()));
   }
@@ -245,7 +312,26 @@ Dataset WriteRgbdFrames(const std::vector<RgbdFrame>& frames, const Camera& came
     core::ThrowFileError(kWhere, frames.front().depth.parent_path(),
                          "no valid depth pixel in any frame");
   }
-  writer.SetBounds({lo, hi});
+  size_t kept = 0;
+  int needed = 0;
+  const Bounds all{lo, hi};
+  const std::optional<Bounds> agreed =
+      bounds ? std::nullopt : AgreedBounds(voters, pinhole, kept, needed);
+  const Bounds box = bounds ? *bounds : agreed.value_or(all);
+  writer.SetBounds(box);
+  if (note) {
+    note(fmt::format(
+        "bounds ({:.3g}, {:.3g}, {:.3g})..({:.3g}, {:.3g}, {:.3g}) m: {}", box.min.x, box.min.y,
+        box.min.z, box.max.x, box.max.y, box.max.z,
+        bounds ? std::string("given (--bounds)")
+        : agreed
+            ? fmt::format("where at least {} of {} frames agree on a surface ({} points; every "
+                          "point spans ({:.3g}, {:.3g}, {:.3g})..({:.3g}, {:.3g}, {:.3g}); "
+                          "--bounds to give one)",
+                          needed, voters.size(), kept, lo.x, lo.y, lo.z, hi.x, hi.y, hi.z)
+            : std::string("every valid point (too few frames agree for a tighter box; --bounds "
+                          "to give one)")));
+  }
   SetMeanUp(writer, note);
   writer.Commit();
   const DepthScaleReport scale = CheckDepthScale(writer.dataset());
@@ -292,7 +378,7 @@ Dataset ImportRedwood(const fs::path& source, const fs::path& out,
     const std::string stem = colors[i].stem().string();
     frames.push_back({stem, colors[i], source / "depth" / (stem + ".png"), poses[i]});
   }
-  return WriteRgbdFrames(frames, camera, options.depth_scale, out, progress, note);
+  return WriteRgbdFrames(frames, camera, options.depth_scale, options.bounds, out, progress, note);
 }
 
 std::vector<MiddleburyView> ReadMiddleburyPar(std::istream& in, const std::string& name) {

@@ -19,7 +19,8 @@ namespace capture {
 // the up direction and, when CheckDepthScale finds the depths implausible,
 // its warning with the --depth-scale that would fix it.
 struct RedwoodImportOptions {
-  double depth_scale = 1000;  // depth file units per metre (Redwood: mm; TUM RGB-D: 5000)
+  double depth_scale = 1000;     // depth file units per metre (Redwood: mm; TUM RGB-D: 5000)
+  std::optional<Bounds> bounds;  // the object's box (m); default: what most frames agree on
   void Check() const;
 };
 Dataset ImportRedwood(const std::filesystem::path& source, const std::filesystem::path& out,
@@ -30,8 +31,10 @@ Dataset ImportRedwood(const std::filesystem::path& source, const std::filesystem
 // The RGB-D frames of a sequence with poses, as the RGB-D importers (Redwood,
 // TUM) write them: colour as RGB, depth (16-bit PNG at `depth_scale` units
 // per metre) in metres, mask = valid depth, a distorted `camera` undistorted
-// into its PINHOLE (colour bilinear, depth nearest), bounds = every valid
-// point in the world, "up" = MeanCameraUp, then the depth-scale check
+// into its PINHOLE (colour bilinear, depth nearest), bounds = `bounds` if
+// given, else the box around what most frames agree on (a sequence round an
+// object: the object, not the room; printed), else every valid point in
+// the world; "up" = MeanCameraUp, then the depth-scale check
 // (CheckDepthScale) with its warning and the --depth-scale that would fix it.
 struct RgbdFrame {
   std::string name;
@@ -39,7 +42,8 @@ struct RgbdFrame {
   Rigid3 cam_from_world;
 };
 Dataset WriteRgbdFrames(const std::vector<RgbdFrame>& frames, const Camera& camera,
-                        double depth_scale, const std::filesystem::path& out,
+                        double depth_scale, const std::optional<Bounds>& bounds,
+                        const std::filesystem::path& out,
                         const std::function<void(int, int)>& progress = {},
                         const std::function<void(const std::string&)>& note = {});
 

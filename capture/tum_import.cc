@@ -30,6 +30,7 @@ void TumImportOptions::Check() const {
     core::ThrowInputError(kWhere, "--max-pose-gap {} outside (0, 10] seconds", max_pose_gap);
   if (every < 1 || every > 100000)
     core::ThrowInputError(kWhere, "--every {} outside 1..100000", every);
+  if (bounds) CheckBounds(*bounds, "--bounds");
 }
 
 namespace {
@@ -280,7 +281,7 @@ Dataset ImportTum(const fs::path& source, const fs::path& out, const TumImportOp
                          "(--max-difference, --max-pose-gap)",
                          options.max_difference);
   }
-  return WriteRgbdFrames(frames, camera, options.depth_scale, out, progress, note);
+  return WriteRgbdFrames(frames, camera, options.depth_scale, options.bounds, out, progress, note);
 }
 
 }  // namespace capture

@@ -24,6 +24,7 @@
 #include <filesystem>
 #include <functional>
 #include <istream>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -39,6 +40,7 @@ struct TumImportOptions {
   double max_difference = 0.02;  // seconds between a colour and its depth image
   double max_pose_gap = 0.1;     // seconds between the ground-truth poses around a frame
   int every = 1;                 // every N-th frame (a 30 Hz sequence holds 30 per second)
+  std::optional<Bounds> bounds;  // the object's box (m); default: what most frames agree on
   void Check() const;
 };
 

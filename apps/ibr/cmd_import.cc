@@ -19,6 +19,7 @@ struct ImportCommandOptions {
   capture::ColmapImportOptions colmap;
   capture::RedwoodImportOptions redwood;
   capture::TumImportOptions tum;
+  std::string bounds;  // --bounds X0,Y0,Z0,X1,Y1,Z1 of the RGB-D importers
   capture::MiddleburyImportOptions middlebury;
 };
 
@@ -63,7 +64,14 @@ void AddImportCommand(CLI::App& app) {
       ->add_option("--depth-scale", o.redwood.depth_scale,
                    "depth units per metre (Redwood 1000, TUM RGB-D 5000)")
       ->capture_default_str();
+  auto bounds = [](CLI::App* sub) {
+    sub->add_option("--bounds", o.bounds,
+                    "the object's box X0,Y0,Z0,X1,Y1,Z1 in metres (default: what most frames "
+                    "agree on, printed)");
+  };
+  bounds(redwood);
   redwood->callback([] {
+    if (!o.bounds.empty()) o.redwood.bounds = capture::ParseBounds(o.bounds, "--bounds");
     Report("redwood", capture::ImportRedwood(o.source, o.out, o.redwood, Progress, Note), o.out);
   });
   auto* tum = cmd->add_subcommand(
@@ -81,8 +89,11 @@ void AddImportCommand(CLI::App& app) {
                   "seconds between the ground-truth poses a frame's pose is interpolated from")
       ->capture_default_str();
   tum->add_option("--every", o.tum.every, "take every N-th frame")->capture_default_str();
-  tum->callback(
-      [] { Report("tum", capture::ImportTum(o.source, o.out, o.tum, Progress, Note), o.out); });
+  bounds(tum);
+  tum->callback([] {
+    if (!o.bounds.empty()) o.tum.bounds = capture::ParseBounds(o.bounds, "--bounds");
+    Report("tum", capture::ImportTum(o.source, o.out, o.tum, Progress, Note), o.out);
+  });
   auto* middlebury = cmd->add_subcommand(
       "middlebury", "Middlebury multi-view ring (*_par.txt), masks by threshold");
   common(middlebury);

@@ -29,6 +29,14 @@ Dataset SampleManifest() {
   return d;
 }
 
+TEST(Manifest, BoundsFlagParsesSixNumbers) {
+  const Bounds b = ParseBounds("-1,-2,-3,1,2.5,3", "--bounds");
+  EXPECT_EQ(b, (Bounds{{-1, -2, -3}, {1, 2.5, 3}}));
+  for (const char* bad : {"", "1,2,3,4,5", "1,2,3,4,5,6,7", "1,2,3,4,5,x", "1,1,1,0,0,0"}) {
+    EXPECT_THROW(ParseBounds(bad, "--bounds"), core::InputError) << bad;
+  }
+}
+
 TEST(Manifest, StreamRoundTripIsExact) {
   const Dataset d = SampleManifest();
   std::stringstream s;

@@ -175,6 +175,29 @@ TEST(TumImport, RealCabinetSequenceImportsWithItsPosesAndTheCabinetWhereTheDepth
               views_seeing, (long long)on_box, (long long)samples);
   EXPECT_GE(views_seeing, 20);
   EXPECT_GT(on_box, 0.95 * samples);
+  // The dataset's box: around the cabinet (every corner of its surveyed box
+  // inside), not the room the sensor also saw (about 10 x 9 m).
+  ASSERT_TRUE(d.bounds);
+  std::printf("bounds (%.3f, %.3f, %.3f)..(%.3f, %.3f, %.3f)\n", d.bounds->min.x, d.bounds->min.y,
+              d.bounds->min.z, d.bounds->max.x, d.bounds->max.y, d.bounds->max.z);
+  for (int corner = 0; corner < 8; ++corner) {
+    const glm::dvec3 local((corner & 1 ? hx : -hx), (corner & 2 ? hy : -hy),
+                           (corner & 4 ? hz : -hz));
+    const glm::dvec3 p = centre + rot * local;
+    for (int a = 0; a < 3; ++a) {
+      EXPECT_GE(p[a], d.bounds->min[a] - 0.02) << "corner " << corner << " axis " << a;
+      EXPECT_LE(p[a], d.bounds->max[a] + 0.02) << "corner " << corner << " axis " << a;
+    }
+  }
+  for (int a = 0; a < 3; ++a) EXPECT_LT(d.bounds->extent()[a], 2.5) << "axis " << a;
+  EXPECT_NE(all.find("where at least"), std::string::npos) << all;
+  // Given bounds win.
+  TumImportOptions given;
+  given.bounds = Bounds{{-2, 0, 0}, {-1, 1, 0.6}};
+  given.every = 7;
+  const Dataset g = ImportTum(kCabinet, test_support::TestOutputDir() / "given", given);
+  EXPECT_EQ(g.bounds, given.bounds);
+  EXPECT_EQ(g.views.size(), 5u);  // frames 0, 7, 14, 21, 28
 }
 
 TEST(TumImport, MissingFilesAndUnknownSensorsAreOneClearError) {
