@@ -24,10 +24,12 @@ void ColmapExportOptions::Check() const {
 }
 
 void ColmapImportOptions::Check() const {
-  if (input_type != "geometric" && input_type != "photometric") {
-    core::ThrowInputError("ColmapImportOptions", "input type '{}' is not geometric or photometric",
-                          input_type);
+  if (input_type != "auto" && input_type != "geometric" && input_type != "photometric") {
+    core::ThrowInputError("ColmapImportOptions",
+                          "input type '{}' is not auto, geometric or photometric", input_type);
   }
+  if (!views.empty() && !hold_out.empty())
+    core::ThrowInputError("ColmapImportOptions", "give --views or --hold-out, not both");
   if (!(bounds_percentile >= 0 && bounds_percentile < 50)) {
     core::ThrowInputError("ColmapImportOptions", "bounds percentile {} outside [0, 50)",
                           bounds_percentile);
@@ -272,10 +274,85 @@ Dataset ImportColmap(const fs::path& source, const fs::path& out,
   // Dense workspaces without sparse points: the box from sampled depth.
   std::vector<glm::dvec3> depth_points;
 
-  // Image order: fusion.cfg order for dense workspaces when present, else by name.
+  const auto say = [&](const std::string& line) {
+    if (note) note(line);
+  };
+  // Which dense maps: geometric where any exist (COLMAP's consistent ones),
+  // else the photometric ones a workspace without geometric consistency has.
+  std::string input_type = options.input_type;
+  if (dense) {
+    auto any_of_type = [&](const std::string& type) {
+      for (const auto& e : fs::directory_iterator(source / "stereo" / "depth_maps")) {
+        const std::string n = e.path().filename().string();
+        if (n.size() > type.size() + 5 && n.ends_with("." + type + ".bin")) return true;
+      }
+      return false;
+    };
+    const bool geometric = any_of_type("geometric"), photometric = any_of_type("photometric");
+    if (input_type == "auto") {
+      input_type = geometric || !photometric ? "geometric" : "photometric";
+      if (input_type == "photometric") {
+        say("warning: the workspace has photometric depth maps only (no geometric consistency "
+            "pass): they are noisier; using them");
+      }
+    } else if (!any_of_type(input_type)) {
+      core::ThrowFileError(
+          kWhere, source / "stereo" / "depth_maps", "no {} depth maps{}", input_type,
+          (input_type == "geometric" ? photometric : geometric)
+              ? fmt::format(" (there are {} ones: --input-type {})",
+                            input_type == "geometric" ? "photometric" : "geometric",
+                            input_type == "geometric" ? "photometric" : "geometric")
+              : "");
+    }
+  }
+
+  // Image order by name; --views / --hold-out choose among them.
   std::vector<const colmap::Image*> order;
   for (const auto& [id, im] : model.images) order.push_back(&im);
   std::sort(order.begin(), order.end(), [](auto* a, auto* b) { return a->name < b->name; });
+  auto named = [](const colmap::Image& im, const std::string& n) {
+    return im.name == n || fs::path(im.name).stem().string() == n ||
+           fs::path(im.name).replace_extension().string() == n;
+  };
+  const std::vector<std::string>& chosen = options.views.empty() ? options.hold_out : options.views;
+  for (const std::string& n : chosen) {
+    if (std::none_of(order.begin(), order.end(), [&](auto* im) { return named(*im, n); })) {
+      core::ThrowFileError(kWhere, sparse_dir, "no photo named '{}' in the model ({} photos)", n,
+                           order.size());
+    }
+  }
+  if (!chosen.empty()) {
+    const bool keep_named = !options.views.empty();
+    std::erase_if(order, [&](auto* im) {
+      const bool is_named = std::any_of(chosen.begin(), chosen.end(),
+                                        [&](const std::string& n) { return named(*im, n); });
+      return is_named != keep_named;
+    });
+    say(fmt::format("{} of {} photos chosen ({})", order.size(), model.images.size(),
+                    keep_named ? "--views" : "--hold-out"));
+  }
+  // Photos whose image or depth map is missing are left out (a partial
+  // workspace), each named; an import left with none is an error.
+  std::vector<std::string> missing;
+  std::erase_if(order, [&](auto* im) {
+    fs::path need = images_dir / im->name;
+    if (fs::exists(need) && dense) {
+      need = source / "stereo/depth_maps" / fmt::format("{}.{}.bin", im->name, input_type);
+    }
+    if (fs::exists(need)) return false;
+    missing.push_back(need.string());
+    return true;
+  });
+  if (!missing.empty()) {
+    say(fmt::format("warning: {} of {} photos left out, a file missing: {}{}", missing.size(),
+                    missing.size() + order.size(), missing.front(),
+                    missing.size() > 1 ? fmt::format(" and {} more", missing.size() - 1) : ""));
+  }
+  if (order.empty()) {
+    core::ThrowFileError(
+        kWhere, source, "no photo left to import{}",
+        missing.empty() ? "" : fmt::format(" (first missing: {})", missing.front()));
+  }
 
   DatasetWriter writer(out);
   std::map<uint32_t, int> camera_ids;
@@ -310,7 +387,7 @@ Dataset ImportColmap(const fs::path& source, const fs::path& out,
       }
       camera = CameraFromDense(colmap_cam);
       const fs::path depth_path =
-          source / "stereo/depth_maps" / fmt::format("{}.{}.bin", im.name, options.input_type);
+          source / "stereo/depth_maps" / fmt::format("{}.{}.bin", im.name, input_type);
       depth = colmap::ReadDenseMap(depth_path);
       if (depth.channels() != 1 || depth.width() != camera.width ||
           depth.height() != camera.height) {
@@ -337,7 +414,7 @@ Dataset ImportColmap(const fs::path& source, const fs::path& out,
         }
       }
       const fs::path normal_path =
-          source / "stereo/normal_maps" / fmt::format("{}.{}.bin", im.name, options.input_type);
+          source / "stereo/normal_maps" / fmt::format("{}.{}.bin", im.name, input_type);
       if (fs::exists(normal_path)) {
         const core::ImageF n_cam = colmap::ReadDenseMap(normal_path);
         if (n_cam.channels() != 3 || n_cam.width() != camera.width ||
@@ -394,9 +471,6 @@ Dataset ImportColmap(const fs::path& source, const fs::path& out,
     points = std::move(depth_points);
     from = "depth samples";
   }
-  const auto say = [&](const std::string& line) {
-    if (note) note(line);
-  };
   if (!points.empty()) {
     const Bounds box = RobustBounds(points, options.bounds_percentile, options.bounds_margin);
     const Bounds all = RobustBounds(points, 0, 0);

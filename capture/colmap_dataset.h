@@ -13,6 +13,7 @@
 #include <filesystem>
 #include <functional>
 #include <string>
+#include <vector>
 
 #include "capture/colmap_io.h"
 #include "capture/dataset.h"
@@ -42,8 +43,14 @@ void ExportColmapWorkspace(const Dataset& dataset, const std::filesystem::path& 
                            const std::function<void(int, int)>& progress = {});
 
 struct ColmapImportOptions {
-  std::string input_type = "geometric";  // dense maps: "geometric" or "photometric"
-  std::filesystem::path images;          // sparse import: image folder (default SRC/images)
+  // Dense maps: "geometric" or "photometric"; "auto": geometric where the
+  // workspace has any, else photometric (said with a warning).
+  std::string input_type = "auto";
+  // The views to import, by photo name or its stem (empty: all), and those
+  // to leave out (a held-out view to judge a reconstruction by). A name
+  // that matches no photo is an error.
+  std::vector<std::string> views, hold_out;
+  std::filesystem::path images;  // sparse import: image folder (default SRC/images)
   // Sparse import: silhouettes, one 8-bit image per photo (> 127 = object),
   // found as COLMAP's ImageReader.mask_path names them (NAME.png for photo
   // NAME), or NAME itself, or NAME's stem + ".png". Empty: no masks.

@@ -44,8 +44,16 @@ void AddImportCommand(CLI::App& app) {
   auto* colmap =
       cmd->add_subcommand("colmap", "dense workspace (depth + normals) or sparse model + images");
   common(colmap);
-  colmap->add_option("--input-type", o.colmap.input_type, "dense maps: geometric or photometric")
+  colmap
+      ->add_option("--input-type", o.colmap.input_type,
+                   "dense maps: geometric, photometric, or auto (geometric where any exist)")
       ->capture_default_str();
+  colmap->add_option("--views", o.colmap.views, "import only these photos (NAME,NAME,...)")
+      ->delimiter(',');
+  colmap
+      ->add_option("--hold-out", o.colmap.hold_out,
+                   "leave these photos out (NAME,...), e.g. to render them as held-out views")
+      ->delimiter(',');
   colmap->add_option("--images", o.colmap.images,
                      "sparse import: image folder (default SRC/images)");
   colmap->add_option("--masks", o.colmap.masks,

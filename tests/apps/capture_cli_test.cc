@@ -126,6 +126,73 @@ TEST(CaptureCli, NoiseAppliesTheSensorModelAndRecordsIt) {
   EXPECT_FALSE(fs::exists(dir / "bad"));
 }
 
+// Partial and photometric-only COLMAP workspaces, and choosing views: a
+// workspace without geometric maps imports its photometric ones with a
+// warning (and --input-type geometric says which to use); a photo whose
+// image is missing is left out with a warning; --views and --hold-out take
+// and leave out photos by name, and an unknown name is one error line.
+TEST(CaptureCli, PartialAndPhotometricWorkspacesImportAndViewsAreChosen) {
+  const fs::path dir = Scratch("colmap_partial");
+  ASSERT_EQ(RunCommand(IbrBinary() + " capture --shape sphere --rig ring:4 --size 64 --out " +
+                       Quote(dir / "D"))
+                .exit_code,
+            0);
+  const fs::path ws = dir / "WS";
+  ASSERT_EQ(RunCommand(IbrBinary() + " export colmap " + Quote(dir / "D") + " --out " + Quote(ws))
+                .exit_code,
+            0);
+  const capture::Dataset original = capture::ReadDataset(dir / "D");
+  for (const auto& e : fs::directory_iterator(ws / "stereo/depth_maps")) {
+    if (e.path().string().find(".geometric.") != std::string::npos) fs::remove(e.path());
+  }
+  const auto photometric =
+      RunCommand(IbrBinary() + " import colmap " + Quote(ws) + " --out " + Quote(dir / "P"));
+  ASSERT_EQ(photometric.exit_code, 0) << photometric.err;
+  EXPECT_NE(photometric.out.find("photometric depth maps only"), std::string::npos)
+      << photometric.out;
+  const capture::Dataset p = capture::ReadDataset(dir / "P");
+  ASSERT_EQ(p.views.size(), 4u);
+  EXPECT_EQ(p.LoadDepth(1), original.LoadDepth(1));  // ibr wrote the same maps under both names
+  const auto geometric = RunCommand(IbrBinary() + " import colmap " + Quote(ws) +
+                                    " --input-type geometric --out " + Quote(dir / "G"));
+  EXPECT_NE(geometric.exit_code, 0);
+  EXPECT_EQ(CountLines(geometric.err), 1) << geometric.err;
+  EXPECT_NE(geometric.err.find("--input-type photometric"), std::string::npos) << geometric.err;
+  EXPECT_FALSE(fs::exists(dir / "G"));
+
+  const std::string name = original.views[2].name;  // ring_002
+  fs::remove(ws / "images" / (name + ".png"));
+  const auto partial =
+      RunCommand(IbrBinary() + " import colmap " + Quote(ws) + " --out " + Quote(dir / "M"));
+  ASSERT_EQ(partial.exit_code, 0) << partial.err;
+  EXPECT_NE(partial.out.find("1 of 4 photos left out"), std::string::npos) << partial.out;
+  EXPECT_NE(partial.out.find(name + ".png"), std::string::npos) << partial.out;
+  EXPECT_EQ(capture::ReadDataset(dir / "M").views.size(), 3u);
+
+  const std::string first = original.views[0].name, last = original.views[3].name;
+  const auto held = RunCommand(IbrBinary() + " import colmap " + Quote(ws) + " --hold-out " +
+                               first + " --out " + Quote(dir / "H"));
+  ASSERT_EQ(held.exit_code, 0) << held.err;
+  const capture::Dataset h = capture::ReadDataset(dir / "H");
+  ASSERT_EQ(h.views.size(), 2u);  // ring_002's image is gone, ring_000 held out
+  EXPECT_EQ(h.views[1].name, last);
+  const auto only = RunCommand(IbrBinary() + " import colmap " + Quote(ws) + " --views " + first +
+                               "," + last + ".png --out " + Quote(dir / "V"));
+  ASSERT_EQ(only.exit_code, 0) << only.err;
+  const capture::Dataset v = capture::ReadDataset(dir / "V");
+  ASSERT_EQ(v.views.size(), 2u);
+  EXPECT_EQ(v.views[0].name, first);
+  EXPECT_NEAR(
+      glm::length(v.views[0].cam_from_world.Centre() - original.views[0].cam_from_world.Centre()),
+      0, 1e-12);
+  const auto unknown = RunCommand(IbrBinary() + " import colmap " + Quote(ws) +
+                                  " --views nosuch --out " + Quote(dir / "U"));
+  EXPECT_NE(unknown.exit_code, 0);
+  EXPECT_EQ(CountLines(unknown.err), 1) << unknown.err;
+  EXPECT_NE(unknown.err.find("no photo named 'nosuch'"), std::string::npos) << unknown.err;
+  EXPECT_FALSE(fs::exists(dir / "U"));
+}
+
 // Poses agree when rotations and translations agree to `tolerance`.
 void ExpectSamePose(const capture::Rigid3& a, const capture::Rigid3& b, double tolerance,
                     const std::string& what) {
