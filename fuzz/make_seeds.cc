@@ -84,6 +84,15 @@ int main(int argc, char** argv) {
     o << "sigma=0.3%,model=quadratic,quantize=0.001,edge=1,grazing=75,holes=0.02,hole-radius=3,"
          "flying=0.5,outliers=0.001,mask=depth,seed=7";
   });
+  Seed(root, "nerf_frame", "1", [](std::ostream& o) {
+    o << R"({"camera_angle_x": 0.69, "frames": [{"file_path": "./train/r_0", "transform_matrix": )"
+         R"([[1, 0, 0, 0], [0, 0, -1, -4], [0, 1, 0, 0.5], [0, 0, 0, 1]]}]})";
+  });
+  Seed(root, "nerf_frame", "2", [](std::ostream& o) {
+    o << R"({"fl_x": 500, "fl_y": 501, "cx": 32, "cy": 24, "w": 64, "h": 48, "k1": 0.01, )"
+         R"("frames": [{"file_path": "a.png", "transform_matrix": )"
+         R"([[1, 0, 0, 0], [0, 1, 0, 0], [0, 0, 1, 3], [0, 0, 0, 1]]}]})";
+  });
   Seed(root, "tum_list", "1", [](std::ostream& o) {
     o << "# color images\n# timestamp filename\n1305031102.175304 rgb/1305031102.175304.png\n"
          "1305031102.211214 rgb/1305031102.211214.png\n";

@@ -1,4 +1,4 @@
-// `ibr import colmap|redwood|tum|middlebury SRC --out DIR`: real data to datasets.
+// `ibr import colmap|redwood|tum|nerf|middlebury SRC --out DIR`: real data to datasets.
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>
 
@@ -7,6 +7,7 @@
 #include "apps/ibr/commands.h"
 #include "capture/colmap_dataset.h"
 #include "capture/importers.h"
+#include "capture/nerf_import.h"
 #include "capture/tum_import.h"
 #include "core/error.h"
 
@@ -19,6 +20,7 @@ struct ImportCommandOptions {
   capture::ColmapImportOptions colmap;
   capture::RedwoodImportOptions redwood;
   capture::TumImportOptions tum;
+  capture::NerfImportOptions nerf;
   std::string bounds;  // --bounds X0,Y0,Z0,X1,Y1,Z1 of the RGB-D importers
   capture::MiddleburyImportOptions middlebury;
 };
@@ -102,6 +104,14 @@ void AddImportCommand(CLI::App& app) {
     if (!o.bounds.empty()) o.tum.bounds = capture::ParseBounds(o.bounds, "--bounds");
     Report("tum", capture::ImportTum(o.source, o.out, o.tum, Progress, Note), o.out);
   });
+  auto* nerf = cmd->add_subcommand(
+      "nerf", "NeRF transforms.json (Blender synthetic, instant-ngp, nerfstudio)");
+  common(nerf);
+  nerf->add_option("--views", o.nerf.views, "import only these frames (file_path or its stem)")
+      ->delimiter(',');
+  nerf->add_option("--hold-out", o.nerf.hold_out, "leave these frames out")->delimiter(',');
+  nerf->callback(
+      [] { Report("nerf", capture::ImportNerf(o.source, o.out, o.nerf, Progress, Note), o.out); });
   auto* middlebury = cmd->add_subcommand(
       "middlebury", "Middlebury multi-view ring (*_par.txt), masks by threshold");
   common(middlebury);

@@ -4,21 +4,26 @@
 // workspace imports back to the same cameras and poses (dense and sparse-only);
 // bad inputs give one `ibr: error:` line naming the file or option, a non-zero
 // exit and no output directory.
+#include <fmt/format.h>
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
 
 #include "capture/colmap_io.h"
 #include "capture/dataset.h"
+#include "core/image_io.h"
 #include "tests/support/gl_test.h"
 #include "tests/support/run_command.h"
 
 namespace {
 namespace fs = std::filesystem;
+void ExpectSamePose(const capture::Rigid3& a, const capture::Rigid3& b, double tolerance,
+                    const std::string& what);
 using test_support::CountLines;
 using test_support::IbrBinary;
 using test_support::Quote;
@@ -191,6 +196,74 @@ TEST(CaptureCli, PartialAndPhotometricWorkspacesImportAndViewsAreChosen) {
   EXPECT_EQ(CountLines(unknown.err), 1) << unknown.err;
   EXPECT_NE(unknown.err.find("no photo named 'nosuch'"), std::string::npos) << unknown.err;
   EXPECT_FALSE(fs::exists(dir / "U"));
+}
+
+// A NeRF transforms.json as the Blender synthetic scenes write it: RGBA
+// PNGs whose alpha is the object, `camera_angle_x`, camera-to-world
+// matrices of OpenGL cameras (y up, looking down -z), file paths without
+// their extension. Written here from a capture (the conversion done in this
+// test, independently of the importer), imported back: the same cameras,
+// poses and masks, a box round the unit sphere from the masks' hull.
+TEST(CaptureCli, NerfTransformsImportToTheCapturedCamerasAndMasks) {
+  const fs::path dir = Scratch("nerf");
+  ASSERT_EQ(RunCommand(IbrBinary() + " capture --shape sphere --rig sphere:8 --size 64 --out " +
+                       Quote(dir / "D"))
+                .exit_code,
+            0);
+  const capture::Dataset d = capture::ReadDataset(dir / "D");
+  fs::create_directories(dir / "N" / "train");
+  nlohmann::json frames = nlohmann::json::array();
+  const capture::Camera& cam = d.camera(d.views[0]);
+  for (size_t i = 0; i < d.views.size(); ++i) {
+    const core::Image8 color = d.LoadColor(i), mask = d.LoadMask(i);
+    core::Image8 rgba(color.width(), color.height(), 4);
+    for (int y = 0; y < color.height(); ++y) {
+      for (int x = 0; x < color.width(); ++x) {
+        for (int c = 0; c < 3; ++c) rgba.at(x, y, c) = color.at(x, y, c);
+        rgba.at(x, y, 3) = mask.at(x, y);
+      }
+    }
+    core::WriteImage(dir / "N" / "train" / fmt::format("r_{}.png", i), rgba);
+    // c2w (OpenGL) = world_from_cam (ours) with its y and z axes negated.
+    const capture::Rigid3 w = d.views[i].cam_from_world.Inverse();
+    nlohmann::json m = nlohmann::json::array();
+    for (int r = 0; r < 3; ++r) {
+      m.push_back({w.rotation[0][r], -w.rotation[1][r], -w.rotation[2][r], w.translation[r]});
+    }
+    m.push_back({0, 0, 0, 1});
+    frames.push_back({{"file_path", fmt::format("./train/r_{}", i)}, {"transform_matrix", m}});
+  }
+  std::ofstream(dir / "N" / "transforms_train.json") << nlohmann::json{
+      {"camera_angle_x", 2 * std::atan(0.5 * cam.width / cam.fx())},
+      {"frames", frames}}.dump(2);
+  const auto r = RunCommand(IbrBinary() + " import nerf " + Quote(dir / "N") +
+                            " --hold-out r_7 --out " + Quote(dir / "B"));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.out.find("transforms_train.json"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("from the masks' coarse visual hull"), std::string::npos) << r.out;
+  const capture::Dataset b = capture::ReadDataset(dir / "B", true);
+  ASSERT_EQ(b.views.size(), d.views.size() - 1);
+  for (size_t i = 0; i < b.views.size(); ++i) {
+    EXPECT_EQ(b.views[i].name, fmt::format("r_{}", i));
+    const capture::Camera& c = b.camera(b.views[i]);
+    EXPECT_NEAR(c.fx(), cam.fx(), 1e-9);
+    EXPECT_NEAR(c.cx(), cam.cx(), 1e-12);
+    EXPECT_NEAR(c.cy(), cam.cy(), 1e-12);
+    ExpectSamePose(b.views[i].cam_from_world, d.views[i].cam_from_world, 1e-9, b.views[i].name);
+    EXPECT_EQ(b.LoadMask(i), d.LoadMask(i)) << b.views[i].name;
+  }
+  ASSERT_TRUE(b.bounds);
+  for (int a = 0; a < 3; ++a) {
+    EXPECT_LE(b.bounds->min[a], -1.0) << a;
+    EXPECT_GE(b.bounds->max[a], 1.0) << a;
+    EXPECT_GT(b.bounds->min[a], -1.5) << a;  // the hull of 8 views, not the cameras' reach
+    EXPECT_LT(b.bounds->max[a], 1.5) << a;
+  }
+  // The dataset renders: a depth object needs depth, a visual hull masks.
+  const auto hull =
+      RunCommand(IbrBinary() + " render " + Quote(dir / "B") +
+                 " --method visual-hull --orbit 1 --size 48 --out " + Quote(dir / "H"));
+  EXPECT_EQ(hull.exit_code, 0) << hull.err;
 }
 
 // Poses agree when rotations and translations agree to `tolerance`.
