@@ -371,12 +371,17 @@ std::vector<RigView> MakeRig(const RigSpec& rig, const Bounds& bounds,
     const glm::dvec3 axes[6] = {{1, 0, 0},  {-1, 0, 0}, {0, 1, 0},
                                 {0, -1, 0}, {0, 0, 1},  {0, 0, -1}};
     const char* names[6] = {"cube_px", "cube_nx", "cube_py", "cube_ny", "cube_pz", "cube_nz"};
+    // Image up: `up` for the side faces; looking down / up along it, the
+    // axis after up's main one (y up: -z / +z).
+    int main_axis = 0;
+    for (int k = 1; k < 3; ++k)
+      if (std::abs(up[k]) > std::abs(up[main_axis])) main_axis = k;
+    glm::dvec3 front(0.0);
+    front[(main_axis + 1) % 3] = up[main_axis] < 0 ? -1 : 1;
     for (int f = 0; f < 6; ++f) {
       const glm::dvec3 eye = centre + half * axes[f];
-      // Image up: world y for the side faces, -z / +z looking down / up the y axis.
-      glm::dvec3 face_up(0, 1, 0);
-      if (f == 2) face_up = {0, 0, -1};
-      if (f == 3) face_up = {0, 0, 1};
+      const double along = glm::dot(axes[f], up);
+      const glm::dvec3 face_up = std::abs(along) > 0.5 ? (along > 0 ? -front : front) : up;
       RigView view;
       view.name = names[f];
       view.camera = Camera::Orthographic(size, size, scale, scale, size / 2.0, size / 2.0);
@@ -666,6 +671,7 @@ Dataset CaptureDataset(render::ProgramCache& programs, const SceneMesh& scene,
   DatasetWriter writer(out);
   size_t covered_views = 0;
   writer.SetBounds(bounds);
+  writer.SetUp(options.up);  // what orbits, the viewer and exports turn about
   std::optional<SensorModel> sensor;
   if (!options.noise.empty()) {
     // `%` lengths are of the object's diagonal; a quadratic model's

@@ -10,6 +10,7 @@
 #include "capture/builtin_scenes.h"
 #include "capture/synthetic.h"
 #include "core/error.h"
+#include "ibr/views.h"
 #include "render/gl/context.h"
 #include "render/passes/pass.h"
 
@@ -22,6 +23,7 @@ struct CaptureCommandOptions {
   std::filesystem::path texture;  // optional texture override
   std::string scene;              // a built-in scene (datasets/scenes/NAME.json)
   std::filesystem::path out;      // dataset directory, replaced atomically
+  std::string up;                 // --up: the mesh's up axis (x, y, z, -x, -y, -z)
   capture::CaptureOptions capture;
 };
 
@@ -47,14 +49,16 @@ void RunCapture(CaptureCommandOptions o, bool rig_given, bool size_given) {
   auto context = render::HeadlessContext::Create();
   render::CheckFrameSize("ibr capture", "--size", o.capture.size, o.capture.size,
                          /*min_side=*/16);
+  if (!o.up.empty()) o.capture.up = ibr::ParseUp(o.up, "--up");
   o.capture.Check();
   const auto start = std::chrono::steady_clock::now();
   const capture::SceneMesh scene =
       o.mesh.empty() ? capture::MakeShapeScene(o.shape) : capture::LoadSceneMesh(o.mesh, o.texture);
   render::ProgramCache programs;
-  spdlog::info("capture: {} ({} triangles{}), rig {}, {} px", scene.source,
+  spdlog::info("capture: {} ({} triangles{}), rig {}, {} px, up ({:g}, {:g}, {:g}){}", scene.source,
                scene.mesh.triangle_count(), scene.texture.empty() ? "" : ", textured",
-               o.capture.rig, o.capture.size);
+               o.capture.rig, o.capture.size, o.capture.up.x, o.capture.up.y, o.capture.up.z,
+               o.up.empty() ? " (the OBJ convention; --up z for a z-up mesh)" : "");
   const capture::Dataset dataset = capture::CaptureDataset(
       programs, scene, o.capture, o.out, [](int i, int n, const std::string& name) {
         spdlog::info("capture: view {}/{} {}", i, n, name);
@@ -86,6 +90,9 @@ void AddCaptureCommand(CLI::App& app) {
                   "black, or noise: a fixed textured backdrop sphere (gives SfM features)")
       ->check(CLI::IsMember({"black", "noise"}))
       ->capture_default_str();
+  cmd->add_option("--up", o.up,
+                  "the mesh's up axis x, y, z, -x, -y or -z (default y): the rigs turn about it "
+                  "and the dataset records it");
   cmd->add_option("--noise", o.capture.noise,
                   "depth sensor model, key=value,...: sigma=L, model=constant|quadratic, "
                   "quantize=L, edge=N, grazing=DEG, holes=F, hole-radius=N, flying=F, "

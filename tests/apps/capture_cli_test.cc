@@ -266,6 +266,48 @@ TEST(CaptureCli, NerfTransformsImportToTheCapturedCamerasAndMasks) {
   EXPECT_EQ(hull.exit_code, 0) << hull.err;
 }
 
+// --up z for a z-up mesh (the cup opens to +z): the rigs stand upright
+// about z (every camera's image up, -y, rises along z; the cube's side
+// faces look level with z straight up the image), the dataset records z,
+// and an orbit of it keeps the cup's top at the top of the image.
+TEST(CaptureCli, UpZCapturesAZUpMeshUprightAndRecordsIt) {
+  const fs::path dir = Scratch("up_z");
+  for (const char* rig : {"ring:4", "cube"}) {
+    const fs::path ds = dir / (std::string(rig) == "cube" ? "cube" : "ring");
+    const auto r = RunCommand(IbrBinary() + " capture --shape cup --up z --rig " + rig +
+                              " --size 48 --out " + Quote(ds));
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    const capture::Dataset d = capture::ReadDataset(ds);
+    ASSERT_TRUE(d.up);
+    EXPECT_NEAR(glm::length(*d.up - glm::dvec3(0, 0, 1)), 0, 1e-12) << rig;
+    for (const capture::DatasetView& v : d.views) {
+      const glm::dvec3 image_up = glm::transpose(v.cam_from_world.rotation) * glm::dvec3(0, -1, 0);
+      const glm::dvec3 forward = glm::transpose(v.cam_from_world.rotation) * glm::dvec3(0, 0, 1);
+      if (std::abs(forward.z) > 0.99) continue;  // the cube's top and bottom faces
+      EXPECT_GT(image_up.z, 0.9) << rig << " " << v.name;
+    }
+  }
+  const auto info = RunCommand(IbrBinary() + " info " + Quote(dir / "ring"));
+  EXPECT_NE(info.out.find("up        (0.000, 0.000, 1.000) from dataset.json"), std::string::npos)
+      << info.out;
+  const auto orbit = RunCommand(IbrBinary() + " render " + Quote(dir / "ring") +
+                                " --orbit 3 --size 48 --out " + Quote(dir / "orbit"));
+  ASSERT_EQ(orbit.exit_code, 0) << orbit.err;
+  const capture::Dataset o = capture::ReadDataset(dir / "orbit");
+  for (const capture::DatasetView& v : o.views) {
+    const capture::Camera& c = o.camera(v);
+    // The cup's rim (z = 1.2) above its foot (z = 0) in every orbit image.
+    EXPECT_LT(c.Project(v.cam_from_world * glm::dvec3(0, 0, 1.2)).y,
+              c.Project(v.cam_from_world * glm::dvec3(0, 0, 0)).y)
+        << v.name;
+  }
+  const auto bad =
+      RunCommand(IbrBinary() + " capture --shape cup --up w --out " + Quote(dir / "bad"));
+  EXPECT_NE(bad.exit_code, 0);
+  EXPECT_EQ(CountLines(bad.err), 1) << bad.err;
+  EXPECT_FALSE(fs::exists(dir / "bad"));
+}
+
 // Poses agree when rotations and translations agree to `tolerance`.
 void ExpectSamePose(const capture::Rigid3& a, const capture::Rigid3& b, double tolerance,
                     const std::string& what) {
