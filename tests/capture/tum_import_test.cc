@@ -17,6 +17,7 @@
 #include <sstream>
 
 #include "core/error.h"
+#include "core/image_io.h"
 #include "tests/support/gl_test.h"
 
 namespace capture {
@@ -198,6 +199,41 @@ TEST(TumImport, RealCabinetSequenceImportsWithItsPosesAndTheCabinetWhereTheDepth
   const Dataset g = ImportTum(kCabinet, test_support::TestOutputDir() / "given", given);
   EXPECT_EQ(g.bounds, given.bounds);
   EXPECT_EQ(g.views.size(), 5u);  // frames 0, 7, 14, 21, 28
+}
+
+// fr1 and fr2 images are distorted: the import resamples them into the
+// pinhole camera, colour bilinearly, depth by its nearest sample (a blend of
+// two depths across an edge would be a point on neither surface).
+TEST(TumImport, DistortedSensorsAreUndistortedDepthByNearestSample) {
+  const fs::path dir = test_support::TestOutputDir() / "fr1_seq";
+  fs::create_directories(dir / "rgb");
+  fs::create_directories(dir / "depth");
+  core::Image8 color(640, 480, 3, 128);
+  core::Image<uint16_t> depth(640, 480, 1, 0);
+  for (int y = 40; y < 440; ++y)
+    for (int x = 40; x < 600; ++x) depth.at(x, y) = x < 320 ? 5000 : 10000;  // 1 m | 2 m
+  core::WriteImage(dir / "rgb" / "1.png", color);
+  core::WriteImage(dir / "depth" / "1.png", depth);
+  std::ofstream(dir / "rgb.txt") << "1.000 rgb/1.png\n";
+  std::ofstream(dir / "depth.txt") << "1.005 depth/1.png\n";
+  std::ofstream(dir / "groundtruth.txt") << "0.97 0 0 0 0 0 0 1\n1.03 0 0 0 0 0 0 1\n";
+  TumImportOptions options;
+  options.camera = "fr1";
+  std::string notes;
+  const Dataset d = ImportTum(dir, test_support::TestOutputDir() / "fr1_out", options, {},
+                              [&](const std::string& n) { notes += n + "\n"; });
+  EXPECT_NE(notes.find("undistorting FULL_OPENCV into PINHOLE"), std::string::npos) << notes;
+  ASSERT_EQ(d.views.size(), 1u);
+  EXPECT_EQ(d.camera(d.views[0]).model, CameraModel::kPinhole);
+  const core::ImageF z = d.LoadDepth(0);
+  int near = 0, far = 0;
+  for (float v : z.values()) {
+    EXPECT_TRUE(v == 0 || v == 1.0f || v == 2.0f) << v;
+    near += v == 1.0f;
+    far += v == 2.0f;
+  }
+  EXPECT_GT(near, 50000);
+  EXPECT_GT(far, 50000);
 }
 
 TEST(TumImport, MissingFilesAndUnknownSensorsAreOneClearError) {
