@@ -42,10 +42,33 @@ std::vector<Sample> SampleDepth(const core::ImageF& depth) {
   return samples;
 }
 
+// View b's depth at image point uv, bilinear between four valid pixels
+// within kAgreeTolerance of each other (one surface); 0 otherwise. A
+// nearest lookup would add the surface's slope over half a pixel to the
+// residual, more than a sensor's noise at low resolution.
+// `weights2`: the sum of the squared weights, by which the interpolation
+// scales the variance of b's noise.
+float Bilinear(const core::ImageF& depth, const glm::dvec2& uv, double& weights2) {
+  const double x = uv.x - 0.5, y = uv.y - 0.5;
+  const int c = static_cast<int>(std::floor(x)), r = static_cast<int>(std::floor(y));
+  if (c < 0 || r < 0 || c + 1 >= depth.width() || r + 1 >= depth.height()) return 0;
+  const float d[4] = {depth.at(c, r), depth.at(c + 1, r), depth.at(c, r + 1),
+                      depth.at(c + 1, r + 1)};
+  const auto [lo, hi] = std::minmax({d[0], d[1], d[2], d[3]});
+  if (!Valid(lo) || hi - lo > kAgreeTolerance * lo) return 0;
+  const double fx = x - c, fy = y - r;
+  weights2 = ((1 - fx) * (1 - fx) + fx * fx) * ((1 - fy) * (1 - fy) + fy * fy);
+  return static_cast<float>((1 - fy) * ((1 - fx) * d[0] + fx * d[1]) +
+                            fy * ((1 - fx) * d[2] + fx * d[3]));
+}
+
 // Of view a's samples scaled by `factor` that land on view b's valid depth
 // (also scaled), the fraction within kAgreeTolerance; -1 when fewer than 50 land.
+// `residuals` (factor 1): view b's depth minus the reprojected one, for the
+// samples that agree, scaled to one map's noise.
 double Agreement(const Dataset& d, size_t a, const std::vector<Sample>& samples, size_t b,
-                 const core::ImageF& depth_b, double factor) {
+                 const core::ImageF& depth_b, double factor,
+                 std::vector<double>* residuals = nullptr) {
   const DatasetView &va = d.views[a], &vb = d.views[b];
   const Camera &ca = d.camera(va), &cb = d.camera(vb);
   const Rigid3 world_from_a = va.cam_from_world.Inverse();
@@ -60,7 +83,15 @@ double Agreement(const Dataset& d, size_t a, const std::vector<Sample>& samples,
     const float other = depth_b.at(col, row);
     if (!Valid(other)) continue;
     ++landed;
-    agree += std::abs(factor * other - q.z) <= kAgreeTolerance * q.z;
+    const bool agrees = std::abs(factor * other - q.z) <= kAgreeTolerance * q.z;
+    agree += agrees;
+    if (residuals && agrees) {
+      // Scaled to one map's noise: the residual's variance is a's plus the
+      // interpolated b's, sigma^2 (1 + weights2).
+      double weights2 = 1;
+      const float smooth = Bilinear(depth_b, uv, weights2);
+      if (smooth > 0) residuals->push_back((smooth - q.z) / std::sqrt(1 + weights2));
+    }
   }
   return landed < 50 ? -1.0 : static_cast<double>(agree) / static_cast<double>(landed);
 }
@@ -79,6 +110,7 @@ DepthScaleReport CheckDepthScale(const Dataset& dataset, size_t max_views) {
   std::vector<std::vector<Sample>> samples(views.size());
   // Two depth maps are held at a time (the first view's samples and one more).
   std::vector<std::array<double, kFactors.size() + 1>> pair_agreement;
+  std::vector<double> residuals;
   double median_first = 0;
   for (size_t k = 0; k < views.size(); ++k) {
     const Camera& camera = dataset.camera(dataset.views[views[k]]);
@@ -95,7 +127,7 @@ DepthScaleReport CheckDepthScale(const Dataset& dataset, size_t max_views) {
                                           dataset.views[b].cam_from_world.Centre());
       if (baseline >= kMinBaseline * median_first) {
         std::array<double, kFactors.size() + 1> row{};
-        row[0] = Agreement(dataset, a, samples[0], b, depth, 1.0);
+        row[0] = Agreement(dataset, a, samples[0], b, depth, 1.0, &residuals);
         for (size_t f = 0; f < kFactors.size(); ++f)
           row[f + 1] = Agreement(dataset, a, samples[0], b, depth, kFactors[f]);
         if (row[0] >= 0) pair_agreement.push_back(row);
@@ -111,6 +143,14 @@ DepthScaleReport CheckDepthScale(const Dataset& dataset, size_t max_views) {
   if (all.empty()) return report;
   report.median = core::Median(std::vector<double>(all.begin(), all.end()));
   report.pairs = pair_agreement.size();
+  if (residuals.size() >= 100) {
+    // The residuals are already scaled to one map's noise: their robust
+    // deviation (1.4826 MAD) is its sigma.
+    const double median = core::Median(residuals);
+    for (double& r : residuals) r = std::abs(r - median);
+    report.noise_sigma = 1.4826 * core::Median(residuals);
+    report.noise_samples = residuals.size();
+  }
 
   // Mean agreement over the pairs for factor index f (0 = as is).
   auto agreement = [&](size_t f) {

@@ -16,6 +16,14 @@ struct DepthScaleReport {
   double median = 0;      // median sampled depth (dataset units)
   size_t pairs = 0;       // view pairs compared by reprojection
   double agreement = -1;  // fraction of reprojected samples that agree, -1: no pair
+  // One map's depth noise as the views' agreement shows it (dataset units):
+  // the robust deviation (1.4826 MAD) of the reprojected samples that agree
+  // with the other view's bilinear depth, each scaled by 1 / sqrt(1 + the
+  // interpolation's squared weights) to one map's noise; -1 with fewer than
+  // 100 such samples. Depth maps from COLMAP or a sensor state no noise
+  // of their own: this is what a tolerance can be set from.
+  double noise_sigma = -1;
+  size_t noise_samples = 0;
   // Empty when the depths look plausible; else one line saying why.
   std::string warning;
   // The factor (depth * factor) that would make them plausible; 0 when none

@@ -79,6 +79,12 @@ std::string DatasetInfoText(const std::filesystem::path& dir) {
         scale.agreement >= 0 ? fmt::format("; {:.0f} % of samples agree between {} pair(s)",
                                            100 * scale.agreement, scale.pairs)
                              : "");
+    if (scale.noise_sigma >= 0) {
+      s += fmt::format(
+          "noise     the views agree to a depth deviation of {:.3g} {} per map ({} "
+          "reprojected samples)\n",
+          scale.noise_sigma, d.depth_units, scale.noise_samples);
+    }
     if (!scale.warning.empty()) s += fmt::format("warning   {}\n", scale.warning);
   }
   // Depth range and coverage of the first view with depth, as a sanity figure.

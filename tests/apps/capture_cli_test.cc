@@ -124,6 +124,21 @@ TEST(CaptureCli, NoiseAppliesTheSensorModelAndRecordsIt) {
   const auto info = RunCommand(IbrBinary() + " info " + Quote(dir / "noisy"));
   ASSERT_EQ(info.exit_code, 0) << info.err;
   EXPECT_NE(info.out.find("noise     depth noise 0.01732"), std::string::npos) << info.out;
+  // The noise as the views' agreement measures it, from the maps alone:
+  // the stated sigma on the noisy capture, next to nothing on the clean one.
+  const auto measured = [&](const std::string& out) {
+    const std::string key = "agree to a depth deviation of ";
+    const size_t at = out.find(key);
+    return at == std::string::npos ? -1.0 : std::stod(out.substr(at + key.size()));
+  };
+  const double noisy_sigma = measured(info.out);
+  const auto clean_info = RunCommand(IbrBinary() + " info " + Quote(dir / "clean"));
+  const double clean_sigma = measured(clean_info.out);
+  std::printf("views agree to: noisy %.5f (stated %.5f), clean %.5f\n", noisy_sigma, sigma,
+              clean_sigma);
+  EXPECT_NEAR(noisy_sigma, sigma, 0.15 * sigma) << info.out;
+  EXPECT_GE(clean_sigma, 0) << clean_info.out;
+  EXPECT_LT(clean_sigma, 0.2 * sigma) << clean_info.out;
   const auto bad = RunCommand(capture + " --noise sigma=1%,hoels=0.1 --out " + Quote(dir / "bad"));
   EXPECT_NE(bad.exit_code, 0);
   EXPECT_EQ(CountLines(bad.err), 1) << bad.err;
