@@ -316,6 +316,18 @@ void Rigid3::Check(std::string_view where, double tolerance) const {
     core::ThrowInputError(where, "rotation is a reflection (det < 0)");
 }
 
+glm::dmat3 NearestRotation(const glm::dmat3& m) {
+  cv::Matx33d a;
+  for (int r = 0; r < 3; ++r)
+    for (int c = 0; c < 3; ++c) a(r, c) = m[c][r];
+  const cv::SVD svd(cv::Mat(a), cv::SVD::FULL_UV);
+  const cv::Mat nearest = svd.u * svd.vt;
+  glm::dmat3 out;
+  for (int r = 0; r < 3; ++r)
+    for (int c = 0; c < 3; ++c) out[c][r] = nearest.at<double>(r, c);
+  return out;
+}
+
 Rigid3 LookAt(const glm::dvec3& eye, const glm::dvec3& target, const glm::dvec3& up) {
   const glm::dmat4 m = core::CamFromWorldLookAtDouble(eye, target, up);
   return {glm::dmat3(m), glm::dvec3(m[3])};

@@ -140,6 +140,10 @@ struct Rigid3 {
   bool operator==(const Rigid3&) const = default;
 };
 
+// The rotation nearest `m` (U V^T of its SVD): files write rotations to a
+// few digits, orthonormal only to that precision.
+glm::dmat3 NearestRotation(const glm::dmat3& m);
+
 // A camera looking from `eye` at `target` with the image's up (-y) as close to
 // `up` as possible.
 Rigid3 LookAt(const glm::dvec3& eye, const glm::dvec3& target, const glm::dvec3& up);

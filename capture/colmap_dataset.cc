@@ -28,8 +28,7 @@ void ColmapImportOptions::Check() const {
     core::ThrowInputError("ColmapImportOptions",
                           "input type '{}' is not auto, geometric or photometric", input_type);
   }
-  if (!views.empty() && !hold_out.empty())
-    core::ThrowInputError("ColmapImportOptions", "give --views or --hold-out, not both");
+  choice.Check();
   if (!(bounds_percentile >= 0 && bounds_percentile < 50)) {
     core::ThrowInputError("ColmapImportOptions", "bounds percentile {} outside [0, 50)",
                           bounds_percentile);
@@ -37,24 +36,6 @@ void ColmapImportOptions::Check() const {
   if (!(bounds_margin >= 0 && bounds_margin <= 10)) {
     core::ThrowInputError("ColmapImportOptions", "bounds margin {} outside [0, 10]", bounds_margin);
   }
-}
-
-Bounds RobustBounds(const std::vector<glm::dvec3>& points, double percentile, double margin) {
-  if (points.empty()) core::ThrowInputError("RobustBounds", "no points");
-  Bounds b;
-  std::vector<double> axis(points.size());
-  for (int k = 0; k < 3; ++k) {
-    for (size_t i = 0; i < points.size(); ++i) axis[i] = points[i][k];
-    std::sort(axis.begin(), axis.end());
-    const size_t n = axis.size();
-    // Nearest-rank percentiles; the extremes below 20 points.
-    const size_t lo = n < 20 ? 0 : static_cast<size_t>(std::floor(percentile / 100 * (n - 1)));
-    const size_t hi = n < 20 ? n - 1 : n - 1 - lo;
-    const double side = axis[hi] - axis[lo];
-    b.min[k] = axis[lo] - margin * side;
-    b.max[k] = axis[hi] + margin * side;
-  }
-  return b;
 }
 
 namespace {
@@ -310,26 +291,16 @@ Dataset ImportColmap(const fs::path& source, const fs::path& out,
   std::vector<const colmap::Image*> order;
   for (const auto& [id, im] : model.images) order.push_back(&im);
   std::sort(order.begin(), order.end(), [](auto* a, auto* b) { return a->name < b->name; });
-  auto named = [](const colmap::Image& im, const std::string& n) {
-    return im.name == n || fs::path(im.name).stem().string() == n ||
-           fs::path(im.name).replace_extension().string() == n;
-  };
-  const std::vector<std::string>& chosen = options.views.empty() ? options.hold_out : options.views;
-  for (const std::string& n : chosen) {
-    if (std::none_of(order.begin(), order.end(), [&](auto* im) { return named(*im, n); })) {
-      core::ThrowFileError(kWhere, sparse_dir, "no photo named '{}' in the model ({} photos)", n,
-                           order.size());
-    }
-  }
-  if (!chosen.empty()) {
-    const bool keep_named = !options.views.empty();
-    std::erase_if(order, [&](auto* im) {
-      const bool is_named = std::any_of(chosen.begin(), chosen.end(),
-                                        [&](const std::string& n) { return named(*im, n); });
-      return is_named != keep_named;
-    });
+  if (!options.choice.views.empty() || !options.choice.hold_out.empty()) {
+    std::vector<std::string> names;
+    for (const colmap::Image* im : order) names.push_back(im->name);
+    std::vector<const colmap::Image*> kept;
+    for (size_t i :
+         options.choice.Apply(names, fmt::format("{}: '{}'", kWhere, sparse_dir.string())))
+      kept.push_back(order[i]);
+    order = std::move(kept);
     say(fmt::format("{} of {} photos chosen ({})", order.size(), model.images.size(),
-                    keep_named ? "--views" : "--hold-out"));
+                    options.choice.views.empty() ? "--hold-out" : "--views"));
   }
   // Photos whose image or depth map is missing are left out (a partial
   // workspace), each named; an import left with none is an error.

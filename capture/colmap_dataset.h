@@ -46,10 +46,7 @@ struct ColmapImportOptions {
   // Dense maps: "geometric" or "photometric"; "auto": geometric where the
   // workspace has any, else photometric (said with a warning).
   std::string input_type = "auto";
-  // The views to import, by photo name or its stem (empty: all), and those
-  // to leave out (a held-out view to judge a reconstruction by). A name
-  // that matches no photo is an error.
-  std::vector<std::string> views, hold_out;
+  ViewChoice choice;             // --views / --hold-out, by photo name
   std::filesystem::path images;  // sparse import: image folder (default SRC/images)
   // Sparse import: silhouettes, one 8-bit image per photo (> 127 = object),
   // found as COLMAP's ImageReader.mask_path names them (NAME.png for photo
@@ -63,11 +60,6 @@ struct ColmapImportOptions {
   double bounds_margin = 0.05;  // added on every side, fraction of each side's length
   void Check() const;
 };
-
-// The box of `points` from per-axis percentiles (RobustBounds: lo..100-lo),
-// widened by `margin` of each side; with fewer than 20 points the min/max
-// box (percentiles of so few are the extremes anyway). InputError when empty.
-Bounds RobustBounds(const std::vector<glm::dvec3>& points, double percentile, double margin);
 
 // A dense workspace (WS/stereo/depth_maps exists) becomes a dataset with
 // depth (0 where colmap wrote <= 0), normals (world frame) when the normal

@@ -164,22 +164,59 @@ void Dataset::Check(std::string_view where, bool images) const {
   }
 }
 
-Bounds ParseBounds(std::string_view text, std::string_view where) {
-  std::vector<double> v;
-  size_t start = 0;
-  while (start <= text.size()) {
-    const size_t end = std::min(text.find(',', start), text.size());
-    const std::optional<double> x = core::ParseFiniteNumber(text.substr(start, end - start));
-    if (!x) break;
-    v.push_back(*x);
-    start = end + 1;
+Bounds RobustBounds(const std::vector<glm::dvec3>& points, double percentile, double margin) {
+  if (points.empty()) core::ThrowInputError("RobustBounds", "no points");
+  Bounds b;
+  std::vector<double> axis(points.size());
+  for (int k = 0; k < 3; ++k) {
+    for (size_t i = 0; i < points.size(); ++i) axis[i] = points[i][k];
+    std::sort(axis.begin(), axis.end());
+    const size_t n = axis.size();
+    // Nearest-rank percentiles; the extremes below 20 points.
+    const size_t lo = n < 20 ? 0 : static_cast<size_t>(std::floor(percentile / 100 * (n - 1)));
+    const size_t hi = n < 20 ? n - 1 : n - 1 - lo;
+    const double side = axis[hi] - axis[lo];
+    b.min[k] = axis[lo] - margin * side;
+    b.max[k] = axis[hi] + margin * side;
   }
-  if (v.size() != 6 || start <= text.size()) {
+  return b;
+}
+
+Bounds ParseBounds(std::string_view text, std::string_view where) {
+  const std::optional<std::vector<double>> v = core::ParseNumberList(text);
+  if (!v || v->size() != 6) {
     core::ThrowInputError(where, "'{}' is not six numbers X0,Y0,Z0,X1,Y1,Z1", text);
   }
-  const Bounds b{{v[0], v[1], v[2]}, {v[3], v[4], v[5]}};
+  const Bounds b{{(*v)[0], (*v)[1], (*v)[2]}, {(*v)[3], (*v)[4], (*v)[5]}};
   CheckBounds(b, where);
   return b;
+}
+
+void ViewChoice::Check() const {
+  if (!views.empty() && !hold_out.empty())
+    core::ThrowInputError("ViewChoice", "give --views or --hold-out, not both");
+}
+
+std::vector<size_t> ViewChoice::Apply(const std::vector<std::string>& names,
+                                      std::string_view where) const {
+  Check();
+  auto named = [](const std::string& photo, const std::string& n) {
+    const fs::path p(photo);
+    return photo == n || fs::path(p).replace_extension().string() == n || p.stem().string() == n;
+  };
+  const std::vector<std::string>& given = views.empty() ? hold_out : views;
+  for (const std::string& n : given) {
+    if (std::none_of(names.begin(), names.end(),
+                     [&](const auto& photo) { return named(photo, n); }))
+      core::ThrowInputError(where, "no photo named '{}' ({} photos)", n, names.size());
+  }
+  std::vector<size_t> kept;
+  for (size_t i = 0; i < names.size(); ++i) {
+    const bool is_named = std::any_of(given.begin(), given.end(),
+                                      [&](const std::string& n) { return named(names[i], n); });
+    if (given.empty() || is_named == !views.empty()) kept.push_back(i);
+  }
+  return kept;
 }
 
 void CheckBounds(const Bounds& bounds, std::string_view where) {

@@ -183,9 +183,26 @@ UpChoice DefaultUp(const Dataset& dataset);
 // kDatasetLimits.max_coordinate and every side at least min_extent and
 // min_relative_extent of the largest coordinate.
 void CheckBounds(const Bounds& bounds, std::string_view where);
+// The box of `points` from per-axis percentiles (lo..100-lo),
+// widened by `margin` of each side; with fewer than 20 points the min/max
+// box (percentiles of so few are the extremes anyway). InputError when empty.
+Bounds RobustBounds(const std::vector<glm::dvec3>& points, double percentile, double margin);
 // "X0,Y0,Z0,X1,Y1,Z1" (a flag's text) as a checked box; InputError naming
 // `where` otherwise.
 Bounds ParseBounds(std::string_view text, std::string_view where);
+
+// An importer's --views / --hold-out: which of a source's photos it takes
+// (a held-out photo is a novel view to judge a reconstruction by).
+struct ViewChoice {
+  std::vector<std::string> views;     // only these (empty: every photo)
+  std::vector<std::string> hold_out;  // every photo but these
+  void Check() const;                 // InputError when both are given
+  // The indices of `names` (the photos' file names or relative paths, in
+  // import order) kept. A given name matches a photo's name, that name
+  // without its extension, or its stem; InputError("where: no photo named
+  // 'X' (N photos)") when one matches none.
+  std::vector<size_t> Apply(const std::vector<std::string>& names, std::string_view where) const;
+};
 
 // Validation of images against a camera, shared by the readers (depth: 0 or
 // non-finite = invalid, else in 0..kDatasetLimits.max_coordinate).

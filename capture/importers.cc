@@ -47,20 +47,6 @@ std::ifstream Open(const fs::path& path, const char* where) {
   return in;
 }
 
-// Whitespace-separated finite doubles; InputError naming the line otherwise.
-std::vector<double> ParseNumbers(const std::string& line, const std::string& where,
-                                 int line_number) {
-  std::istringstream s(line);
-  std::vector<double> v;
-  std::string tok;
-  while (s >> tok) {
-    const std::optional<double> x = core::ParseFiniteNumber(tok);
-    if (!x) core::ThrowInputError(where, "line {}: '{}' is not a finite number", line_number, tok);
-    v.push_back(*x);
-  }
-  return v;
-}
-
 // The writer's "up" from its cameras (y down in every importer's source).
 void SetMeanUp(DatasetWriter& writer, const std::function<void(const std::string&)>& note) {
   const glm::dvec3 up = MeanCameraUp(writer.dataset()).value_or(glm::dvec3(0, -1, 0));
@@ -113,19 +99,23 @@ std::optional<Bounds> AgreedBounds(const std::vector<VoteMap>& voters, const Cam
   }
   kept_points = kept.size();
   if (kept.size() < 100) return std::nullopt;
-  Bounds b;
-  for (int a = 0; a < 3; ++a) {
-    std::vector<double> v(kept.size());
-    for (size_t i = 0; i < kept.size(); ++i) v[i] = kept[i][a];
-    std::sort(v.begin(), v.end());
-    const double lo = v[v.size() * 2 / 100], hi = v[v.size() * 98 / 100];
-    b.min[a] = lo - 0.05 * (hi - lo);
-    b.max[a] = hi + 0.05 * (hi - lo);
-  }
-  return b;
+  return RobustBounds(kept, 2, 0.05);
 }
 
 }  // namespace
+
+std::vector<double> ParseNumbers(const std::string& line, const std::string& where,
+                                 int line_number) {
+  std::istringstream s(line);
+  std::vector<double> v;
+  std::string tok;
+  while (s >> tok) {
+    const std::optional<double> x = core::ParseFiniteNumber(tok);
+    if (!x) core::ThrowInputError(where, "line {}: '{}' is not a finite number", line_number, tok);
+    v.push_back(*x);
+  }
+  return v;
+}
 
 std::vector<Rigid3> ReadRedwoodLog(std::istream& in, const std::string& name) {
   const std::string where = fmt::format("ReadRedwoodLog: '{}'", name);
@@ -257,28 +247,29 @@ Dataset WriteRgbdFrames(const std::vector<RgbdFrame>& frames, const Camera& came
   const size_t vote_every = (frames.size() + 63) / 64;
   for (size_t i = 0; i < frames.size(); ++i) {
     const RgbdFrame& f = frames[i];
-    const core::Image<uint16_t> read_raw = core::ReadImage<uint16_t>(f.depth, 1);
+    core::Image<uint16_t> raw = core::ReadImage<uint16_t>(f.depth, 1);
     core::Image8 color = core::ReadImage<uint8_t>(f.color, 3);
-    if (read_raw.width() != width || read_raw.height() != height) {
-      core::ThrowFileError(kWhere, f.depth, "depth is {}x{}, camera is {}x{}", read_raw.width(),
-                           read_raw.height(), width, height);
+    if (raw.width() != width || raw.height() != height) {
+      core::ThrowFileError(kWhere, f.depth, "depth is {}x{}, camera is {}x{}", raw.width(),
+                           raw.height(), width, height);
     }
     if (color.width() != width || color.height() != height) {
       core::ThrowFileError(kWhere, f.color, "colour is {}x{}, camera is {}x{}", color.width(),
                            color.height(), width, height);
     }
-    core::Image<uint16_t> raw = read_raw;
     if (camera.distorted()) {
       color = UndistortImage(camera, color);
+      core::Image<uint16_t> undistorted(width, height, 1);
       for (int row = 0; row < height; ++row) {
         for (int col = 0; col < width; ++col) {
           // Sparse convention: pixel (c, r) spans [c, c + 1).
           const int sc = static_cast<int>(std::floor(map.at(col, row, 0)));
           const int sr = static_cast<int>(std::floor(map.at(col, row, 1)));
-          raw.at(col, row) =
-              sc >= 0 && sr >= 0 && sc < width && sr < height ? read_raw.at(sc, sr) : 0;
+          undistorted.at(col, row) =
+              sc >= 0 && sr >= 0 && sc < width && sr < height ? raw.at(sc, sr) : 0;
         }
       }
+      raw = std::move(undistorted);
     }
     core::ImageF depth(width, height, 1);
     core::Image8 mask(width, height, 1);
@@ -421,14 +412,8 @@ std::vector<MiddleburyView> ReadMiddleburyPar(std::istream& in, const std::strin
     view.cam_from_world.Check(fmt::format("{}: line {}", where, line_number), 1e-5);
     // The file's 17-digit rotations are orthonormal only to ~1e-6 (dinoSR0001:
     // R^T R off by 1.4e-6, beyond Dataset's 1e-6 check): snap to the nearest
-    // rotation, U V^T of the SVD (changes entries by ~1e-6).
-    cv::Matx33d m;
-    for (int r = 0; r < 3; ++r)
-      for (int c = 0; c < 3; ++c) m(r, c) = view.cam_from_world.rotation[c][r];
-    const cv::SVD svd(cv::Mat(m), cv::SVD::FULL_UV);
-    const cv::Mat nearest = svd.u * svd.vt;
-    for (int r = 0; r < 3; ++r)
-      for (int c = 0; c < 3; ++c) view.cam_from_world.rotation[c][r] = nearest.at<double>(r, c);
+    // rotation (changes entries by ~1e-6).
+    view.cam_from_world.rotation = NearestRotation(view.cam_from_world.rotation);
     views.push_back(view);
   }
   if (!declared) core::ThrowInputError(where, "empty file");

@@ -68,6 +68,12 @@ Dataset ImportMiddlebury(const std::filesystem::path& source, const std::filesys
                          const MiddleburyImportOptions& options = {},
                          const std::function<void(int, int)>& progress = {});
 
+// The whitespace-separated finite numbers of one line of a text file (the
+// readers here and in tum_import.h); InputError("where: line N: 'TOKEN' is
+// not a finite number") otherwise.
+std::vector<double> ParseNumbers(const std::string& line, const std::string& where,
+                                 int line_number);
+
 // The parsers alone, through streams (names used in messages).
 std::vector<Rigid3> ReadRedwoodLog(std::istream& in,
                                    const std::string& name);  // cam_from_world per frame

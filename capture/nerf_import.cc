@@ -11,15 +11,13 @@
 #include "core/error.h"
 #include "core/image_io.h"
 #include "core/memory_budget.h"
+#include "core/metrics.h"
 
 namespace capture {
 namespace fs = std::filesystem;
 using nlohmann::json;
 
-void NerfImportOptions::Check() const {
-  if (!views.empty() && !hold_out.empty())
-    core::ThrowInputError("ibr import nerf", "give --views or --hold-out, not both");
-}
+void NerfImportOptions::Check() const { choice.Check(); }
 
 namespace {
 
@@ -83,17 +81,12 @@ NerfFrame ParseNerfFrame(const json& top, const json& frame, int width, int heig
     for (int c = 0; c < 3; ++c) world_from_cam.rotation[c][r] = m[r][c] * (c == 0 ? 1.0 : -1.0);
     world_from_cam.translation[r] = m[r][3];
   }
-  // Exporters write rotations to a few digits only; snap to the nearest.
-  const glm::dmat3 r = world_from_cam.rotation;
-  const double det = glm::determinant(r);
-  if (!(std::abs(det - 1) < 1e-2)) {
-    core::ThrowInputError(where,
-                          "\"transform_matrix\" rotation has determinant {:.4g}, not 1 "
-                          "(a scaled or mirrored camera)",
-                          det);
-  }
+  // A scaled or mirrored matrix is refused; exporters write rotations to a
+  // few digits only, so what passes is snapped to the nearest rotation.
   f.cam_from_world = world_from_cam.Inverse();
   f.cam_from_world.Check(where, 1e-2);
+  f.cam_from_world.rotation = NearestRotation(f.cam_from_world.rotation);
+  f.cam_from_world.translation = -f.cam_from_world.rotation * world_from_cam.translation;
   return f;
 }
 
@@ -132,28 +125,20 @@ Dataset ImportNerf(const fs::path& source, const fs::path& out, const NerfImport
     core::ThrowInputError(where, "{} frames; at most {}", frames.size(), kDatasetLimits.max_views);
   const fs::path root = file.parent_path();
 
-  // The image of a frame: file_path as given, else with .png or .jpg.
-  auto image_of = [&](const json& frame) -> fs::path {
+  // Every frame's file_path, and its image: as given, else with .png or .jpg.
+  std::vector<std::string> file_paths;
+  for (const json& frame : frames) {
     if (!frame.is_object() || !frame.contains("file_path") || !frame.at("file_path").is_string())
       core::ThrowInputError(where, "a frame has no \"file_path\" string");
-    const fs::path p = root / frame.at("file_path").get<std::string>();
+    file_paths.push_back(frame.at("file_path").get<std::string>());
+  }
+  auto image_of = [&](size_t i) -> fs::path {
+    const fs::path p = root / file_paths[i];
     for (const fs::path& c : {p, fs::path(p.string() + ".png"), fs::path(p.string() + ".jpg")})
       if (fs::is_regular_file(c)) return c;
     return p;
   };
-  auto named = [&](const json& frame, const std::string& n) {
-    const std::string fp = frame.at("file_path").get<std::string>();
-    return fp == n || fs::path(fp).stem().string() == n;
-  };
-  const std::vector<std::string>& chosen = options.views.empty() ? options.hold_out : options.views;
-  for (const std::string& n : chosen) {
-    if (std::none_of(frames.begin(), frames.end(), [&](const json& f) {
-          image_of(f);
-          return named(f, n);
-        })) {
-      core::ThrowInputError(where, "no frame named '{}' ({} frames)", n, frames.size());
-    }
-  }
+  const std::vector<size_t> chosen = options.choice.Apply(file_paths, where);
 
   struct Loaded {
     std::string name;
@@ -164,21 +149,16 @@ Dataset ImportNerf(const fs::path& source, const fs::path& out, const NerfImport
   // Every frame is held until the box is known: estimated first (colour,
   // mask and depth of each at the first image's size).
   {
-    const core::ImageHeader first = core::ReadImageHeader(image_of(frames[0]));
+    const core::ImageHeader first = core::ReadImageHeader(image_of(0));
     core::CheckMemory(
         frames.size() * static_cast<uint64_t>(first.width) * first.height * 8, "ibr import nerf",
         fmt::format("{} frames of {}x{} px", frames.size(), first.width, first.height));
   }
   std::vector<Loaded> views;
   std::vector<std::string> missing;
-  for (size_t i = 0; i < frames.size(); ++i) {
+  for (size_t i : chosen) {
     const json& fr = frames[i];
-    const fs::path image = image_of(fr);
-    if (!chosen.empty()) {
-      const bool is_named = std::any_of(chosen.begin(), chosen.end(),
-                                        [&](const std::string& n) { return named(fr, n); });
-      if (is_named != !options.views.empty()) continue;
-    }
+    const fs::path image = image_of(i);
     if (!fs::is_regular_file(image)) {
       missing.push_back(image.string());
       continue;
@@ -194,15 +174,20 @@ Dataset ImportNerf(const fs::path& source, const fs::path& out, const NerfImport
       core::ThrowFileError(kWhere, image, "image is {}x{}, the file says {}x{}", rgba.width(),
                            rgba.height(), v.frame.camera.width, v.frame.camera.height);
     }
-    v.color = core::Image8(rgba.width(), rgba.height(), 3);
-    for (size_t p = 0; p < rgba.pixel_count(); ++p)
-      for (int c = 0; c < 3; ++c)
-        v.color.data()[3 * p + c] =
-            rgba.data()[rgba.channels() * p + std::min(c, rgba.channels() - 1)];
-    if (rgba.channels() == 4) {
+    // Colour as read (the dataset writer drops an alpha channel); grey
+    // (with or without alpha) as RGB.
+    const int channels = rgba.channels();
+    if (channels >= 3) {
+      v.color = rgba;
+    } else {
+      v.color = core::Image8(rgba.width(), rgba.height(), 3);
+      for (size_t p = 0; p < rgba.pixel_count(); ++p)
+        for (int c = 0; c < 3; ++c) v.color.data()[3 * p + c] = rgba.data()[channels * p];
+    }
+    if (channels == 2 || channels == 4) {
       v.mask = core::Image8(rgba.width(), rgba.height(), 1);
       for (size_t p = 0; p < rgba.pixel_count(); ++p)
-        v.mask.data()[p] = rgba.data()[4 * p + 3] > 127 ? 255 : 0;
+        v.mask.data()[p] = rgba.data()[channels * p + channels - 1] > 127 ? 255 : 0;
     } else if (fr.contains("mask_path") && fr.at("mask_path").is_string()) {
       const fs::path mp = root / fr.at("mask_path").get<std::string>();
       v.mask = core::ReadImage<uint8_t>(mp, 1);
@@ -242,7 +227,7 @@ Dataset ImportNerf(const fs::path& source, const fs::path& out, const NerfImport
       v.frame.camera = UndistortedCamera(distorted);
     }
     views.push_back(std::move(v));
-    if (progress) progress(static_cast<int>(i) + 1, static_cast<int>(frames.size()));
+    if (progress) progress(static_cast<int>(views.size()), static_cast<int>(chosen.size()));
   }
   if (!missing.empty()) {
     say(fmt::format("warning: {} frame(s) left out, their image missing: {}{}", missing.size(),
@@ -273,8 +258,7 @@ Dataset ImportNerf(const fs::path& source, const fs::path& out, const NerfImport
     const double dist = glm::length(v.frame.cam_from_world.Centre() - centre);
     reach.push_back(dist * 0.5 * v.frame.camera.width / v.frame.camera.fx());
   }
-  std::nth_element(reach.begin(), reach.begin() + reach.size() / 2, reach.end());
-  const double half = reach[reach.size() / 2];
+  const double half = core::Median(reach);
   Bounds region{centre - glm::dvec3(half), centre + glm::dvec3(half)};
 
   DatasetWriter writer(out);

@@ -30,8 +30,7 @@
 namespace capture {
 
 struct NerfImportOptions {
-  // The views to import by file_path (or its stem), and those to leave out.
-  std::vector<std::string> views, hold_out;
+  ViewChoice choice;  // --views / --hold-out, by file_path (or its stem)
   void Check() const;
 };
 

@@ -91,7 +91,7 @@ std::string SensorModel::Describe() const {
 
 json SensorModel::ToJson() const {
   return {{"sigma", sigma},
-          {"model", noise == Noise::kQuadratic ? "quadratic" : "constant"},
+          {"model", std::string(core::EnumToName(kNoiseNames, noise))},
           {"z_ref", z_ref},
           {"quantize", quantize},
           {"edge", edge},
@@ -109,10 +109,8 @@ SensorModel SensorModel::FromJson(const json& j, std::string_view where) {
   SensorModel m;
   try {
     m.sigma = j.value("sigma", 0.0);
-    const std::string model = j.value("model", std::string("constant"));
-    if (model != "constant" && model != "quadratic")
-      core::ThrowInputError(where, "depth.noise.model '{}' is not constant or quadratic", model);
-    m.noise = model == "quadratic" ? Noise::kQuadratic : Noise::kConstant;
+    m.noise = core::EnumFromName(kNoiseNames, j.value("model", std::string("constant")), where,
+                                 "depth.noise.model");
     m.z_ref = j.value("z_ref", 1.0);
     m.quantize = j.value("quantize", 0.0);
     m.edge = j.value("edge", 0);
@@ -153,10 +151,12 @@ SensorModel ParseSensorModel(std::string_view spec, double diagonal, double z_re
     if (key == "sigma") {
       m.sigma = ParseLength(key, value, diagonal, where);
     } else if (key == "model") {
-      if (value != "constant" && value != "quadratic")
-        core::ThrowInputError(where, "model={}: constant or quadratic", value);
-      m.noise =
-          value == "quadratic" ? SensorModel::Noise::kQuadratic : SensorModel::Noise::kConstant;
+      const auto noise = core::FindEnum(SensorModel::kNoiseNames, value);
+      if (!noise) {
+        core::ThrowInputError(where, "model={}: {}", value,
+                              core::EnumNameList(SensorModel::kNoiseNames));
+      }
+      m.noise = *noise;
     } else if (key == "quantize") {
       m.quantize = ParseLength(key, value, diagonal, where);
     } else if (key == "edge") {

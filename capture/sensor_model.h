@@ -37,12 +37,15 @@
 #include <string_view>
 
 #include "capture/camera.h"
+#include "core/enum_names.h"
 #include "core/image.h"
 
 namespace capture {
 
 struct SensorModel {
   enum class Noise { kConstant, kQuadratic };
+  static constexpr core::EnumName<Noise> kNoiseNames[] = {{Noise::kConstant, "constant"},
+                                                          {Noise::kQuadratic, "quadratic"}};
   double sigma = 0;  // scene units at z_ref
   Noise noise = Noise::kConstant;
   double z_ref = 1;     // reference depth of a quadratic model, scene units
@@ -73,6 +76,7 @@ struct SensorModel {
   static SensorModel FromJson(const nlohmann::json& j, std::string_view where);
   bool operator==(const SensorModel&) const = default;
 };
+static_assert(core::EnumNamesUnique(SensorModel::kNoiseNames));
 
 // Parses a spec (above). `diagonal`: what a `%` length is a percent of;
 // `z_ref`: the reference depth of a quadratic model (the capture uses the

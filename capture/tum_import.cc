@@ -35,17 +35,6 @@ void TumImportOptions::Check() const {
 
 namespace {
 
-// The numbers of one line; InputError naming the file and line otherwise.
-std::vector<double> Numbers(std::istringstream& s, const std::string& where, int line) {
-  std::vector<double> v;
-  for (std::string tok; s >> tok;) {
-    const std::optional<double> x = core::ParseFiniteNumber(tok);
-    if (!x) core::ThrowInputError(where, "line {}: '{}' is not a finite number", line, tok);
-    v.push_back(*x);
-  }
-  return v;
-}
-
 bool Comment(const std::string& line) {
   const size_t first = line.find_first_not_of(" \t\r");
   return first == std::string::npos || line[first] == '#';
@@ -70,8 +59,7 @@ std::vector<TumStamped> ReadTumList(std::istream& in, const std::string& name) {
     s >> time >> file;
     if (file.empty() || (s >> extra))
       core::ThrowInputError(where, "line {}: expected \"timestamp filename\"", n);
-    std::istringstream t(time);
-    const std::vector<double> v = Numbers(t, where, n);
+    const std::vector<double> v = ParseNumbers(time, where, n);
     if (v.size() != 1) core::ThrowInputError(where, "line {}: bad timestamp '{}'", n, time);
     list.push_back({v[0], file});
   }
@@ -85,8 +73,7 @@ std::vector<TumPose> ReadTumTrajectory(std::istream& in, const std::string& name
   std::string line;
   for (int n = 1; std::getline(in, line); ++n) {
     if (Comment(line)) continue;
-    std::istringstream s(line);
-    const std::vector<double> v = Numbers(s, where, n);
+    const std::vector<double> v = ParseNumbers(line, where, n);
     if (v.size() != 8)
       core::ThrowInputError(where,
                             "line {}: expected \"timestamp tx ty tz qx qy qz qw\", got {} numbers",
@@ -187,19 +174,12 @@ Camera TumCamera(const std::string& spec, int width, int height) {
     c.Check(fmt::format("TUM {}", k.name));
     return c;
   }
-  std::vector<double> v;
-  bool numbers = true;
-  std::stringstream s(spec);
-  for (std::string tok; std::getline(s, tok, ',');) {
-    const std::optional<double> x = core::ParseFiniteNumber(tok);
-    numbers = numbers && x.has_value();
-    v.push_back(x.value_or(0));
-  }
-  if (!numbers || v.size() != 4) {
+  const std::optional<std::vector<double>> v = core::ParseNumberList(spec);
+  if (!v || v->size() != 4) {
     core::ThrowInputError("ibr import tum",
                           "--camera '{}' is neither fr1, fr2, fr3 nor FX,FY,CX,CY", spec);
   }
-  const Camera c = Camera::Pinhole(width, height, v[0], v[1], v[2] + 0.5, v[3] + 0.5);
+  const Camera c = Camera::Pinhole(width, height, (*v)[0], (*v)[1], (*v)[2] + 0.5, (*v)[3] + 0.5);
   c.Check(fmt::format("--camera '{}'", spec));
   return c;
 }

@@ -1,5 +1,6 @@
 #include "core/parse_number.h"
 
+#include <algorithm>
 #include <cmath>
 #include <exception>
 #include <string>
@@ -17,6 +18,18 @@ std::optional<double> ParseFiniteNumber(std::string_view text) {
   }
   if (s.empty() || used != s.size() || !std::isfinite(value)) return std::nullopt;
   return value;
+}
+
+std::optional<std::vector<double>> ParseNumberList(std::string_view text, char separator) {
+  std::vector<double> values;
+  for (size_t start = 0;;) {
+    const size_t end = std::min(text.find(separator, start), text.size());
+    const std::optional<double> value = ParseFiniteNumber(text.substr(start, end - start));
+    if (!value) return std::nullopt;
+    values.push_back(*value);
+    if (end == text.size()) return values;
+    start = end + 1;
+  }
 }
 
 }  // namespace core

@@ -5,9 +5,14 @@
 
 #include <optional>
 #include <string_view>
+#include <vector>
 
 namespace core {
 
 std::optional<double> ParseFiniteNumber(std::string_view text);
+
+// "1,2.5,-3": the whole text is finite numbers with `separator` between
+// them (no empty field); nothing otherwise.
+std::optional<std::vector<double>> ParseNumberList(std::string_view text, char separator = ',');
 
 }  // namespace core

@@ -10,6 +10,7 @@
 
 #include "core/error.h"
 #include "core/look_at.h"
+#include "core/parse_number.h"
 #include "core/projection.h"
 #include "ibr/dataset_maps.h"
 
@@ -41,17 +42,9 @@ glm::dvec3 ParseUp(const std::string& text, const std::string& where) {
   std::istringstream in(spaced);
   std::vector<double> v;
   for (std::string token; in >> token;) {
-    size_t used = 0;
-    double x = 0;
-    try {
-      x = std::stod(token, &used);
-    } catch (const std::exception&) {
-      used = 0;
-    }
-    if (used != token.size() || !std::isfinite(x)) {
-      core::ThrowInputError(where, "'{}' is not x, y, z, -x, -y, -z or three numbers", text);
-    }
-    v.push_back(x);
+    const std::optional<double> x = core::ParseFiniteNumber(token);
+    if (!x) core::ThrowInputError(where, "'{}' is not x, y, z, -x, -y, -z or three numbers", text);
+    v.push_back(*x);
   }
   if (v.size() != 3)
     core::ThrowInputError(where, "'{}' is not x, y, z, -x, -y, -z or three numbers", text);

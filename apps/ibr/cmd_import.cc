@@ -43,6 +43,14 @@ void AddImportCommand(CLI::App& app) {
     sub->add_option("SRC", o.source, "source folder")->required();
     sub->add_option("--out", o.out, "output dataset directory")->required();
   };
+  // --views / --hold-out of the importers that read photos by name.
+  auto choose = [](CLI::App* sub, capture::ViewChoice& choice) {
+    sub->add_option("--views", choice.views, "import only these photos (NAME,NAME,...)")
+        ->delimiter(',');
+    sub->add_option("--hold-out", choice.hold_out,
+                    "leave these photos out (NAME,...), e.g. to render them as held-out views")
+        ->delimiter(',');
+  };
   auto* colmap =
       cmd->add_subcommand("colmap", "dense workspace (depth + normals) or sparse model + images");
   common(colmap);
@@ -50,12 +58,7 @@ void AddImportCommand(CLI::App& app) {
       ->add_option("--input-type", o.colmap.input_type,
                    "dense maps: geometric, photometric, or auto (geometric where any exist)")
       ->capture_default_str();
-  colmap->add_option("--views", o.colmap.views, "import only these photos (NAME,NAME,...)")
-      ->delimiter(',');
-  colmap
-      ->add_option("--hold-out", o.colmap.hold_out,
-                   "leave these photos out (NAME,...), e.g. to render them as held-out views")
-      ->delimiter(',');
+  choose(colmap, o.colmap.choice);
   colmap->add_option("--images", o.colmap.images,
                      "sparse import: image folder (default SRC/images)");
   colmap->add_option("--masks", o.colmap.masks,
@@ -107,9 +110,7 @@ void AddImportCommand(CLI::App& app) {
   auto* nerf = cmd->add_subcommand(
       "nerf", "NeRF transforms.json (Blender synthetic, instant-ngp, nerfstudio)");
   common(nerf);
-  nerf->add_option("--views", o.nerf.views, "import only these frames (file_path or its stem)")
-      ->delimiter(',');
-  nerf->add_option("--hold-out", o.nerf.hold_out, "leave these frames out")->delimiter(',');
+  choose(nerf, o.nerf.choice);
   nerf->callback(
       [] { Report("nerf", capture::ImportNerf(o.source, o.out, o.nerf, Progress, Note), o.out); });
   auto* middlebury = cmd->add_subcommand(

@@ -116,6 +116,10 @@ TEST(CaptureCli, NoiseAppliesTheSensorModelAndRecordsIt) {
       ++both;
     }
     ASSERT_GT(both, 1000);
+    std::printf(
+        "%s: residual sd %.5f (sigma %.5f) over %d pixels, %d of %d object pixels "
+        "without depth\n",
+        a.views[v].name.c_str(), std::sqrt(sum2 / both), sigma, both, missing, object);
     EXPECT_NEAR(std::sqrt(sum2 / both), sigma, 0.1 * sigma) << a.views[v].name;
     // 3 % in holes, and the rim's ring of pixels on top.
     EXPECT_GT(missing, 0.03 * object) << a.views[v].name;

@@ -8,6 +8,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
 #include <nlohmann/json.hpp>
 #include <sstream>
 
@@ -112,6 +113,8 @@ TEST(SensorModel, NoiseHasItsStandardDeviationConstantOrQuadraticInDepth) {
       }
     }
     const double mean = sum / n, sd = std::sqrt(sum2 / n - mean * mean);
+    std::printf("%s at z %.2f: sd %.5f (expected %.5f), mean %+.6f over %d samples\n", spec.c_str(),
+                z, sd, expected, mean, n);
     // 7744 samples: the standard error of the sd is 0.8 %, of the mean 1.1 % of sd.
     EXPECT_NEAR(sd, expected, 0.05 * expected) << spec << " at " << z;
     EXPECT_NEAR(mean, 0, 0.06 * expected) << spec << " at " << z;
@@ -164,6 +167,10 @@ TEST(SensorModel, FlyingPixelsLieBetweenTheSides) {
     EXPECT_TRUE(z == 0 || (z >= 2.0f && z <= 2.5f)) << z;
     behind += z > 0;
   }
+  std::printf(
+      "flying=1: %d of 38 step pixels between the sides, %d of 38 empty pixels behind "
+      "the silhouette\n",
+      between, behind);
   EXPECT_GT(between, 30);
   EXPECT_GT(behind, 30);
   EXPECT_EQ(m.mask.at(43, 60), 0) << "the mask stays exact";
@@ -204,6 +211,8 @@ TEST(SensorModel, HolesAndOutliersTakeTheirFractionAndMaskDepthFollows) {
                    m.depth.at(x, y + 1) == 0 || m.depth.at(x, y - 1) == 0;
     }
   }
+  std::printf("holes=0.05: %d of 10000 object pixels without depth, %.1f %% of them clustered\n",
+              missing, 100.0 * clustered / missing);
   EXPECT_GT(clustered, 0.9 * missing);
 
   Maps o = clean;
@@ -215,6 +224,7 @@ TEST(SensorModel, HolesAndOutliersTakeTheirFractionAndMaskDepthFollows) {
     EXPECT_TRUE(z >= 0.5f && z <= 10.0f) << z;  // inside the clip range
     moved += z != 2.0f;
   }
+  std::printf("outliers=0.01: %d of 10000 object pixels moved\n", moved);
   EXPECT_GE(moved, 90);  // 100 drawn, a few twice or at 2 itself
   EXPECT_LE(moved, 100);
   for (size_t p = 0; p < o.depth.pixel_count(); ++p)

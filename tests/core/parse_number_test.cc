@@ -15,5 +15,14 @@ TEST(ParseFiniteNumber, WholeFiniteNumbersOnly) {
   }
 }
 
+TEST(ParseNumberList, FiniteNumbersBetweenSeparatorsOnly) {
+  EXPECT_EQ(ParseNumberList("1,2.5,-3"), (std::vector<double>{1, 2.5, -3}));
+  EXPECT_EQ(ParseNumberList("7"), (std::vector<double>{7}));
+  EXPECT_EQ(ParseNumberList("1;2", ';'), (std::vector<double>{1, 2}));
+  for (const char* bad : {"", ",", "1,", ",1", "1,,2", "1,x", "1,nan"}) {
+    EXPECT_FALSE(ParseNumberList(bad).has_value()) << bad;
+  }
+}
+
 }  // namespace
 }  // namespace core
